@@ -1,0 +1,55 @@
+"""Sphinx extension: never serve stale chapter results from the jupyter cache.
+
+jupyter-cache keys a notebook on its own code cells only.  Every chapter imports
+``gyrolib``, so a change in the library (or in the pinned environment) must re-execute all
+chapters.  On ``config-inited`` this extension hashes ``gyrolib/**/*.py`` and
+``requirements.txt``; when the hash differs from the one stored beside the cache, the cache is
+deleted before myst-nb opens it.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+from pathlib import Path
+
+STAMP = "gyrolib.sha256"
+
+
+def library_fingerprint(root: Path) -> str:
+    """SHA-256 over the library sources and the pinned requirements, in a fixed order."""
+    h = hashlib.sha256()
+    files = sorted((root / "gyrolib").rglob("*.py"))
+    files += [root / "requirements.txt"]
+    for path in files:
+        if path.is_file():
+            h.update(path.relative_to(root).as_posix().encode())
+            h.update(b"\0")
+            h.update(path.read_bytes())
+            h.update(b"\0")
+    return h.hexdigest()
+
+
+def _invalidate(app, config) -> None:
+    cache = getattr(config, "nb_execution_cache_path", "") or ""
+    if not cache:
+        return
+    root = Path(app.srcdir)
+    cache_dir = Path(cache)
+    if not cache_dir.is_absolute():
+        cache_dir = root / cache_dir
+    fingerprint = library_fingerprint(root)
+    stamp = cache_dir / STAMP
+    if stamp.is_file() and stamp.read_text().strip() == fingerprint:
+        return
+    if cache_dir.exists():
+        shutil.rmtree(cache_dir)
+        print(f"[gyrolib_cache] gyrolib or requirements changed: cleared {cache_dir}")
+    cache_dir.mkdir(parents=True, exist_ok=True)
+    stamp.write_text(fingerprint + "\n")
+
+
+def setup(app):
+    # Priority < 500 so that this runs before myst-nb reads the cache.
+    app.connect("config-inited", _invalidate, priority=100)
+    return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1"}

@@ -1,0 +1,24 @@
+"""Command line: ``python -m gyrolib ledger [--json]``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m gyrolib")
+    sub = parser.add_subparsers(dest="command", required=True)
+    led = sub.add_parser("ledger", help="print the reproduction ledger")
+    led.add_argument("--json", action="store_true", help="print a JSON list of the items")
+    args = parser.parse_args(argv)
+    if args.command == "ledger":
+        from gyrolib.ledger import collect, to_json, to_table
+
+        items = collect()
+        sys.stdout.write(to_json(items) if args.json else to_table(items))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

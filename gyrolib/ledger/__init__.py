@@ -1,0 +1,95 @@
+"""The reproduction ledger: every printed figure, table entry and headline number of both
+papers, with the value this book computes and whether the two agree.
+
+Items are computed, never stored: each paper's module (:mod:`gyrolib.ledger.gc`,
+:mod:`gyrolib.ledger.rsf`) builds its items by calling the same library functions the
+chapters call.  ``python -m gyrolib ledger [--json]`` prints the ledger.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+
+__all__ = ["STATUSES", "LedgerItem", "collect", "to_json", "to_table"]
+
+#: The allowed values of :attr:`LedgerItem.status`.
+STATUSES: tuple[str, ...] = ("reproduced", "differs (explained)", "not reproducible")
+
+
+@dataclass(frozen=True)
+class LedgerItem:
+    """One printed item of a paper and its reproduction.
+
+    ``chapter`` is the Sphinx document name of the chapter that shows it (e.g.
+    ``"chapters/rsf_method"``) and ``anchor`` an optional label inside it, so the ledger page
+    and tests can link to it.
+    """
+
+    id: str
+    paper: str
+    location: str
+    quantity: str
+    unit: str
+    paper_value: float | str | None
+    reproduced_value: float | None
+    status: str
+    note: str
+    chapter: str
+    anchor: str = ""
+
+    def __post_init__(self) -> None:
+        if self.status not in STATUSES:
+            raise ValueError(f"status must be one of {STATUSES}; got {self.status!r}")
+        if self.paper not in ("GC", "RSF"):
+            raise ValueError(f"paper must be 'GC' or 'RSF'; got {self.paper!r}")
+        if self.reproduced_value is not None and not math.isfinite(self.reproduced_value):
+            raise ValueError(f"reproduced_value of {self.id} must be finite")
+
+
+def collect() -> list[LedgerItem]:
+    """All ledger items, paper GC first, each paper in the order of its printed items."""
+    items: list[LedgerItem] = []
+    for module_name in ("gc", "rsf"):
+        try:
+            module = __import__(f"gyrolib.ledger.{module_name}", fromlist=["items"])
+        except ModuleNotFoundError as exc:
+            if exc.name != f"gyrolib.ledger.{module_name}":
+                raise
+            continue
+        items.extend(module.items())
+    ids = [it.id for it in items]
+    if len(ids) != len(set(ids)):
+        raise RuntimeError("duplicate ledger ids")
+    return items
+
+
+def to_json(items: list[LedgerItem]) -> str:
+    """JSON list of the items, byte-identical for identical inputs."""
+    out = []
+    for it in items:
+        d = asdict(it)
+        d.pop("anchor")
+        out.append(d)
+    return json.dumps(out, indent=2, ensure_ascii=False, sort_keys=False) + "\n"
+
+
+def _fmt(value: float | str | None) -> str:
+    if value is None:
+        return "—"
+    if isinstance(value, str):
+        return value
+    return f"{value:.4g}"
+
+
+def to_table(items: list[LedgerItem]) -> str:
+    """A plain-text table for the terminal."""
+    header = ("id", "paper value", "reproduced", "unit", "status")
+    rows = [(it.id, _fmt(it.paper_value), _fmt(it.reproduced_value), it.unit, it.status)
+            for it in items]
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(header, widths))]
+    lines.append("  ".join("-" * w for w in widths))
+    lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) for r in rows]
+    return "\n".join(lines) + "\n"

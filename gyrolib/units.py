@@ -1,0 +1,104 @@
+"""Units of the two papers, converted to and from SI in one place.
+
+Everything inside :mod:`gyrolib` is SI (rad, rad/s, m/s², s).  The papers speak in
+arcseconds, arcseconds per second, degrees per hour, degrees per second, ppm and g; this
+module is the only place where those units are turned into SI and back.
+
+Paper GC converts arcseconds with the rounded factor 1″ = 0.485·10⁻⁵ rad (its parameter
+table); the exact factor is π/648000 rad = 4.8481·10⁻⁶ rad.  Both are offered: the unit
+``"arcsec"`` is exact, ``"arcsec_paper"`` is the paper's rounded factor (0.04 % larger).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Final
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+__all__ = [
+    "ARCMIN",
+    "ARCSEC",
+    "ARCSEC_PAPER",
+    "DEG",
+    "DEG_PER_HOUR",
+    "DEG_PER_S",
+    "G0",
+    "PPM",
+    "UNITS",
+    "from_si",
+    "to_si",
+]
+
+#: One degree in radians.
+DEG: Final[float] = math.pi / 180.0
+#: One arcminute in radians.
+ARCMIN: Final[float] = DEG / 60.0
+#: One arcsecond in radians, exact (π/648000).
+ARCSEC: Final[float] = DEG / 3600.0
+#: One arcsecond in radians as paper GC rounds it: 0.485·10⁻⁵ rad.
+ARCSEC_PAPER: Final[float] = 0.485e-5
+#: One degree per hour in rad/s.
+DEG_PER_HOUR: Final[float] = DEG / 3600.0
+#: One degree per second in rad/s.
+DEG_PER_S: Final[float] = DEG
+#: One part per million (dimensionless).
+PPM: Final[float] = 1e-6
+#: Standard gravity, m/s² (CGPM 1901, exact by definition).
+G0: Final[float] = 9.80665
+
+#: SI value of one of each named unit.  Keys are the unit names accepted by
+#: :func:`to_si` and :func:`from_si`.
+UNITS: Final[dict[str, float]] = {
+    "rad": 1.0,
+    "deg": DEG,
+    "arcmin": ARCMIN,
+    "arcsec": ARCSEC,
+    "arcsec_paper": ARCSEC_PAPER,
+    "rad/s": 1.0,
+    "deg/s": DEG_PER_S,
+    "deg/h": DEG_PER_HOUR,
+    "arcsec/s": ARCSEC,
+    "arcsec_paper/s": ARCSEC_PAPER,
+    "ppm": PPM,
+    "g": G0,
+    "m/s^2": 1.0,
+    "1": 1.0,
+}
+
+
+def _factor(unit: str) -> float:
+    if not isinstance(unit, str):
+        raise TypeError(f"unit must be a str, one of {sorted(UNITS)}; got {type(unit).__name__}")
+    try:
+        return UNITS[unit]
+    except KeyError:
+        raise ValueError(f"unit must be one of {sorted(UNITS)}; got {unit!r}") from None
+
+
+def _as_number(value: ArrayLike) -> float | np.ndarray:
+    if isinstance(value, bool):
+        raise TypeError("value must be a real number or array of real numbers, not bool")
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "iuf":
+        raise TypeError(f"value must be a real number or array of real numbers; got dtype {arr.dtype}")
+    return float(arr) if arr.ndim == 0 else arr.astype(float)
+
+
+def to_si(value: ArrayLike, unit: str) -> float | np.ndarray:
+    """Convert ``value`` expressed in ``unit`` to SI.
+
+    >>> round(to_si(1.0, "deg/h"), 12)
+    4.848e-06
+    """
+    return _as_number(value) * _factor(unit)
+
+
+def from_si(value: ArrayLike, unit: str) -> float | np.ndarray:
+    """Convert an SI ``value`` to ``unit``.
+
+    >>> from_si(ARCSEC_PAPER, "arcsec_paper")
+    1.0
+    """
+    return _as_number(value) / _factor(unit)

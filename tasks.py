@@ -1,0 +1,143 @@
+#!/usr/bin/env python3
+"""The project's two commands, runnable on a fresh machine with only Python 3.11+.
+
+    python3 tasks.py book    # set up .venv, build the book into _build/html
+    python3 tasks.py test    # set up .venv (and a browser), lint, clean book build, all tests
+
+Set-up is idempotent: the virtual environment ``.venv`` is (re)installed from the pinned
+``requirements.txt`` whenever that file or ``pyproject.toml`` changes.  Other sub-commands:
+``setup`` (environment only), ``lint``, ``clean``, ``chapter NAME`` (execute one chapter as a
+notebook from the command line).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+import venv
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent
+VENV = ROOT / ".venv"
+BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
+PY = BIN / "python"
+STAMP = VENV / ".gyrolib-setup.sha256"
+BUILD = ROOT / "_build"
+
+# Extra Debian packages for the browser test (Playwright drives the system Chromium).
+BROWSER = Path("/usr/bin/chromium")
+
+
+def run(*cmd: str | os.PathLike, **kw) -> None:
+    print("+", " ".join(str(c) for c in cmd), flush=True)
+    subprocess.run([str(c) for c in cmd], check=True, cwd=ROOT, **kw)
+
+
+def _setup_fingerprint() -> str:
+    h = hashlib.sha256()
+    for name in ("requirements.txt", "pyproject.toml"):
+        h.update((ROOT / name).read_bytes())
+    h.update(sys.version.encode())
+    return h.hexdigest()
+
+
+def setup() -> None:
+    """Create .venv and install the pinned environment and gyrolib (editable)."""
+    if sys.version_info < (3, 11):
+        sys.exit(f"Python 3.11 or newer is needed; this is {sys.version.split()[0]}")
+    fingerprint = _setup_fingerprint()
+    if PY.exists() and STAMP.exists() and STAMP.read_text().strip() == fingerprint:
+        return
+    if not PY.exists():
+        print(f"creating virtual environment {VENV}", flush=True)
+        venv.EnvBuilder(with_pip=True, clear=True).create(VENV)
+    run(PY, "-m", "pip", "install", "--quiet", "--upgrade", "pip")
+    run(PY, "-m", "pip", "install", "--quiet", "-r", "requirements.txt")
+    run(PY, "-m", "pip", "install", "--quiet", "--no-deps", "-e", ".")
+    STAMP.write_text(fingerprint + "\n")
+
+
+def ensure_browser() -> None:
+    """Install Debian's Chromium for the browser test when it is missing (needs root + apt)."""
+    if BROWSER.exists():
+        return
+    if shutil.which("apt-get") is None or os.geteuid() != 0:
+        print("note: no /usr/bin/chromium and no root apt-get: the browser test will skip",
+              flush=True)
+        return
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    try:
+        run("apt-get", "update", "-qq", env=env)
+        run("apt-get", "install", "-y", "-qq", "--no-install-recommends", "chromium", env=env)
+    except subprocess.CalledProcessError as exc:
+        print(f"note: could not install chromium ({exc}); the browser test will skip",
+              flush=True)
+
+
+def book(clean: bool = False) -> None:
+    """Build the book into _build/html; warnings, cell errors and broken refs fail it."""
+    setup()
+    if clean and BUILD.exists():
+        shutil.rmtree(BUILD)
+    env = dict(os.environ, MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1")
+    run(BIN / "jupyter-book", "build", ".", "--builder", "html",
+        "-W", "-n", "--keep-going", env=env)
+    index = BUILD / "html" / "index.html"
+    if not index.is_file():
+        sys.exit(f"book build did not produce {index}")
+    print(f"\nbook built: open {index}")
+
+
+def lint() -> None:
+    setup()
+    run(BIN / "ruff", "check", ".")
+
+
+def test() -> None:
+    """Lint, clean full book build (warnings as errors), then the whole test suite."""
+    setup()
+    ensure_browser()
+    lint()
+    book(clean=True)
+    env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_BOOK_BUILT="1")
+    run(PY, "-m", "pytest", env=env)
+
+
+def chapter(name: str) -> None:
+    """Execute one chapter as a notebook from the command line (output in _build/chapters)."""
+    setup()
+    src = ROOT / "chapters" / f"{Path(name).stem}.md"
+    if not src.is_file():
+        sys.exit(f"no chapter {src}")
+    out = BUILD / "chapters"
+    out.mkdir(parents=True, exist_ok=True)
+    ipynb = out / f"{src.stem}.ipynb"
+    run(BIN / "jupytext", "--to", "ipynb", "--output", ipynb, src)
+    run(BIN / "jupyter", "nbconvert", "--to", "notebook", "--execute", "--inplace",
+        "--ExecutePreprocessor.timeout=600", ipynb, env=dict(os.environ, MPLBACKEND="Agg"))
+    print(f"executed {ipynb}")
+
+
+def clean() -> None:
+    if BUILD.exists():
+        shutil.rmtree(BUILD)
+
+
+def main(argv: list[str]) -> None:
+    cmds = {"setup": setup, "book": book, "test": test, "lint": lint, "clean": clean}
+    if len(argv) == 2 and argv[0] == "chapter":
+        chapter(argv[1])
+    elif len(argv) == 1 and argv[0] in cmds:
+        cmds[argv[0]]()
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    try:
+        main(sys.argv[1:])
+    except subprocess.CalledProcessError as exc:
+        sys.exit(exc.returncode or 1)
