@@ -46,7 +46,7 @@ def _setup_fingerprint() -> str:
 
 def setup() -> None:
     """Create .venv and install the pinned environment and gyrolib (editable)."""
-    if sys.version_info < (3, 11):
+    if sys.version_info < (3, 11):  # noqa: UP036 - tasks.py runs under any system python
         sys.exit(f"Python 3.11 or newer is needed; this is {sys.version.split()[0]}")
     fingerprint = _setup_fingerprint()
     if PY.exists() and STAMP.exists() and STAMP.read_text().strip() == fingerprint:

@@ -82,7 +82,7 @@ def _as_number(value: ArrayLike) -> float | np.ndarray:
         raise TypeError("value must be a real number or array of real numbers, not bool")
     arr = np.asarray(value)
     if arr.dtype.kind not in "iuf":
-        raise TypeError(f"value must be a real number or array of real numbers; got dtype {arr.dtype}")
+        raise TypeError(f"value must be real (number or array); got dtype {arr.dtype}")
     return float(arr) if arr.ndim == 0 else arr.astype(float)
 
 
