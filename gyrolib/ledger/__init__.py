@@ -12,10 +12,17 @@ import json
 import math
 from dataclasses import asdict, dataclass
 
-__all__ = ["STATUSES", "LedgerItem", "collect", "to_json", "to_table"]
+__all__ = ["STATUSES", "STATUS_MARKS", "LedgerItem", "collect", "summary", "to_json",
+           "to_markdown", "to_table"]
 
 #: The allowed values of :attr:`LedgerItem.status`.
 STATUSES: tuple[str, ...] = ("reproduced", "differs (explained)", "not reproducible")
+#: A mark per status, so that the ledger page shows the status at a glance.
+STATUS_MARKS: dict[str, str] = {
+    "reproduced": "✅",
+    "differs (explained)": "⚠️",
+    "not reproducible": "❌",
+}
 
 
 @dataclass(frozen=True)
@@ -92,4 +99,37 @@ def to_table(items: list[LedgerItem]) -> str:
     lines = ["  ".join(c.ljust(w) for c, w in zip(header, widths))]
     lines.append("  ".join("-" * w for w in widths))
     lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) for r in rows]
+    return "\n".join(lines) + "\n"
+
+
+def summary(items: list[LedgerItem]) -> dict[str, int]:
+    """Count of items per status, plus ``"total"``."""
+    counts = {status: 0 for status in STATUSES}
+    for it in items:
+        counts[it.status] += 1
+    counts["total"] = len(items)
+    return counts
+
+
+def _md_escape(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def to_markdown(items: list[LedgerItem], paper: str) -> str:
+    """A MyST table of one paper's items; the chapter column links with ``{ref}`` roles, so a
+    broken link fails the book build."""
+    lines = [
+        "| | id | where | quantity | paper | reproduced | unit | note |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for it in items:
+        if it.paper != paper:
+            continue
+        target = it.anchor or it.chapter.rsplit("/", 1)[-1].replace("_", "-")
+        link = f"{{ref}}`{_md_escape(it.location)} <{target}>`"
+        lines.append(
+            f"| {STATUS_MARKS[it.status]} | `{it.id}` | {link} | {_md_escape(it.quantity)} | "
+            f"{_fmt(it.paper_value)} | {_fmt(it.reproduced_value)} | {_md_escape(it.unit)} | "
+            f"**{it.status}**: {_md_escape(it.note)} |"
+        )
     return "\n".join(lines) + "\n"

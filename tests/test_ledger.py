@@ -1,0 +1,120 @@
+"""The reproduction ledger: complete, well-formed, deterministic, and linked to the book."""
+
+import json
+import os
+import re
+import subprocess
+import sys
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+from gyrolib.ledger import STATUSES, LedgerItem, collect, summary, to_json, to_markdown
+
+ROOT = Path(__file__).resolve().parents[1]
+HTML = ROOT / "_build" / "html"
+FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
+          "status", "note", "chapter"}
+REQUIRED_IDS = [
+    "gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.fig2.var_N3",
+    *[f"rsf.table2.dgamma_sins_{t}" for t in (10, 60, 120)],
+    *[f"rsf.table2.dr_z_{t}" for t in (10, 60, 120)],
+    *[f"rsf.table3.eps0_t_{t}" for t in (10, 60, 120)],
+    *[f"rsf.table3.dgamma_gs_{t}" for t in (10, 60, 120)],
+    "rsf.example.delta_K",
+]
+
+
+@pytest.fixture(scope="module")
+def items():
+    return collect()
+
+
+def _cli_json() -> str:
+    out = subprocess.run([sys.executable, "-m", "gyrolib", "ledger", "--json"], check=True,
+                         capture_output=True, text=True, cwd=ROOT)
+    return out.stdout
+
+
+def test_every_required_id_is_present(items):
+    ids = {it.id for it in items}
+    missing = [i for i in REQUIRED_IDS if i not in ids]
+    assert not missing, f"ledger lacks {missing}"
+
+
+def test_statuses_and_fields(items):
+    for it in items:
+        assert it.status in STATUSES, it
+        assert it.paper in ("GC", "RSF"), it
+        assert it.note and len(it.note.splitlines()) == 1, f"{it.id}: note must be one line"
+        assert re.fullmatch(r"[a-z]+(\.[A-Za-z0-9_]+)+", it.id), it.id
+        if it.status != "not reproducible":
+            assert it.reproduced_value is not None, it.id
+
+
+def test_cli_json_parses_with_every_field_and_is_byte_identical():
+    first, second = _cli_json(), _cli_json()
+    assert first == second
+    data = json.loads(first)
+    assert isinstance(data, list) and data
+    for entry in data:
+        assert set(entry) == FIELDS, entry
+        assert entry["status"] in STATUSES
+
+
+def test_cli_table_lists_every_item(items):
+    out = subprocess.run([sys.executable, "-m", "gyrolib", "ledger"], check=True,
+                         capture_output=True, text=True, cwd=ROOT).stdout
+    for it in items:
+        assert it.id in out
+
+
+def test_summary_counts_add_up(items):
+    counts = summary(items)
+    assert sum(counts[s] for s in STATUSES) == counts["total"] == len(items)
+
+
+def test_item_rejects_unknown_status():
+    with pytest.raises(ValueError, match="status must be one of"):
+        LedgerItem(id="x.y", paper="GC", location="", quantity="", unit="", paper_value=None,
+                   reproduced_value=None, status="close enough", note="n", chapter="c")
+
+
+def test_json_and_markdown_of_a_known_item():
+    it = LedgerItem(id="gc.test", paper="GC", location="Fig. 3", quantity="σ|x", unit="m",
+                    paper_value=0.5, reproduced_value=0.49273, status="reproduced",
+                    note="shown", chapter="chapters/gc_model", anchor="")
+    assert json.loads(to_json([it]))[0]["reproduced_value"] == 0.49273
+    md = to_markdown([it], "GC")
+    assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md
+
+
+class _Ids(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.ids = set()
+
+    def handle_starttag(self, tag, attrs):
+        for k, v in attrs:
+            if k == "id" and v:
+                self.ids.add(v)
+
+
+def test_every_item_links_to_a_page_and_anchor_of_the_built_book(items):
+    if not (HTML / "index.html").is_file():
+        if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
+            pytest.fail("the book should have been built by the test command")
+        pytest.skip("book not built: run `python3 tasks.py book` first")
+    problems = []
+    for it in items:
+        page = HTML / f"{it.chapter}.html"
+        if not page.is_file():
+            problems.append(f"{it.id}: no page {page.relative_to(HTML)}")
+            continue
+        if it.anchor:
+            parser = _Ids()
+            parser.feed(page.read_text(encoding="utf-8"))
+            if it.anchor not in parser.ids:
+                problems.append(f"{it.id}: no anchor #{it.anchor} in {page.name}")
+    assert not problems, "\n".join(problems)
