@@ -12,29 +12,31 @@ import numbers
 import numpy as np
 
 
-def check_real(name: str, value: object) -> float:
-    """Return ``value`` as a finite float, or raise naming ``name``."""
+def check_real(name: str, value: object, allowed: str = "finite") -> float:
+    """Return ``value`` as a finite float, or raise naming ``name`` and ``allowed``."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number; got {type(value).__name__}")
+        raise TypeError(f"{name} must be a real number ({allowed}); got {type(value).__name__}")
     v = float(value)
     if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite; got {v}")
+        raise ValueError(f"{name} must be {allowed}; got {v}")
     return v
 
 
 def check_positive(name: str, value: object) -> float:
     """A finite real number > 0."""
-    v = check_real(name, value)
+    allowed = "> 0 (a finite positive number)"
+    v = check_real(name, value, allowed)
     if not v > 0.0:
-        raise ValueError(f"{name} must be > 0 (a finite positive number); got {v}")
+        raise ValueError(f"{name} must be {allowed}; got {v}")
     return v
 
 
 def check_nonnegative(name: str, value: object) -> float:
     """A finite real number >= 0."""
-    v = check_real(name, value)
+    allowed = ">= 0 (finite)"
+    v = check_real(name, value, allowed)
     if v < 0.0:
-        raise ValueError(f"{name} must be >= 0; got {v}")
+        raise ValueError(f"{name} must be {allowed}; got {v}")
     return v
 
 
@@ -48,11 +50,11 @@ def check_in_range(
     high_open: bool = False,
 ) -> float:
     """A finite real number in the interval between ``low`` and ``high``."""
-    v = check_real(name, value)
+    interval = f"{'(' if low_open else '['}{low}, {high}{')' if high_open else ']'}"
+    v = check_real(name, value, f"in {interval}")
     lo_ok = v > low if low_open else v >= low
     hi_ok = v < high if high_open else v <= high
     if not (lo_ok and hi_ok):
-        interval = f"{'(' if low_open else '['}{low}, {high}{')' if high_open else ']'}"
         raise ValueError(f"{name} must be in {interval}; got {v}")
     return v
 
