@@ -1,0 +1,150 @@
+"""Ledger items of paper RSF: every printed number of the roll-gyro correction paper.
+
+Only the ``paper_value`` column (what the paper prints) is stored here, in :data:`PRINTED`;
+every reproduced value is computed by :mod:`gyrolib.roll_correction` from the sensor records,
+so perturbing a record moves the ledger (see ``tests/test_ledger_rsf.py``).
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+from gyrolib import roll_correction as rc
+from gyrolib.ledger import LedgerItem
+from gyrolib.units import from_si, to_si
+
+__all__ = ["PRINTED", "TIMES", "items"]
+
+#: Table columns of the paper, s.
+TIMES: Final[tuple[int, ...]] = (10, 60, 120)
+
+#: What paper RSF prints (its units: °, °/h, ppm, °/s, %; Δr_z's unit is lost).
+PRINTED: Final[dict[str, float]] = {
+    "table1.bias_instability": 100.0,
+    "table1.sf_error": 600.0,
+    "gs.sigma_rep": 10.0,
+    "gs.sigma_stab": 7.0,
+    "gs.sf_error": 280.0,
+    "gs.eps0_total": 3.3e-3,
+    "table2.dgamma_sins_10": 21.6,
+    "table2.dgamma_sins_60": 129.6,
+    "table2.dgamma_sins_120": 259.2,
+    "table2.dr_z_10": 21.25,
+    "table2.dr_z_60": 4590.0,
+    "table2.dr_z_120": 36730.0,
+    "table3.eps0_t_10": 0.033,
+    "table3.eps0_t_60": 0.198,
+    "table3.eps0_t_120": 0.396,
+    "table3.dgamma_gs_10": 0.363,
+    "table3.dgamma_gs_60": 0.528,
+    "table3.dgamma_gs_120": 0.726,
+    "example.delta_K": 0.093,
+    "example.compensated": 90.0,
+}
+
+_METHOD = "chapters/rsf_method"
+
+
+def _item(key: str, location: str, quantity: str, unit: str, value: float | None,
+          status: str, note: str, anchor: str,
+          paper_value: float | str | None = None) -> LedgerItem:
+    return LedgerItem(
+        id=f"rsf.{key}", paper="RSF", location=location, quantity=quantity, unit=unit,
+        paper_value=PRINTED.get(key) if paper_value is None else paper_value,
+        reproduced_value=None if value is None else float(value), status=status, note=note,
+        chapter=_METHOD, anchor=anchor,
+    )
+
+
+def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
+          gs_gyro: rc.MemsGyroSpec = rc.GYPRO4300,
+          encoder: rc.EncoderSpec = rc.AEDB9340) -> list[LedgerItem]:
+    """The ledger items of paper RSF, in the order the paper prints them.
+
+    The keyword arguments replace the paper's sensor records (for sensitivity checks).
+    """
+    out: list[LedgerItem] = []
+    # Sensor data -------------------------------------------------------------------------
+    out.append(_item(
+        "table1.bias_instability", "Table 1", "SiIMU02 roll gyro bias instability (1σ)",
+        "°/h", from_si(roll_gyro.bias_instability, "deg/h"), "reproduced",
+        "unit lost in the extraction; read as °/h, the only reading with ε0 ≪ ε1·ω as the "
+        "paper assumes", "rsf-sensors"))
+    out.append(_item(
+        "table1.sf_error", "Table 1", "SiIMU02 roll gyro scale-factor error ε1 (1σ)", "ppm",
+        from_si(roll_gyro.sf_error, "ppm"), "reproduced",
+        "used as ε1 in Table 2", "rsf-sensors"))
+    out.append(_item(
+        "gs.sigma_rep", "GS gyro table", "GYPRO4300 bias repeatability σ_rep (1σ)", "°/h",
+        from_si(gs_gyro.bias_repeatability, "deg/h"), "reproduced", "as printed",
+        "rsf-sensors"))
+    out.append(_item(
+        "gs.sigma_stab", "GS gyro table", "GYPRO4300 in-run bias stability σ_stab (1σ)",
+        "°/h", from_si(gs_gyro.bias_stability, "deg/h"), "reproduced", "as printed",
+        "rsf-sensors"))
+    out.append(_item(
+        "gs.sf_error", "GS gyro table", "GYPRO4300 scale-factor error ε1,GS (1σ)", "ppm",
+        from_si(gs_gyro.sf_error, "ppm"), "reproduced",
+        "280 ppm = 2.8·10⁻⁴; the worked example misprints it as 280·10⁻³", "rsf-sensors"))
+    out.append(_item(
+        "gs.eps0_total", "Table 3 and example", "ε0,GS = √(σ_rep² + σ_stab²)", "°/s",
+        from_si(gs_gyro.bias_total, "deg/s"), "differs (explained)",
+        "√(10² + 7²) = 12.2 °/h = 3.39·10⁻³ °/s; the paper truncates it to 3.3·10⁻³ °/s",
+        "rsf-table3"))
+    out.append(_item(
+        "encoder.position_error", "text before Table 3", "AEDB-9340 position error Δγ_enc",
+        "°", from_si(encoder.position_error, "deg"), "reproduced",
+        "value lost in the extraction; Table 3 implies 0.33° in all three columns "
+        "(Δγ_GS − ε0,GS·t)", "rsf-encoder", paper_value="lost (Table 3 implies 0.33)"))
+
+    # Table 2 -----------------------------------------------------------------------------
+    t2 = rc.table2(roll_gyro)
+    for t, dg, cubic, exact in zip(TIMES, t2.dgamma_sins, t2.dr_z_cubic, t2.dr_z_exact):
+        out.append(_item(
+            f"table2.dgamma_sins_{t}", "Table 2", f"SINS roll error Δγ_SINS at t = {t} s",
+            "°", from_si(dg, "deg"), "reproduced", "Eq. (4), ε1·ω·t with ω = 3600 °/s",
+            "rsf-table2"))
+        out.append(_item(
+            f"table2.dr_z_{t}", "Table 2", f"lateral deviation Δr_z at t = {t} s (cubic, Eq. 8)",
+            "m", cubic, "not reproducible",
+            "printed values follow t³ exactly but at 0.345× g·ε1·ω·t³/6 (unit lost); no unit "
+            f"slip tried reproduces them; exact double integral {exact:.4g} m", "rsf-table2"))
+
+    # Table 3 -----------------------------------------------------------------------------
+    t3 = rc.table3(gs_gyro, encoder)
+    t3p = rc.table3(gs_gyro, encoder, eps0_gs=float(to_si(PRINTED["gs.eps0_total"], "deg/s")))
+    for i, t in enumerate(TIMES):
+        out.append(_item(
+            f"table3.eps0_t_{t}", "Table 3", f"GS bias error ε0,GS·t at t = {t} s", "°",
+            from_si(t3.eps0_t[i], "deg"), "differs (explained)",
+            "ε0,GS = 3.39·10⁻³ °/s; the print uses 3.3·10⁻³ °/s and then gives "
+            f"{from_si(t3p.eps0_t[i], 'deg'):.3f}°", "rsf-table3"))
+        out.append(_item(
+            f"table3.dgamma_gs_{t}", "Table 3", f"GS roll error Δγ_GS at t = {t} s (Eq. 9)",
+            "°", from_si(t3.dgamma_gs[i], "deg"), "differs (explained)",
+            "Eq. (9) with Δγ_enc = 0.33°; with the truncated ε0,GS the print gives "
+            f"{from_si(t3p.dgamma_gs[i], 'deg'):.3f}°", "rsf-table3"))
+    ratio = float(t2.dgamma_sins[0] / t3.dgamma_gs[0])
+    out.append(_item(
+        "claim.gs_vs_sins", "after Table 3", "Δγ_SINS / Δγ_GS at t = 10 s", "1", ratio,
+        "differs (explained)",
+        "'hundreds of times smaller' holds at 60 s and 120 s (≈ 240×, 350×) but not at 10 s",
+        "rsf-gs-vs-sins", paper_value="hundreds"))
+
+    # Worked example and conclusion -------------------------------------------------------------
+    dk = rc.worked_example_delta_k(gs_gyro, encoder)
+    dk_slip = rc.worked_example_delta_k(
+        gs_gyro, encoder, eps0_gs=float(to_si(PRINTED["gs.eps0_total"], "deg/s")),
+        eps1_gs=float(PRINTED["gs.sf_error"]) * 1e-3)
+    out.append(_item(
+        "example.delta_K", "worked example, Eq. (7)", "relative error δK of K", "1", dk,
+        "differs (explained)",
+        f"the print takes ε1,GS = 280·10⁻³ instead of 280 ppm, which gives {dk_slip:.4f}; "
+        f"with 280 ppm δK is {dk_slip / dk:.0f}× smaller", "rsf-example"))
+    frac = 100.0 * float(rc.fraction_compensated(roll_gyro.sf_error, dk))
+    out.append(_item(
+        "example.compensated", "conclusion", "share of the SF error compensated", "%", frac,
+        "differs (explained)",
+        "the paper reads 1 − δK as the share compensated; the residual SF error is δK itself, "
+        "so the share is 1 − δK/ε1", "rsf-compensated"))
+    return out

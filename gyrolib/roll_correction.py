@@ -1,0 +1,494 @@
+"""Paper RSF: in-flight correction of the scale factor of a roll gyro by a MEMS indicator
+gyrostabilizer (GS).
+
+SI inside: angles in rad, rates in rad/s, time in s, accelerations in m/s², scale-factor
+errors dimensionless (use :mod:`gyrolib.units` for °/s, °/h, ppm at the edges).
+
+The roll-gyro measurement model of the paper (before its Eq. (2))::
+
+    ω_x = (1 + ε1) ω_true + ε0
+
+and Eqs. (1)–(9) as functions:
+
+=========  =====================================================================
+Eq. (1)    :func:`roll_difference`  Δγ_i = γ_SINS,i − γ_GS,i
+Eq. (2)    :func:`sf_error_estimate`  ε̂1 = Δγ / (ω_x Δt)
+K          :func:`correction_coefficient`  K = 1 − ε̂1 ("linear") or 1/(1 + ε̂1)
+Eq. (3)    :func:`corrected_rate`  ω̂_x = K ω_x
+Eq. (4)    :func:`sins_roll_error`  Δγ_SINS = ε1 ω t (+ ε0 t)
+Eq. (5)    :func:`difference_error`  error of the measured Δγ over one interval
+Eq. (6)    :func:`gs_roll_error_nonideal`  ε0,GS t + ε1,GS ∫ω_unc dt + Δγ_enc
+Eq. (7)    :func:`delta_k`  δK = [(ε0,GS + ε1,GS ω_unc)Δt + Δγ_enc] / (ω_x Δt)
+Eq. (8)    :func:`lateral_deviation_cubic`, :func:`lateral_deviation_exact`
+Eq. (9)    :func:`gs_roll_error_ideal`  ε0,GS t + Δγ_enc
+=========  =====================================================================
+
+The sensor data of the paper (Table 1, the GS gyro table and the encoder) are frozen
+dataclasses :class:`RollGyroSpec`, :class:`MemsGyroSpec` and :class:`EncoderSpec`, with the
+paper's values as defaults (:data:`SIIMU02_ROLL`, :data:`GYPRO4300`, :data:`AEDB9340`).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from gyrolib import _validation as v
+from gyrolib.units import G0, to_si
+
+__all__ = [
+    "AEDB9340",
+    "GYPRO4300",
+    "K_FORMS",
+    "SIIMU02_ROLL",
+    "EncoderSpec",
+    "MemsGyroSpec",
+    "RollGyroSpec",
+    "Table2",
+    "Table3",
+    "corrected_rate",
+    "correction_coefficient",
+    "delta_k",
+    "delta_k_ideal",
+    "difference_error",
+    "fraction_compensated",
+    "gs_bias_total",
+    "gs_roll_error_ideal",
+    "gs_roll_error_nonideal",
+    "gyro_output",
+    "k_true",
+    "lateral_acceleration_error",
+    "lateral_deviation_cubic",
+    "lateral_deviation_exact",
+    "relative_k_error",
+    "residual_sf_error",
+    "roll_difference",
+    "sf_error_estimate",
+    "sins_roll_error",
+    "table2",
+    "table3",
+    "worked_example_delta_k",
+]
+
+#: The two readings of the garbled correction coefficient: ``"linear"`` K = 1 − ε̂1,
+#: ``"reciprocal"`` K = 1/(1 + ε̂1).
+K_FORMS: tuple[str, ...] = ("linear", "reciprocal")
+
+# A scale-factor error is a small number; anything at or beyond ±1 is not a scale-factor
+# error of a working gyro (the reading would vanish or change sign).
+_SF_LIMIT = 1.0
+
+
+# Input helpers --------------------------------------------------------------------------------
+def _value(name: str, value: object, *, nonnegative: bool = False) -> float | np.ndarray:
+    """A finite real number or array of them (``nonnegative``: all >= 0)."""
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        out: float | np.ndarray = (v.check_nonnegative(name, value) if nonnegative
+                                   else v.check_real(name, value))
+        return out
+    arr = v.check_array(name, value)
+    if nonnegative and np.any(arr < 0.0):
+        raise ValueError(f"{name} must be >= 0 (finite) everywhere; got min {arr.min()}")
+    return arr if arr.ndim else float(arr)
+
+
+def _nonzero(name: str, value: object) -> float | np.ndarray:
+    """A finite real number (or array) that is nowhere zero: it is a divisor."""
+    out = _value(name, value)
+    if np.any(np.asarray(out) == 0.0):
+        raise ValueError(f"{name} must be nonzero (finite, != 0); got 0")
+    return out
+
+
+def _sf(name: str, value: object) -> float | np.ndarray:
+    """A scale-factor error: finite and in the open interval (−1, 1)."""
+    out = _value(name, value)
+    if np.any(np.abs(np.asarray(out)) >= _SF_LIMIT):
+        raise ValueError(f"{name} must be in (-1.0, 1.0) (a relative scale-factor error); "
+                         f"got {out}")
+    return out
+
+
+# Sensor specification records ------------------------------------------------------------------
+def _optional_positive(name: str, value: object) -> float | None:
+    if value is None:
+        return None
+    return v.check_positive(name, value)
+
+
+@dataclass(frozen=True)
+class RollGyroSpec:
+    """Roll gyro of the SINS: paper RSF, Table 1 (Collins Aerospace SiIMU02).
+
+    * ``bias_instability`` (rad/s, 1σ): printed "100" with the unit lost in the extraction;
+      read as 100 °/h (the only unit for which ε0 ≪ ε1 ω holds as the paper states, and the
+      usual datasheet unit).  It is the additive error ε0 of the measurement model.
+    * ``sf_error`` (dimensionless, 1σ): 600 ppm, the ε1 of Table 2.
+    * ``dynamic_range`` (rad/s): lost in the extraction (``None``).
+    """
+
+    name: str = "Collins Aerospace SiIMU02, roll gyro"
+    bias_instability: float = float(to_si(100.0, "deg/h"))
+    sf_error: float = float(to_si(600.0, "ppm"))
+    dynamic_range: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise TypeError(f"name must be a str; got {type(self.name).__name__}")
+        object.__setattr__(self, "bias_instability",
+                           v.check_nonnegative("bias_instability", self.bias_instability))
+        object.__setattr__(self, "sf_error",
+                           v.check_in_range("sf_error", self.sf_error, 0.0, _SF_LIMIT,
+                                            high_open=True))
+        object.__setattr__(self, "dynamic_range",
+                           _optional_positive("dynamic_range", self.dynamic_range))
+
+
+@dataclass(frozen=True)
+class MemsGyroSpec:
+    """MEMS gyro of the GS: paper RSF, the GYPRO4300 table (Tronics).
+
+    * ``bias_repeatability`` σ_rep (rad/s, 1σ): 10 °/h;
+    * ``bias_stability`` σ_stab (rad/s, 1σ, in run): 7 °/h;
+    * ``sf_error`` ε1,GS (dimensionless, 1σ): 280 ppm;
+    * ``dynamic_range`` (rad/s): lost in the extraction (``None``).
+
+    :attr:`bias_total` is ε0,GS = √(σ_rep² + σ_stab²) (the paper: the two are uncorrelated).
+    """
+
+    name: str = "Tronics GYPRO4300"
+    bias_repeatability: float = float(to_si(10.0, "deg/h"))
+    bias_stability: float = float(to_si(7.0, "deg/h"))
+    sf_error: float = float(to_si(280.0, "ppm"))
+    dynamic_range: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise TypeError(f"name must be a str; got {type(self.name).__name__}")
+        for field in ("bias_repeatability", "bias_stability"):
+            object.__setattr__(self, field, v.check_nonnegative(field, getattr(self, field)))
+        object.__setattr__(self, "sf_error",
+                           v.check_in_range("sf_error", self.sf_error, 0.0, _SF_LIMIT,
+                                            high_open=True))
+        object.__setattr__(self, "dynamic_range",
+                           _optional_positive("dynamic_range", self.dynamic_range))
+
+    @property
+    def bias_total(self) -> float:
+        """ε0,GS = √(σ_rep² + σ_stab²), rad/s."""
+        return gs_bias_total(self.bias_repeatability, self.bias_stability)
+
+
+@dataclass(frozen=True)
+class EncoderSpec:
+    """Optical encoder of the GS: paper RSF, Avago AEDB-9340.
+
+    * ``position_error`` Δγ_enc (rad): "position error per revolution"; the value is lost in
+      the extraction.  Table 3 fixes it: Δγ_GS − ε0,GS·t is 0.33° in all three columns, so
+      the paper used Δγ_enc = 0.33° (≈ 20′).  This is the encoder's accuracy (e.g.
+      code-wheel eccentricity), not its resolution.
+    * ``cycles_per_rev`` and ``quadrature``: not given by the paper.  The AEDB-9340 family
+      is a three-channel (A, B, index) incremental module offered in resolutions up to a few
+      thousand cycles per revolution; we *assume* 1000 CPR decoded ×4 (4000 counts per
+      revolution, 0.09° per count).  The simulation sweeps this choice.
+    """
+
+    name: str = "Avago AEDB-9340"
+    position_error: float = float(to_si(0.33, "deg"))
+    cycles_per_rev: int = 1000
+    quadrature: int = 4
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise TypeError(f"name must be a str; got {type(self.name).__name__}")
+        object.__setattr__(self, "position_error",
+                           v.check_in_range("position_error", self.position_error, 0.0,
+                                            math.pi, high_open=True))
+        object.__setattr__(self, "cycles_per_rev",
+                           v.check_int("cycles_per_rev", self.cycles_per_rev, 1))
+        q = v.check_int("quadrature", self.quadrature, 1)
+        if q not in (1, 2, 4):
+            raise ValueError(f"quadrature must be one of (1, 2, 4) (decoding factor); got {q}")
+        object.__setattr__(self, "quadrature", q)
+
+    @property
+    def counts_per_rev(self) -> int:
+        """Counts per revolution after quadrature decoding."""
+        return self.cycles_per_rev * self.quadrature
+
+    @property
+    def resolution(self) -> float:
+        """Angle of one count, rad."""
+        return 2.0 * math.pi / self.counts_per_rev
+
+
+#: Paper RSF, Table 1: SiIMU02 roll gyro.
+SIIMU02_ROLL = RollGyroSpec()
+#: Paper RSF, the GS gyro table: GYPRO4300.
+GYPRO4300 = MemsGyroSpec()
+#: Paper RSF, the GS encoder: AEDB-9340 (position error inferred from Table 3).
+AEDB9340 = EncoderSpec()
+
+
+# The measurement model and Eqs. (1)-(3) ----------------------------------------------------------
+def gyro_output(omega_true: ArrayLike, eps1: float, eps0: float = 0.0) -> float | np.ndarray:
+    """Roll-gyro reading ω_x = (1 + ε1) ω_true + ε0 (paper RSF, the model before Eq. (2))."""
+    w = _value("omega_true", omega_true)
+    e1 = _sf("eps1", eps1)
+    e0 = _value("eps0", eps0)
+    return (1.0 + e1) * w + e0
+
+
+def roll_difference(gamma_sins: ArrayLike, gamma_gs: ArrayLike) -> float | np.ndarray:
+    """Δγ_i = γ_SINS,i − γ_GS,i, the GS taken as the reference (paper RSF, Eq. (1))."""
+    return _value("gamma_sins", gamma_sins) - _value("gamma_gs", gamma_gs)
+
+
+def sf_error_estimate(dgamma: ArrayLike, omega_x: ArrayLike, dt: float) -> float | np.ndarray:
+    """ε̂1 = Δγ / (ω_x Δt) over one correction interval (paper RSF, Eq. (2)).
+
+    ``dgamma`` is the roll-angle difference accumulated over the interval of length ``dt``
+    and ``omega_x`` the measured (SINS) roll rate.  With the measured rate in the denominator
+    the noise-free estimate is ε1/(1 + ε1), not ε1 (see :func:`correction_coefficient`).
+    """
+    return _value("dgamma", dgamma) / (_nonzero("omega_x", omega_x) * v.check_positive("dt", dt))
+
+
+def correction_coefficient(eps1_hat: ArrayLike, form: str = "linear") -> float | np.ndarray:
+    """Correction coefficient K from the estimate ε̂1 (paper RSF, after Eq. (2)).
+
+    The print is garbled; the two readings are ``form="linear"``: K = 1 − ε̂1, and
+    ``form="reciprocal"``: K = 1/(1 + ε̂1).  With ε̂1 from Eq. (2) (measured rate in the
+    denominator) the linear form is the exact inverse of the scale factor; the reciprocal
+    form is exact when ε̂1 is referred to the true (GS) rate.  They differ by ε̂1² (3.6·10⁻⁷
+    at 600 ppm).
+    """
+    form = v.check_choice("form", form, K_FORMS)
+    e = _sf("eps1_hat", eps1_hat)
+    return 1.0 - e if form == "linear" else 1.0 / (1.0 + e)
+
+
+def corrected_rate(omega_x: ArrayLike, k: ArrayLike) -> float | np.ndarray:
+    """ω̂_x = K ω_x, every reading of the next interval (paper RSF, Eq. (3))."""
+    return _value("k", k) * _value("omega_x", omega_x)
+
+
+def k_true(eps1: ArrayLike) -> float | np.ndarray:
+    """The coefficient that removes a scale-factor error ε1 exactly: K_true = 1/(1 + ε1)."""
+    return 1.0 / (1.0 + _sf("eps1", eps1))
+
+
+def relative_k_error(k: ArrayLike, eps1: ArrayLike) -> float | np.ndarray:
+    """δK = (K − K_true)/K_true, the paper's measure of the correction (before Eq. (7)).
+
+    With K_true = 1/(1 + ε1) this is K (1 + ε1) − 1, which is exactly the scale-factor error
+    left in the corrected reading K ω_x (:func:`residual_sf_error`).
+    """
+    kt = k_true(eps1)
+    return (_value("k", k) - kt) / kt
+
+
+def residual_sf_error(eps1: ArrayLike, k: ArrayLike) -> float | np.ndarray:
+    """Scale-factor error left after correction: K (1 + ε1) − 1 (paper RSF, Eq. (3))."""
+    return _value("k", k) * (1.0 + _sf("eps1", eps1)) - 1.0
+
+
+def fraction_compensated(eps1: ArrayLike, residual: ArrayLike) -> float | np.ndarray:
+    """Fraction of the scale-factor error removed: 1 − |residual| / |ε1|.
+
+    ``residual`` is the scale-factor error left after correction, which equals δK
+    (:func:`relative_k_error`).  Negative when the "correction" makes things worse.
+    """
+    return 1.0 - np.abs(_value("residual", residual)) / np.abs(_nonzero("eps1", eps1))
+
+
+# Error budget, Eqs. (4)-(7) and (9) ----------------------------------------------------------
+def sins_roll_error(eps1: float, omega_true: ArrayLike, t: ArrayLike,
+                    eps0: float = 0.0) -> float | np.ndarray:
+    """Roll-angle error of the autonomous SINS, Δγ_SINS = ε1 ω t + ε0 t (paper RSF, Eq. (4)).
+
+    The paper neglects ε0 (``eps0=0``, the default); Table 2 uses ω = 3600 °/s.
+    """
+    return (_sf("eps1", eps1) * _value("omega_true", omega_true) + _value("eps0", eps0)) \
+        * _value("t", t, nonnegative=True)
+
+
+def gs_bias_total(sigma_rep: float, sigma_stab: float) -> float:
+    """ε0,GS = √(σ_rep² + σ_stab²): uncorrelated bias repeatability and in-run stability."""
+    return math.hypot(v.check_nonnegative("sigma_rep", sigma_rep),
+                      v.check_nonnegative("sigma_stab", sigma_stab))
+
+
+def gs_roll_error_ideal(eps0_gs: float, t: ArrayLike, dgamma_enc: float) -> float | np.ndarray:
+    """Roll error of an ideal GS: Δγ_GS = ε0,GS t + Δγ_enc (paper RSF, Eq. (9))."""
+    return (v.check_nonnegative("eps0_gs", eps0_gs) * _value("t", t, nonnegative=True)
+            + v.check_nonnegative("dgamma_enc", dgamma_enc))
+
+
+def gs_roll_error_nonideal(eps0_gs: float, eps1_gs: float, omega_unc: float, t: ArrayLike,
+                           dgamma_enc: float) -> float | np.ndarray:
+    """Roll error of a non-ideal GS (paper RSF, Eq. (6)) for a constant uncompensated rate:
+
+    Δγ_GS = ε0,GS t + ε1,GS ∫ ω_unc dt + Δγ_enc = (ε0,GS + ε1,GS ω_unc) t + Δγ_enc.
+    """
+    e1 = _sf("eps1_gs", eps1_gs)
+    w = v.check_real("omega_unc", omega_unc)
+    return (v.check_nonnegative("eps0_gs", eps0_gs) + abs(e1 * w)) \
+        * _value("t", t, nonnegative=True) + v.check_nonnegative("dgamma_enc", dgamma_enc)
+
+
+def difference_error(eps0_gs: float, dt: float, dgamma_enc: float, eps1_gs: float = 0.0,
+                     omega_unc: float = 0.0) -> float:
+    """Error of the measured difference Δγ_i over one interval Δt (paper RSF, Eq. (5)):
+
+    δΔγ = (ε1 − ε̂1) ω_x Δt = (ε0,GS + ε1,GS |ω_unc|) Δt + Δγ_enc,
+
+    the GS errors over the interval added in magnitude (the paper's worst-case sum of
+    uncorrelated terms).  ``eps1_gs=0`` or ``omega_unc=0`` is the ideal GS.
+    """
+    return float(gs_roll_error_nonideal(eps0_gs, eps1_gs, omega_unc,
+                                        v.check_positive("dt", dt), dgamma_enc))
+
+
+def delta_k(eps0_gs: float, dgamma_enc: float, omega_x: float, dt: float, eps1_gs: float = 0.0,
+            omega_unc: float = 0.0) -> float:
+    """Relative error of the correction coefficient (paper RSF, Eq. (7)):
+
+    δK ≈ [(ε0,GS + ε1,GS ω_unc) Δt + Δγ_enc] / (ω_x Δt).
+
+    With ``eps1_gs=0`` or ``omega_unc=0`` it is the ideal-GS form
+    (ε0,GS Δt + Δγ_enc)/(ω_x Δt) (:func:`delta_k_ideal`).  It is a magnitude: the terms are
+    added as worst-case (or 1σ) values.
+    """
+    w = abs(float(_nonzero("omega_x", v.check_real("omega_x", omega_x))))
+    dt = v.check_positive("dt", dt)
+    return difference_error(eps0_gs, dt, dgamma_enc, eps1_gs, omega_unc) / (w * dt)
+
+
+def delta_k_ideal(eps0_gs: float, dgamma_enc: float, omega_x: float, dt: float) -> float:
+    """δK for an ideal GS, (ε0,GS Δt + Δγ_enc)/(ω_x Δt): Eq. (7) with ω_unc = 0."""
+    return delta_k(eps0_gs, dgamma_enc, omega_x, dt)
+
+
+# Lateral deviation, Eq. (8) and Figure 3 --------------------------------------------------------
+def lateral_acceleration_error(eps1: float, omega: float, t: ArrayLike, g: float = G0, *,
+                               small_angle: bool = False) -> float | np.ndarray:
+    """Gravity mis-resolved onto the lateral axis, Δa_z = g sin(ε1 ω t) (paper RSF, Fig. 3);
+    ``small_angle=True`` gives the paper's first approximation g ε1 ω t."""
+    a = _sf("eps1", eps1) * v.check_real("omega", omega)
+    x = a * _value("t", t, nonnegative=True)
+    g = v.check_positive("g", g)
+    return g * x if small_angle else g * np.sin(x)
+
+
+def lateral_deviation_cubic(eps1: float, omega: float, t: ArrayLike,
+                            g: float = G0) -> float | np.ndarray:
+    """Lateral position error in the small-angle approximation, g ε1 ω t³ / 6
+    (paper RSF, Eq. (8))."""
+    t = _value("t", t, nonnegative=True)
+    return v.check_positive("g", g) * _sf("eps1", eps1) * v.check_real("omega", omega) \
+        * t**3 / 6.0
+
+
+def _x_minus_sin(x: np.ndarray) -> np.ndarray:
+    """x − sin x without cancellation: its Taylor series where |x| is small."""
+    x = np.asarray(x, dtype=float)
+    x2 = x * x
+    series = x * x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0)))
+    return np.where(np.abs(x) < 1e-2, series, x - np.sin(x))
+
+
+def lateral_deviation_exact(eps1: float, omega: float, t: ArrayLike,
+                            g: float = G0) -> float | np.ndarray:
+    """The double integral of Eq. (8) without the small-angle approximation:
+
+    Δr_z(t) = ∫₀ᵗ∫₀ˢ g sin(ε1 ω u) du ds = g (a t − sin a t) / a²,   a = ε1 ω.
+
+    Equal to the cubic g a t³/6 for a t ≪ 1; much smaller once the roll error a t reaches
+    tens of degrees, because sin saturates and then changes sign.
+    """
+    a = _sf("eps1", eps1) * v.check_real("omega", omega)
+    t = _value("t", t, nonnegative=True)
+    g = v.check_positive("g", g)
+    if a == 0.0:
+        return 0.0 * np.asarray(t) if isinstance(t, np.ndarray) else 0.0
+    out = g * _x_minus_sin(a * np.asarray(t)) / a**2
+    return float(out) if np.ndim(out) == 0 else out
+
+
+# The paper's tables ---------------------------------------------------------------------------
+def _times(times: object) -> np.ndarray:
+    t = v.check_array("times", times, ndim=1)
+    if t.size == 0 or np.any(t < 0.0):
+        raise ValueError("times must be a non-empty 1-D array of values >= 0")
+    return t
+
+
+@dataclass(frozen=True)
+class Table2:
+    """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``."""
+
+    t: np.ndarray
+    dgamma_sins: np.ndarray
+    dr_z_cubic: np.ndarray
+    dr_z_exact: np.ndarray
+
+
+def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
+           times: ArrayLike = (10.0, 60.0, 120.0), g: float = G0) -> Table2:
+    """Recompute Table 2 from Eqs. (4) and (8) with the gyro's scale-factor error."""
+    if not isinstance(gyro, RollGyroSpec):
+        raise TypeError(f"gyro must be a RollGyroSpec; got {type(gyro).__name__}")
+    t = _times(times)
+    e1 = gyro.sf_error
+    return Table2(
+        t=t,
+        dgamma_sins=np.asarray(sins_roll_error(e1, omega_true, t)),
+        dr_z_cubic=np.asarray(lateral_deviation_cubic(e1, omega_true, t, g)),
+        dr_z_exact=np.asarray(lateral_deviation_exact(e1, omega_true, t, g)),
+    )
+
+
+@dataclass(frozen=True)
+class Table3:
+    """Paper RSF, Table 3: GS roll error (rad) at times ``t`` for an ideal GS, Eq. (9)."""
+
+    t: np.ndarray
+    eps0_t: np.ndarray
+    dgamma_gs: np.ndarray
+
+
+def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
+           times: ArrayLike = (10.0, 60.0, 120.0), eps0_gs: float | None = None) -> Table3:
+    """Recompute Table 3 from Eq. (9).  ``eps0_gs`` overrides ε0,GS = √(σ_rep² + σ_stab²)
+    (the paper rounds it to 3.3·10⁻³ °/s)."""
+    if not isinstance(gyro, MemsGyroSpec):
+        raise TypeError(f"gyro must be a MemsGyroSpec; got {type(gyro).__name__}")
+    if not isinstance(encoder, EncoderSpec):
+        raise TypeError(f"encoder must be an EncoderSpec; got {type(encoder).__name__}")
+    t = _times(times)
+    e0 = gyro.bias_total if eps0_gs is None else v.check_nonnegative("eps0_gs", eps0_gs)
+    return Table3(
+        t=t,
+        eps0_t=np.asarray(gs_roll_error_ideal(e0, t, 0.0)),
+        dgamma_gs=np.asarray(gs_roll_error_ideal(e0, t, encoder.position_error)),
+    )
+
+
+def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340, *,
+                           omega_x: float = float(to_si(900.0, "deg/s")),
+                           omega_unc: float = float(to_si(300.0, "deg/s")),
+                           dt: float = 5.0, eps0_gs: float | None = None,
+                           eps1_gs: float | None = None) -> float:
+    """δK of the paper's worked example (Eq. (7)): Δt = 5 s, ω_unc = 300 °/s, ω_x = 900 °/s.
+
+    ``eps0_gs`` and ``eps1_gs`` override the gyro's values (to reproduce the print, which
+    uses ε0,GS = 3.3·10⁻³ °/s and, by a slip, ε1,GS = 280·10⁻³ instead of 280 ppm).
+    """
+    e0 = gyro.bias_total if eps0_gs is None else eps0_gs
+    e1 = gyro.sf_error if eps1_gs is None else eps1_gs
+    return delta_k(e0, encoder.position_error, omega_x, dt, e1, omega_unc)
