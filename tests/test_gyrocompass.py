@@ -1,0 +1,207 @@
+"""gyrolib.gyrocompass against independent references: the sympy derivation of paper GC's
+Eqs. (3)–(8) (gyrolib.gc_symbolic), the paper's printed matrix listing, closed-form and
+second-integrator solutions of Eq. (4), and the validation contract of GyrocompassParams."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from gyrolib import gc_symbolic as gs
+from gyrolib.gyrocompass import (
+    STATE_NAMES,
+    GyrocompassParams,
+    initial_covariance,
+    measurement_matrix,
+    measurement_noise_covariance,
+    noise_input_matrix,
+    nominal_motion,
+    nominal_motion_aperiodic,
+    nominal_motion_reference,
+    system_matrix,
+)
+
+S = gs.SYMBOLS
+BETAS = [0.0, 1e-3, 0.0086, -0.3, 0.7, 1.2, math.pi / 2]
+# A second parameter set far from the paper's, so that no coincidence of values hides an error.
+OTHER = GyrocompassParams(I=2e-4, H=0.3, f=0.11, Omega_v=3e-5, Omega_h=6e-5, g=9.78,
+                          omega_ub=7e-8, alpha1=0.2, xi1=0.35, alpha2=3.0, xi2=0.9)
+
+
+# Symbolic model = library model ----------------------------------------------------------------
+@pytest.mark.parametrize("coupling", gs.COUPLINGS)
+@pytest.mark.parametrize("params", [GyrocompassParams(), OTHER], ids=["paper", "other"])
+def test_library_matrices_equal_sympy_derivation(coupling, params):
+    p = dataclasses.replace(params, vertical_coupling=coupling)
+    for beta_n in BETAS:
+        F_sym, G_sym, D_sym = gs.numeric_matrices(p, beta_n)
+        F = system_matrix(p, beta_n)
+        scale = np.abs(F_sym).max()
+        np.testing.assert_allclose(F, F_sym, rtol=1e-13, atol=1e-15 * scale)
+        np.testing.assert_allclose(noise_input_matrix(p), G_sym, rtol=1e-14, atol=0)
+        np.testing.assert_allclose(measurement_matrix(p), D_sym, rtol=1e-14, atol=0)
+
+
+def test_symbolic_state_order_is_the_library_order():
+    names = [str(x) for x in gs.state_space().x]
+    assert names == [r"\Delta\beta", r"\Delta\dot{\beta}", "psi", "omega_gc", "delta", "gamma",
+                     "N_1", "N_2", "N_3", "N_4"]
+    assert len(names) == len(STATE_NAMES)
+
+
+def _mismatches(model):
+    return {(r.matrix, r.i, r.j) for r in gs.compare_with_paper(model) if not r.equal}
+
+
+def test_derivation_matches_paper_listing_except_the_settled_errata():
+    # With X1 = Δβ, X2 = Δβ', every printed entry is reproduced except F(8,7) (printed without
+    # its minus sign) and, for the Eq. (5) coupling, the δ/γ pair F(2,5), F(2,6).
+    assert _mismatches(gs.state_space("eq5")) == {("F", 2, 5), ("F", 2, 6), ("F", 8, 7)}
+    assert _mismatches(gs.state_space("printed_F")) == {("F", 8, 7)}
+    # The printed labels (X1 = Δβ') contradict the printed F and D in many entries.
+    assert len(_mismatches(gs.state_space("eq5", "printed"))) >= 8
+
+
+def test_taylor_expansion_gives_eq4_and_the_printed_eq5():
+    lin = gs.taylor_linearization()
+    t, bn, db = S.t, S.beta_n(S.t), S.dbeta(S.t)
+    eq4 = S.I * bn.diff(t, 2) + S.f * bn.diff(t) - S.H * S.Omega_h * sp.cos(bn)
+    assert sp.simplify(lin.order0 - eq4) == 0
+    # Eq. (5) as printed, plus the unbalance torque H ω_ub N1 / g of the text after Eq. (6).
+    lhs = S.I * db.diff(t, 2) + S.f * db.diff(t) + S.H * S.Omega_h * sp.sin(bn) * db
+    rhs = (S.H * S.Omega_h * sp.sin(bn) * S.psi + S.H * S.Omega_v * sp.cos(bn) * S.gamma
+           - S.H * S.Omega_v * sp.sin(bn) * S.delta + S.H * S.omega_gc + S.H * S.omega_rnd
+           + S.H * S.omega_ub * S.N1 / S.g)
+    assert sp.expand(lin.order1 - (lhs - rhs)) == 0
+
+
+def test_minus_sign_in_eq1_mirrors_the_motion_and_flips_only_the_delta_term():
+    plus = gs.taylor_linearization(sign=1).order1
+    minus = gs.taylor_linearization(sign=-1).order1
+    bn = S.beta_n(S.t)
+    mirrored = sp.expand(minus.subs(bn, -bn).doit())
+    # Both are "lhs − rhs"; the mirrored model has +HΩ_v sin β_n δ on the right instead of −.
+    diff = sp.simplify(mirrored - plus)
+    assert sp.simplify(diff + 2 * S.H * S.Omega_v * sp.sin(bn) * S.delta) == 0
+
+
+def test_relabelling_maps_eq5_with_reversed_unbalance_onto_printed_listing():
+    rel = gs.relabelling()
+    a, b = gs.state_space("eq5"), gs.state_space("printed_F")
+    Fa = a.F.subs(S.omega_ub, -S.omega_ub)
+    Tinv = rel.T.inv()
+    assert (rel.T * Fa * Tinv - b.F).expand() == sp.zeros(10, 10)
+    assert (rel.T * a.G * rel.Sw.inv() - b.G).expand() == sp.zeros(10, 2)
+    assert (rel.Sm * a.D * Tinv - b.D).expand() == sp.zeros(3, 10)
+    # With the same unbalance sign the map fails (only through F(2,7)).
+    bad = (rel.T * a.F * Tinv - b.F).expand()
+    assert [(i, j) for i in range(10) for j in range(10) if bad[i, j] != 0] == [(1, 6)]
+    # Priors, noise intensities and sensor noises are invariant under the map.
+    p = GyrocompassParams()
+    T = np.array(rel.T, dtype=float)
+    Sm = np.array(rel.Sm, dtype=float)
+    P0 = initial_covariance(p)
+    np.testing.assert_allclose(T @ P0 @ T.T, P0, rtol=0, atol=0)
+    R = measurement_noise_covariance(p)
+    np.testing.assert_allclose(Sm @ R @ Sm.T, R, rtol=0, atol=0)
+
+
+def test_printed_F87_makes_the_vibration_filter_unstable():
+    a, xi = S.alpha1, S.xi1
+    block = sp.Matrix([[0, 1], [a**2, -2 * xi * a]])
+    # det = −α² < 0: the two eigenvalues are real with opposite signs, for every α, ξ > 0.
+    assert sp.expand(block.det() + a**2) == 0
+    assert sp.expand(sp.Matrix([[0, 1], [-a**2, -2 * xi * a]]).det() - a**2) == 0
+    p = GyrocompassParams()
+    num = np.linalg.eigvals(np.array([[0.0, 1.0], [p.alpha1**2, -2 * p.xi1 * p.alpha1]]))
+    assert num.max() == pytest.approx(p.alpha1 * (-p.xi1 + math.sqrt(p.xi1**2 + 1)), rel=1e-12)
+
+
+# Nominal motion, Eq. (4) ------------------------------------------------------------------------
+def test_nominal_motion_at_100_s_against_an_independent_integrator():
+    p = GyrocompassParams()
+    t = np.linspace(0.0, 100.0, 2001)
+    radau = nominal_motion(p, t)
+    ref = nominal_motion_reference(p, t)
+    # Stated tolerance: 1e-12 rad (1e-10 relative); observed ~1e-14 rad.
+    assert np.max(np.abs(radau.beta - ref.beta)) < 1e-12
+    assert np.max(np.abs(radau.beta_dot - ref.beta_dot)) < 1e-13
+    # The reference is converged: tightening its tolerance moves it by < 1e-16 rad.
+    ref_loose = nominal_motion_reference(p, t, rtol=1e-11)
+    assert np.max(np.abs(ref_loose.beta - ref.beta)) < 1e-16
+    # Paper GC: "the float turns through about 0.5°" in 100 s.
+    deg = math.degrees(radau.beta[-1])
+    assert round(deg, 1) == 0.5
+    assert deg == pytest.approx(0.4927, abs=5e-5)
+
+
+def test_nominal_motion_early_times_match_the_linear_closed_form():
+    # For β ≪ 1, cos β ≈ 1 and Eq. (4) is linear: β = k (t − τ (1 − e^{−t/τ})), k = HΩ_h/f.
+    p = GyrocompassParams()
+    k, tau = p.H * p.Omega_h / p.f, p.I / p.f
+    t = np.linspace(0.0, 0.02, 201)
+    exact_linear = k * (t - tau * (1.0 - np.exp(-t / tau)))
+    beta = nominal_motion(p, t).beta
+    # The neglected cos β − 1 is ≤ β²/2 ≈ 1e-12 relative here.
+    np.testing.assert_allclose(beta, exact_linear, rtol=1e-9, atol=1e-18)
+
+
+def test_aperiodic_approximation_lags_by_k_tau():
+    p = GyrocompassParams()
+    k, tau = p.H * p.Omega_h / p.f, p.I / p.f
+    t = np.array([0.05, 1.0, 10.0, 100.0])
+    diff = nominal_motion(p, t).beta - nominal_motion_aperiodic(p, t).beta
+    # t ≫ τ: β_n(t) ≈ β_ap(t − τ) ⇒ β_n − β_ap ≈ −k τ cos β (β < 0.01 rad here).
+    np.testing.assert_allclose(diff, -k * tau, rtol=1e-4)
+    assert p.time_constant == pytest.approx(1.6e-3, rel=1e-12)
+
+
+# Validation of GyrocompassParams ----------------------------------------------------------------
+_POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
+             "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
+_NONNEGATIVE = ("omega_ub", "sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
+                "sigma_delta0", "sigma_gamma0")
+_DAMPING = ("xi1", "xi2")
+_CHOICES = ("shaping_p0", "measurement_noise", "vertical_coupling")
+
+
+def test_every_field_is_in_exactly_one_validation_class():
+    names = [f.name for f in dataclasses.fields(GyrocompassParams)]
+    classes = (*_POSITIVE, *_NONNEGATIVE, *_DAMPING, *_CHOICES)
+    assert sorted(names) == sorted(classes)
+
+
+def _bad_values(name):
+    wrong_type = ["1.0", None, True, [1.0], 1 + 0j]
+    non_finite = [math.nan, math.inf, -math.inf]
+    if name in _POSITIVE:
+        return [(x, TypeError) for x in wrong_type] + [
+            (x, ValueError) for x in (*non_finite, 0.0, -1.0, -1e-300)]
+    if name in _NONNEGATIVE:
+        return [(x, TypeError) for x in wrong_type] + [
+            (x, ValueError) for x in (*non_finite, -1e-300, -1.0)]
+    if name in _DAMPING:
+        return [(x, TypeError) for x in wrong_type] + [
+            (x, ValueError) for x in (*non_finite, 0.0, -0.2, 1.0000001, 2.0)]
+    return [(x, ValueError) for x in ("bogus", "", 1.0, None, "EQ5")]
+
+
+@pytest.mark.parametrize("name", [f.name for f in dataclasses.fields(GyrocompassParams)])
+def test_invalid_values_raise_naming_the_field(name):
+    for bad, err in _bad_values(name):
+        with pytest.raises(err, match=rf"\b{name}\b"):
+            dataclasses.replace(GyrocompassParams(), **{name: bad})
+
+
+def test_valid_edge_values_are_accepted_and_stored_as_float():
+    p = dataclasses.replace(GyrocompassParams(), xi1=1, xi2=np.float64(1e-9), omega_ub=0,
+                            I=np.int64(1))
+    assert p.xi1 == 1.0 and type(p.xi1) is float
+    assert type(p.I) is float and type(p.xi2) is float
+    for name in ("shaping_p0", "measurement_noise", "vertical_coupling"):
+        for choice in {"shaping_p0": ("stationary", "zero"),
+                       "measurement_noise": ("intensity_over_dt", "variance"),
+                       "vertical_coupling": ("eq5", "printed_F")}[name]:
+            assert getattr(dataclasses.replace(p, **{name: choice}), name) == choice
