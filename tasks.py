@@ -61,20 +61,49 @@ def setup() -> None:
 
 
 def ensure_browser() -> None:
-    """Install Debian's Chromium for the browser test when it is missing (needs root + apt)."""
-    if BROWSER.exists():
+    """Install Debian's Chromium and a text font for the browser test when they are missing.
+
+    Idempotent: returns at once when both are installed.  Uses the distribution's apt-get as
+    root (or through password-less sudo), never ``playwright install``; where that is not
+    possible the browser test skips with a message saying what to install.
+    """
+    wanted = {  # a file each package installs -> the Debian package
+        BROWSER: "chromium",
+        Path("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"): "fonts-dejavu-core",
+    }
+    missing = [pkg for path, pkg in wanted.items() if not path.exists()]
+    if not missing:
         return
-    if shutil.which("apt-get") is None or os.geteuid() != 0:
-        print("note: no /usr/bin/chromium and no root apt-get: the browser test will skip",
-              flush=True)
+    if os.name != "posix" or shutil.which("apt-get") is None:
+        print(f"note: no apt-get to install {' '.join(missing)}: the browser test will skip "
+              "without /usr/bin/chromium", flush=True)
         return
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    if os.geteuid() == 0:
+        sudo: list[str] = []
+    elif shutil.which("sudo") and subprocess.run(["sudo", "-n", "true"],
+                                                 capture_output=True).returncode == 0:
+        sudo = ["sudo", "-n"]
+    else:
+        print(f"note: not root: install {' '.join(missing)} with apt-get, or the browser test "
+              "will skip", flush=True)
+        return
+    apt = [*sudo, "env", "DEBIAN_FRONTEND=noninteractive", "apt-get", "-qq"]
+    install = [*apt, "install", "-y", "--no-install-recommends", *missing]
     try:
-        run("apt-get", "update", "-qq", env=env)
-        run("apt-get", "install", "-y", "-qq", "--no-install-recommends", "chromium", env=env)
-    except subprocess.CalledProcessError as exc:
-        print(f"note: could not install chromium ({exc}); the browser test will skip",
-              flush=True)
+        try:
+            run(*install)  # package lists already present: no download of the index
+        except subprocess.CalledProcessError:
+            print("note: package lists missing or stale: apt-get update", flush=True)
+            run(*apt, "update")
+            run(*install)
+    except (subprocess.CalledProcessError, OSError) as exc:
+        print(f"note: could not install {' '.join(missing)} ({exc}); the browser test will "
+              "skip", flush=True)
+        return
+    if BROWSER.exists():  # a broken install (missing libraries) shows up here, not in pytest
+        check = subprocess.run([str(BROWSER), "--headless", "--no-sandbox", "--version"],
+                               capture_output=True, text=True, check=False)
+        print(f"browser: {check.stdout.strip() or check.stderr.strip()}", flush=True)
 
 
 def book(clean: bool = False) -> None:
