@@ -1,0 +1,439 @@
+"""Discretization and discrete Kalman filtering for linear time-varying models.
+
+* :func:`van_loan` — exact discretization of ``x' = F x + G w`` over a step ``dt`` with ``F``
+  frozen: transition ``Φ = exp(F dt)`` and process-noise covariance
+  ``Qd = ∫₀^dt exp(F s) G Q Gᵀ exp(Fᵀ s) ds`` by Van Loan's block exponential
+  {cite:p}`VanLoan1978`.
+* :func:`van_loan_derivatives` — the same plus the exact first derivatives of ``Φ`` and ``Qd``
+  along given directions of ``F`` (Fréchet derivative of the matrix exponential).  Paper GC's
+  ``F`` is affine in ``(sin β_n, cos β_n)`` and those move by < 10⁻² over a run, so
+  ``Φ_k ≈ Φ_j + Δs Φ_s + Δc Φ_c`` about an expansion point ``j`` is exact to second order in
+  ``Δs·|∂F/∂s|·dt`` (≈ 10⁻¹³ here): :class:`AffineDiscreteModel`.
+* Updates: :func:`joseph_update` (Joseph form, ``P⁺ = (I−KH)P(I−KH)ᵀ + KRKᵀ``, valid for any
+  gain) and the independent alternative :func:`sequential_update` (the measurements processed
+  one scalar at a time in the conventional form ``P⁺ = P − k hᵀP``, {cite:p}`Bierman1977`).
+* Two paths for the covariance recursion of a whole run: :func:`covariance_reference`
+  (plain numpy, batch Joseph update per step, any per-step ``Φ_k``, ``Qd_k``) and
+  :func:`covariance_fast` (numba, sequential scalar Joseph updates — each O(n²) — and sparse
+  rows of ``Φ``).  Tests show they agree to 1e-9 relative.
+
+The filter is the discrete optimal filter of {cite:p}`Kalman1960` in the notation of
+{cite:p}`BarShalom2001`: predict ``P⁻ = Φ P Φᵀ + Qd``; update with ``z = H x + v``,
+``v ~ N(0, R)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+from numba import njit
+
+from gyrolib import _validation as v
+
+__all__ = [
+    "AffineDiscreteModel",
+    "CovarianceRun",
+    "covariance_fast",
+    "covariance_reference",
+    "joseph_update",
+    "propagate_fixed_gains",
+    "psd_factor",
+    "sequential_update",
+    "van_loan",
+    "van_loan_derivatives",
+]
+
+
+# Discretization --------------------------------------------------------------------------
+def _check_model(F: object, G: object, Qc: object, dt: object) -> tuple:
+    F = v.check_array("F", F, ndim=2)
+    n = F.shape[0]
+    if F.shape != (n, n):
+        raise ValueError(f"F must be square; got shape {F.shape}")
+    G = v.check_array("G", G, shape=(n, None))
+    Qc = v.check_array("Qc", Qc, shape=(G.shape[1], G.shape[1]))
+    dt = v.check_positive("dt", dt)
+    return F, G, Qc, dt
+
+
+def van_loan(F: object, G: object, Qc: object, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """Exact discretization of ``x' = F x + G w`` (``E[w wᵀ] = Qc δ``) over ``dt``.
+
+    Van Loan (1978): with ``M = [[−F, G Qc Gᵀ], [0, Fᵀ]] dt`` and ``E = exp(M)``,
+    ``Φ = E₂₂ᵀ`` and ``Qd = Φ E₁₂`` {cite:p}`VanLoan1978`.  Returns ``(Φ, Qd)``.
+    """
+    F, G, Qc, dt = _check_model(F, G, Qc, dt)
+    n = F.shape[0]
+    M = np.zeros((2 * n, 2 * n))
+    M[:n, :n] = -F * dt
+    M[:n, n:] = G @ Qc @ G.T * dt
+    M[n:, n:] = F.T * dt
+    E = scipy.linalg.expm(M)
+    Phi = E[n:, n:].T.copy()
+    Qd = Phi @ E[:n, n:]
+    return Phi, 0.5 * (Qd + Qd.T)
+
+
+def van_loan_derivatives(
+    F: object, G: object, Qc: object, dt: float, directions: list[np.ndarray]
+) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
+    """``(Φ, Qd)`` of :func:`van_loan` and their exact derivatives along each direction
+    ``E`` of ``F`` (``d/dε`` at ``F + ε E``), from the Fréchet derivative of the block
+    exponential (``scipy.linalg.expm_frechet``)."""
+    F, G, Qc, dt = _check_model(F, G, Qc, dt)
+    n = F.shape[0]
+    M = np.zeros((2 * n, 2 * n))
+    M[:n, :n] = -F * dt
+    M[:n, n:] = G @ Qc @ G.T * dt
+    M[n:, n:] = F.T * dt
+    dPhis, dQds = [], []
+    E = scipy.linalg.expm(M)
+    Phi = E[n:, n:].T.copy()
+    Qd = Phi @ E[:n, n:]
+    for d in directions:
+        d = v.check_array("direction", d, shape=(n, n))
+        dM = np.zeros_like(M)
+        dM[:n, :n] = -d * dt
+        dM[n:, n:] = d.T * dt
+        _, L = scipy.linalg.expm_frechet(M, dM)
+        dPhi = L[n:, n:].T.copy()
+        dQd = dPhi @ E[:n, n:] + Phi @ L[:n, n:]
+        dPhis.append(dPhi)
+        dQds.append(0.5 * (dQd + dQd.T))
+    return Phi, 0.5 * (Qd + Qd.T), dPhis, dQds
+
+
+def psd_factor(Q: object) -> np.ndarray:
+    """A factor ``L`` (n×n) with ``L Lᵀ = Q`` for a symmetric positive semi-definite ``Q``.
+
+    Diagonally scaled eigendecomposition, so that entries many orders of magnitude apart (as
+    in paper GC's ``Qd``) are reproduced to rounding relative to ``√(Qᵢᵢ Qⱼⱼ)``; zero rows
+    stay zero.  Used to draw ``N(0, Q)`` samples.
+    """
+    Q = v.check_array("Q", Q, ndim=2)
+    d = np.sqrt(np.clip(np.diag(Q), 0.0, None))
+    nz = d > 0.0
+    L = np.zeros_like(Q)
+    if not np.any(nz):
+        return L
+    Dn = d[nz]
+    S = Q[np.ix_(nz, nz)] / np.outer(Dn, Dn)
+    lam, V = np.linalg.eigh(0.5 * (S + S.T))
+    Ls = V * np.sqrt(np.clip(lam, 0.0, None))
+    L[np.ix_(nz, nz)] = Dn[:, None] * Ls
+    return L
+
+
+# Measurement updates -----------------------------------------------------------------------
+def _check_update(x: object, P: object, z: object, H: object, R: object) -> tuple:
+    x = v.check_array("x", x, ndim=1)
+    n = x.size
+    P = v.check_array("P", P, shape=(n, n))
+    H = v.check_array("H", H, shape=(None, n))
+    m = H.shape[0]
+    z = v.check_array("z", z, shape=(m,))
+    R = v.check_array("R", R, shape=(m, m))
+    return x, P, z, H, R
+
+
+def joseph_update(x: object, P: object, z: object, H: object, R: object
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Kalman measurement update in Joseph form {cite:p}`BarShalom2001`.
+
+    ``K = P Hᵀ (H P Hᵀ + R)⁻¹``, ``x⁺ = x + K (z − H x)``,
+    ``P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ`` (symmetric and positive semi-definite by
+    construction).  Returns ``(x⁺, P⁺, K)``.
+    """
+    x, P, z, H, R = _check_update(x, P, z, H, R)
+    S = H @ P @ H.T + R
+    K = np.linalg.solve(S, H @ P).T
+    A = np.eye(x.size) - K @ H
+    Pn = A @ P @ A.T + K @ R @ K.T
+    return x + K @ (z - H @ x), 0.5 * (Pn + Pn.T), K
+
+
+def sequential_update(x: object, P: object, z: object, H: object, R: object
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """Kalman update processing the ``m`` measurements one scalar at a time, in the
+    conventional form ``k = P h / (hᵀ P h + r)``, ``P⁺ = P − k hᵀ P`` {cite:p}`Bierman1977`.
+
+    Requires a diagonal ``R`` (independent sensor noises).  An independent algorithm to
+    cross-check :func:`joseph_update`.  Returns ``(x⁺, P⁺)``.
+    """
+    x, P, z, H, R = _check_update(x, P, z, H, R)
+    if np.any(R != np.diag(np.diag(R))):
+        raise ValueError("R must be diagonal for sequential scalar updates")
+    x = x.copy()
+    P = P.copy()
+    for i in range(H.shape[0]):
+        h = H[i]
+        Ph = P @ h
+        s = float(h @ Ph) + R[i, i]
+        k = Ph / s
+        x = x + k * (z[i] - float(h @ x))
+        P = P - np.outer(k, Ph)
+    return x, 0.5 * (P + P.T)
+
+
+# Covariance recursion over a run -----------------------------------------------------------
+@dataclass(frozen=True)
+class AffineDiscreteModel:
+    """A discrete LTV model whose step matrices are affine in two scalars per step.
+
+    Step ``k`` (from ``t_k`` to ``t_{k+1}``) uses expansion point ``j = seg[k]``::
+
+        Φ_k  = Phi0[j] + a[k] PhiA[j] + b[k] PhiB[j]
+        Qd_k = Qd0[j]  + a[k] QdA[j]  + b[k] QdB[j]
+
+    Measurements ``z_k = H x_k + v_k`` with ``R = diag(r)`` after every step.
+    """
+
+    seg: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    Phi0: np.ndarray
+    PhiA: np.ndarray
+    PhiB: np.ndarray
+    Qd0: np.ndarray
+    QdA: np.ndarray
+    QdB: np.ndarray
+    H: np.ndarray
+    r: np.ndarray
+
+    def __post_init__(self) -> None:
+        n_steps = self.seg.shape[0]
+        J, n, _ = self.Phi0.shape
+        for name in ("a", "b"):
+            if getattr(self, name).shape != (n_steps,):
+                raise ValueError(f"{name} must have shape ({n_steps},)")
+        for name in ("Phi0", "PhiA", "PhiB", "Qd0", "QdA", "QdB"):
+            if getattr(self, name).shape != (J, n, n):
+                raise ValueError(f"{name} must have shape ({J}, {n}, {n})")
+        if self.H.ndim != 2 or self.H.shape[1] != n or self.r.shape != (self.H.shape[0],):
+            raise ValueError("H must be m×n and r must have m entries")
+        if n_steps and (self.seg.min() < 0 or self.seg.max() >= J):
+            raise ValueError("seg must index the expansion points")
+
+    @property
+    def n_steps(self) -> int:
+        return int(self.seg.shape[0])
+
+    @property
+    def n(self) -> int:
+        return int(self.Phi0.shape[1])
+
+    def phi(self, k: int) -> np.ndarray:
+        j = self.seg[k]
+        return self.Phi0[j] + self.a[k] * self.PhiA[j] + self.b[k] * self.PhiB[j]
+
+    def qd(self, k: int) -> np.ndarray:
+        j = self.seg[k]
+        return self.Qd0[j] + self.a[k] * self.QdA[j] + self.b[k] * self.QdB[j]
+
+    def sparsity(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR row pointers and column indices of the union of the nonzeros of ``Φ``."""
+        return _csr(np.any((self.Phi0 != 0) | (self.PhiA != 0) | (self.PhiB != 0), axis=0))
+
+
+def _csr(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    rowptr = np.zeros(mask.shape[0] + 1, dtype=np.int64)
+    rowptr[1:] = np.cumsum(mask.sum(axis=1))
+    return rowptr, np.nonzero(mask)[1].astype(np.int64)
+
+
+@dataclass(frozen=True)
+class CovarianceRun:
+    """Result of a covariance recursion.
+
+    ``var[k]`` is the diagonal of the posterior ``P`` at step ``k`` (``k = 0``: the prior
+    ``P0``); ``P_stored[i]`` the full posterior at step ``i·store_every``; ``gains[k, q]`` the
+    gain of scalar measurement ``q`` at step ``k+1`` (sequential processing; the fast path
+    only, when asked) or the batch gain ``K_k`` (``(n_steps, n, m)``, reference path).
+    """
+
+    var: np.ndarray
+    P_stored: np.ndarray
+    store_every: int
+    gains: np.ndarray | None
+
+
+def _check_run(model: AffineDiscreteModel, P0: object, store_every: object) -> tuple:
+    if not isinstance(model, AffineDiscreteModel):
+        raise TypeError("model must be an AffineDiscreteModel")
+    P0 = v.check_array("P0", P0, shape=(model.n, model.n))
+    store_every = v.check_int("store_every", store_every, 1)
+    return P0, store_every
+
+
+def covariance_reference(
+    model: AffineDiscreteModel | None,
+    P0: object,
+    store_every: int = 1,
+    *,
+    step_matrices: Callable[[int], tuple[np.ndarray, np.ndarray]] | None = None,
+    n_steps: int | None = None,
+    H: np.ndarray | None = None,
+    R: np.ndarray | None = None,
+) -> CovarianceRun:
+    """Plain-numpy reference: per step ``P⁻ = Φ P Φᵀ + Qd`` and a batch :func:`joseph_update`.
+
+    Either ``model`` gives ``Φ_k``, ``Qd_k``, ``H``, ``R``; or ``step_matrices(k)`` returns
+    ``(Φ_k, Qd_k)`` (e.g. an exact per-step :func:`van_loan`) with ``n_steps``, ``H``, ``R``.
+    The batch gains ``K_k`` (n×m) are returned.
+    """
+    if step_matrices is None:
+        P0, store_every = _check_run(model, P0, store_every)
+        step_matrices = lambda k: (model.phi(k), model.qd(k))  # noqa: E731
+        n_steps, H, R = model.n_steps, model.H, np.diag(model.r)
+    else:
+        P0 = v.check_array("P0", P0, ndim=2)
+        store_every = v.check_int("store_every", store_every, 1)
+        n_steps = v.check_int("n_steps", n_steps, 0)
+        H = v.check_array("H", H, shape=(None, P0.shape[0]))
+        R = v.check_array("R", R, shape=(H.shape[0], H.shape[0]))
+    n, m = P0.shape[0], H.shape[0]
+    P = P0.copy()
+    var = np.empty((n_steps + 1, n))
+    var[0] = np.diag(P)
+    P_stored = np.empty((n_steps // store_every + 1, n, n))
+    P_stored[0] = P
+    gains = np.empty((n_steps, n, m))
+    x = np.zeros(n)
+    z = np.zeros(m)
+    for k in range(n_steps):
+        Phi, Qd = step_matrices(k)
+        P = Phi @ P @ Phi.T + Qd
+        _, P, K = joseph_update(x, P, z, H, R)
+        gains[k] = K
+        var[k + 1] = np.diag(P)
+        if (k + 1) % store_every == 0:
+            P_stored[(k + 1) // store_every] = P
+    return CovarianceRun(var=var, P_stored=P_stored, store_every=store_every, gains=gains)
+
+
+@njit(cache=True, fastmath=True)
+def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, colidx, hptr,
+                           hidx, H, r, P0, store_every, var, P_stored, gains, fixed):
+    """One kernel for both uses: ``fixed=False`` computes the optimal sequential gains and
+    writes them to ``gains`` (if it has ``n_steps`` rows); ``fixed=True`` propagates the
+    error covariance with the given ``gains`` (Joseph form, valid for any gain).
+    ``rowptr/colidx`` (``hptr/hidx``) list the nonzeros of ``Φ`` (of the rows of ``H``)."""
+    n = P0.shape[0]
+    m = H.shape[0]
+    n_steps = seg.shape[0]
+    keep = gains.shape[0] == n_steps
+    P = P0.copy()
+    Phi = np.zeros((n, n))
+    T = np.zeros((n, n))
+    Ph = np.zeros(n)
+    kv = np.zeros(n)
+    for i in range(n):
+        var[0, i] = P[i, i]
+    P_stored[0] = P
+    for k in range(n_steps):
+        j = seg[k]
+        ak = a[k]
+        bk = b[k]
+        for i in range(n):
+            for p in range(rowptr[i], rowptr[i + 1]):
+                c = colidx[p]
+                Phi[i, c] = Phi0[j, i, c] + ak * PhiA[j, i, c] + bk * PhiB[j, i, c]
+        # T = Φ P (sparse rows of Φ)
+        for i in range(n):
+            for col in range(n):
+                T[i, col] = 0.0
+            for p in range(rowptr[i], rowptr[i + 1]):
+                c = colidx[p]
+                f = Phi[i, c]
+                for col in range(n):
+                    T[i, col] += f * P[c, col]
+        # P = T Φᵀ + Qd, upper triangle mirrored
+        for i in range(n):
+            for jj in range(i, n):
+                s = Qd0[j, i, jj] + ak * QdA[j, i, jj] + bk * QdB[j, i, jj]
+                for p in range(rowptr[jj], rowptr[jj + 1]):
+                    c = colidx[p]
+                    s += T[i, c] * Phi[jj, c]
+                P[i, jj] = s
+                P[jj, i] = s
+        # scalar Joseph updates: P⁺ = P − k Phᵀ − Ph kᵀ + (hᵀPh + r) k kᵀ
+        for q in range(m):
+            for i in range(n):
+                s = 0.0
+                for p in range(hptr[q], hptr[q + 1]):
+                    c = hidx[p]
+                    s += P[i, c] * H[q, c]
+                Ph[i] = s
+            hPh = 0.0
+            for p in range(hptr[q], hptr[q + 1]):
+                c = hidx[p]
+                hPh += H[q, c] * Ph[c]
+            S = hPh + r[q]
+            if fixed:
+                for i in range(n):
+                    kv[i] = gains[k, q, i]
+            else:
+                inv = 1.0 / S
+                for i in range(n):
+                    kv[i] = Ph[i] * inv
+                if keep:
+                    for i in range(n):
+                        gains[k, q, i] = kv[i]
+            for i in range(n):
+                ki = kv[i]
+                pi = Ph[i]
+                for jj in range(i, n):
+                    val = P[i, jj] - ki * Ph[jj] - pi * kv[jj] + S * ki * kv[jj]
+                    P[i, jj] = val
+                    P[jj, i] = val
+        for i in range(n):
+            var[k + 1, i] = P[i, i]
+        if (k + 1) % store_every == 0:
+            P_stored[(k + 1) // store_every] = P
+
+
+def _run_kernel(model, P0, store_every, gains, fixed, r=None, Qd=None) -> CovarianceRun:
+    rowptr, colidx = model.sparsity()
+    hptr, hidx = _csr(model.H != 0)
+    Qd0, QdA, QdB = Qd if Qd is not None else (model.Qd0, model.QdA, model.QdB)
+    r = model.r if r is None else r
+    var = np.empty((model.n_steps + 1, model.n))
+    P_stored = np.empty((model.n_steps // store_every + 1, model.n, model.n))
+    _predict_joseph_kernel(model.seg, model.a, model.b, model.Phi0, model.PhiA, model.PhiB,
+                           Qd0, QdA, QdB, rowptr, colidx, hptr, hidx, model.H, r, P0,
+                           store_every, var, P_stored, gains, fixed)
+    return CovarianceRun(var=var, P_stored=P_stored, store_every=store_every,
+                         gains=gains if gains.shape[0] == model.n_steps else None)
+
+
+def covariance_fast(model: AffineDiscreteModel, P0: object, store_every: int = 1, *,
+                    keep_gains: bool = False) -> CovarianceRun:
+    """Fast path of :func:`covariance_reference` (numba): sequential scalar Joseph updates
+    (``R`` diagonal) and sparse rows of ``Φ``.  ``keep_gains`` stores the scalar gains
+    ``(n_steps, m, n)`` for running the filter on measurements."""
+    P0, store_every = _check_run(model, P0, store_every)
+    m = model.H.shape[0]
+    gains = np.zeros((model.n_steps if keep_gains else 0, m, model.n))
+    return _run_kernel(model, P0, store_every, gains, False)
+
+
+def propagate_fixed_gains(model: AffineDiscreteModel, P0: object, gains: object,
+                          r: object, Qd: tuple[np.ndarray, np.ndarray, np.ndarray],
+                          store_every: int = 1) -> CovarianceRun:
+    """Error covariance of the filter with a given (e.g. the optimal) sequential gain
+    sequence, for a source with initial covariance ``P0``, process noise ``Qd``
+    (``(Qd0, QdA, QdB)`` as in :class:`AffineDiscreteModel`) and measurement variances ``r``.
+
+    The error recursion is linear, so sources that are mutually independent add up in
+    covariance: this is how an error budget is split exactly.
+    """
+    P0, store_every = _check_run(model, P0, store_every)
+    m = model.H.shape[0]
+    gains = v.check_array("gains", gains, shape=(model.n_steps, m, model.n))
+    r = v.check_array("r", r, shape=(m,))
+    J = model.Phi0.shape[0]
+    Qd = tuple(v.check_array("Qd", q, shape=(J, model.n, model.n)) for q in Qd)
+    return _run_kernel(model, P0, store_every, gains, True, r=r, Qd=Qd)

@@ -1,0 +1,185 @@
+"""gyrolib.gc_estimation: nominal motion and truth model against independent solvers, σ
+regression values, Monte Carlo consistency (chi-square), fast vs reference paths, the error
+budget adding up, and input validation."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+import scipy.stats
+from scipy.integrate import solve_ivp
+
+from gyrolib import gc_estimation as ge
+from gyrolib.gyrocompass import GyrocompassParams, nominal_motion, state_index
+from gyrolib.units import ARCSEC_PAPER
+
+P = GyrocompassParams()
+
+
+def test_nominal_half_steps_matches_radau():
+    # ETD2 on the half-step grid against the model's Radau solution (rtol 1e-11) of Eq. (4)
+    # over 100 s: agreement to 1e-12 rad (β_n reaches 8.6e-3 rad).
+    n = 100_000
+    beta = ge.nominal_half_steps(P, n)
+    idx = np.array([0, 1, 2, 5, 40, 2_000, 50_001, 2 * n])
+    ref = nominal_motion(P, idx * P.dt / 2)
+    assert np.max(np.abs(beta[idx] - ref.beta)) < 1e-12
+
+
+def test_truth_model_integrates_nonlinear_eq3():
+    # Noise off; large offsets (ψ = 0.05 rad so that the nonlinearity matters, δ, γ = 120″,
+    # ω_gc = 0.15″/s, N1, N3 nonzero).  The full nonlinear Eq. (3) with the shaping filters is
+    # integrated independently by Radau (rtol 1e-12): β agrees to 1e-11 rad over 5 s
+    # (Δβ is ~1e-6 rad; the exponential midpoint rule's error is ~1e-13 rad).
+    p = P
+    x0 = np.zeros(10)
+    x0[2] = 0.05
+    x0[3] = 0.15 * ARCSEC_PAPER
+    x0[4] = x0[5] = 120 * ARCSEC_PAPER
+    x0[6], x0[7], x0[8], x0[9] = 1e-3, 2e-5, 5e-8, -1e-7
+    t, X = ge.simulate_truth(p, 5.0, x0, seed=None, store_every=100)
+    beta_n = ge.nominal_half_steps(p, 5000)[::200]
+    A1 = p.vibration_filter().A
+    A2 = p.random_drift_filter().A
+
+    def rhs(_t, y):
+        b, bd = y[0], y[1]
+        n1, n3 = y[2], y[4]
+        torque = (p.H * p.Omega_h * np.cos(b - x0[2]) + p.H * p.Omega_v * x0[5] * np.cos(b)
+                  - p.H * p.Omega_v * x0[4] * np.sin(b) + p.H * x0[3] + p.H * n3
+                  + p.H * p.omega_ub / p.g * n1)
+        return np.concatenate([[bd, (torque - p.f * bd) / p.I], A1 @ y[2:4], A2 @ y[4:6]])
+
+    sol = solve_ivp(rhs, (0, 5.0), [0.0, 0.0, *x0[6:10]], method="Radau", t_eval=t,
+                    rtol=1e-12, atol=1e-18)
+    beta_truth = beta_n + X[:, 0]
+    assert np.max(np.abs(beta_truth - sol.y[0])) < 1e-11
+    assert np.max(np.abs(X[:, 6] - sol.y[2])) < 1e-12 * 1e3
+
+
+# Regression values of σ_ω_gc (rad/s) at 1, 2, 10, 100 s, computed by this implementation
+# (2026-11-22) and cross-checked against the plain-numpy reference path (exact per-step
+# Van Loan exponential, batch Joseph).  Tolerance 1e-6 relative.
+REGRESSION = {
+    "stationary": (3.430900811027077e-07, 1.3618241424635595e-07, 1.672277053873856e-08,
+                   6.665797302953179e-09),
+    "zero": (3.428202043548992e-07, 1.357853002191737e-07, 1.4826515397326453e-08,
+             2.5697094051131657e-09),
+}
+
+
+@pytest.mark.parametrize("shaping_p0", ["stationary", "zero"])
+def test_sigma_curve_regression(shaping_p0):
+    res = ge.covariance_analysis(replace(P, shaping_p0=shaping_p0), 100.0)
+    got = [res.std_at("omega_gc", t) for t in (1.0, 2.0, 10.0, 100.0)]
+    assert np.allclose(got, REGRESSION[shaping_p0], rtol=1e-6, atol=0.0)
+    assert res.std("omega_gc")[0] == pytest.approx(0.15 * ARCSEC_PAPER)
+
+
+def test_covariance_fast_matches_reference_with_exact_per_step_exponential():
+    res_f = ge.covariance_analysis(P, 1.0, store_every=100)
+    res_r = ge.covariance_analysis(P, 1.0, store_every=100, method="reference")
+    for name in ("dbeta", "psi", "omega_gc", "delta", "N1", "N3"):
+        a, b = res_f.std(name)[1:], res_r.std(name)[1:]
+        assert np.max(np.abs(a / b - 1.0)) < 1e-9, name
+
+
+def test_monte_carlo_fast_and_reference_identical_for_same_seed():
+    # 40 runs = one full and one partial block of 32; estimates and truth agree to rounding
+    # (1e-9 of the filter's σ), so the two paths draw and use the same random numbers.
+    a = ge.monte_carlo(P, 40, 0.3, seed=11, store_every=10)
+    b = ge.monte_carlo(P, 40, 0.3, seed=11, store_every=10, method="reference")
+    sig = np.sqrt(np.diagonal(a.P, axis1=1, axis2=2))[None, 1:, :]
+    assert np.max(np.abs(a.est[:, 1:] - b.est[:, 1:]) / sig) < 1e-9
+    assert np.max(np.abs(a.tru[:, 1:] - b.tru[:, 1:]) / sig) < 1e-9
+    # same seed → same runs; the first runs do not depend on how many runs there are
+    c = ge.monte_carlo(P, 5, 0.3, seed=11, store_every=10)
+    assert np.array_equal(c.est, a.est[:5])
+
+
+def test_monte_carlo_is_consistent_within_chi_square_bounds():
+    # 200 seeded runs over 10 s: the ensemble-average NEES of ω_gc (1 dof) must lie in the
+    # two-sided 95 % chi-square band at ≥ 90 % of the stored times (≈ 95 % expected; the
+    # times are correlated, so not exactly), and its time average must be 1 within 5 %.
+    res = ge.monte_carlo(P, 200, 10.0, seed=2024)
+    nees = res.nees(("omega_gc",)).mean(axis=0)[1:]
+    lo, hi = ge.nees_bounds(1, 200)
+    inside = np.mean((nees > lo) & (nees < hi))
+    assert inside >= 0.9
+    assert abs(np.mean(nees) - 1.0) < 0.05
+    # RMS error tracks σ at 10 s within the chi-square band for the standard deviation
+    ratio = res.rms_error("omega_gc")[-1] / res.std("omega_gc")[-1]
+    assert np.sqrt(lo) < ratio < np.sqrt(hi)
+
+
+def test_nees_bounds_match_chi_square():
+    lo, hi = ge.nees_bounds(2, 50, 0.95)
+    assert lo == pytest.approx(scipy.stats.chi2.ppf(0.025, 100) / 50)
+    assert hi == pytest.approx(scipy.stats.chi2.ppf(0.975, 100) / 50)
+
+
+def test_error_budget_adds_up_to_the_filter_variance():
+    bud = ge.error_budget(P, 10.0)
+    total = bud.var.sum(axis=0)
+    assert np.allclose(total[1:], bud.total[1:], rtol=1e-8, atol=0.0)
+    assert np.all(bud.var >= -1e-30)
+    assert bud.var[bud.sources.index("initial dbeta")].max() == 0.0  # σ = 0 in the baseline
+
+
+def test_time_to_sigma_interpolates_the_first_crossing():
+    res = ge.covariance_analysis(P, 10.0)
+    level = 1e-3 * ARCSEC_PAPER * 5
+    t = ge.time_to_sigma(res, "omega_gc", level)
+    s = res.std("omega_gc")
+    k = int(t / P.dt)
+    assert s[k] >= level >= s[k + 1]
+    assert np.isnan(ge.time_to_sigma(res, "omega_gc", 1e-30))
+
+
+def test_information_separates_psi_and_omega_as_beta_grows():
+    # Once the float runs aperiodically (t ≫ I/f), Δβ responds to ω_gc like t and to ψ like
+    # t² (sin β_n grows ∝ t): the correlation of the two regressors over [0, T] is
+    # ∫t·t² / √(∫t² ∫t⁴) = √15/4 ≈ 0.968 whatever T (closed form, to 1e-3).
+    info = ge.information_psi_omega(P, 100.0)
+    corr = info.correlation()
+    assert abs(corr[-1]) == pytest.approx(np.sqrt(15) / 4, abs=1e-3)
+    ratio = info.sigma_gc_psi_unknown()[1:] / info.sigma_gc_psi_known()[1:]
+    assert ratio[-1] == pytest.approx(1 / np.sqrt(1 - 15 / 16), rel=1e-2)
+    # a float frozen at a constant angle makes the two regressors proportional: |corr| → 1
+    frozen = ge.information_psi_omega(P, 100.0, frozen_beta=0.005)
+    assert abs(frozen.correlation()[-1]) > 1 - 1e-6
+
+
+def test_sweep_matches_single_runs():
+    vals = np.array([0.5, 0.7])
+    out = ge.sweep_sigma_gc(P, "xi1", vals, 2.0)
+    single = ge.covariance_analysis(replace(P, xi1=0.5), 2.0).std("omega_gc")[-1]
+    assert out[0] == pytest.approx(single, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("call", "exc", "match"),
+    [
+        (lambda: ge.covariance_analysis(P, 0.0), ValueError, "t_end"),
+        (lambda: ge.covariance_analysis(P, 1.0005), ValueError, "t_end must be a positive"),
+        (lambda: ge.covariance_analysis(P, 1.0, method="slow"), ValueError, "method"),
+        (lambda: ge.covariance_analysis("p", 1.0), TypeError, "params"),
+        (lambda: ge.monte_carlo(P, 0, 1.0, seed=1), ValueError, "n_runs"),
+        (lambda: ge.monte_carlo(P, 2, 1.0, seed=1.5), TypeError, "seed"),
+        (lambda: ge.monte_carlo(P, 2, 1.0, seed=1, truth="x"), ValueError, "truth"),
+        (lambda: ge.simulate_truth(P, 1.0, np.zeros(9)), ValueError, "x0"),
+        (lambda: ge.sweep_sigma_gc(P, "nope", [1.0]), ValueError, "field"),
+        (lambda: ge.sweep_sigma_gc(P, "alpha1", [-1.0]), ValueError, "alpha1"),
+        (lambda: ge.nees_bounds(0, 10), ValueError, "dof"),
+        (lambda: ge.covariance_analysis(P, 1.0).std("bogus"), ValueError, "name"),
+    ],
+)
+def test_inputs_are_validated(call, exc, match):
+    with pytest.raises(exc, match=match):
+        call()
+
+
+def test_state_index_used_for_results():
+    res = ge.covariance_analysis(P, 0.01)
+    assert res.var.shape == (11, 10)
+    assert res.std("psi")[0] == pytest.approx(np.sqrt(res.var[0, state_index("psi")]))
