@@ -4,7 +4,8 @@ jupyter-cache keys a notebook on its own code cells only.  Every chapter imports
 ``gyrolib``, so a change in the library (or in the pinned environment) must re-execute all
 chapters.  On ``config-inited`` this extension hashes ``gyrolib/**/*.py`` and
 ``requirements.txt``; when the hash differs from the one stored beside the cache, the cache is
-deleted before myst-nb opens it.
+deleted before myst-nb opens it, and every document is marked outdated, so that Sphinx
+re-reads (and myst-nb re-executes) chapters whose own source did not change.
 """
 
 from __future__ import annotations
@@ -41,7 +42,9 @@ def _invalidate(app, config) -> None:
     fingerprint = library_fingerprint(root)
     stamp = cache_dir / STAMP
     if stamp.is_file() and stamp.read_text().strip() == fingerprint:
+        app.gyrolib_changed = False
         return
+    app.gyrolib_changed = True
     if cache_dir.exists():
         shutil.rmtree(cache_dir)
         print(f"[gyrolib_cache] gyrolib or requirements changed: cleared {cache_dir}")
@@ -49,7 +52,15 @@ def _invalidate(app, config) -> None:
     stamp.write_text(fingerprint + "\n")
 
 
+def _outdated(app, env, added, changed, removed):
+    """After a library change every document is stale, not only the edited ones."""
+    if getattr(app, "gyrolib_changed", False):
+        return sorted(env.found_docs - set(added) - set(changed) - set(removed))
+    return []
+
+
 def setup(app):
     # Priority < 500 so that this runs before myst-nb reads the cache.
     app.connect("config-inited", _invalidate, priority=100)
+    app.connect("env-get-outdated", _outdated)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1"}

@@ -78,7 +78,7 @@ def test_book_config_wires_the_extension_and_loud_failures():
     assert cfg["execute"]["execute_notebooks"] == "cache"
     assert cfg["execute"]["raise_on_error"] is True
     assert cfg["execute"]["allow_errors"] is False
-    assert cfg["sphinx"]["local_extensions"] == {"gyrolib_cache": "_ext"}
+    assert cfg["sphinx"]["local_extensions"]["gyrolib_cache"] == "_ext"
     assert "sphinx-mathjax-offline" in cfg["sphinx"]["extra_extensions"]
 
 
