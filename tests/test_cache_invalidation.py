@@ -92,3 +92,18 @@ def test_jupyter_book_is_pinned_below_2():
     for name in ("numpy", "scipy", "control", "matplotlib", "sympy", "myst-nb",
                  "sphinxcontrib-bibtex", "pytest", "ruff"):
         assert name in pins, name
+
+
+def test_library_change_marks_every_document_outdated(tmp_path):
+    ext = _load_extension()
+    root = _project(tmp_path)
+    app = SimpleNamespace(srcdir=str(root))
+    config = SimpleNamespace(nb_execution_cache_path="_build/.jupyter_cache")
+    env = SimpleNamespace(found_docs={"a", "b", "c"})
+    ext._invalidate(app, config)  # first build: no stamp yet, so everything is new
+    assert ext._outdated(app, env, {"a"}, set(), set()) == ["b", "c"]
+    ext._invalidate(app, config)  # nothing changed since
+    assert ext._outdated(app, env, set(), {"a"}, set()) == []
+    (root / "gyrolib" / "model.py").write_text("X = 3\n")
+    ext._invalidate(app, config)
+    assert ext._outdated(app, env, set(), {"a"}, set()) == ["b", "c"]
