@@ -38,9 +38,9 @@ import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
 
 from gyrolib import _validation as v
 from gyrolib import roll_correction as rc
@@ -183,7 +183,7 @@ class SimulationConfig:
     gs: GsModel = GsModel()
     encoder: EncoderModel = EncoderModel()
     duration: float = 60.0
-    sample_rate: float = 200.0
+    sample_rate: float = 100.0
     n_runs: int = 1
     errors: str = "fixed"
 
@@ -310,17 +310,29 @@ def _pi_loop(omega_body: np.ndarray, gs: GsModel, eps1: np.ndarray, eps0: np.nda
     noise_t = np.ascontiguousarray(noise.T)
     gain = 1.0 + eps1
     kp, ki_dt = gs.kp, gs.ki * dt
+    neg_wmax = -wmax
+    tmp = np.empty(m_runs)
+    # In-place ufuncs: the loop is sequential in time, so its per-step overhead is the cost.
     for k in range(n):
-        wp = omega_body[k] + motor
-        m = gain * wp
+        wp = w_p[k]
+        m = reading[k]
+        np.add(motor, omega_body[k], out=wp)
+        np.multiply(gain, wp, out=m)
         m += eps0
         m += noise_t[k]
         # Conditional integration (anti-windup): the integrator is clamped at the motor limit.
-        integ = np.clip(integ + ki_dt * m, -wmax, wmax)
-        command = np.clip(-(kp * m + integ), -wmax, wmax)
-        motor = motor + alpha * (command - motor)
-        w_p[k] = wp
-        reading[k] = m
+        np.multiply(m, ki_dt, out=tmp)
+        integ += tmp
+        np.minimum(integ, wmax, out=integ)
+        np.maximum(integ, neg_wmax, out=integ)
+        np.multiply(m, kp, out=tmp)
+        tmp += integ
+        np.negative(tmp, out=tmp)                       # command −(k_p m + ∫)
+        np.minimum(tmp, wmax, out=tmp)
+        np.maximum(tmp, neg_wmax, out=tmp)
+        tmp -= motor
+        tmp *= alpha
+        motor += tmp
     return w_p.T, reading.T
 
 
@@ -366,16 +378,21 @@ def with_encoder(record: SensorRecord, encoder: EncoderModel) -> SensorRecord:
     return dataclasses.replace(record, config=cfg)
 
 
-def gs_angle(record: SensorRecord) -> np.ndarray:
+def _gyro_angle(record: SensorRecord) -> np.ndarray:
+    """∫ (MEMS gyro reading) dt, (M, N+1), zero at t = 0."""
+    out = np.zeros((record.gs_gyro_inc.shape[0], record.gs_gyro_inc.shape[1] + 1))
+    np.cumsum(record.gs_gyro_inc, axis=1, out=out[:, 1:])
+    return out
+
+
+def gs_angle(record: SensorRecord, *, gyro_angle: np.ndarray | None = None) -> np.ndarray:
     """GS roll angle γ̂ = unwrapped encoder angle + ∫ MEMS reading (paper's Figure 2), (M, N+1),
-    referred to its value at t = 0."""
+    referred to its value at t = 0.  ``gyro_angle`` may pass a precomputed ∫ MEMS reading."""
     enc = record.config.encoder
     wrapped = encoder_counts(record.theta_rel, enc, record.encoder_phase)
     counts = unwrap_counts(wrapped, enc.counts_per_rev)
     enc_angle = (counts - counts[:, :1]) * enc.resolution
-    gyro_angle = np.concatenate([np.zeros((record.theta_rel.shape[0], 1)),
-                                 np.cumsum(record.gs_gyro_inc, axis=1)], axis=1)
-    return enc_angle + gyro_angle
+    return enc_angle + (_gyro_angle(record) if gyro_angle is None else gyro_angle)
 
 
 def lateral_error(t: np.ndarray, roll_error: np.ndarray, g: float = G0) -> np.ndarray:
@@ -387,8 +404,14 @@ def lateral_error(t: np.ndarray, roll_error: np.ndarray, g: float = G0) -> np.nd
         raise ValueError(f"roll_error must have {t.size} samples along its last axis; "
                          f"got shape {e.shape}")
     acc = v.check_positive("g", g) * np.sin(e)
-    vel = cumulative_trapezoid(acc, t, axis=-1, initial=0.0)
-    return cumulative_trapezoid(vel, t, axis=-1, initial=0.0)
+    return _cumtrapz(_cumtrapz(acc, t), t)
+
+
+def _cumtrapz(y: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """Cumulative trapezoidal integral along the last axis, starting at 0."""
+    out = np.zeros_like(y)
+    np.cumsum(0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(t), axis=-1, out=out[..., 1:])
+    return out
 
 
 @dataclass(frozen=True)
@@ -398,8 +421,8 @@ class CorrectionRun:
     Per interval i (arrays M × n_int): ``k`` the coefficient K_i computed at its end,
     ``eps1_hat`` the estimate of Eq. (2), ``delta_k`` δK_i = K_i (1 + ε1) − 1 (the residual
     scale-factor error of the next interval).  Per sample (M × (N+1)): roll error of the SINS
-    without and with correction, of the GS, and the lateral errors without and with
-    correction.
+    without and with correction and of the GS; the lateral errors without and with correction
+    (properties, computed on first use with gravity ``g``).
     """
 
     period: float
@@ -413,8 +436,17 @@ class CorrectionRun:
     roll_error_raw: np.ndarray
     roll_error_corrected: np.ndarray
     roll_error_gs: np.ndarray
-    lateral_raw: np.ndarray
-    lateral_corrected: np.ndarray
+    g: float = G0
+
+    @cached_property
+    def lateral_raw(self) -> np.ndarray:
+        """Lateral error of the uncorrected SINS, m (computed on first use)."""
+        return lateral_error(self.t, self.roll_error_raw, self.g)
+
+    @cached_property
+    def lateral_corrected(self) -> np.ndarray:
+        """Lateral error of the corrected SINS, m (computed on first use)."""
+        return lateral_error(self.t, self.roll_error_corrected, self.g)
 
 
 def _steps_per_interval(record: SensorRecord, period: float) -> int:
@@ -484,8 +516,7 @@ def run_correction(record: SensorRecord, period: float, *, k_form: str = "linear
     return CorrectionRun(period=float(period), k_form=k_form, reset_angle=reset_angle, t=t,
                          t_boundaries=t[idx], k=k, eps1_hat=eps1_hat, delta_k=dk,
                          roll_error_raw=err_raw, roll_error_corrected=err_cor,
-                         roll_error_gs=err_gs, lateral_raw=lateral_error(t, err_raw, g),
-                         lateral_corrected=lateral_error(t, err_cor, g))
+                         roll_error_gs=err_gs, g=v.check_positive("g", g))
 
 
 # Prediction of δK (Eq. (7) and its statistics) ----------------------------------------------------
@@ -530,7 +561,6 @@ def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction
     w_unc = max(w - gs.motor_rate_max, 0.0)
     span = w * period
     systematic = (gs.eps0 + gs.eps1 * w_unc) / w - s.eps0 / w
-    relative = w - w_unc
     advance = (w - w_unc) * period          # body-to-platform turn over one interval
     std_enc = math.sqrt(2.0) * enc.position_error * abs(math.sin(advance / 2.0)) / span
     # Quantization: for an indicated advance whose fraction of a count is f, the difference of
@@ -606,9 +636,10 @@ def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period
     if not encoders:
         raise ValueError("encoders must be a non-empty sequence of EncoderModel")
     cols = {key: [] for key in ("c", "a", "mean", "rms", "max_abs", "pred", "eq7")}
+    gyro = _gyro_angle(record)    # the same for every encoder
     for enc in encoders:
         rec = with_encoder(record, enc)
-        dk = _interval_estimates(rec, period, k_form)[2].ravel()
+        dk = _interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2].ravel()
         pred = predict_delta_k(rec.config, period)
         cols["c"].append(enc.counts_per_rev)
         cols["a"].append(enc.position_error)

@@ -68,7 +68,7 @@ def _increments():
 
 
 def test_eq2_and_the_two_readings_of_k_from_sympy():
-    sins, gs, _ = _increments()
+    sins, _, _ = _increments()
     noise_free = sins - w * dt
     eps1_hat = noise_free / (sins / dt * dt)           # Eq. (2): measured rate in the denominator
     assert sp.simplify(eps1_hat - eps1 / (1 + eps1)) == 0

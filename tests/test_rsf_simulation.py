@@ -81,7 +81,15 @@ def test_seeded_delta_k_agrees_with_eq7_within_its_statistical_tolerance():
     assert pred.eq7 == pytest.approx(systematic + cfg.encoder.position_error / (w * 5.0),
                                      rel=1e-12)
     assert abs(dk.mean()) < pred.eq7
-    assert np.mean(np.abs(dk) <= pred.eq7 + 3 * pred.std_noise) > 0.8
+    # The encoder term is a sinusoid of random phase, δK = mean + A cos ψ with A = √2 σ_enc:
+    # the share of intervals inside Eq. (7) is then (1/π)[arccos(lo) − arccos(hi)], within
+    # 4 binomial standard errors.
+    amp = math.sqrt(2) * pred.std_encoder
+    hi = min((pred.eq7 - pred.mean) / amp, 1.0)
+    lo = max((-pred.eq7 - pred.mean) / amp, -1.0)
+    p_inside = (math.acos(lo) - math.acos(hi)) / math.pi
+    inside = np.mean(np.abs(dk) <= pred.eq7)
+    assert abs(inside - p_inside) < 4 * math.sqrt(p_inside * (1 - p_inside) / dk.size)
 
 
 def test_sweep_over_period_matches_prediction_and_saturates_at_a_floor():

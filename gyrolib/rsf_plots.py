@@ -1,0 +1,351 @@
+"""Figures of paper RSF: the functional schemes (Figures 1 and 2) as block diagrams, the
+gravity projection and lateral error growth (Figure 3), and the simulation's results.
+
+Every function takes data (SI unless the argument name says otherwise) and returns a
+:class:`matplotlib.figure.Figure`; nothing here computes a result.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from itertools import pairwise
+
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Polygon
+
+from gyrolib.units import from_si
+
+__all__ = [
+    "plot_delta_k_distribution",
+    "plot_encoder_sweep",
+    "plot_figure3",
+    "plot_flight",
+    "plot_gs_scheme",
+    "plot_method_scheme",
+    "plot_period_sweep",
+    "plot_rate_sweep",
+    "plot_spin_up",
+]
+
+
+# Block-diagram primitives ----------------------------------------------------------------------
+class _Diagram:
+    """Boxes, summing junctions and arrows on an axes in data coordinates."""
+
+    def __init__(self, width: float, height: float, figsize: tuple[float, float]):
+        self.fig = Figure(figsize=figsize)
+        self.ax = self.fig.add_axes((0.0, 0.0, 1.0, 1.0))
+        self.ax.set_xlim(0, width)
+        self.ax.set_ylim(0, height)
+        self.ax.set_aspect("equal")
+        self.ax.axis("off")
+
+    def box(self, x: float, y: float, w: float, h: float, text: str, *,
+            color: str = "#e8f0fb", fontsize: float = 9) -> dict[str, tuple[float, float]]:
+        """A rounded box centred at (x, y); returns its side midpoints."""
+        self.ax.add_patch(FancyBboxPatch((x - w / 2, y - h / 2), w, h,
+                                         boxstyle="round,pad=0.02,rounding_size=0.08",
+                                         fc=color, ec="#1f3b63", lw=1.2))
+        self.ax.text(x, y, text, ha="center", va="center", fontsize=fontsize)
+        return {"l": (x - w / 2, y), "r": (x + w / 2, y), "t": (x, y + h / 2),
+                "b": (x, y - h / 2)}
+
+    def junction(self, x: float, y: float, r: float = 0.22,
+                 signs: dict[str, str] | None = None) -> dict[str, tuple[float, float]]:
+        """A summing junction; ``signs`` maps sides ("l", "t", "b") to "+" or "−"."""
+        self.ax.add_patch(Circle((x, y), r, fc="white", ec="#1f3b63", lw=1.2))
+        self.ax.text(x, y, "Σ", ha="center", va="center", fontsize=9)
+        offsets = {"l": (-1.6 * r, 0.9 * r), "t": (0.9 * r, 1.6 * r), "b": (0.9 * r, -1.6 * r),
+                   "r": (1.6 * r, 0.9 * r)}
+        for side, sign in (signs or {}).items():
+            dx, dy = offsets[side]
+            self.ax.text(x + dx, y + dy, sign, ha="center", va="center", fontsize=10,
+                         fontweight="bold")
+        return {"l": (x - r, y), "r": (x + r, y), "t": (x, y + r), "b": (x, y - r)}
+
+    def arrow(self, points: Sequence[tuple[float, float]], label: str = "", *,
+              where: int = 0, offset: tuple[float, float] = (0.0, 0.15),
+              fontsize: float = 9, ha: str = "center") -> None:
+        """A polyline ending in an arrowhead; ``label`` near segment ``where``."""
+        pts = list(points)
+        for p, q in pairwise(pts[:-1]):
+            self.ax.plot([p[0], q[0]], [p[1], q[1]], color="#1f3b63", lw=1.2)
+        self.ax.add_patch(FancyArrowPatch(pts[-2], pts[-1], arrowstyle="-|>",
+                                          mutation_scale=12, color="#1f3b63", lw=1.2,
+                                          shrinkA=0, shrinkB=0))
+        if label:
+            p, q = pts[where], pts[where + 1]
+            self.ax.text((p[0] + q[0]) / 2 + offset[0], (p[1] + q[1]) / 2 + offset[1], label,
+                         ha=ha, va="bottom", fontsize=fontsize)
+
+    def dot(self, x: float, y: float) -> None:
+        self.ax.plot([x], [y], "o", color="#1f3b63", ms=4)
+
+
+def plot_method_scheme() -> Figure:
+    """Paper RSF, Figure 1: functional scheme of the correction method."""
+    d = _Diagram(12.0, 6.2, (10.0, 5.2))
+    veh = d.box(1.0, 3.4, 1.5, 1.0, r"vehicle" "\n" r"roll rate $\omega$")
+    gyro = d.box(3.7, 4.9, 2.3, 1.0, r"SINS roll gyro" "\n"
+                 r"$\omega_x = (1+\varepsilon_1)\,\omega + \varepsilon_0$")
+    gs = d.box(3.7, 1.5, 2.2, 1.1, "indicator GS\n(MEMS gyro\n+ encoder)")
+    mult = d.junction(6.6, 4.9, signs={})
+    d.ax.texts[-1].set_text("×")
+    nav = d.box(10.4, 4.9, 2.2, 1.0, "SINS navigation\nalgorithm")
+    integ = d.box(6.6, 3.2, 1.6, 0.8, r"$\int\omega_x\,dt$" "\n" r"over $\Delta t$")
+    summ = d.junction(8.6, 2.3, signs={"t": "+", "b": "−"})
+    est = d.box(10.4, 2.3, 2.0, 0.9, r"$\hat\varepsilon_1 = \Delta\gamma_i/(\omega_x\Delta t)$"
+                "\nEq. (2)", fontsize=8.5)
+    coef = d.box(10.4, 0.7, 2.0, 0.8, r"$K_i = 1 - \hat\varepsilon_1$" "\n"
+                 r"held for the next $\Delta t$", fontsize=8.5)
+    split = (2.2, 3.4)
+    d.arrow([veh["r"], split], "")
+    d.dot(*split)
+    d.arrow([split, (split[0], gyro["l"][1]), gyro["l"]])
+    d.arrow([split, (split[0], gs["l"][1]), gs["l"]])
+    d.arrow([gyro["r"], mult["l"]], r"$\omega_x$ (measurement 1)", offset=(0.0, 0.12),
+            fontsize=8)
+    tap = (5.3, 4.9)
+    d.dot(*tap)
+    d.arrow([tap, (tap[0], integ["l"][1]), integ["l"]])
+    d.arrow([mult["r"], nav["l"]], r"$\hat\omega_x = K_i\,\omega_x$  (Eq. 3)",
+            offset=(0.05, 0.12), fontsize=8)
+    d.arrow([integ["r"], (summ["t"][0], integ["r"][1]), summ["t"]], r"$\gamma_{SINS}$",
+            offset=(0.1, 0.1))
+    d.arrow([gs["r"], (summ["b"][0], gs["r"][1]), summ["b"]], r"$\gamma_{GS}$ (measurement 2)",
+            offset=(0.2, 0.1), fontsize=8)
+    d.arrow([summ["r"], est["l"]], r"$\Delta\gamma_i$", offset=(0.0, 0.08))
+    d.arrow([est["b"], coef["t"]])
+    d.arrow([coef["r"], (11.75, coef["r"][1]), (11.75, 3.9), (mult["b"][0], 3.9), mult["b"]],
+            r"$K_i$", where=2, offset=(0.0, 0.08))
+    d.ax.text(8.95, 1.95, "Eq. (1)", ha="left", va="top", fontsize=8)
+    return d.fig
+
+
+def plot_gs_scheme() -> Figure:
+    """Paper RSF, Figure 2: functional scheme of the indicator gyrostabilizer (GS)."""
+    d = _Diagram(12.6, 5.0, (10.0, 4.0))
+    sum1 = d.junction(2.0, 3.8, signs={"l": "+", "b": "+"})
+    plat = d.box(4.0, 3.8, 1.6, 0.8, "platform")
+    mems = d.box(6.7, 3.8, 2.5, 0.9, r"MEMS gyro" "\n"
+                 r"$(1+\varepsilon_{1GS})\,\omega_{unc} + \varepsilon_{0GS}$")
+    pi = d.box(6.7, 2.0, 1.8, 0.8, "PI controller")
+    motor = d.box(4.0, 2.0, 1.8, 0.8, "motor\n(speed limit)")
+    enc = d.box(2.0, 0.7, 2.0, 0.8, r"encoder" "\n" r"$\gamma_{enc} = -\int W_r\,dt$")
+    integ = d.box(9.4, 3.8, 1.2, 0.8, r"$\int dt$")
+    sum2 = d.junction(11.0, 2.2, signs={"t": "+", "b": "+"})
+    d.arrow([(0.3, 3.8), sum1["l"]], r"$\omega$ (vehicle)", offset=(0.0, 0.1))
+    d.arrow([sum1["r"], plat["l"]], r"$\omega_{unc}$", offset=(0.0, 0.08))
+    d.arrow([plat["r"], mems["l"]])
+    d.arrow([mems["r"], integ["l"]], r"$\hat\omega_{unc}$", offset=(0.0, 0.08), fontsize=8.5)
+    tap = (8.35, 3.8)
+    d.dot(*tap)
+    d.arrow([tap, (tap[0], pi["r"][1]), pi["r"]])
+    d.arrow([pi["l"], motor["r"]], "u", offset=(0.0, 0.08))
+    tap2 = (2.0, 2.0)
+    d.dot(*tap2)
+    d.ax.plot([motor["l"][0], tap2[0]], [2.0, 2.0], color="#1f3b63", lw=1.2)
+    d.ax.text(2.55, 2.08, r"$W_r$", ha="center", va="bottom", fontsize=9)
+    d.arrow([tap2, sum1["b"]])
+    d.arrow([tap2, enc["t"]])
+    d.arrow([integ["r"], (sum2["t"][0], integ["r"][1]), sum2["t"]], r"$\gamma_{unc}$",
+            offset=(0.25, 0.05))
+    d.arrow([enc["r"], (sum2["b"][0], enc["r"][1]), sum2["b"]], r"$\gamma_{enc}$",
+            offset=(0.0, 0.08))
+    d.arrow([sum2["r"], (12.5, 2.2)], "")
+    d.ax.text(12.5, 2.4, r"$\hat\gamma = \gamma_{enc} + \gamma_{unc}$", ha="right",
+              va="bottom", fontsize=9)
+    return d.fig
+
+
+# Figure 3 ----------------------------------------------------------------------------------------
+def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
+                 acc_exact: np.ndarray, acc_small: np.ndarray, dr_exact: np.ndarray,
+                 dr_cubic: np.ndarray, table_t: Sequence[float] = (),
+                 printed_dr: Sequence[float] = ()) -> Figure:
+    """Paper RSF, Figure 3 and Eq. (8): (a) gravity resolved with a roll error
+    ``dgamma_example`` (rad); (b) Δa_z = g sin Δγ against g Δγ; (c) Δr_z, exact double
+    integral against the cubic, with the printed Table 2 values (unit lost) as markers."""
+    fig = Figure(figsize=(11.0, 3.8), layout="constrained")
+    ax0, ax1, ax2 = fig.subplots(1, 3, gridspec_kw={"width_ratios": [0.8, 1.0, 1.0]})
+    # (a) geometry: body cross-section, true vertical and the vertical the SINS believes.
+    ax0.set_aspect("equal")
+    ax0.axis("off")
+    ax0.add_patch(Circle((0, 0), 1.0, fc="#f3f3f3", ec="#555555"))
+    ax0.annotate("", (0, -1.45), (0, 0), arrowprops={"arrowstyle": "-|>", "color": "k"})
+    ax0.text(-0.12, -1.4, "g", fontsize=11, ha="right")
+    dg = dgamma_example
+    tip = (1.45 * np.sin(dg), -1.45 * np.cos(dg))
+    ax0.annotate("", tip, (0, 0), arrowprops={"arrowstyle": "-|>", "color": "#c0392b",
+                                              "ls": "--"})
+    ax0.text(tip[0] + 0.1, tip[1] + 0.35, "g as resolved\nby the SINS", color="#c0392b",
+             fontsize=8, va="center", ha="left")
+    ax0.plot([0, tip[0]], [tip[1], tip[1]], color="#2e86c1", lw=0.8, ls=":")
+    ax0.annotate("", tip, (0, tip[1]),
+                 arrowprops={"arrowstyle": "-|>", "color": "#2e86c1", "lw": 2})
+    ax0.text(0.5 * tip[0], tip[1] - 0.15, r"$\Delta a_z = g\,\sin\Delta\gamma$",
+             color="#2e86c1", fontsize=8, ha="center", va="top")
+    arc = np.linspace(-np.pi / 2, -np.pi / 2 + dg, 30)
+    ax0.plot(0.55 * np.cos(arc), 0.55 * np.sin(arc), color="k", lw=0.8)
+    ax0.text(0.22, -0.72, r"$\Delta\gamma$", fontsize=9)
+    ax0.add_patch(Polygon([[-0.06, 0.06], [0.06, 0.06], [0.06, -0.06], [-0.06, -0.06]],
+                          fc="k"))
+    ax0.set_xlim(-1.2, 2.1)
+    ax0.set_ylim(-2.0, 1.2)
+    ax0.set_title("(a) gravity and a roll error", fontsize=10)
+    # (b) lateral acceleration error.
+    ax1.plot(t, acc_small, "--", color="#7f8c8d", label=r"$g\,\Delta\gamma$ (first approximation)")
+    ax1.plot(t, acc_exact, color="#2e86c1", label=r"$g\,\sin\Delta\gamma$")
+    ax1.axhline(0, color="k", lw=0.5)
+    twin = ax1.twiny()
+    twin.set_xlim(from_si(roll_error[0], "deg"), from_si(roll_error[-1], "deg"))
+    twin.set_xlabel(r"$\Delta\gamma_{SINS}$ (°)", fontsize=9)
+    ax1.set_xlim(t[0], t[-1])
+    ax1.set_xlabel("t (s)")
+    ax1.set_ylabel(r"$\Delta a_z$ (m/s²)")
+    ax1.legend(fontsize=8, loc="upper left")
+    ax1.set_title("(b) gravity mis-resolved onto z", fontsize=10)
+    # (c) lateral deviation.
+    pos = t >= 1.0
+    ax2.loglog(t[pos], dr_cubic[pos], "--", color="#7f8c8d",
+               label=r"$g\,\varepsilon_1\omega t^3/6$ (Eq. 8)")
+    ax2.loglog(t[pos], dr_exact[pos], color="#2e86c1",
+               label=r"$\iint g\,\sin\Delta\gamma\;dt\,dt$ (exact)")
+    if len(table_t):
+        ax2.loglog(table_t, printed_dr, "s", color="#c0392b", mfc="none",
+                   label="Table 2 as printed (unit lost)")
+    ax2.set_xlabel("t (s)")
+    ax2.set_ylabel(r"$\Delta r_z$ (m)")
+    ax2.legend(fontsize=8, loc="upper left")
+    ax2.grid(True, which="both", alpha=0.3)
+    ax2.set_title("(c) lateral deviation", fontsize=10)
+    return fig
+
+
+# Simulation figures ---------------------------------------------------------------------------
+def plot_flight(t: np.ndarray, roll_raw: np.ndarray, roll_corrected: np.ndarray,
+                roll_gs: np.ndarray, lateral_raw: np.ndarray, lateral_corrected: np.ndarray,
+                t_boundaries: Sequence[float] = (), roll_reset: np.ndarray | None = None,
+                lateral_reset: np.ndarray | None = None) -> Figure:
+    """Roll-angle error (°) and lateral error (m) of one simulated flight, with and without
+    correction; the correction instants as vertical ticks."""
+    fig = Figure(figsize=(10.0, 3.8), layout="constrained")
+    ax0, ax1 = fig.subplots(1, 2)
+    ax0.plot(t, from_si(roll_raw, "deg"), color="#c0392b", label="SINS, uncorrected")
+    ax0.plot(t, from_si(roll_corrected, "deg"), color="#2e86c1", label="SINS, corrected")
+    if roll_reset is not None:
+        ax0.plot(t, from_si(roll_reset, "deg"), color="#27ae60", label="corrected + angle reset")
+    ax0.plot(t, from_si(roll_gs, "deg"), color="#7f8c8d", lw=0.8, label="GS reference")
+    for tb in t_boundaries:
+        ax0.axvline(tb, color="k", lw=0.3, alpha=0.4)
+    ax0.set_yscale("symlog", linthresh=0.1)
+    ax0.set_xlabel("t (s)")
+    ax0.set_ylabel("roll-angle error (°)")
+    ax0.legend(fontsize=8)
+    ax1.plot(t, lateral_raw, color="#c0392b", label="uncorrected")
+    ax1.plot(t, lateral_corrected, color="#2e86c1", label="corrected")
+    if lateral_reset is not None:
+        ax1.plot(t, lateral_reset, color="#27ae60", label="corrected + angle reset")
+    ax1.set_yscale("symlog", linthresh=1.0)
+    ax1.set_xlabel("t (s)")
+    ax1.set_ylabel("lateral error Δr_z (m)")
+    ax1.legend(fontsize=8)
+    return fig
+
+
+def plot_delta_k_distribution(delta_k: np.ndarray, predicted_mean: float, predicted_std: float,
+                              eq7: float, eq7_paper: float | None = None) -> Figure:
+    """Histogram of simulated δK (one value per run and interval) against the predicted
+    mean ± std and the paper's Eq. (7)."""
+    fig = Figure(figsize=(7.5, 3.6), layout="constrained")
+    ax = fig.subplots()
+    scale = 1e6
+    ax.hist(delta_k.ravel() * scale, bins=40, color="#aed6f1", ec="#2e86c1",
+            label="simulation (per run and interval)")
+    ax.axvline(predicted_mean * scale, color="k", label="predicted mean")
+    for s in (-1, 1):
+        ax.axvline((predicted_mean + s * predicted_std) * scale, color="k", ls=":",
+                   label="predicted mean ± σ" if s == 1 else None)
+    ax.axvline(eq7 * scale, color="#c0392b", lw=2, label="Eq. (7), 280 ppm")
+    if eq7_paper is not None:
+        ax.annotate(f"paper's 0.093 = {eq7_paper * scale:.0f} ppm: off scale →",
+                    (0.98, 0.9), xycoords="axes fraction", ha="right", fontsize=8,
+                    color="#c0392b")
+    ax.set_xlabel("δK (ppm)")
+    ax.set_ylabel("count")
+    ax.legend(fontsize=8, loc="upper left")
+    return fig
+
+
+def plot_period_sweep(periods: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarray,
+                      eq7: np.ndarray, floor: float, eps1: float) -> Figure:
+    """rms δK against the correction period, with the prediction, Eq. (7), the systematic
+    floor and the uncorrected scale-factor error."""
+    fig = Figure(figsize=(7.5, 3.8), layout="constrained")
+    ax = fig.subplots()
+    ax.loglog(periods, rms * 1e6, "o", color="#2e86c1", label="simulation, rms δK")
+    ax.loglog(periods, predicted_rms * 1e6, "-", color="#2e86c1", lw=0.8,
+              label="predicted rms")
+    ax.loglog(periods, eq7 * 1e6, "--", color="#c0392b", label="Eq. (7)")
+    ax.axhline(floor * 1e6, color="k", ls=":", label="floor (ε0,GS + ε1,GS ω_unc)/ω")
+    ax.axhline(eps1 * 1e6, color="#7f8c8d", label="uncorrected ε1")
+    ax.set_xlabel("correction period Δt (s)")
+    ax.set_ylabel("residual SF error δK (ppm)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_encoder_sweep(counts: np.ndarray, rms_with_error: np.ndarray,
+                       rms_without_error: np.ndarray, eq7: np.ndarray,
+                       predicted_with: np.ndarray, predicted_without: np.ndarray) -> Figure:
+    """rms δK against the encoder's counts per revolution, with and without its 0.33°
+    position error."""
+    fig = Figure(figsize=(7.5, 3.8), layout="constrained")
+    ax = fig.subplots()
+    ax.loglog(counts, rms_with_error * 1e6, "o", color="#2e86c1",
+              label="simulation, with position error")
+    ax.loglog(counts, predicted_with * 1e6, "-", color="#2e86c1", lw=0.8)
+    ax.loglog(counts, rms_without_error * 1e6, "s", color="#27ae60",
+              label="simulation, quantization only")
+    ax.loglog(counts, predicted_without * 1e6, "-", color="#27ae60", lw=0.8)
+    ax.loglog(counts, eq7 * 1e6, "--", color="#c0392b", label="Eq. (7)")
+    ax.set_xlabel("encoder counts per revolution")
+    ax.set_ylabel("rms δK (ppm)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_rate_sweep(rates: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarray,
+                    eq7: np.ndarray) -> Figure:
+    """rms δK against the vehicle roll rate (rad/s, plotted in °/s)."""
+    fig = Figure(figsize=(7.5, 3.6), layout="constrained")
+    ax = fig.subplots()
+    r = from_si(rates, "deg/s")
+    ax.plot(r, rms * 1e6, "o", color="#2e86c1", label="simulation, rms δK")
+    ax.plot(r, predicted_rms * 1e6, "-", color="#2e86c1", lw=0.8, label="predicted rms")
+    ax.plot(r, eq7 * 1e6, "--", color="#c0392b", label="Eq. (7)")
+    ax.set_xlabel("vehicle roll rate (°/s)")
+    ax.set_ylabel("δK (ppm)")
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_spin_up(t: np.ndarray, rate: np.ndarray, omega_unc: np.ndarray,
+                 omega_unc_ideal: np.ndarray) -> Figure:
+    """Vehicle roll rate and the GS's uncompensated rate during a spin-up (°/s)."""
+    fig = Figure(figsize=(7.5, 3.4), layout="constrained")
+    ax = fig.subplots()
+    ax.plot(t, from_si(rate, "deg/s"), color="k", label="vehicle roll rate ω")
+    ax.plot(t, from_si(omega_unc, "deg/s"), color="#c0392b",
+            label="ω_unc, motor limited to 600 °/s")
+    ax.plot(t, from_si(omega_unc_ideal, "deg/s"), color="#2e86c1",
+            label="ω_unc, unlimited motor")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("rate (°/s)")
+    ax.set_yscale("symlog", linthresh=10.0)
+    ax.legend(fontsize=8)
+    return fig
