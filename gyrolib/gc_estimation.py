@@ -239,21 +239,27 @@ def _default_store_every(n_steps: int) -> int:
 
 
 def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
-                        store_every: int | None = None, method: str = "fast"
-                        ) -> CovarianceAnalysis:
+                        store_every: int | None = None, method: str = "fast",
+                        P0: object | None = None) -> CovarianceAnalysis:
     """Covariance analysis of the discrete Kalman filter of paper GC (Figure 3).
 
     ``method="fast"``: numba kernel on the affine discretization; ``"reference"``: plain
     numpy with an exact per-step Van Loan exponential and batch Joseph updates (slow: for
     tests and benchmarks).  ``store_every`` (default: about 1000 stored ``P``) sets the
-    decimation of the full covariances.
+    decimation of the full covariances.  ``P0`` (10×10, symmetric) overrides
+    :func:`gyrolib.gyrocompass.initial_covariance` (e.g. to study a partly known N1…N4).
     """
     p = _check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
     disc = discretize(p, t_end)
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
-    P0 = initial_covariance(p)
+    if P0 is None:
+        P0 = initial_covariance(p)
+    else:
+        P0 = v.check_array("P0", P0, shape=(N, N))
+        if not np.allclose(P0, P0.T, rtol=1e-12, atol=0.0) or np.any(np.diag(P0) < 0):
+            raise ValueError("P0 must be symmetric with a non-negative diagonal")
     if method == "fast":
         run = kalman.covariance_fast(disc.model, P0, se)
     else:
