@@ -88,6 +88,7 @@ def test_json_and_markdown_of_a_known_item():
     assert json.loads(to_json([it]))[0]["reproduced_value"] == 0.49273
     md = to_markdown([it], "GC")
     assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md
+    assert "{bdg-success}`reproduced`" in md and "`gc.test`\n: shown" in md
 
 
 class _Ids(HTMLParser):

@@ -17,11 +17,11 @@ __all__ = ["STATUSES", "STATUS_MARKS", "LedgerItem", "collect", "summary", "to_j
 
 #: The allowed values of :attr:`LedgerItem.status`.
 STATUSES: tuple[str, ...] = ("reproduced", "differs (explained)", "not reproducible")
-#: A mark per status, so that the ledger page shows the status at a glance.
+#: A sphinx-design badge role per status, so that the ledger page shows it at a glance.
 STATUS_MARKS: dict[str, str] = {
-    "reproduced": "✅",
-    "differs (explained)": "⚠️",
-    "not reproducible": "❌",
+    "reproduced": "{bdg-success}`reproduced`",
+    "differs (explained)": "{bdg-warning}`differs (explained)`",
+    "not reproducible": "{bdg-danger}`not reproducible`",
 }
 
 
@@ -116,20 +116,23 @@ def _md_escape(text: str) -> str:
 
 
 def to_markdown(items: list[LedgerItem], paper: str) -> str:
-    """A MyST table of one paper's items; the chapter column links with ``{ref}`` roles, so a
-    broken link fails the book build."""
+    """MyST for one paper's items: a compact status table, then one note per item.
+
+    The "where" column links with ``{ref}`` roles, so a broken link fails the book build.
+    """
     lines = [
-        "| | id | where | quantity | paper | reproduced | unit | note |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| status | item | where | paper | reproduced | unit |",
+        "| --- | --- | --- | --- | --- | --- |",
     ]
+    notes = []
     for it in items:
         if it.paper != paper:
             continue
         target = it.anchor or it.chapter.rsplit("/", 1)[-1].replace("_", "-")
         link = f"{{ref}}`{_md_escape(it.location)} <{target}>`"
         lines.append(
-            f"| {STATUS_MARKS[it.status]} | `{it.id}` | {link} | {_md_escape(it.quantity)} | "
-            f"{_fmt(it.paper_value)} | {_fmt(it.reproduced_value)} | {_md_escape(it.unit)} | "
-            f"**{it.status}**: {_md_escape(it.note)} |"
+            f"| {STATUS_MARKS[it.status]} | `{it.id}`<br>{_md_escape(it.quantity)} | {link} | "
+            f"{_fmt(it.paper_value)} | {_fmt(it.reproduced_value)} | {_md_escape(it.unit)} |"
         )
-    return "\n".join(lines) + "\n"
+        notes.append(f"`{it.id}`\n: {_md_escape(it.note)}\n")
+    return "\n".join(lines) + "\n\n" + "\n".join(notes)
