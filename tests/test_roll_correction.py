@@ -89,6 +89,26 @@ def test_eq2_and_the_two_readings_of_k_from_sympy():
         == pytest.approx(600e-6**2, rel=2e-3)
 
 
+def test_eq3_eq4_eq6_eq9_from_sympy():
+    e0, tau = sp.symbols("epsilon_0 tau", positive=True)
+    e_hat = sp.Symbol("hat_epsilon_1", positive=True)
+    # Eq. (4): integrate the measurement model's error.
+    sins_error = sp.integrate((1 + eps1) * w + e0 - w, (tau, 0, t))
+    assert sp.simplify(sins_error - (eps1 * w * t + e0 * t)) == 0
+    # Eq. (3): K ω_x with K = 1 − ε̂1 is ω (1 + (ε1 − ε̂1)) to first order.
+    corrected = sp.expand((1 - e_hat) * (1 + eps1) * w)
+    assert sp.simplify(corrected - w * (1 + eps1 - e_hat) + w * eps1 * e_hat) == 0
+    # Eq. (6) for a constant ω_unc, and Eq. (9) as its ε1,GS = 0 case.
+    gs_error = sp.integrate(e0g + e1g * wu, (tau, 0, t)) + enc
+    vals = {e0g: 3.3e-3 * DEG, e1g: 280e-6, wu: W300, enc: 0.33 * DEG, t: 60.0}
+    assert rc.gs_roll_error_nonideal(3.3e-3 * DEG, 280e-6, W300, 60.0, 0.33 * DEG) \
+        == pytest.approx(float(gs_error.subs(vals)), rel=1e-12)
+    assert rc.gs_roll_error_ideal(3.3e-3 * DEG, 60.0, 0.33 * DEG) \
+        == pytest.approx(float(gs_error.subs({**vals, e1g: 0})), rel=1e-12)
+    assert rc.sins_roll_error(600e-6, W3600, 10.0, eps0=1e-4) == pytest.approx(
+        float(sins_error.subs({eps1: 600e-6, w: W3600, t: 10.0, e0: 1e-4})), rel=1e-12)
+
+
 def test_eq5_and_eq7_from_sympy():
     sins, gs, gs_error = _increments()
     dgamma = sins - gs                                  # Eq. (1)

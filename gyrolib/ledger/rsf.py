@@ -45,6 +45,11 @@ PRINTED: Final[dict[str, float]] = {
 _METHOD = "chapters/rsf_method"
 
 
+def _implied_encoder() -> float:
+    """Δγ_GS − ε0,GS·t of the printed Table 3 (°), the same in every column."""
+    return min(PRINTED[f"table3.dgamma_gs_{t}"] - PRINTED[f"table3.eps0_t_{t}"] for t in TIMES)
+
+
 def _item(key: str, location: str, quantity: str, unit: str, value: float | None,
           status: str, note: str, anchor: str,
           paper_value: float | str | None = None) -> LedgerItem:
@@ -85,17 +90,19 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
     out.append(_item(
         "gs.sf_error", "GS gyro table", "GYPRO4300 scale-factor error ε1,GS (1σ)", "ppm",
         from_si(gs_gyro.sf_error, "ppm"), "reproduced",
-        "280 ppm = 2.8·10⁻⁴; the worked example misprints it as 280·10⁻³", "rsf-sensors"))
+        "the worked example misprints it as 280·10⁻³ instead of ppm", "rsf-sensors"))
     out.append(_item(
         "gs.eps0_total", "Table 3 and example", "ε0,GS = √(σ_rep² + σ_stab²)", "°/s",
         from_si(gs_gyro.bias_total, "deg/s"), "differs (explained)",
-        "√(10² + 7²) = 12.2 °/h = 3.39·10⁻³ °/s; the paper truncates it to 3.3·10⁻³ °/s",
+        f"√(σ_rep² + σ_stab²) = {from_si(gs_gyro.bias_total, 'deg/h'):.3g} °/h; the paper "
+        "truncates it to 3.3·10⁻³ °/s",
         "rsf-table3"))
     out.append(_item(
         "encoder.position_error", "text before Table 3", "AEDB-9340 position error Δγ_enc",
         "°", from_si(encoder.position_error, "deg"), "reproduced",
-        "value lost in the extraction; Table 3 implies 0.33° in all three columns "
-        "(Δγ_GS − ε0,GS·t)", "rsf-encoder", paper_value="lost (Table 3 implies 0.33)"))
+        "value lost in the extraction; Table 3 implies "
+        f"{_implied_encoder():.2f}° in all three columns (Δγ_GS − ε0,GS·t)", "rsf-encoder",
+        paper_value="lost in the extraction"))
 
     # Table 2 -----------------------------------------------------------------------------
     t2 = rc.table2(roll_gyro)
@@ -107,8 +114,9 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
         out.append(_item(
             f"table2.dr_z_{t}", "Table 2", f"lateral deviation Δr_z at t = {t} s (cubic, Eq. 8)",
             "m", cubic, "not reproducible",
-            "printed values follow t³ exactly but at 0.345× g·ε1·ω·t³/6 (unit lost); no unit "
-            f"slip tried reproduces them; exact double integral {exact:.4g} m", "rsf-table2"))
+            f"printed values follow t³ exactly but at {PRINTED[f'table2.dr_z_{t}'] / cubic:.3f}× "
+            "g·ε1·ω·t³/6 (unit lost); no unit slip tried reproduces them; exact double "
+            f"integral {exact:.4g} m", "rsf-table2"))
 
     # Table 3 -----------------------------------------------------------------------------
     t3 = rc.table3(gs_gyro, encoder)
@@ -117,18 +125,21 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
         out.append(_item(
             f"table3.eps0_t_{t}", "Table 3", f"GS bias error ε0,GS·t at t = {t} s", "°",
             from_si(t3.eps0_t[i], "deg"), "differs (explained)",
-            "ε0,GS = 3.39·10⁻³ °/s; the print uses 3.3·10⁻³ °/s and then gives "
+            f"ε0,GS = {from_si(gs_gyro.bias_total, 'deg/s') * 1e3:.3f}·10⁻³ °/s; the print "
+            "uses 3.3·10⁻³ °/s and then gives "
             f"{from_si(t3p.eps0_t[i], 'deg'):.3f}°", "rsf-table3"))
         out.append(_item(
             f"table3.dgamma_gs_{t}", "Table 3", f"GS roll error Δγ_GS at t = {t} s (Eq. 9)",
             "°", from_si(t3.dgamma_gs[i], "deg"), "differs (explained)",
-            "Eq. (9) with Δγ_enc = 0.33°; with the truncated ε0,GS the print gives "
+            f"Eq. (9) with Δγ_enc = {from_si(encoder.position_error, 'deg'):.2f}°; with the "
+            "truncated ε0,GS the print gives "
             f"{from_si(t3p.dgamma_gs[i], 'deg'):.3f}°", "rsf-table3"))
-    ratio = float(t2.dgamma_sins[0] / t3.dgamma_gs[0])
+    ratio = t2.dgamma_sins / t3.dgamma_gs
     out.append(_item(
-        "claim.gs_vs_sins", "after Table 3", "Δγ_SINS / Δγ_GS at t = 10 s", "1", ratio,
+        "claim.gs_vs_sins", "after Table 3", "Δγ_SINS / Δγ_GS at t = 10 s", "1", ratio[0],
         "differs (explained)",
-        "'hundreds of times smaller' holds at 60 s and 120 s (≈ 240×, 350×) but not at 10 s",
+        f"'hundreds of times smaller' holds at 60 s and 120 s ({ratio[1]:.0f}×, "
+        f"{ratio[2]:.0f}×) but not at 10 s",
         "rsf-gs-vs-sins", paper_value="hundreds"))
 
     # Worked example and conclusion -------------------------------------------------------------
