@@ -48,6 +48,7 @@ __all__ = [
     "ShapingFilterSym",
     "StateSpaceSym",
     "compare_with_paper",
+    "display_form",
     "earth_rate_in_base",
     "float_input_axis",
     "gyrocompass_equation",
@@ -167,6 +168,28 @@ def _check_sign(sign: object) -> int:
     if sign not in (1, -1) or isinstance(sign, bool):
         raise ValueError(f"sign must be +1 or -1; got {sign!r}")
     return int(sign)
+
+
+def display_form(expr: object) -> object:
+    """``expr`` with the functions of time ``β(t)``, ``β_n(t)``, ``Δβ(t)`` and their first two
+    derivatives replaced by plain (dotted) symbols, for compact display.  Lists and tuples
+    are converted element by element; other non-sympy objects are returned unchanged."""
+    if isinstance(expr, list | tuple):
+        return type(expr)(display_form(e) for e in expr)
+    if not isinstance(expr, sp.Basic):
+        return expr
+    S = SYMBOLS
+    t = S.t
+    reps: dict[sp.Basic, sp.Basic] = {}
+    for fn, (b0, b1, b2) in ((S.beta, (r"\beta", r"\dot\beta", r"\ddot\beta")),
+                             (S.beta_n, (r"\beta_n", r"\dot\beta_n", r"\ddot\beta_n")),
+                             (S.dbeta, (r"\Delta\beta", r"\Delta\dot\beta",
+                                        r"\Delta\ddot\beta"))):
+        f = fn(t)
+        reps[f.diff(t, 2)] = sp.Symbol(b2, real=True)
+        reps[f.diff(t)] = sp.Symbol(b1, real=True)
+        reps[f] = sp.Symbol(b0, real=True)
+    return expr.xreplace(reps)
 
 
 # Geometry and torques, Eqs. (1)–(3) -----------------------------------------------------------
