@@ -15,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+from matplotlib import colormaps
 from matplotlib.figure import Figure
 
 from gyrolib import _validation as v
@@ -104,7 +105,9 @@ def plot_error_budget(t: object, var: object, sources: tuple[str, ...], *,
     with np.errstate(invalid="ignore", divide="ignore"):
         share = np.where(total > 0, var / total, 0.0)
     big = [i for i in order[::-1] if end[i] > 0]
-    ax_share.stackplot(t[1:], share[big][:, 1:], labels=[sources[i] for i in big])
+    colors = colormaps["tab20"].colors[: len(big)]  # more sources than the default cycle
+    ax_share.stackplot(t[1:], share[big][:, 1:], labels=[sources[i] for i in big],
+                       colors=colors)
     ax_share.set_xscale("log")
     ax_share.set_xlabel("time (s)")
     ax_share.set_ylabel("share of the variance of ω_gc's error")

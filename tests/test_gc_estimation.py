@@ -100,13 +100,14 @@ def test_monte_carlo_fast_and_reference_identical_for_same_seed():
 def test_monte_carlo_is_consistent_within_chi_square_bounds():
     # 200 seeded runs over 10 s: the ensemble-average NEES of ω_gc (1 dof) must lie in the
     # two-sided 95 % chi-square band at ≥ 90 % of the stored times (≈ 95 % expected; the
-    # times are correlated, so not exactly), and its time average must be 1 within 5 %.
+    # times are correlated, so not exactly), and so must its time average (the errors of one
+    # run are strongly correlated in time, so averaging over time narrows the band little).
     res = ge.monte_carlo(P, 200, 10.0, seed=2024)
     nees = res.nees(("omega_gc",)).mean(axis=0)[1:]
     lo, hi = ge.nees_bounds(1, 200)
     inside = np.mean((nees > lo) & (nees < hi))
     assert inside >= 0.9
-    assert abs(np.mean(nees) - 1.0) < 0.05
+    assert lo < np.mean(nees) < hi
     # RMS error tracks σ at 10 s within the chi-square band for the standard deviation
     ratio = res.rms_error("omega_gc")[-1] / res.std("omega_gc")[-1]
     assert np.sqrt(lo) < ratio < np.sqrt(hi)
