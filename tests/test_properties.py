@@ -65,8 +65,10 @@ def test_shaping_filter_variance_scales_as_the_input_variance(alpha, xi, s2, sca
         assert scaled / base == pytest.approx(scale, rel=1e-8)
 
 
+# ξ1 = 1 is excluded: there the zero of Eq. (6) cancels a double pole, N1 becomes a
+# first-order process and its 2-state covariance is singular by construction (rank 1).
 @settings(max_examples=50, deadline=None)
-@given(alpha=st.floats(1e-3, 1e2), xi=st.floats(0.05, 1.0), s2=positive)
+@given(alpha=st.floats(1e-3, 1e2), xi=st.floats(0.05, 0.99), s2=positive)
 def test_stationary_covariance_is_symmetric_positive_definite(alpha, xi, s2):
     for make in (vibration_filter, random_drift_filter):
         P = make(alpha, xi, s2).stationary_covariance()
