@@ -88,3 +88,52 @@ def test_shaping_blocks_of_F_are_stable_for_any_float_angle(beta):
 @given(x=st.floats(-1e12, 1e12), unit=st.sampled_from(sorted(units.UNITS)))
 def test_unit_round_trip(x, unit):
     assert units.from_si(units.to_si(x, unit), unit) == pytest.approx(x, rel=1e-14, abs=1e-300)
+
+
+# Kalman-filter invariants -------------------------------------------------------------------
+from gyrolib import kalman  # noqa: E402
+
+
+@st.composite
+def _update_problem(draw):
+    n = draw(st.integers(2, 6))
+    m = draw(st.integers(1, 3))
+    seed = draw(st.integers(0, 2**32 - 1))
+    rng = np.random.default_rng(seed)
+    A = rng.standard_normal((n, n))
+    scales = 10.0 ** rng.uniform(-6, 2, n)
+    P = (A @ A.T + 1e-3 * np.eye(n)) * np.outer(scales, scales)
+    H = rng.standard_normal((m, n)) * (rng.random((m, n)) < 0.7)
+    R = np.diag(10.0 ** rng.uniform(-8, 1, m))
+    return P, H, R
+
+
+@settings(max_examples=80, deadline=None)
+@given(_update_problem())
+def test_measurement_update_keeps_p_spd_and_never_increases_a_variance(problem):
+    P, H, R = problem
+    n, m = P.shape[0], H.shape[0]
+    for update in (kalman.joseph_update, kalman.sequential_update):
+        Pn = update(np.zeros(n), P, np.zeros(m), H, R)[1]
+        assert np.allclose(Pn, Pn.T, rtol=0, atol=1e-12 * np.max(np.abs(P)))
+        d = np.sqrt(np.diag(P))
+        assert np.linalg.eigvalsh(Pn / np.outer(d, d))[0] > -1e-10
+        assert np.all(np.diag(Pn) <= np.diag(P) * (1 + 1e-9))
+
+
+@settings(max_examples=8, deadline=None)
+@given(alpha1=st.floats(1e-3, 1e-1), xi1=st.floats(0.1, 0.95),
+       alpha2=st.floats(1.0, 30.0), xi2=st.floats(0.1, 0.95),
+       scale=st.floats(0.1, 10.0))
+def test_constant_states_lose_uncertainty_monotonically_for_any_shaping_filter(
+        alpha1, xi1, alpha2, xi2, scale):
+    from gyrolib.gc_estimation import covariance_analysis
+
+    p = dataclasses.replace(GyrocompassParams(), alpha1=alpha1, xi1=xi1, alpha2=alpha2,
+                            xi2=xi2, sigma1_sq=1.86e-6 * scale, sigma2_sq=2.35e-15 * scale)
+    res = covariance_analysis(p, t_end=2.0, store_every=500)
+    for name in ("psi", "omega_gc", "delta", "gamma"):
+        s = res.std(name)
+        assert np.all(np.diff(s) <= 1e-9 * s[:-1]), name
+    for P in res.P_stored:
+        assert np.array_equal(P, P.T)
