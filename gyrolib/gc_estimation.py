@@ -746,27 +746,35 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
 
 # Why ψ and ω_gc separate -------------------------------------------------------------------
 @njit(cache=True)
-def _gramian_kernel(seg, a, b, Phi0, PhiA, PhiB, r0, store_every, W_out):
-    # sensitivities of (Δβ, Δβ') to unit ψ(0) and ω_gc(0) through the 4×4 (Δβ, Δβ', ψ, ω) block
-    S = np.zeros((4, 2))
-    S[2, 0] = 1.0
-    S[3, 1] = 1.0
-    T = np.zeros((4, 2))
-    W = np.zeros((2, 2))
+def _gramian_kernel(seg, a, b, Phi0, PhiA, PhiB, r0, store_every, S, T, W_out):
+    """Sensitivities ``S`` (m×2) of the first ``m`` states to unit ψ(0) and ω_gc(0) through
+    the leading m×m block of ``Φ_k`` (the float, ψ, ω_gc: ``m = 4``); accumulate the angle
+    sensor's information ``W``.  Sizes come from the arrays (no unrolled constant loops:
+    that keeps numba's compile time small)."""
+    m, p = S.shape
+    W = np.zeros((p, p))
     for k in range(seg.shape[0]):
         j = seg[k]
-        for i in range(4):
-            for c in range(2):
+        ak = a[k]
+        bk = b[k]
+        for i in range(m):
+            for c in range(p):
                 s = 0.0
-                for q in range(4):
-                    s += (Phi0[j, i, q] + a[k] * PhiA[j, i, q] + b[k] * PhiB[j, i, q]) * S[q, c]
+                for q in range(m):
+                    s += (Phi0[j, i, q] + ak * PhiA[j, i, q] + bk * PhiB[j, i, q]) * S[q, c]
                 T[i, c] = s
-        S[:, :] = T
-        for c1 in range(2):
-            for c2 in range(2):
+        for i in range(m):
+            for c in range(p):
+                S[i, c] = T[i, c]
+        for c1 in range(p):
+            for c2 in range(p):
                 W[c1, c2] += S[0, c1] * S[0, c2] / r0
         if (k + 1) % store_every == 0:
-            W_out[(k + 1) // store_every] = W
+            # element-wise: an array-slice assignment costs seconds of numba compile time
+            ii = (k + 1) // store_every
+            for c1 in range(p):
+                for c2 in range(p):
+                    W_out[ii, c1, c2] = W[c1, c2]
 
 
 @dataclass(frozen=True)
@@ -821,6 +829,9 @@ def information_psi_omega(params: GyrocompassParams, t_end: float = 100.0, *,
             PhiA=np.zeros_like(Phi)[None], PhiB=np.zeros_like(Phi)[None], Qd0=Qd[None],
             QdA=np.zeros_like(Qd)[None], QdB=np.zeros_like(Qd)[None], H=mdl.H, r=mdl.r)
     W = np.zeros((disc.n_steps // se + 1, 2, 2))
+    S = np.zeros((4, 2))
+    S[state_index("psi"), 0] = 1.0
+    S[state_index("omega_gc"), 1] = 1.0
     _gramian_kernel(mdl.seg, mdl.a, mdl.b, mdl.Phi0, mdl.PhiA, mdl.PhiB, float(mdl.r[0]),
-                    se, W)
+                    se, S, np.zeros_like(S), W)
     return InformationPsiOmega(t=disc.t[::se].copy(), W=W)

@@ -330,9 +330,11 @@ def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, c
     T = np.zeros((n, n))
     Ph = np.zeros(n)
     kv = np.zeros(n)
+    # element-wise copies: an array-slice assignment costs seconds of numba compile time
     for i in range(n):
         var[0, i] = P[i, i]
-    P_stored[0] = P
+        for c in range(n):
+            P_stored[0, i, c] = P[i, c]
     for k in range(n_steps):
         j = seg[k]
         ak = a[k]
@@ -392,7 +394,10 @@ def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, c
         for i in range(n):
             var[k + 1, i] = P[i, i]
         if (k + 1) % store_every == 0:
-            P_stored[(k + 1) // store_every] = P
+            ii = (k + 1) // store_every
+            for i in range(n):
+                for c in range(n):
+                    P_stored[ii, i, c] = P[i, c]
 
 
 def _run_kernel(model, P0, store_every, gains, fixed, r=None, Qd=None) -> CovarianceRun:
