@@ -81,8 +81,10 @@ def check_array(
     *,
     shape: tuple[int | None, ...] | None = None,
     ndim: int | None = None,
+    min_size: int = 0,
 ) -> np.ndarray:
-    """A finite real float array, optionally with a fixed ``ndim`` or ``shape``.
+    """A finite real float array, optionally with a fixed ``ndim`` or ``shape`` and at least
+    ``min_size`` elements.
 
     ``None`` in ``shape`` matches any length along that axis.
     """
@@ -100,6 +102,60 @@ def check_array(
         if not ok:
             want = tuple("any" if s is None else s for s in shape)
             raise ValueError(f"{name} must have shape {want}; got {arr.shape}")
+    if arr.size < min_size:
+        raise ValueError(f"{name} must hold at least {min_size} value(s); got {arr.size}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite values")
     return arr
+
+
+def check_instance(name: str, value: object, cls: type | tuple[type, ...]) -> object:
+    """An instance of ``cls`` (a class or a tuple of classes)."""
+    if not isinstance(value, cls):
+        names = " or ".join(c.__name__ for c in (cls if isinstance(cls, tuple) else (cls,)))
+        article = "an" if names[0] in "AEIOU" else "a"
+        raise TypeError(f"{name} must be {article} {names}; got {type(value).__name__}")
+    return value
+
+
+def check_bool(name: str, value: object) -> bool:
+    """``True`` or ``False`` (numpy booleans included), not a truthy stand-in."""
+    if not isinstance(value, bool | np.bool_):
+        raise TypeError(f"{name} must be a bool (True or False); got {type(value).__name__}")
+    return bool(value)
+
+
+def check_str(name: str, value: object) -> str:
+    """A string (any content)."""
+    if not isinstance(value, str):
+        raise TypeError(f"{name} must be a str; got {type(value).__name__}")
+    return value
+
+
+def check_broadcast(**arrays: object) -> tuple[int, ...]:
+    """The common shape of arrays (or numbers) given by name, or an error naming them all."""
+    shapes = {name: np.shape(a) for name, a in arrays.items()}
+    try:
+        return np.broadcast_shapes(*shapes.values())
+    except ValueError:
+        listed = ", ".join(f"{n} {s}" for n, s in shapes.items())
+        raise ValueError(f"{', '.join(shapes)} must have broadcast-compatible shapes "
+                         f"(equal, or 1 along an axis); got {listed}") from None
+
+
+def check_ndarray(name: str, value: object, *, ndim: int | None = None,
+                  shape: tuple[int | None, ...] | None = None) -> np.ndarray:
+    """An existing real numpy array with finite entries, checked without a copy (for the
+    large arrays of result records); ``None`` in ``shape`` matches any length."""
+    if not isinstance(value, np.ndarray) or value.dtype.kind not in "iuf":
+        raise TypeError(f"{name} must be a real numpy array; got {type(value).__name__}"
+                        + (f" of dtype {value.dtype}" if isinstance(value, np.ndarray) else ""))
+    if ndim is not None and value.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D; got shape {value.shape}")
+    if shape is not None and not (value.ndim == len(shape) and all(
+            s is None or s == n for s, n in zip(shape, value.shape))):
+        want = tuple("any" if s is None else s for s in shape)
+        raise ValueError(f"{name} must have shape {want}; got {value.shape}")
+    if value.dtype.kind == "f" and not np.isfinite(value).all():
+        raise ValueError(f"{name} must contain only finite values")
+    return value

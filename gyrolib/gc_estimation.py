@@ -71,9 +71,7 @@ N: Final[int] = len(STATE_NAMES)
 
 
 def _check_params(params: object) -> GyrocompassParams:
-    if not isinstance(params, GyrocompassParams):
-        raise TypeError("params must be a GyrocompassParams")
-    return params
+    return v.check_instance("params", params, GyrocompassParams)
 
 
 def _n_steps(params: GyrocompassParams, t_end: object) -> int:
@@ -167,6 +165,15 @@ class GCDiscretization:
     Gamma: np.ndarray
     noise_factor: np.ndarray
 
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        n = v.check_int("n_steps", self.n_steps, 1)
+        v.check_ndarray("beta_half", self.beta_half, shape=(2 * n + 1,))
+        J = v.check_ndarray("betas", self.betas, ndim=1).size
+        v.check_instance("model", self.model, kalman.AffineDiscreteModel)
+        v.check_ndarray("Gamma", self.Gamma, shape=(J, N))
+        v.check_ndarray("noise_factor", self.noise_factor, shape=(J, N, None))
+
     @property
     def t(self) -> np.ndarray:
         return np.arange(self.n_steps + 1) * self.params.dt
@@ -178,6 +185,9 @@ class GCDiscretization:
     def exact_step(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """``(Φ_k, Qd_k)`` by a full Van Loan matrix exponential at ``β_n`` of the midpoint
         of step ``k`` (the reference the affine model is tested against)."""
+        k = v.check_int("k", k, 0)
+        if k >= self.n_steps:
+            raise ValueError(f"k must be a step index in [0, {self.n_steps}); got {k}")
         p = self.params
         F = system_matrix(p, float(self.beta_mid[k]))
         return kalman.van_loan(F, noise_input_matrix(p), process_noise_intensity(p), p.dt)
@@ -226,6 +236,13 @@ class CovarianceAnalysis:
     t_stored: np.ndarray
     P_stored: np.ndarray
 
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        nt = v.check_ndarray("t", self.t, ndim=1).size
+        v.check_ndarray("var", self.var, shape=(nt, N))
+        ns = v.check_ndarray("t_stored", self.t_stored, ndim=1).size
+        v.check_ndarray("P_stored", self.P_stored, shape=(ns, N, N))
+
     def std(self, name: str) -> np.ndarray:
         return np.sqrt(np.clip(self.var[:, state_index(name)], 0.0, None))
 
@@ -233,6 +250,20 @@ class CovarianceAnalysis:
         """Standard deviation at the step nearest to ``time`` (s)."""
         time = v.check_in_range("time", time, 0.0, float(self.t[-1]))
         return float(self.std(name)[round(time / self.params.dt)])
+
+
+def _check_psd(name: str, P: np.ndarray) -> None:
+    """``P`` (symmetric, diagonal >= 0) positive semi-definite, judged on its correlation
+    form so that variances many orders of magnitude apart are treated alike."""
+    d = np.sqrt(np.diag(P))
+    nz = d > 0.0
+    if np.any(P[~nz] != 0.0):
+        raise ValueError(f"{name} must be positive semi-definite (a zero variance needs a "
+                         "zero row)")
+    if np.any(nz):
+        C = P[np.ix_(nz, nz)] / np.outer(d[nz], d[nz])
+        if np.linalg.eigvalsh(0.5 * (C + C.T))[0] < -1e-9:
+            raise ValueError(f"{name} must be positive semi-definite (a covariance)")
 
 
 def _default_store_every(n_steps: int) -> int:
@@ -261,6 +292,7 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
         P0 = v.check_array("P0", P0, shape=(N, N))
         if not np.allclose(P0, P0.T, rtol=1e-12, atol=0.0) or np.any(np.diag(P0) < 0):
             raise ValueError("P0 must be symmetric with a non-negative diagonal")
+        _check_psd("P0", P0)
     if method == "fast":
         run = kalman.covariance_fast(disc.model, P0, se)
     else:
@@ -294,6 +326,7 @@ def sweep_sigma_gc(params: GyrocompassParams, field: str, values: object,
                    t_end: float = 100.0) -> np.ndarray:
     """``σ_gc(t_end)`` (rad/s) with ``params.<field>`` set to each of ``values``."""
     p = _check_params(params)
+    v.check_str("field", field)
     if field not in GyrocompassParams.__dataclass_fields__:
         raise ValueError(f"field must be a GyrocompassParams field; got {field!r}")
     vals = v.check_array("values", values, ndim=1)
@@ -455,6 +488,14 @@ class MonteCarloResult:
     P: np.ndarray
     seed: int
 
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        nt = v.check_ndarray("t", self.t, ndim=1).size
+        runs = v.check_ndarray("est", self.est, shape=(None, nt, N)).shape[0]
+        v.check_ndarray("tru", self.tru, shape=(runs, nt, N))
+        v.check_ndarray("P", self.P, shape=(nt, N, N))
+        v.check_int("seed", self.seed, 0)
+
     @property
     def n_runs(self) -> int:
         return int(self.est.shape[0])
@@ -483,7 +524,12 @@ class MonteCarloResult:
         """Normalized estimation error squared per run and time, ``(n_runs, len(t))``,
         for the states ``names`` (default: all 10); ``nan`` where ``P`` of those states is
         singular (``t = 0`` when a state starts known)."""
+        if isinstance(names, str) or not (names is None or isinstance(names, list | tuple)):
+            raise TypeError("names must be a tuple or list of state names (or None); "
+                            f"got {type(names).__name__}")
         names = STATE_NAMES if names is None else tuple(names)
+        if not names:
+            raise ValueError("names must name at least one state")
         idx = [state_index(nm) for nm in names]
         e = (self.est - self.tru)[:, :, idx]
         out = np.full(e.shape[:2], np.nan)
@@ -635,8 +681,7 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     p = _check_params(params)
     n_runs = v.check_int("n_runs", n_runs, 1)
     v.check_choice("truth", truth, ("nonlinear", "linear"))
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise TypeError("seed must be an int")
+    seed = v.check_int("seed", seed, 0)
     v.check_choice("method", method, ("fast", "reference"))
     disc = discretize(p, t_end)
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
@@ -663,6 +708,7 @@ def simulate_truth(params: GyrocompassParams, t_end: float, x0: object, *,
     p = _check_params(params)
     x0 = v.check_array("x0", x0, shape=(N,))
     store_every = v.check_int("store_every", store_every, 1)
+    seed = None if seed is None else v.check_int("seed", seed, 0)
     disc = discretize(p, t_end)
     rng = None if seed is None else np.random.default_rng(seed)
     _, tru = _run_batch(disc, x0[None, :], rng, None, store_every, "fast")
@@ -690,6 +736,15 @@ class ErrorBudget:
     sources: tuple[str, ...]
     var: np.ndarray
     total: np.ndarray
+
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        nt = v.check_ndarray("t", self.t, ndim=1).size
+        if not isinstance(self.sources, tuple) or not all(isinstance(s, str)
+                                                          for s in self.sources):
+            raise TypeError("sources must be a tuple of str")
+        v.check_ndarray("var", self.var, shape=(len(self.sources), nt))
+        v.check_ndarray("total", self.total, shape=(nt,))
 
     def at_end(self) -> dict[str, float]:
         """Standard deviation (rad/s) from each source at the last time."""
@@ -785,6 +840,10 @@ class InformationPsiOmega:
 
     t: np.ndarray
     W: np.ndarray
+
+    def __post_init__(self) -> None:
+        nt = v.check_ndarray("t", self.t, ndim=1).size
+        v.check_ndarray("W", self.W, shape=(nt, 2, 2))
 
     def sigma_gc_psi_known(self) -> np.ndarray:
         """σ of ω_gc if ψ were known: ``1/√W_ωω`` (rad/s)."""

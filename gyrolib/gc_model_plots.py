@@ -21,7 +21,7 @@ __all__ = ["plot_figure1", "plot_nominal_motion", "plot_shaping_psd"]
 
 
 def _same_length(names: tuple[str, ...], arrays: tuple[object, ...]) -> list[np.ndarray]:
-    out = [v.check_array(n, a, ndim=1) for n, a in zip(names, arrays)]
+    out = [v.check_array(n, a, ndim=1, min_size=1) for n, a in zip(names, arrays)]
     if len({a.size for a in out}) != 1:
         raise ValueError(f"{', '.join(names)} must have the same length")
     return out
@@ -43,6 +43,9 @@ def plot_shaping_psd(omega: object, psd_n1: object, psd_n3: object, *, alpha1: f
     var3 = v.check_positive("var_n3", var_n3)
     if np.any(omega <= 0.0):
         raise ValueError("omega must be > 0 (log axes)")
+    for name, p in (("psd_n1", p1), ("psd_n3", p3)):
+        if np.any(p < 0.0):
+            raise ValueError(f"{name} must be >= 0 (a power spectral density)")
     fig = Figure(figsize=(10.0, 6.4), layout="constrained")
     axes = fig.subplots(2, 2, sharex="col")
     specs = (

@@ -31,12 +31,41 @@ __all__ = [
 ]
 
 
-def _pair(name_t: str, t: object, name_y: str, y: object) -> tuple[np.ndarray, np.ndarray]:
-    t = v.check_array(name_t, t, ndim=1)
+def _pair(name_t: str, t: object, name_y: str, y: object, *,
+          nonnegative: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    # two points at least: the log-time panels draw from the second sample on
+    t = v.check_array(name_t, t, ndim=1, min_size=2)
     y = v.check_array(name_y, y, ndim=1)
     if t.size != y.size:
         raise ValueError(f"{name_t} and {name_y} must have the same length")
+    if nonnegative:
+        _nonnegative(name_y, y)
     return t, y
+
+
+def _nonnegative(name: str, y: np.ndarray) -> np.ndarray:
+    if np.any(y < 0.0):
+        raise ValueError(f"{name} must be >= 0 everywhere (a standard deviation or scale); "
+                         f"got min {y.min()}")
+    return y
+
+
+def _mapping(name: str, value: object) -> Mapping:
+    v.check_instance(name, value, Mapping)
+    if not value:
+        raise ValueError(f"{name} must hold at least one entry")
+    return value
+
+
+def _band(name: str, value: object) -> tuple[float, float]:
+    """A pair ``(low, high)`` of positive numbers with low <= high."""
+    if not isinstance(value, tuple | list) or len(value) != 2:
+        raise TypeError(f"{name} must be a pair (low, high) of positive numbers; "
+                        f"got {value!r}")
+    lo, hi = (v.check_positive(name, b) for b in value)
+    if lo > hi:
+        raise ValueError(f"{name} must have low <= high; got ({lo}, {hi})")
+    return lo, hi
 
 
 def plot_sigma_history(t: object, curves: Mapping[str, object], *, paper_value: float,
@@ -45,9 +74,15 @@ def plot_sigma_history(t: object, curves: Mapping[str, object], *, paper_value: 
     """Paper GC, Figure 3: σ of the ω_gc estimate (in ``unit``) against time (s), log scale;
     one line per entry of ``curves`` (label → σ), the paper's value as a marker, and the
     first ``drop_time`` seconds shaded."""
-    if not curves:
+    if curves is None or (isinstance(curves, Mapping) and not curves):
         raise ValueError("curves must hold at least one curve")
+    curves = _mapping("curves", curves)
     pv = v.check_positive("paper_value", paper_value)
+    paper_time = v.check_nonnegative("paper_time", paper_time)
+    drop_time = v.check_nonnegative("drop_time", drop_time)
+    v.check_str("unit", unit)
+    for label, s in curves.items():
+        _pair("t", t, f"curves[{label!r}]", s, nonnegative=True)
     fig = Figure(figsize=(9.0, 4.2), layout="constrained")
     ax_lin, ax_log = fig.subplots(1, 2)
     for i, (label, s) in enumerate(curves.items()):
@@ -71,8 +106,10 @@ def plot_p0_scale(kappa: object, sigma: object, *, paper_value: float,
                   unit: str = "″/s") -> Figure:
     """σ(100 s) (``unit``) against the factor ``kappa`` multiplying the stationary
     covariance of N1…N4 in ``P(0)`` (0: the literal reading, 1: stationary)."""
-    k, s = _pair("kappa", kappa, "sigma", sigma)
+    k, s = _pair("kappa", kappa, "sigma", sigma, nonnegative=True)
+    _nonnegative("kappa", k)
     pv = v.check_positive("paper_value", paper_value)
+    v.check_str("unit", unit)
     fig = Figure(figsize=(6.0, 3.6), layout="constrained")
     ax = fig.subplots()
     ax.plot(k, s, "o-")
@@ -88,9 +125,12 @@ def plot_error_budget(t: object, var: object, sources: tuple[str, ...], *,
                       scale: float = 1.0, unit: str = "″/s") -> Figure:
     """Error budget: left, σ at the last time per source (``sqrt(var)/scale``, log axis);
     right, each source's share of the total variance over time (stacked)."""
-    t = v.check_array("t", t, ndim=1)
+    if not isinstance(sources, tuple | list) or not all(isinstance(x, str) for x in sources):
+        raise TypeError("sources must be a tuple or list of str (one label per row of var)")
+    t = v.check_array("t", t, ndim=1, min_size=2)
     var = v.check_array("var", var, shape=(len(sources), t.size))
     scale = v.check_positive("scale", scale)
+    v.check_str("unit", unit)
     fig = Figure(figsize=(10.0, 4.4), layout="constrained")
     ax_bar, ax_share = fig.subplots(1, 2, width_ratios=[1.0, 1.2])
     end = np.sqrt(np.clip(var[:, -1], 0.0, None)) / scale
@@ -119,11 +159,15 @@ def plot_error_budget(t: object, var: object, sources: tuple[str, ...], *,
 def plot_estimates(t: object, estimates: object, truths: object, sigma: object, *,
                    unit: str = "″/s", t_zoom: float | None = 10.0) -> Figure:
     """Paper GC, Figure 4: the ω_gc estimate of each run (rows of ``estimates``) against its
-    true value (``truths``, one per run), with the filter's ±σ band around the truth."""
-    t = v.check_array("t", t, ndim=1)
-    est = v.check_array("estimates", estimates, shape=(None, t.size))
+    true value (``truths``, one per run), with the filter's ±σ band around the truth; a
+    second panel zooms on the first ``t_zoom`` seconds (``None`` or 0: no zoom)."""
+    t = v.check_array("t", t, ndim=1, min_size=1)
+    est = v.check_array("estimates", estimates, shape=(None, t.size), min_size=1)
     tru = v.check_array("truths", truths, shape=(est.shape[0],))
-    sig = v.check_array("sigma", sigma, shape=(t.size,))
+    sig = _nonnegative("sigma", v.check_array("sigma", sigma, shape=(t.size,)))
+    if t_zoom is not None:  # 0 (like None) draws no zoomed panel
+        t_zoom = v.check_nonnegative("t_zoom", t_zoom)
+    v.check_str("unit", unit)
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     axes = fig.subplots(1, 2 if t_zoom else 1, squeeze=False)[0]
     for ax, tmax in zip(axes, (t[-1], t_zoom)):
@@ -147,9 +191,16 @@ def plot_consistency(t: object, rms: object, sigma: object, rms_band: tuple[floa
     """Left: ensemble RMS error of ω_gc and the filter's σ (``unit``), with the 95 % band
     of an RMS of ``n`` runs (``rms_band`` = factors on σ).  Right: ensemble-average NEES for
     each entry of ``nees`` (label → (values, (low, high) bounds))."""
-    t, r = _pair("t", t, "rms", rms)
-    _, s = _pair("t", t, "sigma", sigma)
-    lo, hi = (v.check_positive("rms_band", b) for b in rms_band)
+    t, r = _pair("t", t, "rms", rms, nonnegative=True)
+    _, s = _pair("t", t, "sigma", sigma, nonnegative=True)
+    lo, hi = _band("rms_band", rms_band)
+    v.check_instance("nees", nees, Mapping)
+    for label, entry in nees.items():
+        if not isinstance(entry, tuple | list) or len(entry) != 2:
+            raise TypeError(f"nees[{label!r}] must be a pair (values, (low, high)); "
+                            f"got {type(entry).__name__}")
+        _band(f"nees[{label!r}] bounds", entry[1])
+    v.check_str("unit", unit)
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     ax_r, ax_n = fig.subplots(1, 2)
     ax_r.loglog(t[1:], s[1:], "k", lw=2, label="filter σ")
@@ -176,9 +227,21 @@ def plot_sweep(sweeps: Mapping[str, tuple[object, object, float]], *, paper_valu
                unit: str = "″/s") -> Figure:
     """σ(100 s) of ω_gc (``unit``) when one shaping-filter parameter varies: ``sweeps`` maps
     a parameter label to ``(values, sigma, nominal value)``; log–log panels."""
-    if not sweeps:
+    if sweeps is None or (isinstance(sweeps, Mapping) and not sweeps):
         raise ValueError("sweeps must hold at least one parameter")
+    sweeps = _mapping("sweeps", sweeps)
     pv = v.check_positive("paper_value", paper_value)
+    v.check_str("unit", unit)
+    for label, entry in sweeps.items():
+        if not isinstance(entry, tuple | list) or len(entry) != 3:
+            raise TypeError(f"sweeps[{label!r}] must be a triple (values, sigma, nominal); "
+                            f"got {entry!r:.80}")
+        x, s = _pair(f"sweeps[{label!r}] values", entry[0], f"sweeps[{label!r}] sigma",
+                     entry[1])
+        # log–log panels: values, sigma and the nominal value must be > 0
+        if np.any(x <= 0.0) or np.any(s <= 0.0):
+            raise ValueError(f"sweeps[{label!r}] values and sigma must be > 0 (log axes)")
+        v.check_positive(f"sweeps[{label!r}] nominal", entry[2])
     n = len(sweeps)
     cols = 3
     rows = -(-n // cols)
@@ -203,10 +266,15 @@ def plot_information(t: object, sig_known: object, sig_unknown: object, corr: ob
     """Left: σ of ω_gc from the angle sensor's information alone with ψ known and unknown
     (``unit``).  Right: |correlation| of the ψ and ω_gc information, for the turning float
     and for a float frozen at a constant angle."""
-    t, a = _pair("t", t, "sig_known", sig_known)
-    _, b = _pair("t", t, "sig_unknown", sig_unknown)
+    t, a = _pair("t", t, "sig_known", sig_known, nonnegative=True)
+    _, b = _pair("t", t, "sig_unknown", sig_unknown, nonnegative=True)
     _, c = _pair("t", t, "corr", corr)
     _, d = _pair("t", t, "corr_frozen", corr_frozen)
+    for name, arr in (("corr", c), ("corr_frozen", d)):
+        # a correlation, up to rounding
+        if np.any(np.abs(arr) > 1.0 + 1e-9):
+            raise ValueError(f"{name} must be in [-1, 1] (a correlation)")
+    v.check_str("unit", unit)
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     ax_s, ax_c = fig.subplots(1, 2)
     ax_s.loglog(t[1:], a[1:], label="ψ known")

@@ -30,7 +30,8 @@ which the float's input axis ``η`` turns).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import numbers
+from dataclasses import dataclass, fields
 from functools import cache
 from typing import Final
 
@@ -38,6 +39,7 @@ import numpy as np
 import sympy as sp
 
 from gyrolib import _validation as v
+from gyrolib.gyrocompass import GyrocompassParams
 
 __all__ = [
     "COUPLINGS",
@@ -115,6 +117,13 @@ class ModelSymbols:
     x_dbeta_dot: sp.Symbol
     s: sp.Symbol
 
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not isinstance(value, sp.Symbol | sp.core.function.UndefinedFunction):
+                raise TypeError(f"{f.name} must be a sympy Symbol or undefined Function; "
+                                f"got {type(value).__name__}")
+
 
 def _make_symbols() -> ModelSymbols:
     pos = {"positive": True}
@@ -160,14 +169,36 @@ def _make_symbols() -> ModelSymbols:
 SYMBOLS: Final[ModelSymbols] = _make_symbols()
 
 
+def _check_params(params: object) -> GyrocompassParams:
+    return v.check_instance("params", params, GyrocompassParams)
+
+
 def _check_coupling(coupling: str) -> str:
     return v.check_choice("coupling", coupling, COUPLINGS)
 
 
 def _check_sign(sign: object) -> int:
-    if sign not in (1, -1) or isinstance(sign, bool):
+    if isinstance(sign, bool) or not isinstance(sign, numbers.Real) or sign not in (1, -1):
         raise ValueError(f"sign must be +1 or -1; got {sign!r}")
     return int(sign)
+
+
+def _check_angle(name: str, value: object) -> sp.Expr:
+    """A sympy expression or a finite real number (an angle, symbolic or numeric)."""
+    if isinstance(value, sp.Expr):
+        return value
+    x = v.check_real(name, value)
+    return sp.Integer(int(value)) if isinstance(value, numbers.Integral) else sp.Float(x)
+
+
+def _check_matrix(name: str, value: object, rows: int | None = None,
+                  cols: int | None = None) -> sp.MatrixBase:
+    """A sympy matrix, optionally with a fixed number of rows or columns."""
+    v.check_instance(name, value, sp.MatrixBase)
+    if (rows is not None and value.rows != rows) or (cols is not None and value.cols != cols):
+        want = ("any" if rows is None else rows, "any" if cols is None else cols)
+        raise ValueError(f"{name} must have shape {want}; got {value.shape}")
+    return value
 
 
 def display_form(expr: object) -> object:
@@ -199,6 +230,7 @@ def float_input_axis(beta: sp.Expr) -> sp.Matrix:
     The float turns by ``β`` about the output axis ``z``; at ``β = 0`` ``η`` is ``y``, and a
     positive ``β`` turns ``η`` from ``y`` towards ``x``: ``η = (sin β, cos β, 0)``.
     """
+    beta = _check_angle("beta", beta)
     Rz = sp.Matrix([[sp.cos(beta), sp.sin(beta), 0],
                     [-sp.sin(beta), sp.cos(beta), 0],
                     [0, 0, 1]])  # rotation by −β about z
@@ -239,6 +271,7 @@ def gyroscopic_torque(beta: sp.Expr, sign: int = 1) -> sp.Expr:
     """
     S = SYMBOLS
     sign = _check_sign(sign)
+    beta = _check_angle("beta", beta)
     omega_h, _ = earth_rate_in_base()
     return sp.simplify(sign * S.H * (omega_h.T * float_input_axis(beta))[0, 0])
 
@@ -246,6 +279,7 @@ def gyroscopic_torque(beta: sp.Expr, sign: int = 1) -> sp.Expr:
 def vertical_rate_torque(beta: sp.Expr, coupling: str = "eq5") -> sp.Expr:
     """Gyroscopic torque of the tilted vertical Earth rate, ``H (ω_v · η)`` (Eqs. (2), (3))."""
     S = SYMBOLS
+    beta = _check_angle("beta", beta)
     _, omega_v = earth_rate_in_base(coupling)
     return sp.expand(S.H * (omega_v.T * float_input_axis(beta))[0, 0])
 
@@ -259,6 +293,9 @@ def gyrocompass_equation(*, sign: int = 1, coupling: str = "eq5",
     leaves it out of (3) but puts it in ``F(2,7)``.
     """
     S = SYMBOLS
+    sign = _check_sign(sign)
+    coupling = _check_coupling(coupling)
+    unbalance = v.check_bool("unbalance", unbalance)
     b = S.beta(S.t)
     rhs = (gyroscopic_torque(b, sign) + vertical_rate_torque(b, coupling)
            + S.H * S.omega_gc + S.H * S.omega_rnd)
@@ -303,7 +340,6 @@ def _as_equation(expr: sp.Expr) -> sp.Eq:
     return sp.Eq(sp.collect(left, [S.I, S.f, S.H]), sp.collect(left - expr, [S.H]))
 
 
-@cache
 def taylor_linearization(*, sign: int = 1, coupling: str = "eq5",
                          unbalance: bool = True) -> Linearization:
     """Linearize Eq. (3) about the nominal motion by a Taylor expansion in ``ε``.
@@ -311,8 +347,14 @@ def taylor_linearization(*, sign: int = 1, coupling: str = "eq5",
     Substitute ``β = β_n + ε Δβ`` and scale every small quantity (``ψ``, ``δ``, ``γ``,
     ``ω_gc``, ``ω_rnd``, ``N1``) by ``ε``; sympy's ``series`` in ``ε`` to first order gives
     the nominal equation (order 0, paper GC Eq. (4)) and the linearized equation (order 1,
-    Eq. (5)).
+    Eq. (5)).  Cached per (validated) argument set.
     """
+    return _taylor_linearization(_check_sign(sign), _check_coupling(coupling),
+                                 v.check_bool("unbalance", unbalance))
+
+
+@cache
+def _taylor_linearization(sign: int, coupling: str, unbalance: bool) -> Linearization:
     S = SYMBOLS
     eq = gyrocompass_equation(sign=sign, coupling=coupling, unbalance=unbalance)
     expr = eq.lhs - eq.rhs
@@ -336,6 +378,12 @@ class ShapingFilterSym:
     B: sp.Matrix
     C: sp.Matrix
     Q: sp.Expr
+
+    def __post_init__(self) -> None:
+        _check_matrix("A", self.A, 2, 2)
+        _check_matrix("B", self.B, 2, 1)
+        _check_matrix("C", self.C, 1, 2)
+        v.check_instance("Q", self.Q, sp.Expr)
 
     def transfer_function(self) -> sp.Expr:
         """``C (sI − A)⁻¹ B`` as a rational function of ``s``."""
@@ -372,8 +420,24 @@ def shaping_filter(which: str, reading: str = "paper") -> ShapingFilterSym:
 
 
 def lyapunov_variance(A: sp.Matrix, B: sp.Matrix, C: sp.Matrix, Q: sp.Expr) -> sp.Expr:
-    """Solve ``A P + P Aᵀ + B Q Bᵀ = 0`` symbolically (P symmetric) and return ``C P Cᵀ``."""
-    n = A.shape[0]
+    """Solve ``A P + P Aᵀ + B Q Bᵀ = 0`` symbolically (P symmetric) and return ``C P Cᵀ``.
+
+    ``A`` n×n, ``B`` n×k, ``C`` 1×n (sympy matrices); ``Q`` a sympy expression or number
+    (k = 1) or a k×k sympy matrix.
+    """
+    A = _check_matrix("A", A)
+    n = A.rows
+    if A.cols != n or n == 0:
+        raise ValueError(f"A must be a non-empty square matrix; got shape {A.shape}")
+    B = _check_matrix("B", B, n)
+    C = _check_matrix("C", C, 1, n)
+    if isinstance(Q, sp.MatrixBase):
+        _check_matrix("Q", Q, B.cols, B.cols)
+    elif B.cols != 1:
+        raise ValueError(f"Q must be a {B.cols}x{B.cols} sympy matrix when B has {B.cols} "
+                         "columns")
+    elif not isinstance(Q, sp.Expr):
+        v.check_real("Q", Q)
     p = sp.symbols(f"p0:{n * (n + 1) // 2}")
     P = sp.zeros(n, n)
     k = 0
@@ -402,6 +466,12 @@ class StateSpaceSym:
     coupling: str
     state_order: str
 
+    def __post_init__(self) -> None:
+        _check_coupling(self.coupling)
+        v.check_choice("state_order", self.state_order, STATE_ORDERS)
+        for name in ("rhs", "F", "G", "D"):
+            _check_matrix(name, getattr(self, name))
+
 
 def measurement_equations() -> sp.Matrix:
     """Measurements of Eq. (8): the angle sensor reads ``Δβ`` (β minus the stored ``β_n``);
@@ -410,7 +480,6 @@ def measurement_equations() -> sp.Matrix:
     return sp.Matrix([S.x_dbeta, S.g * S.delta + S.N1, S.g * S.gamma + S.N1])
 
 
-@cache
 def state_space(coupling: str = "eq5", state_order: str = "corrected",
                 *, sign: int = 1) -> StateSpaceSym:
     """Cauchy form of Eq. (5) with the shaping filters (6), (7): paper GC Eq. (8).
@@ -418,11 +487,16 @@ def state_space(coupling: str = "eq5", state_order: str = "corrected",
     ``Δβ'' `` is solved from the Taylor linearization (with ``ω_rnd = N3`` and the unbalance
     torque), the shaping filters are appended, ``ψ, ω_gc, δ, γ`` are random constants.  ``F``,
     ``G``, ``D`` are the Jacobians of the right-hand sides and of the measurements.  ``β_n``
-    appears as the symbol ``SYMBOLS.beta_n_sym``.
+    appears as the symbol ``SYMBOLS.beta_n_sym``.  Cached per (validated) argument set.
     """
+    return _state_space(_check_coupling(coupling),
+                        v.check_choice("state_order", state_order, STATE_ORDERS),
+                        _check_sign(sign))
+
+
+@cache
+def _state_space(coupling: str, state_order: str, sign: int) -> StateSpaceSym:
     S = SYMBOLS
-    coupling = _check_coupling(coupling)
-    state_order = v.check_choice("state_order", state_order, STATE_ORDERS)
     lin = taylor_linearization(sign=sign, coupling=coupling, unbalance=True)
     ddb = sp.Symbol("ddb")
     t = S.t
@@ -501,6 +575,7 @@ class EntryComparison:
 
 def compare_with_paper(model: StateSpaceSym) -> list[EntryComparison]:
     """Compare every entry that is nonzero in the paper's listing or in ``model``."""
+    v.check_instance("model", model, StateSpaceSym)
     listing = paper_listing()
     keys = set(listing)
     mats = {"F": model.F, "G": model.G, "D": model.D}
@@ -548,6 +623,7 @@ def relabelling() -> Relabelling:
 # Numbers ---------------------------------------------------------------------------------------
 def parameter_values(params: object) -> dict[sp.Symbol, float]:
     """Map the model's symbols to the values of a ``GyrocompassParams``."""
+    _check_params(params)
     S = SYMBOLS
     names = ("I", "H", "f", "Omega_h", "Omega_v", "g", "omega_ub", "alpha1", "xi1",
              "sigma1_sq", "alpha2", "xi2", "sigma2_sq")
@@ -572,6 +648,7 @@ def numeric_matrices(params: object, beta_n: float,
 
     ``coupling`` defaults to ``params.vertical_coupling``.
     """
+    _check_params(params)
     coupling = _check_coupling(params.vertical_coupling if coupling is None else coupling)
     b = v.check_real("beta_n", beta_n)
     vals = [float(getattr(params, n)) for n in _PARAM_ORDER]

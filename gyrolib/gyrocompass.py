@@ -168,6 +168,10 @@ class GyrocompassParams:
         return random_drift_filter(self.alpha2, self.xi2, self.sigma2_sq)
 
 
+def _check_params(params: object) -> GyrocompassParams:
+    return v.check_instance("params", params, GyrocompassParams)
+
+
 # Nominal motion, Eq. (4) ----------------------------------------------------------------------
 @dataclass(frozen=True)
 class NominalMotion:
@@ -176,6 +180,11 @@ class NominalMotion:
     t: np.ndarray
     beta: np.ndarray
     beta_dot: np.ndarray
+
+    def __post_init__(self) -> None:
+        t = v.check_array("t", self.t, ndim=1)
+        for name in ("beta", "beta_dot"):
+            v.check_array(name, getattr(self, name), shape=t.shape)
 
 
 def _check_times(t: object) -> np.ndarray:
@@ -195,8 +204,7 @@ def nominal_motion(params: GyrocompassParams, t: object, *, rtol: float = 1e-11)
     100 s), so an implicit Radau method with tight tolerances is used; its error against an
     independent solution is shown in the model chapter.
     """
-    if not isinstance(params, GyrocompassParams):
-        raise TypeError("params must be a GyrocompassParams")
+    _check_params(params)
     t = _check_times(t)
     v.check_in_range("rtol", rtol, 1e-14, 1e-3)
     k_dd = params.H * params.Omega_h / params.I
@@ -231,8 +239,7 @@ def nominal_motion_reference(params: GyrocompassParams, t: object, *,
     ``I e'' + f e' = H Ω_h (cos(β_ap + e) − cos β_ap) − I β_ap''``, ``e(0) = 0``,
     ``e'(0) = −k``.
     """
-    if not isinstance(params, GyrocompassParams):
-        raise TypeError("params must be a GyrocompassParams")
+    _check_params(params)
     t = _check_times(t)
     v.check_in_range("rtol", rtol, 2.3e-14, 1e-3)
     k = params.H * params.Omega_h / params.f
@@ -266,8 +273,7 @@ def nominal_motion_aperiodic(params: GyrocompassParams, t: object) -> NominalMot
     Separating variables gives the Gudermannian ``β = 2 arctan(tanh(k t / 2))`` with
     ``k = H Ω_h / f``; it holds once ``t ≫ I/f``.
     """
-    if not isinstance(params, GyrocompassParams):
-        raise TypeError("params must be a GyrocompassParams")
+    _check_params(params)
     t = _check_times(t)
     k = params.H * params.Omega_h / params.f
     beta = 2.0 * np.arctan(np.tanh(0.5 * k * t))
@@ -281,7 +287,7 @@ def system_matrix(params: GyrocompassParams, beta_n: float) -> np.ndarray:
     Row 2 is the linearized gyrocompass equation (5) divided by ``I``; rows 7–10 are the
     shaping filters (6), (7).  See the module docstring for the state order.
     """
-    p = params
+    p = _check_params(params)
     b = v.check_real("beta_n", beta_n)
     s, c = np.sin(b), np.cos(b)
     F = np.zeros((N_STATES, N_STATES))
@@ -306,6 +312,7 @@ def system_matrix(params: GyrocompassParams, beta_n: float) -> np.ndarray:
 def noise_input_matrix(params: GyrocompassParams) -> np.ndarray:
     """Disturbance matrix ``G`` (10×2) of Eq. (8): ``G(7,1) = 1``, ``G(8,1) = α1 − 2ξ1α1``,
     ``G(10,2) = 1``."""
+    params = _check_params(params)
     G = np.zeros((N_STATES, 2))
     G[6:8, 0] = params.vibration_filter().B[:, 0]
     G[8:10, 1] = params.random_drift_filter().B[:, 0]
@@ -315,6 +322,7 @@ def noise_input_matrix(params: GyrocompassParams) -> np.ndarray:
 def measurement_matrix(params: GyrocompassParams) -> np.ndarray:
     """Measurement matrix ``D`` (3×10) of Eq. (8): the angle sensor reads Δβ; inclinometer y
     reads ``g δ + N1``; inclinometer z reads ``g γ + N1``."""
+    params = _check_params(params)
     D = np.zeros((3, N_STATES))
     D[0, 0] = 1.0
     D[1, 4] = params.g
@@ -326,12 +334,13 @@ def measurement_matrix(params: GyrocompassParams) -> np.ndarray:
 
 def process_noise_intensity(params: GyrocompassParams) -> np.ndarray:
     """Intensity ``Q`` (2×2) of the white noises ``w1``, ``w2`` driving Eqs. (6), (7)."""
-    return np.diag([params.Q1, params.Q2])
+    return np.diag([_check_params(params).Q1, params.Q2])
 
 
 def measurement_noise_intensity(params: GyrocompassParams) -> np.ndarray:
     """Continuous intensities of the sensor noises: ``diag(C_as, C_incl_y, C_incl_z)``."""
-    return np.diag([params.C_as, params.C_incl_y, params.C_incl_z])
+    p = _check_params(params)
+    return np.diag([p.C_as, p.C_incl_y, p.C_incl_z])
 
 
 def measurement_noise_covariance(params: GyrocompassParams) -> np.ndarray:
@@ -341,7 +350,7 @@ def measurement_noise_covariance(params: GyrocompassParams) -> np.ndarray:
     an ideal averaging sampler over Δt); ``"variance"``: ``R = C`` (printed numbers read as
     the per-sample variances).
     """
-    C = measurement_noise_intensity(params)
+    C = measurement_noise_intensity(_check_params(params))
     return C / params.dt if params.measurement_noise == "intensity_over_dt" else C
 
 
@@ -351,7 +360,7 @@ def initial_covariance(params: GyrocompassParams) -> np.ndarray:
     ψ, ω_gc, δ, γ from the paper; Δβ, Δβ' from ``sigma_dbeta0``, ``sigma_dbeta_dot0``;
     N1…N4 from ``shaping_p0`` (their stationary covariance, or zero).
     """
-    p = params
+    p = _check_params(params)
     P = np.zeros((N_STATES, N_STATES))
     for name, sigma in (("dbeta", p.sigma_dbeta0), ("dbeta_dot", p.sigma_dbeta_dot0),
                         ("psi", p.sigma_psi0), ("omega_gc", p.sigma_gc0),

@@ -55,8 +55,20 @@ def _check_model(F: object, G: object, Qc: object, dt: object) -> tuple:
         raise ValueError(f"F must be square; got shape {F.shape}")
     G = v.check_array("G", G, shape=(n, None))
     Qc = v.check_array("Qc", Qc, shape=(G.shape[1], G.shape[1]))
+    _check_covariance("Qc", Qc)
     dt = v.check_positive("dt", dt)
     return F, G, Qc, dt
+
+
+def _check_covariance(name: str, M: np.ndarray) -> np.ndarray:
+    """A (noise or state) covariance: symmetric to rounding, with a diagonal >= 0."""
+    scale = float(np.max(np.abs(M))) if M.size else 0.0
+    if np.any(np.abs(M - M.T) > 1e-9 * scale):
+        raise ValueError(f"{name} must be a symmetric matrix (a covariance)")
+    if np.any(np.diag(M) < 0.0):
+        raise ValueError(f"{name} must have a diagonal >= 0 (variances); "
+                         f"got min {np.diag(M).min()}")
+    return M
 
 
 def van_loan(F: object, G: object, Qc: object, dt: float) -> tuple[np.ndarray, np.ndarray]:
@@ -84,6 +96,9 @@ def van_loan_derivatives(
     ``E`` of ``F`` (``d/dε`` at ``F + ε E``), from the Fréchet derivative of the block
     exponential (``scipy.linalg.expm_frechet``)."""
     F, G, Qc, dt = _check_model(F, G, Qc, dt)
+    if not isinstance(directions, list | tuple):
+        raise TypeError("directions must be a list or tuple of n×n arrays; "
+                        f"got {type(directions).__name__}")
     n = F.shape[0]
     M = np.zeros((2 * n, 2 * n))
     M[:n, :n] = -F * dt
@@ -114,7 +129,10 @@ def psd_factor(Q: object) -> np.ndarray:
     stay zero.  Used to draw ``N(0, Q)`` samples.
     """
     Q = v.check_array("Q", Q, ndim=2)
-    d = np.sqrt(np.clip(np.diag(Q), 0.0, None))
+    if Q.shape[0] != Q.shape[1]:
+        raise ValueError(f"Q must be a square matrix; got shape {Q.shape}")
+    _check_covariance("Q", Q)
+    d = np.sqrt(np.diag(Q))
     nz = d > 0.0
     L = np.zeros_like(Q)
     if not np.any(nz):
@@ -136,6 +154,10 @@ def _check_update(x: object, P: object, z: object, H: object, R: object) -> tupl
     m = H.shape[0]
     z = v.check_array("z", z, shape=(m,))
     R = v.check_array("R", R, shape=(m, m))
+    if np.any(np.diag(P) < 0.0):
+        raise ValueError("P must have a diagonal >= 0 (variances)")
+    if np.any(np.diag(R) < 0.0):
+        raise ValueError("R must have a diagonal >= 0 (measurement-noise variances)")
     return x, P, z, H, R
 
 
@@ -149,7 +171,11 @@ def joseph_update(x: object, P: object, z: object, H: object, R: object
     """
     x, P, z, H, R = _check_update(x, P, z, H, R)
     S = H @ P @ H.T + R
-    K = np.linalg.solve(S, H @ P).T
+    try:
+        K = np.linalg.solve(S, H @ P).T
+    except np.linalg.LinAlgError:
+        raise ValueError("R (with H P Hᵀ) must make the innovation covariance H P Hᵀ + R "
+                         "nonsingular; got a singular one") from None
     A = np.eye(x.size) - K @ H
     Pn = A @ P @ A.T + K @ R @ K.T
     return x + K @ (z - H @ x), 0.5 * (Pn + Pn.T), K
@@ -172,6 +198,9 @@ def sequential_update(x: object, P: object, z: object, H: object, R: object
         h = H[i]
         Ph = P @ h
         s = float(h @ Ph) + R[i, i]
+        if not s > 0.0:
+            raise ValueError(f"R[{i}, {i}] (with hᵀ P h) must give a positive innovation "
+                             f"variance; got {s}")
         k = Ph / s
         x = x + k * (z[i] - float(h @ x))
         P = P - np.outer(k, Ph)
@@ -204,6 +233,21 @@ class AffineDiscreteModel:
     r: np.ndarray
 
     def __post_init__(self) -> None:
+        seg = np.asarray(self.seg)
+        if seg.ndim != 1 or seg.dtype.kind not in "iu":
+            raise TypeError(f"seg must be a 1-D integer array; got dtype {seg.dtype}, "
+                            f"shape {seg.shape}")
+        object.__setattr__(self, "seg", seg)
+        for name in ("a", "b", "Phi0", "PhiA", "PhiB", "Qd0", "QdA", "QdB", "H", "r"):
+            arr = getattr(self, name)
+            checked = v.check_array(name, arr)
+            # keep float64 arrays as given (no copy): the kernels read them in place
+            if not (isinstance(arr, np.ndarray) and arr.dtype == np.float64):
+                object.__setattr__(self, name, checked)
+        if self.Phi0.ndim != 3 or self.Phi0.shape[1] != self.Phi0.shape[2]:
+            raise ValueError(f"Phi0 must have shape (J, n, n); got {self.Phi0.shape}")
+        if np.any(self.r < 0.0):
+            raise ValueError("r must be >= 0 (measurement-noise variances)")
         n_steps = self.seg.shape[0]
         J, n, _ = self.Phi0.shape
         for name in ("a", "b"):
@@ -225,11 +269,21 @@ class AffineDiscreteModel:
     def n(self) -> int:
         return int(self.Phi0.shape[1])
 
+    def _step(self, k: object) -> int:
+        k = v.check_int("k", k, 0)
+        if k >= self.n_steps:
+            raise ValueError(f"k must be a step index in [0, {self.n_steps}); got {k}")
+        return k
+
     def phi(self, k: int) -> np.ndarray:
+        """``Φ_k``, the transition of step ``k`` (0 <= k < n_steps)."""
+        k = self._step(k)
         j = self.seg[k]
         return self.Phi0[j] + self.a[k] * self.PhiA[j] + self.b[k] * self.PhiB[j]
 
     def qd(self, k: int) -> np.ndarray:
+        """``Qd_k``, the process-noise covariance of step ``k`` (0 <= k < n_steps)."""
+        k = self._step(k)
         j = self.seg[k]
         return self.Qd0[j] + self.a[k] * self.QdA[j] + self.b[k] * self.QdB[j]
 
@@ -259,11 +313,18 @@ class CovarianceRun:
     store_every: int
     gains: np.ndarray | None
 
+    def __post_init__(self) -> None:
+        n = v.check_ndarray("var", self.var, ndim=2).shape[1]
+        v.check_ndarray("P_stored", self.P_stored, shape=(None, n, n))
+        v.check_int("store_every", self.store_every, 1)
+        if self.gains is not None:
+            v.check_ndarray("gains", self.gains, ndim=3)
+
 
 def _check_run(model: AffineDiscreteModel, P0: object, store_every: object) -> tuple:
     if not isinstance(model, AffineDiscreteModel):
         raise TypeError("model must be an AffineDiscreteModel")
-    P0 = v.check_array("P0", P0, shape=(model.n, model.n))
+    P0 = _check_covariance("P0", v.check_array("P0", P0, shape=(model.n, model.n)))
     store_every = v.check_int("store_every", store_every, 1)
     return P0, store_every
 
@@ -289,11 +350,17 @@ def covariance_reference(
         step_matrices = lambda k: (model.phi(k), model.qd(k))  # noqa: E731
         n_steps, H, R = model.n_steps, model.H, np.diag(model.r)
     else:
+        if not callable(step_matrices):
+            raise TypeError("step_matrices must be callable, k -> (Phi_k, Qd_k); "
+                            f"got {type(step_matrices).__name__}")
         P0 = v.check_array("P0", P0, ndim=2)
+        if P0.shape[0] != P0.shape[1]:
+            raise ValueError(f"P0 must be a square matrix; got shape {P0.shape}")
+        _check_covariance("P0", P0)
         store_every = v.check_int("store_every", store_every, 1)
         n_steps = v.check_int("n_steps", n_steps, 0)
         H = v.check_array("H", H, shape=(None, P0.shape[0]))
-        R = v.check_array("R", R, shape=(H.shape[0], H.shape[0]))
+        R = _check_covariance("R", v.check_array("R", R, shape=(H.shape[0], H.shape[0])))
     n, m = P0.shape[0], H.shape[0]
     P = P0.copy()
     var = np.empty((n_steps + 1, n))
@@ -420,6 +487,7 @@ def covariance_fast(model: AffineDiscreteModel, P0: object, store_every: int = 1
     (``R`` diagonal) and sparse rows of ``Φ``.  ``keep_gains`` stores the scalar gains
     ``(n_steps, m, n)`` for running the filter on measurements."""
     P0, store_every = _check_run(model, P0, store_every)
+    keep_gains = v.check_bool("keep_gains", keep_gains)
     m = model.H.shape[0]
     gains = np.zeros((model.n_steps if keep_gains else 0, m, model.n))
     return _run_kernel(model, P0, store_every, gains, False)
@@ -439,6 +507,10 @@ def propagate_fixed_gains(model: AffineDiscreteModel, P0: object, gains: object,
     m = model.H.shape[0]
     gains = v.check_array("gains", gains, shape=(model.n_steps, m, model.n))
     r = v.check_array("r", r, shape=(m,))
+    if np.any(r < 0.0):
+        raise ValueError("r must be >= 0 (measurement-noise variances)")
+    if not isinstance(Qd, list | tuple) or len(Qd) != 3:
+        raise TypeError("Qd must be a tuple (Qd0, QdA, QdB) of three (J, n, n) arrays")
     J = model.Phi0.shape[0]
     Qd = tuple(v.check_array("Qd", q, shape=(J, model.n, model.n)) for q in Qd)
     return _run_kernel(model, P0, store_every, gains, True, r=r, Qd=Qd)

@@ -240,12 +240,15 @@ def gyro_output(omega_true: ArrayLike, eps1: float, eps0: float = 0.0) -> float 
     w = _value("omega_true", omega_true)
     e1 = _sf("eps1", eps1)
     e0 = _value("eps0", eps0)
+    v.check_broadcast(omega_true=w, eps1=e1, eps0=e0)
     return (1.0 + e1) * w + e0
 
 
 def roll_difference(gamma_sins: ArrayLike, gamma_gs: ArrayLike) -> float | np.ndarray:
     """Δγ_i = γ_SINS,i − γ_GS,i, the GS taken as the reference (paper RSF, Eq. (1))."""
-    return _value("gamma_sins", gamma_sins) - _value("gamma_gs", gamma_gs)
+    a, b = _value("gamma_sins", gamma_sins), _value("gamma_gs", gamma_gs)
+    v.check_broadcast(gamma_sins=a, gamma_gs=b)
+    return a - b
 
 
 def sf_error_estimate(dgamma: ArrayLike, omega_x: ArrayLike, dt: float) -> float | np.ndarray:
@@ -255,7 +258,9 @@ def sf_error_estimate(dgamma: ArrayLike, omega_x: ArrayLike, dt: float) -> float
     and ``omega_x`` the measured (SINS) roll rate.  With the measured rate in the denominator
     the noise-free estimate is ε1/(1 + ε1), not ε1 (see :func:`correction_coefficient`).
     """
-    return _value("dgamma", dgamma) / (_nonzero("omega_x", omega_x) * v.check_positive("dt", dt))
+    dg, w = _value("dgamma", dgamma), _nonzero("omega_x", omega_x)
+    v.check_broadcast(dgamma=dg, omega_x=w)
+    return dg / (w * v.check_positive("dt", dt))
 
 
 def correction_coefficient(eps1_hat: ArrayLike, form: str = "linear") -> float | np.ndarray:
@@ -274,7 +279,9 @@ def correction_coefficient(eps1_hat: ArrayLike, form: str = "linear") -> float |
 
 def corrected_rate(omega_x: ArrayLike, k: ArrayLike) -> float | np.ndarray:
     """ω̂_x = K ω_x, every reading of the next interval (paper RSF, Eq. (3))."""
-    return _value("k", k) * _value("omega_x", omega_x)
+    kk, w = _value("k", k), _value("omega_x", omega_x)
+    v.check_broadcast(omega_x=w, k=kk)
+    return kk * w
 
 
 def k_true(eps1: ArrayLike) -> float | np.ndarray:
@@ -289,12 +296,16 @@ def relative_k_error(k: ArrayLike, eps1: ArrayLike) -> float | np.ndarray:
     left in the corrected reading K ω_x (:func:`residual_sf_error`).
     """
     kt = k_true(eps1)
-    return (_value("k", k) - kt) / kt
+    kk = _value("k", k)
+    v.check_broadcast(k=kk, eps1=kt)
+    return (kk - kt) / kt
 
 
 def residual_sf_error(eps1: ArrayLike, k: ArrayLike) -> float | np.ndarray:
     """Scale-factor error left after correction: K (1 + ε1) − 1 (paper RSF, Eq. (3))."""
-    return _value("k", k) * (1.0 + _sf("eps1", eps1)) - 1.0
+    e, kk = _sf("eps1", eps1), _value("k", k)
+    v.check_broadcast(eps1=e, k=kk)
+    return kk * (1.0 + e) - 1.0
 
 
 def fraction_compensated(eps1: ArrayLike, residual: ArrayLike) -> float | np.ndarray:
@@ -303,7 +314,9 @@ def fraction_compensated(eps1: ArrayLike, residual: ArrayLike) -> float | np.nda
     ``residual`` is the scale-factor error left after correction, which equals δK
     (:func:`relative_k_error`).  Negative when the "correction" makes things worse.
     """
-    return 1.0 - np.abs(_value("residual", residual)) / np.abs(_nonzero("eps1", eps1))
+    e, r = _nonzero("eps1", eps1), _value("residual", residual)
+    v.check_broadcast(eps1=e, residual=r)
+    return 1.0 - np.abs(r) / np.abs(e)
 
 
 # Error budget, Eqs. (4)-(7) and (9) ----------------------------------------------------------
@@ -313,8 +326,10 @@ def sins_roll_error(eps1: float, omega_true: ArrayLike, t: ArrayLike,
 
     The paper neglects ε0 (``eps0=0``, the default); Table 2 uses ω = 3600 °/s.
     """
-    return (_sf("eps1", eps1) * _value("omega_true", omega_true) + _value("eps0", eps0)) \
-        * _value("t", t, nonnegative=True)
+    e1, w = _sf("eps1", eps1), _value("omega_true", omega_true)
+    e0, tt = _value("eps0", eps0), _value("t", t, nonnegative=True)
+    v.check_broadcast(eps1=e1, omega_true=w, t=tt, eps0=e0)
+    return (e1 * w + e0) * tt
 
 
 def gs_bias_total(sigma_rep: float, sigma_stab: float) -> float:
@@ -382,6 +397,7 @@ def lateral_acceleration_error(eps1: float, omega: float, t: ArrayLike, g: float
     a = _sf("eps1", eps1) * v.check_real("omega", omega)
     x = a * _value("t", t, nonnegative=True)
     g = v.check_positive("g", g)
+    small_angle = v.check_bool("small_angle", small_angle)
     return g * x if small_angle else g * np.sin(x)
 
 
@@ -428,6 +444,13 @@ def _times(times: object) -> np.ndarray:
     return t
 
 
+def _same_shape(record: object, first: str, *others: str) -> None:
+    """The array fields of a result record: 1-D, finite, all the shape of ``first``."""
+    shape = v.check_ndarray(first, getattr(record, first), ndim=1).shape
+    for name in others:
+        v.check_ndarray(name, getattr(record, name), shape=shape)
+
+
 @dataclass(frozen=True)
 class Table2:
     """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``."""
@@ -436,6 +459,9 @@ class Table2:
     dgamma_sins: np.ndarray
     dr_z_cubic: np.ndarray
     dr_z_exact: np.ndarray
+
+    def __post_init__(self) -> None:
+        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact")
 
 
 def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
@@ -460,6 +486,9 @@ class Table3:
     t: np.ndarray
     eps0_t: np.ndarray
     dgamma_gs: np.ndarray
+
+    def __post_init__(self) -> None:
+        _same_shape(self, "t", "eps0_t", "dgamma_gs")
 
 
 def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
@@ -489,6 +518,8 @@ def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec 
     ``eps0_gs`` and ``eps1_gs`` override the gyro's values (to reproduce the print, which
     uses ε0,GS = 3.3·10⁻³ °/s and, by a slip, ε1,GS = 280·10⁻³ instead of 280 ppm).
     """
+    v.check_instance("gyro", gyro, MemsGyroSpec)
+    v.check_instance("encoder", encoder, EncoderSpec)
     e0 = gyro.bias_total if eps0_gs is None else eps0_gs
     e1 = gyro.sf_error if eps1_gs is None else eps1_gs
     return delta_k(e0, encoder.position_error, omega_x, dt, e1, omega_unc)

@@ -14,6 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Polygon
 
+from gyrolib import _validation as v
 from gyrolib.units import from_si
 
 __all__ = [
@@ -27,6 +28,31 @@ __all__ = [
     "plot_rate_sweep",
     "plot_spin_up",
 ]
+
+
+# Input checks ----------------------------------------------------------------------------------
+def _series(x_name: str, x: object, *, min_size: int = 1, increasing: bool = False,
+            positive: bool = False, **ys: object) -> list[np.ndarray]:
+    """``x`` and every ``ys`` as finite 1-D arrays of one length."""
+    xa = v.check_array(x_name, x, ndim=1, min_size=min_size)
+    if increasing and np.any(np.diff(xa) <= 0.0):
+        raise ValueError(f"{x_name} must be strictly increasing")
+    if positive and np.any(xa <= 0.0):
+        raise ValueError(f"{x_name} must be > 0 (log axis); got min {xa.min()}")
+    out = [xa]
+    for name, y in ys.items():
+        ya = v.check_array(name, y, ndim=1)
+        if ya.size != xa.size:
+            raise ValueError(f"{name} must have the length of {x_name} ({xa.size}); "
+                             f"got {ya.size}")
+        out.append(ya)
+    return out
+
+
+def _nonnegative(**arrays: np.ndarray) -> None:
+    for name, a in arrays.items():
+        if np.any(a < 0.0):
+            raise ValueError(f"{name} must be >= 0 (an rms or magnitude); got min {a.min()}")
 
 
 # Block-diagram primitives ----------------------------------------------------------------------
@@ -167,6 +193,14 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
     """Paper RSF, Figure 3 and Eq. (8): (a) gravity resolved with a roll error
     ``dgamma_example`` (rad); (b) Δa_z = g sin Δγ against g Δγ; (c) Δr_z, exact double
     integral against the cubic, with the printed Table 2 values (unit lost) as markers."""
+    dgamma_example = v.check_real("dgamma_example", dgamma_example)
+    t, roll_error, acc_exact, acc_small, dr_exact, dr_cubic = _series(
+        "t", t, min_size=2, increasing=True, roll_error=roll_error, acc_exact=acc_exact,
+        acc_small=acc_small, dr_exact=dr_exact, dr_cubic=dr_cubic)
+    table_t, printed_dr = _series("table_t", table_t, min_size=0, positive=True,
+                                  printed_dr=printed_dr)
+    if np.any(printed_dr <= 0.0):
+        raise ValueError("printed_dr must be > 0 (log axis)")
     fig = Figure(figsize=(11.0, 3.8), layout="constrained")
     ax0, ax1, ax2 = fig.subplots(1, 3, gridspec_kw={"width_ratios": [0.8, 1.0, 1.0]})
     # (a) geometry: body cross-section, true vertical and the vertical the SINS believes.
@@ -230,6 +264,15 @@ def plot_flight(t: np.ndarray, roll_raw: np.ndarray, roll_corrected: np.ndarray,
                 lateral_reset: np.ndarray | None = None) -> Figure:
     """Roll-angle error (°) and lateral error (m) of one simulated flight, with and without
     correction; the correction instants as vertical ticks."""
+    optional = {k: a for k, a in (("roll_reset", roll_reset), ("lateral_reset", lateral_reset))
+                if a is not None}
+    t, roll_raw, roll_corrected, roll_gs, lateral_raw, lateral_corrected, *rest = _series(
+        "t", t, min_size=2, increasing=True, roll_raw=roll_raw, roll_corrected=roll_corrected,
+        roll_gs=roll_gs, lateral_raw=lateral_raw, lateral_corrected=lateral_corrected,
+        **optional)
+    roll_reset = rest.pop(0) if roll_reset is not None else None
+    lateral_reset = rest.pop(0) if lateral_reset is not None else None
+    t_boundaries = v.check_array("t_boundaries", t_boundaries, ndim=1)
     fig = Figure(figsize=(10.0, 3.8), layout="constrained")
     ax0, ax1 = fig.subplots(1, 2)
     ax0.plot(t, from_si(roll_raw, "deg"), color="#c0392b", label="SINS, uncorrected")
@@ -258,6 +301,12 @@ def plot_delta_k_distribution(delta_k: np.ndarray, predicted_mean: float, predic
                               eq7: float, eq7_paper: float | None = None) -> Figure:
     """Histogram of simulated δK (one value per run and interval) against the predicted
     mean ± std and the paper's Eq. (7)."""
+    delta_k = v.check_array("delta_k", delta_k, min_size=1)
+    predicted_mean = v.check_real("predicted_mean", predicted_mean)
+    predicted_std = v.check_nonnegative("predicted_std", predicted_std)
+    eq7 = v.check_real("eq7", eq7)
+    if eq7_paper is not None:
+        eq7_paper = v.check_real("eq7_paper", eq7_paper)
     fig = Figure(figsize=(7.5, 3.6), layout="constrained")
     ax = fig.subplots()
     scale = 1e6
@@ -282,6 +331,11 @@ def plot_period_sweep(periods: np.ndarray, rms: np.ndarray, predicted_rms: np.nd
                       eq7: np.ndarray, floor: float, eps1: float) -> Figure:
     """rms δK against the correction period, with the prediction, Eq. (7), the systematic
     floor and the uncorrected scale-factor error."""
+    periods, rms, predicted_rms, eq7 = _series(
+        "periods", periods, positive=True, rms=rms, predicted_rms=predicted_rms, eq7=eq7)
+    _nonnegative(rms=rms, predicted_rms=predicted_rms, eq7=eq7)
+    floor = v.check_real("floor", floor)
+    eps1 = v.check_real("eps1", eps1)
     fig = Figure(figsize=(7.5, 3.8), layout="constrained")
     ax = fig.subplots()
     ax.loglog(periods, rms * 1e6, "o", color="#2e86c1", label="simulation, rms δK")
@@ -302,6 +356,12 @@ def plot_encoder_sweep(counts: np.ndarray, rms_with_error: np.ndarray,
                        predicted_with: np.ndarray, predicted_without: np.ndarray) -> Figure:
     """rms δK against the encoder's counts per revolution, with and without its 0.33°
     position error."""
+    counts, rms_with_error, rms_without_error, eq7, predicted_with, predicted_without = _series(
+        "counts", counts, positive=True, rms_with_error=rms_with_error,
+        rms_without_error=rms_without_error, eq7=eq7, predicted_with=predicted_with,
+        predicted_without=predicted_without)
+    _nonnegative(rms_with_error=rms_with_error, rms_without_error=rms_without_error, eq7=eq7,
+                 predicted_with=predicted_with, predicted_without=predicted_without)
     fig = Figure(figsize=(7.5, 3.8), layout="constrained")
     ax = fig.subplots()
     ax.loglog(counts, rms_with_error * 1e6, "o", color="#2e86c1",
@@ -321,6 +381,9 @@ def plot_encoder_sweep(counts: np.ndarray, rms_with_error: np.ndarray,
 def plot_rate_sweep(rates: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarray,
                     eq7: np.ndarray) -> Figure:
     """rms δK against the vehicle roll rate (rad/s, plotted in °/s)."""
+    rates, rms, predicted_rms, eq7 = _series("rates", rates, rms=rms,
+                                             predicted_rms=predicted_rms, eq7=eq7)
+    _nonnegative(rms=rms, predicted_rms=predicted_rms, eq7=eq7)
     fig = Figure(figsize=(7.5, 3.6), layout="constrained")
     ax = fig.subplots()
     r = from_si(rates, "deg/s")
@@ -337,6 +400,9 @@ def plot_rate_sweep(rates: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarra
 def plot_spin_up(t: np.ndarray, rate: np.ndarray, omega_unc: np.ndarray,
                  omega_unc_ideal: np.ndarray) -> Figure:
     """Vehicle roll rate and the GS's uncompensated rate during a spin-up (°/s)."""
+    t, rate, omega_unc, omega_unc_ideal = _series(
+        "t", t, min_size=2, increasing=True, rate=rate, omega_unc=omega_unc,
+        omega_unc_ideal=omega_unc_ideal)
     fig = Figure(figsize=(7.5, 3.4), layout="constrained")
     ax = fig.subplots()
     ax.plot(t, from_si(rate, "deg/s"), color="k", label="vehicle roll rate ω")

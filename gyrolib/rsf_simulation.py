@@ -98,8 +98,10 @@ class RollProfile:
 
     def rate(self, t: np.ndarray, duration: float) -> np.ndarray:
         """Roll rate at times ``t`` of a run of length ``duration``."""
+        t = v.check_array("t", t)
+        duration = v.check_positive("duration", duration)
         end = self.rate_start if self.rate_end is None else self.rate_end
-        return self.rate_start + (end - self.rate_start) * np.asarray(t) / duration
+        return self.rate_start + (end - self.rate_start) * t / duration
 
 
 @dataclass(frozen=True)
@@ -230,9 +232,15 @@ def encoder_counts(theta: np.ndarray, encoder: EncoderModel, phase: np.ndarray |
     ``phase`` (rad) broadcasts against the leading axes of ``theta``.
     """
     theta = v.check_array("theta", theta)
-    ph = np.asarray(phase, dtype=float)
+    v.check_instance("encoder", encoder, EncoderModel)
+    ph = v.check_array("phase", phase)
     if ph.ndim and theta.ndim:
+        if ph.ndim > theta.ndim or ph.shape != theta.shape[:ph.ndim]:
+            raise ValueError(f"phase must be a number or match the leading axes of theta "
+                             f"{theta.shape}; got shape {ph.shape}")
         ph = ph.reshape(ph.shape + (1,) * (theta.ndim - ph.ndim))
+    elif ph.ndim:
+        raise ValueError(f"phase must be a number when theta is; got shape {ph.shape}")
     indicated = theta + encoder.position_error * np.sin(theta + ph)
     counts = np.floor(indicated / encoder.resolution).astype(np.int64)
     return np.mod(counts, encoder.counts_per_rev)
@@ -283,6 +291,17 @@ class SensorRecord:
     eps0_sins: np.ndarray
     eps1_gs: np.ndarray
     eps0_gs: np.ndarray
+
+    def __post_init__(self) -> None:
+        cfg = v.check_instance("config", self.config, SimulationConfig)
+        v.check_int("seed", self.seed, 0)
+        m, n = cfg.n_runs, cfg.n_steps
+        for name, shape in (("t", (n + 1,)), ("gamma_true", (n + 1,)), ("sins_inc", (m, n)),
+                            ("gs_gyro_inc", (m, n)), ("omega_unc", (m, n)),
+                            ("theta_rel", (m, n + 1)), ("encoder_phase", (m,)),
+                            ("eps1_sins", (m,)), ("eps0_sins", (m,)), ("eps1_gs", (m,)),
+                            ("eps0_gs", (m,))):
+            v.check_ndarray(name, getattr(self, name), shape=shape)
 
 
 def _draw(rng: np.random.Generator, sigma: float, n: int, mode: str) -> np.ndarray:
@@ -372,6 +391,7 @@ def simulate(config: SimulationConfig, seed: int) -> SensorRecord:
 
 def with_encoder(record: SensorRecord, encoder: EncoderModel) -> SensorRecord:
     """The same flight read by another encoder (the encoder does not act on the loop)."""
+    v.check_instance("record", record, SensorRecord)
     if not isinstance(encoder, EncoderModel):
         raise TypeError(f"encoder must be an EncoderModel; got {type(encoder).__name__}")
     cfg = dataclasses.replace(record.config, encoder=encoder)
@@ -388,6 +408,9 @@ def _gyro_angle(record: SensorRecord) -> np.ndarray:
 def gs_angle(record: SensorRecord, *, gyro_angle: np.ndarray | None = None) -> np.ndarray:
     """GS roll angle γ̂ = unwrapped encoder angle + ∫ MEMS reading (paper's Figure 2), (M, N+1),
     referred to its value at t = 0.  ``gyro_angle`` may pass a precomputed ∫ MEMS reading."""
+    v.check_instance("record", record, SensorRecord)
+    if gyro_angle is not None:
+        gyro_angle = v.check_array("gyro_angle", gyro_angle, shape=record.theta_rel.shape)
     enc = record.config.encoder
     wrapped = encoder_counts(record.theta_rel, enc, record.encoder_phase)
     counts = unwrap_counts(wrapped, enc.counts_per_rev)
@@ -399,6 +422,8 @@ def lateral_error(t: np.ndarray, roll_error: np.ndarray, g: float = G0) -> np.nd
     """Lateral position error ∫∫ g sin Δγ dt dt (paper RSF, Eq. (8) without the small-angle
     approximation), along the last axis, trapezoidal rule; zero at t = 0."""
     t = v.check_array("t", t, ndim=1)
+    if np.any(np.diff(t) <= 0.0):
+        raise ValueError("t must be strictly increasing (sample times)")
     e = v.check_array("roll_error", roll_error)
     if e.shape[-1] != t.size:
         raise ValueError(f"roll_error must have {t.size} samples along its last axis; "
@@ -437,6 +462,19 @@ class CorrectionRun:
     roll_error_corrected: np.ndarray
     roll_error_gs: np.ndarray
     g: float = G0
+
+    def __post_init__(self) -> None:
+        v.check_positive("period", self.period)
+        v.check_choice("k_form", self.k_form, rc.K_FORMS)
+        v.check_bool("reset_angle", self.reset_angle)
+        nt = v.check_ndarray("t", self.t, ndim=1).size
+        v.check_ndarray("t_boundaries", self.t_boundaries, ndim=1)
+        shape = v.check_ndarray("k", self.k, ndim=2).shape
+        for name in ("eps1_hat", "delta_k"):
+            v.check_ndarray(name, getattr(self, name), shape=shape)
+        for name in ("roll_error_raw", "roll_error_corrected", "roll_error_gs"):
+            v.check_ndarray(name, getattr(self, name), shape=(shape[0], nt))
+        v.check_positive("g", self.g)
 
     @cached_property
     def lateral_raw(self) -> np.ndarray:
@@ -540,6 +578,12 @@ class DeltaKPrediction:
     eq7: float
     omega_unc: float
 
+    def __post_init__(self) -> None:
+        v.check_real("mean", self.mean)
+        for name in ("std_encoder", "std_quantization", "std_noise", "std_systematic", "std",
+                     "eq7", "omega_unc"):
+            v.check_nonnegative(name, getattr(self, name))
+
 
 def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction:
     """Predicted mean and spread of δK for a constant roll rate (first-order error model).
@@ -596,11 +640,25 @@ class PeriodSweep:
     predicted_rms: np.ndarray
     eq7: np.ndarray
 
+    def __post_init__(self) -> None:
+        _same_length(self, "periods", "mean", "rms", "max_abs", "predicted_rms", "eq7")
+
+
+def _same_length(record: object, first: str, *others: str) -> None:
+    """The array fields of a result record: 1-D, finite, all as long as ``first``."""
+    shape = v.check_ndarray(first, getattr(record, first), ndim=1).shape
+    for name in others:
+        v.check_ndarray(name, getattr(record, name), shape=shape)
+
 
 def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
                             k_form: str = "linear") -> PeriodSweep:
     """δK for each correction period in ``periods``, from one simulated flight ensemble."""
+    v.check_instance("record", record, SensorRecord)
     p = v.check_array("periods", periods, ndim=1)
+    if np.any(p <= 0.0):
+        raise ValueError(f"periods must be > 0 (s); got min {p.min()}")
+    k_form = v.check_choice("k_form", k_form, rc.K_FORMS)
     gs = gs_angle(record)
     out = {key: [] for key in ("mean", "rms", "max_abs", "pred", "eq7")}
     for period in p:
@@ -629,12 +687,24 @@ class ResolutionSweep:
     predicted_rms: np.ndarray
     eq7: np.ndarray
 
+    def __post_init__(self) -> None:
+        _same_length(self, "counts_per_rev", "position_error", "mean", "rms", "max_abs",
+                     "predicted_rms", "eq7")
+
 
 def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period: float,
                   k_form: str = "linear") -> ResolutionSweep:
     """δK for each encoder in ``encoders`` (same flight, same correction period)."""
+    v.check_instance("record", record, SensorRecord)
+    if not isinstance(encoders, list | tuple):
+        raise TypeError("encoders must be a list or tuple of EncoderModel; "
+                        f"got {type(encoders).__name__}")
     if not encoders:
         raise ValueError("encoders must be a non-empty sequence of EncoderModel")
+    for i, enc in enumerate(encoders):
+        v.check_instance(f"encoders[{i}]", enc, EncoderModel)
+    period = v.check_positive("period", period)
+    k_form = v.check_choice("k_form", k_form, rc.K_FORMS)
     cols = {key: [] for key in ("c", "a", "mean", "rms", "max_abs", "pred", "eq7")}
     gyro = _gyro_angle(record)    # the same for every encoder
     for enc in encoders:

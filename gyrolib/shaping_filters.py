@@ -42,7 +42,13 @@ import numpy as np
 import scipy.linalg
 import scipy.signal
 
-from gyrolib._validation import check_array, check_in_range, check_int, check_positive
+from gyrolib._validation import (
+    check_array,
+    check_in_range,
+    check_int,
+    check_nonnegative,
+    check_positive,
+)
 
 __all__ = [
     "ShapingFilter",
@@ -66,6 +72,17 @@ class ShapingFilter:
     B: np.ndarray
     C: np.ndarray
     Q: float
+
+    def __post_init__(self) -> None:
+        # Single input w, single output y: A n×n, B n×1, C 1×n, Q a scalar intensity.
+        A = check_array("A", self.A, ndim=2, min_size=1)
+        n = A.shape[0]
+        if A.shape != (n, n):
+            raise ValueError(f"A must be a square matrix; got shape {A.shape}")
+        object.__setattr__(self, "A", A)
+        object.__setattr__(self, "B", check_array("B", self.B, shape=(n, 1)))
+        object.__setattr__(self, "C", check_array("C", self.C, shape=(1, n)))
+        object.__setattr__(self, "Q", check_nonnegative("Q", self.Q))
 
     def as_control(self) -> control.StateSpace:
         """The filter as a python-control state-space system from ``w`` to ``y``."""
@@ -129,12 +146,16 @@ def stationary_covariance(A: np.ndarray, B: np.ndarray, Q: float | np.ndarray) -
 
     ``A`` must be Hurwitz (all eigenvalues in the open left half plane).
     """
-    A = check_array("A", A, ndim=2)
+    A = check_array("A", A, ndim=2, min_size=1)
     n = A.shape[0]
+    if A.shape != (n, n):
+        raise ValueError(f"A must be a square matrix; got shape {A.shape}")
     B = check_array("B", B, shape=(n, None))
     Qm = np.atleast_2d(check_array("Q", Q))
     if Qm.shape != (B.shape[1], B.shape[1]):
         raise ValueError(f"Q must be {B.shape[1]}x{B.shape[1]}; got shape {Qm.shape}")
+    if np.any(np.diag(Qm) < 0.0):
+        raise ValueError("Q must be a noise intensity with a diagonal >= 0")
     if np.any(np.linalg.eigvals(A).real >= 0.0):
         raise ValueError("A must be Hurwitz (every eigenvalue with negative real part)")
     P = scipy.linalg.solve_continuous_lyapunov(A, -B @ Qm @ B.T)

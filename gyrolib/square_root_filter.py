@@ -27,12 +27,16 @@ __all__ = ["covariance_square_root", "psd_square_root"]
 
 def psd_square_root(P: object) -> np.ndarray:
     """A factor ``S`` with ``S Sᵀ = P`` for a symmetric positive semi-definite ``P``."""
-    P = v.check_array("P", P, ndim=2)
+    return _psd_square_root("P", P)
+
+
+def _psd_square_root(name: str, P: object) -> np.ndarray:
+    P = v.check_array(name, P, ndim=2)
     if P.shape[0] != P.shape[1] or not np.allclose(P, P.T, rtol=1e-12, atol=0.0):
-        raise ValueError("P must be a symmetric square matrix")
+        raise ValueError(f"{name} must be a symmetric square matrix")
     w, V = np.linalg.eigh(0.5 * (P + P.T))
-    if np.any(w < -1e-12 * max(1.0, float(np.max(np.abs(w))))):
-        raise ValueError("P must be positive semi-definite")
+    if np.any(w < -1e-12 * max(1.0, float(np.max(np.abs(w), initial=0.0)))):
+        raise ValueError(f"{name} must be positive semi-definite")
     return V * np.sqrt(np.clip(w, 0.0, None))
 
 
@@ -116,7 +120,7 @@ def covariance_square_root(model: AffineDiscreteModel, P0: object,
         raise TypeError("model must be an AffineDiscreteModel")
     P0 = v.check_array("P0", P0, shape=(model.n, model.n))
     store_every = v.check_int("store_every", store_every, 1)
-    S0 = psd_square_root(P0)
+    S0 = _psd_square_root("P0", P0)
     var = np.empty((model.n_steps + 1, model.n))
     P_stored = np.empty((model.n_steps // store_every + 1, model.n, model.n))
     min_eig = np.array([np.inf])

@@ -80,9 +80,15 @@ def _factor(unit: str) -> float:
 def _as_number(value: ArrayLike) -> float | np.ndarray:
     if isinstance(value, bool):
         raise TypeError("value must be a real number or array of real numbers, not bool")
-    arr = np.asarray(value)
+    try:
+        arr = np.asarray(value)
+    except ValueError:  # ragged nested sequences
+        raise TypeError("value must be real (number or array); got a ragged sequence") from None
     if arr.dtype.kind not in "iuf":
         raise TypeError(f"value must be real (number or array); got dtype {arr.dtype}")
+    # ±inf converts exactly (e.g. an unlimited rate); NaN is no quantity and would pass silently
+    if arr.dtype.kind == "f" and np.isnan(arr).any():
+        raise ValueError("value must be a number or ±inf, not NaN")
     return float(arr) if arr.ndim == 0 else arr.astype(float)
 
 

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict, dataclass
+import numbers
+from dataclasses import asdict, dataclass, fields
 
 __all__ = ["STATUSES", "STATUS_MARKS", "LedgerItem", "collect", "summary", "to_json",
            "to_markdown", "to_table"]
@@ -47,12 +48,38 @@ class LedgerItem:
     anchor: str = ""
 
     def __post_init__(self) -> None:
+        for f in fields(self):
+            if f.name not in ("paper_value", "reproduced_value"):
+                value = getattr(self, f.name)
+                if not isinstance(value, str):
+                    raise TypeError(f"{f.name} must be a str; got {type(value).__name__}")
         if self.status not in STATUSES:
             raise ValueError(f"status must be one of {STATUSES}; got {self.status!r}")
         if self.paper not in ("GC", "RSF"):
             raise ValueError(f"paper must be 'GC' or 'RSF'; got {self.paper!r}")
-        if self.reproduced_value is not None and not math.isfinite(self.reproduced_value):
+        pv = self.paper_value
+        if not (pv is None or isinstance(pv, str) or _is_real(pv)):
+            raise TypeError("paper_value must be a real number, a str or None; "
+                            f"got {type(pv).__name__}")
+        if _is_real(pv) and not math.isfinite(pv):
+            raise ValueError(f"paper_value of {self.id} must be finite; got {pv}")
+        rv = self.reproduced_value
+        if not (rv is None or _is_real(rv)):
+            raise TypeError("reproduced_value must be a real number or None; "
+                            f"got {type(rv).__name__}")
+        if rv is not None and not math.isfinite(rv):
             raise ValueError(f"reproduced_value of {self.id} must be finite")
+
+
+def _is_real(value: object) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
+def _check_items(items: object) -> list[LedgerItem]:
+    if not isinstance(items, list | tuple) or not all(isinstance(it, LedgerItem)
+                                                      for it in items):
+        raise TypeError("items must be a list of LedgerItem")
+    return list(items)
 
 
 def collect() -> list[LedgerItem]:
@@ -74,6 +101,7 @@ def collect() -> list[LedgerItem]:
 
 def to_json(items: list[LedgerItem]) -> str:
     """JSON list of the items, byte-identical for identical inputs."""
+    items = _check_items(items)
     out = []
     for it in items:
         d = asdict(it)
@@ -92,6 +120,7 @@ def _fmt(value: float | str | None) -> str:
 
 def to_table(items: list[LedgerItem]) -> str:
     """A plain-text table for the terminal."""
+    items = _check_items(items)
     header = ("id", "paper value", "reproduced", "unit", "status")
     rows = [(it.id, _fmt(it.paper_value), _fmt(it.reproduced_value), it.unit, it.status)
             for it in items]
@@ -104,6 +133,7 @@ def to_table(items: list[LedgerItem]) -> str:
 
 def summary(items: list[LedgerItem]) -> dict[str, int]:
     """Count of items per status, plus ``"total"``."""
+    items = _check_items(items)
     counts = {status: 0 for status in STATUSES}
     for it in items:
         counts[it.status] += 1
@@ -120,6 +150,9 @@ def to_markdown(items: list[LedgerItem], paper: str) -> str:
 
     The "where" column links with ``{ref}`` roles, so a broken link fails the book build.
     """
+    items = _check_items(items)
+    if paper not in ("GC", "RSF"):
+        raise ValueError(f"paper must be 'GC' or 'RSF'; got {paper!r}")
     lines = [
         "| status | item | where | paper | reproduced | unit |",
         "| --- | --- | --- | --- | --- | --- |",

@@ -68,6 +68,11 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
 
     The keyword arguments replace the paper's sensor records (for sensitivity checks).
     """
+    for name, value, cls in (("roll_gyro", roll_gyro, rc.RollGyroSpec),
+                             ("gs_gyro", gs_gyro, rc.MemsGyroSpec),
+                             ("encoder", encoder, rc.EncoderSpec)):
+        if not isinstance(value, cls):
+            raise TypeError(f"{name} must be a {cls.__name__}; got {type(value).__name__}")
     out: list[LedgerItem] = []
     # Sensor data -------------------------------------------------------------------------
     out.append(_item(
