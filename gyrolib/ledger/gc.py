@@ -9,6 +9,7 @@ are computed from the parameters, so perturbing a parameter moves the ledger (se
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Final
 
 import numpy as np
@@ -39,14 +40,36 @@ _FILTER = "chapters/gc_filter"
 _CLAIMS = "chapters/gc_claims"
 
 
-def _item(key: str, location: str, quantity: str, unit: str, value: float, status: str,
+def _item(key: str, location: str, quantity: str, unit: str, value: float | None, status: str,
           note: str, chapter: str, anchor: str = "",
           paper_value: float | str | None = None) -> LedgerItem:
     return LedgerItem(
         id=f"gc.{key}", paper="GC", location=location, quantity=quantity, unit=unit,
         paper_value=PRINTED.get(key) if paper_value is None else paper_value,
-        reproduced_value=float(value), status=status, note=note, chapter=chapter,
-        anchor=anchor)
+        reproduced_value=None if value is None else float(value), status=status, note=note,
+        chapter=chapter, anchor=anchor)
+
+
+#: Factors applied, one parameter at a time, to test the claim that the trend of Figure 3
+#: holds when the shaping-filter parameters vary widely (damping ratios capped at 1).
+TREND_FACTORS: Final[tuple[float, ...]] = (0.1, 10.0)
+TREND_FIELDS: Final[tuple[str, ...]] = ("alpha1", "xi1", "sigma1_sq", "alpha2", "xi2",
+                                        "sigma2_sq")
+
+
+def _worst_drop(p: GyrocompassParams) -> float:
+    """Largest σ(2 s)/σ(0) of ω_gc over the one-at-a-time variations of :data:`TREND_FIELDS`
+    by :data:`TREND_FACTORS` (the "sharp drop in the first 2 s" must survive every one)."""
+    worst = 0.0
+    for name in TREND_FIELDS:
+        for factor in TREND_FACTORS:
+            value = getattr(p, name) * factor
+            if name.startswith("xi"):
+                value = min(value, 1.0)
+            res = covariance_analysis(replace(p, **{name: value}), 2.0, store_every=10**6)
+            s = res.std("omega_gc")
+            worst = max(worst, float(s[-1] / s[0]))
+    return worst
 
 
 def items(params: GyrocompassParams | None = None) -> list[LedgerItem]:
@@ -65,7 +88,12 @@ def items(params: GyrocompassParams | None = None) -> list[LedgerItem]:
     var_n1 = p.vibration_filter().variance()
     var_n3 = p.random_drift_filter().variance()
     rel = abs(sigma_100 / PRINTED["sigma_gc_100s"] - 1.0)
+    worst_drop = _worst_drop(p)
     return [
+        _item("fig1", "Fig. 1", "frames Oxyz, Oξηζ and the angles ψ, β, δ, γ (drawing)", "—",
+              None, "reproduced",
+              "redrawn by code from the text; the direction of the output axis is inferred "
+              "from cos(β − ψ)", _MODEL, "fig-gcm-figure1", paper_value="figure"),
         _item("fig2.var_N1", "Fig. 2 / Eq. (6)", "stationary variance of N1 (area under PSD)",
               "m^2/s^4", var_n1,
               "reproduced" if abs(var_n1 / PRINTED["fig2.var_N1"] - 1) < 1e-3
@@ -100,4 +128,16 @@ def items(params: GyrocompassParams | None = None) -> list[LedgerItem]:
               faster, "reproduced" if faster > 50.0 else "differs (explained)",
               "100 (1 - t_c / 17 min); against ref. [3] (~20 min) the saving is larger still",
               _CLAIMS, "gc-claims-speed", paper_value="> 50"),
+        _item("fig4", "Fig. 4", "the omega_gc estimate in a first and a second run (curves)", "—",
+              None, "reproduced",
+              "two seeded runs of the filter on the nonlinear truth model converge onto their "
+              "true omega_gc within their sigma band; the paper prints no number from it",
+              _CLAIMS, "fig-gcc-runs", paper_value="figure"),
+        _item("claim.trend_holds", "text after Fig. 3",
+              "largest sigma(2 s)/sigma(0) when each shaping-filter parameter is scaled by 0.1 "
+              "and 10", "1", worst_drop,
+              "reproduced" if worst_drop < 0.5 else "differs (explained)",
+              "the sharp drop in the first 2 s survives every one-at-a-time variation over two "
+              "decades; sigma(100 s) itself varies several-fold (the chapter's sweep)",
+              _CLAIMS, "gc-claims-sweep", paper_value="same trend"),
     ]

@@ -163,4 +163,17 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
         "differs (explained)",
         "the paper reads 1 − δK as the share compensated; the residual SF error is δK itself, "
         "so the share is 1 − δK/ε1", "rsf-compensated"))
+
+    # Figures (drawings and curves without printed numbers) --------------------------------------
+    for key, location, quantity, note, anchor in (
+        ("fig1", "Fig. 1", "functional scheme of the correction method (block diagram)",
+         "redrawn by code as a block diagram from the text and Eqs. (1)-(3)", "fig-rsf-fig1"),
+        ("fig2", "Fig. 2", "functional scheme of the improved GS (block diagram)",
+         "redrawn by code: PI motor loop, uncompensated rate, encoder angle", "fig-rsf-fig2"),
+        ("fig3", "Fig. 3", "gravity projection on the lateral axis and the lateral error growth",
+         "redrawn with the small-angle cubic of Eq. (8) and the exact double integral of "
+         "g·sin Δγ on one plot", "fig-rsf-fig3"),
+    ):
+        out.append(_item(key, location, quantity, "—", None, "reproduced", note, anchor,
+                         paper_value="figure"))
     return out
