@@ -22,8 +22,6 @@ import functools
 import http.server
 import os
 import re
-import subprocess
-import sys
 import tempfile
 import threading
 from collections.abc import Iterator
@@ -31,6 +29,7 @@ from pathlib import Path
 from urllib.parse import urlsplit
 
 import pytest
+from conftest import require_built_book
 
 pytestmark = pytest.mark.browser
 
@@ -53,20 +52,6 @@ SEARCH_TERM = "gyrocompass"
 # ----------------------------------------------------------------------------- fixtures
 
 
-def _build_book_if_missing() -> None:
-    index = HTML / "index.html"
-    if index.is_file():
-        return
-    if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
-        pytest.fail(f"GYROLIB_BOOK_BUILT=1 but {index} is missing: the book build failed or "
-                    "wrote elsewhere")
-    proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "book"], cwd=ROOT,
-                          capture_output=True, text=True, check=False)
-    if proc.returncode != 0 or not index.is_file():
-        tail = (proc.stdout + proc.stderr)[-4000:]
-        pytest.fail(f"`python3 tasks.py book` failed (exit {proc.returncode}):\n{tail}")
-
-
 def book_pages(root: Path) -> list[str]:
     """Every HTML page of the book, as a URL path relative to the root (search.html included;
     the theme's template fragments in _static are not pages)."""
@@ -83,7 +68,7 @@ class _QuietHandler(http.server.SimpleHTTPRequestHandler):
 @pytest.fixture(scope="session")
 def site() -> Iterator[str]:
     """Serve _build/html on 127.0.0.1 (ephemeral port); yields the base URL."""
-    _build_book_if_missing()
+    require_built_book()
     handler = functools.partial(_QuietHandler, directory=str(HTML))
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
     thread = threading.Thread(target=server.serve_forever, daemon=True)

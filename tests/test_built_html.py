@@ -19,15 +19,13 @@ under ``python3 tasks.py test`` (``GYROLIB_BOOK_BUILT=1``) a missing build is a 
 
 from __future__ import annotations
 
-import os
 import re
-import subprocess
-import sys
 from functools import cache
 from pathlib import Path, PurePosixPath
 from urllib.parse import unquote, urlsplit
 
 import pytest
+from conftest import require_built_book
 
 bs4 = pytest.importorskip("bs4", reason="beautifulsoup4 (a jupyter-book dependency) is needed")
 
@@ -45,23 +43,9 @@ IMAGE_EXT = re.compile(r"\.(png|jpe?g|gif|svg|webp|bmp|pdf)$", re.IGNORECASE)
 # ----------------------------------------------------------------------------- the build
 
 
-def _build_book_if_missing() -> None:
-    index = HTML / "index.html"
-    if index.is_file():
-        return
-    if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
-        pytest.fail(f"GYROLIB_BOOK_BUILT=1 but {index} is missing: the book build failed or "
-                    "wrote elsewhere")
-    proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "book"], cwd=ROOT,
-                          capture_output=True, text=True, check=False)
-    if proc.returncode != 0 or not index.is_file():
-        tail = (proc.stdout + proc.stderr)[-4000:]
-        pytest.fail(f"`python3 tasks.py book` failed (exit {proc.returncode}):\n{tail}")
-
-
 @pytest.fixture(scope="session")
 def html_dir() -> Path:
-    _build_book_if_missing()
+    require_built_book()
     return HTML
 
 
