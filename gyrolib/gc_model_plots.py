@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 
 from gyrolib import _validation as v
+from gyrolib.units import ARCSEC
 
 __all__ = ["plot_figure1", "plot_nominal_motion", "plot_shaping_psd"]
 
@@ -93,7 +94,7 @@ def plot_nominal_motion(t: object, beta: object, beta_ap: object, t_fast: object
                                 (t_fast, beta_dot_fast, beta_dot_ap_fast))
     tau = v.check_positive("tau", tau)
     lag = v.check_real("lag", lag)
-    arcsec = math.pi / 648000.0
+    arcsec = ARCSEC
     fig = Figure(figsize=(11.0, 3.6), layout="constrained")
     ax1, ax2, ax3 = fig.subplots(1, 3)
     ax1.plot(t, np.degrees(b), color="C0", label=r"$\beta_n(t)$, Eq. (4)")

@@ -262,7 +262,8 @@ def plot_sweep(sweeps: Mapping[str, tuple[object, object, float]], *, paper_valu
 
 
 def plot_information(t: object, sig_known: object, sig_unknown: object, corr: object,
-                     corr_frozen: object, *, unit: str = "″/s") -> Figure:
+                     corr_frozen: object, *, unit: str = "″/s",
+                     beta_frozen: float | None = None) -> Figure:
     """Left: σ of ω_gc from the angle sensor's information alone with ψ known and unknown
     (``unit``).  Right: |correlation| of the ψ and ω_gc information, for the turning float
     and for a float frozen at a constant angle."""
@@ -285,7 +286,8 @@ def plot_information(t: object, sig_known: object, sig_unknown: object, corr: ob
     ax_s.legend(fontsize=8)
     ax_c.semilogx(t[1:], 1.0 - np.abs(c[1:]), label="float turning (sin β_n grows)")
     ax_c.semilogx(t[1:], np.clip(1.0 - np.abs(d[1:]), 1e-17, None),
-                  label="float frozen at β = 0.005 rad")
+                  label="float frozen" if beta_frozen is None
+                  else f"float frozen at β = {v.check_real('beta_frozen', beta_frozen):g} rad")
     ax_c.axhline(1.0 - np.sqrt(15.0) / 4.0, color="k", ls=":", lw=1,
                  label="1 − √15/4 (regressors t and t²)")
     ax_c.set_yscale("log")
