@@ -137,8 +137,7 @@ class RollGyroSpec:
     dynamic_range: float | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str):
-            raise TypeError(f"name must be a str; got {type(self.name).__name__}")
+        v.check_str("name", self.name)
         object.__setattr__(self, "bias_instability",
                            v.check_nonnegative("bias_instability", self.bias_instability))
         object.__setattr__(self, "sf_error",
@@ -167,8 +166,7 @@ class MemsGyroSpec:
     dynamic_range: float | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str):
-            raise TypeError(f"name must be a str; got {type(self.name).__name__}")
+        v.check_str("name", self.name)
         for field in ("bias_repeatability", "bias_stability"):
             object.__setattr__(self, field, v.check_nonnegative(field, getattr(self, field)))
         object.__setattr__(self, "sf_error",
@@ -203,8 +201,7 @@ class EncoderSpec:
     quadrature: int = 4
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str):
-            raise TypeError(f"name must be a str; got {type(self.name).__name__}")
+        v.check_str("name", self.name)
         object.__setattr__(self, "position_error",
                            v.check_in_range("position_error", self.position_error, 0.0,
                                             math.pi, high_open=True))

@@ -1,7 +1,6 @@
 """The reproduction ledger: complete, well-formed, deterministic, and linked to the book."""
 
 import json
-import os
 import re
 import subprocess
 import sys
@@ -9,6 +8,7 @@ from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
+from conftest import require_built_book
 
 from gyrolib.ledger import STATUSES, LedgerItem, collect, summary, to_json, to_markdown
 
@@ -105,10 +105,7 @@ class _Ids(HTMLParser):
 
 
 def test_every_item_links_to_a_page_and_anchor_of_the_built_book(items):
-    if not (HTML / "index.html").is_file():
-        if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
-            pytest.fail("the book should have been built by the test command")
-        pytest.skip("book not built: run `python3 tasks.py book` first")
+    require_built_book()
     problems = []
     for it in items:
         page = HTML / f"{it.chapter}.html"

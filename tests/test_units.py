@@ -16,7 +16,9 @@ def test_arcsec_exact_is_pi_over_648000():
 def test_paper_arcsec_is_the_printed_rounding():
     # Paper GC: "1″ = 0.485·10⁻⁵ rad"; it is 0.04 % larger than the exact arcsecond.
     assert units.ARCSEC_PAPER == 0.485e-5
-    assert units.ARCSEC_PAPER / units.ARCSEC - 1.0 == pytest.approx(3.8e-4, abs=1e-5)
+    assert units.ARCSEC_PAPER / units.ARCSEC - 1.0 == pytest.approx(
+        0.485e-5 * 648000.0 / math.pi - 1.0, rel=1e-12)
+    assert 0.0 < units.ARCSEC_PAPER / units.ARCSEC - 1.0 < 5e-4  # "0.04 % larger"
     # P(3,3) of paper GC: (180·0.485·10⁻⁵)² rad²
     assert units.to_si(180.0, "arcsec_paper") ** 2 == pytest.approx(7.62129e-7, rel=1e-12)
 

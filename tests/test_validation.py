@@ -34,7 +34,7 @@ from gyrolib import gc_model_plots as gmp
 from gyrolib import gc_plots as gp
 from gyrolib import gc_symbolic as gs
 from gyrolib import gyrocompass as gc
-from gyrolib import kalman, ledger, units
+from gyrolib import kalman, ledger, report, units
 from gyrolib import roll_correction as rc
 from gyrolib import rsf_plots as rp
 from gyrolib import rsf_simulation as sim
@@ -948,6 +948,23 @@ case("ledger.rsf.items", lambda: lrsf.items(roll_gyro=None), TypeError, "roll_gy
 case("ledger.rsf.items", lambda: lrsf.items(gs_gyro="x"), TypeError, "gs_gyro", "MemsGyroSpec")
 case("ledger.rsf.items", lambda: lrsf.items(encoder=sim.EncoderModel()), TypeError, "encoder",
      "EncoderSpec")
+case("ledger.format_value", lambda: ledger.format_value([1.0]), TypeError, "value", "real")
+case("ledger.format_value", lambda: ledger.format_value(NAN), ValueError, "value", FINITE)
+
+# report
+case("report.sci", lambda: report.sci(NAN), ValueError, "x", FINITE)
+case("report.sci", lambda: report.sci("1e-4"), TypeError, "x", "real")
+case("report.sci", lambda: report.sci(1.0, 0), ValueError, "digits", ">= 1")
+case("report.grouped", lambda: report.grouped(INF), ValueError, "x", FINITE)
+case("report.grouped", lambda: report.grouped(1.0, 2.5), TypeError, "digits")
+case("report.format_number", lambda: report.format_number(1.0, 3), TypeError, "fmt", "str")
+case("report.format_number", lambda: report.format_number(NAN, ".3f"), ValueError, "value",
+     FINITE)
+case("report.format_number", lambda: report.format_number("x", ".3f"), TypeError, "value")
+case("report.markdown_table", lambda: report.markdown_table([], []), ValueError, "header")
+case("report.markdown_table", lambda: report.markdown_table(["a", "b"], [[1]]), ValueError,
+     "rows[0]", "2 cells")
+case("report.gluer", lambda: report.gluer(None), TypeError, "prefix", "str")
 
 # __main__
 case("__main__.main", lambda: cli.main("ledger"), TypeError, "argv", "list of str")
@@ -972,9 +989,11 @@ def test_cli_rejects_an_unknown_command_with_usage(capsys):
 MODULES = {"units": units, "shaping_filters": sf, "gyrocompass": gc, "gc_symbolic": gs,
            "kalman": kalman, "square_root_filter": srf, "gc_estimation": ge, "gc_plots": gp,
            "gc_model_plots": gmp, "roll_correction": rc, "rsf_simulation": sim,
-           "rsf_plots": rp, "ledger": ledger, "ledger.gc": lgc, "ledger.rsf": lrsf}
+           "rsf_plots": rp, "ledger": ledger, "ledger.gc": lgc, "ledger.rsf": lrsf,
+           "report": report}
 #: Public callables without a bad input: no parameters, or any object is valid by contract.
-NO_BAD_INPUT = {"gc_symbolic.display_form": "returns non-sympy objects unchanged (documented)"}
+NO_BAD_INPUT = {"gc_symbolic.display_form": "returns non-sympy objects unchanged (documented)",
+                "report.MarkdownText": "a str subclass: any text is valid"}
 
 
 def _takes_input(fn) -> bool:

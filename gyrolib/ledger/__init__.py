@@ -13,8 +13,10 @@ import math
 import numbers
 from dataclasses import asdict, dataclass, fields
 
-__all__ = ["STATUSES", "STATUS_MARKS", "LedgerItem", "collect", "summary", "to_json",
-           "to_markdown", "to_table"]
+from gyrolib import _validation as v
+
+__all__ = ["STATUSES", "STATUS_MARKS", "LedgerItem", "collect", "format_value", "summary",
+           "to_json", "to_markdown", "to_table"]
 
 #: The allowed values of :attr:`LedgerItem.status`.
 STATUSES: tuple[str, ...] = ("reproduced", "differs (explained)", "not reproducible")
@@ -46,6 +48,12 @@ class LedgerItem:
     note: str
     chapter: str
     anchor: str = ""
+
+    @property
+    def target(self) -> str:
+        """The book label to link to: ``anchor``, or else the chapter's own label (the
+        chapter file name with ``_`` as ``-``, e.g. ``chapters/gc_model`` → ``gc-model``)."""
+        return self.anchor or self.chapter.rsplit("/", 1)[-1].replace("_", "-")
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -110,20 +118,22 @@ def to_json(items: list[LedgerItem]) -> str:
     return json.dumps(out, indent=2, ensure_ascii=False, sort_keys=False) + "\n"
 
 
-def _fmt(value: float | str | None) -> str:
+def format_value(value: float | str | None) -> str:
+    """A paper or reproduced value as the ledger shows it: 4 significant digits, text as is,
+    ``—`` for no value."""
     if value is None:
         return "—"
     if isinstance(value, str):
         return value
-    return f"{value:.4g}"
+    return f"{v.check_real('value', value):.4g}"
 
 
 def to_table(items: list[LedgerItem]) -> str:
     """A plain-text table for the terminal."""
     items = _check_items(items)
     header = ("id", "paper value", "reproduced", "unit", "status")
-    rows = [(it.id, _fmt(it.paper_value), _fmt(it.reproduced_value), it.unit, it.status)
-            for it in items]
+    rows = [(it.id, format_value(it.paper_value), format_value(it.reproduced_value), it.unit,
+             it.status) for it in items]
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = ["  ".join(c.ljust(w) for c, w in zip(header, widths))]
     lines.append("  ".join("-" * w for w in widths))
@@ -161,11 +171,11 @@ def to_markdown(items: list[LedgerItem], paper: str) -> str:
     for it in items:
         if it.paper != paper:
             continue
-        target = it.anchor or it.chapter.rsplit("/", 1)[-1].replace("_", "-")
-        link = f"{{ref}}`{_md_escape(it.location)} <{target}>`"
+        link = f"{{ref}}`{_md_escape(it.location)} <{it.target}>`"
         lines.append(
             f"| {STATUS_MARKS[it.status]} | `{it.id}`<br>{_md_escape(it.quantity)} | {link} | "
-            f"{_fmt(it.paper_value)} | {_fmt(it.reproduced_value)} | {_md_escape(it.unit)} |"
+            f"{format_value(it.paper_value)} | {format_value(it.reproduced_value)} | "
+            f"{_md_escape(it.unit)} |"
         )
         notes.append(f"`{it.id}`\n: {_md_escape(it.note)}\n")
     return "\n".join(lines) + "\n\n" + "\n".join(notes)

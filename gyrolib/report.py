@@ -1,0 +1,91 @@
+"""How the chapters put computed numbers and tables into the prose.
+
+One place for the formatting every chapter needs, so that a number reads the same wherever it
+appears: scientific notation with superscript exponents (``sci``), thousands grouped by a thin
+space (``grouped``), small Markdown tables that a notebook displays as tables
+(``markdown_table``), and a ``gluer`` that hands formatted numbers to myst-nb's ``glue``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Sequence
+
+from gyrolib import _validation as v
+
+__all__ = ["MarkdownText", "format_number", "gluer", "grouped", "markdown_table", "sci"]
+
+_SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+Formatter = str | Callable[[float], str]
+
+
+def _real(name: str, x: object) -> float:
+    """A finite float from a number, numpy scalar or 0-d array (the chapters pass all three)."""
+    if not isinstance(x, (str, bytes, bool)) and hasattr(x, "__float__"):
+        x = float(x)
+    return v.check_real(name, x)
+
+
+def sci(x: float, digits: int = 3) -> str:
+    """``x`` as ``m·10ⁿ`` with ``digits`` significant digits: ``sci(1.704e-4) == '1.70·10⁻⁴'``."""
+    x = _real("x", x)
+    digits = v.check_int("digits", digits, 1)
+    mantissa, exponent = f"{x:.{digits - 1}e}".split("e")
+    return f"{mantissa}·10{str(int(exponent)).translate(_SUPERSCRIPTS)}"
+
+
+def grouped(x: float, digits: int = 4) -> str:
+    """``x`` with ``digits`` significant digits, thousands grouped by a thin space:
+    ``grouped(13309.4) == '13 310'`` (with a thin space)."""
+    x = v.check_real("x", x)
+    digits = v.check_int("digits", digits, 1)
+    x = float(f"{x:.{digits}g}")
+    if abs(x) >= 1000:
+        return f"{x:,.0f}".replace(",", "\u2009")
+    return f"{x:.{digits}g}"
+
+
+def format_number(value: float, fmt: Formatter = ".4g") -> str:
+    """``value`` formatted by a format spec (e.g. ``".3f"``) or by a function such as
+    :func:`sci`.  Numpy scalars are converted to ``float`` first (their repr would otherwise
+    leak into format specs)."""
+    if callable(fmt):
+        return fmt(value)
+    v.check_str("fmt", fmt)
+    value = _real("value", value)
+    return format(value, fmt)
+
+
+class MarkdownText(str):
+    """A string that Jupyter (and so myst-nb) displays as Markdown."""
+
+    def _repr_markdown_(self) -> str:
+        return str(self)
+
+
+def markdown_table(header: Sequence[object], rows: Iterable[Sequence[object]]) -> MarkdownText:
+    """A Markdown table from a header and rows (cells are converted with ``str``)."""
+    header = [str(c) for c in header]
+    if not header:
+        raise ValueError("header must name at least one column")
+    lines = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+    for i, row in enumerate(rows):
+        cells = [str(c) for c in row]
+        if len(cells) != len(header):
+            raise ValueError(f"rows[{i}] must have {len(header)} cells; got {len(cells)}")
+        lines.append("| " + " | ".join(cells) + " |")
+    return MarkdownText("\n".join(lines))
+
+
+def gluer(prefix: str, default_fmt: Formatter = ".4g") -> Callable[..., None]:
+    """A function ``gl(key, value, fmt=default_fmt)`` that glues ``value``, formatted by
+    :func:`format_number`, under ``prefix + key`` for the prose (``{glue:text}`prefix_key```).
+    Chapters prefix their keys because glue keys are global across the book."""
+    v.check_str("prefix", prefix)
+
+    def gl(key: str, value: float, fmt: Formatter = default_fmt) -> None:
+        from myst_nb import glue  # only the chapters need myst-nb
+
+        glue(f"{prefix}{v.check_str('key', key)}", format_number(value, fmt), display=False)
+
+    return gl
