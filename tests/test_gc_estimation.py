@@ -84,7 +84,7 @@ def test_covariance_fast_matches_reference_with_exact_per_step_exponential():
         assert np.max(np.abs(a / b - 1.0)) < 1e-9, name
 
 
-def test_monte_carlo_fast_and_reference_identical_for_same_seed():
+def test_monte_carlo_fast_and_reference_agree_for_same_seed():
     # 40 runs = one full and one partial block of 32; estimates and truth agree to rounding
     # (1e-9 of the filter's σ), so the two paths draw and use the same random numbers.
     a = ge.monte_carlo(P, 40, 0.3, seed=11, store_every=10)
@@ -92,9 +92,12 @@ def test_monte_carlo_fast_and_reference_identical_for_same_seed():
     sig = np.sqrt(np.diagonal(a.P, axis1=1, axis2=2))[None, 1:, :]
     assert np.max(np.abs(a.est[:, 1:] - b.est[:, 1:]) / sig) < 1e-9
     assert np.max(np.abs(a.tru[:, 1:] - b.tru[:, 1:]) / sig) < 1e-9
-    # same seed → same runs; the first runs do not depend on how many runs there are
+    # same seed → same runs; the first runs do not depend on how many runs there are.  The
+    # random draws are identical, but SIMD/BLAS rounding depends on the block width and the
+    # CPU, so the estimates agree to rounding (1e-9 σ), not bit for bit.
     c = ge.monte_carlo(P, 5, 0.3, seed=11, store_every=10)
-    assert np.array_equal(c.est, a.est[:5])
+    assert np.max(np.abs(c.est[:, 1:] - a.est[:5, 1:]) / sig) < 1e-9
+    assert np.max(np.abs(c.tru[:, 1:] - a.tru[:5, 1:]) / sig) < 1e-9
 
 
 def test_monte_carlo_is_consistent_within_chi_square_bounds():
