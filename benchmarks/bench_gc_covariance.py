@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark: covariance analysis of paper GC over 100 s at Δt = 1 ms (issue 7, target 1).
 
-Ours: ``gyrolib.gc_estimation.covariance_analysis`` end to end (nominal motion, affine Van Loan
+Ours: ``gyrolib.gc.covariance_analysis`` end to end (nominal motion, affine Van Loan
 discretization, numba covariance loop).  Peer, in the same process: the same filter run step by
 step with filterpy's ``KalmanFilter`` (``predict``/``update``, Joseph form), fed the same
 ``Φ_k``, ``Q_d,k`` (precomputed; that precomputation is not counted against the peer).  Prints
@@ -20,8 +20,7 @@ import time
 import numpy as np
 from filterpy.kalman import KalmanFilter
 
-from gyrolib.gc_estimation import covariance_analysis, discretize
-from gyrolib.gyrocompass import GyrocompassParams, initial_covariance
+from gyrolib.gc import GyrocompassParams, covariance_analysis, discretize, initial_covariance
 
 
 def peer_filterpy(params: GyrocompassParams, t_end: float) -> tuple[float, np.ndarray]:

@@ -2,7 +2,7 @@
 """Benchmark: Monte Carlo of paper GC, 1000 runs × 100 s, truth simulation and filter
 (issue 7, target 2).
 
-Ours: ``gyrolib.gc_estimation.monte_carlo`` (gains computed once, all runs propagated as a
+Ours: ``gyrolib.gc.monte_carlo`` (gains computed once, all runs propagated as a
 batch by a numba kernel parallel over blocks of runs; random numbers drawn by numpy in two
 threads).  Peer, in the same process: the plain-numpy reference path
 (``method="reference"``: the same recursion vectorized over runs, one Python step at a time),
@@ -19,8 +19,9 @@ import time
 
 import numpy as np
 
-from gyrolib import gc_estimation as ge
-from gyrolib.gyrocompass import GyrocompassParams
+from gyrolib import filtering, gc
+from gyrolib.gc import GyrocompassParams
+from gyrolib.gc import montecarlo as montecarlo_mod
 
 
 def main() -> None:
@@ -31,11 +32,11 @@ def main() -> None:
     args = ap.parse_args()
     p = GyrocompassParams()
     t0 = time.perf_counter()
-    ge.monte_carlo(p, 8, 0.5, seed=0)  # numba: load from the on-disk cache (or compile once)
+    gc.monte_carlo(p, 8, 0.5, seed=0)  # numba: load from the on-disk cache (or compile once)
     print(f"first call (incl. numba cache load/compile): {time.perf_counter() - t0:.2f} s")
 
     t0 = time.perf_counter()
-    res = ge.monte_carlo(p, args.runs, args.t_end, seed=1)
+    res = gc.monte_carlo(p, args.runs, args.t_end, seed=1)
     ours = time.perf_counter() - t0
     n_rs = args.runs * round(args.t_end / p.dt)
     print(f"ours: monte_carlo({args.runs} runs x {args.t_end:g} s): {ours:.2f} s "
@@ -43,21 +44,21 @@ def main() -> None:
 
     # where the time goes: the same pieces timed separately
     t0 = time.perf_counter()
-    ge.covariance_analysis(p, args.t_end)
+    gc.covariance_analysis(p, args.t_end)
     t_cov = time.perf_counter() - t0
-    rngs = ge._block_rngs(np.random.default_rng(1), args.runs)
+    rngs = montecarlo_mod._block_rngs(np.random.default_rng(1), args.runs)
     n_steps = round(args.t_end / p.dt)
     c0 = time.process_time()
     for rng in rngs:
-        for _k0 in range(0, n_steps, ge._CHUNK):
-            rng.standard_normal((ge._CHUNK, 9, ge._RUN_BLOCK))
+        for _k0 in range(0, n_steps, montecarlo_mod._CHUNK):
+            rng.standard_normal((montecarlo_mod._CHUNK, 9, montecarlo_mod._RUN_BLOCK))
     t_rng = time.process_time() - c0
-    disc = ge.discretize(p, args.t_end)
+    disc = gc.discretize(p, args.t_end)
     X0 = np.zeros((args.runs, 10))
     gains = np.zeros((n_steps, 3, 10))
     t0 = time.perf_counter()
     c0 = time.process_time()
-    ge._run_batch(disc, X0, None, gains, 100, "fast")  # no random numbers: kernel alone
+    montecarlo_mod._run_batch(disc, X0, None, gains, 100, "fast")  # no random numbers: kernel alone
     t_kern, c_kern = time.perf_counter() - t0, time.process_time() - c0
     print(f"  break-down (CPU seconds): covariance+gains {t_cov:.2f} s wall; random numbers "
           f"{t_rng:.2f} s CPU ({args.runs * 9 * n_steps:.1e} normals, "
@@ -65,14 +66,14 @@ def main() -> None:
           f"{c_kern:.2f} s CPU / {t_kern:.2f} s wall")
 
     t0 = time.perf_counter()
-    ge.monte_carlo(p, args.runs, args.peer_t_end, seed=1, method="reference")
+    gc.monte_carlo(p, args.runs, args.peer_t_end, seed=1, method="reference")
     peer_part = time.perf_counter() - t0
     peer = peer_part * args.t_end / args.peer_t_end
     print(f"peer: reference numpy path, {args.runs} runs x {args.peer_t_end:g} s: "
           f"{peer_part:.2f} s -> scaled to {args.t_end:g} s: {peer:.1f} s")
     print(f"ratio peer/ours: {peer / ours:.1f}x")
     nees = res.nees(("omega_gc",)).mean(axis=0)[1:]
-    lo, hi = ge.nees_bounds(1, args.runs)
+    lo, hi = filtering.nees_bounds(1, args.runs)
     inside = 100 * np.mean((nees > lo) & (nees < hi))
     print(f"sanity: NEES(omega_gc) inside the 95 % band at {inside:.0f} % of stored times")
 

@@ -1,10 +1,14 @@
 """gyrolib: the library behind the reproduction of papers GC and RSF.
 
-Modules, one per concept:
+Subpackages, one per subject:
 
-* :mod:`gyrolib.units` – the papers' units, to and from SI;
-* further modules are added by the chapters that need them (the gyrocompass model, shaping
-  filters, Kalman filtering, the roll-correction model).
+* :mod:`gyrolib.gc` — paper GC (gyrocompass drift calibration with a Kalman filter);
+* :mod:`gyrolib.rsf` — paper RSF (roll-gyro scale-factor correction);
+* :mod:`gyrolib.filtering` — paper-agnostic discretization and Kalman filtering;
+* :mod:`gyrolib.units` — the papers' units, to and from SI;
+* :mod:`gyrolib.book` — code only the book uses (prose formats, the reproduction ledger).
+
+Use as ``from gyrolib import gc, rsf, filtering``.
 """
 
 __version__ = "0.1.0"

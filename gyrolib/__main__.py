@@ -19,7 +19,7 @@ def main(argv: list[str] | None = None) -> int:
     led.add_argument("--json", action="store_true", help="print a JSON list of the items")
     args = parser.parse_args(argv)
     if args.command == "ledger":
-        from gyrolib.ledger import collect, to_json, to_table
+        from gyrolib.book.ledger import collect, to_json, to_table
 
         items = collect()
         sys.stdout.write(to_json(items) if args.json else to_table(items))

@@ -268,7 +268,7 @@ def test_every_page_is_clean_in_a_real_browser(site, browser):
 def _ledger_items() -> int | None:
     """How many items gyrolib's ledger has (the page must show them all), if importable."""
     try:
-        from gyrolib.ledger import collect
+        from gyrolib.book.ledger import collect
     except ImportError:
         return None
     return len(collect())
@@ -296,7 +296,7 @@ def test_ledger_page_shows_its_table(site, browser):
                 problems.append(f"table {i + 1} (section {section!r}) is not visible")
         expected = _ledger_items()
         if expected is not None and rows != expected:
-            problems.append(f"the page shows {rows} ledger rows but gyrolib.ledger.collect() "
+            problems.append(f"the page shows {rows} ledger rows but gyrolib.book.ledger.collect() "
                             f"has {expected} items (stale build?)")
         assert not problems, "ledger page:\n  " + "\n  ".join(problems)
     finally:

@@ -1,4 +1,4 @@
-"""gyrolib.gc_estimation: nominal motion and truth model against independent solvers, σ
+"""gyrolib.gc: nominal motion and truth model against independent solvers, σ
 regression values, Monte Carlo consistency (chi-square), fast vs reference paths, the error
 budget adding up, and input validation."""
 
@@ -9,8 +9,8 @@ import pytest
 import scipy.stats
 from scipy.integrate import solve_ivp
 
-from gyrolib import gc_estimation as ge
-from gyrolib.gyrocompass import GyrocompassParams, nominal_motion, state_index
+from gyrolib import filtering, gc
+from gyrolib.gc import GyrocompassParams, nominal_motion, state_index
 from gyrolib.units import ARCSEC_PAPER
 
 P = GyrocompassParams()
@@ -20,7 +20,7 @@ def test_nominal_half_steps_matches_radau():
     # ETD2 on the half-step grid against the model's Radau solution (rtol 1e-11) of Eq. (4)
     # over 100 s: agreement to 1e-12 rad (β_n reaches 8.6e-3 rad).
     n = 100_000
-    beta = ge.nominal_half_steps(P, n)
+    beta = gc.nominal_half_steps(P, n)
     idx = np.array([0, 1, 2, 5, 40, 2_000, 50_001, 2 * n])
     ref = nominal_motion(P, idx * P.dt / 2)
     assert np.max(np.abs(beta[idx] - ref.beta)) < 1e-12
@@ -37,8 +37,8 @@ def test_truth_model_integrates_nonlinear_eq3():
     x0[3] = 0.15 * ARCSEC_PAPER
     x0[4] = x0[5] = 120 * ARCSEC_PAPER
     x0[6], x0[7], x0[8], x0[9] = 1e-3, 2e-5, 5e-8, -1e-7
-    t, X = ge.simulate_truth(p, 5.0, x0, seed=None, store_every=100)
-    beta_n = ge.nominal_half_steps(p, 5000)[::200]
+    t, X = gc.simulate_truth(p, 5.0, x0, seed=None, store_every=100)
+    beta_n = gc.nominal_half_steps(p, 5000)[::200]
     A1 = p.vibration_filter().A
     A2 = p.random_drift_filter().A
 
@@ -70,15 +70,15 @@ REGRESSION = {
 
 @pytest.mark.parametrize("shaping_p0", ["stationary", "zero"])
 def test_sigma_curve_regression(shaping_p0):
-    res = ge.covariance_analysis(replace(P, shaping_p0=shaping_p0), 100.0)
+    res = gc.covariance_analysis(replace(P, shaping_p0=shaping_p0), 100.0)
     got = [res.std_at("omega_gc", t) for t in (1.0, 2.0, 10.0, 100.0)]
     assert np.allclose(got, REGRESSION[shaping_p0], rtol=1e-6, atol=0.0)
     assert res.std("omega_gc")[0] == pytest.approx(0.15 * ARCSEC_PAPER)
 
 
 def test_covariance_fast_matches_reference_with_exact_per_step_exponential():
-    res_f = ge.covariance_analysis(P, 1.0, store_every=100)
-    res_r = ge.covariance_analysis(P, 1.0, store_every=100, method="reference")
+    res_f = gc.covariance_analysis(P, 1.0, store_every=100)
+    res_r = gc.covariance_analysis(P, 1.0, store_every=100, method="reference")
     for name in ("dbeta", "psi", "omega_gc", "delta", "N1", "N3"):
         a, b = res_f.std(name)[1:], res_r.std(name)[1:]
         assert np.max(np.abs(a / b - 1.0)) < 1e-9, name
@@ -87,15 +87,15 @@ def test_covariance_fast_matches_reference_with_exact_per_step_exponential():
 def test_monte_carlo_fast_and_reference_agree_for_same_seed():
     # 40 runs = one full and one partial block of 32; estimates and truth agree to rounding
     # (1e-9 of the filter's σ), so the two paths draw and use the same random numbers.
-    a = ge.monte_carlo(P, 40, 0.3, seed=11, store_every=10)
-    b = ge.monte_carlo(P, 40, 0.3, seed=11, store_every=10, method="reference")
+    a = gc.monte_carlo(P, 40, 0.3, seed=11, store_every=10)
+    b = gc.monte_carlo(P, 40, 0.3, seed=11, store_every=10, method="reference")
     sig = np.sqrt(np.diagonal(a.P, axis1=1, axis2=2))[None, 1:, :]
     assert np.max(np.abs(a.est[:, 1:] - b.est[:, 1:]) / sig) < 1e-9
     assert np.max(np.abs(a.tru[:, 1:] - b.tru[:, 1:]) / sig) < 1e-9
     # same seed → same runs; the first runs do not depend on how many runs there are.  The
     # random draws are identical, but SIMD/BLAS rounding depends on the block width and the
     # CPU, so the estimates agree to rounding (1e-9 σ), not bit for bit.
-    c = ge.monte_carlo(P, 5, 0.3, seed=11, store_every=10)
+    c = gc.monte_carlo(P, 5, 0.3, seed=11, store_every=10)
     assert np.max(np.abs(c.est[:, 1:] - a.est[:5, 1:]) / sig) < 1e-9
     assert np.max(np.abs(c.tru[:, 1:] - a.tru[:5, 1:]) / sig) < 1e-9
 
@@ -105,9 +105,9 @@ def test_monte_carlo_is_consistent_within_chi_square_bounds():
     # two-sided 95 % chi-square band at ≥ 90 % of the stored times (≈ 95 % expected; the
     # times are correlated, so not exactly), and so must its time average (the errors of one
     # run are strongly correlated in time, so averaging over time narrows the band little).
-    res = ge.monte_carlo(P, 200, 10.0, seed=2024)
+    res = gc.monte_carlo(P, 200, 10.0, seed=2024)
     nees = res.nees(("omega_gc",)).mean(axis=0)[1:]
-    lo, hi = ge.nees_bounds(1, 200)
+    lo, hi = filtering.nees_bounds(1, 200)
     inside = np.mean((nees > lo) & (nees < hi))
     assert inside >= 0.9
     assert lo < np.mean(nees) < hi
@@ -117,13 +117,13 @@ def test_monte_carlo_is_consistent_within_chi_square_bounds():
 
 
 def test_nees_bounds_match_chi_square():
-    lo, hi = ge.nees_bounds(2, 50, 0.95)
+    lo, hi = filtering.nees_bounds(2, 50, 0.95)
     assert lo == pytest.approx(scipy.stats.chi2.ppf(0.025, 100) / 50)
     assert hi == pytest.approx(scipy.stats.chi2.ppf(0.975, 100) / 50)
 
 
 def test_error_budget_adds_up_to_the_filter_variance():
-    bud = ge.error_budget(P, 10.0)
+    bud = gc.error_budget(P, 10.0)
     total = bud.var.sum(axis=0)
     assert np.allclose(total[1:], bud.total[1:], rtol=1e-8, atol=0.0)
     assert np.all(bud.var >= -1e-30)
@@ -131,51 +131,51 @@ def test_error_budget_adds_up_to_the_filter_variance():
 
 
 def test_time_to_sigma_interpolates_the_first_crossing():
-    res = ge.covariance_analysis(P, 10.0)
+    res = gc.covariance_analysis(P, 10.0)
     level = 1e-3 * ARCSEC_PAPER * 5
-    t = ge.time_to_sigma(res, "omega_gc", level)
+    t = gc.time_to_sigma(res, "omega_gc", level)
     s = res.std("omega_gc")
     k = int(t / P.dt)
     assert s[k] >= level >= s[k + 1]
-    assert np.isnan(ge.time_to_sigma(res, "omega_gc", 1e-30))
+    assert np.isnan(gc.time_to_sigma(res, "omega_gc", 1e-30))
 
 
 def test_information_separates_psi_and_omega_as_beta_grows():
     # Once the float runs aperiodically (t ≫ I/f), Δβ responds to ω_gc like t and to ψ like
     # t² (sin β_n grows ∝ t): the correlation of the two regressors over [0, T] is
     # ∫t·t² / √(∫t² ∫t⁴) = √15/4 ≈ 0.968 whatever T (closed form, to 1e-3).
-    info = ge.information_psi_omega(P, 100.0)
+    info = gc.information_psi_omega(P, 100.0)
     corr = info.correlation()
     assert abs(corr[-1]) == pytest.approx(np.sqrt(15) / 4, abs=1e-3)
     ratio = info.sigma_gc_psi_unknown()[1:] / info.sigma_gc_psi_known()[1:]
     assert ratio[-1] == pytest.approx(1 / np.sqrt(1 - 15 / 16), rel=1e-2)
     # a float frozen at a constant angle makes the two regressors proportional: |corr| → 1
-    frozen = ge.information_psi_omega(P, 100.0, frozen_beta=0.005)
+    frozen = gc.information_psi_omega(P, 100.0, frozen_beta=0.005)
     assert abs(frozen.correlation()[-1]) > 1 - 1e-6
 
 
 def test_sweep_matches_single_runs():
     vals = np.array([0.5, 0.7])
-    out = ge.sweep_sigma_gc(P, "xi1", vals, 2.0)
-    single = ge.covariance_analysis(replace(P, xi1=0.5), 2.0).std("omega_gc")[-1]
+    out = gc.sweep_sigma_gc(P, "xi1", vals, 2.0)
+    single = gc.covariance_analysis(replace(P, xi1=0.5), 2.0).std("omega_gc")[-1]
     assert out[0] == pytest.approx(single, rel=1e-12)
 
 
 @pytest.mark.parametrize(
     ("call", "exc", "match"),
     [
-        (lambda: ge.covariance_analysis(P, 0.0), ValueError, "t_end"),
-        (lambda: ge.covariance_analysis(P, 1.0005), ValueError, "t_end must be a positive"),
-        (lambda: ge.covariance_analysis(P, 1.0, method="slow"), ValueError, "method"),
-        (lambda: ge.covariance_analysis("p", 1.0), TypeError, "params"),
-        (lambda: ge.monte_carlo(P, 0, 1.0, seed=1), ValueError, "n_runs"),
-        (lambda: ge.monte_carlo(P, 2, 1.0, seed=1.5), TypeError, "seed"),
-        (lambda: ge.monte_carlo(P, 2, 1.0, seed=1, truth="x"), ValueError, "truth"),
-        (lambda: ge.simulate_truth(P, 1.0, np.zeros(9)), ValueError, "x0"),
-        (lambda: ge.sweep_sigma_gc(P, "nope", [1.0]), ValueError, "field"),
-        (lambda: ge.sweep_sigma_gc(P, "alpha1", [-1.0]), ValueError, "alpha1"),
-        (lambda: ge.nees_bounds(0, 10), ValueError, "dof"),
-        (lambda: ge.covariance_analysis(P, 1.0).std("bogus"), ValueError, "name"),
+        (lambda: gc.covariance_analysis(P, 0.0), ValueError, "t_end"),
+        (lambda: gc.covariance_analysis(P, 1.0005), ValueError, "t_end must be a positive"),
+        (lambda: gc.covariance_analysis(P, 1.0, method="slow"), ValueError, "method"),
+        (lambda: gc.covariance_analysis("p", 1.0), TypeError, "params"),
+        (lambda: gc.monte_carlo(P, 0, 1.0, seed=1), ValueError, "n_runs"),
+        (lambda: gc.monte_carlo(P, 2, 1.0, seed=1.5), TypeError, "seed"),
+        (lambda: gc.monte_carlo(P, 2, 1.0, seed=1, truth="x"), ValueError, "truth"),
+        (lambda: gc.simulate_truth(P, 1.0, np.zeros(9)), ValueError, "x0"),
+        (lambda: gc.sweep_sigma_gc(P, "nope", [1.0]), ValueError, "field"),
+        (lambda: gc.sweep_sigma_gc(P, "alpha1", [-1.0]), ValueError, "alpha1"),
+        (lambda: filtering.nees_bounds(0, 10), ValueError, "dof"),
+        (lambda: gc.covariance_analysis(P, 1.0).std("bogus"), ValueError, "name"),
     ],
 )
 def test_inputs_are_validated(call, exc, match):
@@ -184,6 +184,6 @@ def test_inputs_are_validated(call, exc, match):
 
 
 def test_state_index_used_for_results():
-    res = ge.covariance_analysis(P, 0.01)
+    res = gc.covariance_analysis(P, 0.01)
     assert res.var.shape == (11, 10)
     assert res.std("psi")[0] == pytest.approx(np.sqrt(res.var[0, state_index("psi")]))

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from conftest import require_built_book
 
-from gyrolib.ledger import STATUSES, LedgerItem, collect, summary, to_json, to_markdown
+from gyrolib.book.ledger import STATUSES, LedgerItem, collect, summary, to_json, to_markdown
 
 ROOT = Path(__file__).resolve().parents[1]
 HTML = ROOT / "_build" / "html"

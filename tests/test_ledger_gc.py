@@ -6,9 +6,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from gyrolib.gc_estimation import covariance_analysis
-from gyrolib.gyrocompass import GyrocompassParams
-from gyrolib.ledger import gc
+from gyrolib.book.ledger import gc
+from gyrolib.gc import GyrocompassParams, covariance_analysis
 from gyrolib.units import ARCSEC_PAPER
 
 REQUIRED = ("gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.fig2.var_N3",

@@ -1,4 +1,4 @@
-"""Ledger items of paper RSF (gyrolib.ledger.rsf): present, computed (not stored), agreeing
+"""Ledger items of paper RSF (gyrolib.book.ledger.rsf): present, computed (not stored), agreeing
 with the print where they say so, linked to labels of the chapter, and moving with inputs."""
 
 import dataclasses
@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from gyrolib import roll_correction as rc
-from gyrolib.ledger import STATUSES
-from gyrolib.ledger import rsf as ledger_rsf
+from gyrolib import rsf
+from gyrolib.book.ledger import STATUSES
+from gyrolib.book.ledger import rsf as ledger_rsf
 from gyrolib.units import from_si
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -62,7 +62,7 @@ def test_reproduced_items_agree_with_the_print(items):
 
 
 def test_values_are_those_of_the_library(items):
-    tab2, tab3 = rc.table2(), rc.table3()
+    tab2, tab3 = rsf.table2(), rsf.table3()
     for i, t in enumerate((10, 60, 120)):
         assert items[f"rsf.table2.dgamma_sins_{t}"].reproduced_value \
             == pytest.approx(from_si(tab2.dgamma_sins[i], "deg"), rel=1e-15)
@@ -71,7 +71,7 @@ def test_values_are_those_of_the_library(items):
         assert items[f"rsf.table3.dgamma_gs_{t}"].reproduced_value \
             == pytest.approx(from_si(tab3.dgamma_gs[i], "deg"), rel=1e-15)
     assert items["rsf.example.delta_K"].reproduced_value \
-        == pytest.approx(rc.worked_example_delta_k(), rel=1e-15)
+        == pytest.approx(rsf.worked_example_delta_k(), rel=1e-15)
     # The explained differences: consistent values against the print.
     assert items["rsf.example.delta_K"].reproduced_value == pytest.approx(1.704e-4, rel=1e-3)
     assert items["rsf.example.delta_K"].paper_value == 0.093
@@ -80,19 +80,19 @@ def test_values_are_those_of_the_library(items):
 
 
 @pytest.mark.parametrize("kwargs, moved, unchanged", [
-    ({"roll_gyro": dataclasses.replace(rc.SIIMU02_ROLL, sf_error=700e-6)},
+    ({"roll_gyro": dataclasses.replace(rsf.SIIMU02_ROLL, sf_error=700e-6)},
      ["rsf.table2.dgamma_sins_10", "rsf.table2.dr_z_120", "rsf.example.compensated",
       "rsf.table1.sf_error"],
      ["rsf.table3.dgamma_gs_10", "rsf.example.delta_K"]),
-    ({"gs_gyro": dataclasses.replace(rc.GYPRO4300, bias_repeatability=rc.GYPRO4300.
+    ({"gs_gyro": dataclasses.replace(rsf.GYPRO4300, bias_repeatability=rsf.GYPRO4300.
                                      bias_repeatability * 2)},
      ["rsf.table3.eps0_t_60", "rsf.table3.dgamma_gs_120", "rsf.example.delta_K",
       "rsf.gs.eps0_total"],
      ["rsf.table2.dgamma_sins_60"]),
-    ({"gs_gyro": dataclasses.replace(rc.GYPRO4300, sf_error=300e-6)},
+    ({"gs_gyro": dataclasses.replace(rsf.GYPRO4300, sf_error=300e-6)},
      ["rsf.example.delta_K", "rsf.example.compensated"],
      ["rsf.table3.dgamma_gs_10"]),
-    ({"encoder": dataclasses.replace(rc.AEDB9340, position_error=rc.AEDB9340.position_error / 2)},
+    ({"encoder": dataclasses.replace(rsf.AEDB9340, position_error=rsf.AEDB9340.position_error / 2)},
      ["rsf.table3.dgamma_gs_10", "rsf.example.delta_K", "rsf.encoder.position_error"],
      ["rsf.table3.eps0_t_10", "rsf.table2.dr_z_10"]),
 ])
@@ -107,7 +107,7 @@ def test_ledger_values_move_when_an_input_is_perturbed(items, kwargs, moved, unc
 
 def test_sf_error_perturbation_scales_table2_linearly(items):
     perturbed = _by_id(ledger_rsf.items(
-        roll_gyro=dataclasses.replace(rc.SIIMU02_ROLL, sf_error=700e-6)))
+        roll_gyro=dataclasses.replace(rsf.SIIMU02_ROLL, sf_error=700e-6)))
     for t in (10, 60, 120):
         key = f"rsf.table2.dgamma_sins_{t}"
         assert perturbed[key].reproduced_value / items[key].reproduced_value \

@@ -9,8 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gyrolib import units
-from gyrolib.gyrocompass import GyrocompassParams, system_matrix
-from gyrolib.shaping_filters import random_drift_filter, vibration_filter
+from gyrolib.gc import GyrocompassParams, random_drift_filter, system_matrix, vibration_filter
 
 POSITIVE_FIELDS = ["I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
                    "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt"]
@@ -91,7 +90,7 @@ def test_unit_round_trip(x, unit):
 
 
 # Kalman-filter invariants -------------------------------------------------------------------
-from gyrolib import kalman  # noqa: E402
+from gyrolib import filtering  # noqa: E402
 
 
 @st.composite
@@ -113,7 +112,7 @@ def _update_problem(draw):
 def test_measurement_update_keeps_p_spd_and_never_increases_a_variance(problem):
     P, H, R = problem
     n, m = P.shape[0], H.shape[0]
-    for update in (kalman.joseph_update, kalman.sequential_update):
+    for update in (filtering.joseph_update, filtering.sequential_update):
         Pn = update(np.zeros(n), P, np.zeros(m), H, R)[1]
         assert np.allclose(Pn, Pn.T, rtol=0, atol=1e-12 * np.max(np.abs(P)))
         d = np.sqrt(np.diag(P))
@@ -127,7 +126,7 @@ def test_measurement_update_keeps_p_spd_and_never_increases_a_variance(problem):
        scale=st.floats(0.1, 10.0))
 def test_constant_states_lose_uncertainty_monotonically_for_any_shaping_filter(
         alpha1, xi1, alpha2, xi2, scale):
-    from gyrolib.gc_estimation import covariance_analysis
+    from gyrolib.gc import covariance_analysis
 
     p = dataclasses.replace(GyrocompassParams(), alpha1=alpha1, xi1=xi1, alpha2=alpha2,
                             xi2=xi2, sigma1_sq=1.86e-6 * scale, sigma2_sq=2.35e-15 * scale)

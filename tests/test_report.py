@@ -1,10 +1,10 @@
-"""gyrolib.report: the number and table formats of the book's prose."""
+"""gyrolib.book.report: the number and table formats of the book's prose."""
 
 import numpy as np
 import pytest
 
-from gyrolib import report
-from gyrolib.ledger import LedgerItem, format_value
+from gyrolib.book import report
+from gyrolib.book.ledger import LedgerItem, format_value
 
 
 @pytest.mark.parametrize(("x", "digits", "text"), [

@@ -1,4 +1,4 @@
-"""Time-domain simulation of the RSF correction loop (gyrolib.rsf_simulation): encoder
+"""Time-domain simulation of the RSF correction loop (gyrolib.rsf.simulation): encoder
 unwrapping, the simulated δK against Eq. (7), the error histories against Eqs. (4) and (8),
 and the sweeps against their predictions."""
 
@@ -8,24 +8,23 @@ import math
 import numpy as np
 import pytest
 
-from gyrolib import roll_correction as rc
-from gyrolib import rsf_simulation as sim
+from gyrolib import rsf
 from gyrolib.units import DEG
 
-QUIET_SINS = sim.SinsGyroModel(eps0=0.0, arw=0.0)
-QUIET_GS = sim.GsModel(arw=0.0)
+QUIET_SINS = rsf.SinsGyroModel(eps0=0.0, arw=0.0)
+QUIET_GS = rsf.GsModel(arw=0.0)
 
 
 # Encoder wrap and unwrap -------------------------------------------------------------------------
 def test_unwrapping_over_600_revolutions_accumulates_no_error():
-    enc = sim.EncoderModel()                        # 4000 counts, 0.33° position error
+    enc = rsf.EncoderModel()                        # 4000 counts, 0.33° position error
     fs, rate, duration = 200.0, 3600.0 * DEG, 60.0  # 10 rev/s for 60 s
     t = np.arange(round(duration * fs) + 1) / fs
     theta = 0.3 + rate * t
     assert theta[-1] / (2 * math.pi) > 600
-    wrapped = sim.encoder_counts(theta, enc, phase=1.0)
+    wrapped = rsf.encoder_counts(theta, enc, phase=1.0)
     assert wrapped.min() >= 0 and wrapped.max() < enc.counts_per_rev
-    unwrapped = sim.unwrap_counts(wrapped, enc.counts_per_rev)
+    unwrapped = rsf.unwrap_counts(wrapped, enc.counts_per_rev)
     # The exact (never wrapped) count, in integers: identical at every sample.
     indicated = theta + enc.position_error * np.sin(theta + 1.0)
     exact = np.floor(indicated / enc.resolution).astype(np.int64)
@@ -36,12 +35,12 @@ def test_unwrapping_over_600_revolutions_accumulates_no_error():
 
 
 def test_unwrapping_inside_the_simulation_of_an_ideal_gs_at_3600_deg_s():
-    cfg = sim.SimulationConfig(roll=sim.RollProfile(3600.0 * DEG),
-                               gs=sim.GsModel(motor_rate_max=math.inf), duration=60.0)
-    rec = sim.simulate(cfg, seed=3)
+    cfg = rsf.SimulationConfig(roll=rsf.RollProfile(3600.0 * DEG),
+                               gs=rsf.GsModel(motor_rate_max=math.inf), duration=60.0)
+    rec = rsf.simulate_flight(cfg, seed=3)
     revolutions = (rec.theta_rel[0, -1] - rec.theta_rel[0, 0]) / (2 * math.pi)
     assert revolutions > 590
-    gs_err = sim.gs_angle(rec)[0] - rec.gamma_true
+    gs_err = rsf.gs_angle(rec)[0] - rec.gamma_true
     # Eq. (9): bias drift plus the encoder error, no whole-revolution slips.
     drift = rec.eps0_gs[0] * rec.t
     bound = 2 * cfg.encoder.position_error + cfg.encoder.resolution + 6 * cfg.gs.arw * 8
@@ -52,13 +51,13 @@ def test_unwrapping_inside_the_simulation_of_an_ideal_gs_at_3600_deg_s():
 def test_noise_free_simulated_delta_k_equals_eq7():
     """Without noise, encoder error or SINS bias, every interval's δK is Eq. (7) exactly
     (its Δγ_enc term set to 0), up to the ω_x-vs-ω factor 1 + ε1 and the fine quantization."""
-    cfg = sim.SimulationConfig(sins=QUIET_SINS, gs=QUIET_GS,
-                               encoder=sim.EncoderModel(counts_per_rev=2**22, position_error=0),
+    cfg = rsf.SimulationConfig(sins=QUIET_SINS, gs=QUIET_GS,
+                               encoder=rsf.EncoderModel(counts_per_rev=2**22, position_error=0),
                                duration=30.0)
-    rec = sim.simulate(cfg, seed=0)
-    run = sim.run_correction(rec, 5.0)
+    rec = rsf.simulate_flight(cfg, seed=0)
+    run = rsf.run_correction(rec, 5.0)
     w = cfg.roll.rate_start
-    eq7 = rc.delta_k(cfg.gs.eps0, 0.0, rc.gyro_output(w, cfg.sins.eps1), 5.0, cfg.gs.eps1,
+    eq7 = rsf.delta_k(cfg.gs.eps0, 0.0, rsf.gyro_output(w, cfg.sins.eps1), 5.0, cfg.gs.eps1,
                      w - cfg.gs.motor_rate_max)
     np.testing.assert_allclose(run.delta_k, eq7, rtol=2e-3)
 
@@ -68,10 +67,10 @@ def test_seeded_delta_k_agrees_with_eq7_within_its_statistical_tolerance():
     (minus the SINS bias term) within 4 standard errors.  Spread: the encoder term, whose
     standard deviation for the phase advance of this interval is predicted; within 15 %
     (4 standard errors of a standard deviation from 400 samples)."""
-    cfg = sim.SimulationConfig(duration=10.0, n_runs=400)
-    rec = sim.simulate(cfg, seed=20240501)
-    dk = sim.run_correction(rec, 5.0).delta_k[:, 0]
-    pred = sim.predict_delta_k(cfg, 5.0)
+    cfg = rsf.SimulationConfig(duration=10.0, n_runs=400)
+    rec = rsf.simulate_flight(cfg, seed=20240501)
+    dk = rsf.run_correction(rec, 5.0).delta_k[:, 0]
+    pred = rsf.predict_delta_k(cfg, 5.0)
     assert abs(dk.mean() - pred.mean) < 4 * pred.std / math.sqrt(dk.size)
     assert dk.std() == pytest.approx(pred.std, rel=0.15)
     # Eq. (7) is the systematic part plus Δγ_enc/(ω_x Δt), with Δγ_enc the rms increment error
@@ -93,9 +92,9 @@ def test_seeded_delta_k_agrees_with_eq7_within_its_statistical_tolerance():
 
 
 def test_sweep_over_period_matches_prediction_and_saturates_at_a_floor():
-    cfg = sim.SimulationConfig(duration=60.0, n_runs=100)
-    rec = sim.simulate(cfg, seed=11)
-    sw = sim.sweep_correction_period(rec, [1.0, 2.0, 5.0, 10.0, 20.0])
+    cfg = rsf.SimulationConfig(duration=60.0, n_runs=100)
+    rec = rsf.simulate_flight(cfg, seed=11)
+    sw = rsf.sweep_correction_period(rec, [1.0, 2.0, 5.0, 10.0, 20.0])
     np.testing.assert_allclose(sw.rms, sw.predicted_rms, rtol=0.15)
     # Longer intervals help (paper), but only down to the systematic floor of the GS gyro.
     assert np.all(np.diff(sw.eq7) < 0)
@@ -106,12 +105,12 @@ def test_sweep_over_period_matches_prediction_and_saturates_at_a_floor():
 
 
 def test_finer_encoder_helps_only_while_quantization_dominates():
-    cfg = sim.SimulationConfig(duration=20.0, n_runs=100)
-    rec = sim.simulate(cfg, seed=5)
+    cfg = rsf.SimulationConfig(duration=20.0, n_runs=100)
+    rec = rsf.simulate_flight(cfg, seed=5)
     counts = [64, 256, 1024, 4096, 16384]
     a = cfg.encoder.position_error
-    with_error = sim.sweep_encoder(rec, [sim.EncoderModel(c, a) for c in counts], 5.0)
-    no_error = sim.sweep_encoder(rec, [sim.EncoderModel(c, 0.0) for c in counts], 5.0)
+    with_error = rsf.sweep_encoder(rec, [rsf.EncoderModel(c, a) for c in counts], 5.0)
+    no_error = rsf.sweep_encoder(rec, [rsf.EncoderModel(c, 0.0) for c in counts], 5.0)
     np.testing.assert_allclose(no_error.rms, no_error.predicted_rms, rtol=0.15)
     np.testing.assert_allclose(with_error.rms, with_error.predicted_rms, rtol=0.15)
     assert no_error.rms[0] > 5 * no_error.rms[-1]
@@ -121,25 +120,25 @@ def test_finer_encoder_helps_only_while_quantization_dominates():
 
 # Error histories ----------------------------------------------------------------------------------
 def test_uncorrected_errors_follow_eq4_and_the_exact_eq8():
-    cfg = sim.SimulationConfig(roll=sim.RollProfile(3600.0 * DEG), sins=QUIET_SINS,
+    cfg = rsf.SimulationConfig(roll=rsf.RollProfile(3600.0 * DEG), sins=QUIET_SINS,
                                duration=60.0, sample_rate=200.0)
-    rec = sim.simulate(cfg, seed=1)
-    run = sim.run_correction(rec, 5.0)
+    rec = rsf.simulate_flight(cfg, seed=1)
+    run = rsf.run_correction(rec, 5.0)
     w = cfg.roll.rate_start
     np.testing.assert_allclose(run.roll_error_raw[0],
-                               rc.sins_roll_error(cfg.sins.eps1, w, rec.t), rtol=1e-9,
+                               rsf.sins_roll_error(cfg.sins.eps1, w, rec.t), rtol=1e-9,
                                atol=1e-12)
-    exact = rc.lateral_deviation_exact(cfg.sins.eps1, w, rec.t)
+    exact = rsf.lateral_deviation_exact(cfg.sins.eps1, w, rec.t)
     np.testing.assert_allclose(run.lateral_raw[0], exact, rtol=1e-4, atol=1e-6)
 
 
 def test_correction_reduces_the_rate_error_to_the_gs_error():
     """After the first interval the corrected SINS rate error is the GS error rate
     (ε0,GS + ε1,GS ω_unc) plus the encoder term: the SINS bias is absorbed too."""
-    cfg = sim.SimulationConfig(sins=sim.SinsGyroModel(arw=0.0),
-                               encoder=sim.EncoderModel(position_error=0.0), duration=60.0)
-    rec = sim.simulate(cfg, seed=2)
-    run = sim.run_correction(rec, 5.0)
+    cfg = rsf.SimulationConfig(sins=rsf.SinsGyroModel(arw=0.0),
+                               encoder=rsf.EncoderModel(position_error=0.0), duration=60.0)
+    rec = rsf.simulate_flight(cfg, seed=2)
+    run = rsf.run_correction(rec, 5.0)
     n5 = round(5.0 * cfg.sample_rate)
     slope = np.polyfit(rec.t[n5:], run.roll_error_corrected[0, n5:], 1)[0]
     gs_rate = cfg.gs.eps0 + cfg.gs.eps1 * (cfg.roll.rate_start - cfg.gs.motor_rate_max)
@@ -151,43 +150,43 @@ def test_correction_reduces_the_rate_error_to_the_gs_error():
 
 
 def test_reset_angle_pins_the_sins_angle_to_the_gs_at_each_correction():
-    rec = sim.simulate(sim.SimulationConfig(duration=20.0), seed=4)
-    run = sim.run_correction(rec, 5.0, reset_angle=True)
+    rec = rsf.simulate_flight(rsf.SimulationConfig(duration=20.0), seed=4)
+    run = rsf.run_correction(rec, 5.0, reset_angle=True)
     idx = np.round(run.t_boundaries[1:] * rec.config.sample_rate).astype(int)
     np.testing.assert_allclose(run.roll_error_corrected[0, idx], run.roll_error_gs[0, idx],
                                atol=1e-12)
 
 
 def test_the_two_readings_of_k_differ_by_eps1_squared_in_simulation():
-    rec = sim.simulate(sim.SimulationConfig(duration=20.0), seed=8)
-    lin = sim.run_correction(rec, 5.0, k_form="linear")
-    rec_ = sim.run_correction(rec, 5.0, k_form="reciprocal")
+    rec = rsf.simulate_flight(rsf.SimulationConfig(duration=20.0), seed=8)
+    lin = rsf.run_correction(rec, 5.0, k_form="linear")
+    rec_ = rsf.run_correction(rec, 5.0, k_form="reciprocal")
     np.testing.assert_allclose(rec_.delta_k - lin.delta_k, lin.eps1_hat**2, rtol=0.01)
 
 
 def test_pi_loop_saturates_at_the_motor_limit_and_tracks_otherwise():
-    cfg = sim.SimulationConfig(duration=5.0)
-    rec = sim.simulate(cfg, seed=0)
+    cfg = rsf.SimulationConfig(duration=5.0)
+    rec = rsf.simulate_flight(cfg, seed=0)
     np.testing.assert_allclose(rec.omega_unc, 300.0 * DEG, rtol=1e-12)
-    quiet_ideal = sim.GsModel(arw=0.0, motor_rate_max=math.inf)
-    ideal = sim.simulate(dataclasses.replace(cfg, gs=quiet_ideal), seed=0)
+    quiet_ideal = rsf.GsModel(arw=0.0, motor_rate_max=math.inf)
+    ideal = rsf.simulate_flight(dataclasses.replace(cfg, gs=quiet_ideal), seed=0)
     # Unsaturated, the loop nulls the MEMS reading: the platform drifts at −ε0,GS/(1 + ε1,GS).
     np.testing.assert_allclose(ideal.omega_unc[0, -200:], -cfg.gs.eps0 / (1 + cfg.gs.eps1),
                                rtol=1e-9)
 
 
 def test_spin_up_is_tracked_by_the_pi_loop():
-    cfg = sim.SimulationConfig(roll=sim.RollProfile(900 * DEG, 3600 * DEG),
-                               gs=sim.GsModel(motor_rate_max=math.inf), duration=10.0)
-    rec = sim.simulate(cfg, seed=0)
+    cfg = rsf.SimulationConfig(roll=rsf.RollProfile(900 * DEG, 3600 * DEG),
+                               gs=rsf.GsModel(motor_rate_max=math.inf), duration=10.0)
+    rec = rsf.simulate_flight(cfg, seed=0)
     # A ramp of α = 270 °/s² leaves α/K_i = 13.5 °/s uncompensated (type-1 loop on the rate).
     ramp = (3600 - 900) * DEG / 10.0
     assert rec.omega_unc[0, -1] == pytest.approx(ramp / cfg.gs.ki, rel=0.05)
 
 
 def test_seed_makes_runs_reproducible():
-    cfg = sim.SimulationConfig(duration=2.0, n_runs=3)
-    a, b, c = sim.simulate(cfg, 7), sim.simulate(cfg, 7), sim.simulate(cfg, 8)
+    cfg = rsf.SimulationConfig(duration=2.0, n_runs=3)
+    a, b, c = rsf.simulate_flight(cfg, 7), rsf.simulate_flight(cfg, 7), rsf.simulate_flight(cfg, 8)
     np.testing.assert_array_equal(a.sins_inc, b.sins_inc)
     np.testing.assert_array_equal(a.theta_rel, b.theta_rel)
     assert not np.array_equal(a.sins_inc, c.sins_inc)
@@ -195,24 +194,24 @@ def test_seed_makes_runs_reproducible():
 
 # Validation --------------------------------------------------------------------------------------
 @pytest.mark.parametrize("make, name", [
-    (lambda: sim.SimulationConfig(sample_rate=10.0, roll=sim.RollProfile(3600 * DEG)),
+    (lambda: rsf.SimulationConfig(sample_rate=10.0, roll=rsf.RollProfile(3600 * DEG)),
      "sample_rate"),
-    (lambda: sim.SimulationConfig(duration=-1.0), "duration"),
-    (lambda: sim.SimulationConfig(duration=1.0, sample_rate=200.5), "duration"),
-    (lambda: sim.SimulationConfig(n_runs=0), "n_runs"),
-    (lambda: sim.SimulationConfig(errors="worst"), "errors"),
-    (lambda: sim.RollProfile(rate_start=0.0), "rate_start"),
-    (lambda: sim.GsModel(kp=-1.0), "kp"),
-    (lambda: sim.GsModel(motor_rate_max=0.0), "motor_rate_max"),
-    (lambda: sim.GsModel(tau_motor=0.0), "tau_motor"),
-    (lambda: sim.SinsGyroModel(eps1=0.9), "eps1"),
-    (lambda: sim.EncoderModel(counts_per_rev=2), "counts_per_rev"),
-    (lambda: sim.EncoderModel(position_error=-1e-3), "position_error"),
-    (lambda: sim.run_correction(sim.simulate(sim.SimulationConfig(duration=2.0), 0), 0.0123),
+    (lambda: rsf.SimulationConfig(duration=-1.0), "duration"),
+    (lambda: rsf.SimulationConfig(duration=1.0, sample_rate=200.5), "duration"),
+    (lambda: rsf.SimulationConfig(n_runs=0), "n_runs"),
+    (lambda: rsf.SimulationConfig(errors="worst"), "errors"),
+    (lambda: rsf.RollProfile(rate_start=0.0), "rate_start"),
+    (lambda: rsf.GsModel(kp=-1.0), "kp"),
+    (lambda: rsf.GsModel(motor_rate_max=0.0), "motor_rate_max"),
+    (lambda: rsf.GsModel(tau_motor=0.0), "tau_motor"),
+    (lambda: rsf.SinsGyroModel(eps1=0.9), "eps1"),
+    (lambda: rsf.EncoderModel(counts_per_rev=2), "counts_per_rev"),
+    (lambda: rsf.EncoderModel(position_error=-1e-3), "position_error"),
+    (lambda: rsf.run_correction(rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), 0), 0.0123),
      "period"),
-    (lambda: sim.run_correction(sim.simulate(sim.SimulationConfig(duration=2.0), 0), 5.0),
+    (lambda: rsf.run_correction(rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), 0), 5.0),
      "period"),
-    (lambda: sim.unwrap_counts(np.array([0, 5000]), 4000), "wrapped"),
+    (lambda: rsf.unwrap_counts(np.array([0, 5000]), 4000), "wrapped"),
 ])
 def test_invalid_simulation_inputs_raise_value_error_naming_the_parameter(make, name):
     with pytest.raises(ValueError, match=name):
@@ -221,8 +220,8 @@ def test_invalid_simulation_inputs_raise_value_error_naming_the_parameter(make, 
 
 def test_invalid_types_raise_type_error():
     with pytest.raises(TypeError, match="wrapped"):
-        sim.unwrap_counts(np.array([0.5, 1.0]), 4000)
+        rsf.unwrap_counts(np.array([0.5, 1.0]), 4000)
     with pytest.raises(TypeError, match="config"):
-        sim.simulate("config", seed=0)
+        rsf.simulate_flight("config", seed=0)
     with pytest.raises(TypeError, match="seed"):
-        sim.simulate(sim.SimulationConfig(duration=2.0), seed=1.5)
+        rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=1.5)

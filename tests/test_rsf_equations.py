@@ -1,4 +1,4 @@
-"""Paper RSF formulas (gyrolib.roll_correction): hand-checkable cases, SymPy derivations from
+"""Paper RSF formulas (gyrolib.rsf): hand-checkable cases, SymPy derivations from
 the measurement model, and the paper's Tables 2 and 3 against the print."""
 
 import dataclasses
@@ -9,7 +9,7 @@ import pytest
 import sympy as sp
 from scipy.integrate import quad
 
-from gyrolib import roll_correction as rc
+from gyrolib import rsf
 from gyrolib.units import DEG, G0, PPM, from_si, to_si
 
 W3600 = 3600.0 * DEG
@@ -19,37 +19,37 @@ W300 = 300.0 * DEG
 
 # Hand-checkable cases ----------------------------------------------------------------------------
 def test_measurement_model_by_hand():
-    assert rc.gyro_output(1.0, 1e-3, 2e-3) == pytest.approx(1.003, abs=1e-15)
-    np.testing.assert_allclose(rc.gyro_output(np.array([0.0, 2.0]), 0.5, 0.0), [0.0, 3.0])
+    assert rsf.gyro_output(1.0, 1e-3, 2e-3) == pytest.approx(1.003, abs=1e-15)
+    np.testing.assert_allclose(rsf.gyro_output(np.array([0.0, 2.0]), 0.5, 0.0), [0.0, 3.0])
 
 
 def test_eq1_eq2_eq3_by_hand():
-    assert rc.roll_difference(1.25, 1.0) == pytest.approx(0.25)
+    assert rsf.roll_difference(1.25, 1.0) == pytest.approx(0.25)
     # 0.01 rad over 5 s at 10 rad/s: 0.01 / 50 = 2e-4.
-    assert rc.sf_error_estimate(0.01, 10.0, 5.0) == pytest.approx(2e-4, rel=1e-14)
-    assert rc.correction_coefficient(2e-4) == pytest.approx(0.9998, rel=1e-15)
-    assert rc.correction_coefficient(2e-4, "reciprocal") == pytest.approx(1 / 1.0002, rel=1e-15)
-    assert rc.corrected_rate(10.0, 0.9998) == pytest.approx(9.998)
+    assert rsf.sf_error_estimate(0.01, 10.0, 5.0) == pytest.approx(2e-4, rel=1e-14)
+    assert rsf.correction_coefficient(2e-4) == pytest.approx(0.9998, rel=1e-15)
+    assert rsf.correction_coefficient(2e-4, "reciprocal") == pytest.approx(1 / 1.0002, rel=1e-15)
+    assert rsf.corrected_rate(10.0, 0.9998) == pytest.approx(9.998)
 
 
 def test_eq4_eq9_eq7_by_hand():
     # Eq. (4): 600 ppm of 3600 °/s for 10 s is 21.6°.
-    assert from_si(rc.sins_roll_error(600 * PPM, W3600, 10.0), "deg") == pytest.approx(21.6)
+    assert from_si(rsf.sins_roll_error(600 * PPM, W3600, 10.0), "deg") == pytest.approx(21.6)
     # Eq. (9): 3.3e-3 °/s for 10 s plus 0.33°.
-    assert from_si(rc.gs_roll_error_ideal(3.3e-3 * DEG, 10.0, 0.33 * DEG), "deg") \
+    assert from_si(rsf.gs_roll_error_ideal(3.3e-3 * DEG, 10.0, 0.33 * DEG), "deg") \
         == pytest.approx(0.363)
     # Eq. (7): ((3.3e-3 + 280e-6 * 300) * 5 + 0.33) / (900 * 5) = 0.7665 / 4500.
-    dk = rc.delta_k(3.3e-3 * DEG, 0.33 * DEG, W900, 5.0, 280 * PPM, W300)
+    dk = rsf.delta_k(3.3e-3 * DEG, 0.33 * DEG, W900, 5.0, 280 * PPM, W300)
     assert dk == pytest.approx(0.7665 / 4500, rel=1e-12)
     # The ideal form is Eq. (7) without the uncompensated-rate term.
-    assert rc.delta_k_ideal(3.3e-3 * DEG, 0.33 * DEG, W900, 5.0) \
+    assert rsf.delta_k_ideal(3.3e-3 * DEG, 0.33 * DEG, W900, 5.0) \
         == pytest.approx((0.0165 + 0.33) / 4500, rel=1e-12)
 
 
 def test_eq8_cubic_by_hand():
     # g ε1 ω t³ / 6 with ω = 62.83 rad/s: 9.80665 * 6e-4 * 62.8319 * 1000 / 6 = 61.617 m.
     expected = 9.80665 * 6e-4 * (3600 * math.pi / 180) * 1000 / 6
-    assert rc.lateral_deviation_cubic(600 * PPM, W3600, 10.0) == pytest.approx(expected)
+    assert rsf.lateral_deviation_cubic(600 * PPM, W3600, 10.0) == pytest.approx(expected)
     assert expected == pytest.approx(61.617, abs=1e-3)
 
 
@@ -81,11 +81,11 @@ def test_eq2_and_the_two_readings_of_k_from_sympy():
     # The library agrees with both expressions.
     val = {eps1: 600e-6}
     e_hat = float(eps1_hat.subs(val))
-    assert rc.correction_coefficient(e_hat, "linear") == pytest.approx(float(k_lin.subs(val)),
+    assert rsf.correction_coefficient(e_hat, "linear") == pytest.approx(float(k_lin.subs(val)),
                                                                        rel=1e-15)
-    assert rc.correction_coefficient(e_hat, "reciprocal") \
+    assert rsf.correction_coefficient(e_hat, "reciprocal") \
         == pytest.approx(float(k_rec.subs(val)), rel=1e-15)
-    assert rc.residual_sf_error(600e-6, rc.correction_coefficient(e_hat, "reciprocal")) \
+    assert rsf.residual_sf_error(600e-6, rsf.correction_coefficient(e_hat, "reciprocal")) \
         == pytest.approx(600e-6**2, rel=2e-3)
 
 
@@ -101,11 +101,11 @@ def test_eq3_eq4_eq6_eq9_from_sympy():
     # Eq. (6) for a constant ω_unc, and Eq. (9) as its ε1,GS = 0 case.
     gs_error = sp.integrate(e0g + e1g * wu, (tau, 0, t)) + enc
     vals = {e0g: 3.3e-3 * DEG, e1g: 280e-6, wu: W300, enc: 0.33 * DEG, t: 60.0}
-    assert rc.gs_roll_error_nonideal(3.3e-3 * DEG, 280e-6, W300, 60.0, 0.33 * DEG) \
+    assert rsf.gs_roll_error_nonideal(3.3e-3 * DEG, 280e-6, W300, 60.0, 0.33 * DEG) \
         == pytest.approx(float(gs_error.subs(vals)), rel=1e-12)
-    assert rc.gs_roll_error_ideal(3.3e-3 * DEG, 60.0, 0.33 * DEG) \
+    assert rsf.gs_roll_error_ideal(3.3e-3 * DEG, 60.0, 0.33 * DEG) \
         == pytest.approx(float(gs_error.subs({**vals, e1g: 0})), rel=1e-12)
-    assert rc.sins_roll_error(600e-6, W3600, 10.0, eps0=1e-4) == pytest.approx(
+    assert rsf.sins_roll_error(600e-6, W3600, 10.0, eps0=1e-4) == pytest.approx(
         float(sins_error.subs({eps1: 600e-6, w: W3600, t: 10.0, e0: 1e-4})), rel=1e-12)
 
 
@@ -123,9 +123,9 @@ def test_eq5_and_eq7_from_sympy():
     assert sp.simplify((eps1_true_ref - eps1_hat) * sins - gs_error) == 0
     vals = {e0g: 3.3e-3 * DEG, e1g: 280e-6, wu: W300, enc: 0.33 * DEG, w: W900, dt: 5.0,
             eps1: 600e-6}
-    lib = rc.delta_k(3.3e-3 * DEG, 0.33 * DEG, W900, 5.0, 280e-6, W300)
+    lib = rsf.delta_k(3.3e-3 * DEG, 0.33 * DEG, W900, 5.0, 280e-6, W300)
     assert lib == pytest.approx(float(delta_k.subs(vals)), rel=1e-12)
-    assert rc.difference_error(3.3e-3 * DEG, 5.0, 0.33 * DEG, 280e-6, W300) \
+    assert rsf.difference_error(3.3e-3 * DEG, 5.0, 0.33 * DEG, 280e-6, W300) \
         == pytest.approx(float(gs_error.subs(vals)), rel=1e-12)
 
 
@@ -140,9 +140,9 @@ def test_eq8_from_sympy_cubic_and_exact():
     av = 600e-6 * W3600
     for tv in (0.5, 10.0, 60.0, 120.0):
         sub = {a: av, t: tv, g: G0}
-        assert rc.lateral_deviation_exact(600e-6, W3600, tv) == pytest.approx(
+        assert rsf.lateral_deviation_exact(600e-6, W3600, tv) == pytest.approx(
             float(exact.subs(sub)), rel=1e-12)
-        assert rc.lateral_deviation_cubic(600e-6, W3600, tv) == pytest.approx(
+        assert rsf.lateral_deviation_cubic(600e-6, W3600, tv) == pytest.approx(
             float(cubic.subs(sub)), rel=1e-12)
 
 
@@ -152,14 +152,14 @@ def test_eq8_exact_against_quadrature_and_small_angle_limit():
         # ∫∫ f = ∫₀ᵗ (t − s) f(s) ds, by adaptive quadrature.
         ref = quad(lambda s, tv=tv: (tv - s) * G0 * math.sin(av * s), 0, tv, epsabs=0,
                    epsrel=1e-13, limit=200)[0]
-        assert rc.lateral_deviation_exact(600e-6, W3600, tv) == pytest.approx(ref, rel=1e-9)
+        assert rsf.lateral_deviation_exact(600e-6, W3600, tv) == pytest.approx(ref, rel=1e-9)
     # Where a·t is tiny the series branch keeps full precision (no cancellation).
-    tiny = rc.lateral_deviation_exact(1e-6, 1.0, 1e-3)
+    tiny = rsf.lateral_deviation_exact(1e-6, 1.0, 1e-3)
     assert tiny == pytest.approx(G0 * 1e-6 * 1e-9 / 6, rel=1e-12)
 
 
 def test_eq8_cubic_and_exact_diverge_once_the_angle_is_large():
-    tab = rc.table2()
+    tab = rsf.table2()
     ratio = tab.dr_z_exact / tab.dr_z_cubic
     assert ratio[0] == pytest.approx(1.0, abs=0.01)          # 21.6°: small angle still fair
     assert ratio[1] < 0.8 and ratio[2] < 0.4                 # 129.6°, 259.2°: invalid
@@ -167,7 +167,7 @@ def test_eq8_cubic_and_exact_diverge_once_the_angle_is_large():
 
 # The paper's tables against the print ------------------------------------------------------------
 def test_table2_roll_error_reproduces_the_print_exactly():
-    tab = rc.table2()
+    tab = rsf.table2()
     np.testing.assert_allclose(from_si(tab.dgamma_sins, "deg"), [21.6, 129.6, 259.2],
                                rtol=1e-12)
 
@@ -177,7 +177,7 @@ def test_table2_lateral_deviation_follows_t_cubed_but_not_the_printed_constant()
     # The print scales as t³ within its rounding (ratios 216 and 8).
     assert printed[1] / printed[0] == pytest.approx(216.0, rel=1e-3)
     assert printed[2] / printed[1] == pytest.approx(8.0, rel=1e-3)
-    tab = rc.table2()
+    tab = rsf.table2()
     assert tab.dr_z_cubic[0] == pytest.approx(61.617, abs=1e-3)
     # The print is 0.345 of the cubic in metres: not a rounding difference.
     np.testing.assert_allclose(printed / tab.dr_z_cubic, 0.3449, rtol=2e-3)
@@ -186,12 +186,12 @@ def test_table2_lateral_deviation_follows_t_cubed_but_not_the_printed_constant()
 def test_table3_reproduces_the_print_with_the_papers_truncated_bias():
     printed_eps0_t = [0.033, 0.198, 0.396]
     printed_gs = [0.363, 0.528, 0.726]
-    tab = rc.table3(eps0_gs=float(to_si(3.3e-3, "deg/s")))
+    tab = rsf.table3(eps0_gs=float(to_si(3.3e-3, "deg/s")))
     np.testing.assert_allclose(from_si(tab.eps0_t, "deg"), printed_eps0_t, atol=5e-4)
     np.testing.assert_allclose(from_si(tab.dgamma_gs, "deg"), printed_gs, atol=5e-4)
     # With ε0,GS = √(10² + 7²) °/h = 3.39e-3 °/s the values are 2.8 % higher.
-    exact = rc.table3()
-    assert from_si(rc.GYPRO4300.bias_total, "deg/h") == pytest.approx(math.sqrt(149))
+    exact = rsf.table3()
+    assert from_si(rsf.GYPRO4300.bias_total, "deg/h") == pytest.approx(math.sqrt(149))
     np.testing.assert_allclose(from_si(exact.eps0_t, "deg") / printed_eps0_t,
                                3.3907 / 3.3, rtol=1e-3)
     # Δγ_GS − ε0,GS·t is the encoder error 0.33° in every printed column.
@@ -199,56 +199,56 @@ def test_table3_reproduces_the_print_with_the_papers_truncated_bias():
 
 
 def test_worked_example_with_and_without_the_ppm_slip():
-    consistent = rc.worked_example_delta_k()
+    consistent = rsf.worked_example_delta_k()
     assert consistent == pytest.approx(1.704e-4, rel=1e-3)
-    slip = rc.worked_example_delta_k(eps0_gs=float(to_si(3.3e-3, "deg/s")), eps1_gs=280e-3)
+    slip = rsf.worked_example_delta_k(eps0_gs=float(to_si(3.3e-3, "deg/s")), eps1_gs=280e-3)
     assert slip == pytest.approx(0.093, abs=5e-4)   # the printed 0.093
 
 
 def test_delta_k_is_the_residual_scale_factor_error_and_the_share_compensated():
     for k in (0.999, 0.9994, 1.0):
-        assert rc.relative_k_error(k, 600e-6) == pytest.approx(rc.residual_sf_error(600e-6, k),
+        assert rsf.relative_k_error(k, 600e-6) == pytest.approx(rsf.residual_sf_error(600e-6, k),
                                                                abs=1e-15)
-    assert rc.fraction_compensated(600e-6, 1.704e-4) == pytest.approx(1 - 1.704 / 6, rel=1e-12)
+    assert rsf.fraction_compensated(600e-6, 1.704e-4) == pytest.approx(1 - 1.704 / 6, rel=1e-12)
     # The paper's δK = 0.093 would leave 155 times the uncorrected error.
-    assert rc.fraction_compensated(600e-6, 0.093) == pytest.approx(-154.0, rel=1e-12)
+    assert rsf.fraction_compensated(600e-6, 0.093) == pytest.approx(-154.0, rel=1e-12)
 
 
 # Sensor records and validation ----------------------------------------------------------------
 def test_sensor_records_hold_the_papers_values_in_si():
-    assert from_si(rc.SIIMU02_ROLL.bias_instability, "deg/h") == pytest.approx(100.0)
-    assert rc.SIIMU02_ROLL.sf_error == pytest.approx(600e-6)
-    assert from_si(rc.GYPRO4300.bias_repeatability, "deg/h") == pytest.approx(10.0)
-    assert from_si(rc.GYPRO4300.bias_stability, "deg/h") == pytest.approx(7.0)
-    assert rc.GYPRO4300.sf_error == pytest.approx(280e-6)
-    assert from_si(rc.AEDB9340.position_error, "deg") == pytest.approx(0.33)
-    assert rc.AEDB9340.counts_per_rev == 4000
-    assert from_si(rc.AEDB9340.resolution, "deg") == pytest.approx(0.09)
-    changed = dataclasses.replace(rc.GYPRO4300, bias_stability=0.0)
-    assert changed.bias_total == pytest.approx(rc.GYPRO4300.bias_repeatability)
+    assert from_si(rsf.SIIMU02_ROLL.bias_instability, "deg/h") == pytest.approx(100.0)
+    assert rsf.SIIMU02_ROLL.sf_error == pytest.approx(600e-6)
+    assert from_si(rsf.GYPRO4300.bias_repeatability, "deg/h") == pytest.approx(10.0)
+    assert from_si(rsf.GYPRO4300.bias_stability, "deg/h") == pytest.approx(7.0)
+    assert rsf.GYPRO4300.sf_error == pytest.approx(280e-6)
+    assert from_si(rsf.AEDB9340.position_error, "deg") == pytest.approx(0.33)
+    assert rsf.AEDB9340.counts_per_rev == 4000
+    assert from_si(rsf.AEDB9340.resolution, "deg") == pytest.approx(0.09)
+    changed = dataclasses.replace(rsf.GYPRO4300, bias_stability=0.0)
+    assert changed.bias_total == pytest.approx(rsf.GYPRO4300.bias_repeatability)
 
 
 @pytest.mark.parametrize("make, name", [
-    (lambda: rc.RollGyroSpec(sf_error=-1e-4), "sf_error"),
-    (lambda: rc.RollGyroSpec(sf_error=1.0), "sf_error"),
-    (lambda: rc.RollGyroSpec(bias_instability=math.nan), "bias_instability"),
-    (lambda: rc.RollGyroSpec(dynamic_range=0.0), "dynamic_range"),
-    (lambda: rc.MemsGyroSpec(bias_repeatability=-1.0), "bias_repeatability"),
-    (lambda: rc.MemsGyroSpec(bias_stability=math.inf), "bias_stability"),
-    (lambda: rc.EncoderSpec(position_error=-0.1), "position_error"),
-    (lambda: rc.EncoderSpec(cycles_per_rev=0), "cycles_per_rev"),
-    (lambda: rc.EncoderSpec(quadrature=3), "quadrature"),
-    (lambda: rc.sf_error_estimate(0.01, 10.0, 0.0), "dt"),
-    (lambda: rc.sf_error_estimate(0.01, 0.0, 5.0), "omega_x"),
-    (lambda: rc.delta_k(1e-5, 1e-3, 0.0, 5.0), "omega_x"),
-    (lambda: rc.delta_k(-1e-5, 1e-3, 1.0, 5.0), "eps0_gs"),
-    (lambda: rc.delta_k(1e-5, -1e-3, 1.0, 5.0), "dgamma_enc"),
-    (lambda: rc.correction_coefficient(0.1, "square"), "form"),
-    (lambda: rc.correction_coefficient(-1.0, "reciprocal"), "eps1_hat"),
-    (lambda: rc.sins_roll_error(6e-4, 1.0, [-1.0, 2.0]), "t"),
-    (lambda: rc.lateral_deviation_exact(6e-4, 1.0, 10.0, g=0.0), "g"),
-    (lambda: rc.gyro_output(1.0, 2.0), "eps1"),
-    (lambda: rc.table2(times=[]), "times"),
+    (lambda: rsf.RollGyroSpec(sf_error=-1e-4), "sf_error"),
+    (lambda: rsf.RollGyroSpec(sf_error=1.0), "sf_error"),
+    (lambda: rsf.RollGyroSpec(bias_instability=math.nan), "bias_instability"),
+    (lambda: rsf.RollGyroSpec(dynamic_range=0.0), "dynamic_range"),
+    (lambda: rsf.MemsGyroSpec(bias_repeatability=-1.0), "bias_repeatability"),
+    (lambda: rsf.MemsGyroSpec(bias_stability=math.inf), "bias_stability"),
+    (lambda: rsf.EncoderSpec(position_error=-0.1), "position_error"),
+    (lambda: rsf.EncoderSpec(cycles_per_rev=0), "cycles_per_rev"),
+    (lambda: rsf.EncoderSpec(quadrature=3), "quadrature"),
+    (lambda: rsf.sf_error_estimate(0.01, 10.0, 0.0), "dt"),
+    (lambda: rsf.sf_error_estimate(0.01, 0.0, 5.0), "omega_x"),
+    (lambda: rsf.delta_k(1e-5, 1e-3, 0.0, 5.0), "omega_x"),
+    (lambda: rsf.delta_k(-1e-5, 1e-3, 1.0, 5.0), "eps0_gs"),
+    (lambda: rsf.delta_k(1e-5, -1e-3, 1.0, 5.0), "dgamma_enc"),
+    (lambda: rsf.correction_coefficient(0.1, "square"), "form"),
+    (lambda: rsf.correction_coefficient(-1.0, "reciprocal"), "eps1_hat"),
+    (lambda: rsf.sins_roll_error(6e-4, 1.0, [-1.0, 2.0]), "t"),
+    (lambda: rsf.lateral_deviation_exact(6e-4, 1.0, 10.0, g=0.0), "g"),
+    (lambda: rsf.gyro_output(1.0, 2.0), "eps1"),
+    (lambda: rsf.table2(times=[]), "times"),
 ])
 def test_invalid_inputs_raise_value_error_naming_the_parameter(make, name):
     with pytest.raises(ValueError, match=name):
@@ -256,10 +256,10 @@ def test_invalid_inputs_raise_value_error_naming_the_parameter(make, name):
 
 
 @pytest.mark.parametrize("make, name", [
-    (lambda: rc.RollGyroSpec(sf_error="600 ppm"), "sf_error"),
-    (lambda: rc.EncoderSpec(cycles_per_rev=1000.0), "cycles_per_rev"),
-    (lambda: rc.delta_k(True, 1e-3, 1.0, 5.0), "eps0_gs"),
-    (lambda: rc.table2(gyro=rc.GYPRO4300), "gyro"),
+    (lambda: rsf.RollGyroSpec(sf_error="600 ppm"), "sf_error"),
+    (lambda: rsf.EncoderSpec(cycles_per_rev=1000.0), "cycles_per_rev"),
+    (lambda: rsf.delta_k(True, 1e-3, 1.0, 5.0), "eps0_gs"),
+    (lambda: rsf.table2(gyro=rsf.GYPRO4300), "gyro"),
 ])
 def test_wrong_types_raise_type_error_naming_the_parameter(make, name):
     with pytest.raises(TypeError, match=name):

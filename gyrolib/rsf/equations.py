@@ -22,34 +22,21 @@ Eq. (7)    :func:`delta_k`  δK = [(ε0,GS + ε1,GS ω_unc)Δt + Δγ_enc] / (ω
 Eq. (8)    :func:`lateral_deviation_cubic`, :func:`lateral_deviation_exact`
 Eq. (9)    :func:`gs_roll_error_ideal`  ε0,GS t + Δγ_enc
 =========  =====================================================================
-
-The sensor data of the paper (Table 1, the GS gyro table and the encoder) are frozen
-dataclasses :class:`RollGyroSpec`, :class:`MemsGyroSpec` and :class:`EncoderSpec`, with the
-paper's values as defaults (:data:`SIIMU02_ROLL`, :data:`GYPRO4300`, :data:`AEDB9340`).
 """
 
 from __future__ import annotations
 
 import math
-import numbers
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
-from gyrolib.units import G0, to_si
+from gyrolib.rsf._inputs import _nonzero, _sf, _value
+from gyrolib.units import G0
 
 __all__ = [
-    "AEDB9340",
-    "GYPRO4300",
     "K_FORMS",
-    "SIIMU02_ROLL",
-    "EncoderSpec",
-    "MemsGyroSpec",
-    "RollGyroSpec",
-    "Table2",
-    "Table3",
     "corrected_rate",
     "correction_coefficient",
     "delta_k",
@@ -69,166 +56,12 @@ __all__ = [
     "roll_difference",
     "sf_error_estimate",
     "sins_roll_error",
-    "table2",
-    "table3",
-    "worked_example_delta_k",
 ]
+
 
 #: The two readings of the garbled correction coefficient: ``"linear"`` K = 1 − ε̂1,
 #: ``"reciprocal"`` K = 1/(1 + ε̂1).
 K_FORMS: tuple[str, ...] = ("linear", "reciprocal")
-
-# A scale-factor error is a small number; anything at or beyond ±1 is not a scale-factor
-# error of a working gyro (the reading would vanish or change sign).
-_SF_LIMIT = 1.0
-
-
-# Input helpers --------------------------------------------------------------------------------
-def _value(name: str, value: object, *, nonnegative: bool = False) -> float | np.ndarray:
-    """A finite real number or array of them (``nonnegative``: all >= 0)."""
-    if isinstance(value, numbers.Real) and not isinstance(value, bool):
-        out: float | np.ndarray = (v.check_nonnegative(name, value) if nonnegative
-                                   else v.check_real(name, value))
-        return out
-    arr = v.check_array(name, value)
-    if nonnegative and np.any(arr < 0.0):
-        raise ValueError(f"{name} must be >= 0 (finite) everywhere; got min {arr.min()}")
-    return arr if arr.ndim else float(arr)
-
-
-def _nonzero(name: str, value: object) -> float | np.ndarray:
-    """A finite real number (or array) that is nowhere zero: it is a divisor."""
-    out = _value(name, value)
-    if np.any(np.asarray(out) == 0.0):
-        raise ValueError(f"{name} must be nonzero (finite, != 0); got 0")
-    return out
-
-
-def _sf(name: str, value: object) -> float | np.ndarray:
-    """A scale-factor error: finite and in the open interval (−1, 1)."""
-    out = _value(name, value)
-    if np.any(np.abs(np.asarray(out)) >= _SF_LIMIT):
-        raise ValueError(f"{name} must be in (-1.0, 1.0) (a relative scale-factor error); "
-                         f"got {out}")
-    return out
-
-
-# Sensor specification records ------------------------------------------------------------------
-def _optional_positive(name: str, value: object) -> float | None:
-    if value is None:
-        return None
-    return v.check_positive(name, value)
-
-
-@dataclass(frozen=True)
-class RollGyroSpec:
-    """Roll gyro of the SINS: paper RSF, Table 1 (Collins Aerospace SiIMU02).
-
-    * ``bias_instability`` (rad/s, 1σ): printed "100" with the unit lost in the extraction;
-      read as 100 °/h (the only unit for which ε0 ≪ ε1 ω holds as the paper states, and the
-      usual datasheet unit).  It is the additive error ε0 of the measurement model.
-    * ``sf_error`` (dimensionless, 1σ): 600 ppm, the ε1 of Table 2.
-    * ``dynamic_range`` (rad/s): lost in the extraction (``None``).
-    """
-
-    name: str = "Collins Aerospace SiIMU02, roll gyro"
-    bias_instability: float = float(to_si(100.0, "deg/h"))
-    sf_error: float = float(to_si(600.0, "ppm"))
-    dynamic_range: float | None = None
-
-    def __post_init__(self) -> None:
-        v.check_str("name", self.name)
-        object.__setattr__(self, "bias_instability",
-                           v.check_nonnegative("bias_instability", self.bias_instability))
-        object.__setattr__(self, "sf_error",
-                           v.check_in_range("sf_error", self.sf_error, 0.0, _SF_LIMIT,
-                                            high_open=True))
-        object.__setattr__(self, "dynamic_range",
-                           _optional_positive("dynamic_range", self.dynamic_range))
-
-
-@dataclass(frozen=True)
-class MemsGyroSpec:
-    """MEMS gyro of the GS: paper RSF, the GYPRO4300 table (Tronics).
-
-    * ``bias_repeatability`` σ_rep (rad/s, 1σ): 10 °/h;
-    * ``bias_stability`` σ_stab (rad/s, 1σ, in run): 7 °/h;
-    * ``sf_error`` ε1,GS (dimensionless, 1σ): 280 ppm;
-    * ``dynamic_range`` (rad/s): lost in the extraction (``None``).
-
-    :attr:`bias_total` is ε0,GS = √(σ_rep² + σ_stab²) (the paper: the two are uncorrelated).
-    """
-
-    name: str = "Tronics GYPRO4300"
-    bias_repeatability: float = float(to_si(10.0, "deg/h"))
-    bias_stability: float = float(to_si(7.0, "deg/h"))
-    sf_error: float = float(to_si(280.0, "ppm"))
-    dynamic_range: float | None = None
-
-    def __post_init__(self) -> None:
-        v.check_str("name", self.name)
-        for field in ("bias_repeatability", "bias_stability"):
-            object.__setattr__(self, field, v.check_nonnegative(field, getattr(self, field)))
-        object.__setattr__(self, "sf_error",
-                           v.check_in_range("sf_error", self.sf_error, 0.0, _SF_LIMIT,
-                                            high_open=True))
-        object.__setattr__(self, "dynamic_range",
-                           _optional_positive("dynamic_range", self.dynamic_range))
-
-    @property
-    def bias_total(self) -> float:
-        """ε0,GS = √(σ_rep² + σ_stab²), rad/s."""
-        return gs_bias_total(self.bias_repeatability, self.bias_stability)
-
-
-@dataclass(frozen=True)
-class EncoderSpec:
-    """Optical encoder of the GS: paper RSF, Avago AEDB-9340.
-
-    * ``position_error`` Δγ_enc (rad): "position error per revolution"; the value is lost in
-      the extraction.  Table 3 fixes it: Δγ_GS − ε0,GS·t is 0.33° in all three columns, so
-      the paper used Δγ_enc = 0.33° (≈ 20′).  This is the encoder's accuracy (e.g.
-      code-wheel eccentricity), not its resolution.
-    * ``cycles_per_rev`` and ``quadrature``: not given by the paper.  The AEDB-9340 family
-      is a three-channel (A, B, index) incremental module offered in resolutions up to a few
-      thousand cycles per revolution; we *assume* 1000 CPR decoded ×4 (4000 counts per
-      revolution, 0.09° per count).  The simulation sweeps this choice.
-    """
-
-    name: str = "Avago AEDB-9340"
-    position_error: float = float(to_si(0.33, "deg"))
-    cycles_per_rev: int = 1000
-    quadrature: int = 4
-
-    def __post_init__(self) -> None:
-        v.check_str("name", self.name)
-        object.__setattr__(self, "position_error",
-                           v.check_in_range("position_error", self.position_error, 0.0,
-                                            math.pi, high_open=True))
-        object.__setattr__(self, "cycles_per_rev",
-                           v.check_int("cycles_per_rev", self.cycles_per_rev, 1))
-        q = v.check_int("quadrature", self.quadrature, 1)
-        if q not in (1, 2, 4):
-            raise ValueError(f"quadrature must be one of (1, 2, 4) (decoding factor); got {q}")
-        object.__setattr__(self, "quadrature", q)
-
-    @property
-    def counts_per_rev(self) -> int:
-        """Counts per revolution after quadrature decoding."""
-        return self.cycles_per_rev * self.quadrature
-
-    @property
-    def resolution(self) -> float:
-        """Angle of one count, rad."""
-        return 2.0 * math.pi / self.counts_per_rev
-
-
-#: Paper RSF, Table 1: SiIMU02 roll gyro.
-SIIMU02_ROLL = RollGyroSpec()
-#: Paper RSF, the GS gyro table: GYPRO4300.
-GYPRO4300 = MemsGyroSpec()
-#: Paper RSF, the GS encoder: AEDB-9340 (position error inferred from Table 3).
-AEDB9340 = EncoderSpec()
 
 
 # The measurement model and Eqs. (1)-(3) ----------------------------------------------------------
@@ -431,92 +264,3 @@ def lateral_deviation_exact(eps1: float, omega: float, t: ArrayLike,
         return 0.0 * np.asarray(t) if isinstance(t, np.ndarray) else 0.0
     out = g * _x_minus_sin(a * np.asarray(t)) / a**2
     return float(out) if np.ndim(out) == 0 else out
-
-
-# The paper's tables ---------------------------------------------------------------------------
-def _times(times: object) -> np.ndarray:
-    t = v.check_array("times", times, ndim=1)
-    if t.size == 0 or np.any(t < 0.0):
-        raise ValueError("times must be a non-empty 1-D array of values >= 0")
-    return t
-
-
-def _same_shape(record: object, first: str, *others: str) -> None:
-    """The array fields of a result record: 1-D, finite, all the shape of ``first``."""
-    shape = v.check_ndarray(first, getattr(record, first), ndim=1).shape
-    for name in others:
-        v.check_ndarray(name, getattr(record, name), shape=shape)
-
-
-@dataclass(frozen=True)
-class Table2:
-    """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``."""
-
-    t: np.ndarray
-    dgamma_sins: np.ndarray
-    dr_z_cubic: np.ndarray
-    dr_z_exact: np.ndarray
-
-    def __post_init__(self) -> None:
-        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact")
-
-
-def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
-           times: ArrayLike = (10.0, 60.0, 120.0), g: float = G0) -> Table2:
-    """Recompute Table 2 from Eqs. (4) and (8) with the gyro's scale-factor error."""
-    if not isinstance(gyro, RollGyroSpec):
-        raise TypeError(f"gyro must be a RollGyroSpec; got {type(gyro).__name__}")
-    t = _times(times)
-    e1 = gyro.sf_error
-    return Table2(
-        t=t,
-        dgamma_sins=np.asarray(sins_roll_error(e1, omega_true, t)),
-        dr_z_cubic=np.asarray(lateral_deviation_cubic(e1, omega_true, t, g)),
-        dr_z_exact=np.asarray(lateral_deviation_exact(e1, omega_true, t, g)),
-    )
-
-
-@dataclass(frozen=True)
-class Table3:
-    """Paper RSF, Table 3: GS roll error (rad) at times ``t`` for an ideal GS, Eq. (9)."""
-
-    t: np.ndarray
-    eps0_t: np.ndarray
-    dgamma_gs: np.ndarray
-
-    def __post_init__(self) -> None:
-        _same_shape(self, "t", "eps0_t", "dgamma_gs")
-
-
-def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
-           times: ArrayLike = (10.0, 60.0, 120.0), eps0_gs: float | None = None) -> Table3:
-    """Recompute Table 3 from Eq. (9).  ``eps0_gs`` overrides ε0,GS = √(σ_rep² + σ_stab²)
-    (the paper rounds it to 3.3·10⁻³ °/s)."""
-    if not isinstance(gyro, MemsGyroSpec):
-        raise TypeError(f"gyro must be a MemsGyroSpec; got {type(gyro).__name__}")
-    if not isinstance(encoder, EncoderSpec):
-        raise TypeError(f"encoder must be an EncoderSpec; got {type(encoder).__name__}")
-    t = _times(times)
-    e0 = gyro.bias_total if eps0_gs is None else v.check_nonnegative("eps0_gs", eps0_gs)
-    return Table3(
-        t=t,
-        eps0_t=np.asarray(gs_roll_error_ideal(e0, t, 0.0)),
-        dgamma_gs=np.asarray(gs_roll_error_ideal(e0, t, encoder.position_error)),
-    )
-
-
-def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340, *,
-                           omega_x: float = float(to_si(900.0, "deg/s")),
-                           omega_unc: float = float(to_si(300.0, "deg/s")),
-                           dt: float = 5.0, eps0_gs: float | None = None,
-                           eps1_gs: float | None = None) -> float:
-    """δK of the paper's worked example (Eq. (7)): Δt = 5 s, ω_unc = 300 °/s, ω_x = 900 °/s.
-
-    ``eps0_gs`` and ``eps1_gs`` override the gyro's values (to reproduce the print, which
-    uses ε0,GS = 3.3·10⁻³ °/s and, by a slip, ε1,GS = 280·10⁻³ instead of 280 ppm).
-    """
-    v.check_instance("gyro", gyro, MemsGyroSpec)
-    v.check_instance("encoder", encoder, EncoderSpec)
-    e0 = gyro.bias_total if eps0_gs is None else eps0_gs
-    e1 = gyro.sf_error if eps1_gs is None else eps1_gs
-    return delta_k(e0, encoder.position_error, omega_x, dt, e1, omega_unc)

@@ -1,21 +1,13 @@
-"""Discretization and discrete Kalman filtering for linear time-varying models.
+"""Covariance recursion of a whole run of a linear time-varying Kalman filter.
 
-* :func:`van_loan` — exact discretization of ``x' = F x + G w`` over a step ``dt`` with ``F``
-  frozen: transition ``Φ = exp(F dt)`` and process-noise covariance
-  ``Qd = ∫₀^dt exp(F s) G Q Gᵀ exp(Fᵀ s) ds`` by Van Loan's block exponential
-  {cite:p}`VanLoan1978`.
-* :func:`van_loan_derivatives` — the same plus the exact first derivatives of ``Φ`` and ``Qd``
-  along given directions of ``F`` (Fréchet derivative of the matrix exponential).  Paper GC's
-  ``F`` is affine in ``(sin β_n, cos β_n)`` and those move by < 10⁻² over a run, so
-  ``Φ_k ≈ Φ_j + Δs Φ_s + Δc Φ_c`` about an expansion point ``j`` is exact to second order in
-  ``Δs·|∂F/∂s|·dt`` (≈ 10⁻¹³ here): :class:`AffineDiscreteModel`.
-* Updates: :func:`joseph_update` (Joseph form, ``P⁺ = (I−KH)P(I−KH)ᵀ + KRKᵀ``, valid for any
-  gain) and the independent alternative :func:`sequential_update` (the measurements processed
-  one scalar at a time in the conventional form ``P⁺ = P − k hᵀP``, {cite:p}`Bierman1977`).
-* Two paths for the covariance recursion of a whole run: :func:`covariance_reference`
-  (plain numpy, batch Joseph update per step, any per-step ``Φ_k``, ``Qd_k``) and
-  :func:`covariance_fast` (numba, sequential scalar Joseph updates — each O(n²) — and sparse
-  rows of ``Φ``).  Tests show they agree to 1e-9 relative.
+The model is :class:`AffineDiscreteModel`: ``Φ_k``, ``Qd_k`` affine in two scalars
+``(a_k, b_k)`` about expansion points (paper GC's ``F`` is affine in ``(sin β_n, cos β_n)``),
+exact to second order.  Two paths:
+
+* :func:`covariance_reference` — plain numpy, a batch Joseph update per step, any per-step
+  ``Φ_k``, ``Qd_k``;
+* :func:`covariance_fast` — numba, sequential scalar Joseph updates (each O(n²)) and sparse
+  rows of ``Φ``.  Tests show they agree to 1e-9 relative.
 
 The filter is the discrete optimal filter of {cite:p}`Kalman1960` in the notation of
 {cite:p}`BarShalom2001`: predict ``P⁻ = Φ P Φᵀ + Qd``; update with ``z = H x + v``,
@@ -28,183 +20,19 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 from numba import njit
 
 from gyrolib import _validation as v
+from gyrolib.filtering.discretization import _check_covariance
+from gyrolib.filtering.updates import joseph_update
 
 __all__ = [
     "AffineDiscreteModel",
     "CovarianceRun",
     "covariance_fast",
     "covariance_reference",
-    "joseph_update",
     "propagate_fixed_gains",
-    "psd_factor",
-    "sequential_update",
-    "van_loan",
-    "van_loan_derivatives",
 ]
-
-
-# Discretization --------------------------------------------------------------------------
-def _check_model(F: object, G: object, Qc: object, dt: object) -> tuple:
-    F = v.check_array("F", F, ndim=2)
-    n = F.shape[0]
-    if F.shape != (n, n):
-        raise ValueError(f"F must be square; got shape {F.shape}")
-    G = v.check_array("G", G, shape=(n, None))
-    Qc = v.check_array("Qc", Qc, shape=(G.shape[1], G.shape[1]))
-    _check_covariance("Qc", Qc)
-    dt = v.check_positive("dt", dt)
-    return F, G, Qc, dt
-
-
-def _check_covariance(name: str, M: np.ndarray) -> np.ndarray:
-    """A (noise or state) covariance: symmetric to rounding, with a diagonal >= 0."""
-    scale = float(np.max(np.abs(M))) if M.size else 0.0
-    if np.any(np.abs(M - M.T) > 1e-9 * scale):
-        raise ValueError(f"{name} must be a symmetric matrix (a covariance)")
-    if np.any(np.diag(M) < 0.0):
-        raise ValueError(f"{name} must have a diagonal >= 0 (variances); "
-                         f"got min {np.diag(M).min()}")
-    return M
-
-
-def van_loan(F: object, G: object, Qc: object, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """Exact discretization of ``x' = F x + G w`` (``E[w wᵀ] = Qc δ``) over ``dt``.
-
-    Van Loan (1978): with ``M = [[−F, G Qc Gᵀ], [0, Fᵀ]] dt`` and ``E = exp(M)``,
-    ``Φ = E₂₂ᵀ`` and ``Qd = Φ E₁₂`` {cite:p}`VanLoan1978`.  Returns ``(Φ, Qd)``.
-    """
-    F, G, Qc, dt = _check_model(F, G, Qc, dt)
-    n = F.shape[0]
-    M = np.zeros((2 * n, 2 * n))
-    M[:n, :n] = -F * dt
-    M[:n, n:] = G @ Qc @ G.T * dt
-    M[n:, n:] = F.T * dt
-    E = scipy.linalg.expm(M)
-    Phi = E[n:, n:].T.copy()
-    Qd = Phi @ E[:n, n:]
-    return Phi, 0.5 * (Qd + Qd.T)
-
-
-def van_loan_derivatives(
-    F: object, G: object, Qc: object, dt: float, directions: list[np.ndarray]
-) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
-    """``(Φ, Qd)`` of :func:`van_loan` and their exact derivatives along each direction
-    ``E`` of ``F`` (``d/dε`` at ``F + ε E``), from the Fréchet derivative of the block
-    exponential (``scipy.linalg.expm_frechet``)."""
-    F, G, Qc, dt = _check_model(F, G, Qc, dt)
-    if not isinstance(directions, list | tuple):
-        raise TypeError("directions must be a list or tuple of n×n arrays; "
-                        f"got {type(directions).__name__}")
-    n = F.shape[0]
-    M = np.zeros((2 * n, 2 * n))
-    M[:n, :n] = -F * dt
-    M[:n, n:] = G @ Qc @ G.T * dt
-    M[n:, n:] = F.T * dt
-    dPhis, dQds = [], []
-    E = scipy.linalg.expm(M)
-    Phi = E[n:, n:].T.copy()
-    Qd = Phi @ E[:n, n:]
-    for d in directions:
-        d = v.check_array("direction", d, shape=(n, n))
-        dM = np.zeros_like(M)
-        dM[:n, :n] = -d * dt
-        dM[n:, n:] = d.T * dt
-        _, L = scipy.linalg.expm_frechet(M, dM)
-        dPhi = L[n:, n:].T.copy()
-        dQd = dPhi @ E[:n, n:] + Phi @ L[:n, n:]
-        dPhis.append(dPhi)
-        dQds.append(0.5 * (dQd + dQd.T))
-    return Phi, 0.5 * (Qd + Qd.T), dPhis, dQds
-
-
-def psd_factor(Q: object) -> np.ndarray:
-    """A factor ``L`` (n×n) with ``L Lᵀ = Q`` for a symmetric positive semi-definite ``Q``.
-
-    Diagonally scaled eigendecomposition, so that entries many orders of magnitude apart (as
-    in paper GC's ``Qd``) are reproduced to rounding relative to ``√(Qᵢᵢ Qⱼⱼ)``; zero rows
-    stay zero.  Used to draw ``N(0, Q)`` samples.
-    """
-    Q = v.check_array("Q", Q, ndim=2)
-    if Q.shape[0] != Q.shape[1]:
-        raise ValueError(f"Q must be a square matrix; got shape {Q.shape}")
-    _check_covariance("Q", Q)
-    d = np.sqrt(np.diag(Q))
-    nz = d > 0.0
-    L = np.zeros_like(Q)
-    if not np.any(nz):
-        return L
-    Dn = d[nz]
-    S = Q[np.ix_(nz, nz)] / np.outer(Dn, Dn)
-    lam, V = np.linalg.eigh(0.5 * (S + S.T))
-    Ls = V * np.sqrt(np.clip(lam, 0.0, None))
-    L[np.ix_(nz, nz)] = Dn[:, None] * Ls
-    return L
-
-
-# Measurement updates -----------------------------------------------------------------------
-def _check_update(x: object, P: object, z: object, H: object, R: object) -> tuple:
-    x = v.check_array("x", x, ndim=1)
-    n = x.size
-    P = v.check_array("P", P, shape=(n, n))
-    H = v.check_array("H", H, shape=(None, n))
-    m = H.shape[0]
-    z = v.check_array("z", z, shape=(m,))
-    R = v.check_array("R", R, shape=(m, m))
-    if np.any(np.diag(P) < 0.0):
-        raise ValueError("P must have a diagonal >= 0 (variances)")
-    if np.any(np.diag(R) < 0.0):
-        raise ValueError("R must have a diagonal >= 0 (measurement-noise variances)")
-    return x, P, z, H, R
-
-
-def joseph_update(x: object, P: object, z: object, H: object, R: object
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Kalman measurement update in Joseph form {cite:p}`BarShalom2001`.
-
-    ``K = P Hᵀ (H P Hᵀ + R)⁻¹``, ``x⁺ = x + K (z − H x)``,
-    ``P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ`` (symmetric and positive semi-definite by
-    construction).  Returns ``(x⁺, P⁺, K)``.
-    """
-    x, P, z, H, R = _check_update(x, P, z, H, R)
-    S = H @ P @ H.T + R
-    try:
-        K = np.linalg.solve(S, H @ P).T
-    except np.linalg.LinAlgError:
-        raise ValueError("R (with H P Hᵀ) must make the innovation covariance H P Hᵀ + R "
-                         "nonsingular; got a singular one") from None
-    A = np.eye(x.size) - K @ H
-    Pn = A @ P @ A.T + K @ R @ K.T
-    return x + K @ (z - H @ x), 0.5 * (Pn + Pn.T), K
-
-
-def sequential_update(x: object, P: object, z: object, H: object, R: object
-                      ) -> tuple[np.ndarray, np.ndarray]:
-    """Kalman update processing the ``m`` measurements one scalar at a time, in the
-    conventional form ``k = P h / (hᵀ P h + r)``, ``P⁺ = P − k hᵀ P`` {cite:p}`Bierman1977`.
-
-    Requires a diagonal ``R`` (independent sensor noises).  An independent algorithm to
-    cross-check :func:`joseph_update`.  Returns ``(x⁺, P⁺)``.
-    """
-    x, P, z, H, R = _check_update(x, P, z, H, R)
-    if np.any(R != np.diag(np.diag(R))):
-        raise ValueError("R must be diagonal for sequential scalar updates")
-    x = x.copy()
-    P = P.copy()
-    for i in range(H.shape[0]):
-        h = H[i]
-        Ph = P @ h
-        s = float(h @ Ph) + R[i, i]
-        if not s > 0.0:
-            raise ValueError(f"R[{i}, {i}] (with hᵀ P h) must give a positive innovation "
-                             f"variance; got {s}")
-        k = Ph / s
-        x = x + k * (z[i] - float(h @ x))
-        P = P - np.outer(k, Ph)
-    return x, 0.5 * (P + P.T)
 
 
 # Covariance recursion over a run -----------------------------------------------------------

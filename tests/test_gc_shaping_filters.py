@@ -1,4 +1,4 @@
-"""gyrolib.shaping_filters against closed forms (sympy), a second algorithm (PSD quadrature
+"""gyrolib.gc.shaping_filters against closed forms (sympy), a second algorithm (PSD quadrature
 vs Lyapunov) and statistical bounds (seeded exact simulation), paper GC Eqs. (6), (7)."""
 
 import math
@@ -8,21 +8,21 @@ import pytest
 import scipy.linalg
 import sympy as sp
 
-from gyrolib import gc_symbolic as gs
-from gyrolib.gyrocompass import GyrocompassParams
-from gyrolib.shaping_filters import (
+from gyrolib.gc import (
+    GyrocompassParams,
     ShapingFilter,
     mean_square_standard_error,
     psd,
     psd_integral,
     psd_two_sided,
     random_drift_filter,
-    simulate,
+    simulate_shaping_filter,
     stationary_covariance,
+    symbolic,
     vibration_filter,
 )
 
-S = gs.SYMBOLS
+S = symbolic.SYMBOLS
 PAPER = GyrocompassParams()
 # (alpha, xi, sigma²): the paper's values and others spanning the allowed damping range.
 VIB_CASES = [(PAPER.alpha1, PAPER.xi1, PAPER.sigma1_sq), (2.0, 0.05, 3.0), (0.1, 1.0, 1e-8)]
@@ -31,19 +31,19 @@ DRIFT_CASES = [(PAPER.alpha2, PAPER.xi2, PAPER.sigma2_sq), (50.0, 0.9, 1.0), (0.
 
 # Closed forms ------------------------------------------------------------------------------------
 def test_sympy_intensities_give_the_printed_variances():
-    assert sp.simplify(gs.shaping_filter("vibration").output_variance() - S.sigma1_sq) == 0
-    assert sp.simplify(gs.shaping_filter("drift").output_variance() - S.sigma2_sq) == 0
+    assert sp.simplify(symbolic.shaping_filter("vibration").output_variance() - S.sigma1_sq) == 0
+    assert sp.simplify(symbolic.shaping_filter("drift").output_variance() - S.sigma2_sq) == 0
 
 
 def test_other_noise_readings_do_not_give_the_printed_variances():
-    vib = gs.shaping_filter("vibration", "second_line_only").output_variance()
+    vib = symbolic.shaping_filter("vibration", "second_line_only").output_variance()
     assert sp.simplify(vib - S.sigma1_sq * (1 - 2 * S.xi1) ** 2 / 2) == 0
-    drift = gs.shaping_filter("drift", "both_lines").output_variance()
+    drift = symbolic.shaping_filter("drift", "both_lines").output_variance()
     assert sp.simplify(drift - S.sigma2_sq * (S.alpha2**2 + (1 + 2 * S.xi2 * S.alpha2) ** 2)) == 0
 
 
 def test_vibration_filter_transfer_function_is_s_plus_alpha_over_second_order():
-    tf = gs.shaping_filter("vibration").transfer_function()
+    tf = symbolic.shaping_filter("vibration").transfer_function()
     a, xi, s = S.alpha1, S.xi1, S.s
     assert sp.simplify(tf - (s + a) / (s**2 + 2 * xi * a * s + a**2)) == 0
 
@@ -104,7 +104,7 @@ def test_discretization_preserves_the_stationary_covariance(dt):
 def test_simulated_variance_within_five_standard_errors(which, dt, n, seed):
     filt = PAPER.vibration_filter() if which == "vibration" else PAPER.random_drift_filter()
     sigma_sq = PAPER.sigma1_sq if which == "vibration" else PAPER.sigma2_sq
-    y = simulate(filt, dt, n, seed)
+    y = simulate_shaping_filter(filt, dt, n, seed)
     se = mean_square_standard_error(filt, dt, n)
     assert se < 0.01 * sigma_sq  # the run is long enough to test at the per-cent level
     assert abs(np.mean(y**2) - sigma_sq) < 5.0 * se
@@ -115,7 +115,7 @@ def test_standard_error_formula_against_replicated_runs():
     # error with a relative uncertainty ≈ 1/sqrt(2·300) ≈ 4 %; allow 5 of those.
     filt = PAPER.vibration_filter()
     dt, n = 5.0, 10_000
-    ms = np.array([np.mean(simulate(filt, dt, n, seed) ** 2) for seed in range(300)])
+    ms = np.array([np.mean(simulate_shaping_filter(filt, dt, n, seed) ** 2) for seed in range(300)])
     se = mean_square_standard_error(filt, dt, n)
     assert np.std(ms, ddof=1) == pytest.approx(se, rel=5 * 0.041)
     assert abs(ms.mean() - PAPER.sigma1_sq) < 5 * se / math.sqrt(300)
@@ -123,15 +123,15 @@ def test_standard_error_formula_against_replicated_runs():
 
 def test_simulation_is_reproducible_and_seed_dependent():
     filt = PAPER.random_drift_filter()
-    a = simulate(filt, 0.01, 1000, 7)
-    np.testing.assert_array_equal(a, simulate(filt, 0.01, 1000, 7))
-    assert not np.array_equal(a, simulate(filt, 0.01, 1000, 8))
+    a = simulate_shaping_filter(filt, 0.01, 1000, 7)
+    np.testing.assert_array_equal(a, simulate_shaping_filter(filt, 0.01, 1000, 7))
+    assert not np.array_equal(a, simulate_shaping_filter(filt, 0.01, 1000, 8))
 
 
 def test_simulated_lag_one_correlation_matches_the_model():
     filt = PAPER.random_drift_filter()
     dt, n = 0.05, 1_000_000
-    y = simulate(filt, dt, n, 11)
+    y = simulate_shaping_filter(filt, dt, n, 11)
     Phi, _ = filt.discretize(dt)
     P = filt.stationary_covariance()
     r1 = float((filt.C @ Phi @ P @ filt.C.T)[0, 0])
@@ -157,8 +157,8 @@ def test_bad_arguments_are_rejected_by_name():
     with pytest.raises(ValueError, match="dt"):
         filt.discretize(0.0)
     with pytest.raises(ValueError, match="n"):
-        simulate(filt, 0.1, 0, 1)
+        simulate_shaping_filter(filt, 0.1, 0, 1)
     with pytest.raises(TypeError, match="seed"):
-        simulate(filt, 0.1, 10, 1.5)
+        simulate_shaping_filter(filt, 0.1, 10, 1.5)
     with pytest.raises(TypeError, match="filt"):
         psd("not a filter", np.ones(3))

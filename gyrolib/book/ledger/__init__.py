@@ -1,8 +1,8 @@
 """The reproduction ledger: every printed figure, table entry and headline number of both
 papers, with the value this book computes and whether the two agree.
 
-Items are computed, never stored: each paper's module (:mod:`gyrolib.ledger.gc`,
-:mod:`gyrolib.ledger.rsf`) builds its items by calling the same library functions the
+Items are computed, never stored: each paper's module (:mod:`gyrolib.book.ledger.gc`,
+:mod:`gyrolib.book.ledger.rsf`) builds its items by calling the same library functions the
 chapters call.  ``python -m gyrolib ledger [--json]`` prints the ledger.
 """
 
@@ -95,9 +95,9 @@ def collect() -> list[LedgerItem]:
     items: list[LedgerItem] = []
     for module_name in ("gc", "rsf"):
         try:
-            module = __import__(f"gyrolib.ledger.{module_name}", fromlist=["items"])
+            module = __import__(f"gyrolib.book.ledger.{module_name}", fromlist=["items"])
         except ModuleNotFoundError as exc:
-            if exc.name != f"gyrolib.ledger.{module_name}":
+            if exc.name != f"gyrolib.book.ledger.{module_name}":
                 raise
             continue
         items.extend(module.items())

@@ -36,24 +36,18 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib import roll_correction as rc
+from gyrolib.rsf.sensors import AEDB9340, GYPRO4300, SIIMU02_ROLL
 from gyrolib.units import G0, to_si
 
 __all__ = [
     "ERROR_MODES",
-    "CorrectionRun",
-    "DeltaKPrediction",
     "EncoderModel",
     "GsModel",
-    "PeriodSweep",
-    "ResolutionSweep",
     "RollProfile",
     "SensorRecord",
     "SimulationConfig",
@@ -61,18 +55,16 @@ __all__ = [
     "encoder_counts",
     "gs_angle",
     "lateral_error",
-    "predict_delta_k",
-    "run_correction",
-    "simulate",
-    "sweep_correction_period",
-    "sweep_encoder",
+    "simulate_flight",
     "unwrap_counts",
     "with_encoder",
 ]
 
+
 #: ``"fixed"``: every run has the sensors' systematic errors at their +1σ values (the
 #: paper's arithmetic); ``"random"``: drawn from N(0, σ²) per run.
 ERROR_MODES: tuple[str, ...] = ("fixed", "random")
+
 
 # 1 °/√h = 60 °/h·√s: angle random walk converted through the °/h unit of gyrolib.units.
 _DEG_PER_SQRT_HOUR = float(to_si(60.0, "deg/h"))
@@ -111,8 +103,8 @@ class SinsGyroModel:
     roll_correction.SIIMU02_ROLL`); the ARW is not in the paper: 0.15 °/√h is assumed
     (its effect is negligible, see the simulation chapter)."""
 
-    eps1: float = rc.SIIMU02_ROLL.sf_error
-    eps0: float = rc.SIIMU02_ROLL.bias_instability
+    eps1: float = SIIMU02_ROLL.sf_error
+    eps0: float = SIIMU02_ROLL.bias_instability
     arw: float = _arw(0.15)
 
     def __post_init__(self) -> None:
@@ -133,8 +125,8 @@ class GsModel:
     * ``tau_motor`` (s): time constant of the motor's speed response.
     """
 
-    eps0: float = rc.GYPRO4300.bias_total
-    eps1: float = rc.GYPRO4300.sf_error
+    eps0: float = GYPRO4300.bias_total
+    eps1: float = GYPRO4300.sf_error
     arw: float = _arw(0.2)
     motor_rate_max: float = float(to_si(600.0, "deg/s"))
     kp: float = 1.0
@@ -158,10 +150,10 @@ class GsModel:
 class EncoderModel:
     """Encoder: ``counts_per_rev`` counts per revolution and a once-per-revolution position
     error of amplitude ``position_error`` (rad).  Defaults: the AEDB-9340 record
-    (:data:`~gyrolib.roll_correction.AEDB9340`, 4000 counts assumed, 0.33° inferred)."""
+    (:data:`~gyrolib.rsf.AEDB9340`, 4000 counts assumed, 0.33° inferred)."""
 
-    counts_per_rev: int = rc.AEDB9340.counts_per_rev
-    position_error: float = rc.AEDB9340.position_error
+    counts_per_rev: int = AEDB9340.counts_per_rev
+    position_error: float = AEDB9340.position_error
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "counts_per_rev",
@@ -355,7 +347,7 @@ def _pi_loop(omega_body: np.ndarray, gs: GsModel, eps1: np.ndarray, eps0: np.nda
     return w_p.T, reading.T
 
 
-def simulate(config: SimulationConfig, seed: int) -> SensorRecord:
+def simulate_flight(config: SimulationConfig, seed: int) -> SensorRecord:
     """Simulate the vehicle, the SINS roll gyro, the GS and its encoder (no correction yet;
     see :func:`run_correction`).  ``seed`` seeds :func:`numpy.random.default_rng`."""
     if not isinstance(config, SimulationConfig):
@@ -437,288 +429,3 @@ def _cumtrapz(y: np.ndarray, t: np.ndarray) -> np.ndarray:
     out = np.zeros_like(y)
     np.cumsum(0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(t), axis=-1, out=out[..., 1:])
     return out
-
-
-@dataclass(frozen=True)
-class CorrectionRun:
-    """The correction loop applied to a :class:`SensorRecord`.
-
-    Per interval i (arrays M × n_int): ``k`` the coefficient K_i computed at its end,
-    ``eps1_hat`` the estimate of Eq. (2), ``delta_k`` δK_i = K_i (1 + ε1) − 1 (the residual
-    scale-factor error of the next interval).  Per sample (M × (N+1)): roll error of the SINS
-    without and with correction and of the GS; the lateral errors without and with correction
-    (properties, computed on first use with gravity ``g``).
-    """
-
-    period: float
-    k_form: str
-    reset_angle: bool
-    t: np.ndarray
-    t_boundaries: np.ndarray
-    k: np.ndarray
-    eps1_hat: np.ndarray
-    delta_k: np.ndarray
-    roll_error_raw: np.ndarray
-    roll_error_corrected: np.ndarray
-    roll_error_gs: np.ndarray
-    g: float = G0
-
-    def __post_init__(self) -> None:
-        v.check_positive("period", self.period)
-        v.check_choice("k_form", self.k_form, rc.K_FORMS)
-        v.check_bool("reset_angle", self.reset_angle)
-        nt = v.check_ndarray("t", self.t, ndim=1).size
-        v.check_ndarray("t_boundaries", self.t_boundaries, ndim=1)
-        shape = v.check_ndarray("k", self.k, ndim=2).shape
-        for name in ("eps1_hat", "delta_k"):
-            v.check_ndarray(name, getattr(self, name), shape=shape)
-        for name in ("roll_error_raw", "roll_error_corrected", "roll_error_gs"):
-            v.check_ndarray(name, getattr(self, name), shape=(shape[0], nt))
-        v.check_positive("g", self.g)
-
-    @cached_property
-    def lateral_raw(self) -> np.ndarray:
-        """Lateral error of the uncorrected SINS, m (computed on first use)."""
-        return lateral_error(self.t, self.roll_error_raw, self.g)
-
-    @cached_property
-    def lateral_corrected(self) -> np.ndarray:
-        """Lateral error of the corrected SINS, m (computed on first use)."""
-        return lateral_error(self.t, self.roll_error_corrected, self.g)
-
-
-def _steps_per_interval(record: SensorRecord, period: float) -> int:
-    period = v.check_positive("period", period)
-    fs = record.config.sample_rate
-    n_per = period * fs
-    if abs(n_per - round(n_per)) > 1e-9 * max(1.0, n_per) or round(n_per) < 1:
-        raise ValueError(f"period must be a whole number of samples (multiple of "
-                         f"{1.0 / fs} s); got {period}")
-    n_per = round(n_per)
-    if n_per > record.config.n_steps:
-        raise ValueError(f"period must be <= the run duration {record.config.duration} s; "
-                         f"got {period}")
-    return n_per
-
-
-def _interval_estimates(record: SensorRecord, period: float, k_form: str,
-                        gs: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
-    """K_i, ε̂1_i, δK_i and the boundary indices for every complete interval."""
-    n_per = _steps_per_interval(record, period)
-    n_int = record.config.n_steps // n_per
-    idx = np.arange(n_int + 1) * n_per
-    sins_angle = np.concatenate([np.zeros((record.sins_inc.shape[0], 1)),
-                                 np.cumsum(record.sins_inc, axis=1)], axis=1)
-    gs = gs_angle(record) if gs is None else gs
-    sins_d = np.diff(sins_angle[:, idx], axis=1)    # ∫ ω_x dt over each interval
-    gs_d = np.diff(gs[:, idx], axis=1)              # GS angle increment over each interval
-    dgamma = rc.roll_difference(sins_d, gs_d)        # Eq. (1), accumulated over the interval
-    omega_x = sins_d / period                        # mean measured rate
-    eps1_hat = rc.sf_error_estimate(dgamma, omega_x, period)   # Eq. (2)
-    k = rc.correction_coefficient(eps1_hat, k_form)
-    dk = rc.relative_k_error(k, record.eps1_sins[:, None])
-    return k, eps1_hat, dk, idx, sins_angle, gs
-
-
-def run_correction(record: SensorRecord, period: float, *, k_form: str = "linear",
-                   reset_angle: bool = False, g: float = G0) -> CorrectionRun:
-    """Apply the paper's correction every ``period`` seconds.
-
-    K_i from interval i multiplies every SINS increment of interval i + 1 (K = 1 during the
-    first interval).  ``reset_angle=True`` also sets the SINS roll angle to the GS angle at
-    each correction instant (not part of the paper's method).
-    """
-    if not isinstance(record, SensorRecord):
-        raise TypeError(f"record must be a SensorRecord; got {type(record).__name__}")
-    k_form = v.check_choice("k_form", k_form, rc.K_FORMS)
-    if not isinstance(reset_angle, bool):
-        raise TypeError("reset_angle must be a bool")
-    k, eps1_hat, dk, idx, sins_angle, gs = _interval_estimates(record, period, k_form)
-    m_runs, n = record.sins_inc.shape
-    n_per, n_int = int(idx[1]), k.shape[1]
-    # K per step: 1 in the first interval, K_i in interval i + 1, the last K to the end.
-    k_ext = np.concatenate([np.ones((m_runs, 1)), k], axis=1)
-    k_step = k_ext[:, np.minimum(np.arange(n) // n_per, n_int)]
-    corrected = np.concatenate([np.zeros((m_runs, 1)),
-                                np.cumsum(k_step * record.sins_inc, axis=1)], axis=1)
-    if reset_angle:
-        # From each correction instant on, start again from the GS angle.
-        jump = gs[:, idx] - corrected[:, idx]
-        jump[:, 0] = 0.0
-        corrected = corrected + jump[:, np.minimum(np.arange(n + 1) // n_per, n_int)]
-    truth = record.gamma_true[None, :]
-    err_raw = sins_angle - truth
-    err_cor = corrected - truth
-    err_gs = gs - truth
-    t = record.t
-    return CorrectionRun(period=float(period), k_form=k_form, reset_angle=reset_angle, t=t,
-                         t_boundaries=t[idx], k=k, eps1_hat=eps1_hat, delta_k=dk,
-                         roll_error_raw=err_raw, roll_error_corrected=err_cor,
-                         roll_error_gs=err_gs, g=v.check_positive("g", g))
-
-
-# Prediction of δK (Eq. (7) and its statistics) ----------------------------------------------------
-@dataclass(frozen=True)
-class DeltaKPrediction:
-    """What Eq. (7) and the error model predict for δK over one interval.
-
-    ``mean``: the systematic part (ε0,GS + ε1,GS ω_unc)/ω − ε0/ω (signs of the ``"fixed"``
-    mode; 0 in ``"random"`` mode); ``std_encoder``, ``std_quantization``, ``std_noise``,
-    ``std_systematic`` (run-to-run spread in ``"random"`` mode) and ``std`` their RSS;
-    ``eq7``: the paper's Eq. (7) with Δγ_enc = the encoder's position error;
-    ``omega_unc``: the steady uncompensated rate.
-    """
-
-    mean: float
-    std_encoder: float
-    std_quantization: float
-    std_noise: float
-    std_systematic: float
-    std: float
-    eq7: float
-    omega_unc: float
-
-    def __post_init__(self) -> None:
-        v.check_real("mean", self.mean)
-        for name in ("std_encoder", "std_quantization", "std_noise", "std_systematic", "std",
-                     "eq7", "omega_unc"):
-            v.check_nonnegative(name, getattr(self, name))
-
-
-def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction:
-    """Predicted mean and spread of δK for a constant roll rate (first-order error model).
-
-    The encoder's increment error over one interval is Δγ_enc [sin(θ₁+φ) − sin(θ₀+φ)] with
-    θ₁ − θ₀ = (ω − ω_unc)Δt: its standard deviation over a uniform phase is
-    √2 Δγ_enc |sin((ω − ω_unc)Δt/2)|, which averages to Δγ_enc (the Eq. (7) term) over the
-    phase advance.  Quantization adds q √(f (1 − f)), f the fraction of a count in the
-    indicated advance (q/√6 on average over f); the white noises add √((N_SINS² + N_GS²)Δt).
-    """
-    if not isinstance(config, SimulationConfig):
-        raise TypeError(f"config must be a SimulationConfig; got {type(config).__name__}")
-    period = v.check_positive("period", period)
-    if config.roll.rate_end not in (None, config.roll.rate_start):
-        raise ValueError("predict_delta_k needs a constant roll rate (rate_end None or equal "
-                         "to rate_start)")
-    w = config.roll.rate_start
-    s, gs, enc = config.sins, config.gs, config.encoder
-    w_unc = max(w - gs.motor_rate_max, 0.0)
-    span = w * period
-    systematic = (gs.eps0 + gs.eps1 * w_unc) / w - s.eps0 / w
-    advance = (w - w_unc) * period          # body-to-platform turn over one interval
-    std_enc = math.sqrt(2.0) * enc.position_error * abs(math.sin(advance / 2.0)) / span
-    # Quantization: for an indicated advance whose fraction of a count is f, the difference of
-    # the two rounding errors has variance f (1 − f) q²; the position error spreads f over the
-    # phase ψ of the interval, so average over ψ.
-    psi = np.linspace(0.0, 2.0 * math.pi, 1024, endpoint=False)
-    indicated = advance + 2.0 * enc.position_error * math.sin(advance / 2.0) * np.cos(psi)
-    frac = np.mod(indicated / enc.resolution, 1.0)
-    std_q = enc.resolution * math.sqrt(float(np.mean(frac * (1.0 - frac)))) / span
-    std_n = math.sqrt((s.arw**2 + gs.arw**2) * period) / span
-    if config.errors == "fixed":
-        mean, std_sys = systematic, 0.0
-    else:
-        mean = 0.0
-        std_sys = math.sqrt(gs.eps0**2 + (gs.eps1 * w_unc) ** 2 + s.eps0**2) / w
-    std = math.sqrt(std_enc**2 + std_q**2 + std_n**2 + std_sys**2)
-    eq7 = rc.delta_k(abs(gs.eps0), enc.position_error, w, period, abs(gs.eps1), w_unc)
-    return DeltaKPrediction(mean=systematic if config.errors == "fixed" else mean,
-                            std_encoder=std_enc, std_quantization=std_q, std_noise=std_n,
-                            std_systematic=std_sys, std=std, eq7=eq7, omega_unc=w_unc)
-
-
-# Sweeps ------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class PeriodSweep:
-    """δK against the correction period: ``mean``, ``rms`` and ``max_abs`` over all runs and
-    complete intervals, the predicted rms ``predicted_rms`` and the paper's ``eq7``."""
-
-    periods: np.ndarray
-    mean: np.ndarray
-    rms: np.ndarray
-    max_abs: np.ndarray
-    predicted_rms: np.ndarray
-    eq7: np.ndarray
-
-    def __post_init__(self) -> None:
-        _same_length(self, "periods", "mean", "rms", "max_abs", "predicted_rms", "eq7")
-
-
-def _same_length(record: object, first: str, *others: str) -> None:
-    """The array fields of a result record: 1-D, finite, all as long as ``first``."""
-    shape = v.check_ndarray(first, getattr(record, first), ndim=1).shape
-    for name in others:
-        v.check_ndarray(name, getattr(record, name), shape=shape)
-
-
-def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
-                            k_form: str = "linear") -> PeriodSweep:
-    """δK for each correction period in ``periods``, from one simulated flight ensemble."""
-    v.check_instance("record", record, SensorRecord)
-    p = v.check_array("periods", periods, ndim=1)
-    if np.any(p <= 0.0):
-        raise ValueError(f"periods must be > 0 (s); got min {p.min()}")
-    k_form = v.check_choice("k_form", k_form, rc.K_FORMS)
-    gs = gs_angle(record)
-    out = {key: [] for key in ("mean", "rms", "max_abs", "pred", "eq7")}
-    for period in p:
-        dk = _interval_estimates(record, float(period), k_form, gs)[2].ravel()
-        pred = predict_delta_k(record.config, float(period))
-        out["mean"].append(dk.mean())
-        out["rms"].append(math.sqrt(np.mean(dk**2)))
-        out["max_abs"].append(np.abs(dk).max())
-        out["pred"].append(math.hypot(pred.mean, pred.std))
-        out["eq7"].append(pred.eq7)
-    return PeriodSweep(periods=p, mean=np.array(out["mean"]), rms=np.array(out["rms"]),
-                       max_abs=np.array(out["max_abs"]), predicted_rms=np.array(out["pred"]),
-                       eq7=np.array(out["eq7"]))
-
-
-@dataclass(frozen=True)
-class ResolutionSweep:
-    """δK against the encoder: ``counts_per_rev`` and ``position_error`` of each encoder,
-    ``mean``/``rms``/``max_abs`` of δK, ``predicted_rms`` and the paper's ``eq7``."""
-
-    counts_per_rev: np.ndarray
-    position_error: np.ndarray
-    mean: np.ndarray
-    rms: np.ndarray
-    max_abs: np.ndarray
-    predicted_rms: np.ndarray
-    eq7: np.ndarray
-
-    def __post_init__(self) -> None:
-        _same_length(self, "counts_per_rev", "position_error", "mean", "rms", "max_abs",
-                     "predicted_rms", "eq7")
-
-
-def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period: float,
-                  k_form: str = "linear") -> ResolutionSweep:
-    """δK for each encoder in ``encoders`` (same flight, same correction period)."""
-    v.check_instance("record", record, SensorRecord)
-    if not isinstance(encoders, list | tuple):
-        raise TypeError("encoders must be a list or tuple of EncoderModel; "
-                        f"got {type(encoders).__name__}")
-    if not encoders:
-        raise ValueError("encoders must be a non-empty sequence of EncoderModel")
-    for i, enc in enumerate(encoders):
-        v.check_instance(f"encoders[{i}]", enc, EncoderModel)
-    period = v.check_positive("period", period)
-    k_form = v.check_choice("k_form", k_form, rc.K_FORMS)
-    cols = {key: [] for key in ("c", "a", "mean", "rms", "max_abs", "pred", "eq7")}
-    gyro = _gyro_angle(record)    # the same for every encoder
-    for enc in encoders:
-        rec = with_encoder(record, enc)
-        dk = _interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2].ravel()
-        pred = predict_delta_k(rec.config, period)
-        cols["c"].append(enc.counts_per_rev)
-        cols["a"].append(enc.position_error)
-        cols["mean"].append(dk.mean())
-        cols["rms"].append(math.sqrt(np.mean(dk**2)))
-        cols["max_abs"].append(np.abs(dk).max())
-        cols["pred"].append(math.hypot(pred.mean, pred.std))
-        cols["eq7"].append(pred.eq7)
-    return ResolutionSweep(counts_per_rev=np.array(cols["c"]),
-                           position_error=np.array(cols["a"]), mean=np.array(cols["mean"]),
-                           rms=np.array(cols["rms"]), max_abs=np.array(cols["max_abs"]),
-                           predicted_rms=np.array(cols["pred"]), eq7=np.array(cols["eq7"]))

@@ -29,8 +29,8 @@ Spectral conventions (all per rad/s; ``H(jω)`` the filter's frequency response)
   ``2π Φ(2π ν)``.
 
 Also: exact discretization (:meth:`ShapingFilter.discretize`), an exact seeded simulation of
-a stationary output series (:func:`simulate`) and the standard error of its mean square
-(:func:`mean_square_standard_error`).
+a stationary output series (:func:`simulate_shaping_filter`) and the standard error of its
+mean square (:func:`mean_square_standard_error`).
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ __all__ = [
     "psd_integral",
     "psd_two_sided",
     "random_drift_filter",
-    "simulate",
+    "simulate_shaping_filter",
     "stationary_covariance",
     "vibration_filter",
 ]
@@ -221,13 +221,13 @@ def psd_integral(filt: ShapingFilter, *, decades: float = 6.0, n: int = 4001) ->
 
 
 # Simulation -----------------------------------------------------------------------------------
-def _psd_sqrt(M: np.ndarray) -> np.ndarray:
+def _covariance_sqrt(M: np.ndarray) -> np.ndarray:
     """A square root ``L`` with ``L Lᵀ = M`` for a symmetric positive semi-definite ``M``."""
     w, V = np.linalg.eigh(0.5 * (M + M.T))
     return V * np.sqrt(np.clip(w, 0.0, None))
 
 
-def simulate(filt: ShapingFilter, dt: float, n: int, seed: int) -> np.ndarray:
+def simulate_shaping_filter(filt: ShapingFilter, dt: float, n: int, seed: int) -> np.ndarray:
     """Exact simulation of the stationary output ``y(t_k)``, ``t_k = k·dt``, ``k < n``.
 
     The state starts from its stationary distribution ``N(0, P∞)`` and steps with the exact
@@ -243,8 +243,8 @@ def simulate(filt: ShapingFilter, dt: float, n: int, seed: int) -> np.ndarray:
     seed = check_int("seed", seed, 0)
     rng = np.random.default_rng(seed)
     Phi, Qd = filt.discretize(dt)
-    L = _psd_sqrt(Qd)
-    x0 = _psd_sqrt(filt.stationary_covariance()) @ rng.standard_normal(Phi.shape[0])
+    L = _covariance_sqrt(Qd)
+    x0 = _covariance_sqrt(filt.stationary_covariance()) @ rng.standard_normal(Phi.shape[0])
     e = rng.standard_normal((n, L.shape[1]))
     zero = np.zeros((1, 1))
     y = np.zeros(n)

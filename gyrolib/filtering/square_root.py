@@ -20,17 +20,20 @@ import numpy as np
 from numba import njit
 
 from gyrolib import _validation as v
-from gyrolib.kalman import AffineDiscreteModel, CovarianceRun
+from gyrolib.filtering.covariance import AffineDiscreteModel, CovarianceRun
 
-__all__ = ["covariance_square_root", "psd_square_root"]
+__all__ = [
+    "cholesky_semidefinite",
+    "covariance_square_root",
+]
 
 
-def psd_square_root(P: object) -> np.ndarray:
+def cholesky_semidefinite(P: object) -> np.ndarray:
     """A factor ``S`` with ``S Sᵀ = P`` for a symmetric positive semi-definite ``P``."""
-    return _psd_square_root("P", P)
+    return _checked_cholesky_semidefinite("P", P)
 
 
-def _psd_square_root(name: str, P: object) -> np.ndarray:
+def _checked_cholesky_semidefinite(name: str, P: object) -> np.ndarray:
     P = v.check_array(name, P, ndim=2)
     if P.shape[0] != P.shape[1] or not np.allclose(P, P.T, rtol=1e-12, atol=0.0):
         raise ValueError(f"{name} must be a symmetric square matrix")
@@ -41,7 +44,7 @@ def _psd_square_root(name: str, P: object) -> np.ndarray:
 
 
 @njit(cache=True)
-def _psd_cholesky(A, L):
+def _cholesky_semidefinite_kernel(A, L):
     """Lower-triangular ``L`` with ``L Lᵀ = A`` for a positive semi-definite ``A``: a pivot
     below 1e-13 of its diagonal entry marks a singular direction and its column is zero."""
     n = A.shape[0]
@@ -78,7 +81,7 @@ def _sqrt_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, H, r, S0, store_eve
         j = seg[k]
         Phi = Phi0[j] + a[k] * PhiA[j] + b[k] * PhiB[j]
         Qd = Qd0[j] + a[k] * QdA[j] + b[k] * QdB[j]
-        _psd_cholesky(Qd, LQ)
+        _cholesky_semidefinite_kernel(Qd, LQ)
         M[:n, :] = (Phi @ S).T
         M[n:, :] = LQ.T
         Rt = np.linalg.qr(M)[1]
@@ -110,7 +113,7 @@ def _sqrt_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, H, r, S0, store_eve
 
 def covariance_square_root(model: AffineDiscreteModel, P0: object,
                            store_every: int = 1) -> tuple[CovarianceRun, float]:
-    """Covariance recursion of :func:`gyrolib.kalman.covariance_fast` in square-root form.
+    """Covariance recursion of :func:`gyrolib.filtering.covariance_fast` in square-root form.
 
     Returns the run (variances at every step, ``P`` at every ``store_every``-th step) and the
     smallest eigenvalue of the correlation matrix of ``P`` over the stored steps (> 0: the
@@ -120,7 +123,7 @@ def covariance_square_root(model: AffineDiscreteModel, P0: object,
         raise TypeError("model must be an AffineDiscreteModel")
     P0 = v.check_array("P0", P0, shape=(model.n, model.n))
     store_every = v.check_int("store_every", store_every, 1)
-    S0 = _psd_square_root("P0", P0)
+    S0 = _checked_cholesky_semidefinite("P0", P0)
     var = np.empty((model.n_steps + 1, model.n))
     P_stored = np.empty((model.n_steps // store_every + 1, model.n, model.n))
     min_eig = np.array([np.inf])

@@ -1,5 +1,5 @@
 """Ledger items of paper GC: its printed numbers and claims, each reproduced by calling
-:mod:`gyrolib.gyrocompass` and :mod:`gyrolib.gc_estimation` (a covariance analysis of
+:mod:`gyrolib.gc` and :mod:`gyrolib.gc` (a covariance analysis of
 100 s takes a fraction of a second, so the command line stays fast).
 
 Only the paper's printed values are stored here, in :data:`PRINTED`; the reproduced values
@@ -14,9 +14,10 @@ from typing import Final
 
 import numpy as np
 
-from gyrolib.gc_estimation import covariance_analysis, nominal_half_steps, time_to_sigma
-from gyrolib.gyrocompass import GyrocompassParams
-from gyrolib.ledger import LedgerItem
+from gyrolib.book.ledger import LedgerItem
+from gyrolib.gc.covariance import covariance_analysis, time_to_sigma
+from gyrolib.gc.discretization import nominal_half_steps
+from gyrolib.gc.params import GyrocompassParams
 from gyrolib.units import ARCSEC_PAPER, from_si
 
 __all__ = ["PRINTED", "SIGMA_C", "items"]

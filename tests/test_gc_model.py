@@ -1,5 +1,5 @@
-"""gyrolib.gyrocompass against independent references: the sympy derivation of paper GC's
-Eqs. (3)–(8) (gyrolib.gc_symbolic), the paper's printed matrix listing, closed-form and
+"""gyrolib.gc against independent references: the sympy derivation of paper GC's
+Eqs. (3)–(8) (gyrolib.gc.symbolic), the paper's printed matrix listing, closed-form and
 second-integrator solutions of Eq. (4), and the validation contract of GyrocompassParams."""
 
 import dataclasses
@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from gyrolib import gc_symbolic as gs
-from gyrolib.gyrocompass import (
+from gyrolib.gc import (
     STATE_NAMES,
     GyrocompassParams,
     initial_covariance,
@@ -20,10 +19,11 @@ from gyrolib.gyrocompass import (
     nominal_motion,
     nominal_motion_aperiodic,
     nominal_motion_reference,
+    symbolic,
     system_matrix,
 )
 
-S = gs.SYMBOLS
+S = symbolic.SYMBOLS
 BETAS = [0.0, 1e-3, 0.0086, -0.3, 0.7, 1.2, math.pi / 2]
 # A second parameter set far from the paper's, so that no coincidence of values hides an error.
 OTHER = GyrocompassParams(I=2e-4, H=0.3, f=0.11, Omega_v=3e-5, Omega_h=6e-5, g=9.78,
@@ -31,12 +31,12 @@ OTHER = GyrocompassParams(I=2e-4, H=0.3, f=0.11, Omega_v=3e-5, Omega_h=6e-5, g=9
 
 
 # Symbolic model = library model ----------------------------------------------------------------
-@pytest.mark.parametrize("coupling", gs.COUPLINGS)
+@pytest.mark.parametrize("coupling", symbolic.COUPLINGS)
 @pytest.mark.parametrize("params", [GyrocompassParams(), OTHER], ids=["paper", "other"])
 def test_library_matrices_equal_sympy_derivation(coupling, params):
     p = dataclasses.replace(params, vertical_coupling=coupling)
     for beta_n in BETAS:
-        F_sym, G_sym, D_sym = gs.numeric_matrices(p, beta_n)
+        F_sym, G_sym, D_sym = symbolic.numeric_matrices(p, beta_n)
         F = system_matrix(p, beta_n)
         scale = np.abs(F_sym).max()
         np.testing.assert_allclose(F, F_sym, rtol=1e-13, atol=1e-15 * scale)
@@ -45,27 +45,27 @@ def test_library_matrices_equal_sympy_derivation(coupling, params):
 
 
 def test_symbolic_state_order_is_the_library_order():
-    names = [str(x) for x in gs.state_space().x]
+    names = [str(x) for x in symbolic.state_space().x]
     assert names == [r"\Delta\beta", r"\Delta\dot{\beta}", "psi", "omega_gc", "delta", "gamma",
                      "N_1", "N_2", "N_3", "N_4"]
     assert len(names) == len(STATE_NAMES)
 
 
 def _mismatches(model):
-    return {(r.matrix, r.i, r.j) for r in gs.compare_with_paper(model) if not r.equal}
+    return {(r.matrix, r.i, r.j) for r in symbolic.compare_with_paper(model) if not r.equal}
 
 
 def test_derivation_matches_paper_listing_except_the_settled_errata():
     # With X1 = Δβ, X2 = Δβ', every printed entry is reproduced except F(8,7) (printed without
     # its minus sign) and, for the Eq. (5) coupling, the δ/γ pair F(2,5), F(2,6).
-    assert _mismatches(gs.state_space("eq5")) == {("F", 2, 5), ("F", 2, 6), ("F", 8, 7)}
-    assert _mismatches(gs.state_space("printed_F")) == {("F", 8, 7)}
+    assert _mismatches(symbolic.state_space("eq5")) == {("F", 2, 5), ("F", 2, 6), ("F", 8, 7)}
+    assert _mismatches(symbolic.state_space("printed_F")) == {("F", 8, 7)}
     # The printed labels (X1 = Δβ') contradict the printed F and D in many entries.
-    assert len(_mismatches(gs.state_space("eq5", "printed"))) >= 8
+    assert len(_mismatches(symbolic.state_space("eq5", "printed"))) >= 8
 
 
 def test_taylor_expansion_gives_eq4_and_the_printed_eq5():
-    lin = gs.taylor_linearization()
+    lin = symbolic.taylor_linearization()
     t, bn, db = S.t, S.beta_n(S.t), S.dbeta(S.t)
     eq4 = S.I * bn.diff(t, 2) + S.f * bn.diff(t) - S.H * S.Omega_h * sp.cos(bn)
     assert sp.simplify(lin.order0 - eq4) == 0
@@ -78,8 +78,8 @@ def test_taylor_expansion_gives_eq4_and_the_printed_eq5():
 
 
 def test_minus_sign_in_eq1_mirrors_the_motion_and_flips_only_the_delta_term():
-    plus = gs.taylor_linearization(sign=1).order1
-    minus = gs.taylor_linearization(sign=-1).order1
+    plus = symbolic.taylor_linearization(sign=1).order1
+    minus = symbolic.taylor_linearization(sign=-1).order1
     bn = S.beta_n(S.t)
     mirrored = sp.expand(minus.subs(bn, -bn).doit())
     # Both are "lhs − rhs"; the mirrored model has +HΩ_v sin β_n δ on the right instead of −.
@@ -88,8 +88,8 @@ def test_minus_sign_in_eq1_mirrors_the_motion_and_flips_only_the_delta_term():
 
 
 def test_relabelling_maps_eq5_with_reversed_unbalance_onto_printed_listing():
-    rel = gs.relabelling()
-    a, b = gs.state_space("eq5"), gs.state_space("printed_F")
+    rel = symbolic.relabelling()
+    a, b = symbolic.state_space("eq5"), symbolic.state_space("printed_F")
     Fa = a.F.subs(S.omega_ub, -S.omega_ub)
     Tinv = rel.T.inv()
     assert (rel.T * Fa * Tinv - b.F).expand() == sp.zeros(10, 10)

@@ -1,7 +1,7 @@
 """A long run of paper GC's filter: 1000 s at Δt = 1 ms, i.e. 10⁶ steps.
 
 The Joseph-form recursion (numba fast path) and an independent square-root recursion
-(QR time update, Potter measurement updates; :mod:`gyrolib.square_root_filter`) must agree,
+(QR time update, Potter measurement updates; :mod:`gyrolib.filtering.square_root`) must agree,
 and the covariance must stay positive definite all the way.  Rounding errors that the Joseph
 form lets accumulate would show here as a growing difference; the tolerance, 1e-8 relative
 on every standard deviation at every step, is four orders of magnitude above what a 10⁴-step
@@ -11,10 +11,9 @@ run shows (≈ 1e-12) and far below anything visible in a figure.
 import numpy as np
 import pytest
 
-from gyrolib import gc_estimation as ge
-from gyrolib import kalman
-from gyrolib.gyrocompass import STATE_NAMES, GyrocompassParams, initial_covariance
-from gyrolib.square_root_filter import covariance_square_root, psd_square_root
+from gyrolib import filtering, gc
+from gyrolib.filtering import cholesky_semidefinite, covariance_square_root
+from gyrolib.gc import STATE_NAMES, GyrocompassParams, initial_covariance
 
 pytestmark = pytest.mark.slow
 
@@ -25,10 +24,10 @@ STORE = 10_000  # full P every 10 s
 @pytest.fixture(scope="module")
 def runs():
     p = GyrocompassParams()
-    disc = ge.discretize(p, T_END)
+    disc = gc.discretize(p, T_END)
     assert disc.model.n_steps == 1_000_000
     P0 = initial_covariance(p)
-    joseph = kalman.covariance_fast(disc.model, P0, STORE)
+    joseph = filtering.covariance_fast(disc.model, P0, STORE)
     sqrt_run, min_corr_eig = covariance_square_root(disc.model, P0, STORE)
     return joseph, sqrt_run, min_corr_eig
 
@@ -61,10 +60,10 @@ def test_constant_states_never_gain_uncertainty(runs):
         assert np.all(np.diff(s) <= 1e-12 * s[:-1]), name
 
 
-def test_psd_square_root_rejects_indefinite_matrices():
+def test_cholesky_semidefinite_rejects_indefinite_matrices():
     with pytest.raises(ValueError, match="positive semi-definite"):
-        psd_square_root(np.diag([1.0, -1.0]))
+        cholesky_semidefinite(np.diag([1.0, -1.0]))
     with pytest.raises(ValueError, match="symmetric"):
-        psd_square_root(np.array([[1.0, 0.5], [0.0, 1.0]]))
-    S = psd_square_root(np.diag([4.0, 0.0]))
+        cholesky_semidefinite(np.array([[1.0, 0.5], [0.0, 1.0]]))
+    S = cholesky_semidefinite(np.diag([4.0, 0.0]))
     np.testing.assert_allclose(S @ S.T, np.diag([4.0, 0.0]), atol=1e-15)

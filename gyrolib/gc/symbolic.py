@@ -1,6 +1,6 @@
 """Symbolic derivation of paper GC's model, Eqs. (1)–(8), with sympy.
 
-The model chapter shows these derivations and the tests compare :mod:`gyrolib.gyrocompass`
+The model chapter shows these derivations and the tests compare :mod:`gyrolib.gc`
 with them, so both use one source:
 
 * :func:`gyroscopic_torque` (Eq. (1)) and :func:`earth_rate_in_base` (Eq. (2) and the
@@ -18,7 +18,7 @@ with them, so both use one source:
 * :func:`shaping_filter` and :func:`lyapunov_variance` give the shaping filters' transfer
   functions and stationary variances in closed form;
 * :func:`numeric_matrices` evaluates the symbolic ``F``, ``G``, ``D`` for a
-  :class:`~gyrolib.gyrocompass.GyrocompassParams` (lambdified).
+  :class:`~gyrolib.gc.GyrocompassParams` (lambdified).
 
 Geometry used for Eq. (1)–(3) (paper GC, Figure 1, whose drawing did not survive the text
 extraction): the base frame ``Oxyz`` has ``y`` along the gyro's input axis at ``β = 0`` and
@@ -39,7 +39,7 @@ import numpy as np
 import sympy as sp
 
 from gyrolib import _validation as v
-from gyrolib.gyrocompass import GyrocompassParams
+from gyrolib.gc.params import GyrocompassParams
 
 __all__ = [
     "COUPLINGS",
@@ -66,12 +66,17 @@ __all__ = [
     "taylor_linearization",
 ]
 
+
 #: Readings of the vertical-rate coupling: ``"eq5"`` as in Eqs. (3), (5) (γ carries cos β),
 #: ``"printed_F"`` as in the printed F listing (δ carries cos β); see :func:`earth_rate_in_base`.
 COUPLINGS: Final[tuple[str, ...]] = ("eq5", "printed_F")
+
+
 #: State orders: ``"corrected"`` (X1 = Δβ, X2 = Δβ', gyrolib's order) or ``"printed"``
 #: (X1 = Δβ', X2 = Δβ, as the paper labels them).
 STATE_ORDERS: Final[tuple[str, ...]] = ("corrected", "printed")
+
+
 #: Readings of where the white noise enters the shaping filters (6) and (7).
 NOISE_READINGS: Final[dict[str, tuple[str, ...]]] = {
     "vibration": ("paper", "second_line_only"),

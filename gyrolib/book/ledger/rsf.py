@@ -1,7 +1,7 @@
 """Ledger items of paper RSF: every printed number of the roll-gyro correction paper.
 
 Only the ``paper_value`` column (what the paper prints) is stored here, in :data:`PRINTED`;
-every reproduced value is computed by :mod:`gyrolib.roll_correction` from the sensor records,
+every reproduced value is computed by :mod:`gyrolib.rsf` from the sensor records,
 so perturbing a record moves the ledger (see ``tests/test_ledger_rsf.py``).
 """
 
@@ -9,8 +9,17 @@ from __future__ import annotations
 
 from typing import Final
 
-from gyrolib import roll_correction as rc
-from gyrolib.ledger import LedgerItem
+from gyrolib.book.ledger import LedgerItem
+from gyrolib.rsf.equations import fraction_compensated
+from gyrolib.rsf.sensors import (
+    AEDB9340,
+    GYPRO4300,
+    SIIMU02_ROLL,
+    EncoderSpec,
+    MemsGyroSpec,
+    RollGyroSpec,
+)
+from gyrolib.rsf.tables import table2, table3, worked_example_delta_k
 from gyrolib.units import from_si, to_si
 
 __all__ = ["PRINTED", "TIMES", "items"]
@@ -61,16 +70,16 @@ def _item(key: str, location: str, quantity: str, unit: str, value: float | None
     )
 
 
-def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
-          gs_gyro: rc.MemsGyroSpec = rc.GYPRO4300,
-          encoder: rc.EncoderSpec = rc.AEDB9340) -> list[LedgerItem]:
+def items(*, roll_gyro: RollGyroSpec = SIIMU02_ROLL,
+          gs_gyro: MemsGyroSpec = GYPRO4300,
+          encoder: EncoderSpec = AEDB9340) -> list[LedgerItem]:
     """The ledger items of paper RSF, in the order the paper prints them.
 
     The keyword arguments replace the paper's sensor records (for sensitivity checks).
     """
-    for name, value, cls in (("roll_gyro", roll_gyro, rc.RollGyroSpec),
-                             ("gs_gyro", gs_gyro, rc.MemsGyroSpec),
-                             ("encoder", encoder, rc.EncoderSpec)):
+    for name, value, cls in (("roll_gyro", roll_gyro, RollGyroSpec),
+                             ("gs_gyro", gs_gyro, MemsGyroSpec),
+                             ("encoder", encoder, EncoderSpec)):
         if not isinstance(value, cls):
             raise TypeError(f"{name} must be a {cls.__name__}; got {type(value).__name__}")
     out: list[LedgerItem] = []
@@ -110,7 +119,7 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
         paper_value="lost in the extraction"))
 
     # Table 2 -----------------------------------------------------------------------------
-    t2 = rc.table2(roll_gyro)
+    t2 = table2(roll_gyro)
     for t, dg, cubic, exact in zip(TIMES, t2.dgamma_sins, t2.dr_z_cubic, t2.dr_z_exact):
         out.append(_item(
             f"table2.dgamma_sins_{t}", "Table 2", f"SINS roll error Δγ_SINS at t = {t} s",
@@ -124,8 +133,8 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
             f"integral {exact:.4g} m", "rsf-table2"))
 
     # Table 3 -----------------------------------------------------------------------------
-    t3 = rc.table3(gs_gyro, encoder)
-    t3p = rc.table3(gs_gyro, encoder, eps0_gs=float(to_si(PRINTED["gs.eps0_total"], "deg/s")))
+    t3 = table3(gs_gyro, encoder)
+    t3p = table3(gs_gyro, encoder, eps0_gs=float(to_si(PRINTED["gs.eps0_total"], "deg/s")))
     for i, t in enumerate(TIMES):
         out.append(_item(
             f"table3.eps0_t_{t}", "Table 3", f"GS bias error ε0,GS·t at t = {t} s", "°",
@@ -148,8 +157,8 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
         "rsf-gs-vs-sins", paper_value="hundreds"))
 
     # Worked example and conclusion -------------------------------------------------------------
-    dk = rc.worked_example_delta_k(gs_gyro, encoder)
-    dk_slip = rc.worked_example_delta_k(
+    dk = worked_example_delta_k(gs_gyro, encoder)
+    dk_slip = worked_example_delta_k(
         gs_gyro, encoder, eps0_gs=float(to_si(PRINTED["gs.eps0_total"], "deg/s")),
         eps1_gs=float(PRINTED["gs.sf_error"]) * 1e-3)
     out.append(_item(
@@ -157,7 +166,7 @@ def items(*, roll_gyro: rc.RollGyroSpec = rc.SIIMU02_ROLL,
         "differs (explained)",
         f"the print takes ε1,GS = 280·10⁻³ instead of 280 ppm, which gives {dk_slip:.4f}; "
         f"with 280 ppm δK is {dk_slip / dk:.0f}× smaller", "rsf-example"))
-    frac = 100.0 * float(rc.fraction_compensated(roll_gyro.sf_error, dk))
+    frac = 100.0 * float(fraction_compensated(roll_gyro.sf_error, dk))
     out.append(_item(
         "example.compensated", "conclusion", "share of the SF error compensated", "%", frac,
         "differs (explained)",

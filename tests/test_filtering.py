@@ -1,14 +1,14 @@
-"""gyrolib.kalman: discretization against independent integrations, the Joseph update against
+"""gyrolib.filtering: discretization against independent integrations, the Joseph update against
 sequential scalar updates, and the fast covariance path against the plain-numpy reference."""
 
 import numpy as np
 import pytest
 import scipy.linalg
 
-from gyrolib import kalman
-from gyrolib.gc_estimation import discretize
-from gyrolib.gyrocompass import (
+from gyrolib import filtering
+from gyrolib.gc import (
     GyrocompassParams,
+    discretize,
     initial_covariance,
     noise_input_matrix,
     nominal_motion,
@@ -43,7 +43,7 @@ def test_van_loan_matches_fine_step_covariance_ode_for_paper_gc():
     p = GyrocompassParams()
     F = system_matrix(p, 0.005)
     G, Qc = noise_input_matrix(p), process_noise_intensity(p)
-    Phi, Qd = kalman.van_loan(F, G, Qc, p.dt)
+    Phi, Qd = filtering.van_loan(F, G, Qc, p.dt)
     Qi, Phii = _rk4_cov(lambda t: F, G @ Qc @ G.T, np.zeros((10, 10)), np.eye(10), 0.0, p.dt,
                         2000)
     scale = np.sqrt(np.outer(np.diag(Qd), np.diag(Qd))) + 1e-300
@@ -92,10 +92,10 @@ def test_van_loan_derivatives_match_finite_differences():
     G, Qc = noise_input_matrix(p), process_noise_intensity(p)
     E = np.zeros((10, 10))
     E[1, 0], E[1, 2], E[1, 5] = -1.0, 1.0, 0.5
-    _, _, (dPhi,), (dQd,) = kalman.van_loan_derivatives(F, G, Qc, p.dt, [E])
+    _, _, (dPhi,), (dQd,) = filtering.van_loan_derivatives(F, G, Qc, p.dt, [E])
     eps = 1e-3
-    Pp, Qp = kalman.van_loan(F + eps * E, G, Qc, p.dt)
-    Pm, Qm = kalman.van_loan(F - eps * E, G, Qc, p.dt)
+    Pp, Qp = filtering.van_loan(F + eps * E, G, Qc, p.dt)
+    Pm, Qm = filtering.van_loan(F - eps * E, G, Qc, p.dt)
     assert np.allclose(dPhi, (Pp - Pm) / (2 * eps), rtol=1e-6, atol=1e-12)
     # dQd is ~1e-11 of Qd: the finite difference is limited by the rounding of Qd
     # (1e-16 |Qd| / eps ≈ 1e-13 |Qd| ≈ 1e-2 |dQd| at worst): compare to 1e-4 of max |dQd|
@@ -112,8 +112,8 @@ def test_joseph_and_sequential_updates_agree():
     R = np.diag([0.3, 2.0, 0.01])
     x = rng.standard_normal(n)
     z = rng.standard_normal(m)
-    xj, Pj, _ = kalman.joseph_update(x, P, z, H, R)
-    xs, Ps = kalman.sequential_update(x, P, z, H, R)
+    xj, Pj, _ = filtering.joseph_update(x, P, z, H, R)
+    xs, Ps = filtering.sequential_update(x, P, z, H, R)
     assert np.allclose(xj, xs, rtol=1e-12, atol=1e-12)
     assert np.allclose(Pj, Ps, rtol=1e-10, atol=1e-12)
     # independent closed form: information form P⁺ = (P⁻¹ + Hᵀ R⁻¹ H)⁻¹
@@ -126,8 +126,8 @@ def test_joseph_is_symmetric_psd_for_a_suboptimal_gain_via_fixed_gain_path():
     p = GyrocompassParams()
     disc = discretize(p, 0.5)
     P0 = initial_covariance(p)
-    opt = kalman.covariance_fast(disc.model, P0, 1, keep_gains=True)
-    fix = kalman.propagate_fixed_gains(disc.model, P0, opt.gains, disc.model.r,
+    opt = filtering.covariance_fast(disc.model, P0, 1, keep_gains=True)
+    fix = filtering.propagate_fixed_gains(disc.model, P0, opt.gains, disc.model.r,
                                        (disc.model.Qd0, disc.model.QdA, disc.model.QdB))
     assert np.allclose(fix.var, opt.var, rtol=1e-9, atol=0.0)
 
@@ -138,8 +138,8 @@ def test_fast_and_reference_covariance_paths_agree_to_1e_9():
     p = GyrocompassParams()
     disc = discretize(p, 2.0)
     P0 = initial_covariance(p)
-    fast = kalman.covariance_fast(disc.model, P0, 100)
-    ref = kalman.covariance_reference(disc.model, P0, 100)
+    fast = filtering.covariance_fast(disc.model, P0, 100)
+    ref = filtering.covariance_reference(disc.model, P0, 100)
     nz = ref.var > 0
     assert np.max(np.abs(fast.var[nz] / ref.var[nz] - 1.0)) < 1e-9
     assert np.all(fast.var[~nz] == 0.0)
@@ -150,7 +150,7 @@ def test_psd_factor_reproduces_gc_process_noise():
     p = GyrocompassParams()
     disc = discretize(p, 0.01)
     Qd = disc.model.Qd0[0]
-    L = kalman.psd_factor(Qd)
+    L = filtering.covariance_factor(Qd)
     scale = np.sqrt(np.outer(np.diag(Qd), np.diag(Qd))) + 1e-300
     assert np.max(np.abs(L @ L.T - Qd) / scale) < 1e-10
 
@@ -158,7 +158,7 @@ def test_psd_factor_reproduces_gc_process_noise():
 def test_van_loan_for_a_scalar_closed_form():
     # x' = −a x + w: Φ = e^{−a dt}, Qd = q (1 − e^{−2 a dt}) / (2 a).
     a, q, dt = 3.0, 0.7, 0.2
-    Phi, Qd = kalman.van_loan([[-a]], [[1.0]], [[q]], dt)
+    Phi, Qd = filtering.van_loan([[-a]], [[1.0]], [[q]], dt)
     assert Phi[0, 0] == pytest.approx(np.exp(-a * dt), rel=1e-14)
     assert Qd[0, 0] == pytest.approx(q * (1 - np.exp(-2 * a * dt)) / (2 * a), rel=1e-12)
     assert np.allclose(scipy.linalg.expm(np.array([[-a * dt]])), Phi)
@@ -175,12 +175,12 @@ def test_van_loan_for_a_scalar_closed_form():
 def test_van_loan_validates(kwargs, match):
     args = {"F": -np.eye(2), "G": np.ones((2, 1)), "Qc": np.eye(1), "dt": 0.1} | kwargs
     with pytest.raises(ValueError, match=match):
-        kalman.van_loan(**args)
+        filtering.van_loan(**args)
 
 
 def test_updates_validate_shapes():
     with pytest.raises(ValueError, match="z must have shape"):
-        kalman.joseph_update(np.zeros(2), np.eye(2), np.zeros(2), np.ones((1, 2)), np.eye(1))
+        filtering.joseph_update(np.zeros(2), np.eye(2), np.zeros(2), np.ones((1, 2)), np.eye(1))
     with pytest.raises(ValueError, match="R must be diagonal"):
-        kalman.sequential_update(np.zeros(2), np.eye(2), np.zeros(2), np.eye(2),
+        filtering.sequential_update(np.zeros(2), np.eye(2), np.zeros(2), np.eye(2),
                                  np.ones((2, 2)))

@@ -1,0 +1,57 @@
+"""Paper-agnostic discretization and Kalman filtering (used by paper GC, usable on any
+linear time-varying model).
+
+==========================  ===========================================================
+module                      what it holds
+==========================  ===========================================================
+``discretization``          :func:`van_loan` (exact Φ, Qd), :func:`van_loan_derivatives`,
+                            :func:`covariance_factor`
+``updates``                 :func:`joseph_update`, :func:`sequential_update`
+``covariance``              :class:`AffineDiscreteModel`, :func:`covariance_fast`,
+                            :func:`covariance_reference`, :func:`propagate_fixed_gains`
+``square_root``             :func:`covariance_square_root` (QR + Potter), an independent check
+``consistency``             :func:`nees_bounds` (chi-square bands of the NEES)
+==========================  ===========================================================
+
+Use as ``from gyrolib import filtering`` then ``filtering.van_loan(F, G, Q, dt)``.
+"""
+
+from gyrolib.filtering.consistency import (
+    nees_bounds,
+)
+from gyrolib.filtering.covariance import (
+    AffineDiscreteModel,
+    CovarianceRun,
+    covariance_fast,
+    covariance_reference,
+    propagate_fixed_gains,
+)
+from gyrolib.filtering.discretization import (
+    covariance_factor,
+    van_loan,
+    van_loan_derivatives,
+)
+from gyrolib.filtering.square_root import (
+    cholesky_semidefinite,
+    covariance_square_root,
+)
+from gyrolib.filtering.updates import (
+    joseph_update,
+    sequential_update,
+)
+
+__all__ = [
+    "AffineDiscreteModel",
+    "CovarianceRun",
+    "cholesky_semidefinite",
+    "covariance_factor",
+    "covariance_fast",
+    "covariance_reference",
+    "covariance_square_root",
+    "joseph_update",
+    "nees_bounds",
+    "propagate_fixed_gains",
+    "sequential_update",
+    "van_loan",
+    "van_loan_derivatives",
+]

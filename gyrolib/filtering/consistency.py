@@ -1,0 +1,23 @@
+"""Consistency of an estimator: chi-square bounds on the normalized estimation error squared
+(NEES) of a Monte Carlo ensemble {cite:p}`BarShalom2001`.
+"""
+
+from __future__ import annotations
+
+import scipy.stats
+
+from gyrolib import _validation as v
+
+__all__ = ["nees_bounds"]
+
+
+def nees_bounds(dof: int, n_runs: int, confidence: float = 0.95) -> tuple[float, float]:
+    """Two-sided chi-square bounds on the ensemble-average NEES of ``n_runs`` runs of a
+    ``dof``-dimensional consistent estimator {cite:p}`BarShalom2001`."""
+    dof = v.check_int("dof", dof, 1)
+    n_runs = v.check_int("n_runs", n_runs, 1)
+    confidence = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
+                                  high_open=True)
+    lo = scipy.stats.chi2.ppf(0.5 * (1 - confidence), dof * n_runs) / n_runs
+    hi = scipy.stats.chi2.ppf(0.5 * (1 + confidence), dof * n_runs) / n_runs
+    return float(lo), float(hi)

@@ -1,0 +1,122 @@
+"""Exact discretization of ``x' = F x + G w`` over a step ``dt`` with ``F`` frozen.
+
+* :func:`van_loan` — transition ``Φ = exp(F dt)`` and process-noise covariance
+  ``Qd = ∫₀^dt exp(F s) G Q Gᵀ exp(Fᵀ s) ds`` by Van Loan's block exponential
+  {cite:p}`VanLoan1978`.
+* :func:`van_loan_derivatives` — the same plus the exact first derivatives of ``Φ`` and ``Qd``
+  along given directions of ``F`` (Fréchet derivative of the matrix exponential), the basis of
+  :class:`gyrolib.filtering.AffineDiscreteModel`.
+* :func:`covariance_factor` — a factor ``L`` with ``L Lᵀ = Q`` of a symmetric positive
+  semi-definite covariance (noise generation).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+from gyrolib import _validation as v
+
+__all__ = [
+    "covariance_factor",
+    "van_loan",
+    "van_loan_derivatives",
+]
+
+
+# Discretization --------------------------------------------------------------------------
+def _check_model(F: object, G: object, Qc: object, dt: object) -> tuple:
+    F = v.check_array("F", F, ndim=2)
+    n = F.shape[0]
+    if F.shape != (n, n):
+        raise ValueError(f"F must be square; got shape {F.shape}")
+    G = v.check_array("G", G, shape=(n, None))
+    Qc = v.check_array("Qc", Qc, shape=(G.shape[1], G.shape[1]))
+    _check_covariance("Qc", Qc)
+    dt = v.check_positive("dt", dt)
+    return F, G, Qc, dt
+
+
+def _check_covariance(name: str, M: np.ndarray) -> np.ndarray:
+    """A (noise or state) covariance: symmetric to rounding, with a diagonal >= 0."""
+    scale = float(np.max(np.abs(M))) if M.size else 0.0
+    if np.any(np.abs(M - M.T) > 1e-9 * scale):
+        raise ValueError(f"{name} must be a symmetric matrix (a covariance)")
+    if np.any(np.diag(M) < 0.0):
+        raise ValueError(f"{name} must have a diagonal >= 0 (variances); "
+                         f"got min {np.diag(M).min()}")
+    return M
+
+
+def van_loan(F: object, G: object, Qc: object, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """Exact discretization of ``x' = F x + G w`` (``E[w wᵀ] = Qc δ``) over ``dt``.
+
+    Van Loan (1978): with ``M = [[−F, G Qc Gᵀ], [0, Fᵀ]] dt`` and ``E = exp(M)``,
+    ``Φ = E₂₂ᵀ`` and ``Qd = Φ E₁₂`` {cite:p}`VanLoan1978`.  Returns ``(Φ, Qd)``.
+    """
+    F, G, Qc, dt = _check_model(F, G, Qc, dt)
+    n = F.shape[0]
+    M = np.zeros((2 * n, 2 * n))
+    M[:n, :n] = -F * dt
+    M[:n, n:] = G @ Qc @ G.T * dt
+    M[n:, n:] = F.T * dt
+    E = scipy.linalg.expm(M)
+    Phi = E[n:, n:].T.copy()
+    Qd = Phi @ E[:n, n:]
+    return Phi, 0.5 * (Qd + Qd.T)
+
+
+def van_loan_derivatives(
+    F: object, G: object, Qc: object, dt: float, directions: list[np.ndarray]
+) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
+    """``(Φ, Qd)`` of :func:`van_loan` and their exact derivatives along each direction
+    ``E`` of ``F`` (``d/dε`` at ``F + ε E``), from the Fréchet derivative of the block
+    exponential (``scipy.linalg.expm_frechet``)."""
+    F, G, Qc, dt = _check_model(F, G, Qc, dt)
+    if not isinstance(directions, list | tuple):
+        raise TypeError("directions must be a list or tuple of n×n arrays; "
+                        f"got {type(directions).__name__}")
+    n = F.shape[0]
+    M = np.zeros((2 * n, 2 * n))
+    M[:n, :n] = -F * dt
+    M[:n, n:] = G @ Qc @ G.T * dt
+    M[n:, n:] = F.T * dt
+    dPhis, dQds = [], []
+    E = scipy.linalg.expm(M)
+    Phi = E[n:, n:].T.copy()
+    Qd = Phi @ E[:n, n:]
+    for d in directions:
+        d = v.check_array("direction", d, shape=(n, n))
+        dM = np.zeros_like(M)
+        dM[:n, :n] = -d * dt
+        dM[n:, n:] = d.T * dt
+        _, L = scipy.linalg.expm_frechet(M, dM)
+        dPhi = L[n:, n:].T.copy()
+        dQd = dPhi @ E[:n, n:] + Phi @ L[:n, n:]
+        dPhis.append(dPhi)
+        dQds.append(0.5 * (dQd + dQd.T))
+    return Phi, 0.5 * (Qd + Qd.T), dPhis, dQds
+
+
+def covariance_factor(Q: object) -> np.ndarray:
+    """A factor ``L`` (n×n) with ``L Lᵀ = Q`` for a symmetric positive semi-definite ``Q``.
+
+    Diagonally scaled eigendecomposition, so that entries many orders of magnitude apart (as
+    in paper GC's ``Qd``) are reproduced to rounding relative to ``√(Qᵢᵢ Qⱼⱼ)``; zero rows
+    stay zero.  Used to draw ``N(0, Q)`` samples.
+    """
+    Q = v.check_array("Q", Q, ndim=2)
+    if Q.shape[0] != Q.shape[1]:
+        raise ValueError(f"Q must be a square matrix; got shape {Q.shape}")
+    _check_covariance("Q", Q)
+    d = np.sqrt(np.diag(Q))
+    nz = d > 0.0
+    L = np.zeros_like(Q)
+    if not np.any(nz):
+        return L
+    Dn = d[nz]
+    S = Q[np.ix_(nz, nz)] / np.outer(Dn, Dn)
+    lam, V = np.linalg.eigh(0.5 * (S + S.T))
+    Ls = V * np.sqrt(np.clip(lam, 0.0, None))
+    L[np.ix_(nz, nz)] = Dn[:, None] * Ls
+    return L

@@ -1,0 +1,79 @@
+"""Measurement updates of the discrete Kalman filter {cite:p}`Kalman1960`.
+
+* :func:`joseph_update` — Joseph form ``P⁺ = (I−KH)P(I−KH)ᵀ + KRKᵀ``, valid for any gain;
+* :func:`sequential_update` — the independent alternative: the measurements processed one
+  scalar at a time in the conventional form ``P⁺ = P − k hᵀP`` {cite:p}`Bierman1977`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gyrolib import _validation as v
+
+__all__ = [
+    "joseph_update",
+    "sequential_update",
+]
+
+
+# Measurement updates -----------------------------------------------------------------------
+def _check_update(x: object, P: object, z: object, H: object, R: object) -> tuple:
+    x = v.check_array("x", x, ndim=1)
+    n = x.size
+    P = v.check_array("P", P, shape=(n, n))
+    H = v.check_array("H", H, shape=(None, n))
+    m = H.shape[0]
+    z = v.check_array("z", z, shape=(m,))
+    R = v.check_array("R", R, shape=(m, m))
+    if np.any(np.diag(P) < 0.0):
+        raise ValueError("P must have a diagonal >= 0 (variances)")
+    if np.any(np.diag(R) < 0.0):
+        raise ValueError("R must have a diagonal >= 0 (measurement-noise variances)")
+    return x, P, z, H, R
+
+
+def joseph_update(x: object, P: object, z: object, H: object, R: object
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Kalman measurement update in Joseph form {cite:p}`BarShalom2001`.
+
+    ``K = P Hᵀ (H P Hᵀ + R)⁻¹``, ``x⁺ = x + K (z − H x)``,
+    ``P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ`` (symmetric and positive semi-definite by
+    construction).  Returns ``(x⁺, P⁺, K)``.
+    """
+    x, P, z, H, R = _check_update(x, P, z, H, R)
+    S = H @ P @ H.T + R
+    try:
+        K = np.linalg.solve(S, H @ P).T
+    except np.linalg.LinAlgError:
+        raise ValueError("R (with H P Hᵀ) must make the innovation covariance H P Hᵀ + R "
+                         "nonsingular; got a singular one") from None
+    A = np.eye(x.size) - K @ H
+    Pn = A @ P @ A.T + K @ R @ K.T
+    return x + K @ (z - H @ x), 0.5 * (Pn + Pn.T), K
+
+
+def sequential_update(x: object, P: object, z: object, H: object, R: object
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """Kalman update processing the ``m`` measurements one scalar at a time, in the
+    conventional form ``k = P h / (hᵀ P h + r)``, ``P⁺ = P − k hᵀ P`` {cite:p}`Bierman1977`.
+
+    Requires a diagonal ``R`` (independent sensor noises).  An independent algorithm to
+    cross-check :func:`joseph_update`.  Returns ``(x⁺, P⁺)``.
+    """
+    x, P, z, H, R = _check_update(x, P, z, H, R)
+    if np.any(R != np.diag(np.diag(R))):
+        raise ValueError("R must be diagonal for sequential scalar updates")
+    x = x.copy()
+    P = P.copy()
+    for i in range(H.shape[0]):
+        h = H[i]
+        Ph = P @ h
+        s = float(h @ Ph) + R[i, i]
+        if not s > 0.0:
+            raise ValueError(f"R[{i}, {i}] (with hᵀ P h) must give a positive innovation "
+                             f"variance; got {s}")
+        k = Ph / s
+        x = x + k * (z[i] - float(h @ x))
+        P = P - np.outer(k, Ph)
+    return x, 0.5 * (P + P.T)

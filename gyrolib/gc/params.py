@@ -1,0 +1,169 @@
+"""Paper GC: the parameters of the gyrocompass model and the state vector of Eq. (8).
+
+State vector (1-D, SI units), in this order (:data:`STATE_NAMES`)::
+
+    dbeta      Δβ = β − β_n, float angle increment             rad
+    dbeta_dot  Δβ'                                             rad/s
+    psi        ψ, azimuth misalignment of the input axis       rad
+    omega_gc   ω_gc, systematic drift (constant in a run)      rad/s
+    delta      δ, platform tilt (about the input axis y)       rad
+    gamma      γ, platform tilt (about the output axis z)      rad
+    N1, N2     vibration shaping filter, Eq. (6)               m/s², m/s³
+    N3, N4     random-drift shaping filter, Eq. (7)            rad/s, rad/s²
+
+The paper prints ``X1 = Δβ'`` and ``X2 = Δβ``, but its F and D (``F(1,2) = 1``,
+``F(2,2) = −f/I``, ``D(1,1) = 1``) only make sense with ``X1 = Δβ``, ``X2 = Δβ'``: this module
+uses the latter.  ``F(8,7)`` is ``−α1²`` as Eq. (6) requires (printed without the minus).
+The vertical-rate coupling follows Eq. (5) (γ carries cos β_n, δ carries −sin β_n) by
+default; ``vertical_coupling="printed_F"`` gives the paper's F listing instead.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Final
+
+from gyrolib import _validation as v
+from gyrolib.gc.shaping_filters import ShapingFilter, random_drift_filter, vibration_filter
+from gyrolib.units import ARCSEC_PAPER, G0
+
+__all__ = [
+    "MEASUREMENT_NAMES",
+    "NOISE_NAMES",
+    "STATE_NAMES",
+    "GyrocompassParams",
+    "state_index",
+]
+
+
+STATE_NAMES: Final[tuple[str, ...]] = (
+    "dbeta", "dbeta_dot", "psi", "omega_gc", "delta", "gamma", "N1", "N2", "N3", "N4",
+)
+
+
+MEASUREMENT_NAMES: Final[tuple[str, ...]] = ("angle_sensor", "inclinometer_y", "inclinometer_z")
+
+
+NOISE_NAMES: Final[tuple[str, ...]] = ("w1", "w2")
+
+
+N_STATES: Final[int] = len(STATE_NAMES)
+
+
+def state_index(name: str) -> int:
+    """Index of a state by its name (see :data:`STATE_NAMES`)."""
+    if name not in STATE_NAMES:
+        raise ValueError(f"name must be one of {STATE_NAMES}; got {name!r}")
+    return STATE_NAMES.index(name)
+
+
+_POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
+             "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
+
+
+_NONNEGATIVE = ("omega_ub", "sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
+                "sigma_delta0", "sigma_gamma0")
+
+
+_DAMPING = ("xi1", "xi2")
+
+
+_CHOICES = {
+    "shaping_p0": ("stationary", "zero"),
+    "measurement_noise": ("intensity_over_dt", "variance"),
+    "vertical_coupling": ("eq5", "printed_F"),
+}
+
+
+@dataclass(frozen=True)
+class GyrocompassParams:
+    """Parameters of paper GC's simulation, SI units, the paper's values as defaults.
+
+    Paper values (its parameter list after Eq. (8), and the text around Eqs. (6), (7)):
+    ``I``, ``H``, ``f``, ``Omega_v``, ``Omega_h``, ``omega_ub``, the shaping-filter
+    parameters, the sensor noise intensities ``C_as`` (angle sensor, rad²·s) and
+    ``C_incl_y``, ``C_incl_z`` (inclinometers, m²/s³), ``dt`` and the initial standard
+    deviations of ψ, ω_gc, δ and γ (in the paper's arcsecond, 1″ = 0.485·10⁻⁵ rad).
+
+    Not given by the paper (assumptions, studied in the book):
+
+    * ``g``: standard gravity;
+    * ``sigma_dbeta0``, ``sigma_dbeta_dot0``: the float starts at the angle sensor's null,
+      held there by the feedback loop until it is switched off;
+    * ``shaping_p0``: initial covariance of N1…N4, ``"stationary"`` (the processes are already
+      running when the calibration starts) or ``"zero"`` (the literal reading);
+    * ``measurement_noise``: how the continuous intensities become discrete variances,
+      ``"intensity_over_dt"`` (``R = C/Δt``, sampling of continuous white noise) or
+      ``"variance"`` (``R = C``, the printed numbers read as variances);
+    * ``vertical_coupling``: ``"eq5"`` (Eq. (5)) or ``"printed_F"`` (the F listing).
+    """
+
+    I: float = 4.0e-5
+    H: float = 0.05
+    f: float = 0.025
+    Omega_v: float = 5.9e-5
+    Omega_h: float = 4.3e-5
+    g: float = G0
+    omega_ub: float = 4.84e-8
+    alpha1: float = 1.33e-2
+    xi1: float = 0.7
+    sigma1_sq: float = 1.86e-6
+    alpha2: float = 6.28
+    xi2: float = 0.4
+    sigma2_sq: float = 2.35e-15
+    C_as: float = 2.0e-13
+    C_incl_y: float = 5.0e-15
+    C_incl_z: float = 5.0e-15
+    dt: float = 1.0e-3
+    sigma_dbeta0: float = 0.0
+    sigma_dbeta_dot0: float = 0.0
+    sigma_psi0: float = 180.0 * ARCSEC_PAPER
+    sigma_gc0: float = 0.15 * ARCSEC_PAPER
+    sigma_delta0: float = 120.0 * ARCSEC_PAPER
+    sigma_gamma0: float = 120.0 * ARCSEC_PAPER
+    shaping_p0: str = "stationary"
+    measurement_noise: str = "intensity_over_dt"
+    vertical_coupling: str = "eq5"
+
+    def __post_init__(self) -> None:
+        for f_ in fields(self):
+            name = f_.name
+            if name in _POSITIVE:
+                v.check_positive(name, getattr(self, name))
+            elif name in _NONNEGATIVE:
+                v.check_nonnegative(name, getattr(self, name))
+            elif name in _DAMPING:
+                v.check_in_range(name, getattr(self, name), 0.0, 1.0, low_open=True)
+            elif name in _CHOICES:
+                v.check_choice(name, getattr(self, name), _CHOICES[name])
+        # Store plain floats so that numpy scalars and ints behave identically.
+        for name in (*_POSITIVE, *_NONNEGATIVE, *_DAMPING):
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    # Derived quantities -------------------------------------------------------------------
+    @property
+    def time_constant(self) -> float:
+        """Float time constant ``I/f`` (s)."""
+        return self.I / self.f
+
+    @property
+    def Q1(self) -> float:
+        """Vibration white-noise intensity ``Q1 = 2 ξ1 α1 σ1²`` (paper GC, after Eq. (6))."""
+        return 2.0 * self.xi1 * self.alpha1 * self.sigma1_sq
+
+    @property
+    def Q2(self) -> float:
+        """Random-drift white-noise intensity ``Q2 = 4 ξ2 α2³ σ2²`` (after Eq. (7))."""
+        return 4.0 * self.xi2 * self.alpha2**3 * self.sigma2_sq
+
+    def vibration_filter(self) -> ShapingFilter:
+        """The vibration shaping filter, Eq. (6)."""
+        return vibration_filter(self.alpha1, self.xi1, self.sigma1_sq)
+
+    def random_drift_filter(self) -> ShapingFilter:
+        """The random-drift shaping filter, Eq. (7)."""
+        return random_drift_filter(self.alpha2, self.xi2, self.sigma2_sq)
+
+
+def _check_params(params: object) -> GyrocompassParams:
+    return v.check_instance("params", params, GyrocompassParams)

@@ -1,0 +1,119 @@
+"""Paper GC, Eqs. (5)–(8): the linearized model in Cauchy form, ``x' = F x + G w``,
+``z = D x + v``.
+
+* :func:`system_matrix` — ``F(β_n)`` of Eq. (8) (Eq. (5) and the shaping filters (6), (7));
+* :func:`noise_input_matrix` — ``G``; :func:`measurement_matrix` — ``D``;
+* :func:`process_noise_intensity`, :func:`measurement_noise_intensity`,
+  :func:`measurement_noise_covariance` — ``Q``, ``C`` and the sampled ``R``;
+* :func:`initial_covariance` — ``P(0)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gyrolib import _validation as v
+from gyrolib.gc.params import N_STATES, GyrocompassParams, _check_params, state_index
+
+__all__ = [
+    "initial_covariance",
+    "measurement_matrix",
+    "measurement_noise_covariance",
+    "measurement_noise_intensity",
+    "noise_input_matrix",
+    "process_noise_intensity",
+    "system_matrix",
+]
+
+
+# State-space model, Eq. (8) -------------------------------------------------------------------
+def system_matrix(params: GyrocompassParams, beta_n: float) -> np.ndarray:
+    """State matrix ``F(t)`` of paper GC, Eq. (8), at nominal float angle ``beta_n`` (rad).
+
+    Row 2 is the linearized gyrocompass equation (5) divided by ``I``; rows 7–10 are the
+    shaping filters (6), (7).  See the module docstring for the state order.
+    """
+    p = _check_params(params)
+    b = v.check_real("beta_n", beta_n)
+    s, c = np.sin(b), np.cos(b)
+    F = np.zeros((N_STATES, N_STATES))
+    F[0, 1] = 1.0
+    F[1, 0] = -(p.H * p.Omega_h / p.I) * s
+    F[1, 1] = -p.f / p.I
+    F[1, 2] = (p.H * p.Omega_h / p.I) * s
+    F[1, 3] = p.H / p.I
+    if p.vertical_coupling == "eq5":
+        F[1, 4] = -(p.H * p.Omega_v / p.I) * s  # δ carries −sin β_n
+        F[1, 5] = (p.H * p.Omega_v / p.I) * c  # γ carries cos β_n
+    else:  # the paper's F listing as printed
+        F[1, 4] = -(p.H * p.Omega_v / p.I) * c
+        F[1, 5] = (p.H * p.Omega_v / p.I) * s
+    F[1, 6] = p.H * p.omega_ub / (p.I * p.g)
+    F[1, 8] = p.H / p.I
+    F[6:8, 6:8] = p.vibration_filter().A
+    F[8:10, 8:10] = p.random_drift_filter().A
+    return F
+
+
+def noise_input_matrix(params: GyrocompassParams) -> np.ndarray:
+    """Disturbance matrix ``G`` (10×2) of Eq. (8): ``G(7,1) = 1``, ``G(8,1) = α1 − 2ξ1α1``,
+    ``G(10,2) = 1``."""
+    params = _check_params(params)
+    G = np.zeros((N_STATES, 2))
+    G[6:8, 0] = params.vibration_filter().B[:, 0]
+    G[8:10, 1] = params.random_drift_filter().B[:, 0]
+    return G
+
+
+def measurement_matrix(params: GyrocompassParams) -> np.ndarray:
+    """Measurement matrix ``D`` (3×10) of Eq. (8): the angle sensor reads Δβ; inclinometer y
+    reads ``g δ + N1``; inclinometer z reads ``g γ + N1``."""
+    params = _check_params(params)
+    D = np.zeros((3, N_STATES))
+    D[0, 0] = 1.0
+    D[1, 4] = params.g
+    D[1, 6] = 1.0
+    D[2, 5] = params.g
+    D[2, 6] = 1.0
+    return D
+
+
+def process_noise_intensity(params: GyrocompassParams) -> np.ndarray:
+    """Intensity ``Q`` (2×2) of the white noises ``w1``, ``w2`` driving Eqs. (6), (7)."""
+    return np.diag([_check_params(params).Q1, params.Q2])
+
+
+def measurement_noise_intensity(params: GyrocompassParams) -> np.ndarray:
+    """Continuous intensities of the sensor noises: ``diag(C_as, C_incl_y, C_incl_z)``."""
+    p = _check_params(params)
+    return np.diag([p.C_as, p.C_incl_y, p.C_incl_z])
+
+
+def measurement_noise_covariance(params: GyrocompassParams) -> np.ndarray:
+    """Discrete measurement-noise covariance ``R`` at the sampling interval ``dt``.
+
+    ``"intensity_over_dt"``: ``R = C/Δt`` (continuous white noise of intensity C seen through
+    an ideal averaging sampler over Δt); ``"variance"``: ``R = C`` (printed numbers read as
+    the per-sample variances).
+    """
+    C = measurement_noise_intensity(_check_params(params))
+    return C / params.dt if params.measurement_noise == "intensity_over_dt" else C
+
+
+def initial_covariance(params: GyrocompassParams) -> np.ndarray:
+    """Initial covariance ``P(0)`` (10×10).
+
+    ψ, ω_gc, δ, γ from the paper; Δβ, Δβ' from ``sigma_dbeta0``, ``sigma_dbeta_dot0``;
+    N1…N4 from ``shaping_p0`` (their stationary covariance, or zero).
+    """
+    p = _check_params(params)
+    P = np.zeros((N_STATES, N_STATES))
+    for name, sigma in (("dbeta", p.sigma_dbeta0), ("dbeta_dot", p.sigma_dbeta_dot0),
+                        ("psi", p.sigma_psi0), ("omega_gc", p.sigma_gc0),
+                        ("delta", p.sigma_delta0), ("gamma", p.sigma_gamma0)):
+        i = state_index(name)
+        P[i, i] = sigma**2
+    if p.shaping_p0 == "stationary":
+        P[6:8, 6:8] = p.vibration_filter().stationary_covariance()
+        P[8:10, 8:10] = p.random_drift_filter().stationary_covariance()
+    return P

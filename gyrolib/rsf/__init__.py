@@ -1,0 +1,157 @@
+"""Paper RSF: in-flight correction of a roll gyro's scale factor by a MEMS indicator
+gyrostabilizer (GS).
+
+================  ====================================================================
+module            paper RSF
+================  ====================================================================
+``sensors``       the sensors' data (Table 1, GS gyro, encoder): :class:`RollGyroSpec`, …
+``equations``     Eqs. (1)–(9): :func:`sf_error_estimate`, :func:`delta_k`, …
+``tables``        Tables 2 and 3: :func:`table2`, :func:`table3`
+``simulation``    a seeded flight simulation: :func:`simulate_flight`
+``correction``    the correction loop on a record: :func:`run_correction`
+``sweeps``        the correction against its period and the encoder resolution
+``plots``         the figures: ``plot_*``
+================  ====================================================================
+
+Use as ``from gyrolib import rsf`` then ``rsf.table2()``.
+"""
+
+from gyrolib.rsf.correction import (
+    CorrectionRun,
+    DeltaKPrediction,
+    predict_delta_k,
+    run_correction,
+)
+from gyrolib.rsf.equations import (
+    K_FORMS,
+    corrected_rate,
+    correction_coefficient,
+    delta_k,
+    delta_k_ideal,
+    difference_error,
+    fraction_compensated,
+    gs_bias_total,
+    gs_roll_error_ideal,
+    gs_roll_error_nonideal,
+    gyro_output,
+    k_true,
+    lateral_acceleration_error,
+    lateral_deviation_cubic,
+    lateral_deviation_exact,
+    relative_k_error,
+    residual_sf_error,
+    roll_difference,
+    sf_error_estimate,
+    sins_roll_error,
+)
+from gyrolib.rsf.plots import (
+    plot_delta_k_distribution,
+    plot_encoder_sweep,
+    plot_figure3,
+    plot_flight,
+    plot_gs_scheme,
+    plot_method_scheme,
+    plot_period_sweep,
+    plot_rate_sweep,
+    plot_spin_up,
+)
+from gyrolib.rsf.sensors import (
+    AEDB9340,
+    GYPRO4300,
+    SIIMU02_ROLL,
+    EncoderSpec,
+    MemsGyroSpec,
+    RollGyroSpec,
+)
+from gyrolib.rsf.simulation import (
+    ERROR_MODES,
+    EncoderModel,
+    GsModel,
+    RollProfile,
+    SensorRecord,
+    SimulationConfig,
+    SinsGyroModel,
+    encoder_counts,
+    gs_angle,
+    lateral_error,
+    simulate_flight,
+    unwrap_counts,
+    with_encoder,
+)
+from gyrolib.rsf.sweeps import (
+    PeriodSweep,
+    ResolutionSweep,
+    sweep_correction_period,
+    sweep_encoder,
+)
+from gyrolib.rsf.tables import (
+    Table2,
+    Table3,
+    table2,
+    table3,
+    worked_example_delta_k,
+)
+
+__all__ = [
+    "AEDB9340",
+    "ERROR_MODES",
+    "GYPRO4300",
+    "K_FORMS",
+    "SIIMU02_ROLL",
+    "CorrectionRun",
+    "DeltaKPrediction",
+    "EncoderModel",
+    "EncoderSpec",
+    "GsModel",
+    "MemsGyroSpec",
+    "PeriodSweep",
+    "ResolutionSweep",
+    "RollGyroSpec",
+    "RollProfile",
+    "SensorRecord",
+    "SimulationConfig",
+    "SinsGyroModel",
+    "Table2",
+    "Table3",
+    "corrected_rate",
+    "correction_coefficient",
+    "delta_k",
+    "delta_k_ideal",
+    "difference_error",
+    "encoder_counts",
+    "fraction_compensated",
+    "gs_angle",
+    "gs_bias_total",
+    "gs_roll_error_ideal",
+    "gs_roll_error_nonideal",
+    "gyro_output",
+    "k_true",
+    "lateral_acceleration_error",
+    "lateral_deviation_cubic",
+    "lateral_deviation_exact",
+    "lateral_error",
+    "plot_delta_k_distribution",
+    "plot_encoder_sweep",
+    "plot_figure3",
+    "plot_flight",
+    "plot_gs_scheme",
+    "plot_method_scheme",
+    "plot_period_sweep",
+    "plot_rate_sweep",
+    "plot_spin_up",
+    "predict_delta_k",
+    "relative_k_error",
+    "residual_sf_error",
+    "roll_difference",
+    "run_correction",
+    "sf_error_estimate",
+    "simulate_flight",
+    "sins_roll_error",
+    "sweep_correction_period",
+    "sweep_encoder",
+    "table2",
+    "table3",
+    "unwrap_counts",
+    "with_encoder",
+    "worked_example_delta_k",
+]

@@ -1,0 +1,115 @@
+"""Paper RSF, Tables 2 and 3 and the worked example of δK, recomputed from the sensor data.
+
+* :func:`table2` — Table 2: the SINS roll error Δγ (Eq. (4)) and the lateral deviation Δr_z
+  (Eq. (8)) against time;
+* :func:`table3` — Table 3: the ideal GS's roll error (Eq. (9)) against time;
+* :func:`worked_example_delta_k` — the worked example of Eq. (7) (δK ≈ 0.093 as printed).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from gyrolib import _validation as v
+from gyrolib.rsf._inputs import _same_shape, _times
+from gyrolib.rsf.equations import (
+    delta_k,
+    gs_roll_error_ideal,
+    lateral_deviation_cubic,
+    lateral_deviation_exact,
+    sins_roll_error,
+)
+from gyrolib.rsf.sensors import (
+    AEDB9340,
+    GYPRO4300,
+    SIIMU02_ROLL,
+    EncoderSpec,
+    MemsGyroSpec,
+    RollGyroSpec,
+)
+from gyrolib.units import G0, to_si
+
+__all__ = [
+    "Table2",
+    "Table3",
+    "table2",
+    "table3",
+    "worked_example_delta_k",
+]
+
+
+@dataclass(frozen=True)
+class Table2:
+    """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``."""
+
+    t: np.ndarray
+    dgamma_sins: np.ndarray
+    dr_z_cubic: np.ndarray
+    dr_z_exact: np.ndarray
+
+    def __post_init__(self) -> None:
+        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact")
+
+
+def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
+           times: ArrayLike = (10.0, 60.0, 120.0), g: float = G0) -> Table2:
+    """Recompute Table 2 from Eqs. (4) and (8) with the gyro's scale-factor error."""
+    if not isinstance(gyro, RollGyroSpec):
+        raise TypeError(f"gyro must be a RollGyroSpec; got {type(gyro).__name__}")
+    t = _times(times)
+    e1 = gyro.sf_error
+    return Table2(
+        t=t,
+        dgamma_sins=np.asarray(sins_roll_error(e1, omega_true, t)),
+        dr_z_cubic=np.asarray(lateral_deviation_cubic(e1, omega_true, t, g)),
+        dr_z_exact=np.asarray(lateral_deviation_exact(e1, omega_true, t, g)),
+    )
+
+
+@dataclass(frozen=True)
+class Table3:
+    """Paper RSF, Table 3: GS roll error (rad) at times ``t`` for an ideal GS, Eq. (9)."""
+
+    t: np.ndarray
+    eps0_t: np.ndarray
+    dgamma_gs: np.ndarray
+
+    def __post_init__(self) -> None:
+        _same_shape(self, "t", "eps0_t", "dgamma_gs")
+
+
+def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
+           times: ArrayLike = (10.0, 60.0, 120.0), eps0_gs: float | None = None) -> Table3:
+    """Recompute Table 3 from Eq. (9).  ``eps0_gs`` overrides ε0,GS = √(σ_rep² + σ_stab²)
+    (the paper rounds it to 3.3·10⁻³ °/s)."""
+    if not isinstance(gyro, MemsGyroSpec):
+        raise TypeError(f"gyro must be a MemsGyroSpec; got {type(gyro).__name__}")
+    if not isinstance(encoder, EncoderSpec):
+        raise TypeError(f"encoder must be an EncoderSpec; got {type(encoder).__name__}")
+    t = _times(times)
+    e0 = gyro.bias_total if eps0_gs is None else v.check_nonnegative("eps0_gs", eps0_gs)
+    return Table3(
+        t=t,
+        eps0_t=np.asarray(gs_roll_error_ideal(e0, t, 0.0)),
+        dgamma_gs=np.asarray(gs_roll_error_ideal(e0, t, encoder.position_error)),
+    )
+
+
+def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340, *,
+                           omega_x: float = float(to_si(900.0, "deg/s")),
+                           omega_unc: float = float(to_si(300.0, "deg/s")),
+                           dt: float = 5.0, eps0_gs: float | None = None,
+                           eps1_gs: float | None = None) -> float:
+    """δK of the paper's worked example (Eq. (7)): Δt = 5 s, ω_unc = 300 °/s, ω_x = 900 °/s.
+
+    ``eps0_gs`` and ``eps1_gs`` override the gyro's values (to reproduce the print, which
+    uses ε0,GS = 3.3·10⁻³ °/s and, by a slip, ε1,GS = 280·10⁻³ instead of 280 ppm).
+    """
+    v.check_instance("gyro", gyro, MemsGyroSpec)
+    v.check_instance("encoder", encoder, EncoderSpec)
+    e0 = gyro.bias_total if eps0_gs is None else eps0_gs
+    e1 = gyro.sf_error if eps1_gs is None else eps1_gs
+    return delta_k(e0, encoder.position_error, omega_x, dt, e1, omega_unc)
