@@ -2,17 +2,21 @@
 """The project's two commands, runnable on a fresh machine with only Python 3.11+.
 
     python3 tasks.py book    # set up .venv, build the book into _build/html
-    python3 tasks.py test    # set up .venv (and a browser), lint, clean book build, all tests
+    python3 tasks.py pdf     # the book as one PDF: _build/pdf/book.pdf (HTML links to it)
+    python3 tasks.py lab     # pinned JupyterLab on chapters/ (args go to jupyter lab)
+    python3 tasks.py test    # set up .venv (and a browser), lint, clean book + PDF, all tests
 
 Set-up is idempotent: the virtual environment ``.venv`` is (re)installed from the pinned
-``requirements.txt`` whenever that file or ``pyproject.toml`` changes.  Other sub-commands:
-``setup`` (environment only), ``lint``, ``clean``, ``chapter NAME`` (execute one chapter as a
-notebook from the command line).
+``requirements.txt`` whenever that file or ``pyproject.toml`` changes; ``lab`` adds the pinned
+``requirements-lab.txt``.  Nothing is ever installed unpinned.  Other sub-commands: ``setup``
+(environment only), ``lint``, ``clean``, ``chapter NAME`` (execute one chapter as a notebook
+from the command line).
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import shutil
 import subprocess
@@ -25,7 +29,9 @@ VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 PY = BIN / "python"
 STAMP = VENV / ".gyrolib-setup.sha256"
+LAB_STAMP = VENV / ".gyrolib-lab.sha256"
 BUILD = ROOT / "_build"
+PDF = BUILD / "pdf" / "book.pdf"
 
 # Extra Debian packages for the browser test (Playwright drives the system Chromium).
 BROWSER = Path("/usr/bin/chromium")
@@ -36,9 +42,9 @@ def run(*cmd: str | os.PathLike, **kw) -> None:
     subprocess.run([str(c) for c in cmd], check=True, cwd=ROOT, **kw)
 
 
-def _setup_fingerprint() -> str:
+def _setup_fingerprint(names: tuple[str, ...] = ("requirements.txt", "pyproject.toml")) -> str:
     h = hashlib.sha256()
-    for name in ("requirements.txt", "pyproject.toml"):
+    for name in names:
         h.update((ROOT / name).read_bytes())
     h.update(sys.version.encode())
     return h.hexdigest()
@@ -61,7 +67,8 @@ def setup() -> None:
 
 
 def ensure_browser() -> None:
-    """Install Debian's Chromium and a text font for the browser test when they are missing.
+    """Install Debian's Chromium, a text font and poppler-utils (``pdftotext``) for the browser
+    test and the PDF when they are missing.
 
     Idempotent: returns at once when both are installed.  Uses the distribution's apt-get as
     root (or through password-less sudo), never ``playwright install``; where that is not
@@ -70,6 +77,7 @@ def ensure_browser() -> None:
     wanted = {  # a file each package installs -> the Debian package
         BROWSER: "chromium",
         Path("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"): "fonts-dejavu-core",
+        Path("/usr/bin/pdftotext"): "poppler-utils",
     }
     missing = [pkg for path, pkg in wanted.items() if not path.exists()]
     if not missing:
@@ -120,17 +128,73 @@ def book(clean: bool = False) -> None:
     print(f"\nbook built: open {index}")
 
 
+def pdf() -> None:
+    """The whole book as one PDF, ``_build/pdf/book.pdf``, and the HTML linking to it.
+
+    Route: a single-page HTML build printed by Debian's Chromium (the one the browser test
+    uses) through Playwright, not LaTeX: nothing more to install, a few seconds to print, and
+    the PDF shows the same MathJax equations, figures and tables as the web pages.  The
+    single-page build shares ``_build/.jupyter_cache`` with the HTML build, so no chapter is
+    executed again.  See ``_ext/print_pdf.py``.
+    """
+    book()
+    ensure_browser()
+    env = dict(os.environ, MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1")
+    run(BIN / "jupyter-book", "build", ".", "--builder", "singlehtml",
+        "-W", "-n", "--keep-going", env=env)
+    run(PY, ROOT / "_ext" / "print_pdf.py", BUILD / "singlehtml", PDF)
+    book()  # the footer of every page now links the PDF, copied into _build/html
+    if not (BUILD / "html" / PDF.name).is_file():
+        sys.exit(f"the HTML build did not pick up {PDF}")
+    print(f"\nPDF: {PDF}")
+
+
+# JupyterLab opens the chapters' MyST Markdown files as notebooks (jupytext's viewer).
+LAB_SETTINGS = {"@jupyterlab/docmanager-extension:plugin": {
+    "defaultViewers": {"markdown": "Jupytext Notebook", "myst": "Jupytext Notebook"}}}
+
+
+def lab_setup() -> None:
+    """Install the pinned JupyterLab of ``requirements-lab.txt`` into ``.venv``.
+
+    ``--no-deps``: every package JupyterLab needs is pinned in that file (resolved together
+    with requirements.txt); ``pip check`` fails if one is missing, instead of pip fetching an
+    unpinned version.  Idempotent, like ``setup``.
+    """
+    setup()
+    fingerprint = _setup_fingerprint(("requirements.txt", "requirements-lab.txt",
+                                      "pyproject.toml"))
+    if not (LAB_STAMP.exists() and LAB_STAMP.read_text().strip() == fingerprint):
+        run(PY, "-m", "pip", "install", "--quiet", "--no-deps", "-r", "requirements-lab.txt")
+        run(PY, "-m", "pip", "check")
+        LAB_STAMP.write_text(fingerprint + "\n")
+    settings = VENV / "share" / "jupyter" / "lab" / "settings" / "overrides.json"
+    settings.parent.mkdir(parents=True, exist_ok=True)
+    settings.write_text(json.dumps(LAB_SETTINGS, indent=2) + "\n")
+
+
+def lab(*args: str) -> None:
+    """Open the chapters as notebooks in the pinned JupyterLab (extra args go to jupyter lab,
+    e.g. ``python3 tasks.py lab --no-browser --port 8888``)."""
+    lab_setup()
+    run(BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT / 'chapters'}", *args,
+        env=dict(os.environ, MPLBACKEND="Agg"))
+
+
 def lint() -> None:
     setup()
     run(BIN / "ruff", "check", ".")
 
 
 def test() -> None:
-    """Lint, clean full book build (warnings as errors), then the whole test suite."""
+    """Lint, clean full book build (warnings as errors) and PDF, the pinned JupyterLab
+    environment (a test runs a chapter's notebook with its kernel), then the whole suite."""
     setup()
     ensure_browser()
     lint()
     book(clean=True)
+    pdf()
+    lab_setup()
     env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_BOOK_BUILT="1")
     run(PY, "-m", "pytest", env=env)
 
@@ -156,9 +220,12 @@ def clean() -> None:
 
 
 def main(argv: list[str]) -> None:
-    cmds = {"setup": setup, "book": book, "test": test, "lint": lint, "clean": clean}
+    cmds = {"setup": setup, "book": book, "pdf": pdf, "test": test, "lint": lint,
+            "clean": clean}
     if len(argv) == 2 and argv[0] == "chapter":
         chapter(argv[1])
+    elif argv and argv[0] == "lab":
+        lab(*argv[1:])
     elif len(argv) == 1 and argv[0] in cmds:
         cmds[argv[0]]()
     else:

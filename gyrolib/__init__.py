@@ -11,4 +11,20 @@ Subpackages, one per subject:
 Use as ``from gyrolib import gc, rsf, filtering``.
 """
 
-__version__ = "0.1.0"
+
+def _version() -> str:
+    """The installed distribution's version; from ``pyproject.toml`` when not installed."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("gyrolib")
+    except PackageNotFoundError:  # a source tree on sys.path without `pip install -e .`
+        import re
+        from pathlib import Path
+
+        text = (Path(__file__).resolve().parents[1] / "pyproject.toml").read_text("utf-8")
+        found = re.search(r'^version\s*=\s*"([^"]+)"', text, re.MULTILINE)
+        return found.group(1) if found else "0+unknown"
+
+
+__version__: str = _version()
