@@ -10,12 +10,22 @@ from pathlib import Path
 import pytest
 from conftest import require_built_book
 
-from gyrolib.book.ledger import STATUSES, LedgerItem, collect, summary, to_json, to_markdown
+import gyrolib
+from gyrolib.book.ledger import (
+    KINDS,
+    STATUSES_BY_KIND,
+    LedgerItem,
+    collect,
+    summary,
+    to_csv,
+    to_json,
+    to_markdown,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 HTML = ROOT / "_build" / "html"
 FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
-          "status", "note", "chapter"}
+          "status", "note", "chapter", "kind", "evidence", "conditions", "precision"}
 REQUIRED_IDS = [
     "gc.fig1", "gc.fig4", "gc.claim.trend_holds", "rsf.fig1", "rsf.fig2", "rsf.fig3",
     "gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.fig2.var_N3",
@@ -46,7 +56,8 @@ def test_every_required_id_is_present(items):
 
 def test_statuses_and_fields(items):
     for it in items:
-        assert it.status in STATUSES, it
+        assert it.status in STATUSES_BY_KIND[it.kind], it
+        assert it.evidence.strip(), it.id
         assert it.paper in ("GC", "RSF"), it
         assert it.note and len(it.note.splitlines()) == 1, f"{it.id}: note must be one line"
         assert re.fullmatch(r"[a-z]+(\.[A-Za-z0-9_]+)+", it.id), it.id
@@ -58,11 +69,17 @@ def test_statuses_and_fields(items):
 def test_cli_json_parses_with_every_field_and_is_byte_identical():
     first, second = _cli_json(), _cli_json()
     assert first == second
-    data = json.loads(first)
+    doc = json.loads(first)
+    assert doc["version"] == gyrolib.__version__ and doc["title"]
+    data = doc["items"]
     assert isinstance(data, list) and data
     for entry in data:
         assert set(entry) == FIELDS, entry
-        assert entry["status"] in STATUSES
+        assert entry["status"] in STATUSES_BY_KIND[entry["kind"]]
+        # cited values carry no more digits than the item's declared precision
+        x = entry["reproduced_value"]
+        if isinstance(x, float) and x:
+            assert x == float(f"{x:.{entry['precision']}g}"), entry["id"]
 
 
 def test_cli_table_lists_every_item(items):
@@ -72,22 +89,55 @@ def test_cli_table_lists_every_item(items):
         assert it.id in out
 
 
-def test_summary_counts_add_up(items):
+def test_summary_counts_add_up_and_reproduced_means_printed_numbers_only(items):
     counts = summary(items)
-    assert sum(counts[s] for s in STATUSES) == counts["total"] == len(items)
+    assert sum(sum(counts[k].values()) for k in KINDS) == counts["total"] == len(items)
+    n_reproduced = sum(it.status == "reproduced" for it in items)
+    assert counts["printed number"]["reproduced"] == n_reproduced
+    assert all("reproduced" not in counts[k] for k in KINDS if k != "printed number")
 
 
-def test_item_rejects_unknown_status():
-    with pytest.raises(ValueError, match="status must be one of"):
-        LedgerItem(id="x.y", paper="GC", location="", quantity="", unit="", paper_value=None,
-                   reproduced_value=None, status="close enough", note="n", chapter="c")
+def _item(**kw):
+    args = dict(id="x.y", paper="GC", location="", quantity="", unit="", paper_value=None,
+                reproduced_value=None, status="reproduced", note="n", chapter="c",
+                kind="printed number", evidence="e")
+    return LedgerItem(**{**args, **kw})
+
+
+@pytest.mark.parametrize(("kw", "match"), [
+    ({"status": "close enough"}, "status of x.y"),
+    ({"kind": "input", "status": "reproduced"}, "status of x.y"),       # an echo is no result
+    ({"kind": "figure", "status": "reproduced"}, "status of x.y"),      # a drawing neither
+    ({"kind": "inferred", "status": "reproduced"}, "status of x.y"),
+    ({"kind": "claim", "status": "holds under conditions"}, "conditions"),  # say where
+    ({"kind": "claim", "status": "holds", "conditions": "only here"}, "conditions"),
+    ({"evidence": ""}, "evidence"),
+    ({"kind": "guess"}, "kind"),
+])
+def test_item_rejects_a_status_that_does_not_fit_its_kind(kw, match):
+    with pytest.raises(ValueError, match=match):
+        _item(**kw)
+
+
+def test_every_kind_has_an_item_and_the_review_cases_are_classified(items):
+    by_id = {it.id: it for it in items}
+    assert {it.kind for it in items} == set(KINDS)
+    for echoed in ("rsf.table1.bias_instability", "rsf.table1.sf_error", "rsf.gs.sigma_rep",
+                   "rsf.gs.sigma_stab", "rsf.gs.sf_error"):
+        assert by_id[echoed].kind == "input", echoed
+    assert by_id["rsf.encoder.position_error"].kind == "inferred"
+    assert all(it.status == "redrawn" for it in items if it.paper_value == "figure")
 
 
 def test_json_and_markdown_of_a_known_item():
     it = LedgerItem(id="gc.test", paper="GC", location="Fig. 3", quantity="σ|x", unit="m",
                     paper_value=0.5, reproduced_value=0.49273, status="reproduced",
-                    note="shown", chapter="chapters/gc_model", anchor="")
-    assert json.loads(to_json([it]))[0]["reproduced_value"] == 0.49273
+                    note="shown", chapter="chapters/gc_model", anchor="",
+                    kind="printed number", evidence="a computation", precision=4)
+    assert json.loads(to_json([it]))["items"][0]["reproduced_value"] == 0.4927  # 4 digits
+    csv_text = to_csv([it])
+    assert csv_text.startswith(f"# Gyro calibration, reproduced {gyrolib.__version__}\n")
+    assert "gc.test" in csv_text and ",0.4927," in csv_text
     md = to_markdown([it], "GC")
     assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md
     assert "{bdg-success}`reproduced`" in md and "`gc.test`\n: shown" in md

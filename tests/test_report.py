@@ -59,6 +59,6 @@ def test_ledger_format_value_and_link_target():
     assert format_value(None) == "—" and format_value("figure") == "figure"
     item = LedgerItem(id="gc.x", paper="GC", location="Fig. 3", quantity="q", unit="1",
                       paper_value=1.0, reproduced_value=1.0, status="reproduced", note="n",
-                      chapter="chapters/gc_filter")
+                      chapter="chapters/gc_filter", kind="printed number", evidence="e")
     assert item.target == "gc-filter"
     assert LedgerItem(**{**item.__dict__, "anchor": "gc-filter-fig3"}).target == "gc-filter-fig3"

@@ -8,23 +8,57 @@ chapters call.  ``python -m gyrolib ledger [--json]`` prints the ledger.
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 import math
 import numbers
 from dataclasses import asdict, dataclass, fields
 
+import gyrolib
 from gyrolib import _validation as v
 
-__all__ = ["STATUSES", "STATUS_MARKS", "LedgerItem", "collect", "format_value", "summary",
-           "to_json", "to_markdown", "to_table"]
+__all__ = ["KINDS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "TITLE", "LedgerItem",
+           "collect", "format_value", "rounded", "summary", "to_csv", "to_json", "to_markdown",
+           "to_table"]
 
-#: The allowed values of :attr:`LedgerItem.status`.
-STATUSES: tuple[str, ...] = ("reproduced", "differs (explained)", "not reproducible")
+#: The book's title, as cited with the ledger's data files.
+TITLE = "Gyro calibration, reproduced"
+
+#: What an item is, and the statuses that fit each kind (the verdict vocabulary):
+#:
+#: * ``printed number`` — a number the paper prints as a result;
+#: * ``input`` — data the paper gives and uses (echoed, never "reproduced");
+#: * ``inferred`` — a value the paper lost or never printed, deduced by the book;
+#: * ``figure`` — a figure with no printed number (redrawn by code);
+#: * ``claim`` — a verbal claim (faster, holds when…, compensates…).
+#:
+#: ``differs: cause shown`` only where a computation with an identified cause gives the
+#: printed value; ``differs: bracketed`` where the printed value lies inside the range spanned
+#: by the paper's unstated choices but no defensible single choice gives it.
+STATUSES_BY_KIND: dict[str, tuple[str, ...]] = {
+    "printed number": ("reproduced", "differs: cause shown", "differs: bracketed",
+                       "not reproducible"),
+    "input": ("input",),
+    "inferred": ("inferred",),
+    "figure": ("redrawn",),
+    "claim": ("holds", "holds under conditions", "fails"),
+}
+KINDS: tuple[str, ...] = tuple(STATUSES_BY_KIND)
+#: Every allowed value of :attr:`LedgerItem.status`.
+STATUSES: tuple[str, ...] = tuple(s for kind in KINDS for s in STATUSES_BY_KIND[kind])
 #: A sphinx-design badge role per status, so that the ledger page shows it at a glance.
 STATUS_MARKS: dict[str, str] = {
     "reproduced": "{bdg-success}`reproduced`",
-    "differs (explained)": "{bdg-warning}`differs (explained)`",
+    "differs: cause shown": "{bdg-warning}`differs: cause shown`",
+    "differs: bracketed": "{bdg-warning}`differs: bracketed`",
     "not reproducible": "{bdg-danger}`not reproducible`",
+    "input": "{bdg-secondary}`input`",
+    "inferred": "{bdg-info}`inferred`",
+    "redrawn": "{bdg-secondary}`redrawn`",
+    "holds": "{bdg-success}`holds`",
+    "holds under conditions": "{bdg-warning}`holds under conditions`",
+    "fails": "{bdg-danger}`fails`",
 }
 
 
@@ -34,7 +68,11 @@ class LedgerItem:
 
     ``chapter`` is the Sphinx document name of the chapter that shows it (e.g.
     ``"chapters/rsf_method"``) and ``anchor`` an optional label inside it, so the ledger page
-    and tests can link to it.
+    and tests can link to it.  ``kind`` and ``status`` follow :data:`STATUSES_BY_KIND`;
+    ``conditions`` says where a claim holds (non-empty exactly for "holds under conditions"),
+    ``evidence`` in one line what computation decides the status, and ``precision`` the
+    significant digits to which ``reproduced_value`` is reported and cited (the same on every
+    CPU: see :func:`rounded`).
     """
 
     id: str
@@ -47,6 +85,10 @@ class LedgerItem:
     status: str
     note: str
     chapter: str
+    kind: str
+    evidence: str
+    conditions: str = ""
+    precision: int = 4
     anchor: str = ""
 
     @property
@@ -57,12 +99,25 @@ class LedgerItem:
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            if f.name not in ("paper_value", "reproduced_value"):
+            if f.name not in ("paper_value", "reproduced_value", "precision"):
                 value = getattr(self, f.name)
                 if not isinstance(value, str):
                     raise TypeError(f"{f.name} must be a str; got {type(value).__name__}")
-        if self.status not in STATUSES:
-            raise ValueError(f"status must be one of {STATUSES}; got {self.status!r}")
+        if self.kind not in KINDS:
+            raise ValueError(f"kind of {self.id} must be one of {KINDS}; got {self.kind!r}")
+        allowed = STATUSES_BY_KIND[self.kind]
+        if self.status not in allowed:
+            raise ValueError(f"status of {self.id} (kind {self.kind!r}) must be one of "
+                             f"{allowed}; got {self.status!r}")
+        if (self.status == "holds under conditions") != bool(self.conditions.strip()):
+            raise ValueError(f"conditions of {self.id} must be non-empty exactly when the "
+                             f"status is 'holds under conditions'; got {self.conditions!r}")
+        if not self.evidence.strip() or "\n" in self.evidence:
+            raise ValueError(f"evidence of {self.id} must be one non-empty line")
+        if (not isinstance(self.precision, int) or isinstance(self.precision, bool)
+                or not 1 <= self.precision <= 15):
+            raise ValueError(f"precision of {self.id} must be an int in [1, 15]; "
+                             f"got {self.precision!r}")
         if self.paper not in ("GC", "RSF"):
             raise ValueError(f"paper must be 'GC' or 'RSF'; got {self.paper!r}")
         pv = self.paper_value
@@ -107,15 +162,48 @@ def collect() -> list[LedgerItem]:
     return items
 
 
+def rounded(value: float | str | None, precision: int) -> float | str | None:
+    """``value`` rounded to ``precision`` significant digits (text and ``None`` unchanged).
+
+    Cited values must not depend on the CPU's last-bit rounding: the ledger files and the
+    command line report every number at its item's declared precision.
+
+    >>> rounded(0.0013742137, 3)
+    0.00137
+    """
+    if value is None or isinstance(value, str):
+        return value
+    return float(f"{v.check_real('value', value):.{precision}g}")
+
+
+def _record(it: LedgerItem) -> dict[str, object]:
+    d = asdict(it)
+    d.pop("anchor")
+    d["reproduced_value"] = rounded(it.reproduced_value, it.precision)
+    return d
+
+
 def to_json(items: list[LedgerItem]) -> str:
-    """JSON list of the items, byte-identical for identical inputs."""
+    """The ledger as one JSON object: ``{"title", "version", "items": [...]}``, every value
+    rounded to its item's precision, so that the text is the same on every machine."""
     items = _check_items(items)
-    out = []
-    for it in items:
-        d = asdict(it)
-        d.pop("anchor")
-        out.append(d)
-    return json.dumps(out, indent=2, ensure_ascii=False, sort_keys=False) + "\n"
+    doc = {"title": TITLE, "version": gyrolib.__version__,
+           "items": [_record(it) for it in items]}
+    return json.dumps(doc, indent=2, ensure_ascii=False, sort_keys=False) + "\n"
+
+
+def to_csv(items: list[LedgerItem]) -> str:
+    """The ledger as CSV: a ``# <title> <version>`` comment line, a header, one row per item
+    (values rounded to each item's precision)."""
+    items = _check_items(items)
+    buf = io.StringIO()
+    buf.write(f"# {TITLE} {gyrolib.__version__}\n")
+    records = [_record(it) for it in items]
+    names = [f.name for f in fields(LedgerItem) if f.name != "anchor"]
+    writer = csv.DictWriter(buf, fieldnames=names, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(records)
+    return buf.getvalue()
 
 
 def format_value(value: float | str | None) -> str:
@@ -131,22 +219,34 @@ def format_value(value: float | str | None) -> str:
 def to_table(items: list[LedgerItem]) -> str:
     """A plain-text table for the terminal."""
     items = _check_items(items)
-    header = ("id", "paper value", "reproduced", "unit", "status")
-    rows = [(it.id, format_value(it.paper_value), format_value(it.reproduced_value), it.unit,
-             it.status) for it in items]
+    header = ("id", "kind", "paper value", "reproduced", "unit", "status")
+    rows = [(it.id, it.kind, format_value(it.paper_value),
+             format_value(rounded(it.reproduced_value, it.precision)), it.unit, it.status)
+            for it in items]
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = ["  ".join(c.ljust(w) for c, w in zip(header, widths))]
     lines.append("  ".join("-" * w for w in widths))
     lines += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) for r in rows]
+    counts = summary(items)
+    lines.append("")
+    for kind in KINDS:
+        by_status = counts[kind]
+        lines.append(f"{kind + ':':16}" + ", ".join(f"{n} {status}"
+                                                    for status, n in by_status.items() if n))
     return "\n".join(lines) + "\n"
 
 
-def summary(items: list[LedgerItem]) -> dict[str, int]:
-    """Count of items per status, plus ``"total"``."""
+def summary(items: list[LedgerItem]) -> dict[str, object]:
+    """Counts per kind and status, plus ``"total"``: ``{kind: {status: n}, "total": n}``.
+
+    "reproduced" exists only under ``"printed number"``: inputs, inferred values, redrawn
+    figures and claims are counted under their own kinds, never as reproduced.
+    """
     items = _check_items(items)
-    counts = {status: 0 for status in STATUSES}
+    counts: dict[str, object] = {kind: dict.fromkeys(STATUSES_BY_KIND[kind], 0)
+                                 for kind in KINDS}
     for it in items:
-        counts[it.status] += 1
+        counts[it.kind][it.status] += 1  # type: ignore[index]
     counts["total"] = len(items)
     return counts
 

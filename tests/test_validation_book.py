@@ -1,0 +1,119 @@
+"""Bad input to :mod:`gyrolib.units`, the ledger, the report formats and the command line is rejected by name.
+
+The reference is the contract of CONTRIBUTING.md: bad input raises ``ValueError`` or
+``TypeError`` whose message starts with the name of the offending parameter (and, where the
+range is a number, states it), never an error from deep inside, a silent NaN or a wrong figure.
+The table's coverage is computed from the subpackage's ``__all__`` and its classes' public
+methods; hypothesis properties cover continuous ranges.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from validation_table import *
+
+TABLE = Table()
+case = TABLE.case
+
+# units
+case("units.to_si", lambda: units.to_si(NAN, "deg"), ValueError, "value", "NaN")
+case("units.to_si", lambda: units.to_si("1", "deg"), TypeError, "value", "real")
+case("units.to_si", lambda: units.to_si(1j, "deg"), TypeError, "value", "real")
+case("units.to_si", lambda: units.to_si(True, "deg"), TypeError, "value", "bool")
+case("units.to_si", lambda: units.to_si([[1.0], [1.0, 2.0]], "deg"), TypeError, "value")
+case("units.to_si", lambda: units.to_si(1.0, "furlong"), ValueError, "unit", "one of")
+case("units.from_si", lambda: units.from_si([1.0, NAN], "deg"), ValueError, "value", "NaN")
+case("units.from_si", lambda: units.from_si(1.0, None), TypeError, "unit", "str")
+
+# ledger
+case("ledger.LedgerItem", lambda: item(id=None), TypeError, "id", "str")
+case("ledger.LedgerItem", lambda: item(note=1.0), TypeError, "note", "str")
+case("ledger.LedgerItem", lambda: item(reproduced_value="1"), TypeError, "reproduced_value")
+case("ledger.LedgerItem", lambda: item(reproduced_value=True), TypeError, "reproduced_value")
+case("ledger.LedgerItem", lambda: item(reproduced_value=INF), ValueError, "reproduced_value",
+     FINITE)
+case("ledger.LedgerItem", lambda: item(paper_value=NAN), ValueError, "paper_value", FINITE)
+case("ledger.LedgerItem", lambda: item(paper_value=[1]), TypeError, "paper_value")
+case("ledger.LedgerItem", lambda: item(status="close enough"), ValueError, "status", "one of")
+case("ledger.LedgerItem", lambda: item(paper="XYZ"), ValueError, "paper", "'GC' or 'RSF'")
+case("ledger.LedgerItem", lambda: item(kind="guess"), ValueError, "kind", "one of")
+case("ledger.LedgerItem", lambda: item(kind="input"), ValueError, "status", "one of")
+case("ledger.LedgerItem", lambda: item(evidence=""), ValueError, "evidence", "non-empty")
+case("ledger.LedgerItem", lambda: item(precision=0), ValueError, "precision", "[1, 15]")
+case("ledger.LedgerItem", lambda: item(kind="claim", status="holds under conditions"),
+     ValueError, "conditions", "non-empty")
+case("ledger.to_json", lambda: ledger.to_json(None), TypeError, "items", "LedgerItem")
+case("ledger.to_csv", lambda: ledger.to_csv([1]), TypeError, "items", "LedgerItem")
+case("ledger.rounded", lambda: ledger.rounded(NAN, 3), ValueError, "value", FINITE)
+case("ledger.to_json", lambda: ledger.to_json([1]), TypeError, "items")
+case("ledger.to_table", lambda: ledger.to_table("abc"), TypeError, "items")
+case("ledger.summary", lambda: ledger.summary([item(), 1]), TypeError, "items")
+case("ledger.to_markdown", lambda: ledger.to_markdown([item()], "XYZ"), ValueError, "paper",
+     "'GC' or 'RSF'")
+case("ledger.to_markdown", lambda: ledger.to_markdown(None, "GC"), TypeError, "items")
+case("ledger.gc.items", lambda: lgc.items("x"), TypeError, "params", "GyrocompassParams")
+case("ledger.rsf.items", lambda: lrsf.items(roll_gyro=None), TypeError, "roll_gyro",
+     "RollGyroSpec")
+case("ledger.rsf.items", lambda: lrsf.items(gs_gyro="x"), TypeError, "gs_gyro", "MemsGyroSpec")
+case("ledger.rsf.items", lambda: lrsf.items(encoder=rsf.EncoderModel()), TypeError, "encoder",
+     "EncoderSpec")
+case("ledger.format_value", lambda: ledger.format_value([1.0]), TypeError, "value", "real")
+case("ledger.format_value", lambda: ledger.format_value(NAN), ValueError, "value", FINITE)
+
+# report
+case("report.sci", lambda: report.sci(NAN), ValueError, "x", FINITE)
+case("report.sci", lambda: report.sci("1e-4"), TypeError, "x", "real")
+case("report.sci", lambda: report.sci(1.0, 0), ValueError, "digits", ">= 1")
+case("report.grouped", lambda: report.grouped(INF), ValueError, "x", FINITE)
+case("report.grouped", lambda: report.grouped(1.0, 2.5), TypeError, "digits")
+case("report.format_number", lambda: report.format_number(1.0, 3), TypeError, "fmt", "str")
+case("report.format_number", lambda: report.format_number(NAN, ".3f"), ValueError, "value",
+     FINITE)
+case("report.format_number", lambda: report.format_number("x", ".3f"), TypeError, "value")
+case("report.markdown_table", lambda: report.markdown_table([], []), ValueError, "header")
+case("report.markdown_table", lambda: report.markdown_table(["a", "b"], [[1]]), ValueError,
+     "rows[0]", "2 cells")
+case("report.gluer", lambda: report.gluer(None), TypeError, "prefix", "str")
+
+# __main__
+case("__main__.main", lambda: cli.main("ledger"), TypeError, "argv", "list of str")
+case("__main__.main", lambda: cli.main([1]), TypeError, "argv")
+
+
+@pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
+def test_bad_input_is_rejected_by_name(call, exc, pattern):
+    run_case(call, exc, pattern)
+
+
+#: Public callables without a bad-input case, and why.
+EXEMPT: dict[str, str] = {"report.MarkdownText": "a str subclass: any text is valid"}
+
+
+def test_table_covers_every_public_callable():
+    TABLE.check_coverage({"__main__": SimpleNamespace(__all__=["main"], main=cli.main), "units": units, "ledger": ledger, "ledger.gc": lgc, "ledger.rsf": lrsf, "report": report}, EXEMPT)
+
+
+def test_cli_rejects_an_unknown_command_with_usage(capsys):
+    with pytest.raises(SystemExit) as info:
+        cli.main(["nope"])
+    assert info.value.code == 2
+    assert "invalid choice: 'nope'" in capsys.readouterr().err
+
+
+@SETTINGS
+@given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=8), where=st.integers(0, 7))
+def test_a_nan_anywhere_in_a_unit_conversion_is_rejected(values, where):
+    values[where % len(values)] = NAN
+    with pytest.raises(ValueError, match=r"^value must be a number or ±inf, not NaN"):
+        units.to_si(values, "deg/h")
+
+
+@SETTINGS
+@given(x=st.floats(-1e6, 1e6), unit=st.sampled_from(sorted(units.UNITS)))
+def test_finite_and_infinite_values_still_convert_exactly(x, unit):
+    assert units.to_si(x, unit) == x * units.UNITS[unit]
+    assert units.from_si(INF, unit) == INF

@@ -1,0 +1,489 @@
+"""Bad input to paper GC (:mod:`gyrolib.gc`, ``gc.symbolic``) is rejected by name.
+
+The reference is the contract of CONTRIBUTING.md: bad input raises ``ValueError`` or
+``TypeError`` whose message starts with the name of the offending parameter (and, where the
+range is a number, states it), never an error from deep inside, a silent NaN or a wrong figure.
+The table's coverage is computed from the subpackage's ``__all__`` and its classes' public
+methods; hypothesis properties cover continuous ranges.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from validation_table import *
+
+TABLE = Table()
+case = TABLE.case
+
+# shaping_filters
+case("gc.ShapingFilter", lambda: gc.ShapingFilter("a", VIB.B, VIB.C, VIB.Q),
+     TypeError, "A", "real")
+case("gc.ShapingFilter", lambda: replace(VIB, A=np.ones((2, 3))), ValueError, "A",
+     "square")
+case("gc.ShapingFilter", lambda: replace(VIB, B=np.ones((3, 1))), ValueError, "B",
+     r"\(2, 1\)")
+case("gc.ShapingFilter", lambda: replace(VIB, C=np.ones((1, 3))), ValueError, "C",
+     r"\(1, 2\)")
+case("gc.ShapingFilter", lambda: gc.ShapingFilter(VIB.A, VIB.B, VIB.C, -1.0),
+     ValueError, "Q", NONNEG)
+case("gc.ShapingFilter", lambda: gc.ShapingFilter(VIB.A, VIB.B, VIB.C, NAN),
+     ValueError, "Q", FINITE)
+case("gc.ShapingFilter.discretize", lambda: VIB.discretize(0.0), ValueError, "dt",
+     POS)
+case("gc.vibration_filter", lambda: gc.vibration_filter(NAN, 0.5, 1.0),
+     ValueError, "alpha1", POS)
+case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.0, 1.0),
+     ValueError, "xi1", r"\(0.0, 1.0\]")
+case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.5, "1"),
+     TypeError, "sigma1_sq")
+case("gc.random_drift_filter", lambda: gc.random_drift_filter(-1.0, 0.5, 1.0),
+     ValueError, "alpha2", POS)
+case("gc.random_drift_filter", lambda: gc.random_drift_filter(1.0, 1.5, 1.0),
+     ValueError, "xi2")
+case("gc.random_drift_filter", lambda: gc.random_drift_filter(1.0, 0.5, 0.0),
+     ValueError, "sigma2_sq", POS)
+case("gc.stationary_covariance",
+     lambda: gc.stationary_covariance(np.ones((2, 3)), np.ones((2, 1)), 1.0), ValueError, "A",
+     "square")
+case("gc.stationary_covariance",
+     lambda: gc.stationary_covariance(VIB.A, np.ones((3, 1)), 1.0), ValueError, "B")
+case("gc.stationary_covariance", lambda: gc.stationary_covariance(VIB.A, VIB.B,
+                                                                                -1.0),
+     ValueError, "Q", NONNEG)
+case("gc.stationary_covariance", lambda: gc.stationary_covariance(-VIB.A, VIB.B,
+                                                                                1.0),
+     ValueError, "A", "Hurwitz")
+case("gc.psd_two_sided", lambda: gc.psd_two_sided(None, [1.0]), TypeError, "filt")
+case("gc.psd_two_sided", lambda: gc.psd_two_sided(VIB, [[1.0]]), ValueError,
+     "omega", "1-D")
+case("gc.psd", lambda: gc.psd(VIB, [NAN]), ValueError, "omega", FINITE)
+case("gc.psd", lambda: gc.psd(VIB, [-1.0]), ValueError, "omega", NONNEG)
+case("gc.psd_integral", lambda: gc.psd_integral(VIB, decades=-1.0), ValueError,
+     "decades", POS)
+case("gc.psd_integral", lambda: gc.psd_integral(VIB, n=True), TypeError, "n",
+     ">= 101")
+case("gc.simulate_shaping_filter", lambda: gc.simulate_shaping_filter(VIB, 0.1, 10, -1), ValueError, "seed",
+     ">= 0")
+case("gc.simulate_shaping_filter", lambda: gc.simulate_shaping_filter(VIB, 0.1, 0, 1), ValueError, "n", ">= 1")
+case("gc.simulate_shaping_filter", lambda: gc.simulate_shaping_filter(VIB, INF, 10, 1), ValueError, "dt", POS)
+case("gc.simulate_shaping_filter", lambda: gc.simulate_shaping_filter("VIB", 0.1, 10, 1), TypeError, "filt")
+case("gc.mean_square_standard_error",
+     lambda: gc.mean_square_standard_error(VIB, NAN, 10), ValueError, "dt", FINITE)
+case("gc.mean_square_standard_error",
+     lambda: gc.mean_square_standard_error(VIB, 0.1, 2.5), TypeError, "n")
+
+# gyrocompass
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(I=-1.0), ValueError, "I",
+     POS)
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(dt=NAN), ValueError, "dt")
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(H="0.05"), TypeError, "H")
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(sigma_psi0=-1e-6),
+     ValueError, "sigma_psi0", NONNEG)
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(xi2=0.0), ValueError, "xi2",
+     r"\(0.0, 1.0\]")
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(shaping_p0="x"), ValueError,
+     "shaping_p0", "one of")
+case("gc.GyrocompassParams", lambda: replace(P, measurement_noise=None), ValueError,
+     "measurement_noise", "one of")
+case("gc.GyrocompassParams", lambda: replace(P, vertical_coupling="eq6"), ValueError,
+     "vertical_coupling", "one of")
+case("gc.state_index", lambda: gc.state_index("foo"), ValueError, "name", "one of")
+case("gc.NominalMotion", lambda: gc.NominalMotion("a", T5, T5), TypeError, "t")
+case("gc.NominalMotion", lambda: gc.NominalMotion(T5, T5[:3], T5), ValueError, "beta",
+     r"\(5,\)")
+case("gc.NominalMotion", lambda: gc.NominalMotion(T5, T5, T5 * NAN), ValueError,
+     "beta_dot", FINITE)
+case("gc.nominal_motion", lambda: gc.nominal_motion(None, T5), TypeError, "params")
+case("gc.nominal_motion", lambda: gc.nominal_motion(P, [1.0, 0.5]), ValueError, "t",
+     "non-decreasing")
+case("gc.nominal_motion", lambda: gc.nominal_motion(P, []), ValueError, "t")
+case("gc.nominal_motion", lambda: gc.nominal_motion(P, T5, rtol=1.0), ValueError,
+     "rtol", r"\[1e-14, 0.001\]")
+case("gc.nominal_motion_reference", lambda: gc.nominal_motion_reference(P, [NAN]),
+     ValueError, "t", FINITE)
+case("gc.nominal_motion_reference", lambda: gc.nominal_motion_reference(P, T5,
+                                                                                  rtol="a"),
+     TypeError, "rtol")
+case("gc.nominal_motion_aperiodic", lambda: gc.nominal_motion_aperiodic(P, [[1.0]]),
+     ValueError, "t", "1-D")
+case("gc.nominal_motion_aperiodic", lambda: gc.nominal_motion_aperiodic({}, T5),
+     TypeError, "params")
+case("gc.system_matrix", lambda: gc.system_matrix(None, 0.0), TypeError, "params")
+case("gc.system_matrix", lambda: gc.system_matrix(P, NAN), ValueError, "beta_n",
+     FINITE)
+case("gc.noise_input_matrix", lambda: gc.noise_input_matrix(None), TypeError,
+     "params")
+case("gc.measurement_matrix", lambda: gc.measurement_matrix("P"), TypeError, "params")
+case("gc.process_noise_intensity", lambda: gc.process_noise_intensity(None),
+     TypeError, "params")
+case("gc.measurement_noise_intensity", lambda: gc.measurement_noise_intensity(1.0),
+     TypeError, "params")
+case("gc.measurement_noise_covariance", lambda: gc.measurement_noise_covariance(None),
+     TypeError, "params")
+case("gc.initial_covariance", lambda: gc.initial_covariance(None), TypeError,
+     "params")
+
+# gc_symbolic
+S = symbolic.SYMBOLS
+case("gc.symbolic.ModelSymbols", lambda: replace(S, t="t"), TypeError, "t", "Symbol")
+case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(None), TypeError, "beta")
+case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(NAN), ValueError, "beta",
+     FINITE)
+case("gc.symbolic.earth_rate_in_base", lambda: symbolic.earth_rate_in_base("eq6"), ValueError,
+     "coupling", "one of")
+case("gc.symbolic.gyroscopic_torque", lambda: symbolic.gyroscopic_torque(S.t, 2), ValueError, "sign",
+     r"\+1 or -1")
+case("gc.symbolic.gyroscopic_torque", lambda: symbolic.gyroscopic_torque("b"), TypeError, "beta")
+case("gc.symbolic.gyrocompass_equation", lambda: symbolic.gyrocompass_equation(unbalance="no"),
+     TypeError, "unbalance", "bool")
+case("gc.symbolic.gyrocompass_equation", lambda: symbolic.gyrocompass_equation(coupling="x"),
+     ValueError, "coupling")
+case("gc.symbolic.gyrocompass_equation", lambda: symbolic.gyrocompass_equation(sign=True), ValueError,
+     "sign")
+case("gc.symbolic.taylor_linearization", lambda: symbolic.taylor_linearization(sign=[1]), ValueError,
+     "sign")
+case("gc.symbolic.taylor_linearization", lambda: symbolic.taylor_linearization(unbalance=1),
+     TypeError, "unbalance")
+case("gc.symbolic.taylor_linearization", lambda: symbolic.taylor_linearization(coupling=["eq5"]),
+     ValueError, "coupling")
+case("gc.symbolic.ShapingFilterSym", lambda: symbolic.ShapingFilterSym(None, None, None, None),
+     TypeError, "A")
+case("gc.symbolic.ShapingFilterSym", lambda: symbolic.ShapingFilterSym(sp.eye(2), sp.Matrix([1]),
+                                                                  sp.Matrix([[1, 0]]), S.s),
+     ValueError, "B", r"\(2, 1\)")
+case("gc.symbolic.shaping_filter", lambda: symbolic.shaping_filter("x"), ValueError, "which",
+     "one of")
+case("gc.symbolic.shaping_filter", lambda: symbolic.shaping_filter("drift", "second_line_only"),
+     ValueError, "reading", "one of")
+case("gc.symbolic.lyapunov_variance", lambda: symbolic.lyapunov_variance(None, sp.Matrix([1]),
+                                                                    sp.Matrix([1]), 1),
+     TypeError, "A")
+case("gc.symbolic.lyapunov_variance", lambda: symbolic.lyapunov_variance(
+    sp.eye(2), sp.Matrix([1, 2, 3]), sp.Matrix([[1, 0]]), 1), ValueError, "B")
+case("gc.symbolic.lyapunov_variance", lambda: symbolic.lyapunov_variance(
+    -sp.eye(2), sp.Matrix([1, 0]), sp.Matrix([[1, 0, 0]]), 1), ValueError, "C")
+case("gc.symbolic.lyapunov_variance", lambda: symbolic.lyapunov_variance(
+    -sp.eye(2), sp.Matrix([1, 0]), sp.Matrix([[1, 0]]), NAN), ValueError, "Q", FINITE)
+case("gc.symbolic.StateSpaceSym", lambda: replace(symbolic.state_space(), coupling="x"), ValueError,
+     "coupling")
+case("gc.symbolic.StateSpaceSym", lambda: replace(symbolic.state_space(), F=None), TypeError, "F")
+case("gc.symbolic.state_space", lambda: symbolic.state_space(["eq5"]), ValueError, "coupling")
+case("gc.symbolic.state_space", lambda: symbolic.state_space("eq5", "x"), ValueError, "state_order")
+case("gc.symbolic.state_space", lambda: symbolic.state_space(sign=3), ValueError, "sign")
+case("gc.symbolic.compare_with_paper", lambda: symbolic.compare_with_paper(None), TypeError, "model")
+case("gc.symbolic.parameter_values", lambda: symbolic.parameter_values(None), TypeError, "params")
+case("gc.symbolic.numeric_matrices", lambda: symbolic.numeric_matrices(None, 0.0), TypeError,
+     "params")
+case("gc.symbolic.numeric_matrices", lambda: symbolic.numeric_matrices(P, INF), ValueError, "beta_n",
+     FINITE)
+case("gc.symbolic.numeric_matrices", lambda: symbolic.numeric_matrices(P, 0.0, "x"), ValueError,
+     "coupling")
+
+# gc_estimation
+case("gc.nominal_half_steps", lambda: gc.nominal_half_steps(None, 10), TypeError,
+     "params")
+case("gc.nominal_half_steps", lambda: gc.nominal_half_steps(P, 0), ValueError,
+     "n_steps", ">= 1")
+case("gc.discretize", lambda: gc.discretize(P, 0.0), ValueError, "t_end", POS)
+case("gc.discretize", lambda: gc.discretize(P, 0.0105), ValueError, "t_end",
+     "multiple of dt")
+case("gc.discretize", lambda: gc.discretize(P, "1"), TypeError, "t_end")
+case("gc.GCDiscretization", lambda: replace(disc(), n_steps=0), ValueError,
+     "n_steps")
+case("gc.GCDiscretization", lambda: replace(disc(), model=None), TypeError, "model")
+case("gc.GCDiscretization", lambda: replace(disc(), Gamma=disc().Gamma[:, :3]),
+     ValueError, "Gamma")
+case("gc.GCDiscretization.exact_step", lambda: disc().exact_step(-1), ValueError,
+     "k", ">= 0")
+case("gc.GCDiscretization.exact_step", lambda: disc().exact_step(10), ValueError,
+     "k", r"\[0, 10\)")
+case("gc.GCDiscretization.exact_step", lambda: disc().exact_step(1.5), TypeError,
+     "k")
+case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, 0.01, method="x"),
+     ValueError, "method", "one of")
+case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, 0.01,
+                                                                         store_every=0),
+     ValueError, "store_every")
+case("gc.covariance_analysis", lambda: gc.covariance_analysis(
+    P, 0.01, P0=np.triu(np.ones((10, 10)))), ValueError, "P0", "symmetric")
+case("gc.covariance_analysis", lambda: gc.covariance_analysis(
+    P, 0.01, P0=I10 - 0.5 * np.ones((10, 10))), ValueError, "P0", "positive semi-definite")
+case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, -100.0), ValueError,
+     "t_end", POS)
+case("gc.CovarianceAnalysis", lambda: replace(cov(), var=cov().var[:, :3]),
+     ValueError, "var")
+case("gc.CovarianceAnalysis", lambda: replace(cov(), params=None), TypeError,
+     "params")
+case("gc.CovarianceAnalysis.std", lambda: cov().std("x"), ValueError, "name",
+     "one of")
+case("gc.CovarianceAnalysis.std_at", lambda: cov().std_at("psi", -1.0), ValueError,
+     "time", r"\[0.0, 0.01\]")
+case("gc.CovarianceAnalysis.std_at", lambda: cov().std_at("Psi", 0.0), ValueError,
+     "name")
+case("gc.time_to_sigma", lambda: gc.time_to_sigma(None, "psi", 1.0), TypeError,
+     "result")
+case("gc.time_to_sigma", lambda: gc.time_to_sigma(cov(), "psi", 0.0), ValueError,
+     "level", POS)
+case("gc.time_to_sigma", lambda: gc.time_to_sigma(cov(), "x", 1.0), ValueError,
+     "name")
+case("gc.sweep_sigma_gc", lambda: gc.sweep_sigma_gc(P, "nope", [1.0], 0.01),
+     ValueError, "field")
+case("gc.sweep_sigma_gc", lambda: gc.sweep_sigma_gc(P, ["xi1"], [1.0], 0.01),
+     TypeError, "field", "str")
+case("gc.sweep_sigma_gc", lambda: gc.sweep_sigma_gc(P, "xi1", [NAN], 0.01),
+     ValueError, "values", FINITE)
+case("gc.sweep_sigma_gc", lambda: gc.sweep_sigma_gc(P, "xi1", [2.0], 0.01),
+     ValueError, "xi1", r"\(0.0, 1.0\]")
+case("gc.sweep_sigma_gc", lambda: gc.sweep_sigma_gc(None, "xi1", [0.5], 0.01),
+     TypeError, "params")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 0, 0.01), ValueError, "n_runs",
+     ">= 1")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, seed=-1), ValueError,
+     "seed", ">= 0")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, seed=None), TypeError,
+     "seed")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, -1.0), ValueError, "t_end", POS)
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, method="slow"),
+     ValueError, "method")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, truth="x"), ValueError,
+     "truth")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, store_every=0),
+     ValueError, "store_every")
+case("gc.MonteCarloResult", lambda: replace(mc(), tru=mc().tru[:1]), ValueError,
+     "tru")
+case("gc.MonteCarloResult", lambda: replace(mc(), seed=-3), ValueError, "seed")
+case("gc.MonteCarloResult.estimate", lambda: mc().estimate("x"), ValueError, "name")
+case("gc.MonteCarloResult.truth", lambda: mc().truth(3), ValueError, "name")
+case("gc.MonteCarloResult.error", lambda: mc().error(None), ValueError, "name")
+case("gc.MonteCarloResult.std", lambda: mc().std("omega"), ValueError, "name")
+case("gc.MonteCarloResult.rms_error", lambda: mc().rms_error(""), ValueError, "name")
+case("gc.MonteCarloResult.nees", lambda: mc().nees("psi"), TypeError, "names")
+case("gc.MonteCarloResult.nees", lambda: mc().nees(()), ValueError, "names")
+case("gc.MonteCarloResult.nees", lambda: mc().nees(("psi", "x")), ValueError, "name")
+case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(10), seed="a"),
+     TypeError, "seed")
+case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(10), seed=-1),
+     ValueError, "seed", ">= 0")
+case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(3)),
+     ValueError, "x0", r"\(10,\)")
+case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.0, np.zeros(10)),
+     ValueError, "t_end")
+case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(10),
+                                                               store_every=-2),
+     ValueError, "store_every")
+case("gc.error_budget", lambda: gc.error_budget(P, 0.01, name="x"), ValueError,
+     "name")
+case("gc.error_budget", lambda: gc.error_budget(P, 0.01, store_every=0), ValueError,
+     "store_every")
+case("gc.error_budget", lambda: gc.error_budget(P, INF), ValueError, "t_end")
+case("gc.ErrorBudget", lambda: gc.ErrorBudget(P, T5, ("a", 1), np.ones((2, 5)),
+                                                         np.ones(5)),
+     TypeError, "sources")
+case("gc.ErrorBudget", lambda: gc.ErrorBudget(P, T5, ("a",), np.ones((2, 5)),
+                                                         np.ones(5)),
+     ValueError, "var")
+case("gc.information_psi_omega",
+     lambda: gc.information_psi_omega(P, 0.01, frozen_beta=NAN), ValueError, "frozen_beta",
+     FINITE)
+case("gc.information_psi_omega", lambda: gc.information_psi_omega(P, -1.0),
+     ValueError, "t_end")
+case("gc.information_psi_omega", lambda: gc.information_psi_omega(P, 0.01,
+                                                                             store_every=0.5),
+     TypeError, "store_every")
+case("gc.InformationPsiOmega", lambda: gc.InformationPsiOmega(T5, np.ones((5, 3, 3))),
+     ValueError, "W", r"\(5, 2, 2\)")
+
+# gc_plots
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, [T5], paper_value=1.0),
+     TypeError, "curves", "Mapping")
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {}, paper_value=1.0),
+     ValueError, "curves")
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5[:3]},
+                                                                  paper_value=1.0),
+     ValueError, "t and curves['a']", "same length")
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": -T5},
+                                                                  paper_value=1.0),
+     ValueError, "curves['a']", NONNEG)
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history([], {"a": []},
+                                                                  paper_value=1.0),
+     ValueError, "t", "at least 2")
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5},
+                                                                  paper_value=0.0),
+     ValueError, "paper_value", POS)
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
+                                                                  paper_time=NAN),
+     ValueError, "paper_time")
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
+                                                                  drop_time="2"),
+     TypeError, "drop_time")
+case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
+                                                                  unit=None),
+     TypeError, "unit", "str")
+case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(T5, T5 * NAN, paper_value=1.0),
+     ValueError, "sigma", FINITE)
+case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(-T5, T5, paper_value=1.0), ValueError,
+     "kappa", NONNEG)
+case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(T5, T5[:2], paper_value=1.0),
+     ValueError, "kappa and sigma")
+case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((2, 5)), None),
+     TypeError, "sources")
+case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((3, 5)),
+                                                                ("a", "b")),
+     ValueError, "var", r"\(2, 5\)")
+case("gc.plot_error_budget", lambda: gc.plot_error_budget([], np.ones((2, 0)),
+                                                                ("a", "b")),
+     ValueError, "t")
+case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((2, 5)),
+                                                                ("a", "b"), scale=-1.0),
+     ValueError, "scale", POS)
+case("gc.plot_estimates", lambda: gc.plot_estimates(T5, np.ones((2, 5)), [1.0, 1.0], T5,
+                                                          t_zoom=NAN),
+     ValueError, "t_zoom")
+case("gc.plot_estimates", lambda: gc.plot_estimates(T5, np.ones((2, 5)), [1.0, 1.0], -T5),
+     ValueError, "sigma", NONNEG)
+case("gc.plot_estimates", lambda: gc.plot_estimates(T5, np.ones((2, 5)), [1.0], T5),
+     ValueError, "truths", r"\(2,\)")
+case("gc.plot_estimates", lambda: gc.plot_estimates(T5, np.ones((0, 5)), [], T5),
+     ValueError, "estimates", "at least 1")
+case("gc.plot_estimates", lambda: gc.plot_estimates(T5, np.ones((2, 4)), [1.0, 1.0], T5),
+     ValueError, "estimates")
+case("gc.plot_consistency", lambda: gc.plot_consistency(T5, T5, T5, (1.0, 2.0, 3.0), {}),
+     TypeError, "rms_band", "pair")
+case("gc.plot_consistency", lambda: gc.plot_consistency(T5, T5, T5, (2.0, 1.0), {}),
+     ValueError, "rms_band", "low <= high")
+case("gc.plot_consistency", lambda: gc.plot_consistency(T5, T5, T5, (1.0, 2.0), [T5]),
+     TypeError, "nees", "Mapping")
+case("gc.plot_consistency", lambda: gc.plot_consistency(T5, T5, T5, (1.0, 2.0),
+                                                              {"a": T5}),
+     TypeError, "nees['a']", "pair")
+case("gc.plot_consistency", lambda: gc.plot_consistency(T5, T5, T5, (1.0, 2.0),
+                                                              {"a": (T5, (NAN, 1.0))}),
+     ValueError, "nees['a'] bounds", POS)
+case("gc.plot_consistency", lambda: gc.plot_consistency(T5, -T5, T5, (1.0, 2.0), {}),
+     ValueError, "rms", NONNEG)
+case("gc.plot_sweep", lambda: gc.plot_sweep([(T5, T5, 1.0)], paper_value=1.0), TypeError,
+     "sweeps", "Mapping")
+case("gc.plot_sweep", lambda: gc.plot_sweep({"a": (T5, T5)}, paper_value=1.0), TypeError,
+     "sweeps['a']", "triple")
+case("gc.plot_sweep", lambda: gc.plot_sweep({"a": (T5 + 1, T5 + 1, NAN)},
+                                                  paper_value=1.0),
+     ValueError, "sweeps['a'] nominal", POS)
+case("gc.plot_sweep", lambda: gc.plot_sweep({"a": (T5, T5 + 1, 1.0)}, paper_value=1.0),
+     ValueError, "sweeps['a'] values", r"> 0 \(log axes\)")
+case("gc.plot_information", lambda: gc.plot_information(T5, T5, T5, T5[:2], T5),
+     ValueError, "t and corr", "same length")
+case("gc.plot_information", lambda: gc.plot_information(T5, T5, T5, T5 + 1.5, T5),
+     ValueError, "corr", r"\[-1, 1\]")
+case("gc.plot_information", lambda: gc.plot_information(T5, -T5, T5, T5, T5), ValueError,
+     "sig_known", NONNEG)
+
+# gc_model_plots
+PSD = {"alpha1": 1.0, "alpha2": 1.0, "var_n1": 1.0, "var_n3": 1.0}
+case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([0.0, 1.0], [1, 1], [1, 1],
+                                                                     **PSD),
+     ValueError, "omega", r"> 0")
+case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([], [], [], **PSD),
+     ValueError, "omega", "at least 1")
+case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([1.0, 2.0], [-1, 1], [1, 1],
+                                                                     **PSD),
+     ValueError, "psd_n1", NONNEG)
+case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([1.0, 2.0], [1, 1], [1],
+                                                                     **PSD),
+     ValueError, "omega, psd_n1, psd_n3", "same length")
+case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd(
+    [1.0, 2.0], [1, 1], [1, 1], **(PSD | {"var_n3": -1.0})), ValueError, "var_n3", POS)
+case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
+    T5, T5, T5, [], [], [], tau=1.0, lag=0.0), ValueError, "t_fast", "at least 1")
+case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
+    T5, T5, T5, T5, T5, T5, tau=0.0, lag=0.0), ValueError, "tau", POS)
+case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
+    T5, T5, T5, T5, T5, T5, tau=1.0, lag=NAN), ValueError, "lag", FINITE)
+case("gc.plot_figure1", lambda: gc.plot_figure1(beta_deg=90.0), ValueError,
+     "beta_deg", r"\[1.0, 80.0\]")
+case("gc.plot_figure1", lambda: gc.plot_figure1(beta_deg=10.0, psi_deg=20.0),
+     ValueError, "psi_deg", "< beta_deg")
+case("gc.plot_figure1", lambda: gc.plot_figure1(tilt_deg="14"), TypeError,
+     "tilt_deg")
+
+
+@pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
+def test_bad_input_is_rejected_by_name(call, exc, pattern):
+    run_case(call, exc, pattern)
+
+
+#: Public callables without a bad-input case, and why.
+EXEMPT: dict[str, str] = {"gc.symbolic.display_form": "returns non-sympy objects unchanged (documented)"}
+
+
+def test_table_covers_every_public_callable():
+    TABLE.check_coverage({"gc": gc, "gc.symbolic": symbolic}, EXEMPT)
+
+
+@SETTINGS
+@given(dt=NOT_POSITIVE)
+def test_any_non_positive_or_non_finite_dt_is_rejected(dt):
+    with pytest.raises(ValueError, match=r"^dt must be > 0"):
+        filtering.van_loan(-np.eye(2), np.ones((2, 1)), [[1.0]], dt)
+    with pytest.raises(ValueError, match=r"^dt must be > 0"):
+        VIB.discretize(dt)
+    with pytest.raises(ValueError, match=r"^dt\b"):
+        replace(P, dt=dt)
+
+
+@SETTINGS
+@given(t_end=NOT_POSITIVE)
+def test_any_non_positive_t_end_is_rejected(t_end):
+    with pytest.raises(ValueError, match=r"^t_end must be > 0"):
+        gc.discretize(P, t_end)
+    with pytest.raises(ValueError, match=r"^t_end must be > 0"):
+        gc.covariance_analysis(P, t_end)
+
+
+@SETTINGS
+@given(k=st.integers(0, 10**5), frac=st.floats(0.01, 0.99))
+def test_any_t_end_off_the_dt_grid_is_rejected(k, frac):
+    t_end = (k + frac) * P.dt
+    with pytest.raises(ValueError, match=r"^t_end must be a positive multiple of dt"):
+        gc.discretize(P, t_end)
+
+
+@SETTINGS
+@given(n=st.integers(max_value=0))
+def test_any_run_count_below_one_is_rejected(n):
+    with pytest.raises(ValueError, match=r"^n_runs must be an integer >= 1"):
+        gc.monte_carlo(P, n, 0.01)
+    with pytest.raises(ValueError, match=r"^n_runs must be an integer >= 1"):
+        rsf.SimulationConfig(n_runs=n)
+    with pytest.raises(ValueError, match=r"^n_runs must be an integer >= 1"):
+        filtering.nees_bounds(1, n)
+
+
+@SETTINGS
+@given(seed=st.one_of(st.integers(max_value=-1), st.floats(allow_nan=True), st.text(max_size=3),
+                      st.none()))
+def test_any_seed_that_is_not_a_non_negative_int_is_rejected(seed):
+    with pytest.raises((ValueError, TypeError), match=r"^seed must be an integer >= 0"):
+        gc.simulate_shaping_filter(VIB, 0.1, 10, seed)
+    with pytest.raises((ValueError, TypeError), match=r"^seed must be an integer >= 0"):
+        rsf.simulate_flight(cfg(), seed)
+
+
+POSITIVE_FIELDS = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
+                   "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
+
+
+@SETTINGS
+@given(field=st.sampled_from(POSITIVE_FIELDS), value=NOT_POSITIVE)
+def test_any_non_positive_physical_parameter_is_rejected_by_name(field, value):
+    with pytest.raises(ValueError, match=rf"^{field} must be > 0"):
+        replace(P, **{field: value})
+
+
+@SETTINGS
+@given(field=st.sampled_from(("xi1", "xi2")),
+       xi=st.one_of(st.floats(max_value=0.0), st.floats(min_value=1.0, exclude_min=True)))
+def test_any_damping_outside_zero_one_is_rejected(field, xi):
+    with pytest.raises(ValueError, match=rf"^{field} must be "):
+        replace(P, **{field: xi})

@@ -1,0 +1,344 @@
+"""Bad input to paper RSF (:mod:`gyrolib.rsf`) is rejected by name.
+
+The reference is the contract of CONTRIBUTING.md: bad input raises ``ValueError`` or
+``TypeError`` whose message starts with the name of the offending parameter (and, where the
+range is a number, states it), never an error from deep inside, a silent NaN or a wrong figure.
+The table's coverage is computed from the subpackage's ``__all__`` and its classes' public
+methods; hypothesis properties cover continuous ranges.
+"""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from validation_table import *
+
+TABLE = Table()
+case = TABLE.case
+
+# roll_correction
+case("rsf.RollGyroSpec", lambda: rsf.RollGyroSpec(sf_error=2.0), ValueError,
+     "sf_error", r"\[0.0, 1.0\)")
+case("rsf.RollGyroSpec", lambda: rsf.RollGyroSpec(bias_instability=-1.0), ValueError,
+     "bias_instability", NONNEG)
+case("rsf.RollGyroSpec", lambda: rsf.RollGyroSpec(dynamic_range=0.0), ValueError,
+     "dynamic_range", POS)
+case("rsf.MemsGyroSpec", lambda: rsf.MemsGyroSpec(bias_stability=-1.0), ValueError,
+     "bias_stability", NONNEG)
+case("rsf.MemsGyroSpec", lambda: rsf.MemsGyroSpec(name=1), TypeError, "name")
+case("rsf.EncoderSpec", lambda: rsf.EncoderSpec(quadrature=3), ValueError,
+     "quadrature", r"\(1, 2, 4\)")
+case("rsf.EncoderSpec", lambda: rsf.EncoderSpec(cycles_per_rev=0), ValueError,
+     "cycles_per_rev", ">= 1")
+case("rsf.EncoderSpec", lambda: rsf.EncoderSpec(position_error=4.0), ValueError,
+     "position_error")
+case("rsf.gyro_output", lambda: rsf.gyro_output(1.0, 1.0), ValueError, "eps1",
+     r"\(-1.0, 1.0\)")
+case("rsf.gyro_output", lambda: rsf.gyro_output([1.0, 2.0], [0.1] * 3), ValueError,
+     "omega_true, eps1, eps0", "broadcast")
+case("rsf.gyro_output", lambda: rsf.gyro_output(1.0, 0.1, NAN), ValueError, "eps0",
+     FINITE)
+case("rsf.roll_difference", lambda: rsf.roll_difference([1.0, 2.0], [1.0, 2.0, 3.0]),
+     ValueError, "gamma_sins, gamma_gs", "broadcast")
+case("rsf.roll_difference", lambda: rsf.roll_difference(None, 1.0), TypeError,
+     "gamma_sins")
+case("rsf.sf_error_estimate", lambda: rsf.sf_error_estimate(1.0, 0.0, 1.0),
+     ValueError, "omega_x", "nonzero")
+case("rsf.sf_error_estimate", lambda: rsf.sf_error_estimate(1.0, 1.0, 0.0),
+     ValueError, "dt", POS)
+case("rsf.sf_error_estimate", lambda: rsf.sf_error_estimate([1.0, 2.0], [1.0] * 3,
+                                                                       1.0),
+     ValueError, "dgamma, omega_x", "broadcast")
+case("rsf.correction_coefficient", lambda: rsf.correction_coefficient(0.1, "x"),
+     ValueError, "form", "one of")
+case("rsf.correction_coefficient", lambda: rsf.correction_coefficient(NAN),
+     ValueError, "eps1_hat", FINITE)
+case("rsf.corrected_rate", lambda: rsf.corrected_rate([1.0, 2.0], [1.0] * 3),
+     ValueError, "omega_x, k", "broadcast")
+case("rsf.corrected_rate", lambda: rsf.corrected_rate(1.0, "a"), TypeError, "k")
+case("rsf.k_true", lambda: rsf.k_true(-1.0), ValueError, "eps1", r"\(-1.0, 1.0\)")
+case("rsf.relative_k_error", lambda: rsf.relative_k_error([1.0, 2.0], [0.1] * 3),
+     ValueError, "k, eps1", "broadcast")
+case("rsf.relative_k_error", lambda: rsf.relative_k_error(1.0, 1.5), ValueError,
+     "eps1")
+case("rsf.residual_sf_error", lambda: rsf.residual_sf_error([0.1] * 2, [1.0] * 3),
+     ValueError, "eps1, k", "broadcast")
+case("rsf.fraction_compensated", lambda: rsf.fraction_compensated(0.0, 0.1),
+     ValueError, "eps1", "nonzero")
+case("rsf.fraction_compensated", lambda: rsf.fraction_compensated([0.1] * 2,
+                                                                             [0.1] * 3),
+     ValueError, "eps1, residual", "broadcast")
+case("rsf.sins_roll_error", lambda: rsf.sins_roll_error(0.1, 1.0, -1.0), ValueError,
+     "t", NONNEG)
+case("rsf.sins_roll_error", lambda: rsf.sins_roll_error(0.1, [1.0, 2.0], [1.0] * 3),
+     ValueError, "eps1, omega_true, t, eps0", "broadcast")
+case("rsf.gs_bias_total", lambda: rsf.gs_bias_total(-1.0, 1.0), ValueError,
+     "sigma_rep", NONNEG)
+case("rsf.gs_bias_total", lambda: rsf.gs_bias_total(1.0, None), TypeError,
+     "sigma_stab")
+case("rsf.gs_roll_error_ideal", lambda: rsf.gs_roll_error_ideal(-1.0, 1.0, 0.0),
+     ValueError, "eps0_gs", NONNEG)
+case("rsf.gs_roll_error_ideal", lambda: rsf.gs_roll_error_ideal(1.0, 1.0, -0.1),
+     ValueError, "dgamma_enc", NONNEG)
+case("rsf.gs_roll_error_nonideal",
+     lambda: rsf.gs_roll_error_nonideal(0.1, 0.1, NAN, 1.0, 0.0), ValueError, "omega_unc", FINITE)
+case("rsf.gs_roll_error_nonideal",
+     lambda: rsf.gs_roll_error_nonideal(0.1, 1.0, 1.0, 1.0, 0.0), ValueError, "eps1_gs")
+case("rsf.difference_error", lambda: rsf.difference_error(0.1, 0.0, 0.0), ValueError,
+     "dt", POS)
+case("rsf.delta_k", lambda: rsf.delta_k(0.1, 0.0, 0.0, 1.0), ValueError, "omega_x",
+     "nonzero")
+case("rsf.delta_k", lambda: rsf.delta_k(0.1, 0.0, 1.0, -1.0), ValueError, "dt", POS)
+case("rsf.delta_k_ideal", lambda: rsf.delta_k_ideal(0.1, -1.0, 1.0, 1.0), ValueError,
+     "dgamma_enc", NONNEG)
+case("rsf.lateral_acceleration_error",
+     lambda: rsf.lateral_acceleration_error(0.1, 1.0, 1.0, 0.0), ValueError, "g", POS)
+case("rsf.lateral_acceleration_error",
+     lambda: rsf.lateral_acceleration_error(0.1, 1.0, 1.0, small_angle="no"), TypeError,
+     "small_angle", "bool")
+case("rsf.lateral_deviation_cubic", lambda: rsf.lateral_deviation_cubic(0.1, 1.0,
+                                                                                   -1.0),
+     ValueError, "t", NONNEG)
+case("rsf.lateral_deviation_exact", lambda: rsf.lateral_deviation_exact(0.1, INF,
+                                                                                   1.0),
+     ValueError, "omega", FINITE)
+case("rsf.table2", lambda: rsf.table2(None), TypeError, "gyro", "RollGyroSpec")
+case("rsf.table2", lambda: rsf.table2(times=[]), ValueError, "times")
+case("rsf.table2", lambda: rsf.table2(omega_true=NAN), ValueError, "omega_true")
+case("rsf.table3", lambda: rsf.table3(encoder=None), TypeError, "encoder")
+case("rsf.table3", lambda: rsf.table3(eps0_gs=-1.0), ValueError, "eps0_gs", NONNEG)
+case("rsf.table3", lambda: rsf.table3(times=[-1.0]), ValueError, "times")
+case("rsf.Table2", lambda: rsf.Table2("a", T5, T5, T5), TypeError, "t")
+case("rsf.Table2", lambda: rsf.Table2(T5, T5, T5[:2], T5), ValueError, "dr_z_cubic")
+case("rsf.Table3", lambda: rsf.Table3(T5, T5 * NAN, T5), ValueError, "eps0_t",
+     FINITE)
+case("rsf.worked_example_delta_k", lambda: rsf.worked_example_delta_k(None),
+     TypeError, "gyro", "MemsGyroSpec")
+case("rsf.worked_example_delta_k", lambda: rsf.worked_example_delta_k(encoder=None),
+     TypeError, "encoder", "EncoderSpec")
+case("rsf.worked_example_delta_k", lambda: rsf.worked_example_delta_k(dt=0.0),
+     ValueError, "dt", POS)
+case("rsf.worked_example_delta_k", lambda: rsf.worked_example_delta_k(eps1_gs=2.0),
+     ValueError, "eps1_gs")
+
+# rsf_simulation
+case("rsf.RollProfile", lambda: rsf.RollProfile(-1.0), ValueError, "rate_start", POS)
+case("rsf.RollProfile", lambda: rsf.RollProfile(1.0, NAN), ValueError, "rate_end")
+case("rsf.RollProfile.rate", lambda: rsf.RollProfile().rate(T5, 0.0), ValueError,
+     "duration", POS)
+case("rsf.RollProfile.rate", lambda: rsf.RollProfile().rate([NAN], 1.0), ValueError,
+     "t", FINITE)
+case("rsf.SinsGyroModel", lambda: rsf.SinsGyroModel(eps1=1.0), ValueError, "eps1",
+     r"\[-0.5, 0.5\]")
+case("rsf.SinsGyroModel", lambda: rsf.SinsGyroModel(arw=-1.0), ValueError, "arw",
+     NONNEG)
+case("rsf.GsModel", lambda: rsf.GsModel(ki=0.0), ValueError, "ki", POS)
+case("rsf.GsModel", lambda: rsf.GsModel(motor_rate_max=NAN), ValueError,
+     "motor_rate_max")
+case("rsf.GsModel", lambda: rsf.GsModel(tau_motor=-0.1), ValueError, "tau_motor")
+case("rsf.EncoderModel", lambda: rsf.EncoderModel(counts_per_rev=2), ValueError,
+     "counts_per_rev", ">= 4")
+case("rsf.EncoderModel", lambda: rsf.EncoderModel(position_error=1.0), ValueError,
+     "position_error", r"\[0.0, 0.5\]")
+case("rsf.SimulationConfig", lambda: rsf.SimulationConfig(n_runs=0), ValueError,
+     "n_runs", ">= 1")
+case("rsf.SimulationConfig", lambda: rsf.SimulationConfig(errors="x"), ValueError,
+     "errors", "one of")
+case("rsf.SimulationConfig", lambda: rsf.SimulationConfig(roll=None), TypeError,
+     "roll", "RollProfile")
+case("rsf.SimulationConfig", lambda: rsf.SimulationConfig(duration=0.015),
+     ValueError, "duration * sample_rate", "integer")
+case("rsf.SimulationConfig", lambda: rsf.SimulationConfig(sample_rate=4.0),
+     ValueError, "sample_rate")
+case("rsf.encoder_counts", lambda: rsf.encoder_counts(T5, None), TypeError,
+     "encoder", "EncoderModel")
+case("rsf.encoder_counts", lambda: rsf.encoder_counts(T5, ENC, NAN), ValueError,
+     "phase", FINITE)
+case("rsf.encoder_counts", lambda: rsf.encoder_counts(np.ones((2, 5)), ENC,
+                                                                 [1.0, 2.0, 3.0]),
+     ValueError, "phase", "leading axes")
+case("rsf.encoder_counts", lambda: rsf.encoder_counts("x", ENC), TypeError, "theta")
+case("rsf.unwrap_counts", lambda: rsf.unwrap_counts(T5, 10), TypeError, "wrapped",
+     "integer")
+case("rsf.unwrap_counts", lambda: rsf.unwrap_counts(np.array([1, 20]), 10),
+     ValueError, "wrapped", r"\[0, 10\)")
+case("rsf.unwrap_counts", lambda: rsf.unwrap_counts(np.array([1, 2]), 1), ValueError,
+     "counts_per_rev", ">= 2")
+case("rsf.simulate_flight", lambda: rsf.simulate_flight(None, 0), TypeError, "config")
+case("rsf.simulate_flight", lambda: rsf.simulate_flight(cfg(), -1), ValueError, "seed", ">= 0")
+case("rsf.simulate_flight", lambda: rsf.simulate_flight(cfg(), 1.5), TypeError, "seed")
+case("rsf.SensorRecord", lambda: replace(rec(), sins_inc=rec().sins_inc[:1]),
+     ValueError, "sins_inc")
+case("rsf.SensorRecord", lambda: replace(rec(), seed=None), TypeError, "seed")
+case("rsf.with_encoder", lambda: rsf.with_encoder(None, ENC), TypeError, "record")
+case("rsf.with_encoder", lambda: rsf.with_encoder(rec(), rsf.AEDB9340), TypeError,
+     "encoder", "EncoderModel")
+case("rsf.gs_angle", lambda: rsf.gs_angle(None), TypeError, "record")
+case("rsf.gs_angle", lambda: rsf.gs_angle(rec(), gyro_angle=np.zeros(3)), ValueError,
+     "gyro_angle", r"\(2, 201\)")
+case("rsf.lateral_error", lambda: rsf.lateral_error(T5, np.ones(3)), ValueError,
+     "roll_error", "5 samples")
+case("rsf.lateral_error", lambda: rsf.lateral_error(T5, T5, 0.0), ValueError, "g",
+     POS)
+case("rsf.lateral_error", lambda: rsf.lateral_error(T5[::-1], T5), ValueError, "t",
+     "increasing")
+case("rsf.run_correction", lambda: rsf.run_correction(None, 1.0), TypeError,
+     "record")
+case("rsf.run_correction", lambda: rsf.run_correction(rec(), 0.0), ValueError,
+     "period", POS)
+case("rsf.run_correction", lambda: rsf.run_correction(rec(), 0.015), ValueError,
+     "period", "whole number of samples")
+case("rsf.run_correction", lambda: rsf.run_correction(rec(), 10.0), ValueError,
+     "period", "<= the run duration")
+case("rsf.run_correction", lambda: rsf.run_correction(rec(), 1.0, k_form="x"),
+     ValueError, "k_form", "one of")
+case("rsf.run_correction", lambda: rsf.run_correction(rec(), 1.0, reset_angle=1),
+     TypeError, "reset_angle", "bool")
+case("rsf.run_correction", lambda: rsf.run_correction(rec(), 1.0, g=NAN), ValueError,
+     "g")
+case("rsf.CorrectionRun", lambda: replace(corr(), k_form="x"), ValueError, "k_form")
+case("rsf.CorrectionRun", lambda: replace(corr(), delta_k=corr().delta_k[:, :0]),
+     ValueError, "delta_k")
+case("rsf.predict_delta_k", lambda: rsf.predict_delta_k(None, 1.0), TypeError,
+     "config")
+case("rsf.predict_delta_k", lambda: rsf.predict_delta_k(cfg(), 0.0), ValueError,
+     "period", POS)
+case("rsf.DeltaKPrediction", lambda: rsf.DeltaKPrediction(0.0, -1.0, 0, 0, 0, 0, 0,
+                                                                     0),
+     ValueError, "std_encoder", NONNEG)
+case("rsf.DeltaKPrediction", lambda: rsf.DeltaKPrediction(NAN, 0, 0, 0, 0, 0, 0, 0),
+     ValueError, "mean", FINITE)
+case("rsf.sweep_correction_period", lambda: rsf.sweep_correction_period(None, [1.0]),
+     TypeError, "record")
+case("rsf.sweep_correction_period", lambda: rsf.sweep_correction_period(
+    rec(), [1.0], k_form="x"), ValueError, "k_form", "one of")
+case("rsf.sweep_correction_period", lambda: rsf.sweep_correction_period(rec(), [0.0]),
+     ValueError, "periods", POS)
+case("rsf.sweep_correction_period", lambda: rsf.sweep_correction_period(rec(),
+                                                                                   [[1.0]]),
+     ValueError, "periods", "1-D")
+case("rsf.PeriodSweep", lambda: rsf.PeriodSweep(T5, T5, T5, T5, T5, T5[:2]),
+     ValueError, "eq7")
+case("rsf.sweep_encoder", lambda: rsf.sweep_encoder(rec(), ENC, 1.0), TypeError,
+     "encoders", "list or tuple")
+case("rsf.sweep_encoder", lambda: rsf.sweep_encoder(rec(), [], 1.0), ValueError,
+     "encoders", "non-empty")
+case("rsf.sweep_encoder", lambda: rsf.sweep_encoder(rec(), [None], 1.0), TypeError,
+     "encoders[0]", "EncoderModel")
+case("rsf.sweep_encoder", lambda: rsf.sweep_encoder(None, [ENC], 1.0), TypeError,
+     "record")
+case("rsf.sweep_encoder", lambda: rsf.sweep_encoder(rec(), [ENC], 1.0, k_form="x"),
+     ValueError, "k_form")
+case("rsf.sweep_encoder", lambda: rsf.sweep_encoder(rec(), [ENC], 0.0), ValueError,
+     "period", POS)
+case("rsf.ResolutionSweep", lambda: rsf.ResolutionSweep(T5, T5, T5, "a", T5, T5, T5),
+     TypeError, "rms")
+
+# rsf_plots
+F3 = (0.1, T5, T5, T5, T5, T5, T5)
+case("rsf.plot_figure3", lambda: rsf.plot_figure3(NAN, *F3[1:]), ValueError,
+     "dgamma_example", FINITE)
+case("rsf.plot_figure3", lambda: rsf.plot_figure3(0.1, T5, T5[:2], *F3[3:]), ValueError,
+     "roll_error", "length of t")
+case("rsf.plot_figure3", lambda: rsf.plot_figure3(0.1, "abc", *F3[2:]), TypeError, "t")
+case("rsf.plot_figure3", lambda: rsf.plot_figure3(0.1, [], [], [], [], [], []), ValueError,
+     "t", "at least 2")
+case("rsf.plot_figure3", lambda: rsf.plot_figure3(*F3, (1.0, 2.0), (1.0,)), ValueError,
+     "printed_dr", "length of table_t")
+case("rsf.plot_figure3", lambda: rsf.plot_figure3(*F3, (0.0,), (1.0,)), ValueError,
+     "table_t", r"> 0 \(log axis\)")
+FL = (T5, T5, T5, T5, T5, T5)
+case("rsf.plot_flight", lambda: rsf.plot_flight(T5, T5, T5[:2], T5, T5, T5), ValueError,
+     "roll_corrected", "length of t")
+case("rsf.plot_flight", lambda: rsf.plot_flight(T5, None, T5, T5, T5, T5), TypeError,
+     "roll_raw")
+case("rsf.plot_flight", lambda: rsf.plot_flight(T5, T5 * NAN, T5, T5, T5, T5), ValueError,
+     "roll_raw", FINITE)
+case("rsf.plot_flight", lambda: rsf.plot_flight(*FL, [NAN]), ValueError, "t_boundaries",
+     FINITE)
+case("rsf.plot_flight", lambda: rsf.plot_flight(*FL, (), T5[:3]), ValueError, "roll_reset")
+case("rsf.plot_flight", lambda: rsf.plot_flight(*FL, (), None, "x"), TypeError,
+     "lateral_reset")
+case("rsf.plot_delta_k_distribution", lambda: rsf.plot_delta_k_distribution("a", 0, 1, 0),
+     TypeError, "delta_k")
+case("rsf.plot_delta_k_distribution", lambda: rsf.plot_delta_k_distribution([], 0, 1, 0),
+     ValueError, "delta_k", "at least 1")
+case("rsf.plot_delta_k_distribution", lambda: rsf.plot_delta_k_distribution(T5, 0, -1, 0),
+     ValueError, "predicted_std", NONNEG)
+case("rsf.plot_delta_k_distribution", lambda: rsf.plot_delta_k_distribution(T5, NAN, 1, 0),
+     ValueError, "predicted_mean", FINITE)
+case("rsf.plot_delta_k_distribution", lambda: rsf.plot_delta_k_distribution(T5, 0, 1, "0"),
+     TypeError, "eq7")
+case("rsf.plot_delta_k_distribution", lambda: rsf.plot_delta_k_distribution(T5, 0, 1, 0,
+                                                                                 INF),
+     ValueError, "eq7_paper", FINITE)
+case("rsf.plot_period_sweep", lambda: rsf.plot_period_sweep(T5 + 1, T5[:2], T5, T5, 1, 1),
+     ValueError, "rms", "length of periods")
+case("rsf.plot_period_sweep", lambda: rsf.plot_period_sweep(T5, T5, T5, T5, 1, 1),
+     ValueError, "periods", r"> 0")
+case("rsf.plot_period_sweep", lambda: rsf.plot_period_sweep(T5 + 1, T5, T5, T5, NAN, 1),
+     ValueError, "floor", FINITE)
+case("rsf.plot_period_sweep", lambda: rsf.plot_period_sweep(T5 + 1, T5, T5, -T5, 1, 1),
+     ValueError, "eq7", NONNEG)
+case("rsf.plot_period_sweep", lambda: rsf.plot_period_sweep(T5 + 1, T5, T5, T5, 1, None),
+     TypeError, "eps1")
+case("rsf.plot_encoder_sweep", lambda: rsf.plot_encoder_sweep(T5 + 1, T5, T5, T5, T5,
+                                                                   T5[:2]),
+     ValueError, "predicted_without", "length of counts")
+case("rsf.plot_encoder_sweep", lambda: rsf.plot_encoder_sweep(-T5, T5, T5, T5, T5, T5),
+     ValueError, "counts", r"> 0")
+case("rsf.plot_rate_sweep", lambda: rsf.plot_rate_sweep(T5, T5[:2], T5, T5), ValueError,
+     "rms", "length of rates")
+case("rsf.plot_rate_sweep", lambda: rsf.plot_rate_sweep(T5, T5, -T5, T5), ValueError,
+     "predicted_rms", NONNEG)
+case("rsf.plot_spin_up", lambda: rsf.plot_spin_up(T5, T5[:2], T5, T5), ValueError, "rate",
+     "length of t")
+case("rsf.plot_spin_up", lambda: rsf.plot_spin_up(T5, "a", T5, T5), TypeError, "rate")
+case("rsf.plot_spin_up", lambda: rsf.plot_spin_up(T5[::-1], T5, T5, T5), ValueError, "t",
+     "increasing")
+
+
+@pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
+def test_bad_input_is_rejected_by_name(call, exc, pattern):
+    run_case(call, exc, pattern)
+
+
+#: Public callables without a bad-input case, and why.
+EXEMPT: dict[str, str] = {}
+
+
+def test_table_covers_every_public_callable():
+    TABLE.check_coverage({"rsf": rsf}, EXEMPT)
+
+
+@SETTINGS
+@given(eps1=st.one_of(st.floats(min_value=1.0), st.floats(max_value=-1.0),
+                      st.sampled_from([NAN])))
+def test_any_scale_factor_error_outside_minus_one_one_is_rejected(eps1):
+    for call in (lambda: rsf.k_true(eps1), lambda: rsf.gyro_output(1.0, eps1),
+                 lambda: rsf.lateral_deviation_exact(eps1, 1.0, 1.0)):
+        with pytest.raises(ValueError, match=r"^eps1 must be "):
+            call()
+
+
+@SETTINGS
+@given(a=st.integers(2, 6), b=st.integers(2, 6))
+def test_arrays_of_incompatible_lengths_are_rejected_by_name(a, b):
+    if a == b:
+        b += 1
+    with pytest.raises(ValueError, match=r"^gamma_sins, gamma_gs must have broadcast"):
+        rsf.roll_difference(np.zeros(a), np.zeros(b))
+
+
+@SETTINGS
+@given(duration=st.floats(0.02, 10.0), sample_rate=st.sampled_from([100.0, 200.0]))
+def test_durations_off_the_sample_grid_are_rejected(duration, sample_rate):
+    n = duration * sample_rate
+    if abs(n - round(n)) < 1e-6:
+        return  # on the grid: valid
+    with pytest.raises(ValueError, match=r"^duration \* sample_rate must be an integer"):
+        rsf.SimulationConfig(duration=duration, sample_rate=sample_rate)
+
+
+# Valid input is untouched ------------------------------------------------------------------------
