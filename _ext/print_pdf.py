@@ -48,7 +48,8 @@ html, body { background: #fff !important; }
 .bd-header, .bd-header-article, .header-article, .bd-sidebar-primary, .bd-sidebar-secondary,
 .bd-footer, .bd-footer-article, .prev-next-area, .bd-search, .search-button-field,
 .sidebar-toggle, .theme-switch-button, .headerlink, .copybtn, .toggle-details__summary,
-.bd-header-announcement, #pst-back-to-top, .skip-link, .bd-footer-content {
+.bd-header-announcement, #pst-back-to-top, .skip-link, .bd-footer-content, dialog,
+#jb-print-docs-body {
   display: none !important; }
 .bd-container, .bd-container__inner, .bd-page-width, .bd-main, .bd-content,
 .bd-article-container, .bd-article { max-width: none !important; width: auto !important;
@@ -58,6 +59,8 @@ table { font-size: 8.5pt; page-break-inside: auto; }
 tr, figure, img, .math { break-inside: avoid; }
 h1, h2, h3 { break-after: avoid; }
 section.gyrolib-chapter { break-before: page; }
+.gyrolib-chapter-title, #gyrolib-title h1 { display: block !important; }
+.gyrolib-chapter-title { font-size: 1.9rem !important; margin-top: 0 !important; }
 #gyrolib-title { break-after: page; text-align: center; padding-top: 35mm; }
 #gyrolib-title h1.gyrolib-title { font-size: 26pt; margin-bottom: 8mm; border: none; }
 #gyrolib-title .gyrolib-sub { font-size: 13pt; margin-bottom: 20mm; }
@@ -91,22 +94,29 @@ JS_READY = """async () => {
   return {math: document.querySelectorAll('.math').length, untypeset, badImages};
 }"""
 
-# Title page, table of contents, one page per chapter.  Chapters are the top-level sections
-# of the single page (each holds one <h1>); their titles go into the table of contents.
+# Title page, table of contents, one page per chapter.  In the single page, the root
+# document is the article's first section, and every other chapter is the section after a
+# ``<span id="document-...">`` marker (nested, so its title is an <h2>/<h3>: it is styled as a
+# chapter title); the chapter titles go into the table of contents.
 JS_FRONT_MATTER = """(meta) => {
   const article = document.querySelector('article.bd-article') || document.querySelector('main')
     || document.body;
+  const sections = [article.querySelector('section')];
+  for (const mark of Array.from(article.querySelectorAll('span[id^="document-"]'))) {
+    const s = mark.nextElementSibling;
+    if (s && s.tagName === 'SECTION') sections.push(s);
+  }
   const chapters = [];
-  let n = 0;
-  for (const h1 of Array.from(article.querySelectorAll('section > h1'))) {
-    const section = h1.parentElement;
-    if (!section.id) section.id = 'gyrolib-chapter-' + (++n);
-    section.classList.add('gyrolib-chapter');
-    const title = Array.from(h1.childNodes).filter(c => !(c.classList &&
+  sections.forEach((section, i) => {
+    const h = section.querySelector(':scope > h1, :scope > h2, :scope > h3, :scope > h4');
+    if (!h) return;
+    if (!section.id) section.id = 'gyrolib-chapter-' + i;
+    if (i > 0) section.classList.add('gyrolib-chapter');
+    h.classList.add('gyrolib-chapter-title');
+    const title = Array.from(h.childNodes).filter(c => !(c.classList &&
       c.classList.contains('headerlink'))).map(c => c.textContent).join('').trim();
     chapters.push({id: section.id, title});
-  }
-  chapters.length && document.getElementById(chapters[0].id).classList.remove('gyrolib-chapter');
+  });
   const esc = s => s.replace(/[&<>]/g, c => ({'&': '&amp;', '<': '&lt;', '>': '&gt;'}[c]));
   const title = document.createElement('section');
   title.id = 'gyrolib-title';
@@ -137,19 +147,28 @@ class _Quiet(http.server.SimpleHTTPRequestHandler):
 
 
 def _entry_page(folder: Path) -> Path:
-    """The single page: the root document (the only large .html in the folder)."""
-    pages = [p for p in folder.rglob("*.html")
-             if not {"_static", "_sources"} & set(p.relative_to(folder).parts)]
+    """The single page: the root document (the only large .html in the folder).
+
+    Sphinx's singlehtml builder writes the root document at its own path
+    (``chapters/intro.html``) but with every link relative to the output root, so the page
+    is copied to the root (``_print.html``) before it is opened.
+    """
+    pages = [p for p in folder.rglob("*.html") if p.name != "_print.html"
+             and not {"_static", "_sources"} & set(p.relative_to(folder).parts)]
     if not pages:
         raise SystemExit(f"no HTML page in {folder}: build with --builder singlehtml first")
-    return max(pages, key=lambda p: p.stat().st_size)
+    page = max(pages, key=lambda p: p.stat().st_size)
+    at_root = folder / "_print.html"
+    at_root.write_bytes(page.read_bytes())
+    return at_root
 
 
 def page_texts(pdf: Path) -> list[str]:
     """The text of each page of ``pdf`` (``pdftotext`` separates pages by form feeds)."""
     out = subprocess.run(["pdftotext", "-enc", "UTF-8", str(pdf), "-"], capture_output=True,
                          text=True, check=True).stdout
-    return out.split("\f")
+    texts = out.split("\f")
+    return texts[:-1] if texts and not texts[-1].strip() else texts
 
 
 def _norm(text: str) -> str:
@@ -157,14 +176,15 @@ def _norm(text: str) -> str:
 
 
 def start_pages(pdf: Path, titles: list[str], after: int) -> dict[str, str]:
-    """The page number (1-based) on which each chapter title first appears after page
-    ``after`` (the title page and the table of contents come first)."""
+    """The page number (1-based) of the first page after page ``after`` (the title page and
+    the table of contents come first) that begins with each chapter's title: every chapter
+    starts on a new page."""
     pages = [_norm(t) for t in page_texts(pdf)]
     found, start = {}, after
     for title in titles:
         want = _norm(title)
         for i in range(start, len(pages)):
-            if want in pages[i]:
+            if pages[i].startswith(want):
                 found[title] = str(i + 1)
                 start = i
                 break

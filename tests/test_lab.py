@@ -1,0 +1,163 @@
+"""Rerunning the chapters in Jupyter with pinned versions (issue 14, item 4).
+
+* ``requirements-lab.txt`` pins every package exactly, and ``tasks.py`` installs nothing
+  unpinned (every ``pip install`` takes a pinned requirements file, or the project itself
+  with ``--no-deps``);
+* the installed JupyterLab environment has exactly the pinned versions, and
+  ``python3 tasks.py lab --version`` starts the pinned JupyterLab;
+* one chapter, converted to ``.ipynb`` by jupytext as JupyterLab opens it, runs to the end on
+  that environment's ``python3`` kernel, and the kernel is this environment's (its
+  ``sys.prefix``) with this ``gyrolib``;
+* every executed chapter is offered for download as ``.ipynb`` by the built HTML.
+
+Under ``python3 tasks.py test`` the lab environment is installed first; elsewhere the tests
+that need it skip with the command to run.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import os
+import re
+import subprocess
+import sys
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+
+import pytest
+from conftest import require_built_book
+
+import gyrolib
+
+ROOT = Path(__file__).resolve().parents[1]
+PIN = re.compile(r"^([A-Za-z0-9][A-Za-z0-9._-]*)==([0-9][A-Za-z0-9.+!-]*)$")
+
+
+def pins(path: Path) -> dict[str, str]:
+    """``name -> version`` of a requirements file; raises on any line that is not ``==``."""
+    out = {}
+    for n, raw in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        m = PIN.match(line)
+        if not m:
+            raise ValueError(f"{path.name}:{n}: not an exact pin: {raw!r}")
+        out[m.group(1).lower().replace("_", "-")] = m.group(2)
+    return out
+
+
+def unpinned_installs(source: str) -> list[str]:
+    """Every ``pip install`` call in a tasks.py source whose arguments are not a pinned
+    requirements file (``-r requirements*.txt``) or the project itself with ``--no-deps``."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.Call):
+            continue
+        args = [a.value for a in node.args if isinstance(a, ast.Constant)
+                and isinstance(a.value, str)]
+        if "pip" not in args or "install" not in args:
+            continue
+        rest = args[args.index("install") + 1:]
+        flags = {a for a in rest if a.startswith("-")}
+        targets = [a for a in rest if not a.startswith("-")]
+        pinned_file = "-r" in flags and all(re.fullmatch(r"requirements[\w-]*\.txt", t)
+                                             for t in targets)
+        project = targets == ["."] and "--no-deps" in flags
+        upgrade_pip = targets == ["pip"]  # the installer itself, before the pinned set
+        if not (pinned_file or project or upgrade_pip):
+            bad.append(ast.unparse(node))
+    return bad
+
+
+def test_lab_requirements_are_exact_pins_compatible_with_the_book():
+    lab = pins(ROOT / "requirements-lab.txt")
+    book = pins(ROOT / "requirements.txt")
+    assert "jupyterlab" in lab
+    clash = {n: (v, book[n]) for n, v in lab.items() if n in book and book[n] != v}
+    assert not clash, f"requirements-lab.txt pins other versions than requirements.txt: {clash}"
+
+
+def test_pin_parser_rejects_a_loose_requirement(tmp_path):
+    loose = tmp_path / "r.txt"
+    loose.write_text("jupyterlab>=4\n")
+    with pytest.raises(ValueError, match="not an exact pin"):
+        pins(loose)
+
+
+def test_tasks_installs_nothing_unpinned():
+    source = (ROOT / "tasks.py").read_text(encoding="utf-8")
+    assert not unpinned_installs(source)
+    # the check sees an unpinned install when there is one
+    assert unpinned_installs('run(PY, "-m", "pip", "install", "jupyterlab")')
+    assert unpinned_installs('run(PY, "-m", "pip", "install", "-e", ".")')
+
+
+def _lab_installed() -> None:
+    try:
+        version("jupyterlab")
+    except PackageNotFoundError:
+        if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
+            pytest.fail("the test command installs requirements-lab.txt before pytest")
+        pytest.skip("JupyterLab not installed: run `python3 tasks.py lab --version`")
+
+
+def test_installed_lab_environment_is_the_pinned_one():
+    _lab_installed()
+    wrong = {}
+    for name, pinned in pins(ROOT / "requirements-lab.txt").items():
+        try:
+            got = version(name)
+        except PackageNotFoundError:
+            got = None
+        if got != pinned:
+            wrong[name] = (got, pinned)
+    assert not wrong, f"installed != pinned: {wrong}"
+    proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "lab", "--version"],
+                          cwd=ROOT, capture_output=True, text=True, check=False, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.strip().splitlines()[-1] == pins(ROOT / "requirements-lab.txt")[
+        "jupyterlab"]
+
+
+@pytest.mark.slow
+def test_a_chapter_runs_as_a_notebook_on_the_environment_kernel(tmp_path):
+    _lab_installed()
+    import jupytext
+    from nbclient import NotebookClient
+    from nbformat.v4 import new_code_cell
+
+    nb = jupytext.read(ROOT / "chapters" / "status.md")
+    assert nb.metadata["kernelspec"]["name"] == "python3"
+    nb.cells.append(new_code_cell("import sys, gyrolib\nprint(sys.prefix)\n"
+                                  "print(gyrolib.__version__)"))
+    NotebookClient(nb, timeout=600, kernel_name="python3",
+                   resources={"metadata": {"path": str(ROOT / "chapters")}}).execute()
+    errors = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
+              if o.get("output_type") == "error"]
+    assert not errors, errors
+    last = "".join(o.get("text", "") for o in nb.cells[-1].outputs).split()
+    assert last == [sys.prefix, gyrolib.__version__], last
+
+
+@pytest.mark.book
+def test_every_executed_chapter_offers_its_notebook():
+    html = require_built_book()
+    problems = []
+    for md in sorted((ROOT / "chapters").glob("*.md")):
+        if "{code-cell}" not in md.read_text(encoding="utf-8"):
+            continue
+        page = html / "chapters" / f"{md.stem}.html"
+        if not page.is_file():  # not in the table of contents
+            continue
+        href = f"../_sources/chapters/{md.stem}.ipynb"
+        if f'href="{href}"' not in page.read_text(encoding="utf-8"):
+            problems.append(f"{page.name}: no download link {href}")
+            continue
+        nb = json.loads((html / "_sources" / "chapters" / f"{md.stem}.ipynb").read_text())
+        outputs = sum(len(c.get("outputs", [])) for c in nb["cells"]
+                      if c["cell_type"] == "code")
+        if outputs == 0:
+            problems.append(f"{md.stem}.ipynb has no outputs: not the executed notebook")
+    assert not problems, problems

@@ -1,0 +1,102 @@
+"""One version everywhere (issue 14, item 2): ``pyproject.toml`` is the source.
+
+``gyrolib.__version__``, ``CITATION.cff``, ``.zenodo.json``, the newest ``CHANGELOG.md``
+entry and the "How to cite" page must carry the same string; in the built book, so must the
+footer of every page and the ledger data files.  Each file is read with its own parser, and
+the checker is shown to catch a file that lags behind.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+import shutil
+import tomllib
+from pathlib import Path
+
+import pytest
+import yaml
+from conftest import require_built_book
+
+import gyrolib
+
+ROOT = Path(__file__).resolve().parents[1]
+HTML = ROOT / "_build" / "html"
+
+
+def declared_versions(root: Path) -> dict[str, str | None]:
+    """The version each release file of the tree at ``root`` declares (None: none found)."""
+    found: dict[str, str | None] = {}
+    found["pyproject.toml"] = tomllib.loads(
+        (root / "pyproject.toml").read_text(encoding="utf-8"))["project"]["version"]
+    found["CITATION.cff"] = str(yaml.safe_load(
+        (root / "CITATION.cff").read_text(encoding="utf-8"))["version"])
+    found[".zenodo.json"] = json.loads((root / ".zenodo.json").read_text(encoding="utf-8"))[
+        "version"]
+    heading = re.search(r"^## (\S+)", (root / "CHANGELOG.md").read_text(encoding="utf-8"),
+                        re.MULTILINE)
+    found["CHANGELOG.md (newest entry)"] = heading.group(1) if heading else None
+    bib = re.search(r"version\s*=\s*\{\{glue:text\}`(\w+)`\}|version\s*=\s*\{([^}]*)\}",
+                    (root / "chapters" / "citing.md").read_text(encoding="utf-8"))
+    found["chapters/citing.md"] = (None if bib is None else
+                                   "glued" if bib.group(1) else bib.group(2))
+    return found
+
+
+def disagreements(found: dict[str, str | None], version: str) -> list[str]:
+    return [f"{name}: {got!r} != {version!r}" for name, got in found.items()
+            if got not in (version, "glued")]
+
+
+def test_every_release_file_has_the_pyproject_version():
+    found = declared_versions(ROOT)
+    version = found["pyproject.toml"]
+    assert re.fullmatch(r"\d+\.\d+\.\d+", version), version
+    assert gyrolib.__version__ == version
+    assert not disagreements(found, version), found
+
+
+def test_the_check_catches_a_file_left_behind(tmp_path):
+    for name in ("pyproject.toml", "CITATION.cff", ".zenodo.json", "CHANGELOG.md"):
+        shutil.copy(ROOT / name, tmp_path / name)
+    (tmp_path / "chapters").mkdir()
+    shutil.copy(ROOT / "chapters" / "citing.md", tmp_path / "chapters" / "citing.md")
+    version = declared_versions(tmp_path)["pyproject.toml"]
+    cff = tmp_path / "CITATION.cff"
+    cff.write_text(re.sub(r"^version: .*$", "version: 0.0.1", cff.read_text(), flags=re.M))
+    problems = disagreements(declared_versions(tmp_path), version)
+    assert problems == [f"CITATION.cff: '0.0.1' != {version!r}"]
+
+
+def test_version_falls_back_to_pyproject_without_installed_metadata(monkeypatch):
+    import importlib.metadata as md
+
+    def missing(name):
+        raise md.PackageNotFoundError(name)
+
+    monkeypatch.setattr(md, "version", missing)
+    assert gyrolib._version() == tomllib.loads(
+        (ROOT / "pyproject.toml").read_text())["project"]["version"]
+
+
+@pytest.mark.book
+def test_built_book_shows_the_version_in_footer_citation_and_ledger_data():
+    require_built_book()
+    version = gyrolib.__version__
+    pages = [p for p in HTML.rglob("*.html")
+             if not {"_static", "_sources", "_images"} & set(p.relative_to(HTML).parts)
+             and "Refresh" not in p.read_text(encoding="utf-8")[:2000]]
+    assert len(pages) > 5
+    no_footer = [p.relative_to(HTML).as_posix() for p in pages
+                 if f"version {version}" not in p.read_text(encoding="utf-8")]
+    assert not no_footer, f"pages without 'version {version}' in the footer: {no_footer}"
+    citing = (HTML / "chapters" / "citing.html").read_text(encoding="utf-8")
+    assert re.search(r"version\s*=\s*\{" + re.escape(version) + r"\}", citing), \
+        "the BibTeX of the book on the How to cite page does not carry the version"
+    data = json.loads((HTML / "ledger.json").read_text(encoding="utf-8"))
+    assert data["version"] == version
+    lines = (HTML / "ledger.csv").read_text(encoding="utf-8").splitlines()
+    assert lines[0].startswith("# ") and lines[0].endswith(f" {version}"), lines[0]
+    rows = list(csv.DictReader(lines[1:]))
+    assert [r["id"] for r in rows] == [it["id"] for it in data["items"]]
