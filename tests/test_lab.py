@@ -156,8 +156,7 @@ def test_every_executed_chapter_offers_its_notebook():
             problems.append(f"{page.name}: no download link {href}")
             continue
         nb = json.loads((html / "_sources" / "chapters" / f"{md.stem}.ipynb").read_text())
-        outputs = sum(len(c.get("outputs", [])) for c in nb["cells"]
-                      if c["cell_type"] == "code")
-        if outputs == 0:
-            problems.append(f"{md.stem}.ipynb has no outputs: not the executed notebook")
+        counts = [c.get("execution_count") for c in nb["cells"] if c["cell_type"] == "code"]
+        if not counts or not all(isinstance(n, int) for n in counts):
+            problems.append(f"{md.stem}.ipynb: execution counts {counts}: not executed")
     assert not problems, problems
