@@ -1,36 +1,46 @@
 """Benchmark of the book build (issue 7, targets 3 and 4).
 
-Measures, in one run on this machine:
+Measures the wall time of ``jupyter-book build`` (the command ``python3 tasks.py book`` runs)
+in one run on this machine:
 
-1. a full clean build (every chapter executed)        target ≤ 180 s
-2. a rebuild with nothing changed                      target ≤ 20 s
+1. a full clean build (every chapter executed)        target ≤ 180 s (peak memory ≤ 2 GiB)
+2. a rebuild with nothing changed                      target ≤ 20 s; peer: the clean build
 3. a rebuild after touching one chapter's code         only that chapter re-executes
 4. a rebuild after touching gyrolib                    every chapter re-executes (never stale)
-5. the peak memory of the whole build process tree     target ≤ 2 GiB
+5. the PDF: single-page build + Chromium print         (``tasks.py pdf``'s steps) no target
 
-and prints each figure with its ratio to the target.  The peer of the no-op rebuild is the
-clean build measured in the same run (their ratio is printed too).  Run it from the project
-root with the project's environment:  .venv/bin/python benchmarks/bench_book_build.py
-It rebuilds _build/ in place, and restores any file it touches.
+The peer of the no-op rebuild is the clean build of the same run (how much the jupyter cache
+saves); the other cases have a target only.  The builds run in a temporary copy of the
+project (so ``_build/`` of the working tree is left alone), with the project's environment.
+Writes ``benchmarks/results/book_build.json``.
+
+    .venv/bin/python benchmarks/bench_book_build.py
 """
 
 from __future__ import annotations
 
 import os
-import platform
 import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
 
 import psutil
+from _results import Recorder
 
-ROOT = Path(__file__).resolve().parents[1]
+SOURCE = Path(__file__).resolve().parents[1]
+ROOT = SOURCE  # the copy being built (set in main)
 JB = Path(sys.executable).with_name("jupyter-book")
-CMD = [str(JB), "build", str(ROOT), "--builder", "html", "-W", "-n", "--keep-going"]
+IGNORE = shutil.ignore_patterns("_build", ".venv", ".git", "__pycache__", "*.egg-info",
+                                ".ruff_cache", ".pytest_cache", ".hypothesis")
+
+
+def cmd(builder: str = "html") -> list[str]:
+    return [str(JB), "build", str(ROOT), "--builder", builder, "-W", "-n", "--keep-going"]
 
 
 def _tree_rss(proc: psutil.Process) -> int:
@@ -43,11 +53,11 @@ def _tree_rss(proc: psutil.Process) -> int:
     return total
 
 
-def build() -> tuple[float, int, str]:
+def build(builder: str = "html") -> tuple[float, int, str]:
     """Run one build; return (seconds, peak RSS of the process tree in bytes, log)."""
     env = dict(os.environ, MPLBACKEND="Agg")
     t0 = time.perf_counter()
-    popen = subprocess.Popen(CMD, cwd=ROOT, env=env, stdout=subprocess.PIPE,
+    popen = subprocess.Popen(cmd(builder), cwd=ROOT, env=env, stdout=subprocess.PIPE,
                              stderr=subprocess.STDOUT, text=True)
     proc = psutil.Process(popen.pid)
     peak = 0
@@ -93,24 +103,41 @@ def touched(path: Path, text: str):
 
 
 def main() -> None:
-    cpu = next((line.split(":", 1)[1].strip() for line in
-                Path("/proc/cpuinfo").read_text().splitlines() if "model name" in line), "?")
-    print(f"date {time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, {cpu}, "
-          f"python {platform.python_version()}")
-    shutil.rmtree(ROOT / "_build", ignore_errors=True)
-    t_clean, peak, log = build()
-    print(f"clean build     {t_clean:7.1f} s   target 180 s  ratio {t_clean / 180:.2f}   "
-          f"peak memory {peak / 2**30:.2f} GiB (target 2 GiB, ratio {peak / 2**31:.2f})")
-    t_noop, _, log = build()
-    print(f"no-op rebuild   {t_noop:7.1f} s   target  20 s  ratio {t_noop / 20:.2f}   "
-          f"clean/no-op {t_clean / t_noop:.1f}x   executed: {executed(log) or 'none'}")
-    with touched(ROOT / "chapters" / "status.md", "\n```{code-cell} ipython3\n1 + 1\n```\n"):
-        t_one, _, log = build()
-    print(f"one chapter     {t_one:7.1f} s   executed: {executed(log)}")
-    with touched(ROOT / "gyrolib" / "units.py", "\n# benchmark touch\n"):
-        t_lib, _, log = build()
-    print(f"gyrolib touched {t_lib:7.1f} s   executed: {executed(log)}")
-    build()  # leave _build consistent with the restored sources
+    global ROOT
+    rec = Recorder("book_build")
+    with tempfile.TemporaryDirectory(prefix="gyrolib-bench-build-") as tmp:
+        ROOT = Path(tmp) / "book"
+        shutil.copytree(SOURCE, ROOT, ignore=IGNORE)
+        t_clean, peak, log = build()
+        n_exec = len(executed(log))
+        rec.case("full clean build, every chapter executed", t_clean, target_s=180.0,
+                 note=f"ratio = ours/target; {n_exec} chapters executed; peak memory of the "
+                      f"build's process tree {peak / 2**30:.2f} GiB (target 2 GiB)")
+        t_noop, _, log = build()
+        rec.case("rebuild with nothing changed", t_noop, peer="the clean build of this run",
+                 peer_s=t_clean, target_s=20.0,
+                 note=f"ratio = clean/no-op; executed: {', '.join(executed(log)) or 'none'}")
+        with touched(ROOT / "chapters" / "status.md",
+                     "\n```{code-cell} ipython3\n1 + 1\n```\n"):
+            t_one, _, log = build()
+        rec.case("rebuild after changing one chapter's code (status)", t_one,
+                 note=f"executed: {', '.join(executed(log))} (target: only that chapter)")
+        with touched(ROOT / "gyrolib" / "units.py", "\n# benchmark touch\n"):
+            t_lib, _, log = build()
+        rec.case("rebuild after changing gyrolib", t_lib,
+                 note=f"{len(executed(log))} chapters re-executed (target: all {n_exec}, "
+                      "never a stale result)")
+        build()  # back to the unmodified sources, for the PDF
+        t_single, _, log = build("singlehtml")
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, str(ROOT / "_ext" / "print_pdf.py"),
+                        str(ROOT / "_build" / "singlehtml"), str(ROOT / "_build" / "book.pdf")],
+                       check=True, capture_output=True, cwd=ROOT)
+        t_print = time.perf_counter() - t0
+        rec.case("PDF: single-page build + Chromium print", t_single + t_print,
+                 note=f"single-page build {t_single:.1f} s (executed: "
+                      f"{', '.join(executed(log)) or 'none'}), print {t_print:.1f} s")
+    rec.write()
 
 
 if __name__ == "__main__":

@@ -351,3 +351,24 @@ def test_screenshots_of_landing_page_and_a_chapter(site, browser):
         assert png[:8] == b"\x89PNG\r\n\x1a\n", f"{name} is not a PNG"
         width, height = int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")
         assert width == 1280 and height >= 900, f"{name}: {width}x{height}"
+
+
+def test_every_page_declares_a_favicon_that_loads(site, browser):
+    """No page load asks for a missing /favicon.ico: each page names its icon, which loads."""
+    page = _visit(browser, site + "chapters/intro.html")
+    try:
+        icon = page.evaluate("""async () => {
+          const link = document.querySelector('link[rel~="icon"]');
+          if (!link) return null;
+          const r = await fetch(link.href);
+          return {href: link.href, status: r.status, type: r.headers.get('content-type'),
+                  body: (await r.text()).slice(0, 200)};
+        }""")
+    finally:
+        page.close()
+    assert icon is not None, "the page has no <link rel=icon>"
+    assert icon["status"] == 200 and "svg" in (icon["type"] or ""), icon
+    assert "<svg" in icon["body"], icon
+    missing = [rel for rel in book_pages(HTML) if 'rel="icon"' not in (HTML / rel).read_text()
+               and "Refresh" not in (HTML / rel).read_text()[:2000]]
+    assert not missing, f"pages without a favicon link: {missing}"
