@@ -284,3 +284,48 @@ def test_every_internal_link_resolves(html_dir):
             if anchor and target.suffix == ".html" and anchor not in ids_of(target):
                 problems.append(f"{where} -> no id {anchor!r} in {target.relative_to(root)}")
     assert not problems, _report("broken internal links", problems)
+
+
+# ----------------------------------------------------------------------------- benchmarks
+
+
+def _benchmark_ext():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("benchmark_results",
+                                                  ROOT / "_ext" / "benchmark_results.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_benchmark_results_files_follow_the_format(tmp_path):
+    ext = _benchmark_ext()
+    files = sorted((ROOT / "benchmarks" / "results").glob("*.json"))
+    assert files, "no benchmarks/results/*.json"
+    for path in files:
+        doc = ext.load(path)
+        assert path.stem == doc["benchmark"], path.name
+    # a file with a case missing its peer time is refused, naming the field
+    import json
+
+    bad = json.loads(files[0].read_text())
+    del bad["results"][0]["peer_s"]
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match=r"bad\.json: missing \['results\[0\]\.peer_s'\]"):
+        ext.load(tmp_path / "bad.json")
+
+
+def test_performance_page_shows_every_results_file(html_dir):
+    import json
+
+    text = " ".join(article_of(soup_of(html_dir / "chapters" / "benchmarks.html"))
+                    .get_text(" ").split())
+    missing = []
+    for path in sorted((ROOT / "benchmarks" / "results").glob("*.json")):
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        for needle in [doc["benchmark"], doc["date"]] + [" ".join(r["case"].split())
+                                                         for r in doc["results"]]:
+            if needle not in text:
+                missing.append(f"{path.name}: {needle!r}")
+    assert not missing, f"not on the Performance page: {missing}"
