@@ -55,6 +55,9 @@ html, body { background: #fff !important; }
 .bd-article-container, .bd-article { max-width: none !important; width: auto !important;
   margin: 0 !important; padding: 0 !important; display: block !important; }
 pre { white-space: pre-wrap !important; word-break: break-word; }
+/* a scrolling box is never split across pages: let wide tables and outputs flow instead */
+.pst-scrollable-table-container, .table-wrapper, .output, .cell_output, div.highlight {
+  overflow: visible !important; max-height: none !important; }
 table { font-size: 8.5pt; page-break-inside: auto; }
 tr, figure, img, .math { break-inside: avoid; }
 h1, h2, h3 { break-after: avoid; }
