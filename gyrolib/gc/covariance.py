@@ -51,6 +51,19 @@ class CovarianceAnalysis:
         time = v.check_in_range("time", time, 0.0, float(self.t[-1]))
         return float(self.std(name)[round(time / self.params.dt)])
 
+    def final_std(self, name: str = "omega_gc") -> float:
+        """Standard deviation of ``name``'s estimate at the end of the run (SI units).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> from gyrolib.units import from_si
+        >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 1.0)
+        >>> f"{from_si(res.final_std('omega_gc'), 'arcsec_paper/s'):.3f}"  # ″/s after 1 s
+        '0.071'
+        """
+        return float(self.std(name)[-1])
+
 
 def _check_covariance_matrix(name: str, P: np.ndarray) -> None:
     """``P`` (symmetric, diagonal >= 0) positive semi-definite, judged on its correlation
