@@ -321,6 +321,7 @@ def test_performance_page_shows_every_results_file(html_dir):
 
     text = " ".join(article_of(soup_of(html_dir / "chapters" / "benchmarks.html"))
                     .get_text(" ").split())
+    text = text.replace("\u2019", "'").replace("\u201c", '"').replace("\u201d", '"')  # smartquotes
     missing = []
     for path in sorted((ROOT / "benchmarks" / "results").glob("*.json")):
         doc = json.loads(path.read_text(encoding="utf-8"))
