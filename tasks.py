@@ -60,7 +60,7 @@ def setup() -> None:
     if not PY.exists():
         print(f"creating virtual environment {VENV}", flush=True)
         venv.EnvBuilder(with_pip=True, clear=True).create(VENV)
-    run(PY, "-m", "pip", "install", "--quiet", "--upgrade", "pip")
+    run(PY, "-m", "pip", "install", "--quiet", "pip==26.3")  # the installer, pinned too
     run(PY, "-m", "pip", "install", "--quiet", "-r", "requirements.txt")
     run(PY, "-m", "pip", "install", "--quiet", "--no-deps", "-e", ".")
     STAMP.write_text(fingerprint + "\n")

@@ -50,7 +50,8 @@ def pins(path: Path) -> dict[str, str]:
 
 def unpinned_installs(source: str) -> list[str]:
     """Every ``pip install`` call in a tasks.py source whose arguments are not a pinned
-    requirements file (``-r requirements*.txt``) or the project itself with ``--no-deps``."""
+    requirements file (``-r requirements*.txt``), exact pins (``name==version``) or the
+    project itself with ``--no-deps``."""
     bad = []
     for node in ast.walk(ast.parse(source)):
         if not isinstance(node, ast.Call):
@@ -65,8 +66,8 @@ def unpinned_installs(source: str) -> list[str]:
         pinned_file = "-r" in flags and all(re.fullmatch(r"requirements[\w-]*\.txt", t)
                                              for t in targets)
         project = targets == ["."] and "--no-deps" in flags
-        upgrade_pip = targets == ["pip"]  # the installer itself, before the pinned set
-        if not (pinned_file or project or upgrade_pip):
+        exact = bool(targets) and "-r" not in flags and all(PIN.match(t) for t in targets)
+        if not (pinned_file or project or exact):
             bad.append(ast.unparse(node))
     return bad
 
@@ -92,6 +93,8 @@ def test_tasks_installs_nothing_unpinned():
     # the check sees an unpinned install when there is one
     assert unpinned_installs('run(PY, "-m", "pip", "install", "jupyterlab")')
     assert unpinned_installs('run(PY, "-m", "pip", "install", "-e", ".")')
+    assert unpinned_installs('run(PY, "-m", "pip", "install", "--upgrade", "pip")')
+    assert not unpinned_installs('run(PY, "-m", "pip", "install", "pip==26.3")')
 
 
 def _lab_installed() -> None:
