@@ -53,6 +53,14 @@ def test_every_release_file_has_the_pyproject_version():
     assert not disagreements(found, version), found
 
 
+def test_release_date_agrees():
+    cff = str(yaml.safe_load((ROOT / "CITATION.cff").read_text())["date-released"])
+    zenodo = json.loads((ROOT / ".zenodo.json").read_text())["publication_date"]
+    newest = re.search(r"^## \S+ — (\d{4}-\d{2}-\d{2})", (ROOT / "CHANGELOG.md").read_text(),
+                       re.MULTILINE)
+    assert newest and cff == zenodo == newest.group(1), (cff, zenodo, newest)
+
+
 def test_the_check_catches_a_file_left_behind(tmp_path):
     for name in ("pyproject.toml", "CITATION.cff", ".zenodo.json", "CHANGELOG.md"):
         shutil.copy(ROOT / name, tmp_path / name)
