@@ -177,7 +177,11 @@ def lab(*args: str) -> None:
     """Open the chapters as notebooks in the pinned JupyterLab (extra args go to jupyter lab,
     e.g. ``python3 tasks.py lab --no-browser --port 8888``)."""
     lab_setup()
-    run(BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT / 'chapters'}", *args,
+    # root in a container or CI: JupyterLab refuses to start unless told it may
+    root = ["--allow-root"] if os.name == "posix" and os.geteuid() == 0 else []
+    # the extension manager stays read-only: nothing unpinned installed from the UI either
+    run(BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT / 'chapters'}",
+        "--LabApp.extension_manager=readonly", *root, *args,
         env=dict(os.environ, MPLBACKEND="Agg"))
 
 
