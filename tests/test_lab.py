@@ -163,3 +163,45 @@ def test_every_executed_chapter_offers_its_notebook():
         if not counts or not all(isinstance(n, int) for n in counts):
             problems.append(f"{md.stem}.ipynb: execution counts {counts}: not executed")
     assert not problems, problems
+
+
+@pytest.mark.slow
+def test_tasks_lab_serves_the_chapters_as_notebooks(tmp_path):
+    """``python3 tasks.py lab`` starts a server on chapters/ whose contents API returns a
+    chapter's MyST Markdown as a notebook (jupytext), with the code cells of the file."""
+    import signal
+    import socket
+    import time
+    import urllib.request
+
+    _lab_installed()
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    token = "gyrolib-test"
+    log = (tmp_path / "lab.log").open("wb")  # a file, not a pipe: the server logs a lot
+    proc = subprocess.Popen(
+        [sys.executable, str(ROOT / "tasks.py"), "lab", "--no-browser", f"--port={port}",
+         "--ServerApp.ip=127.0.0.1", f"--ServerApp.token={token}"],
+        cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    url = f"http://127.0.0.1:{port}/api/contents/status.md?type=notebook&token={token}"
+    try:
+        deadline, model = time.monotonic() + 120, None
+        while time.monotonic() < deadline and proc.poll() is None:
+            try:
+                with urllib.request.urlopen(url, timeout=5) as r:
+                    model = json.load(r)
+                break
+            except OSError:
+                time.sleep(0.5)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGTERM)
+        proc.wait(timeout=30)
+        log.close()
+    assert model is not None, (f"no answer from JupyterLab (exit {proc.returncode}): "
+                               f"{(tmp_path / 'lab.log').read_text()[-2000:]}")
+    assert model["type"] == "notebook"
+    source = (ROOT / "chapters" / "status.md").read_text(encoding="utf-8")
+    code = [c["source"] for c in model["content"]["cells"] if c["cell_type"] == "code"]
+    assert code and all(c.strip() in source for c in code), code
