@@ -3,8 +3,9 @@
 * ``requirements-lab.txt`` pins every package exactly, and ``tasks.py`` installs nothing
   unpinned (every ``pip install`` takes a pinned requirements file, or the project itself
   with ``--no-deps``);
-* the installed JupyterLab environment has exactly the pinned versions, and
-  ``python3 tasks.py lab --version`` starts the pinned JupyterLab;
+* the installed JupyterLab environment has exactly the pinned versions,
+  ``python3 tasks.py lab --version`` starts the pinned JupyterLab, and ``python3 tasks.py lab``
+  serves a chapter's Markdown as a notebook;
 * one chapter, converted to ``.ipynb`` by jupytext as JupyterLab opens it, runs to the end on
   that environment's ``python3`` kernel, and the kernel is this environment's (its
   ``sys.prefix``) with this ``gyrolib``;
