@@ -267,6 +267,10 @@ def main(argv: list[str] | None = None) -> int:
                     "with the gyrolib library")
     ap.add_argument("--author", default="The gyrolib authors")
     args = ap.parse_args(argv)
+    if not args.folder.is_dir() or not any(args.folder.glob("**/*.html")):
+        print(f"print_pdf: no single-page build in {args.folder}: run `jupyter-book build . "
+              "--builder singlehtml` first (python3 tasks.py pdf does)", file=sys.stderr)
+        return 2
     for tool, what in ((CHROMIUM, "Debian's chromium"), (Path(shutil.which("pdftotext") or
                                                              "/usr/bin/pdftotext"),
                                                         "Debian's poppler-utils")):
