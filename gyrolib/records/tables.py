@@ -234,10 +234,11 @@ class _Reader:
                 raise self._error(f"column {nm!r} appears twice in the header", row=line_no)
             seen.add(nm)
         missing = [c for c in self.required if c not in names]
-        shown = ", ".join(repr(n) for n in names[:8]) + (" ..." if len(names) > 8 else "")
+        shown = (", ".join(repr(n[:30]) for n in names[:8])
+                 + (" ..." if len(names) > 8 else ""))
         if missing:
-            raise self._error(f"missing column {missing[0]!r}: expected a header with the "
-                              f"columns {', '.join(self.required)}; found {shown}",
+            raise self._error(f"not in the header: expected the columns "
+                              f"{', '.join(self.required)}; found {shown}",
                               row=line_no, column=missing[0])
         use = list(self.required)
         if self.one_of:

@@ -270,9 +270,9 @@ def predicted_delta_k(result: CorrectionResult, config: SimulationConfig | None 
 
 def plot_correction(result: CorrectionResult, prediction: object | None = None,
                     eps1: float | None = None):
-    """ε̂1 per interval (ppm) with, when given, the band ``ε1/(1+ε1) ± (mean, std)`` of δK
-    the error model predicts (``prediction`` from :func:`predicted_delta_k`, ``eps1`` the
-    true error if known, else the mean estimate), and below the roll angle against the GS
+    """ε̂1 per interval (ppm) with, when given, the ±2σ band of δK the error model predicts
+    (``prediction`` from :func:`predicted_delta_k`) about ``(ε1 − mean δK)/(1 + ε1)``
+    (``eps1`` the true error if known; else about the mean estimate), and below the roll angle against the GS
     with and without correction.  Returns a :class:`matplotlib.figure.Figure`."""
     import matplotlib.pyplot as plt
 
@@ -288,17 +288,19 @@ def plot_correction(result: CorrectionResult, prediction: object | None = None,
         from gyrolib.rsf.correction import DeltaKPrediction
 
         v.check_instance("prediction", prediction, DeltaKPrediction)
-        centre = (float(np.mean(result.eps1_hat)) if eps1 is None
-                  else float(v.check_real("eps1", eps1)) / (1.0 + float(eps1)))
-        # δK = K(1+ε1) − 1 ≈ ε1/(1+ε1) − ε̂1 (linear K): ε̂1 = centre − δK
-        c = centre - prediction.mean
+        # δK = K(1+ε1) − 1 with K = 1 − ε̂1, so ε̂1 = (ε1 − δK)/(1 + ε1)
+        if eps1 is None:
+            c = float(np.mean(result.eps1_hat))
+        else:
+            e1 = float(v.check_real("eps1", eps1))
+            c = (e1 - prediction.mean) / (1.0 + e1)
         s = prediction.std
         ax.axhspan(float(from_si(c - 2 * s, "ppm")), float(from_si(c + 2 * s, "ppm")),
                    color="0.88", label="error model: ±2σ of δK")
         ax.axhline(float(from_si(c, "ppm")), color="k", lw=0.8, ls="--")
     ax.set_ylabel("ε̂1 (ppm)")
     ax.set_xlabel("t (s), middle of the interval")
-    ax.legend(loc="upper right", fontsize=8)
+    ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
     bx.plot(result.t, from_si(result.residual_raw, "deg"), color="C3", lw=1,
             label="uncorrected SINS − GS")
     bx.plot(result.t, from_si(result.residual, "deg"), color="C0", lw=1,
