@@ -666,7 +666,8 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         raise TypeError(f"progress must be callable or None; got {type(progress).__name__}")
     if isinstance(record, GCRecord):
         chunks: Iterable[GCRecord] = _chunks(record, chunk_size)
-    elif isinstance(record, Iterable) and not isinstance(record, str | bytes | dict | np.ndarray):
+    elif isinstance(record, Iterable) and not isinstance(record,
+                                                          str | bytes | dict | np.ndarray):
         chunks = record
     else:
         raise TypeError(f"record must be a GCRecord or an iterable of GCRecord chunks; got "

@@ -272,8 +272,9 @@ def plot_correction(result: CorrectionResult, prediction: object | None = None,
                     eps1: float | None = None):
     """ε̂1 per interval (ppm) with, when given, the ±2σ band of δK the error model predicts
     (``prediction`` from :func:`predicted_delta_k`) about ``(ε1 − mean δK)/(1 + ε1)``
-    (``eps1`` the true error if known; else about the mean estimate), and below the roll angle against the GS
-    with and without correction.  Returns a :class:`matplotlib.figure.Figure`."""
+    (``eps1`` the true error if known; else about the mean estimate), and below the roll
+    angle against the GS with and without correction.  Returns a
+    :class:`matplotlib.figure.Figure`."""
     import matplotlib.pyplot as plt
 
     from gyrolib.units import from_si
