@@ -8,11 +8,15 @@ Per correction interval ``i`` of length ``period`` (from the first row on):
 * Eq. (3): K_i = 1 − ε̂1_i (``k_form="linear"``) or 1/(1 + ε̂1_i), applied to every SINS
   increment of interval ``i + 1`` (K = 1 in the first interval).
 
-A sample (row) enters the sums only when its SINS increment, its GS angle and the previous
-row's GS angle are all known and it follows the previous row by the nominal interval: a gap
-or a missing value removes that sample from both sums, so the two sides always cover the
-same span.  Wrapped encoder counts are unwrapped per sample (the step modulo one revolution,
-as :func:`gyrolib.rsf.unwrap_counts`).
+The sums run over spans between consecutive known GS angles: the GS change over a span is
+the difference of its end angles (so the encoder's position and quantization errors
+telescope away inside it, as they do over a whole interval) and is paired with the SINS
+increments of the span's rows.  A span is used only when every row in it follows its
+predecessor by the nominal interval and has its SINS increment: a time gap or a missing SINS
+increment removes the span from both sums, so the two sides always cover the same turn.  A
+missing GS angle merely joins two spans.  Wrapped encoder counts are unwrapped per sample
+(the step modulo one revolution, as :func:`gyrolib.rsf.unwrap_counts`), so there a missing
+count removes the two samples it touches.
 """
 
 from __future__ import annotations
@@ -41,13 +45,14 @@ class CorrectionResult:
     """The correction of paper RSF computed on a record (SI).
 
     Per complete interval (n_int,): ``t_start``, ``t_end``, ``eps1_hat`` (Eq. (2)), ``k``
-    (Eq. (3)), ``samples`` (samples used), ``rate`` (mean measured roll rate, rad/s).
+    (Eq. (3)), ``samples`` (samples used), ``segments`` (contiguous runs of used samples: 1
+    when nothing is missing), ``rate`` (mean measured roll rate, rad/s).
     Per row (n,): ``t``, ``corrected_angle`` (∫ K ω_x dt, the corrected SINS roll angle from
     the first row, missing increments counted as 0), ``residual`` (corrected minus GS angle,
     accumulated over the usable samples only), ``residual_raw`` (the same without
     correction).  ``period``, ``k_form``, ``rows``, ``samples_used``, ``samples_skipped``
-    (missing values), ``gaps`` (steps longer than 1.5 nominal intervals), ``dt`` (nominal
-    interval, the median step).
+    (rows not in a usable span: missing values, steps across gaps), ``gaps`` (steps longer
+    than 1.5 nominal intervals), ``dt`` (nominal interval, the median step).
     """
 
     period: float
@@ -57,6 +62,7 @@ class CorrectionResult:
     eps1_hat: np.ndarray
     k: np.ndarray
     samples: np.ndarray
+    segments: np.ndarray
     rate: np.ndarray
     t: np.ndarray
     corrected_angle: np.ndarray
@@ -87,6 +93,17 @@ class CorrectionResult:
         (:func:`gyrolib.rsf.relative_k_error`)."""
         return np.asarray(relative_k_error(self.k, eps1))
 
+    def delta_k_std(self, prediction: object) -> np.ndarray:
+        """Per interval, the σ of δK that ``prediction`` (for a whole interval,
+        :func:`predicted_delta_k`) implies for the turn actually used: the encoder and
+        quantization errors enter at the ends of each contiguous run of samples, so σ scales
+        as ``√segments`` over the fraction of the interval covered."""
+        from gyrolib.rsf.correction import DeltaKPrediction
+
+        v.check_instance("prediction", prediction, DeltaKPrediction)
+        full = self.period / self.dt
+        return prediction.std * (full / self.samples) * np.sqrt(self.segments)
+
     def summary(self) -> dict:
         """The result as a JSON-ready dict (SI)."""
         return {
@@ -96,6 +113,7 @@ class CorrectionResult:
             "K": [float(x) for x in self.k],
             "t_start": [float(x) for x in self.t_start],
             "samples": [int(x) for x in self.samples],
+            "segments": [int(x) for x in self.segments],
             "rate": [float(x) for x in self.rate],
             "eps1_hat_mean": float(np.mean(self.eps1_hat)) if self.n_intervals else None,
             "eps1_hat_std": (float(np.std(self.eps1_hat, ddof=1)) if self.n_intervals > 1
@@ -176,18 +194,47 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     if period < dt * (1.0 - time_tolerance):
         raise ValueError(f"period must be at least one sample interval ({dt} s); got {period}")
     inc = record.sins_increment
-    gs_inc = _gs_increments(record)
     regular = np.zeros(t.size, dtype=bool)
     regular[1:] = np.abs(h - dt) <= time_tolerance * dt
-    known = ~np.isnan(inc) & ~np.isnan(gs_inc)
-    use = regular & known
-    # interval of each row: the sample ending at t[k] lies in ((k-1) dt, k dt] from t[0]
+    bad_row = ~regular | np.isnan(inc)
+    bad_row[0] = True
+    inc0 = np.where(np.isnan(inc), 0.0, inc)
+    inc0[0] = 0.0
+    cum_inc = np.cumsum(inc0)
+    cum_bad = np.cumsum(bad_row)
+    if record.gs_angle is not None:
+        # spans between consecutive known GS angles: the GS change over a span telescopes
+        # (its encoder errors cancel inside), usable when every row in it is regular and
+        # has its SINS increment
+        known = np.nonzero(~np.isnan(record.gs_angle))[0]
+        j0, j1 = known[:-1], known[1:]
+        gs_span = record.gs_angle[j1] - record.gs_angle[j0]
+    else:
+        gs_inc = _gs_increments(record)
+        j1 = np.nonzero(~np.isnan(gs_inc))[0]
+        j0 = j1 - 1
+        gs_span = gs_inc[j1]
+    ok = (cum_bad[j1] - cum_bad[j0]) == 0
+    j0, j1, gs_span = j0[ok], j1[ok], gs_span[ok]
+    sins_span = cum_inc[j1] - cum_inc[j0]
+    use = np.zeros(t.size, dtype=bool)          # rows inside a usable span
+    cover = np.zeros(t.size + 1, dtype=np.int64)
+    np.add.at(cover, j0 + 1, 1)
+    np.add.at(cover, j1 + 1, -1)
+    use = np.cumsum(cover[:-1]) > 0
+    # interval of each row: the sample ending at t[k] lies in ((k-1) dt, k dt] from t[0];
+    # a span counts in the interval of its last row
     n_int = math.floor((t[-1] - t[0]) / period * (1.0 + 1e-12))
     idx = np.floor((t - t[0] - 0.5 * dt) / period).astype(np.int64)
     idx[0] = -1
-    s_sins = np.bincount(idx[use], weights=inc[use], minlength=n_int + 1)[:n_int]
-    s_gs = np.bincount(idx[use], weights=gs_inc[use], minlength=n_int + 1)[:n_int]
-    cnt = np.bincount(idx[use], minlength=n_int + 1)[:n_int]
+    sidx = idx[j1]
+    s_sins = np.bincount(sidx, weights=sins_span, minlength=n_int + 1)[:n_int]
+    s_gs = np.bincount(sidx, weights=gs_span, minlength=n_int + 1)[:n_int]
+    cnt = np.bincount(sidx, weights=(j1 - j0).astype(float), minlength=n_int + 1)[:n_int]
+    # contiguous runs: a span starts a new run unless it continues the previous one
+    starts = np.ones(j1.size, dtype=bool)
+    starts[1:] = (j0[1:] != j1[:-1]) | (sidx[1:] != sidx[:-1])
+    seg = np.bincount(sidx[starts], minlength=n_int + 1)[:n_int]
     good = (cnt > 0) & (s_sins != 0.0)
     with np.errstate(invalid="ignore", divide="ignore"):
         eps1_hat = np.where(good, (s_sins - s_gs) / np.where(good, s_sins, 1.0), np.nan)
@@ -204,21 +251,22 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
         k_full[i] = last            # K applied during interval i
         last = kmap.get(i, last)
     k_full[n_int] = last
-    row_int = np.clip(idx, 0, n_int)
-    k_row = k_full[row_int]
-    inc0 = np.where(np.isnan(inc), 0.0, inc)
-    inc0[0] = 0.0
+    k_row = k_full[np.clip(idx, 0, n_int)]
     corrected = np.cumsum(k_row * inc0)
-    res_inc = np.where(use, k_row * np.where(use, inc, 0.0) - np.where(use, gs_inc, 0.0), 0.0)
-    raw_inc = np.where(use, np.where(use, inc, 0.0) - np.where(use, gs_inc, 0.0), 0.0)
+    cum_kinc = np.cumsum(k_row * inc0)
+    res_inc = np.zeros(t.size)
+    raw_inc = np.zeros(t.size)
+    np.add.at(res_inc, j1, (cum_kinc[j1] - cum_kinc[j0]) - gs_span)
+    np.add.at(raw_inc, j1, sins_span - gs_span)
     rate = s_sins[keep_int] / (cnt[keep_int] * dt)
     return CorrectionResult(
         period=period, k_form=k_form, t_start=t[0] + keep_int * period,
         t_end=t[0] + (keep_int + 1) * period, eps1_hat=eps1_hat, k=k,
-        samples=cnt[keep_int].astype(np.int64), rate=rate, t=t, corrected_angle=corrected,
+        samples=cnt[keep_int].astype(np.int64), segments=seg[keep_int].astype(np.int64),
+        rate=rate, t=t, corrected_angle=corrected,
         residual=np.cumsum(res_inc), residual_raw=np.cumsum(raw_inc), rows=int(t.size),
         samples_used=int(np.count_nonzero(use)),
-        samples_skipped=int(np.count_nonzero(~known[1:])),
+        samples_skipped=int(t.size - 1 - np.count_nonzero(use)),
         gaps=int(np.count_nonzero(h > 1.5 * dt)), dt=dt)
 
 
