@@ -223,7 +223,9 @@ def _run_rsf(args: argparse.Namespace) -> int:
     if args.json:
         out = res.summary()
         out["file"] = str(args.file)
-        out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7}
+        out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
+                                    "std_per_interval": [float(x) for x in
+                                                         res.delta_k_std(pred)]}
         sys.stdout.write(json.dumps(out, allow_nan=True) + "\n")
         return 0
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))

@@ -46,10 +46,10 @@ def _replace(label: str, obj: object, values: dict, where: str = "") -> object:
     names = [f.name for f in dataclasses.fields(obj)]
     for key, val in values.items():
         if key not in names:
-            raise RecordError(label, f"unknown field {where}{key!r}: expected one of "
+            raise RecordError(label, f"unknown field {where + key!r}: expected one of "
                               f"{', '.join(names)}")
         if isinstance(val, dict | list):
-            raise RecordError(label, f"field {where}{key!r} must be a number or string; got "
+            raise RecordError(label, f"field {where + key!r} must be a number or string; got "
                               f"a {type(val).__name__}")
     try:
         return dataclasses.replace(obj, **values)
