@@ -112,6 +112,20 @@ def _save(fig, path: str) -> None:
         plt.close(fig)
 
 
+def _json(obj: object) -> str:
+    """One line of strict JSON; a non-finite float becomes null."""
+    def clean(o):
+        if isinstance(o, dict):
+            return {k: clean(x) for k, x in o.items()}
+        if isinstance(o, list | tuple):
+            return [clean(x) for x in o]
+        if isinstance(o, float) and not math.isfinite(o):
+            return None
+        return o
+
+    return json.dumps(clean(obj), allow_nan=False) + "\n"
+
+
 def _fmt(x: float, digits: int = 4) -> str:
     return f"{x:.{digits}g}"
 
@@ -164,7 +178,7 @@ def _run_gc(args: argparse.Namespace) -> int:
         out["file"] = str(args.file)
         out["dt"] = params.dt
         out["notes"] = notes
-        sys.stdout.write(json.dumps(out, allow_nan=True) + "\n")
+        sys.stdout.write(_json(out))
         return 0
     a = units.from_si(res.omega_gc, "arcsec_paper/s")
     s = units.from_si(res.omega_gc_std, "arcsec_paper/s")
@@ -226,7 +240,7 @@ def _run_rsf(args: argparse.Namespace) -> int:
         out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
                                     "std_per_interval": [float(x) for x in
                                                          res.delta_k_std(pred)]}
-        sys.stdout.write(json.dumps(out, allow_nan=True) + "\n")
+        sys.stdout.write(_json(out))
         return 0
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
     rate = units.from_si(float(np.mean(res.rate)), "deg/s")

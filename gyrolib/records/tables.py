@@ -394,10 +394,8 @@ def _check_gc_start(label: str, t0: float) -> None:
 
 
 def iter_gc(path: object, *, chunk_rows: int = CHUNK_ROWS) -> Iterator[GCRecord]:
-    """A paper-GC record file in chunks of :class:`GCRecord` (for long records).
-
-    ``reader.fraction`` of the underlying reader is not exposed; use
-    :func:`gyrolib.records.tables.GCChunks` for progress."""
+    """A paper-GC record file in chunks of :class:`GCRecord` (for long records); use
+    :class:`GCChunks` instead when the part of the file read so far is wanted (progress)."""
     return iter(GCChunks(path, chunk_rows=chunk_rows))
 
 
