@@ -243,3 +243,44 @@ def test_subprocess_one_line_no_traceback(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "gyrolib", "calibrate", "rsf", str(path)],
                           capture_output=True, text=True, check=False)
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "--period" in proc.stderr
+
+
+def test_file_streamed_in_chunks_equals_whole_file(gc_file):
+    """Reading the file in small chunks (records.GCChunks) gives the one-shot result."""
+    path, _, _ = gc_file
+    whole = gc.calibrate(records.read_gc(path), P)
+    chunks = records.GCChunks(path, chunk_rows=7000)
+    streamed = gc.calibrate(chunks, P)
+    assert chunks.fraction == pytest.approx(1.0)
+    np.testing.assert_allclose(streamed.x_final, whole.x_final, rtol=1e-12, atol=1e-30)
+    np.testing.assert_allclose(streamed.P_final, whole.P_final, rtol=1e-12, atol=1e-40)
+    assert streamed.rows == whole.rows and (streamed.rejected == whole.rejected).all()
+
+
+def test_progress_bar_only_on_a_terminal_and_cleared(monkeypatch):
+    from gyrolib.records import cli
+
+    class Tty:
+        def __init__(self, tty):
+            self.text, self.tty = "", tty
+
+        def isatty(self):
+            return self.tty
+
+        def write(self, s):
+            self.text += s
+
+        def flush(self):
+            pass
+
+    for tty in (True, False):
+        err = Tty(tty)
+        monkeypatch.setattr(sys, "stderr", err)
+        bar = cli._Progress("calibrate gc x.csv", lambda: 0.5, after=0.0)
+        bar(10)
+        bar.clear()
+        if tty:
+            assert "[###############               ]  50%" in err.text
+            assert err.text.endswith("\r\033[K")
+        else:
+            assert err.text == ""
