@@ -82,6 +82,7 @@ def main() -> dict:
     truth["gc_record_wrong_spectrum.csv.gz"] = {
         "method": "gc", "seed": GC_WRONG_SEED, "t_end_s": GC_T_END,
         "params": f"paper, alpha1 x {WRONG_ALPHA1_FACTOR:g} = {p_wrong.alpha1} rad/s",
+        "alpha1": p_wrong.alpha1,
         "omega_gc_rad_s": sim_w.omega_gc,
         "omega_gc_arcsec_paper_s": float(from_si(sim_w.omega_gc, "arcsec_paper/s")),
         "call": (f"gc.simulate_record(dataclasses.replace(gc.GyrocompassParams(), "
