@@ -12,7 +12,9 @@ also
   angle sensor, which then reads ``Δβ``;
 * discretizes a step that is not the nominal ``dt`` at its own length: a gap of ``n`` whole
   steps plus a remainder is ``n`` predictions at ``dt`` (no update) and one exact Van Loan
-  step of the remainder;
+  step of the remainder; a step within 5 % of ``n dt`` (time-stamp jitter) is ``n`` regular
+  steps and a short shift ``exp(F δ)`` (Taylor series, exact to O(δ³) in the process
+  noise), which costs little more than a regular step;
 * skips a missing (NaN) measurement, and rejects a measurement whose normalized innovation
   squared ``ν²/S`` exceeds the χ²(1) quantile of ``gate`` (default 99.99 %), reporting it;
 * keeps the diagnostics that say whether the model fits the gyro: the mean normalized
@@ -60,6 +62,10 @@ __all__ = [
 N: Final[int] = len(STATE_NAMES)
 M: Final[int] = len(MEASUREMENT_NAMES)
 
+#: A step within this fraction of ``dt`` of a whole number of ``dt`` (time-stamp jitter) is
+#: propagated by the regular steps and a short Taylor shift, not a matrix exponential.
+SMALL_SHIFT: Final[float] = 0.05
+
 #: Rejected measurements listed individually in a result (all are counted).
 MAX_LISTED_REJECTIONS: Final[int] = 10000
 
@@ -81,7 +87,9 @@ class CalibrationResult:
     * ``nis_sum`` (3,): sum of the NIS of the used measurements; ``acf`` (3, lags): the
       autocorrelation at lags 1…lags of each sensor's normalized innovations ``ν/√S``;
     * ``gaps`` (steps longer than 1.5 ``dt``), ``gap_time`` (s of missing rows),
-      ``irregular_steps`` (steps discretized at their own length), ``gate`` (probability).
+      ``irregular_steps`` (remainders discretized exactly at their own length),
+      ``jittered_steps`` (steps within 5 % of a whole number of ``dt``, shifted in time),
+      ``gate`` (probability).
     """
 
     params: GyrocompassParams
@@ -107,6 +115,7 @@ class CalibrationResult:
     gaps: int
     gap_time: float
     irregular_steps: int
+    jittered_steps: int
     gate: float
     store_every: int
 
@@ -226,6 +235,7 @@ class CalibrationResult:
             "gaps": self.gaps,
             "gap_time": self.gap_time,
             "irregular_steps": self.irregular_steps,
+            "jittered_steps": self.jittered_steps,
             "rejected_t": [float(x) for x in self.rejected_t[:100]],
             "states": {name: {"estimate": float(self.x_final[i]),
                               "std": float(math.sqrt(max(self.P_final[i, i], 0.0)))}
@@ -340,7 +350,63 @@ def _predict(x, P, Phi, Qd, T, y):
 
 
 @njit(cache=True)
-def _filter_chunk(t, z, grid, g0, inv_hh, dt, n_whole, irr_idx, irr_phi, irr_qd,
+def _shift(x, P, F, W, d, E, A, T, y):
+    """Move the state and covariance on by a short time ``d`` (either sign, |F d| ≪ 1):
+    ``E = exp(F d)`` (Taylor to 4th order), ``x ← E x``, ``P ← E (P + Q̃) Eᵀ`` with
+    ``Q̃ = d W − d²/2 (F W + W Fᵀ)``, ``W = G Q Gᵀ``: exact to O(d³) for both signs, since
+    ``Qd(h + d) = E (Qd(h) + Q̃) Eᵀ``."""
+    n = x.shape[0]
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = F[i, j] * d
+    # E = I + A (I + A/2 (I + A/3 (I + A/4)))  (Horner)
+    for i in range(n):
+        for j in range(n):
+            E[i, j] = (1.0 if i == j else 0.0) + A[i, j] * 0.25
+    for k in (3.0, 2.0, 1.0):
+        for i in range(n):
+            for j in range(n):
+                s = 0.0
+                for c in range(n):
+                    s += A[i, c] * E[c, j]
+                T[i, j] = (1.0 if i == j else 0.0) + s / k
+        for i in range(n):
+            for j in range(n):
+                E[i, j] = T[i, j]
+    # P + Q̃
+    for i in range(n):
+        for j in range(n):
+            fw = 0.0
+            wf = 0.0
+            for c in range(n):
+                fw += F[i, c] * W[c, j]
+                wf += W[i, c] * F[j, c]
+            A[i, j] = P[i, j] + d * W[i, j] - 0.5 * d * d * (fw + wf)
+    for i in range(n):
+        sx = 0.0
+        for c in range(n):
+            sx += E[i, c] * x[c]
+        y[i] = sx
+    for i in range(n):
+        x[i] = y[i]
+    for i in range(n):
+        for j in range(n):
+            sm = 0.0
+            for c in range(n):
+                sm += E[i, c] * A[c, j]
+            T[i, j] = sm
+    for i in range(n):
+        for j in range(i, n):
+            sm = 0.0
+            for c in range(n):
+                sm += T[i, c] * E[j, c]
+            P[i, j] = sm
+            P[j, i] = sm
+
+
+@njit(cache=True)
+def _filter_chunk(t, z, grid, g0, inv_hh, dt, n_whole, shift, Fc, Es, Ec, W, irr_idx,
+                  irr_phi, irr_qd,
                   Phi0, PhiA, PhiB, Qd0, QdA, QdB, seg_w, H, r, gate, x, P, tcur,
                   row0, store_every, st_t, st_x, st_s, st_nis, st_cnt, n_st,
                   used, missing, rejected, rows_ur, nis_sum, ring, ring_n, acf_sum, acf_sq,
@@ -355,6 +421,9 @@ def _filter_chunk(t, z, grid, g0, inv_hh, dt, n_whole, irr_idx, irr_phi, irr_qd,
     y = np.zeros(n)
     Ph = np.zeros(n)
     kv = np.zeros(n)
+    Fm = np.zeros((n, n))
+    Em = np.zeros((n, n))
+    Am = np.zeros((n, n))
     for i in range(t.shape[0]):
         # predict: whole steps of dt, then the remainder (exact, precomputed)
         for _ in range(n_whole[i]):
@@ -368,6 +437,15 @@ def _filter_chunk(t, z, grid, g0, inv_hh, dt, n_whole, irr_idx, irr_phi, irr_qd,
                     Qd[p, c] = Qd0[j, p, c] + a * QdA[j, p, c] + b * QdB[j, p, c]
             _predict(x, P, Phi, Qd, T, y)
             tcur[0] += dt
+        d = shift[i]
+        if d != 0.0:   # a step of n·dt + d, |d| small: the regular steps, then shift by d
+            bm = _beta_at(tcur[0] + 0.5 * d, grid, g0, inv_hh)
+            sb = math.sin(bm)
+            cb = math.cos(bm)
+            for p in range(n):
+                for c in range(n):
+                    Fm[p, c] = Fc[p, c] + sb * Es[p, c] + cb * Ec[p, c]
+            _shift(x, P, Fm, W, d, Em, Am, T, y)
         k = irr_idx[i]
         if k >= 0:
             _predict(x, P, irr_phi[k], irr_qd[k], T, y)
@@ -477,6 +555,7 @@ class _Calibrator:
         self.Fc, self.Es, self.Ec = _affine_parts(p)
         self.G = noise_input_matrix(p)
         self.Qc = process_noise_intensity(p)
+        self.W = self.G @ self.Qc @ self.G.T
         J = math.ceil(math.pi / SEGMENT) + 2   # β_n stays in [0, π/2]; room to spare
         self.tables = np.zeros((6, J, N, N))
         self.have = np.zeros(J, dtype=bool)
@@ -505,6 +584,7 @@ class _Calibrator:
         self.gaps = 0
         self.gap_time = 0.0
         self.irregular = 0
+        self.shifted = 0
 
     def _table(self, j: int) -> None:
         if j < 0 or j >= self.have.size:
@@ -526,12 +606,21 @@ class _Calibrator:
                              f"{self.tcur[0]}")
         prev = np.concatenate([[self.tcur[0]], t[:-1]])
         h = t - prev
-        n_whole = np.floor((h + self.tol) / self.dt).astype(np.int64)
+        # a step near a whole number of dt (jitter, |d| <= SMALL_SHIFT dt): the regular
+        # steps and a short shift; anything else: whole steps and an exact remainder step
+        n_near = np.rint(h / self.dt)
+        d = h - n_near * self.dt
+        small = (np.abs(d) > self.tol) & (np.abs(d) <= SMALL_SHIFT * self.dt) & (n_near >= 1)
+        n_whole = np.where(small, n_near,
+                           np.floor((h + self.tol) / self.dt)).astype(np.int64)
         rem = h - n_whole * self.dt
-        irregular = rem > self.tol
+        irregular = ~small & (rem > self.tol)
+        shift = np.where(small, d, 0.0)
         if self.rows == 0 and t[0] == 0.0:   # a row at t = 0: update only
             n_whole[0] = 0
             irregular[0] = False
+            shift[0] = 0.0
+        self.shifted += int(np.count_nonzero(small))
         self.gaps += int(np.count_nonzero(h > 1.5 * self.dt))
         self.gap_time += float(np.sum(np.where(h > 1.5 * self.dt, h - self.dt, 0.0)))
         grid, g0 = self.nominal.window(float(prev[0]), float(t[-1]))
@@ -561,8 +650,9 @@ class _Calibrator:
         st_cnt = np.zeros((n_store, M), dtype=np.int64)
         n_st = np.zeros(1, dtype=np.int64)
         tb = self.tables
-        _filter_chunk(t, z, grid, float(g0), 1.0 / self.nominal.hh, self.dt, n_whole, irr_idx,
-                      irr_phi, irr_qd, tb[0], tb[1], tb[2], tb[3], tb[4], tb[5], SEGMENT,
+        _filter_chunk(t, z, grid, float(g0), 1.0 / self.nominal.hh, self.dt, n_whole, shift,
+                      self.Fc, self.Es, self.Ec, self.W, irr_idx, irr_phi, irr_qd, tb[0], tb[1],
+                      tb[2], tb[3], tb[4], tb[5], SEGMENT,
                       self.H, self.r, self.gate, self.x, self.P, self.tcur, self.rows,
                       self.store_every, st_t, st_x, st_s, st_nis, st_cnt, n_st, self.used,
                       self.missing, self.rejected, self.rows_ur, self.nis_sum, self.ring,
@@ -599,7 +689,7 @@ class _Calibrator:
             rejected_t=self.rej_t[:nr].copy(), rejected_sensor=self.rej_q[:nr].copy(),
             rejected_nis=self.rej_nis[:nr].copy(), nis_sum=self.nis_sum.copy(), acf=acf,
             gaps=self.gaps, gap_time=self.gap_time, irregular_steps=self.irregular,
-            gate=self.gate_prob, store_every=self.store_every)
+            jittered_steps=self.shifted, gate=self.gate_prob, store_every=self.store_every)
 
 
 def _chunks(record: GCRecord, size: int):
@@ -639,7 +729,8 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         Lags of the innovation autocorrelation (whiteness test).
     time_tolerance : float
         A step within ``time_tolerance · dt`` of a whole number of ``dt`` counts as whole
-        steps; any longer remainder is discretized at its own length.
+        steps; a step within 5 % of it is shifted by the difference, any other remainder is
+        discretized exactly at its own length.
     progress : callable, optional
         Called with the number of rows processed after each chunk.
 
