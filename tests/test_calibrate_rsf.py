@@ -132,3 +132,20 @@ def test_bad_input():
         rsf.calibrate(rec, -1.0)
     with pytest.raises(TypeError, match="record must be an RSFRecord"):
         rsf.calibrate({"t": t}, 1.0)
+
+
+def test_jittered_time_stamps_are_not_gaps():
+    """±20 % jitter on every time stamp: every sample is still used and the closed form
+    holds; a true gap (a missing row) is still detected."""
+    eps1 = 6e-4
+    t, inc, gs = _synthetic(eps1)
+    tj = t + np.random.default_rng(1).uniform(-2e-3, 2e-3, t.size)
+    tj[0] = 0.0
+    res = rsf.calibrate(rsf.RSFRecord(t=tj, sins_increment=inc, gs_angle=gs), 2.0)
+    assert res.gaps == 0 and res.samples_used == t.size - 1
+    np.testing.assert_allclose(res.eps1_hat, eps1 / (1 + eps1), rtol=1e-9)
+    keep = np.ones(t.size, bool)
+    keep[500] = False
+    res = rsf.calibrate(rsf.RSFRecord(t=tj[keep], sins_increment=inc[keep],
+                                      gs_angle=gs[keep]), 2.0)
+    assert res.gaps == 1 and res.samples_used == t.size - 3
