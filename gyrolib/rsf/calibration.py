@@ -11,9 +11,11 @@ Per correction interval ``i`` of length ``period`` (from the first row on):
 The sums run over spans between consecutive known GS angles: the GS change over a span is
 the difference of its end angles (so the encoder's position and quantization errors
 telescope away inside it, as they do over a whole interval) and is paired with the SINS
-increments of the span's rows.  A span is used only when every row in it follows its
-predecessor by the nominal interval and has its SINS increment: a time gap or a missing SINS
-increment removes the span from both sums, so the two sides always cover the same turn.  A
+increments of the span's rows.  A span is used only when no row is missing inside it (no
+step longer than 1.5 nominal intervals; shorter jitter is harmless, a sample's SINS
+increment and GS change cover the same time whatever its length) and every row has its SINS
+increment: a gap or a missing SINS increment removes the span from both sums, so the two
+sides always cover the same turn.  A
 missing GS angle merely joins two spans.  Wrapped encoder counts are unwrapped per sample
 (the step modulo one revolution, as :func:`gyrolib.rsf.unwrap_counts`), so there a missing
 count removes the two samples it touches.
@@ -148,7 +150,7 @@ def _gs_increments(record: RSFRecord) -> np.ndarray:
 
 
 def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
-              dt: float | None = None, time_tolerance: float = 1e-3) -> CorrectionResult:
+              dt: float | None = None, time_tolerance: float = 0.5) -> CorrectionResult:
     """Apply paper RSF's scale-factor correction (Eqs. (1)–(3)) to a record.
 
     Parameters
@@ -162,8 +164,9 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     dt : float, optional
         Nominal sample interval (s); default the median step of the record.
     time_tolerance : float
-        A step differing from ``dt`` by more than this fraction is a gap (its sample is
-        not used).
+        A step longer than ``(1 + time_tolerance) dt`` is a gap: rows are missing, so its
+        sample is not used.  Shorter steps (time-stamp jitter) are used as they are: the SINS
+        increment and the GS change of a sample cover the same time whatever its length.
 
     Returns
     -------
@@ -185,17 +188,18 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
         raise TypeError(f"record must be an RSFRecord; got {type(record).__name__}")
     period = v.check_positive("period", period)
     k_form = v.check_choice("k_form", k_form, K_FORMS)
-    time_tolerance = v.check_in_range("time_tolerance", time_tolerance, 0.0, 0.5)
+    time_tolerance = v.check_in_range("time_tolerance", time_tolerance, 0.0, 10.0,
+                                      low_open=True)
     t = record.t
     if t.size < 2:
         raise ValueError("record must hold at least two rows")
     h = np.diff(t)
     dt = float(np.median(h)) if dt is None else v.check_positive("dt", dt)
-    if period < dt * (1.0 - time_tolerance):
+    if period < dt * (1.0 - 1e-9):
         raise ValueError(f"period must be at least one sample interval ({dt} s); got {period}")
     inc = record.sins_increment
     regular = np.zeros(t.size, dtype=bool)
-    regular[1:] = np.abs(h - dt) <= time_tolerance * dt
+    regular[1:] = h <= (1.0 + time_tolerance) * dt
     bad_row = ~regular | np.isnan(inc)
     bad_row[0] = True
     inc0 = np.where(np.isnan(inc), 0.0, inc)
