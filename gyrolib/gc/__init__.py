@@ -147,3 +147,16 @@ __all__ = [
     "time_to_sigma",
     "vibration_filter",
 ]
+
+# Calibration on recorded data (issue 13)
+from gyrolib.gc.calibration import (
+    CalibrationResult,
+    SimulatedRecord,
+    calibrate,
+    plot_calibration,
+    simulate_record,
+)
+from gyrolib.records.tables import GCRecord
+
+__all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
+            "plot_calibration", "simulate_record"]

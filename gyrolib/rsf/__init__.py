@@ -155,3 +155,16 @@ __all__ = [
     "with_encoder",
     "worked_example_delta_k",
 ]
+
+# Calibration on recorded data (issue 13)
+from gyrolib.records.tables import RSFRecord
+from gyrolib.rsf.calibration import (
+    CorrectionResult,
+    calibrate,
+    plot_correction,
+    predicted_delta_k,
+    record_from_simulation,
+)
+
+__all__ += ["CorrectionResult", "RSFRecord", "calibrate", "plot_correction",
+            "predicted_delta_k", "record_from_simulation"]
