@@ -218,6 +218,8 @@ case("gc.CovarianceAnalysis", lambda: replace(cov(), params=None), TypeError,
      "params")
 case("gc.CovarianceAnalysis.std", lambda: cov().std("x"), ValueError, "name",
      "one of")
+case("gc.CovarianceAnalysis.final_std", lambda: cov().final_std("Psi"), ValueError, "name",
+     "one of")
 case("gc.CovarianceAnalysis.std_at", lambda: cov().std_at("psi", -1.0), ValueError,
      "time", r"\[0.0, 0.01\]")
 case("gc.CovarianceAnalysis.std_at", lambda: cov().std_at("Psi", 0.0), ValueError,
@@ -406,6 +408,60 @@ case("gc.plot_figure1", lambda: gc.plot_figure1(beta_deg=10.0, psi_deg=20.0),
      ValueError, "psi_deg", "< beta_deg")
 case("gc.plot_figure1", lambda: gc.plot_figure1(tilt_deg="14"), TypeError,
      "tilt_deg")
+
+# calibration on a record: gc.calibrate, GCRecord, CalibrationResult, simulate_record
+_GREC = gc.GCRecord(t=[0.001, 0.002], angle_sensor=[0.0, 0.0], inclinometer_y=[0.0, 0.0],
+                    inclinometer_z=[0.0, 0.0])
+_GRES = gc.calibrate(_GREC, gc.GyrocompassParams())
+case("gc.GCRecord", lambda: gc.GCRecord(t=[0.002, 0.001], angle_sensor=[0, 0],
+                                         inclinometer_y=[0, 0], inclinometer_z=[0, 0]),
+     ValueError, "t", "strictly increasing")
+case("gc.GCRecord", lambda: gc.GCRecord(t=[-1.0], angle_sensor=[0], inclinometer_y=[0],
+                                         inclinometer_z=[0]), ValueError, "t", ">= 0")
+case("gc.GCRecord", lambda: replace(_GREC, angle_sensor=[0.0, INF]), ValueError,
+     "angle_sensor", "finite")
+case("gc.GCRecord", lambda: replace(_GREC, inclinometer_z=[0.0]), ValueError,
+     "inclinometer_z", "2 values")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, "paper"), TypeError, "params",
+     "GyrocompassParams")
+case("gc.calibrate", lambda: gc.calibrate(np.zeros(3)), TypeError, "record", "GCRecord")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, gate=1.0), ValueError, "gate", "in")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, store_every=0), ValueError, "store_every",
+     ">= 1")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, chunk_size=1.5), TypeError, "chunk_size")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, lags=0), ValueError, "lags", ">= 1")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, time_tolerance=NAN), ValueError,
+     "time_tolerance")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, progress=3), TypeError, "progress",
+     "callable")
+case("gc.CalibrationResult", lambda: replace(_GRES, x=np.zeros((5, 10))), ValueError, "x",
+     "shape")
+case("gc.CalibrationResult", lambda: replace(_GRES, params=None), TypeError, "params")
+case("gc.CalibrationResult.estimate", lambda: _GRES.estimate("drift"), ValueError, "name",
+     "one of")
+case("gc.CalibrationResult.sigma", lambda: _GRES.sigma(3), ValueError, "name", "one of")
+case("gc.CalibrationResult.nis_band", lambda: _GRES.nis_band(1.0), ValueError,
+     "confidence", r"\(0.0, 1.0\)")
+case("gc.CalibrationResult.whiteness_limit", lambda: _GRES.whiteness_limit(NAN),
+     ValueError, "confidence")
+case("gc.CalibrationResult.fits", lambda: _GRES.fits(0.0), ValueError, "confidence")
+case("gc.CalibrationResult.verdict", lambda: _GRES.verdict("high"), TypeError,
+     "confidence")
+case("gc.SimulatedRecord", lambda: gc.SimulatedRecord(record=None, truth=np.zeros((1, 10)),
+                                                       params=gc.GyrocompassParams(), seed=0),
+     TypeError, "record", "GCRecord")
+case("gc.SimulatedRecord", lambda: gc.SimulatedRecord(record=_GREC, truth=np.zeros(10),
+                                                       params=gc.GyrocompassParams(), seed=0),
+     ValueError, "truth", "shape")
+case("gc.simulate_record", lambda: gc.simulate_record(None, 1.0, 0), TypeError, "params")
+case("gc.simulate_record", lambda: gc.simulate_record(gc.GyrocompassParams(), 1.0, -1),
+     ValueError, "seed", ">= 0")
+case("gc.simulate_record", lambda: gc.simulate_record(gc.GyrocompassParams(), 0.0, 1),
+     ValueError, "t_end", POS)
+case("gc.plot_calibration", lambda: gc.plot_calibration(None), TypeError, "result",
+     "CalibrationResult")
+case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), ValueError,
+     "truth", FINITE)
 
 
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)

@@ -298,6 +298,46 @@ case("rsf.plot_spin_up", lambda: rsf.plot_spin_up(T5, "a", T5, T5), TypeError, "
 case("rsf.plot_spin_up", lambda: rsf.plot_spin_up(T5[::-1], T5, T5, T5), ValueError, "t",
      "increasing")
 
+# calibration on a record: rsf.calibrate, RSFRecord, CorrectionResult
+_RREC = rsf.RSFRecord(t=[0.0, 0.5, 1.0], sins_increment=[0.0, 1.0, 1.0],
+                      gs_angle=[0.0, 1.0, 2.0])
+_RRES = rsf.calibrate(_RREC, 0.5)
+case("rsf.RSFRecord", lambda: rsf.RSFRecord(t=[0.0, 1.0], sins_increment=[0.0, 1.0]),
+     ValueError, "exactly one of gs_angle and encoder_counts")
+case("rsf.RSFRecord", lambda: rsf.RSFRecord(t=[0.0, 1.0], sins_increment=[0.0, 1.0],
+                                             encoder_counts=[0.0, 9.0], counts_per_rev=4),
+     ValueError, "encoder_counts", "whole counts")
+case("rsf.RSFRecord", lambda: rsf.RSFRecord(t=[0.0, 1.0], sins_increment=[0.0, 1.0],
+                                             encoder_counts=[0.0, 1.0], counts_per_rev=1),
+     ValueError, "counts_per_rev", ">= 2")
+case("rsf.RSFRecord", lambda: replace(_RREC, t=[0.0, 0.0, 1.0]), ValueError, "t",
+     "strictly increasing")
+case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.0), ValueError, "period", POS)
+case("rsf.calibrate", lambda: rsf.calibrate({"t": [0.0]}, 1.0), TypeError, "record",
+     "RSFRecord")
+case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, k_form="square"), ValueError,
+     "k_form", "one of")
+case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, dt=-1.0), ValueError, "dt", POS)
+case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, time_tolerance=0.0), ValueError,
+     "time_tolerance")
+case("rsf.CorrectionResult", lambda: replace(_RRES, k=np.zeros(7)), ValueError, "k",
+     "shape")
+case("rsf.CorrectionResult", lambda: replace(_RRES, period=0.0), ValueError, "period", POS)
+case("rsf.CorrectionResult.delta_k", lambda: _RRES.delta_k(1.5), ValueError, "eps1",
+     r"\(-1.0, 1.0\)")
+case("rsf.CorrectionResult.delta_k_std", lambda: _RRES.delta_k_std(0.1), TypeError,
+     "prediction", "DeltaKPrediction")
+case("rsf.predicted_delta_k", lambda: rsf.predicted_delta_k(None), TypeError, "result",
+     "CorrectionResult")
+case("rsf.predicted_delta_k", lambda: rsf.predicted_delta_k(_RRES, "paper"), TypeError,
+     "config", "SimulationConfig")
+case("rsf.record_from_simulation", lambda: rsf.record_from_simulation(None), TypeError,
+     "sim", "SensorRecord")
+case("rsf.plot_correction", lambda: rsf.plot_correction(None), TypeError, "result",
+     "CorrectionResult")
+case("rsf.plot_correction", lambda: rsf.plot_correction(_RRES, prediction=3), TypeError,
+     "prediction", "DeltaKPrediction")
+
 
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
 def test_bad_input_is_rejected_by_name(call, exc, pattern):
