@@ -1,5 +1,6 @@
-"""Ledger items of paper RSF (gyrolib.book.ledger.rsf): present, computed (not stored), agreeing
-with the print where they say so, linked to labels of the chapter, and moving with inputs."""
+"""Ledger items of paper RSF (gyrolib.book.ledger.rsf): present, computed (not stored), each
+value and status checked against a hand calculation, linked to labels of the chapter, and
+moving (values and statuses) with the inputs."""
 
 import dataclasses
 import math
@@ -112,3 +113,104 @@ def test_sf_error_perturbation_scales_table2_linearly(items):
         key = f"rsf.table2.dgamma_sins_{t}"
         assert perturbed[key].reproduced_value / items[key].reproduced_value \
             == pytest.approx(7 / 6, rel=1e-12)
+
+
+# Each status against a hand calculation -----------------------------------------------------------
+# Hand values (paper units): ε1 = 600 ppm, ω = 3600 °/s; ε0,GS = √(10² + 7²) °/h; ε1,GS = 280 ppm;
+# Δγ_enc = 0.33°; worked example ω_x = 900 °/s, ω_unc = 300 °/s, Δt = 5 s.
+EPS0_GS_DEG_S = math.sqrt(10.0**2 + 7.0**2) / 3600.0          # 3.3907e-3 °/s
+
+
+def test_table2_roll_errors_are_reproduced_by_hand(items):
+    for t in (10, 60, 120):
+        hand = 600e-6 * 3600.0 * t                              # 21.6, 129.6, 259.2 °
+        it = items[f"rsf.table2.dgamma_sins_{t}"]
+        assert it.reproduced_value == pytest.approx(hand, rel=1e-12)
+        assert abs(hand - it.paper_value) <= 0.05 and it.status == "reproduced"
+
+
+def test_eps0_gs_truncation_is_the_cause_shown(items):
+    it = items["rsf.gs.eps0_total"]
+    assert it.reproduced_value == pytest.approx(EPS0_GS_DEG_S, rel=1e-12)
+    # Rounded it is 3.4e-3, cut it is 3.3e-3, the print: a truncation.
+    assert f"{EPS0_GS_DEG_S:.1e}" == "3.4e-03" and math.floor(EPS0_GS_DEG_S * 1e4) == 33
+    assert it.status == "differs: cause shown"
+
+
+def test_table3_differs_by_the_truncation_and_the_encoder_is_circular(items):
+    for t, printed in ((10, 0.363), (60, 0.528), (120, 0.726)):
+        consistent = EPS0_GS_DEG_S * t + 0.33
+        truncated = 3.3e-3 * t + 0.33
+        it = items[f"rsf.table3.dgamma_gs_{t}"]
+        assert it.reproduced_value == pytest.approx(consistent, rel=1e-12)
+        assert abs(truncated - printed) < 5e-4 < abs(consistent - printed)
+        assert it.status == "differs: cause shown"
+        assert "inferred from this" in it.note and "inferred from this same table" in it.evidence
+
+
+def test_worked_example_slip_gives_the_print_by_hand(items):
+    consistent = ((EPS0_GS_DEG_S + 280e-6 * 300.0) * 5.0 + 0.33) / (900.0 * 5.0)
+    slipped = ((3.3e-3 + 280e-3 * 300.0) * 5.0 + 0.33) / (900.0 * 5.0)   # 0.0934
+    it = items["rsf.example.delta_K"]
+    assert it.reproduced_value == pytest.approx(consistent, rel=1e-12)
+    assert abs(slipped - 0.093) < 5e-4 and it.status == "differs: cause shown"
+
+
+def test_compensated_is_a_claim_with_the_threshold_rate_by_hand(items):
+    it = items["rsf.example.compensated"]
+    numerator = (EPS0_GS_DEG_S + 280e-6 * 300.0) * 5.0 + 0.33    # ° over one interval
+    share_900 = 1.0 - numerator / (900.0 * 5.0) / 600e-6
+    share_3600 = 1.0 - numerator / (3600.0 * 5.0) / 600e-6
+    w90 = numerator / (5.0 * 600e-6 * 0.1)                        # 2557 °/s
+    assert it.kind == "claim" and it.status == "holds under conditions"
+    assert it.reproduced_value == pytest.approx(100 * share_900, rel=1e-9)
+    assert f"≥ {w90:.0f} °/s" in it.conditions and w90 == pytest.approx(2556.5, abs=0.5)
+    assert f"{100 * share_3600:.0f} % at 3600 °/s" in it.conditions
+    assert share_3600 == pytest.approx(0.929, abs=1e-3)
+
+
+def test_gs_vs_sins_conditions_by_hand(items):
+    it = items["rsf.claim.gs_vs_sins"]
+    ideal = [600e-6 * 3600 * t / (EPS0_GS_DEG_S * t + 0.33) for t in (10, 60, 120)]
+    nonideal = [600e-6 * 3600 * t / ((EPS0_GS_DEG_S + 280e-6 * 300) * t + 0.33)
+                for t in (10, 60, 120)]
+    assert it.reproduced_value == pytest.approx(ideal[0], rel=1e-9)
+    assert ideal[0] < 100 < min(ideal[1:]) and max(nonideal) < 100
+    assert it.status == "holds under conditions"
+    assert f"{min(nonideal):.0f}–{max(nonideal):.0f}×" in it.conditions
+
+
+def test_drz_statuses_follow_the_slip_search():
+    # The consistent cubic is 2.9× the print; the search finds no slip: not reproducible.
+    hand_cubic_10 = 9.80665 * 600e-6 * math.radians(3600.0) * 10.0**3 / 6.0
+    search = rsf.drz_slip_search([21.25, 4590.0, 36730.0])
+    assert hand_cubic_10 / 21.25 == pytest.approx(2.900, abs=1e-3)
+    assert search.hits == ()
+    # Power: the same search finds the cubic itself once the "print" is the cubic ×1000 (mm).
+    fake = [hand_cubic_10 * 1e3 * (t / 10) ** 3 for t in (10, 60, 120)]
+    assert ("mm",) in rsf.drz_slip_search(fake, half_digits=[0.5, 0.5, 0.5]).hits
+
+
+# Power: the statuses are computed, so a wrong input changes them ----------------------------
+def test_a_wrong_encoder_breaks_table3_and_a_wrong_gs_gyro_breaks_the_slip():
+    wrong_enc = _by_id(ledger_rsf.items(encoder=dataclasses.replace(rsf.AEDB9340,
+                                                                    position_error=0.005)))
+    for t in (10, 60, 120):
+        assert wrong_enc[f"rsf.table3.dgamma_gs_{t}"].status == "not reproducible"
+        assert wrong_enc[f"rsf.table3.eps0_t_{t}"].status == "differs: cause shown"
+    wrong_gs = _by_id(ledger_rsf.items(gs_gyro=dataclasses.replace(rsf.GYPRO4300,
+                                                                   sf_error=400e-6)))
+    assert wrong_gs["rsf.example.delta_K"].status == "not reproducible"
+
+
+def test_a_better_gs_makes_the_claims_hold_and_a_worse_one_fails():
+    ideal_enc = dataclasses.replace(rsf.AEDB9340, position_error=0.0)
+    quiet = dataclasses.replace(rsf.GYPRO4300, sf_error=0.0, bias_repeatability=0.0,
+                                bias_stability=1e-9)
+    good = _by_id(ledger_rsf.items(gs_gyro=quiet, encoder=ideal_enc))
+    assert good["rsf.example.compensated"].status == "holds"
+    assert good["rsf.claim.gs_vs_sins"].status == "holds"
+    bad = _by_id(ledger_rsf.items(encoder=dataclasses.replace(rsf.AEDB9340,
+                                                              position_error=0.5)))
+    assert bad["rsf.example.compensated"].status == "fails"
+    assert bad["rsf.claim.gs_vs_sins"].status == "fails"

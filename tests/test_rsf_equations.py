@@ -264,3 +264,54 @@ def test_invalid_inputs_raise_value_error_naming_the_parameter(make, name):
 def test_wrong_types_raise_type_error_naming_the_parameter(make, name):
     with pytest.raises(TypeError, match=name):
         make()
+
+
+# The claims' computations against independent references ------------------------------------------
+@pytest.mark.parametrize("t", [0.5, 10.0, 60.0, 120.0])
+def test_vertical_deviation_is_the_double_integral_of_g_one_minus_cos(t):
+    a = 600 * PPM * W3600
+    inner = lambda s: quad(lambda u: G0 * (1.0 - math.cos(a * u)), 0.0, s)[0]  # noqa: E731
+    reference = quad(inner, 0.0, t, limit=200)[0]
+    assert rsf.vertical_deviation_exact(600 * PPM, W3600, t) == pytest.approx(reference,
+                                                                              rel=1e-8)
+
+
+def test_vertical_exceeds_lateral_only_past_a_large_roll_error():
+    tab = rsf.table2()
+    # 21.6° at 10 s: vertical ≪ lateral; 129.6°: still smaller; 259.2° at 120 s: larger.
+    assert tab.dr_y_exact[0] < 0.1 * tab.dr_z_exact[0]
+    assert tab.dr_y_exact[1] < tab.dr_z_exact[1] and tab.dr_y_exact[2] > tab.dr_z_exact[2]
+    # Small-angle limit g a² t⁴ / 24 (series of the closed form).
+    a = 600 * PPM * W3600
+    assert rsf.vertical_deviation_exact(600 * PPM, W3600, 0.01) \
+        == pytest.approx(G0 * a**2 * 0.01**4 / 24, rel=1e-6)
+
+
+def test_compensation_share_threshold_is_where_the_share_crosses_the_target():
+    cs = rsf.compensation_share(to_si(np.linspace(900.0, 5400.0, 451), "deg/s"))
+    # Second method: the first grid rate (10 °/s steps) whose Eq. (7) share reaches 90 %.
+    first = from_si(cs.rates[np.argmax(cs.share >= 0.9)], "deg/s")
+    assert from_si(cs.rate_for_target, "deg/s") == pytest.approx(first, abs=10.0)
+    assert cs.share_at(cs.rate_for_target) == pytest.approx(0.9, rel=1e-12)
+    assert cs.share[0] == pytest.approx(1 - 0.76695 / 4500 / 600e-6, abs=1e-4)  # 71.6 %
+
+
+def test_simulated_share_confirms_eq7_is_conservative_at_every_rate():
+    rates = to_si([900.0, 3600.0], "deg/s")
+    sim = rsf.sweep_roll_rate(rates, seed=7, n_runs=20, duration=20.0)
+    cs = rsf.compensation_share(rates, simulated=sim)
+    # Eq. (7) adds 1σ terms linearly: the simulated rms δK lies below it at each rate.
+    assert np.all(sim.rms < sim.eq7) and np.all(sim.share > cs.share)
+    np.testing.assert_allclose(sim.eq7, cs.delta_k, rtol=1e-12)
+    # Power: with the GS gyro's SF error 10× larger the simulated share falls below 90 % at
+    # 3600 °/s, as Eq. (7) says it would.
+    worse = rsf.SimulationConfig(gs=rsf.GsModel(eps1=2800 * PPM))
+    sim_w = rsf.sweep_roll_rate(rates[1:], seed=7, base=worse, n_runs=20, duration=20.0)
+    assert sim_w.share[0] < 0.9 < sim.share[1]
+
+
+def test_gs_vs_sins_by_hand():
+    r = rsf.gs_vs_sins([10.0])
+    eps0 = math.hypot(10.0, 7.0) / 3600.0                        # °/s
+    assert r.ratio_ideal[0] == pytest.approx(21.6 / (eps0 * 10 + 0.33), rel=1e-12)
+    assert r.ratio_nonideal[0] == pytest.approx(21.6 / ((eps0 + 0.084) * 10 + 0.33), rel=1e-12)

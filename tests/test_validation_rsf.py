@@ -109,8 +109,9 @@ case("rsf.table2", lambda: rsf.table2(omega_true=NAN), ValueError, "omega_true")
 case("rsf.table3", lambda: rsf.table3(encoder=None), TypeError, "encoder")
 case("rsf.table3", lambda: rsf.table3(eps0_gs=-1.0), ValueError, "eps0_gs", NONNEG)
 case("rsf.table3", lambda: rsf.table3(times=[-1.0]), ValueError, "times")
-case("rsf.Table2", lambda: rsf.Table2("a", T5, T5, T5), TypeError, "t")
-case("rsf.Table2", lambda: rsf.Table2(T5, T5, T5[:2], T5), ValueError, "dr_z_cubic")
+case("rsf.Table2", lambda: rsf.Table2("a", T5, T5, T5, T5), TypeError, "t")
+case("rsf.Table2", lambda: rsf.Table2(T5, T5, T5[:2], T5, T5), ValueError, "dr_z_cubic")
+case("rsf.Table2", lambda: rsf.Table2(T5, T5, T5, T5, T5[:2]), ValueError, "dr_y_exact")
 case("rsf.Table3", lambda: rsf.Table3(T5, T5 * NAN, T5), ValueError, "eps0_t",
      FINITE)
 case("rsf.worked_example_delta_k", lambda: rsf.worked_example_delta_k(None),
@@ -305,7 +306,48 @@ def test_bad_input_is_rejected_by_name(call, exc, pattern):
 
 
 #: Public callables without a bad-input case, and why.
-EXEMPT: dict[str, str] = {}
+# the claims and their conditions
+case("rsf.vertical_deviation_exact", lambda: rsf.vertical_deviation_exact(1.0, 1.0, 1.0),
+     ValueError, "eps1", r"\(-1.0, 1.0\)")
+case("rsf.vertical_deviation_exact", lambda: rsf.vertical_deviation_exact(0.1, 1.0, -1.0),
+     ValueError, "t", NONNEG)
+case("rsf.compensation_share", lambda: rsf.compensation_share([0.0, 1.0]), ValueError,
+     "rates", "> 0")
+case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], target=1.0), ValueError,
+     "target")
+case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], period=0.0), ValueError,
+     "period", POS)
+case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], gs_gyro=None), TypeError,
+     "gs_gyro", "MemsGyroSpec")
+case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], simulated=1), TypeError,
+     "simulated", "RateSweep")
+case("rsf.CompensationShare.share_at",
+     lambda: rsf.compensation_share([1.0]).share_at(0.0), ValueError, "rate", POS)
+case("rsf.gs_vs_sins", lambda: rsf.gs_vs_sins([-1.0]), ValueError, "times")
+case("rsf.gs_vs_sins", lambda: rsf.gs_vs_sins(omega=0.0), ValueError, "omega", POS)
+case("rsf.gs_vs_sins", lambda: rsf.gs_vs_sins(encoder=ENC), TypeError, "encoder",
+     "EncoderSpec")
+case("rsf.drz_slip_search", lambda: rsf.drz_slip_search([1.0, 2.0]), ValueError, "times")
+case("rsf.drz_slip_search", lambda: rsf.drz_slip_search([1.0, 2.0, 3.0], max_factors=-1),
+     ValueError, "max_factors")
+case("rsf.drz_slip_search", lambda: rsf.drz_slip_search([1.0, 2.0, 3.0], [0.0, 1.0, 2.0]),
+     ValueError, "times", "> 0")
+case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([1.0], 0), ValueError, "rates",
+     "omega_unc")
+case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], -1), ValueError, "seed")
+case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, base=1), TypeError,
+     "base", "SimulationConfig")
+case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, period=0.0), ValueError,
+     "period", POS)
+
+EXEMPT: dict[str, str] = {
+    "rsf.CompensationShare": "result object, built by compensation_share (checked there)",
+    "rsf.GsVsSins": "result object, built by gs_vs_sins (checked there)",
+    "rsf.RateSweep": "result object, built by sweep_roll_rate (checked there)",
+    "rsf.SlipSearch": "result object, built by drz_slip_search (checked there)",
+    "rsf.plot_compensation_share": "plot function: takes a result object, no validation by "
+                                   "design",
+}
 
 
 def test_table_covers_every_public_callable():

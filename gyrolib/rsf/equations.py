@@ -19,7 +19,8 @@ Eq. (4)    :func:`sins_roll_error`  Δγ_SINS = ε1 ω t (+ ε0 t)
 Eq. (5)    :func:`difference_error`  error of the measured Δγ over one interval
 Eq. (6)    :func:`gs_roll_error_nonideal`  ε0,GS t + ε1,GS ∫ω_unc dt + Δγ_enc
 Eq. (7)    :func:`delta_k`  δK = [(ε0,GS + ε1,GS ω_unc)Δt + Δγ_enc] / (ω_x Δt)
-Eq. (8)    :func:`lateral_deviation_cubic`, :func:`lateral_deviation_exact`
+Eq. (8)    :func:`lateral_deviation_cubic`, :func:`lateral_deviation_exact` (and the
+           vertical component the paper leaves out, :func:`vertical_deviation_exact`)
 Eq. (9)    :func:`gs_roll_error_ideal`  ε0,GS t + Δγ_enc
 =========  =====================================================================
 """
@@ -56,6 +57,7 @@ __all__ = [
     "roll_difference",
     "sf_error_estimate",
     "sins_roll_error",
+    "vertical_deviation_exact",
 ]
 
 
@@ -263,4 +265,61 @@ def lateral_deviation_exact(eps1: float, omega: float, t: ArrayLike,
     if a == 0.0:
         return 0.0 * np.asarray(t) if isinstance(t, np.ndarray) else 0.0
     out = g * _x_minus_sin(a * np.asarray(t)) / a**2
+    return float(out) if np.ndim(out) == 0 else out
+
+
+def _one_minus_cos_deficit(x: np.ndarray) -> np.ndarray:
+    """x²/2 − (1 − cos x) without cancellation: its Taylor series where |x| is small."""
+    x = np.asarray(x, dtype=float)
+    x2 = x * x
+    series = x2 * x2 / 24.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0 * (1.0 - x2 / 90.0)))
+    return np.where(np.abs(x) < 1e-2, series, 0.5 * x2 - 2.0 * np.sin(0.5 * x) ** 2)
+
+
+def vertical_deviation_exact(eps1: float, omega: float, t: ArrayLike,
+                             g: float = G0) -> float | np.ndarray:
+    """Vertical position error from the same roll error, which Eq. (8) of paper RSF omits.
+
+    A roll error Δγ = ε1 ω t resolves the 1 g of lift (normal to the roll axis, as Eq. (8)
+    presumes) as g cos Δγ on the vertical axis instead of g: the vertical acceleration error
+    is g (1 − cos Δγ), and its double integral
+
+    Δr_y(t) = ∫₀ᵗ∫₀ˢ g (1 − cos a u) du ds = g [(a t)²/2 − (1 − cos a t)] / a²,  a = ε1 ω.
+
+    It grows as g a² t⁴/24 at first (second order in the roll error, negligible next to the
+    lateral cubic); its acceleration exceeds the lateral one once the roll error passes 90°,
+    and the deviation itself overtakes the lateral one at a roll error of about 190° (at
+    about 88 s in Table 2's case).
+
+    Parameters
+    ----------
+    eps1 : float
+        Scale-factor error of the roll gyro, in (−1, 1).
+    omega : float
+        Roll rate, rad/s.
+    t : array_like
+        Times, s (>= 0).
+    g : float, optional
+        Gravity, m/s² (default standard gravity).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Vertical deviation, m (>= 0), shaped as ``t``.
+
+    Examples
+    --------
+    >>> from gyrolib.units import to_si
+    >>> w = to_si(3600.0, "deg/s")
+    >>> lat = lateral_deviation_exact(600e-6, w, 120.0)
+    >>> ver = vertical_deviation_exact(600e-6, w, 120.0)
+    >>> f"{lat:.3g} m lateral, {ver:.3g} m vertical"
+    '3.8e+04 m lateral, 6.24e+04 m vertical'
+    """
+    a = _sf("eps1", eps1) * v.check_real("omega", omega)
+    t = _value("t", t, nonnegative=True)
+    g = v.check_positive("g", g)
+    if a == 0.0:
+        return 0.0 * np.asarray(t) if isinstance(t, np.ndarray) else 0.0
+    out = g * _one_minus_cos_deficit(a * np.asarray(t)) / a**2
     return float(out) if np.ndim(out) == 0 else out

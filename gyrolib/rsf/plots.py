@@ -15,9 +15,11 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Polygon
 
 from gyrolib import _validation as v
+from gyrolib.rsf.claims import CompensationShare
 from gyrolib.units import from_si
 
 __all__ = [
+    "plot_compensation_share",
     "plot_delta_k_distribution",
     "plot_encoder_sweep",
     "plot_figure3",
@@ -328,9 +330,11 @@ def plot_delta_k_distribution(delta_k: np.ndarray, predicted_mean: float, predic
 
 
 def plot_period_sweep(periods: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarray,
-                      eq7: np.ndarray, floor: float, eps1: float) -> Figure:
+                      eq7: np.ndarray, floor: float, eps1: float, *,
+                      net_floor: float | None = None) -> Figure:
     """rms δK against the correction period, with the prediction, Eq. (7), the systematic
-    floor and the uncorrected scale-factor error."""
+    floor and the uncorrected scale-factor error; ``net_floor`` adds the floor net of the
+    SINS bias that K absorbs."""
     periods, rms, predicted_rms, eq7 = _series(
         "periods", periods, positive=True, rms=rms, predicted_rms=predicted_rms, eq7=eq7)
     _nonnegative(rms=rms, predicted_rms=predicted_rms, eq7=eq7)
@@ -344,6 +348,9 @@ def plot_period_sweep(periods: np.ndarray, rms: np.ndarray, predicted_rms: np.nd
     ax.loglog(periods, eq7 * 1e6, "--", color="#c0392b", label="Eq. (7)")
     ax.axhline(floor * 1e6, color="k", ls=":", label="floor (ε0,GS + ε1,GS ω_unc)/ω")
     ax.axhline(eps1 * 1e6, color="#7f8c8d", label="uncorrected ε1")
+    if net_floor is not None:
+        ax.axhline(abs(net_floor) * 1e6, color="k", ls="-.", lw=0.8,
+                   label="net floor, with the SINS bias absorbed")
     ax.set_xlabel("correction period Δt (s)")
     ax.set_ylabel("residual SF error δK (ppm)")
     ax.grid(True, which="both", alpha=0.3)
@@ -414,4 +421,37 @@ def plot_spin_up(t: np.ndarray, rate: np.ndarray, omega_unc: np.ndarray,
     ax.set_ylabel("rate (°/s)")
     ax.set_yscale("symlog", linthresh=10.0)
     ax.legend(fontsize=8)
+    return fig
+
+
+def plot_compensation_share(result: CompensationShare) -> Figure:
+    """The share of the SF error removed against the roll rate (paper RSF, Eq. (7) and the
+    conclusion's "90 %"), with the simulation if the result carries one.
+
+    Parameters
+    ----------
+    result : CompensationShare
+        From :func:`~gyrolib.rsf.compensation_share` (no validation here: it takes a result
+        object).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(7.5, 3.6), layout="constrained")
+    ax = fig.subplots()
+    r = from_si(result.rates, "deg/s")
+    ax.plot(r, 100 * result.share, "-", color="#c0392b", label="Eq. (7): 1 − δK/ε1")
+    if result.simulated is not None:
+        sim = result.simulated
+        ax.plot(from_si(sim.rates, "deg/s"), 100 * sim.share, "o", color="#2e86c1",
+                label="simulation: 1 − rms δK/ε1")
+    ax.axhline(100 * result.target, color="k", ls=":", lw=0.8,
+               label=f"{100 * result.target:.0f} % (the paper's claim)")
+    ax.axvline(from_si(result.rate_for_target, "deg/s"), color="#7f8c8d", ls="--", lw=0.8,
+               label="rate from which Eq. (7) gives it")
+    ax.set_xlabel("vehicle roll rate (°/s)")
+    ax.set_ylabel("share of ε1 removed (%)")
+    ax.legend(fontsize=8, loc="lower right")
+    ax.grid(True, alpha=0.3)
     return fig

@@ -21,6 +21,7 @@ from gyrolib.rsf.equations import (
     lateral_deviation_cubic,
     lateral_deviation_exact,
     sins_roll_error,
+    vertical_deviation_exact,
 )
 from gyrolib.rsf.sensors import (
     AEDB9340,
@@ -43,15 +44,21 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Table2:
-    """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``."""
+    """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``.
+
+    ``dr_z_cubic`` is Eq. (8), ``dr_z_exact`` its double integral without the small-angle
+    approximation (lateral component only) and ``dr_y_exact`` the vertical component of the
+    same mis-resolved 1 g, g (1 − cos Δγ) integrated twice, which the paper leaves out.
+    """
 
     t: np.ndarray
     dgamma_sins: np.ndarray
     dr_z_cubic: np.ndarray
     dr_z_exact: np.ndarray
+    dr_y_exact: np.ndarray
 
     def __post_init__(self) -> None:
-        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact")
+        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact", "dr_y_exact")
 
 
 def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
@@ -66,6 +73,7 @@ def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(36
         dgamma_sins=np.asarray(sins_roll_error(e1, omega_true, t)),
         dr_z_cubic=np.asarray(lateral_deviation_cubic(e1, omega_true, t, g)),
         dr_z_exact=np.asarray(lateral_deviation_exact(e1, omega_true, t, g)),
+        dr_y_exact=np.asarray(vertical_deviation_exact(e1, omega_true, t, g)),
     )
 
 
