@@ -340,7 +340,23 @@ case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, base=1), Type
 case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, period=0.0), ValueError,
      "period", POS)
 
+case("rsf.RollGyroSpec.model", lambda: rsf.SIIMU02_ROLL.model(arw=-1.0), ValueError, "arw",
+     NONNEG)
+case("rsf.MemsGyroSpec.model", lambda: rsf.GYPRO4300.model(ki=0.0), ValueError, "ki", POS)
+case("rsf.worked_example_terms", lambda: rsf.worked_example_terms(dt=0.0), ValueError, "dt",
+     POS)
+case("rsf.worked_example_terms", lambda: rsf.worked_example_terms(eps1_gs=-1.0), ValueError,
+     "eps1_gs", NONNEG)
+case("rsf.worked_example_terms", lambda: rsf.worked_example_terms(encoder=ENC), TypeError,
+     "encoder", "EncoderSpec")
+case("rsf.drz_hypotheses", lambda: rsf.drz_hypotheses(0.0), ValueError, "t", POS)
+case("rsf.drz_hypotheses", lambda: rsf.drz_hypotheses(roll_gyro=1), TypeError, "roll_gyro")
+case("rsf.encoder_counts", lambda: rsf.encoder_counts(np.zeros(3), ENC, wrap=1), TypeError,
+     "wrap")
+
 EXEMPT: dict[str, str] = {
+    "rsf.EncoderSpec.model": "no arguments: the record was validated when it was built",
+    "rsf.DeltaKTerms": "result object, built by worked_example_terms (checked there)",
     "rsf.CompensationShare": "result object, built by compensation_share (checked there)",
     "rsf.GsVsSins": "result object, built by gs_vs_sins (checked there)",
     "rsf.RateSweep": "result object, built by sweep_roll_rate (checked there)",

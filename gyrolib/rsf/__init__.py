@@ -23,6 +23,7 @@ from gyrolib.rsf.claims import (
     GsVsSins,
     SlipSearch,
     compensation_share,
+    drz_hypotheses,
     drz_slip_search,
     gs_vs_sins,
 )
@@ -99,11 +100,13 @@ from gyrolib.rsf.sweeps import (
     sweep_roll_rate,
 )
 from gyrolib.rsf.tables import (
+    DeltaKTerms,
     Table2,
     Table3,
     table2,
     table3,
     worked_example_delta_k,
+    worked_example_terms,
 )
 
 __all__ = [
@@ -116,6 +119,7 @@ __all__ = [
     "CompensationShare",
     "CorrectionRun",
     "DeltaKPrediction",
+    "DeltaKTerms",
     "EncoderModel",
     "EncoderSpec",
     "GsModel",
@@ -138,6 +142,7 @@ __all__ = [
     "delta_k",
     "delta_k_ideal",
     "difference_error",
+    "drz_hypotheses",
     "drz_slip_search",
     "encoder_counts",
     "fraction_compensated",
@@ -179,4 +184,5 @@ __all__ = [
     "vertical_deviation_exact",
     "with_encoder",
     "worked_example_delta_k",
+    "worked_example_terms",
 ]

@@ -29,6 +29,7 @@ from gyrolib.rsf.equations import (
     gs_roll_error_ideal,
     gs_roll_error_nonideal,
     lateral_deviation_cubic,
+    lateral_deviation_exact,
     sins_roll_error,
 )
 from gyrolib.rsf.sensors import (
@@ -40,7 +41,7 @@ from gyrolib.rsf.sensors import (
     RollGyroSpec,
 )
 from gyrolib.rsf.sweeps import RateSweep
-from gyrolib.units import G0, to_si
+from gyrolib.units import G0, from_si, to_si
 
 __all__ = [
     "SLIP_FACTORS",
@@ -48,6 +49,7 @@ __all__ = [
     "GsVsSins",
     "SlipSearch",
     "compensation_share",
+    "drz_hypotheses",
     "drz_slip_search",
     "gs_vs_sins",
 ]
@@ -294,3 +296,51 @@ def drz_slip_search(printed: Sequence[float], times: Sequence[float] = (10.0, 60
                     hits.append((*(name for name, _ in combo), scale_name))
     return SlipSearch(c_cubic=c_cubic, c_print=float(p[0] / t[0] ** 3), lo=lo, hi=hi,
                       tried=tried, hits=tuple(hits))
+
+
+#: The rounded gravity a slip might have used, m/s².
+G_ROUNDED = 9.81
+
+
+def drz_hypotheses(t: float = 10.0, *, roll_gyro: RollGyroSpec = SIIMU02_ROLL,
+                   omega: float = _W3600) -> tuple[tuple[str, str, float], ...]:
+    """Table 2's Δr_z at time ``t`` under the usual slips in Eq. (8) of paper RSF, each as
+    (description, unit of the value, value).
+
+    Parameters
+    ----------
+    t : float, optional
+        Time, s (default 10 s, Table 2's first column).
+    roll_gyro : RollGyroSpec, optional
+        Gives ε1 (default Table 1).
+    omega : float, optional
+        Roll rate, rad/s (default 3600 °/s).
+
+    Returns
+    -------
+    tuple of (str, str, float)
+
+    Examples
+    --------
+    >>> [f"{value:.4g} {unit}" for _, unit, value in drz_hypotheses()][:2]
+    ['61.62 m', '3530 m']
+    """
+    v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
+    t = v.check_positive("t", t)
+    omega = v.check_positive("omega", omega)
+    e1 = roll_gyro.sf_error
+    w_deg = float(from_si(omega, "deg/s"))           # ω in °/s, used as if it were rad/s
+    t3 = t**3
+    km = float(from_si(1.0, "km"))
+    return (
+        ("consistent: g ε1 ω t³/6, ω in rad/s, metres", "m",
+         float(lateral_deviation_cubic(e1, omega, t))),
+        ("ω in °/s used as rad/s", "m", G0 * e1 * w_deg * t3 / 6),
+        ("factor 1/6 dropped", "m", G0 * e1 * omega * t3),
+        ("ω = 900 °/s (the worked example's rate)", "m",
+         float(lateral_deviation_cubic(e1, float(to_si(900.0, "deg/s")), t))),
+        (f"g = {G_ROUNDED} instead of {G0}", "m", G_ROUNDED * e1 * omega * t3 / 6),
+        ("°/s as rad/s and 1/6 dropped, printed in km", "km", G0 * e1 * w_deg * t3 * km),
+        (f"same with g = {G_ROUNDED}, in km", "km", G_ROUNDED * e1 * w_deg * t3 * km),
+        ("exact double integral of g sin Δγ", "m", float(lateral_deviation_exact(e1, omega, t))),
+    )

@@ -98,10 +98,12 @@ class RollProfile:
 
 @dataclass(frozen=True)
 class SinsGyroModel:
-    """SINS roll gyro: scale-factor error ``eps1``, bias ``eps0`` (rad/s) and angle random
-    walk ``arw`` (rad/√s).  ``eps1`` and ``eps0`` from Table 1 (:data:`~gyrolib.
-    roll_correction.SIIMU02_ROLL`); the ARW is not in the paper: 0.15 °/√h is assumed
-    (its effect is negligible, see the simulation chapter)."""
+    """SINS roll gyro as simulated: scale-factor error ``eps1``, bias ``eps0`` (rad/s) and
+    angle random walk ``arw`` (rad/√s).  Build it from the datasheet record,
+    ``SIIMU02_ROLL.model(arw=...)`` (:meth:`~gyrolib.rsf.RollGyroSpec.model`: ε1, ε0 from
+    Table 1 of paper RSF); the ARW is not in the paper: 0.15 °/√h is assumed (its effect is
+    negligible, see the simulation chapter).  Set ``eps0``/``eps1`` directly only for
+    what-if runs (e.g. a quiet gyro)."""
 
     eps1: float = SIIMU02_ROLL.sf_error
     eps0: float = SIIMU02_ROLL.bias_instability
@@ -115,7 +117,9 @@ class SinsGyroModel:
 
 @dataclass(frozen=True)
 class GsModel:
-    """Indicator gyrostabilizer: MEMS gyro errors and the PI rate loop.
+    """Indicator gyrostabilizer as simulated: MEMS gyro errors and the PI rate loop
+    (paper RSF, Figure 2).  Build it from the gyro's record,
+    ``GYPRO4300.model(motor_rate_max=...)`` (:meth:`~gyrolib.rsf.MemsGyroSpec.model`).
 
     * ``eps0`` (rad/s), ``eps1``: the GYPRO4300's ε0,GS = √(σ_rep² + σ_stab²) and ε1,GS;
     * ``arw`` (rad/√s): not in the paper; 0.2 °/√h assumed;
@@ -148,9 +152,10 @@ class GsModel:
 
 @dataclass(frozen=True)
 class EncoderModel:
-    """Encoder: ``counts_per_rev`` counts per revolution and a once-per-revolution position
-    error of amplitude ``position_error`` (rad).  Defaults: the AEDB-9340 record
-    (:data:`~gyrolib.rsf.AEDB9340`, 4000 counts assumed, 0.33° inferred)."""
+    """Encoder as simulated: ``counts_per_rev`` counts per revolution and a once-per-revolution
+    position error of amplitude ``position_error`` (rad).  Build it from the datasheet record,
+    ``AEDB9340.model()`` (:meth:`~gyrolib.rsf.EncoderSpec.model`: 4000 counts assumed, 0.33°
+    inferred from Table 3 of paper RSF); set the fields directly for resolution sweeps."""
 
     counts_per_rev: int = AEDB9340.counts_per_rev
     position_error: float = AEDB9340.position_error
@@ -168,14 +173,20 @@ class EncoderModel:
         return 2.0 * math.pi / self.counts_per_rev
 
 
+# The paper's devices, each built from its one datasheet record.
+_PAPER_SINS = SIIMU02_ROLL.model()
+_PAPER_GS = GYPRO4300.model()
+_PAPER_ENCODER = AEDB9340.model()
+
+
 @dataclass(frozen=True)
 class SimulationConfig:
     """One simulation: vehicle, sensors, run length, sample rate and number of runs."""
 
     roll: RollProfile = RollProfile()
-    sins: SinsGyroModel = SinsGyroModel()
-    gs: GsModel = GsModel()
-    encoder: EncoderModel = EncoderModel()
+    sins: SinsGyroModel = _PAPER_SINS
+    gs: GsModel = _PAPER_GS
+    encoder: EncoderModel = _PAPER_ENCODER
     duration: float = 60.0
     sample_rate: float = 100.0
     n_runs: int = 1
@@ -216,12 +227,22 @@ class SimulationConfig:
 
 # Encoder: position error, quantization, wrap and unwrap -------------------------------------------
 def encoder_counts(theta: np.ndarray, encoder: EncoderModel, phase: np.ndarray | float = 0.0,
-                   ) -> np.ndarray:
-    """Wrapped count of the encoder for body-to-platform angles ``theta`` (rad).
+                   *, wrap: bool = True) -> np.ndarray:
+    """Count of the encoder for body-to-platform angles ``theta`` (rad): the GS's angle
+    sensor of paper RSF, Figure 2 (its position error Δγ_enc is the one of Eqs. (6), (9)).
 
     The indicated angle θ + Δγ_enc sin(θ + φ) is quantized down to whole counts and the count
     restarts at every revolution: values in ``[0, counts_per_rev)``, dtype int64.
-    ``phase`` (rad) broadcasts against the leading axes of ``theta``.
+    ``phase`` (rad) broadcasts against the leading axes of ``theta``.  ``wrap=False`` gives the
+    count an encoder that never restarts would show (the reference for :func:`unwrap_counts`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> enc = EncoderModel(counts_per_rev=8, position_error=0.0)
+    >>> theta = np.array([0.1, 3.0, 6.5])
+    >>> encoder_counts(theta, enc).tolist(), encoder_counts(theta, enc, wrap=False).tolist()
+    ([0, 3, 0], [0, 3, 8])
     """
     theta = v.check_array("theta", theta)
     v.check_instance("encoder", encoder, EncoderModel)
@@ -235,7 +256,7 @@ def encoder_counts(theta: np.ndarray, encoder: EncoderModel, phase: np.ndarray |
         raise ValueError(f"phase must be a number when theta is; got shape {ph.shape}")
     indicated = theta + encoder.position_error * np.sin(theta + ph)
     counts = np.floor(indicated / encoder.resolution).astype(np.int64)
-    return np.mod(counts, encoder.counts_per_rev)
+    return np.mod(counts, encoder.counts_per_rev) if v.check_bool("wrap", wrap) else counts
 
 
 def unwrap_counts(wrapped: np.ndarray, counts_per_rev: int) -> np.ndarray:

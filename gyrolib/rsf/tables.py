@@ -34,11 +34,13 @@ from gyrolib.rsf.sensors import (
 from gyrolib.units import G0, to_si
 
 __all__ = [
+    "DeltaKTerms",
     "Table2",
     "Table3",
     "table2",
     "table3",
     "worked_example_delta_k",
+    "worked_example_terms",
 ]
 
 
@@ -121,3 +123,50 @@ def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec 
     e0 = gyro.bias_total if eps0_gs is None else eps0_gs
     e1 = gyro.sf_error if eps1_gs is None else eps1_gs
     return delta_k(e0, encoder.position_error, omega_x, dt, e1, omega_unc)
+
+
+@dataclass(frozen=True)
+class DeltaKTerms:
+    """The terms of Eq. (7) of paper RSF over one interval, rad: ``bias`` ε0,GS Δt,
+    ``sf`` ε1,GS ω_unc Δt, ``encoder`` Δγ_enc, their sum ``numerator``, the roll angle of the
+    interval ``span`` ω_x Δt, and ``delta_k`` = numerator / span."""
+
+    bias: float
+    sf: float
+    encoder: float
+    numerator: float
+    span: float
+    delta_k: float
+
+
+def worked_example_terms(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340, *,
+                         omega_x: float = float(to_si(900.0, "deg/s")),
+                         omega_unc: float = float(to_si(300.0, "deg/s")),
+                         dt: float = 5.0, eps0_gs: float | None = None,
+                         eps1_gs: float | None = None) -> DeltaKTerms:
+    """Eq. (7) of paper RSF term by term, as the worked example writes it out.
+
+    Parameters as :func:`worked_example_delta_k`; ``eps0_gs``, ``eps1_gs`` override the gyro.
+
+    Returns
+    -------
+    DeltaKTerms
+        The three terms (rad), the numerator, the interval's roll angle and δK.
+
+    Examples
+    --------
+    >>> from gyrolib.units import from_si, to_si
+    >>> t = worked_example_terms()
+    >>> f"{from_si(t.numerator, 'deg'):.4f}° / {from_si(t.span, 'deg'):.0f}° = {t.delta_k:.3g}"
+    '0.7670° / 4500° = 0.00017'
+    """
+    v.check_instance("gyro", gyro, MemsGyroSpec)
+    v.check_instance("encoder", encoder, EncoderSpec)
+    dt = v.check_positive("dt", dt)
+    omega_x = v.check_positive("omega_x", omega_x)
+    omega_unc = v.check_nonnegative("omega_unc", omega_unc)
+    e0 = gyro.bias_total if eps0_gs is None else v.check_nonnegative("eps0_gs", eps0_gs)
+    e1 = gyro.sf_error if eps1_gs is None else v.check_nonnegative("eps1_gs", eps1_gs)
+    bias, sf, enc = e0 * dt, e1 * omega_unc * dt, encoder.position_error
+    return DeltaKTerms(bias=bias, sf=sf, encoder=enc, numerator=bias + sf + enc,
+                       span=omega_x * dt, delta_k=delta_k(e0, enc, omega_x, dt, e1, omega_unc))
