@@ -68,6 +68,7 @@ UNITS: Final[dict[str, float]] = {
     "permille": 1e-3,
     "m": 1.0,
     "km": 1000.0,
+    "deg/sqrt_h": DEG / 60.0,
 }
 
 

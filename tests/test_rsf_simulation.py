@@ -225,3 +225,38 @@ def test_invalid_types_raise_type_error():
         rsf.simulate_flight("config", seed=0)
     with pytest.raises(TypeError, match="seed"):
         rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=1.5)
+
+
+def test_the_simulation_defaults_are_the_datasheet_records_by_hand():
+    """SimulationConfig's sensors are built from the one record of each device: the values
+    are the paper's, converted by hand (no library conversion)."""
+    cfg = rsf.SimulationConfig()
+    deg_h = math.pi / 180.0 / 3600.0
+    assert cfg.sins.eps1 == pytest.approx(600e-6, rel=1e-15)
+    assert cfg.sins.eps0 == pytest.approx(100.0 * deg_h, rel=1e-15)
+    assert cfg.gs.eps0 == pytest.approx(math.hypot(10.0, 7.0) * deg_h, rel=1e-15)
+    assert cfg.gs.eps1 == pytest.approx(280e-6, rel=1e-15)
+    assert cfg.encoder.counts_per_rev == 1000 * 4
+    assert cfg.encoder.position_error == pytest.approx(math.radians(0.33), rel=1e-15)
+    # A changed record changes the model it builds (the spec is the one description).
+    enc = dataclasses.replace(rsf.AEDB9340, cycles_per_rev=256).model()
+    assert enc.counts_per_rev == 1024 and enc.resolution == pytest.approx(2 * math.pi / 1024)
+
+
+def test_unwrapped_count_equals_the_never_wrapped_count_at_every_sample():
+    """unwrap_counts recovers, to the count, what an encoder that never restarts would show
+    (encoder_counts(wrap=False)), over hundreds of revolutions at 3600 °/s."""
+    cfg = rsf.SimulationConfig(roll=rsf.RollProfile(math.radians(3600.0)),
+                               gs=rsf.GYPRO4300.model(motor_rate_max=math.inf), duration=20.0)
+    rec = rsf.simulate_flight(cfg, seed=3)
+    args = (rec.theta_rel, cfg.encoder, rec.encoder_phase)
+    unwrapped = rsf.unwrap_counts(rsf.encoder_counts(*args), cfg.encoder.counts_per_rev)
+    never = rsf.encoder_counts(*args, wrap=False)
+    revolutions = (never[0, -1] - never[0, 0]) / cfg.encoder.counts_per_rev
+    assert revolutions > 150
+    np.testing.assert_array_equal(unwrapped - unwrapped[:, :1], never - never[:, :1])
+    # Power: sampled too slowly (a step of more than half a revolution), it would fail.
+    coarse = rsf.encoder_counts(rec.theta_rel[:, ::20], cfg.encoder, rec.encoder_phase)
+    never_c = never[:, ::20]
+    bad = rsf.unwrap_counts(coarse, cfg.encoder.counts_per_rev)
+    assert np.any((bad - bad[:, :1]) != (never_c - never_c[:, :1]))
