@@ -65,10 +65,35 @@ class Table2:
 
 def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
            times: ArrayLike = (10.0, 60.0, 120.0), g: float = G0) -> Table2:
-    """Recompute Table 2 from Eqs. (4) and (8) with the gyro's scale-factor error."""
+    """Recompute Table 2 of paper RSF from Eqs. (4) and (8) with the gyro's SF error.
+
+    Parameters
+    ----------
+    gyro : RollGyroSpec, optional
+        The roll gyro (default Table 1's SiIMU02).
+    omega_true : float, optional
+        Roll rate, rad/s (default 3600 °/s, as the paper).
+    times : array_like, optional
+        Times, s (default 10, 60, 120 s).
+    g : float, optional
+        Gravity, m/s² (> 0).
+
+    Returns
+    -------
+    Table2
+        Roll error, cubic and exact lateral deviation and the vertical component.
+
+    Examples
+    --------
+    >>> from gyrolib.units import from_si
+    >>> [f"{x:.1f}" for x in from_si(table2().dgamma_sins, "deg")]
+    ['21.6', '129.6', '259.2']
+    """
     if not isinstance(gyro, RollGyroSpec):
         raise TypeError(f"gyro must be a RollGyroSpec; got {type(gyro).__name__}")
     t = _times(times)
+    omega_true = v.check_real("omega_true", omega_true)
+    g = v.check_positive("g", g)
     e1 = gyro.sf_error
     return Table2(
         t=t,
