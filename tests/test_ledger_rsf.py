@@ -36,6 +36,8 @@ def items():
 
 
 def test_required_ids_are_present_and_well_formed(items):
+    """Every printed item of paper RSF has a ledger entry with a chapter, an anchor and a one-line
+    note."""
     assert not [i for i in REQUIRED if i not in items]
     for it in items.values():
         assert it.paper == "RSF" and it.status in STATUSES
@@ -48,6 +50,7 @@ def test_required_ids_are_present_and_well_formed(items):
 
 
 def test_every_anchor_is_a_label_of_its_chapter(items):
+    """Each item's anchor is a label defined in its chapter's source."""
     for it in items.values():
         source = (ROOT / f"{it.chapter}.md").read_text(encoding="utf-8")
         label = rf"^\({re.escape(it.anchor)}\)=\s*$|^:name: {re.escape(it.anchor)}\s*$"
@@ -63,6 +66,8 @@ def test_reproduced_items_agree_with_the_print(items):
 
 
 def test_values_are_those_of_the_library(items):
+    """The ledger's values equal the library's tables, and the consistent δK and share their hand
+    values."""
     tab2, tab3 = rsf.table2(), rsf.table3()
     for i, t in enumerate((10, 60, 120)):
         assert items[f"rsf.table2.dgamma_sins_{t}"].reproduced_value \
@@ -98,6 +103,7 @@ def test_values_are_those_of_the_library(items):
      ["rsf.table3.eps0_t_10", "rsf.table2.dr_z_10"]),
 ])
 def test_ledger_values_move_when_an_input_is_perturbed(items, kwargs, moved, unchanged):
+    """Perturbing one sensor record moves exactly the items computed from it."""
     perturbed = _by_id(ledger_rsf.items(**kwargs))
     for key in moved:
         assert perturbed[key].reproduced_value != pytest.approx(items[key].reproduced_value,
@@ -107,6 +113,7 @@ def test_ledger_values_move_when_an_input_is_perturbed(items, kwargs, moved, unc
 
 
 def test_sf_error_perturbation_scales_table2_linearly(items):
+    """Raising ε1 from 600 to 700 ppm scales Table 2's roll errors by exactly 7/6."""
     perturbed = _by_id(ledger_rsf.items(
         roll_gyro=dataclasses.replace(rsf.SIIMU02_ROLL, sf_error=700e-6)))
     for t in (10, 60, 120):
@@ -122,6 +129,8 @@ EPS0_GS_DEG_S = math.sqrt(10.0**2 + 7.0**2) / 3600.0          # 3.3907e-3 °/s
 
 
 def test_table2_roll_errors_are_reproduced_by_hand(items):
+    """Table 2's roll errors are ε1 ω t by hand and agree with the print to half its last digit:
+    reproduced."""
     for t in (10, 60, 120):
         hand = 600e-6 * 3600.0 * t                              # 21.6, 129.6, 259.2 °
         it = items[f"rsf.table2.dgamma_sins_{t}"]
@@ -130,6 +139,7 @@ def test_table2_roll_errors_are_reproduced_by_hand(items):
 
 
 def test_eps0_gs_truncation_is_the_cause_shown(items):
+    """ε0,GS rounds to 3.4·10⁻³ but truncates to the printed 3.3·10⁻³ °/s: differs, cause shown."""
     it = items["rsf.gs.eps0_total"]
     assert it.reproduced_value == pytest.approx(EPS0_GS_DEG_S, rel=1e-12)
     # Rounded it is 3.4e-3, cut it is 3.3e-3, the print: a truncation.
@@ -138,6 +148,8 @@ def test_eps0_gs_truncation_is_the_cause_shown(items):
 
 
 def test_table3_differs_by_the_truncation_and_the_encoder_is_circular(items):
+    """Table 3 is reproduced by the truncated ε0,GS, not the consistent one, and its items say the
+    encoder term is circular."""
     for t, printed in ((10, 0.363), (60, 0.528), (120, 0.726)):
         consistent = EPS0_GS_DEG_S * t + 0.33
         truncated = 3.3e-3 * t + 0.33
@@ -149,6 +161,8 @@ def test_table3_differs_by_the_truncation_and_the_encoder_is_circular(items):
 
 
 def test_worked_example_slip_gives_the_print_by_hand(items):
+    """The ppm-as-10⁻³ slip gives the printed 0.093 by hand; the consistent δK is the ledger's
+    value."""
     consistent = ((EPS0_GS_DEG_S + 280e-6 * 300.0) * 5.0 + 0.33) / (900.0 * 5.0)
     slipped = ((3.3e-3 + 280e-3 * 300.0) * 5.0 + 0.33) / (900.0 * 5.0)   # 0.0934
     it = items["rsf.example.delta_K"]
@@ -157,6 +171,8 @@ def test_worked_example_slip_gives_the_print_by_hand(items):
 
 
 def test_compensated_is_a_claim_with_the_threshold_rate_by_hand(items):
+    """'Compensates 90 %' is a claim holding from the hand-computed 2557 °/s, with 72 % at 900 °/s
+    and 93 % at 3600 °/s."""
     it = items["rsf.example.compensated"]
     numerator = (EPS0_GS_DEG_S + 280e-6 * 300.0) * 5.0 + 0.33    # ° over one interval
     share_900 = 1.0 - numerator / (900.0 * 5.0) / 600e-6
@@ -170,6 +186,8 @@ def test_compensated_is_a_claim_with_the_threshold_rate_by_hand(items):
 
 
 def test_gs_vs_sins_conditions_by_hand(items):
+    """'Hundreds of times' holds for the ideal GS from 60 s, not at 10 s, and not for the non-
+    ideal GS (tens), by hand."""
     it = items["rsf.claim.gs_vs_sins"]
     ideal = [600e-6 * 3600 * t / (EPS0_GS_DEG_S * t + 0.33) for t in (10, 60, 120)]
     nonideal = [600e-6 * 3600 * t / ((EPS0_GS_DEG_S + 280e-6 * 300) * t + 0.33)
@@ -182,6 +200,8 @@ def test_gs_vs_sins_conditions_by_hand(items):
 
 def test_drz_statuses_follow_the_slip_search():
     # The consistent cubic is 2.9× the print; the search finds no slip: not reproducible.
+    """No unit slip gives the printed Δr_z (2.9× off), and the same search does find a planted mm
+    slip."""
     hand_cubic_10 = 9.80665 * 600e-6 * math.radians(3600.0) * 10.0**3 / 6.0
     search = rsf.drz_slip_search([21.25, 4590.0, 36730.0])
     assert hand_cubic_10 / 21.25 == pytest.approx(2.900, abs=1e-3)
@@ -193,6 +213,8 @@ def test_drz_statuses_follow_the_slip_search():
 
 # Power: the statuses are computed, so a wrong input changes them ----------------------------
 def test_a_wrong_encoder_breaks_table3_and_a_wrong_gs_gyro_breaks_the_slip():
+    """Statuses are computed: a wrong encoder makes Table 3 not reproducible and a wrong GS gyro
+    the worked example."""
     wrong_enc = _by_id(ledger_rsf.items(encoder=dataclasses.replace(rsf.AEDB9340,
                                                                     position_error=0.005)))
     for t in (10, 60, 120):
@@ -204,6 +226,7 @@ def test_a_wrong_encoder_breaks_table3_and_a_wrong_gs_gyro_breaks_the_slip():
 
 
 def test_a_better_gs_makes_the_claims_hold_and_a_worse_one_fails():
+    """Statuses are computed: a perfect GS makes both claims hold, a bad encoder makes both fail."""
     ideal_enc = dataclasses.replace(rsf.AEDB9340, position_error=0.0)
     quiet = dataclasses.replace(rsf.GYPRO4300, sf_error=0.0, bias_repeatability=0.0,
                                 bias_stability=1e-9)

@@ -190,6 +190,8 @@ case("rsf.ResolutionSweep", lambda: rsf.ResolutionSweep(T5, T5, T5, "a", T5, T5,
 
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
 def test_bad_input_is_rejected_by_name(call, exc, pattern):
+    """Each bad-input case raises the stated error, its message starting with the parameter's name
+    and stating the range."""
     run_case(call, exc, pattern)
 
 
@@ -276,6 +278,7 @@ EXEMPT: dict[str, str] = {
 
 
 def test_table_covers_every_public_callable():
+    """Every public callable of gyrolib.rsf has a bad-input case or a stated reason for none."""
     TABLE.check_coverage({"rsf": rsf}, EXEMPT)
 
 
@@ -283,6 +286,7 @@ def test_table_covers_every_public_callable():
 @given(eps1=st.one_of(st.floats(min_value=1.0), st.floats(max_value=-1.0),
                       st.sampled_from([NAN])))
 def test_any_scale_factor_error_outside_minus_one_one_is_rejected(eps1):
+    """Any scale-factor error outside (−1, 1) or NaN is rejected by name at the entry points."""
     for call in (lambda: rsf.correction_coefficient(eps1),
                  lambda: rsf.lateral_deviation_exact(eps1, 1.0, 1.0)):
         with pytest.raises(ValueError, match=r"^eps1(_hat)? must be "):
@@ -292,6 +296,7 @@ def test_any_scale_factor_error_outside_minus_one_one_is_rejected(eps1):
 @SETTINGS
 @given(a=st.integers(2, 6), b=st.integers(2, 6))
 def test_arrays_of_incompatible_lengths_are_rejected_by_name(a, b):
+    """Arrays that do not broadcast are rejected with both parameter names."""
     if a == b:
         b += 1
     with pytest.raises(ValueError, match=r"^dgamma, omega_x must have broadcast"):
@@ -301,6 +306,7 @@ def test_arrays_of_incompatible_lengths_are_rejected_by_name(a, b):
 @SETTINGS
 @given(duration=st.floats(0.02, 10.0), sample_rate=st.sampled_from([100.0, 200.0]))
 def test_durations_off_the_sample_grid_are_rejected(duration, sample_rate):
+    """A duration that is not a whole number of samples is rejected."""
     n = duration * sample_rate
     if abs(n - round(n)) < 1e-6:
         return  # on the grid: valid
