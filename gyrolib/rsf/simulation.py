@@ -264,7 +264,26 @@ def unwrap_counts(wrapped: np.ndarray, counts_per_rev: int) -> np.ndarray:
 
     Consecutive samples must differ by less than half a revolution.  Integer arithmetic: the
     result is the wrapped count plus a whole number of revolutions, so nothing accumulates.
-    The first sample keeps its wrapped value.
+    The first sample keeps its wrapped value.  (The GS of paper RSF, Figure 2, reads its
+    encoder this way; the paper does not say how.)
+
+    Parameters
+    ----------
+    wrapped : numpy.ndarray of int
+        Counts in ``[0, counts_per_rev)``, samples along the last axis.
+    counts_per_rev : int
+        Counts per revolution (>= 2).
+
+    Returns
+    -------
+    numpy.ndarray of int64
+        The unwrapped count.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> unwrap_counts(np.array([3990, 5, 20, 3995]), 4000).tolist()
+    [3990, 4005, 4020, 3995]
     """
     n = v.check_int("counts_per_rev", counts_per_rev, 2)
     w = np.asarray(wrapped)
@@ -369,8 +388,28 @@ def _pi_loop(omega_body: np.ndarray, gs: GsModel, eps1: np.ndarray, eps0: np.nda
 
 
 def simulate_flight(config: SimulationConfig, seed: int) -> SensorRecord:
-    """Simulate the vehicle, the SINS roll gyro, the GS and its encoder (no correction yet;
-    see :func:`run_correction`).  ``seed`` seeds :func:`numpy.random.default_rng`."""
+    """Simulate the vehicle, the SINS roll gyro, the GS and its encoder of paper RSF (no
+    correction yet; see :func:`~gyrolib.rsf.run_correction`).
+
+    Parameters
+    ----------
+    config : SimulationConfig
+        Vehicle, sensors, run length, sample rate, number of runs and error mode.
+    seed : int
+        Seeds :func:`numpy.random.default_rng` (>= 0).
+
+    Returns
+    -------
+    SensorRecord
+        Every sensor's increments and the true angles, runs × samples.
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=0)
+    >>> rec.sins_inc.shape, f"{rec.omega_unc[0, -1] * 180 / 3.141592653589793:.0f} °/s"
+    ((1, 200), '300 °/s')
+    """
     if not isinstance(config, SimulationConfig):
         raise TypeError(f"config must be a SimulationConfig; got {type(config).__name__}")
     seed = v.check_int("seed", seed, 0)
@@ -403,7 +442,26 @@ def simulate_flight(config: SimulationConfig, seed: int) -> SensorRecord:
 
 
 def with_encoder(record: SensorRecord, encoder: EncoderModel) -> SensorRecord:
-    """The same flight read by another encoder (the encoder does not act on the loop)."""
+    """The same flight read by another encoder (the encoder does not act on the GS loop).
+
+    Parameters
+    ----------
+    record : SensorRecord
+        A simulated flight.
+    encoder : EncoderModel
+        The other encoder (e.g. ``dataclasses.replace(AEDB9340, cycles_per_rev=256).model()``).
+
+    Returns
+    -------
+    SensorRecord
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=0)
+    >>> rsf.with_encoder(rec, rsf.EncoderModel(counts_per_rev=256)).config.encoder.counts_per_rev
+    256
+    """
     v.check_instance("record", record, SensorRecord)
     if not isinstance(encoder, EncoderModel):
         raise TypeError(f"encoder must be an EncoderModel; got {type(encoder).__name__}")
@@ -419,8 +477,30 @@ def _gyro_angle(record: SensorRecord) -> np.ndarray:
 
 
 def gs_angle(record: SensorRecord, *, gyro_angle: np.ndarray | None = None) -> np.ndarray:
-    """GS roll angle γ̂ = unwrapped encoder angle + ∫ MEMS reading (paper's Figure 2), (M, N+1),
-    referred to its value at t = 0.  ``gyro_angle`` may pass a precomputed ∫ MEMS reading."""
+    """GS roll angle γ̂ = unwrapped encoder angle + ∫ MEMS reading (paper RSF, Figure 2),
+    referred to its value at t = 0.
+
+    Parameters
+    ----------
+    record : SensorRecord
+        A simulated flight.
+    gyro_angle : numpy.ndarray, optional
+        A precomputed ∫ MEMS reading (the same for every encoder of a sweep).
+
+    Returns
+    -------
+    numpy.ndarray
+        γ̂, rad, runs × (samples + 1).
+
+    Examples
+    --------
+    >>> import math
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=0)
+    >>> err = rsf.gs_angle(rec)[0] - rec.gamma_true
+    >>> bool(abs(err).max() < 2 * rec.config.encoder.position_error + 0.1)
+    True
+    """
     v.check_instance("record", record, SensorRecord)
     if gyro_angle is not None:
         gyro_angle = v.check_array("gyro_angle", gyro_angle, shape=record.theta_rel.shape)
@@ -433,7 +513,29 @@ def gs_angle(record: SensorRecord, *, gyro_angle: np.ndarray | None = None) -> n
 
 def lateral_error(t: np.ndarray, roll_error: np.ndarray, g: float = G0) -> np.ndarray:
     """Lateral position error ∫∫ g sin Δγ dt dt (paper RSF, Eq. (8) without the small-angle
-    approximation), along the last axis, trapezoidal rule; zero at t = 0."""
+    approximation), along the last axis, trapezoidal rule; zero at t = 0.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Sample times, s, strictly increasing.
+    roll_error : numpy.ndarray
+        Roll error, rad, samples along the last axis.
+    g : float, optional
+        Gravity, m/s².
+
+    Returns
+    -------
+    numpy.ndarray
+        Lateral error, m, shaped as ``roll_error``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 10.0, 1001)
+    >>> f"{lateral_error(t, 1e-3 * t)[-1]:.4g}"   # ≈ g a t³/6 = 1.634 m
+    '1.634'
+    """
     t = v.check_array("t", t, ndim=1)
     if np.any(np.diff(t) <= 0.0):
         raise ValueError("t must be strictly increasing (sample times)")

@@ -118,8 +118,31 @@ class Table3:
 
 def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
            times: ArrayLike = (10.0, 60.0, 120.0), eps0_gs: float | None = None) -> Table3:
-    """Recompute Table 3 from Eq. (9).  ``eps0_gs`` overrides ε0,GS = √(σ_rep² + σ_stab²)
-    (the paper rounds it to 3.3·10⁻³ °/s)."""
+    """Recompute Table 3 of paper RSF from Eq. (9).
+
+    Parameters
+    ----------
+    gyro : MemsGyroSpec, optional
+        The GS gyro (default the GYPRO4300 of the GS gyro table).
+    encoder : EncoderSpec, optional
+        The encoder (default the AEDB-9340, position error inferred from Table 3).
+    times : array_like, optional
+        Times, s.
+    eps0_gs : float, optional
+        Overrides ε0,GS = √(σ_rep² + σ_stab²), rad/s (the paper truncates it to
+        3.3·10⁻³ °/s).
+
+    Returns
+    -------
+    Table3
+
+    Examples
+    --------
+    >>> from gyrolib.units import from_si, to_si
+    >>> t3 = table3(eps0_gs=to_si(3.3e-3, "deg/s"))
+    >>> [f"{x:.3f}" for x in from_si(t3.dgamma_gs, "deg")]
+    ['0.363', '0.528', '0.726']
+    """
     if not isinstance(gyro, MemsGyroSpec):
         raise TypeError(f"gyro must be a MemsGyroSpec; got {type(gyro).__name__}")
     if not isinstance(encoder, EncoderSpec):
@@ -142,6 +165,32 @@ def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec 
 
     ``eps0_gs`` and ``eps1_gs`` override the gyro's values (to reproduce the print, which
     uses ε0,GS = 3.3·10⁻³ °/s and, by a slip, ε1,GS = 280·10⁻³ instead of 280 ppm).
+
+    Parameters
+    ----------
+    gyro : MemsGyroSpec, optional
+        The GS gyro.
+    encoder : EncoderSpec, optional
+        The GS encoder.
+    omega_x, omega_unc : float, optional
+        Roll rate and uncompensated rate, rad/s.
+    dt : float, optional
+        Correction period, s.
+    eps0_gs, eps1_gs : float, optional
+        Override the gyro's bias (rad/s) and SF error.
+
+    Returns
+    -------
+    float
+        δK.
+
+    Examples
+    --------
+    >>> from gyrolib.units import to_si
+    >>> f"{worked_example_delta_k():.3g}"
+    '0.00017'
+    >>> f"{worked_example_delta_k(eps0_gs=to_si(3.3e-3, 'deg/s'), eps1_gs=280e-3):.3f}"
+    '0.093'
     """
     v.check_instance("gyro", gyro, MemsGyroSpec)
     v.check_instance("encoder", encoder, EncoderSpec)
