@@ -211,6 +211,9 @@ case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], gs_gyro=Non
      "gs_gyro", "MemsGyroSpec")
 case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], simulated=1), TypeError,
      "simulated", "RateSweep")
+case("rsf.compensation_share",
+     lambda: rsf.compensation_share([1.0], roll_gyro=rsf.RollGyroSpec(sf_error=0.0)),
+     ValueError, "roll_gyro.sf_error", "> 0")
 case("rsf.CompensationShare.share_at",
      lambda: rsf.compensation_share([1.0]).share_at(0.0), ValueError, "rate", POS)
 case("rsf.gs_vs_sins", lambda: rsf.gs_vs_sins([-1.0]), ValueError, "times")

@@ -142,6 +142,9 @@ def compensation_share(rates: ArrayLike, *, roll_gyro: RollGyroSpec = SIIMU02_RO
     if simulated is not None:
         v.check_instance("simulated", simulated, RateSweep)
     e1 = roll_gyro.sf_error
+    if e1 <= 0.0:
+        raise ValueError("roll_gyro.sf_error must be > 0 (the share of a zero SF error is "
+                         f"undefined); got {e1}")
     dk = np.array([delta_k(gs_gyro.bias_total, encoder.position_error, float(w), period,
                            gs_gyro.sf_error, omega_unc) for w in r])
     numerator = (gs_gyro.bias_total + gs_gyro.sf_error * omega_unc) * period \
