@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
-from gyrolib.rsf._inputs import _same_shape, _times
+from gyrolib.rsf._inputs import _times
 from gyrolib.rsf.equations import (
     delta_k,
     gs_roll_error_ideal,
@@ -85,11 +85,6 @@ class CompensationShare:
     target: float
     rate_for_target: float
     simulated: RateSweep | None = None
-
-    def __post_init__(self) -> None:
-        _same_shape(self, "rates", "delta_k", "share")
-        if self.simulated is not None:
-            v.check_instance("simulated", self.simulated, RateSweep)
 
     def share_at(self, rate: float) -> float:
         """Share removed at one roll rate (rad/s), from Eq. (7), same sensors and Δt."""
@@ -169,10 +164,6 @@ class GsVsSins:
     ratio_ideal: NDArray[np.float64]
     ratio_nonideal: NDArray[np.float64]
     omega_unc: float
-
-    def __post_init__(self) -> None:
-        _same_shape(self, "t", "sins", "gs_ideal", "gs_nonideal", "ratio_ideal",
-                    "ratio_nonideal")
 
 
 def gs_vs_sins(times: ArrayLike = (10.0, 60.0, 120.0), *,

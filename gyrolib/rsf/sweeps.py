@@ -213,9 +213,6 @@ class RateSweep:
     omega_unc: float
     period: float
 
-    def __post_init__(self) -> None:
-        _same_length(self, "rates", "mean", "rms", "max_abs", "predicted_rms", "eq7", "share")
-
 
 def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
                     omega_unc: float = float(to_si(300.0, "deg/s")),
