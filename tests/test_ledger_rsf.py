@@ -12,7 +12,6 @@ import pytest
 from gyrolib import rsf
 from gyrolib.book.ledger import STATUSES
 from gyrolib.book.ledger import rsf as ledger_rsf
-from gyrolib.units import from_si
 
 ROOT = Path(__file__).resolve().parents[1]
 REQUIRED = [
@@ -65,24 +64,30 @@ def test_reproduced_items_agree_with_the_print(items):
             assert it.reproduced_value == pytest.approx(it.paper_value, rel=5e-4), it.id
 
 
-def test_values_are_those_of_the_library(items):
-    """The ledger's values equal the library's tables, and the consistent δK and share their hand
-    values."""
-    tab2, tab3 = rsf.table2(), rsf.table3()
-    for i, t in enumerate((10, 60, 120)):
-        assert items[f"rsf.table2.dgamma_sins_{t}"].reproduced_value \
-            == pytest.approx(from_si(tab2.dgamma_sins[i], "deg"), rel=1e-15)
+def test_values_against_hand_calculations(items):
+    """Every ledger number of paper RSF against a hand calculation from the printed inputs
+    (not a second call of the library): echoed inputs, Table 2's cubic Δr_z, Table 3's
+    ε0,GS·t, the inferred encoder error and the consistent δK and share."""
+    for key, hand in (("table1.bias_instability", 100.0), ("table1.sf_error", 600.0),
+                      ("gs.sigma_rep", 10.0), ("gs.sigma_stab", 7.0), ("gs.sf_error", 280.0)):
+        assert items[f"rsf.{key}"].reproduced_value == pytest.approx(hand, rel=1e-12), key
+    g, w = 9.80665, 3600.0 * math.pi / 180.0
+    eps0_gs = math.sqrt(10.0**2 + 7.0**2) / 3600.0                         # °/s
+    for t in (10, 60, 120):
         assert items[f"rsf.table2.dr_z_{t}"].reproduced_value \
-            == pytest.approx(tab2.dr_z_cubic[i], rel=1e-15)
-        assert items[f"rsf.table3.dgamma_gs_{t}"].reproduced_value \
-            == pytest.approx(from_si(tab3.dgamma_gs[i], "deg"), rel=1e-15)
-    assert items["rsf.example.delta_K"].reproduced_value \
-        == pytest.approx(rsf.worked_example_delta_k(), rel=1e-15)
-    # The explained differences: consistent values against the print.
-    assert items["rsf.example.delta_K"].reproduced_value == pytest.approx(1.704e-4, rel=1e-3)
-    assert items["rsf.example.delta_K"].paper_value == 0.093
+            == pytest.approx(g * 600e-6 * w * t**3 / 6.0, rel=1e-12)
+        assert items[f"rsf.table3.eps0_t_{t}"].reproduced_value \
+            == pytest.approx(eps0_gs * t, rel=1e-12)
+    # Δγ_GS − ε0,GS·t of the printed Table 3: 0.363 − 0.033 = 0.528 − 0.198 = 0.33.
+    assert items["rsf.encoder.position_error"].reproduced_value == pytest.approx(0.33, rel=1e-12)
+    assert "0.33° in all three columns" in items["rsf.encoder.position_error"].note
+    dk = ((eps0_gs + 280e-6 * 300.0) * 5.0 + 0.33) / (900.0 * 5.0)
+    assert items["rsf.example.delta_K"].reproduced_value == pytest.approx(dk, rel=1e-12)
+    assert dk == pytest.approx(1.704e-4, rel=1e-3) and items["rsf.example.delta_K"].paper_value \
+        == 0.093
+    assert items["rsf.example.compensated"].reproduced_value \
+        == pytest.approx(100 * (1 - dk / 600e-6), rel=1e-12)
     assert items["rsf.example.compensated"].reproduced_value == pytest.approx(71.6, abs=0.1)
-    assert items["rsf.table3.eps0_t_10"].reproduced_value == pytest.approx(0.0339, abs=1e-4)
 
 
 @pytest.mark.parametrize("kwargs, moved, unchanged", [
