@@ -259,7 +259,7 @@ def items(*, roll_gyro: RollGyroSpec = SIIMU02_ROLL,
     dk = worked_example_delta_k(gs_gyro, encoder)
     dk_slip = worked_example_delta_k(
         gs_gyro, encoder, eps0_gs=float(to_si(eps0_cut, "deg/s")),
-        eps1_gs=float(from_si(gs_gyro.sf_error, "ppm")) * 1e-3)
+        eps1_gs=float(to_si(from_si(gs_gyro.sf_error, "ppm"), "permille")))
     out.append(_item(
         "example.delta_K", "worked example, Eq. (7)", "relative error δK of K", "1", dk,
         _verdict("example.delta_K", dk, dk_slip),
