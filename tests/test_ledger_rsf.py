@@ -242,3 +242,20 @@ def test_a_better_gs_makes_the_claims_hold_and_a_worse_one_fails():
                                                               position_error=0.5)))
     assert bad["rsf.example.compensated"].status == "fails"
     assert bad["rsf.claim.gs_vs_sins"].status == "fails"
+
+
+def test_kilometres_claim_is_the_lateral_component_with_the_vertical_one_stated():
+    """'Kilometres' of lateral deviation: the exact lateral double integral by hand
+    (g (x − sin x)/a²) exceeds 1 km within two minutes, and the conditions give the vertical
+    component by hand (g (x²/2 − 1 + cos x)/a²); a gyro 600× better makes the claim fail."""
+    it = _by_id(ledger_rsf.items())["rsf.claim.drz_kilometres"]
+    g, a = 9.80665, 600e-6 * math.radians(3600.0)
+    x = a * 120.0
+    lateral = g * (x - math.sin(x)) / a**2
+    vertical = g * (x**2 / 2 - 1 + math.cos(x)) / a**2
+    assert it.reproduced_value == pytest.approx(lateral, rel=1e-9) and lateral > 1000.0
+    assert it.status == "holds under conditions" and f"{vertical:.3g} m at 120 s" in it.conditions
+    assert vertical > lateral
+    better = _by_id(ledger_rsf.items(
+        roll_gyro=dataclasses.replace(rsf.SIIMU02_ROLL, sf_error=1e-6)))
+    assert better["rsf.claim.drz_kilometres"].status == "fails"

@@ -206,6 +206,32 @@ def items(*, roll_gyro: RollGyroSpec = SIIMU02_ROLL,
             evidence="Eq. (8) from the printed inputs against the print, then every product of "
             "up to three unit slips (drz_slip_search) against the print's rounding window"))
 
+    # The prose's "kilometres" for Δr_z holds for the exact lateral integral, under Eq. (8)'s
+    # premise, and leaves out the larger vertical component.
+    km = 1000.0
+    last = len(TIMES) - 1
+    over_km = [t for t, d in zip(TIMES, t2.dr_z_exact) if d >= km]
+    if not over_km:
+        status, conditions = "fails", ""
+    else:
+        status = "holds under conditions"
+        conditions = (f"1 g of lift normal to the roll axis (Eq. (8)'s premise), lateral "
+                      f"component only: exact lateral Δr_z ≥ 1 km at "
+                      f"{', '.join(f'{t} s' for t in over_km)} "
+                      f"({t2.dr_z_exact[last]:.3g} m at {TIMES[last]} s); the vertical error "
+                      f"g (1 − cos Δγ) adds {t2.dr_y_exact[last]:.3g} m at {TIMES[last]} s")
+    out.append(_item(
+        "claim.drz_kilometres", "text with Table 2",
+        f"lateral deviation, exact double integral, at t = {TIMES[last]} s", "m",
+        t2.dr_z_exact[last], status,
+        "the cubic overstates it; the exact lateral and vertical components are: "
+        + ", ".join(f"{z:.3g} m and {y:.3g} m at {t} s"
+                    for t, z, y in zip(TIMES, t2.dr_z_exact, t2.dr_y_exact)),
+        "rsf-drz-vertical", paper_value="kilometres", kind="claim", precision=3,
+        conditions=conditions,
+        evidence="exact double integrals of g sin Δγ (lateral) and g (1 − cos Δγ) (vertical) "
+        "at Table 2's times, against 1 km"))
+
     # Table 3 -----------------------------------------------------------------------------
     t3 = table3(gs_gyro, encoder)
     t3p = table3(gs_gyro, encoder, eps0_gs=float(to_si(eps0_cut, "deg/s")))
