@@ -65,6 +65,10 @@ UNITS: Final[dict[str, float]] = {
     "g": G0,
     "m/s^2": 1.0,
     "1": 1.0,
+    "permille": 1e-3,
+    "m": 1.0,
+    "km": 1000.0,
+    "deg/sqrt_h": DEG / 60.0,
 }
 
 
