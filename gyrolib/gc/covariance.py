@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
@@ -85,18 +86,51 @@ def _default_store_every(n_steps: int) -> int:
 
 def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
                         store_every: int | None = None, method: str = "fast",
-                        P0: object | None = None) -> CovarianceAnalysis:
-    """Covariance analysis of the discrete Kalman filter of paper GC (Figure 3).
+                        P0: ArrayLike | None = None,
+                        discretization: str = "van_loan") -> CovarianceAnalysis:
+    """Covariance analysis of the discrete Kalman filter of paper GC (its Figure 3).
 
-    ``method="fast"``: numba kernel on the affine discretization; ``"reference"``: plain
-    numpy with an exact per-step Van Loan exponential and batch Joseph updates (slow: for
-    tests and benchmarks).  ``store_every`` (default: about 1000 stored ``P``) sets the
-    decimation of the full covariances.  ``P0`` (10×10, symmetric) overrides
-    :func:`gyrolib.gc.initial_covariance` (e.g. to study a partly known N1…N4).
+    Runs the filter's covariance recursion (prediction ``P⁻ = Φ P Φᵀ + Qd``, Joseph-form
+    update with the angle sensor and both inclinometers, Eq. (8) of paper GC) over
+    ``[0, t_end]``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model and its open choices (``shaping_p0``, ``measurement_noise``, …).
+    t_end : float, default 100.0
+        Length of the run (s), a positive multiple of ``params.dt``.
+    store_every : int, optional
+        Keep the full ``P`` every ``store_every`` steps (default: about 1000 of them).
+    method : {"fast", "reference"}, default "fast"
+        ``"fast"``: numba kernel on the affine discretization; ``"reference"``: plain numpy
+        with a per-step discretization and batch Joseph updates (slow: tests, benchmarks).
+    P0 : array_like of shape (10, 10), optional
+        Initial covariance (symmetric, positive semi-definite); default
+        :func:`gyrolib.gc.initial_covariance` (e.g. override to study a partly known N1…N4).
+    discretization : {"van_loan", "euler"}, default "van_loan"
+        How Eq. (8) becomes the discrete model (see :func:`gyrolib.gc.discretize`).
+
+    Returns
+    -------
+    CovarianceAnalysis
+        Variances of every state at every step, full ``P`` at ``t_stored``.
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> p = gc.GyrocompassParams()
+    >>> for d in ("van_loan", "euler"):
+    ...     res = gc.covariance_analysis(p, 2.0, discretization=d)
+    ...     print(d, f"{from_si(res.final_std(), 'arcsec_paper/s'):.4f}")
+    van_loan 0.0281
+    euler 0.0281
     """
     p = _check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
-    disc = discretize(p, t_end)
+    disc = discretize(p, t_end, method=discretization)
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     if P0 is None:

@@ -15,7 +15,10 @@ The paper prints ``X1 = Δβ'`` and ``X2 = Δβ``, but its F and D (``F(1,2) = 1
 ``F(2,2) = −f/I``, ``D(1,1) = 1``) only make sense with ``X1 = Δβ``, ``X2 = Δβ'``: this module
 uses the latter.  ``F(8,7)`` is ``−α1²`` as Eq. (6) requires (printed without the minus).
 The vertical-rate coupling follows Eq. (5) (γ carries cos β_n, δ carries −sin β_n) by
-default; ``vertical_coupling="printed_F"`` gives the paper's F listing instead.
+default; ``vertical_coupling="printed_F"`` gives the paper's F listing instead.  The sign of
+the gyroscopic torque, Eq. (1) of paper GC, is ``+`` as in Eqs. (3)–(5) by default;
+``eq1_sign="-"`` gives the model linearized with the literal minus sign of the extracted
+Eq. (1), and a negative ``omega_ub`` the unbalance of the other sign.
 """
 
 from __future__ import annotations
@@ -61,7 +64,10 @@ _POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "a
              "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
 
 
-_NONNEGATIVE = ("omega_ub", "sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
+_REAL = ("omega_ub",)
+
+
+_NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
                 "sigma_delta0", "sigma_gamma0")
 
 
@@ -72,6 +78,7 @@ _CHOICES = {
     "shaping_p0": ("stationary", "zero"),
     "measurement_noise": ("intensity_over_dt", "variance"),
     "vertical_coupling": ("eq5", "printed_F"),
+    "eq1_sign": ("+", "-"),
 }
 
 
@@ -95,7 +102,28 @@ class GyrocompassParams:
     * ``measurement_noise``: how the continuous intensities become discrete variances,
       ``"intensity_over_dt"`` (``R = C/Δt``, sampling of continuous white noise) or
       ``"variance"`` (``R = C``, the printed numbers read as variances);
-    * ``vertical_coupling``: ``"eq5"`` (Eq. (5)) or ``"printed_F"`` (the F listing).
+    * ``vertical_coupling``: ``"eq5"`` (Eq. (5)) or ``"printed_F"`` (the F listing);
+    * ``eq1_sign``: the sign of the gyroscopic torque of Eq. (1), ``"+"`` (as Eqs. (3)–(5)
+      and the printed F use it) or ``"-"`` (the extracted Eq. (1) taken literally).  With
+      ``"-"`` the float turns the other way, ``β → −β``; :func:`gyrolib.gc.system_matrix`
+      gives that model in the mirrored angle, where it differs from the ``"+"`` model only in
+      the sign of the tilt term that carries ``sin β_n``;
+    * the sign of ``omega_ub``: the paper gives the magnitude of the unbalance drift; a
+      negative value reverses the unbalance torque.
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> from gyrolib.gc import GyrocompassParams
+    >>> p = GyrocompassParams()
+    >>> f"{p.time_constant * 1e3:.2f} ms"
+    '1.60 ms'
+    >>> replace(p, eq1_sign="-").eq1_sign
+    '-'
+    >>> replace(p, xi1=1.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: xi1 must be in (0.0, 1.0]; got 1.5
     """
 
     I: float = 4.0e-5
@@ -124,12 +152,15 @@ class GyrocompassParams:
     shaping_p0: str = "stationary"
     measurement_noise: str = "intensity_over_dt"
     vertical_coupling: str = "eq5"
+    eq1_sign: str = "+"
 
     def __post_init__(self) -> None:
         for f_ in fields(self):
             name = f_.name
             if name in _POSITIVE:
                 v.check_positive(name, getattr(self, name))
+            elif name in _REAL:
+                v.check_real(name, getattr(self, name))
             elif name in _NONNEGATIVE:
                 v.check_nonnegative(name, getattr(self, name))
             elif name in _DAMPING:
@@ -137,7 +168,7 @@ class GyrocompassParams:
             elif name in _CHOICES:
                 v.check_choice(name, getattr(self, name), _CHOICES[name])
         # Store plain floats so that numpy scalars and ints behave identically.
-        for name in (*_POSITIVE, *_NONNEGATIVE, *_DAMPING):
+        for name in (*_POSITIVE, *_REAL, *_NONNEGATIVE, *_DAMPING):
             object.__setattr__(self, name, float(getattr(self, name)))
 
     # Derived quantities -------------------------------------------------------------------

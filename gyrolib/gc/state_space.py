@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib.gc.params import N_STATES, GyrocompassParams, _check_params, state_index
@@ -27,11 +28,33 @@ __all__ = [
 
 
 # State-space model, Eq. (8) -------------------------------------------------------------------
-def system_matrix(params: GyrocompassParams, beta_n: float) -> np.ndarray:
-    """State matrix ``F(t)`` of paper GC, Eq. (8), at nominal float angle ``beta_n`` (rad).
+def system_matrix(params: GyrocompassParams, beta_n: float) -> NDArray[np.float64]:
+    """State matrix ``F(t)`` of paper GC, Eq. (8), at the nominal float angle ``beta_n``.
 
-    Row 2 is the linearized gyrocompass equation (5) divided by ``I``; rows 7–10 are the
-    shaping filters (6), (7).  See the module docstring for the state order.
+    Row 2 is the linearized gyrocompass equation, Eq. (5) of paper GC, divided by ``I``
+    (plus the unbalance torque ``H ω_ub N1 / g``); rows 7–10 are the shaping filters,
+    Eqs. (6), (7).  State order: :data:`gyrolib.gc.STATE_NAMES` (X1 = Δβ, X2 = Δβ').
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model; ``vertical_coupling`` picks Eq. (5)'s coupling of δ, γ or the printed F
+        listing's, and ``eq1_sign="-"`` the literal minus sign of Eq. (1) (in the mirrored
+        float angle: the tilt term that carries ``sin β_n`` changes sign).
+    beta_n : float
+        Nominal float angle β_n (rad), Eq. (4).
+
+    Returns
+    -------
+    F : ndarray of shape (10, 10)
+        The state matrix (1/s, SI states).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> F = gc.system_matrix(gc.GyrocompassParams(), 0.0)
+    >>> f"{F[1, 1]:.0f} {F[7, 6]:.3g}"   # F(2,2) = -f/I, F(8,7) = -alpha1**2
+    '-625 -0.000177'
     """
     p = _check_params(params)
     b = v.check_real("beta_n", beta_n)
@@ -42,12 +65,14 @@ def system_matrix(params: GyrocompassParams, beta_n: float) -> np.ndarray:
     F[1, 1] = -p.f / p.I
     F[1, 2] = (p.H * p.Omega_h / p.I) * s
     F[1, 3] = p.H / p.I
+    # the literal "−" of Eq. (1), mirrored back to β_n > 0, flips the tilt term with sin β_n
+    ts = -1.0 if p.eq1_sign == "-" else 1.0
     if p.vertical_coupling == "eq5":
-        F[1, 4] = -(p.H * p.Omega_v / p.I) * s  # δ carries −sin β_n
+        F[1, 4] = -ts * (p.H * p.Omega_v / p.I) * s  # δ carries −sin β_n
         F[1, 5] = (p.H * p.Omega_v / p.I) * c  # γ carries cos β_n
     else:  # the paper's F listing as printed
         F[1, 4] = -(p.H * p.Omega_v / p.I) * c
-        F[1, 5] = (p.H * p.Omega_v / p.I) * s
+        F[1, 5] = ts * (p.H * p.Omega_v / p.I) * s
     F[1, 6] = p.H * p.omega_ub / (p.I * p.g)
     F[1, 8] = p.H / p.I
     F[6:8, 6:8] = p.vibration_filter().A
