@@ -28,11 +28,15 @@ from gyrolib.gc.budget import (
 )
 from gyrolib.gc.covariance import (
     CovarianceAnalysis,
+    CovarianceSweep,
     covariance_analysis,
+    parameter_grid,
+    sweep_covariance,
     sweep_sigma_gc,
     time_to_sigma,
 )
 from gyrolib.gc.discretization import (
+    DISCRETIZATIONS,
     SEGMENT,
     GCDiscretization,
     discretize,
@@ -95,11 +99,13 @@ from gyrolib.gc.state_space import (
 
 __all__ = [
     "BUDGET_SOURCES",
+    "DISCRETIZATIONS",
     "MEASUREMENT_NAMES",
     "NOISE_NAMES",
     "SEGMENT",
     "STATE_NAMES",
     "CovarianceAnalysis",
+    "CovarianceSweep",
     "ErrorBudget",
     "GCDiscretization",
     "GyrocompassParams",
@@ -122,6 +128,7 @@ __all__ = [
     "nominal_motion",
     "nominal_motion_aperiodic",
     "nominal_motion_reference",
+    "parameter_grid",
     "plot_consistency",
     "plot_error_budget",
     "plot_estimates",
@@ -141,6 +148,7 @@ __all__ = [
     "simulate_truth",
     "state_index",
     "stationary_covariance",
+    "sweep_covariance",
     "sweep_sigma_gc",
     "symbolic",
     "system_matrix",
