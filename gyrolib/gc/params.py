@@ -68,7 +68,7 @@ _REAL = ("omega_ub",)
 
 
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
-                "sigma_delta0", "sigma_gamma0")
+                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale")
 
 
 _DAMPING = ("xi1", "xi2")
@@ -99,6 +99,8 @@ class GyrocompassParams:
       held there by the feedback loop until it is switched off;
     * ``shaping_p0``: initial covariance of N1…N4, ``"stationary"`` (the processes are already
       running when the calibration starts) or ``"zero"`` (the literal reading);
+      ``shaping_p0_scale`` (κ, default 1) multiplies the stationary covariance (a partly known
+      initial state; κ = 0 is the zero reading);
     * ``measurement_noise``: how the continuous intensities become discrete variances,
       ``"intensity_over_dt"`` (``R = C/Δt``, sampling of continuous white noise) or
       ``"variance"`` (``R = C``, the printed numbers read as variances);
@@ -150,6 +152,7 @@ class GyrocompassParams:
     sigma_delta0: float = 120.0 * ARCSEC_PAPER
     sigma_gamma0: float = 120.0 * ARCSEC_PAPER
     shaping_p0: str = "stationary"
+    shaping_p0_scale: float = 1.0
     measurement_noise: str = "intensity_over_dt"
     vertical_coupling: str = "eq5"
     eq1_sign: str = "+"

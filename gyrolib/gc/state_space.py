@@ -129,7 +129,8 @@ def initial_covariance(params: GyrocompassParams) -> np.ndarray:
     """Initial covariance ``P(0)`` (10×10).
 
     ψ, ω_gc, δ, γ from the paper; Δβ, Δβ' from ``sigma_dbeta0``, ``sigma_dbeta_dot0``;
-    N1…N4 from ``shaping_p0`` (their stationary covariance, or zero).
+    N1…N4 from ``shaping_p0`` (their stationary covariance times ``shaping_p0_scale``, or
+    zero).
     """
     p = _check_params(params)
     P = np.zeros((N_STATES, N_STATES))
@@ -139,6 +140,7 @@ def initial_covariance(params: GyrocompassParams) -> np.ndarray:
         i = state_index(name)
         P[i, i] = sigma**2
     if p.shaping_p0 == "stationary":
-        P[6:8, 6:8] = p.vibration_filter().stationary_covariance()
-        P[8:10, 8:10] = p.random_drift_filter().stationary_covariance()
+        k = p.shaping_p0_scale
+        P[6:8, 6:8] = k * p.vibration_filter().stationary_covariance()
+        P[8:10, 8:10] = k * p.random_drift_filter().stationary_covariance()
     return P
