@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
-from gyrolib.gc.discretization import N, _check_params, discretize
+from gyrolib.gc.discretization import DISCRETIZATIONS, N, _check_params, discretize
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.state_space import (
     initial_covariance,
@@ -135,6 +135,7 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     """
     p = _check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
+    v.check_choice("discretization", discretization, DISCRETIZATIONS)
     disc = discretize(p, t_end, method=discretization)
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
@@ -212,6 +213,12 @@ class CovarianceSweep:
     params: GyrocompassParams
     cases: tuple[dict[str, object], ...]
     analyses: tuple[CovarianceAnalysis, ...]
+
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        if len(self.cases) != len(self.analyses):
+            raise ValueError(f"analyses must hold one CovarianceAnalysis per case "
+                             f"({len(self.cases)}); got {len(self.analyses)}")
 
     def final_std(self, name: str = "omega_gc") -> NDArray[np.float64]:
         """σ of ``name`` at the end of each case's run (SI units), in the order of ``cases``."""
