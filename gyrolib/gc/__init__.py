@@ -62,6 +62,7 @@ from gyrolib.gc.params import (
     NOISE_NAMES,
     STATE_NAMES,
     GyrocompassParams,
+    normal_gravity,
     state_index,
 )
 from gyrolib.gc.plots import (
@@ -128,6 +129,7 @@ __all__ = [
     "nominal_motion",
     "nominal_motion_aperiodic",
     "nominal_motion_reference",
+    "normal_gravity",
     "parameter_grid",
     "plot_consistency",
     "plot_error_budget",

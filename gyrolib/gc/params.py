@@ -23,6 +23,7 @@ Eq. (1), and a negative ``omega_ub`` the unbalance of the other sign.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 from typing import Final
 
@@ -35,6 +36,7 @@ __all__ = [
     "NOISE_NAMES",
     "STATE_NAMES",
     "GyrocompassParams",
+    "normal_gravity",
     "state_index",
 ]
 
@@ -197,6 +199,30 @@ class GyrocompassParams:
     def random_drift_filter(self) -> ShapingFilter:
         """The random-drift shaping filter, Eq. (7)."""
         return random_drift_filter(self.alpha2, self.xi2, self.sigma2_sq)
+
+
+def normal_gravity(latitude: float) -> float:
+    """Sea-level gravity (m/s²) at ``latitude`` (rad) by the international gravity formula
+    of 1967, to bound how far the unstated ``g`` of paper GC can be from standard gravity.
+
+    Parameters
+    ----------
+    latitude : float
+        Geodetic latitude (rad), in [−π/2, π/2].
+
+    Returns
+    -------
+    float
+        ``9.780318 (1 + 5.3024e-3 sin²φ − 5.9e-6 sin²2φ)`` m/s².
+
+    Examples
+    --------
+    >>> import math
+    >>> f"{normal_gravity(0.0):.4f} {normal_gravity(math.pi / 2):.4f}"
+    '9.7803 9.8322'
+    """
+    lat = v.check_in_range("latitude", latitude, -math.pi / 2, math.pi / 2)
+    return 9.780318 * (1 + 5.3024e-3 * math.sin(lat) ** 2 - 5.9e-6 * math.sin(2 * lat) ** 2)
 
 
 def _check_params(params: object) -> GyrocompassParams:
