@@ -162,3 +162,19 @@ def test_bad_arguments_are_rejected_by_name():
         simulate_shaping_filter(filt, 0.1, 10, 1.5)
     with pytest.raises(TypeError, match="filt"):
         psd("not a filter", np.ones(3))
+
+
+def test_autocorrelation_of_the_drift_filter_matches_the_closed_form():
+    """N3 of Eq. (7) (no zero): ρ(τ) = e^{−ξατ}(cos ω_d τ + ξ/√(1−ξ²) sin ω_d τ),
+    ω_d = α√(1−ξ²); and ρ(0) = 1 for the vibration filter of Eq. (6)."""
+    from gyrolib.gc import GyrocompassParams
+
+    p = GyrocompassParams()
+    filt = p.random_drift_filter()
+    a, xi = p.alpha2, p.xi2
+    wd = a * np.sqrt(1 - xi**2)
+    for tau in (0.0, 0.05, 0.3, 1.0, -0.3):
+        t = abs(tau)
+        want = np.exp(-xi * a * t) * (np.cos(wd * t) + xi / np.sqrt(1 - xi**2) * np.sin(wd * t))
+        assert filt.autocorrelation(tau) == pytest.approx(want, rel=1e-10, abs=1e-14)
+    assert p.vibration_filter().autocorrelation(0.0) == pytest.approx(1.0, rel=1e-12)

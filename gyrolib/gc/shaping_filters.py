@@ -48,6 +48,7 @@ from gyrolib._validation import (
     check_int,
     check_nonnegative,
     check_positive,
+    check_real,
 )
 
 __all__ = [
@@ -96,6 +97,32 @@ class ShapingFilter:
         """Stationary variance of the output ``y``."""
         P = self.stationary_covariance()
         return float((self.C @ P @ self.C.T)[0, 0])
+
+    def autocorrelation(self, lag: float) -> float:
+        """Correlation coefficient of the stationary output ``y`` over ``lag`` (s):
+        ``C exp(A |τ|) P Cᵀ / (C P Cᵀ)``.
+
+        Parameters
+        ----------
+        lag : float
+            Time lag τ (s).
+
+        Returns
+        -------
+        float
+            ``E[y(t) y(t + τ)] / E[y²]``.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> p = gc.GyrocompassParams()
+        >>> f"{p.vibration_filter().autocorrelation(100.0):.2f}"   # N1 of Eq. (6) at 100 s
+        '0.23'
+        """
+        lag = abs(check_real("lag", lag))
+        P = self.stationary_covariance()
+        cov = self.C @ scipy.linalg.expm(self.A * lag) @ P @ self.C.T
+        return float(cov[0, 0]) / self.variance()
 
     def discretize(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
         """Exact discretization over ``dt``: ``Φ = exp(A dt)`` and

@@ -49,6 +49,7 @@ __all__ = [
     "ModelSymbols",
     "ShapingFilterSym",
     "StateSpaceSym",
+    "cauchy_form_latex",
     "compare_with_paper",
     "display_form",
     "earth_rate_in_base",
@@ -64,6 +65,8 @@ __all__ = [
     "shaping_filter",
     "state_space",
     "taylor_linearization",
+    "to_latex",
+    "to_latex_aligned",
 ]
 
 
@@ -226,6 +229,64 @@ def display_form(expr: object) -> object:
         reps[f.diff(t)] = sp.Symbol(b1, real=True)
         reps[f] = sp.Symbol(b0, real=True)
     return expr.xreplace(reps)
+
+
+def to_latex(expr: object, lhs: str | None = None) -> str:
+    r"""LaTeX of :func:`display_form` of ``expr``, optionally as ``lhs = expr``.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> S = symbolic.SYMBOLS
+    >>> print(symbolic.to_latex(S.beta(S.t).diff(S.t), r"\omega"))
+    \omega = \dot\beta
+    """
+    body = sp.latex(display_form(expr))
+    return body if lhs is None else f"{v.check_str('lhs', lhs)} = {body}"
+
+
+def to_latex_aligned(lhs: object, rhs: object, per_line: int = 3) -> str:
+    r"""LaTeX of ``lhs = rhs`` in an ``aligned`` block, the expanded right side broken into
+    lines of ``per_line`` terms (for the long rows of Eqs. (3), (5) and (8)).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from gyrolib.gc import symbolic
+    >>> a, b, c = sp.symbols("a b c")
+    >>> print(symbolic.to_latex_aligned("y", a + b - c, per_line=2))
+    \begin{aligned} & y \\ &= a + b \\ &\quad - c\end{aligned}
+    """
+    per_line = v.check_int("per_line", per_line, 1)
+    lhs_tex = lhs if isinstance(lhs, str) else sp.latex(display_form(lhs))
+    return (r"\begin{aligned} & " + lhs_tex + r" \\ &= " + _tex_sum(rhs, per_line)
+            + r"\end{aligned}")
+
+
+def _tex_sum(expr: object, per_line: int) -> str:
+    terms = sp.Add.make_args(sp.expand(display_form(expr)))
+    lines = []
+    for i in range(0, len(terms), per_line):
+        chunk = sp.latex(sp.Add(*terms[i:i + per_line]))
+        lines.append(chunk if i == 0 or chunk.startswith("-") else "+ " + chunk)
+    return r" \\ &\quad ".join(lines)
+
+
+def cauchy_form_latex(model: StateSpaceSym, per_line: int = 4) -> str:
+    """LaTeX of the first-order system of Eq. (8), one row per state (``aligned``); the
+    long Δβ'' row is multiplied by ``I`` and broken into lines of ``per_line`` terms."""
+    per_line = v.check_int("per_line", per_line, 1)
+    v.check_instance("model", model, StateSpaceSym)
+    S = SYMBOLS
+    rows = []
+    for x, f in zip(model.x, model.rhs):
+        if x == S.x_dbeta_dot:
+            rows.append(r"I\,\Delta\ddot\beta &= " + _tex_sum(S.I * f, per_line))
+        elif x == S.x_dbeta:
+            rows.append(r"\Delta\dot\beta &= " + sp.latex(f))
+        else:
+            rows.append(r"\dot{" + sp.latex(x) + "} &= " + sp.latex(f))
+    return r"\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}"
 
 
 # Geometry and torques, Eqs. (1)–(3) -----------------------------------------------------------
