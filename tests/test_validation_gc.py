@@ -32,6 +32,8 @@ case("gc.ShapingFilter", lambda: gc.ShapingFilter(VIB.A, VIB.B, VIB.C, NAN),
      ValueError, "Q", FINITE)
 case("gc.ShapingFilter.discretize", lambda: VIB.discretize(0.0), ValueError, "dt",
      POS)
+case("gc.ShapingFilter.autocorrelation", lambda: VIB.autocorrelation(NAN), ValueError,
+     "lag", FINITE)
 case("gc.vibration_filter", lambda: gc.vibration_filter(NAN, 0.5, 1.0),
      ValueError, "alpha1", POS)
 case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.0, 1.0),
@@ -96,6 +98,9 @@ case("gc.GyrocompassParams", lambda: replace(P, omega_ub=INF), ValueError, "omeg
 case("gc.GyrocompassParams", lambda: replace(P, shaping_p0_scale=-0.5), ValueError,
      "shaping_p0_scale", NONNEG)
 case("gc.state_index", lambda: gc.state_index("foo"), ValueError, "name", "one of")
+case("gc.normal_gravity", lambda: gc.normal_gravity(2.0), ValueError, "latitude",
+     r"\[-1.57")
+case("gc.normal_gravity", lambda: gc.normal_gravity("0"), TypeError, "latitude")
 case("gc.NominalMotion", lambda: gc.NominalMotion("a", T5, T5), TypeError, "t")
 case("gc.NominalMotion", lambda: gc.NominalMotion(T5, T5[:3], T5), ValueError, "beta",
      r"\(5,\)")
@@ -134,6 +139,11 @@ case("gc.initial_covariance", lambda: gc.initial_covariance(None), TypeError,
 # gc_symbolic
 S = symbolic.SYMBOLS
 case("gc.symbolic.ModelSymbols", lambda: replace(S, t="t"), TypeError, "t", "Symbol")
+case("gc.symbolic.to_latex", lambda: symbolic.to_latex(S.t, 3), TypeError, "lhs")
+case("gc.symbolic.to_latex_aligned", lambda: symbolic.to_latex_aligned("y", S.t, 0),
+     ValueError, "per_line", ">= 1")
+case("gc.symbolic.cauchy_form_latex", lambda: symbolic.cauchy_form_latex(None), TypeError,
+     "model")
 case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(None), TypeError, "beta")
 case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(NAN), ValueError, "beta",
      FINITE)
