@@ -70,6 +70,30 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
     The gains of the full filter are kept fixed; each source's covariance is propagated alone
     through the linear error recursion (Joseph form, valid for any gain).  Sources are
     independent, so their variances add up to the filter's.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model.
+    t_end : float, default 100.0
+        Length of the run (s).
+    name : str, default "omega_gc"
+        The state whose error is split.
+    store_every : int, optional
+        Decimation of the stored variances (default: about 1000 samples).
+
+    Returns
+    -------
+    ErrorBudget
+        Variance from each of :data:`BUDGET_SOURCES` over time, and the filter's total.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> bud = gc.error_budget(gc.GyrocompassParams(), 2.0)
+    >>> bool(np.isclose(bud.var[:, -1].sum(), bud.total[-1], rtol=1e-8))
+    True
     """
     p = _check_params(params)
     ix = state_index(name)

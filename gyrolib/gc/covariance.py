@@ -159,7 +159,30 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
 
 def time_to_sigma(result: CovarianceAnalysis, name: str, level: float) -> float:
     """First time (s) at which ``std(name)`` falls to ``level`` (SI) and stays below it;
-    ``nan`` if not reached within the analysed span."""
+    ``nan`` if not reached within the analysed span.
+
+    Parameters
+    ----------
+    result : CovarianceAnalysis
+        A covariance analysis.
+    name : str
+        The state (:data:`gyrolib.gc.STATE_NAMES`).
+    level : float
+        The σ level in SI units (> 0).
+
+    Returns
+    -------
+    float
+        The time (s), linearly interpolated between steps; ``nan`` if not reached.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import to_si
+    >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 10.0)
+    >>> f"{gc.time_to_sigma(res, 'omega_gc', to_si(0.01, 'arcsec_paper/s')):.2f} s"
+    '4.13 s'
+    """
     if not isinstance(result, CovarianceAnalysis):
         raise TypeError("result must be a CovarianceAnalysis")
     level = v.check_positive("level", level)
@@ -175,9 +198,34 @@ def time_to_sigma(result: CovarianceAnalysis, name: str, level: float) -> float:
     return float(t0 + (s0 - level) / (s0 - s1) * (t1 - t0))
 
 
-def sweep_sigma_gc(params: GyrocompassParams, field: str, values: object,
-                   t_end: float = 100.0) -> np.ndarray:
-    """``σ_gc(t_end)`` (rad/s) with ``params.<field>`` set to each of ``values``."""
+def sweep_sigma_gc(params: GyrocompassParams, field: str, values: ArrayLike,
+                   t_end: float = 100.0) -> NDArray[np.float64]:
+    """``σ_gc(t_end)`` (rad/s) with ``params.<field>`` set to each of ``values``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The baseline.
+    field : str
+        A ``GyrocompassParams`` field.
+    values : array_like
+        1-D values of ``field``.
+    t_end : float, default 100.0
+        Length of each run (s).
+
+    Returns
+    -------
+    ndarray
+        σ of ω_gc at ``t_end`` (rad/s), one per value.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> s = gc.sweep_sigma_gc(gc.GyrocompassParams(), "xi1", [0.5, 0.7], 2.0)
+    >>> [f"{from_si(x, 'arcsec_paper/s'):.4f}" for x in s]
+    ['0.0281', '0.0281']
+    """
     p = _check_params(params)
     v.check_str("field", field)
     if field not in GyrocompassParams.__dataclass_fields__:
@@ -191,7 +239,7 @@ def sweep_sigma_gc(params: GyrocompassParams, field: str, values: object,
 
 
 # Sweeps over the open choices ---------------------------------------------------------------
-def parameter_grid(**values: object) -> list[dict[str, object]]:
+def parameter_grid(**values: ArrayLike) -> list[dict[str, object]]:
     """Every combination of the given ``GyrocompassParams`` field values (cartesian product,
     the last field varying fastest), as a list of ``{field: value}`` cases.
 

@@ -26,6 +26,7 @@ import numpy as np
 import scipy.linalg
 import scipy.stats
 from numba import njit
+from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import AffineDiscreteModel
@@ -87,13 +88,32 @@ def _etd2_kernel(E, p1, p2, kdd, n_half, out):
         out[i + 1] = y0
 
 
-def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> np.ndarray:
+def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> NDArray[np.float64]:
     """Nominal float angle ``β_n`` (rad), Eq. (4) from rest, at ``t = i Δt/2``,
     ``i = 0 … 2 n_steps``.
 
     Exponential time differencing (ETD2RK, Cox–Matthews): the stiff linear part
     ``β'' = −(f/I) β'`` is exact, the slowly varying torque ``H Ω_h cos β / I`` is
     interpolated linearly over each half step.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model.
+    n_steps : int
+        Number of filter steps (>= 1).
+
+    Returns
+    -------
+    ndarray of shape (2 n_steps + 1,)
+        β_n (rad) on the half-step grid.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> b = gc.nominal_half_steps(gc.GyrocompassParams(), 1000)
+    >>> b.shape, f"{b[-1]:.3g}"
+    ((2001,), '8.59e-05')
     """
     p = _check_params(params)
     n_steps = v.check_int("n_steps", n_steps, 1)
@@ -180,11 +200,11 @@ class GCDiscretization:
         v.check_choice("method", self.method, DISCRETIZATIONS)
 
     @property
-    def t(self) -> np.ndarray:
+    def t(self) -> NDArray[np.float64]:
         return np.arange(self.n_steps + 1) * self.params.dt
 
     @property
-    def beta_mid(self) -> np.ndarray:
+    def beta_mid(self) -> NDArray[np.float64]:
         return self.beta_half[1::2]
 
     def exact_step(self, k: int) -> tuple[np.ndarray, np.ndarray]:

@@ -56,7 +56,24 @@ N_STATES: Final[int] = len(STATE_NAMES)
 
 
 def state_index(name: str) -> int:
-    """Index of a state by its name (see :data:`STATE_NAMES`)."""
+    """Index of a state by its name (see :data:`STATE_NAMES`).
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`STATE_NAMES`.
+
+    Returns
+    -------
+    int
+        Its index in the state vector of Eq. (8).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> gc.state_index("omega_gc")
+    3
+    """
     if name not in STATE_NAMES:
         raise ValueError(f"name must be one of {STATE_NAMES}; got {name!r}")
     return STATE_NAMES.index(name)

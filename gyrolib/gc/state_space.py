@@ -80,9 +80,26 @@ def system_matrix(params: GyrocompassParams, beta_n: float) -> NDArray[np.float6
     return F
 
 
-def noise_input_matrix(params: GyrocompassParams) -> np.ndarray:
+def noise_input_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
     """Disturbance matrix ``G`` (10×2) of Eq. (8): ``G(7,1) = 1``, ``G(8,1) = α1 − 2ξ1α1``,
-    ``G(10,2) = 1``."""
+    ``G(10,2) = 1``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model (ξ1, α1).
+
+    Returns
+    -------
+    G : ndarray of shape (10, 2)
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> G = gc.noise_input_matrix(gc.GyrocompassParams())
+    >>> f"{G[6, 0]:g} {G[7, 0]:.3g} {G[9, 1]:g}"
+    '1 -0.00532 1'
+    """
     params = _check_params(params)
     G = np.zeros((N_STATES, 2))
     G[6:8, 0] = params.vibration_filter().B[:, 0]
@@ -90,9 +107,26 @@ def noise_input_matrix(params: GyrocompassParams) -> np.ndarray:
     return G
 
 
-def measurement_matrix(params: GyrocompassParams) -> np.ndarray:
+def measurement_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
     """Measurement matrix ``D`` (3×10) of Eq. (8): the angle sensor reads Δβ; inclinometer y
-    reads ``g δ + N1``; inclinometer z reads ``g γ + N1``."""
+    reads ``g δ + N1``; inclinometer z reads ``g γ + N1``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model (``g``).
+
+    Returns
+    -------
+    D : ndarray of shape (3, 10)
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> D = gc.measurement_matrix(gc.GyrocompassParams())
+    >>> [f"{x:g}" for x in D[1, 4:7]]   # inclinometer y: g δ + N1
+    ['9.80665', '0', '1']
+    """
     params = _check_params(params)
     D = np.zeros((3, N_STATES))
     D[0, 0] = 1.0
@@ -103,34 +137,103 @@ def measurement_matrix(params: GyrocompassParams) -> np.ndarray:
     return D
 
 
-def process_noise_intensity(params: GyrocompassParams) -> np.ndarray:
-    """Intensity ``Q`` (2×2) of the white noises ``w1``, ``w2`` driving Eqs. (6), (7)."""
+def process_noise_intensity(params: GyrocompassParams) -> NDArray[np.float64]:
+    """Intensity ``Q`` (2×2) of the white noises ``w1``, ``w2`` driving Eqs. (6), (7).
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model (shaping-filter parameters).
+
+    Returns
+    -------
+    Q : ndarray of shape (2, 2)
+        ``diag(Q1, Q2)``, ``Q1 = 2 ξ1 α1 σ1²`` (m²/s⁵), ``Q2 = 4 ξ2 α2³ σ2²`` (rad²/s³).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> [f"{q:.3g}" for q in np.diag(gc.process_noise_intensity(gc.GyrocompassParams()))]
+    ['3.46e-08', '9.31e-13']
+    """
     return np.diag([_check_params(params).Q1, params.Q2])
 
 
-def measurement_noise_intensity(params: GyrocompassParams) -> np.ndarray:
-    """Continuous intensities of the sensor noises: ``diag(C_as, C_incl_y, C_incl_z)``."""
+def measurement_noise_intensity(params: GyrocompassParams) -> NDArray[np.float64]:
+    """Continuous intensities of the sensor noises: ``diag(C_as, C_incl_y, C_incl_z)``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model (``C_as``, ``C_incl_y``, ``C_incl_z``).
+
+    Returns
+    -------
+    C : ndarray of shape (3, 3)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> [f"{c:g}" for c in np.diag(gc.measurement_noise_intensity(gc.GyrocompassParams()))]
+    ['2e-13', '5e-15', '5e-15']
+    """
     p = _check_params(params)
     return np.diag([p.C_as, p.C_incl_y, p.C_incl_z])
 
 
-def measurement_noise_covariance(params: GyrocompassParams) -> np.ndarray:
+def measurement_noise_covariance(params: GyrocompassParams) -> NDArray[np.float64]:
     """Discrete measurement-noise covariance ``R`` at the sampling interval ``dt``.
 
     ``"intensity_over_dt"``: ``R = C/Δt`` (continuous white noise of intensity C seen through
     an ideal averaging sampler over Δt); ``"variance"``: ``R = C`` (printed numbers read as
     the per-sample variances).
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model (``measurement_noise``, ``dt`` and the intensities).
+
+    Returns
+    -------
+    R : ndarray of shape (3, 3)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> [f"{r:g}" for r in np.diag(gc.measurement_noise_covariance(gc.GyrocompassParams()))]
+    ['2e-10', '5e-12', '5e-12']
     """
     C = measurement_noise_intensity(_check_params(params))
     return C / params.dt if params.measurement_noise == "intensity_over_dt" else C
 
 
-def initial_covariance(params: GyrocompassParams) -> np.ndarray:
+def initial_covariance(params: GyrocompassParams) -> NDArray[np.float64]:
     """Initial covariance ``P(0)`` (10×10).
 
     ψ, ω_gc, δ, γ from the paper; Δβ, Δβ' from ``sigma_dbeta0``, ``sigma_dbeta_dot0``;
     N1…N4 from ``shaping_p0`` (their stationary covariance times ``shaping_p0_scale``, or
     zero).
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model and its readings of the unstated P(0) entries.
+
+    Returns
+    -------
+    P0 : ndarray of shape (10, 10)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> P0 = gc.initial_covariance(gc.GyrocompassParams())
+    >>> f"{from_si(np.sqrt(P0[3, 3]), 'arcsec_paper/s'):.2f}"   # σ of ω_gc, ″/s
+    '0.15'
     """
     p = _check_params(params)
     P = np.zeros((N_STATES, N_STATES))
