@@ -13,7 +13,7 @@ import numpy as np
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, propagate_fixed_gains
 from gyrolib.gc.covariance import _default_store_every
-from gyrolib.gc.discretization import _affine_qd, _check_params, discretize
+from gyrolib.gc.discretization import _affine_qd, _check_params, _discretize, _n_steps
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.state_space import (
     initial_covariance,
@@ -97,7 +97,7 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
     """
     p = _check_params(params)
     ix = state_index(name)
-    disc = discretize(p, t_end)
+    disc = _discretize(p, _n_steps(p, t_end), "van_loan")
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     mdl = disc.model

@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
-from gyrolib.gc.discretization import DISCRETIZATIONS, N, _check_params, discretize
+from gyrolib.gc.discretization import DISCRETIZATIONS, N, _check_params, _discretize, _n_steps
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.state_space import (
     initial_covariance,
@@ -136,7 +136,7 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     p = _check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("discretization", discretization, DISCRETIZATIONS)
-    disc = discretize(p, t_end, method=discretization)
+    disc = _discretize(p, _n_steps(p, t_end), discretization)
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     if P0 is None:

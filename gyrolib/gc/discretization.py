@@ -115,8 +115,10 @@ def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> NDArray[np.fl
     >>> b.shape, f"{b[-1]:.3g}"
     ((2001,), '8.59e-05')
     """
-    p = _check_params(params)
-    n_steps = v.check_int("n_steps", n_steps, 1)
+    return _nominal_half_steps(_check_params(params), v.check_int("n_steps", n_steps, 1))
+
+
+def _nominal_half_steps(p: GyrocompassParams, n_steps: int) -> NDArray[np.float64]:
     h = 0.5 * p.dt
     M = np.zeros((4, 4))
     M[0, 1] = h
@@ -251,7 +253,12 @@ def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
     p = _check_params(params)
     n_steps = _n_steps(p, t_end)
     v.check_choice("method", method, DISCRETIZATIONS)
-    beta_half = nominal_half_steps(p, n_steps)
+    return _discretize(p, n_steps, method)
+
+
+def _discretize(p: GyrocompassParams, n_steps: int, method: str) -> GCDiscretization:
+    """:func:`discretize` on arguments already checked by the public entry point."""
+    beta_half = _nominal_half_steps(p, n_steps)
     bm = beta_half[1::2]
     idx = np.rint(bm / SEGMENT).astype(np.int64)
     uniq, seg = np.unique(idx, return_inverse=True)
