@@ -34,6 +34,8 @@ OTHER = GyrocompassParams(I=2e-4, H=0.3, f=0.11, Omega_v=3e-5, Omega_h=6e-5, g=9
 @pytest.mark.parametrize("coupling", symbolic.COUPLINGS)
 @pytest.mark.parametrize("params", [GyrocompassParams(), OTHER], ids=["paper", "other"])
 def test_library_matrices_equal_sympy_derivation(coupling, params):
+    """Numeric F, G, D of Eq. (8) equal the sympy derivation (both couplings, two parameter
+    sets, several β_n) to 1e-13."""
     p = dataclasses.replace(params, vertical_coupling=coupling)
     for beta_n in BETAS:
         F_sym, G_sym, D_sym = symbolic.numeric_matrices(p, beta_n)
@@ -45,6 +47,7 @@ def test_library_matrices_equal_sympy_derivation(coupling, params):
 
 
 def test_symbolic_state_order_is_the_library_order():
+    """The sympy state vector is gyrolib's STATE_NAMES order (X1 = Δβ, X2 = Δβ')."""
     names = [str(x) for x in symbolic.state_space().x]
     assert names == [r"\Delta\beta", r"\Delta\dot{\beta}", "psi", "omega_gc", "delta", "gamma",
                      "N_1", "N_2", "N_3", "N_4"]
@@ -58,6 +61,8 @@ def _mismatches(model):
 def test_derivation_matches_paper_listing_except_the_settled_errata():
     # With X1 = Δβ, X2 = Δβ', every printed entry is reproduced except F(8,7) (printed without
     # its minus sign) and, for the Eq. (5) coupling, the δ/γ pair F(2,5), F(2,6).
+    """The derived F, G, D match the printed listing except F(8,7) and (for eq5) the δ/γ pair;
+    the printed X1, X2 labels contradict it."""
     assert _mismatches(symbolic.state_space("eq5")) == {("F", 2, 5), ("F", 2, 6), ("F", 8, 7)}
     assert _mismatches(symbolic.state_space("printed_F")) == {("F", 8, 7)}
     # The printed labels (X1 = Δβ') contradict the printed F and D in many entries.
@@ -65,6 +70,8 @@ def test_derivation_matches_paper_listing_except_the_settled_errata():
 
 
 def test_taylor_expansion_gives_eq4_and_the_printed_eq5():
+    """Orders 0 and 1 of the Taylor expansion of Eq. (3) are the printed Eqs. (4) and (5) (plus
+    the unbalance torque)."""
     lin = symbolic.taylor_linearization()
     t, bn, db = S.t, S.beta_n(S.t), S.dbeta(S.t)
     eq4 = S.I * bn.diff(t, 2) + S.f * bn.diff(t) - S.H * S.Omega_h * sp.cos(bn)
@@ -78,6 +85,8 @@ def test_taylor_expansion_gives_eq4_and_the_printed_eq5():
 
 
 def test_minus_sign_in_eq1_mirrors_the_motion_and_flips_only_the_delta_term():
+    """With −H Ω_h cos(β − ψ) in Eq. (1), the mirrored linearization differs from Eq. (5) only
+    in the sign of the δ term."""
     plus = symbolic.taylor_linearization(sign=1).order1
     minus = symbolic.taylor_linearization(sign=-1).order1
     bn = S.beta_n(S.t)
@@ -88,6 +97,8 @@ def test_minus_sign_in_eq1_mirrors_the_motion_and_flips_only_the_delta_term():
 
 
 def test_relabelling_maps_eq5_with_reversed_unbalance_onto_printed_listing():
+    """The signed permutation maps the eq5 model with reversed ω_ub exactly onto the printed
+    listing, and leaves P0 and R invariant."""
     rel = symbolic.relabelling()
     a, b = symbolic.state_space("eq5"), symbolic.state_space("printed_F")
     Fa = a.F.subs(S.omega_ub, -S.omega_ub)
@@ -109,6 +120,8 @@ def test_relabelling_maps_eq5_with_reversed_unbalance_onto_printed_listing():
 
 
 def test_printed_F87_makes_the_vibration_filter_unstable():
+    """With F(8,7) = +α1² the vibration block has det = −α1² and a positive eigenvalue (closed
+    form)."""
     a, xi = S.alpha1, S.xi1
     block = sp.Matrix([[0, 1], [a**2, -2 * xi * a]])
     # det = −α² < 0: the two eigenvalues are real with opposite signs, for every α, ξ > 0.
@@ -121,6 +134,8 @@ def test_printed_F87_makes_the_vibration_filter_unstable():
 
 # Nominal motion, Eq. (4) ------------------------------------------------------------------------
 def test_nominal_motion_at_100_s_against_an_independent_integrator():
+    """Radau solution of Eq. (4) against DOP853 on the difference from the aperiodic solution:
+    1e-12 rad over 100 s; 0.5° as printed."""
     p = GyrocompassParams()
     t = np.linspace(0.0, 100.0, 2001)
     radau = nominal_motion(p, t)
@@ -139,6 +154,7 @@ def test_nominal_motion_at_100_s_against_an_independent_integrator():
 
 def test_nominal_motion_early_times_match_the_linear_closed_form():
     # For β ≪ 1, cos β ≈ 1 and Eq. (4) is linear: β = k (t − τ (1 − e^{−t/τ})), k = HΩ_h/f.
+    """For t ≤ 20 ms (β ≪ 1) Eq. (4) is linear: β = k (t − τ (1 − e^{−t/τ})) to 1e-9."""
     p = GyrocompassParams()
     k, tau = p.H * p.Omega_h / p.f, p.I / p.f
     t = np.linspace(0.0, 0.02, 201)
@@ -149,6 +165,7 @@ def test_nominal_motion_early_times_match_the_linear_closed_form():
 
 
 def test_aperiodic_approximation_lags_by_k_tau():
+    """For t ≫ τ the full nominal motion lags the aperiodic one by k τ (to 1e-4)."""
     p = GyrocompassParams()
     k, tau = p.H * p.Omega_h / p.f, p.I / p.f
     t = np.array([0.05, 1.0, 10.0, 100.0])
@@ -169,6 +186,7 @@ _CHOICES = ("shaping_p0", "measurement_noise", "vertical_coupling", "eq1_sign")
 
 
 def test_every_field_is_in_exactly_one_validation_class():
+    """Every GyrocompassParams field is in exactly one of the validation classes below."""
     names = [f.name for f in dataclasses.fields(GyrocompassParams)]
     classes = (*_POSITIVE, *_REAL, *_NONNEGATIVE, *_DAMPING, *_CHOICES)
     assert sorted(names) == sorted(classes)
@@ -193,12 +211,15 @@ def _bad_values(name):
 
 @pytest.mark.parametrize("name", [f.name for f in dataclasses.fields(GyrocompassParams)])
 def test_invalid_values_raise_naming_the_field(name):
+    """Wrong types, non-finite and out-of-range values of each field raise naming the field."""
     for bad, err in _bad_values(name):
         with pytest.raises(err, match=rf"\b{name}\b"):
             dataclasses.replace(GyrocompassParams(), **{name: bad})
 
 
 def test_valid_edge_values_are_accepted_and_stored_as_float():
+    """Edge values (ξ = 1, ints, numpy scalars, negative ω_ub, κ = 0) are accepted and stored as
+    float; every choice is accepted."""
     p = dataclasses.replace(GyrocompassParams(), xi1=1, xi2=np.float64(1e-9), omega_ub=-1,
                             I=np.int64(1), shaping_p0_scale=0)
     assert p.xi1 == 1.0 and type(p.xi1) is float
