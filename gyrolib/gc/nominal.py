@@ -1,8 +1,10 @@
-"""Paper GC, Eq. (4): the nominal motion ``β_n(t)`` of the float after the feedback is switched off.
+"""Paper GC, Eq. (4): the nominal motion ``β_n(t)`` of the float after the feedback is
+switched off, ``I β_n'' + f β_n' = H Ω_h cos β_n`` from rest.
 
-:func:`nominal_motion` integrates Eq. (4) (``I β'' + f β' = H Ω_h sin β ...``) with scipy's
-DOP853; :func:`nominal_motion_reference` is an independent fixed-step integrator and
-:func:`nominal_motion_aperiodic` the closed form of the paper's aperiodic approximation.
+:func:`nominal_motion` integrates Eq. (4) with scipy's implicit Radau method (the equation is
+stiff); :func:`nominal_motion_reference` is an independent check (explicit DOP853 on the
+difference from the aperiodic solution, tighter tolerance); :func:`nominal_motion_aperiodic`
+is the closed form of the inertia-free approximation ``f β' = H Ω_h cos β``.
 """
 
 from __future__ import annotations
