@@ -59,7 +59,15 @@ class ErrorBudget:
         v.check_ndarray("total", self.total, shape=(nt,))
 
     def at_end(self) -> dict[str, float]:
-        """Standard deviation (rad/s) from each source at the last time."""
+        """Standard deviation (rad/s) from each source at the last time.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> end = gc.error_budget(gc.GyrocompassParams(), 2.0).at_end()
+        >>> max(end, key=end.get)
+        'angle sensor noise'
+        """
         return {s: float(np.sqrt(max(self.var[i, -1], 0.0))) for i, s in enumerate(self.sources)}
 
 

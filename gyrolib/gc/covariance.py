@@ -49,11 +49,28 @@ class CovarianceAnalysis:
         v.check_ndarray("P_stored", self.P_stored, shape=(ns, N, N))
 
     def std(self, name: str) -> NDArray[np.float64]:
-        """Standard deviation of ``name``'s estimate at every step (SI units)."""
+        """Standard deviation of ``name``'s estimate at every step (SI units).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 0.01)
+        >>> res.std("omega_gc").shape
+        (11,)
+        """
         return np.sqrt(np.clip(self.var[:, state_index(name)], 0.0, None))
 
     def std_at(self, name: str, time: float) -> float:
-        """Standard deviation at the step nearest to ``time`` (s)."""
+        """Standard deviation at the step nearest to ``time`` (s).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> from gyrolib.units import from_si
+        >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 2.0)
+        >>> f"{from_si(res.std_at('omega_gc', 2.0), 'arcsec_paper/s'):.4f}"
+        '0.0281'
+        """
         time = v.check_in_range("time", time, 0.0, float(self.t[-1]))
         return float(self.std(name)[round(time / self.params.dt)])
 
@@ -269,7 +286,15 @@ class CovarianceSweep:
                              f"({len(self.cases)}); got {len(self.analyses)}")
 
     def final_std(self, name: str = "omega_gc") -> NDArray[np.float64]:
-        """σ of ``name`` at the end of each case's run (SI units), in the order of ``cases``."""
+        """σ of ``name`` at the end of each case's run (SI units), in the order of ``cases``.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> sw = gc.sweep_covariance(gc.GyrocompassParams(), [{}, {"xi1": 0.5}], 0.01)
+        >>> sw.final_std().shape
+        (2,)
+        """
         return np.array([a.final_std(name) for a in self.analyses])
 
 
