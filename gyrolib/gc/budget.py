@@ -16,8 +16,8 @@ from gyrolib.gc.covariance import _default_store_every
 from gyrolib.gc.discretization import _affine_qd, _check_params, _discretize, _n_steps
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.state_space import (
-    initial_covariance,
-    process_noise_intensity,
+    _initial_covariance,
+    _process_noise_intensity,
 )
 
 __all__ = [
@@ -109,11 +109,11 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     mdl = disc.model
-    P0 = initial_covariance(p)
+    P0 = _initial_covariance(p)
     full = covariance_fast(mdl, P0, 1, keep_gains=True)
     zeros_q = tuple(np.zeros_like(mdl.Qd0) for _ in range(3))
     zero_r = np.zeros_like(mdl.r)
-    Qc = process_noise_intensity(p)
+    Qc = _process_noise_intensity(p)
     out = []
     for src in BUDGET_SOURCES:
         P0s = np.zeros_like(P0)

@@ -15,7 +15,7 @@ from gyrolib.filtering.covariance import covariance_fast, covariance_reference
 from gyrolib.gc.discretization import DISCRETIZATIONS, N, _check_params, _discretize, _n_steps
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.state_space import (
-    initial_covariance,
+    _initial_covariance,
 )
 
 __all__ = [
@@ -157,7 +157,7 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     if P0 is None:
-        P0 = initial_covariance(p)
+        P0 = _initial_covariance(p)
     else:
         P0 = v.check_array("P0", P0, shape=(N, N))
         if not np.allclose(P0, P0.T, rtol=1e-12, atol=0.0) or np.any(np.diag(P0) < 0):

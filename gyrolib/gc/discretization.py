@@ -33,11 +33,11 @@ from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.gc.params import STATE_NAMES, GyrocompassParams
 from gyrolib.gc.state_space import (
-    measurement_matrix,
-    measurement_noise_covariance,
-    noise_input_matrix,
-    process_noise_intensity,
-    system_matrix,
+    _measurement_matrix,
+    _measurement_noise_covariance,
+    _noise_input_matrix,
+    _process_noise_intensity,
+    _system_matrix,
 )
 
 __all__ = [
@@ -135,7 +135,7 @@ def _nominal_half_steps(p: GyrocompassParams, n_steps: int) -> NDArray[np.float6
 # Discretization ------------------------------------------------------------------------------
 def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``F(β) = F_0 + sin β · E_s + cos β · E_c`` (exact: F is affine in sin and cos)."""
-    F0, F90, F180 = (system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))
+    F0, F90, F180 = (_system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))
     Ec = 0.5 * (F0 - F180)
     Fc = 0.5 * (F0 + F180)
     Es = F90 - Fc
@@ -147,7 +147,7 @@ def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 def _affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
     Fc, Es, Ec = _affine_parts(p)
-    G = noise_input_matrix(p)
+    G = _noise_input_matrix(p)
     J = betas.size
     out = [np.zeros((J, N, N)) for _ in range(6)]
     for j, b in enumerate(betas):
@@ -161,7 +161,7 @@ def _affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple
 def _affine_euler(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
     """Euler steps: ``Φ = I + F Δt`` is affine in (sin, cos) exactly; ``Qd = G Q Gᵀ Δt``."""
     Fc, Es, Ec = _affine_parts(p)
-    G = noise_input_matrix(p)
+    G = _noise_input_matrix(p)
     J = betas.size
     Phi0 = np.eye(N) + (Fc + np.sin(betas)[:, None, None] * Es
                         + np.cos(betas)[:, None, None] * Ec) * p.dt
@@ -217,8 +217,8 @@ class GCDiscretization:
         if k >= self.n_steps:
             raise ValueError(f"k must be a step index in [0, {self.n_steps}); got {k}")
         p = self.params
-        F = system_matrix(p, float(self.beta_mid[k]))
-        G, Qc = noise_input_matrix(p), process_noise_intensity(p)
+        F = _system_matrix(p, float(self.beta_mid[k]))
+        G, Qc = _noise_input_matrix(p), _process_noise_intensity(p)
         if self.method == "euler":
             return np.eye(N) + F * p.dt, G @ Qc @ G.T * p.dt
         return van_loan(F, G, Qc, p.dt)
@@ -264,12 +264,12 @@ def _discretize(p: GyrocompassParams, n_steps: int, method: str) -> GCDiscretiza
     uniq, seg = np.unique(idx, return_inverse=True)
     betas = uniq * SEGMENT
     affine = _affine_euler if method == "euler" else _affine_qd
-    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, process_noise_intensity(p))
-    R = measurement_noise_covariance(p)
+    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, _process_noise_intensity(p))
+    R = _measurement_noise_covariance(p)
     model = AffineDiscreteModel(
         seg=seg.astype(np.int64).ravel(), a=np.sin(bm) - np.sin(betas)[seg].ravel(),
         b=np.cos(bm) - np.cos(betas)[seg].ravel(), Phi0=Phi0, PhiA=PhiA, PhiB=PhiB,
-        Qd0=Qd0, QdA=QdA, QdB=QdB, H=measurement_matrix(p), r=np.diag(R).copy())
+        Qd0=Qd0, QdA=QdA, QdB=QdB, H=_measurement_matrix(p), r=np.diag(R).copy())
     Fc, Es, Ec = _affine_parts(p)
     Gamma = np.zeros((betas.size, N))
     factors = []
