@@ -32,6 +32,8 @@ case("gc.ShapingFilter", lambda: gc.ShapingFilter(VIB.A, VIB.B, VIB.C, NAN),
      ValueError, "Q", FINITE)
 case("gc.ShapingFilter.discretize", lambda: VIB.discretize(0.0), ValueError, "dt",
      POS)
+case("gc.ShapingFilter.autocorrelation", lambda: VIB.autocorrelation(NAN), ValueError,
+     "lag", FINITE)
 case("gc.vibration_filter", lambda: gc.vibration_filter(NAN, 0.5, 1.0),
      ValueError, "alpha1", POS)
 case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.0, 1.0),
@@ -89,7 +91,16 @@ case("gc.GyrocompassParams", lambda: replace(P, measurement_noise=None), ValueEr
      "measurement_noise", "one of")
 case("gc.GyrocompassParams", lambda: replace(P, vertical_coupling="eq6"), ValueError,
      "vertical_coupling", "one of")
+case("gc.GyrocompassParams", lambda: replace(P, eq1_sign=-1), ValueError, "eq1_sign",
+     "one of")
+case("gc.GyrocompassParams", lambda: replace(P, omega_ub=INF), ValueError, "omega_ub",
+     FINITE)
+case("gc.GyrocompassParams", lambda: replace(P, shaping_p0_scale=-0.5), ValueError,
+     "shaping_p0_scale", NONNEG)
 case("gc.state_index", lambda: gc.state_index("foo"), ValueError, "name", "one of")
+case("gc.normal_gravity", lambda: gc.normal_gravity(2.0), ValueError, "latitude",
+     r"\[-1.57")
+case("gc.normal_gravity", lambda: gc.normal_gravity("0"), TypeError, "latitude")
 case("gc.NominalMotion", lambda: gc.NominalMotion("a", T5, T5), TypeError, "t")
 case("gc.NominalMotion", lambda: gc.NominalMotion(T5, T5[:3], T5), ValueError, "beta",
      r"\(5,\)")
@@ -128,6 +139,11 @@ case("gc.initial_covariance", lambda: gc.initial_covariance(None), TypeError,
 # gc_symbolic
 S = symbolic.SYMBOLS
 case("gc.symbolic.ModelSymbols", lambda: replace(S, t="t"), TypeError, "t", "Symbol")
+case("gc.symbolic.to_latex", lambda: symbolic.to_latex(S.t, 3), TypeError, "lhs")
+case("gc.symbolic.to_latex_aligned", lambda: symbolic.to_latex_aligned("y", S.t, 0),
+     ValueError, "per_line", ">= 1")
+case("gc.symbolic.cauchy_form_latex", lambda: symbolic.cauchy_form_latex(None), TypeError,
+     "model")
 case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(None), TypeError, "beta")
 case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(NAN), ValueError, "beta",
      FINITE)
@@ -190,6 +206,8 @@ case("gc.discretize", lambda: gc.discretize(P, 0.0), ValueError, "t_end", POS)
 case("gc.discretize", lambda: gc.discretize(P, 0.0105), ValueError, "t_end",
      "multiple of dt")
 case("gc.discretize", lambda: gc.discretize(P, "1"), TypeError, "t_end")
+case("gc.discretize", lambda: gc.discretize(P, 0.01, method="rk4"), ValueError, "method",
+     "one of")
 case("gc.GCDiscretization", lambda: replace(disc(), n_steps=0), ValueError,
      "n_steps")
 case("gc.GCDiscretization", lambda: replace(disc(), model=None), TypeError, "model")
@@ -212,6 +230,22 @@ case("gc.covariance_analysis", lambda: gc.covariance_analysis(
     P, 0.01, P0=I10 - 0.5 * np.ones((10, 10))), ValueError, "P0", "positive semi-definite")
 case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, -100.0), ValueError,
      "t_end", POS)
+case("gc.covariance_analysis", lambda: gc.covariance_analysis(
+    P, 0.01, discretization="tustin"), ValueError, "discretization", "one of")
+case("gc.CovarianceSweep", lambda: gc.CovarianceSweep(P, ({}, {}), ()), ValueError,
+     "analyses", "one CovarianceAnalysis per case")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, {"xi1": 0.5}, 0.01), TypeError,
+     "cases", "sequence")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, [{"nope": 1.0}], 0.01),
+     ValueError, "cases", "fields")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, [{"xi1": 2.0}], 0.01),
+     ValueError, "xi1", r"\(0.0, 1.0\]")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, [{}], -1.0), ValueError,
+     "t_end", POS)
+case("gc.CovarianceSweep.final_std", lambda: gc.sweep_covariance(
+    P, [{}], 0.01).final_std("x"), ValueError, "name", "one of")
+case("gc.CovarianceAnalysis.final_std", lambda: cov().final_std("x"), ValueError, "name",
+     "one of")
 case("gc.CovarianceAnalysis", lambda: replace(cov(), var=cov().var[:, :3]),
      ValueError, "var")
 case("gc.CovarianceAnalysis", lambda: replace(cov(), params=None), TypeError,
@@ -298,48 +332,6 @@ case("gc.InformationPsiOmega", lambda: gc.InformationPsiOmega(T5, np.ones((5, 3,
      ValueError, "W", r"\(5, 2, 2\)")
 
 # gc_plots
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, [T5], paper_value=1.0),
-     TypeError, "curves", "Mapping")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {}, paper_value=1.0),
-     ValueError, "curves")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5[:3]},
-                                                                  paper_value=1.0),
-     ValueError, "t and curves['a']", "same length")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": -T5},
-                                                                  paper_value=1.0),
-     ValueError, "curves['a']", NONNEG)
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history([], {"a": []},
-                                                                  paper_value=1.0),
-     ValueError, "t", "at least 2")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5},
-                                                                  paper_value=0.0),
-     ValueError, "paper_value", POS)
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
-                                                                  paper_time=NAN),
-     ValueError, "paper_time")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
-                                                                  drop_time="2"),
-     TypeError, "drop_time")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
-                                                                  unit=None),
-     TypeError, "unit", "str")
-case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(T5, T5 * NAN, paper_value=1.0),
-     ValueError, "sigma", FINITE)
-case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(-T5, T5, paper_value=1.0), ValueError,
-     "kappa", NONNEG)
-case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(T5, T5[:2], paper_value=1.0),
-     ValueError, "kappa and sigma")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((2, 5)), None),
-     TypeError, "sources")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((3, 5)),
-                                                                ("a", "b")),
-     ValueError, "var", r"\(2, 5\)")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget([], np.ones((2, 0)),
-                                                                ("a", "b")),
-     ValueError, "t")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((2, 5)),
-                                                                ("a", "b"), scale=-1.0),
-     ValueError, "scale", POS)
 case("gc.plot_estimates", lambda: gc.plot_estimates(T5, np.ones((2, 5)), [1.0, 1.0], T5,
                                                           t_zoom=NAN),
      ValueError, "t_zoom")
@@ -382,32 +374,6 @@ case("gc.plot_information", lambda: gc.plot_information(T5, -T5, T5, T5, T5), Va
      "sig_known", NONNEG)
 
 # gc_model_plots
-PSD = {"alpha1": 1.0, "alpha2": 1.0, "var_n1": 1.0, "var_n3": 1.0}
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([0.0, 1.0], [1, 1], [1, 1],
-                                                                     **PSD),
-     ValueError, "omega", r"> 0")
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([], [], [], **PSD),
-     ValueError, "omega", "at least 1")
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([1.0, 2.0], [-1, 1], [1, 1],
-                                                                     **PSD),
-     ValueError, "psd_n1", NONNEG)
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([1.0, 2.0], [1, 1], [1],
-                                                                     **PSD),
-     ValueError, "omega, psd_n1, psd_n3", "same length")
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd(
-    [1.0, 2.0], [1, 1], [1, 1], **(PSD | {"var_n3": -1.0})), ValueError, "var_n3", POS)
-case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
-    T5, T5, T5, [], [], [], tau=1.0, lag=0.0), ValueError, "t_fast", "at least 1")
-case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
-    T5, T5, T5, T5, T5, T5, tau=0.0, lag=0.0), ValueError, "tau", POS)
-case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
-    T5, T5, T5, T5, T5, T5, tau=1.0, lag=NAN), ValueError, "lag", FINITE)
-case("gc.plot_figure1", lambda: gc.plot_figure1(beta_deg=90.0), ValueError,
-     "beta_deg", r"\[1.0, 80.0\]")
-case("gc.plot_figure1", lambda: gc.plot_figure1(beta_deg=10.0, psi_deg=20.0),
-     ValueError, "psi_deg", "< beta_deg")
-case("gc.plot_figure1", lambda: gc.plot_figure1(tilt_deg="14"), TypeError,
-     "tilt_deg")
 
 # calibration on a record: gc.calibrate, GCRecord, CalibrationResult, simulate_record
 _GREC = gc.GCRecord(t=[0.001, 0.002], angle_sensor=[0.0, 0.0], inclinometer_y=[0.0, 0.0],
@@ -470,7 +436,16 @@ def test_bad_input_is_rejected_by_name(call, exc, pattern):
 
 
 #: Public callables without a bad-input case, and why.
-EXEMPT: dict[str, str] = {"gc.symbolic.display_form": "returns non-sympy objects unchanged (documented)"}
+EXEMPT: dict[str, str] = {
+    "gc.symbolic.display_form": "returns non-sympy objects unchanged (documented)",
+    "gc.plot_sigma_history": "plot function: takes result objects, no validation by design",
+    "gc.plot_p0_scale": "plot function: takes result objects, no validation by design",
+    "gc.plot_error_budget": "plot function: takes result objects, no validation by design",
+    "gc.plot_shaping_psd": "plot function: takes computed PSDs, no validation by design",
+    "gc.plot_nominal_motion": "plot function: takes result objects, no validation by design",
+    "gc.plot_figure1": "plot function: drawing options only, no validation by design",
+    "gc.parameter_grid": "builds cases; sweep_covariance validates them at the door",
+}
 
 
 def test_table_covers_every_public_callable():
