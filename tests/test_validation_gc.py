@@ -251,6 +251,14 @@ case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, truth="x"), ValueError
      "truth")
 case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, store_every=0),
      ValueError, "store_every")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, truth_params="p"), TypeError,
+     "truth_params")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, truth_params=replace(P, dt=2e-3)),
+     ValueError, "truth_params.dt")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, substeps=0), ValueError,
+     "substeps", ">= 1")
+case("gc.MonteCarloResult", lambda: replace(mc(), truth_params=1), TypeError,
+     "truth_params")
 case("gc.MonteCarloResult", lambda: replace(mc(), tru=mc().tru[:1]), ValueError,
      "tru")
 case("gc.MonteCarloResult", lambda: replace(mc(), seed=-3), ValueError, "seed")
@@ -268,6 +276,8 @@ case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(10), seed=
      ValueError, "seed", ">= 0")
 case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(3)),
      ValueError, "x0", r"\(10,\)")
+case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(10), substeps=1.5),
+     TypeError, "substeps")
 case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.0, np.zeros(10)),
      ValueError, "t_end")
 case("gc.simulate_truth", lambda: gc.simulate_truth(P, 0.01, np.zeros(10),
