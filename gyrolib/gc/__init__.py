@@ -147,3 +147,26 @@ __all__ = [
     "time_to_sigma",
     "vibration_filter",
 ]
+
+# Paper GC's claims, computed (gc.claims), and the claims chapter's figures
+from gyrolib.gc.claims import (
+    SHAPING_FIELDS,
+    ClaimBoundary,
+    ShapingSweep,
+    SpeedClaimMap,
+    claim_boundary,
+    shaping_sweep,
+    speed_claim_map,
+    time_to_level,
+)
+
+__all__ += [
+    "SHAPING_FIELDS",
+    "ClaimBoundary",
+    "ShapingSweep",
+    "SpeedClaimMap",
+    "claim_boundary",
+    "shaping_sweep",
+    "speed_claim_map",
+    "time_to_level",
+]
