@@ -63,8 +63,3 @@ def test_truth_shaping_filters_hold_their_stationary_variance(matched, state, fi
     lo, hi = scipy.stats.chi2.ppf([0.005, 0.995], N_RUNS - 1) / (N_RUNS - 1)
     assert lo < s2 / getattr(P, field) < hi
 
-
-def test_truth_params_must_share_the_sampling_interval():
-    """The truth is sampled at the filter's instants: a different dt is refused."""
-    with pytest.raises(ValueError, match="truth_params.dt"):
-        gc.monte_carlo(P, 1, 0.01, truth_params=replace(P, dt=2e-3))

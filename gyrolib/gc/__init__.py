@@ -159,6 +159,7 @@ from gyrolib.gc.claims import (
     speed_claim_map,
     time_to_level,
 )
+from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
 
 __all__ += [
     "SHAPING_FIELDS",
@@ -166,6 +167,8 @@ __all__ += [
     "ShapingSweep",
     "SpeedClaimMap",
     "claim_boundary",
+    "plot_mismatch",
+    "plot_speed_claim",
     "shaping_sweep",
     "speed_claim_map",
     "time_to_level",
