@@ -27,15 +27,17 @@ def test_nominal_half_steps_matches_radau():
     assert np.max(np.abs(beta[idx] - ref.beta)) < 1e-12
 
 
-def test_truth_model_integrates_nonlinear_eq3():
-    """Noise off; large offsets (ψ = 0.05 rad so that the nonlinearity matters, δ, γ = 120″,
+@pytest.mark.parametrize("psi", [0.05, 0.5])
+def test_truth_model_integrates_nonlinear_eq3(psi):
+    """Noise off; large offsets (ψ = 0.05 rad so that the nonlinearity matters, and 0.5 rad,
+    beyond the kernel's series, to exercise its exact fallback; δ, γ = 120″,
     ω_gc = 0.15″/s, N1, N3 nonzero).  The full nonlinear Eq. (3) with the shaping filters is
     integrated independently by Radau (rtol 1e-12): the truth's β (exponential midpoint rule
     at Δt/10, reported against the filter's nominal) agrees to 1e-11 rad over 5 s (Δβ is
     ~1e-6 rad)."""
     p = P
     x0 = np.zeros(10)
-    x0[2] = 0.05
+    x0[2] = psi
     x0[3] = 0.15 * ARCSEC_PAPER
     x0[4] = x0[5] = 120 * ARCSEC_PAPER
     x0[6], x0[7], x0[8], x0[9] = 1e-3, 2e-5, 5e-8, -1e-7
