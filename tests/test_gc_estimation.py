@@ -156,29 +156,6 @@ def test_sweep_matches_single_runs():
     assert out[0] == pytest.approx(single, rel=1e-12)
 
 
-@pytest.mark.parametrize(
-    ("call", "exc", "match"),
-    [
-        (lambda: gc.covariance_analysis(P, 0.0), ValueError, "t_end"),
-        (lambda: gc.covariance_analysis(P, 1.0005), ValueError, "t_end must be a positive"),
-        (lambda: gc.covariance_analysis(P, 1.0, method="slow"), ValueError, "method"),
-        (lambda: gc.covariance_analysis("p", 1.0), TypeError, "params"),
-        (lambda: gc.monte_carlo(P, 0, 1.0, seed=1), ValueError, "n_runs"),
-        (lambda: gc.monte_carlo(P, 2, 1.0, seed=1.5), TypeError, "seed"),
-        (lambda: gc.monte_carlo(P, 2, 1.0, seed=1, truth="x"), ValueError, "truth"),
-        (lambda: gc.simulate_truth(P, 1.0, np.zeros(9)), ValueError, "x0"),
-        (lambda: gc.sweep_sigma_gc(P, "nope", [1.0]), ValueError, "field"),
-        (lambda: gc.sweep_sigma_gc(P, "alpha1", [-1.0]), ValueError, "alpha1"),
-        (lambda: filtering.nees_bounds(0, 10), ValueError, "dof"),
-        (lambda: gc.covariance_analysis(P, 1.0).std("bogus"), ValueError, "name"),
-    ],
-)
-def test_inputs_are_validated(call, exc, match):
-    """Bad input is rejected by name (the full table is test_validation_gc.py)."""
-    with pytest.raises(exc, match=match):
-        call()
-
-
 def test_state_index_used_for_results():
     """Results are indexed by state name in the order of STATE_NAMES."""
     res = gc.covariance_analysis(P, 0.01)
