@@ -65,6 +65,17 @@ UNITS: Final[dict[str, float]] = {
     "g": G0,
     "m/s^2": 1.0,
     "1": 1.0,
+    "permille": 1e-3,
+    "m": 1.0,
+    "km": 1000.0,
+    "deg/sqrt_h": DEG / 60.0,
+    "s": 1.0,
+    "ms": 1e-3,
+    "min": 60.0,
+    "Hz": 2.0 * math.pi,
+    "mHz": 2.0 * math.pi * 1e-3,
+    "mg": G0 * 1e-3,
+    "%": 1e-2,
 }
 
 

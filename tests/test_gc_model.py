@@ -34,6 +34,8 @@ OTHER = GyrocompassParams(I=2e-4, H=0.3, f=0.11, Omega_v=3e-5, Omega_h=6e-5, g=9
 @pytest.mark.parametrize("coupling", symbolic.COUPLINGS)
 @pytest.mark.parametrize("params", [GyrocompassParams(), OTHER], ids=["paper", "other"])
 def test_library_matrices_equal_sympy_derivation(coupling, params):
+    """Numeric F, G, D of Eq. (8) equal the sympy derivation (both couplings, two parameter
+    sets, several β_n) to 1e-13."""
     p = dataclasses.replace(params, vertical_coupling=coupling)
     for beta_n in BETAS:
         F_sym, G_sym, D_sym = symbolic.numeric_matrices(p, beta_n)
@@ -45,6 +47,7 @@ def test_library_matrices_equal_sympy_derivation(coupling, params):
 
 
 def test_symbolic_state_order_is_the_library_order():
+    """The sympy state vector is gyrolib's STATE_NAMES order (X1 = Δβ, X2 = Δβ')."""
     names = [str(x) for x in symbolic.state_space().x]
     assert names == [r"\Delta\beta", r"\Delta\dot{\beta}", "psi", "omega_gc", "delta", "gamma",
                      "N_1", "N_2", "N_3", "N_4"]
@@ -58,6 +61,8 @@ def _mismatches(model):
 def test_derivation_matches_paper_listing_except_the_settled_errata():
     # With X1 = Δβ, X2 = Δβ', every printed entry is reproduced except F(8,7) (printed without
     # its minus sign) and, for the Eq. (5) coupling, the δ/γ pair F(2,5), F(2,6).
+    """The derived F, G, D match the printed listing except F(8,7) and (for eq5) the δ/γ pair;
+    the printed X1, X2 labels contradict it."""
     assert _mismatches(symbolic.state_space("eq5")) == {("F", 2, 5), ("F", 2, 6), ("F", 8, 7)}
     assert _mismatches(symbolic.state_space("printed_F")) == {("F", 8, 7)}
     # The printed labels (X1 = Δβ') contradict the printed F and D in many entries.
@@ -65,6 +70,8 @@ def test_derivation_matches_paper_listing_except_the_settled_errata():
 
 
 def test_taylor_expansion_gives_eq4_and_the_printed_eq5():
+    """Orders 0 and 1 of the Taylor expansion of Eq. (3) are the printed Eqs. (4) and (5) (plus
+    the unbalance torque)."""
     lin = symbolic.taylor_linearization()
     t, bn, db = S.t, S.beta_n(S.t), S.dbeta(S.t)
     eq4 = S.I * bn.diff(t, 2) + S.f * bn.diff(t) - S.H * S.Omega_h * sp.cos(bn)
@@ -78,6 +85,8 @@ def test_taylor_expansion_gives_eq4_and_the_printed_eq5():
 
 
 def test_minus_sign_in_eq1_mirrors_the_motion_and_flips_only_the_delta_term():
+    """With −H Ω_h cos(β − ψ) in Eq. (1), the mirrored linearization differs from Eq. (5) only
+    in the sign of the δ term."""
     plus = symbolic.taylor_linearization(sign=1).order1
     minus = symbolic.taylor_linearization(sign=-1).order1
     bn = S.beta_n(S.t)
@@ -88,6 +97,8 @@ def test_minus_sign_in_eq1_mirrors_the_motion_and_flips_only_the_delta_term():
 
 
 def test_relabelling_maps_eq5_with_reversed_unbalance_onto_printed_listing():
+    """The signed permutation maps the eq5 model with reversed ω_ub exactly onto the printed
+    listing, and leaves P0 and R invariant."""
     rel = symbolic.relabelling()
     a, b = symbolic.state_space("eq5"), symbolic.state_space("printed_F")
     Fa = a.F.subs(S.omega_ub, -S.omega_ub)
@@ -109,6 +120,8 @@ def test_relabelling_maps_eq5_with_reversed_unbalance_onto_printed_listing():
 
 
 def test_printed_F87_makes_the_vibration_filter_unstable():
+    """With F(8,7) = +α1² the vibration block has det = −α1² and a positive eigenvalue (closed
+    form)."""
     a, xi = S.alpha1, S.xi1
     block = sp.Matrix([[0, 1], [a**2, -2 * xi * a]])
     # det = −α² < 0: the two eigenvalues are real with opposite signs, for every α, ξ > 0.
@@ -121,6 +134,8 @@ def test_printed_F87_makes_the_vibration_filter_unstable():
 
 # Nominal motion, Eq. (4) ------------------------------------------------------------------------
 def test_nominal_motion_at_100_s_against_an_independent_integrator():
+    """Radau solution of Eq. (4) against DOP853 on the difference from the aperiodic solution:
+    1e-12 rad over 100 s; 0.5° as printed."""
     p = GyrocompassParams()
     t = np.linspace(0.0, 100.0, 2001)
     radau = nominal_motion(p, t)
@@ -139,6 +154,7 @@ def test_nominal_motion_at_100_s_against_an_independent_integrator():
 
 def test_nominal_motion_early_times_match_the_linear_closed_form():
     # For β ≪ 1, cos β ≈ 1 and Eq. (4) is linear: β = k (t − τ (1 − e^{−t/τ})), k = HΩ_h/f.
+    """For t ≤ 20 ms (β ≪ 1) Eq. (4) is linear: β = k (t − τ (1 − e^{−t/τ})) to 1e-9."""
     p = GyrocompassParams()
     k, tau = p.H * p.Omega_h / p.f, p.I / p.f
     t = np.linspace(0.0, 0.02, 201)
@@ -149,6 +165,7 @@ def test_nominal_motion_early_times_match_the_linear_closed_form():
 
 
 def test_aperiodic_approximation_lags_by_k_tau():
+    """For t ≫ τ the full nominal motion lags the aperiodic one by k τ (to 1e-4)."""
     p = GyrocompassParams()
     k, tau = p.H * p.Omega_h / p.f, p.I / p.f
     t = np.array([0.05, 1.0, 10.0, 100.0])
@@ -161,15 +178,17 @@ def test_aperiodic_approximation_lags_by_k_tau():
 # Validation of GyrocompassParams ----------------------------------------------------------------
 _POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
              "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
-_NONNEGATIVE = ("omega_ub", "sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
-                "sigma_delta0", "sigma_gamma0")
+_REAL = ("omega_ub",)
+_NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
+                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale")
 _DAMPING = ("xi1", "xi2")
-_CHOICES = ("shaping_p0", "measurement_noise", "vertical_coupling")
+_CHOICES = ("shaping_p0", "measurement_noise", "vertical_coupling", "eq1_sign")
 
 
 def test_every_field_is_in_exactly_one_validation_class():
+    """Every GyrocompassParams field is in exactly one of the validation classes below."""
     names = [f.name for f in dataclasses.fields(GyrocompassParams)]
-    classes = (*_POSITIVE, *_NONNEGATIVE, *_DAMPING, *_CHOICES)
+    classes = (*_POSITIVE, *_REAL, *_NONNEGATIVE, *_DAMPING, *_CHOICES)
     assert sorted(names) == sorted(classes)
 
 
@@ -182,6 +201,8 @@ def _bad_values(name):
     if name in _NONNEGATIVE:
         return [(x, TypeError) for x in wrong_type] + [
             (x, ValueError) for x in (*non_finite, -1e-300, -1.0)]
+    if name in _REAL:
+        return [(x, TypeError) for x in wrong_type] + [(x, ValueError) for x in non_finite]
     if name in _DAMPING:
         return [(x, TypeError) for x in wrong_type] + [
             (x, ValueError) for x in (*non_finite, 0.0, -0.2, 1.0000001, 2.0)]
@@ -190,18 +211,112 @@ def _bad_values(name):
 
 @pytest.mark.parametrize("name", [f.name for f in dataclasses.fields(GyrocompassParams)])
 def test_invalid_values_raise_naming_the_field(name):
+    """Wrong types, non-finite and out-of-range values of each field raise naming the field."""
     for bad, err in _bad_values(name):
         with pytest.raises(err, match=rf"\b{name}\b"):
             dataclasses.replace(GyrocompassParams(), **{name: bad})
 
 
 def test_valid_edge_values_are_accepted_and_stored_as_float():
-    p = dataclasses.replace(GyrocompassParams(), xi1=1, xi2=np.float64(1e-9), omega_ub=0,
-                            I=np.int64(1))
+    """Edge values (ξ = 1, ints, numpy scalars, negative ω_ub, κ = 0) are accepted and stored as
+    float; every choice is accepted."""
+    p = dataclasses.replace(GyrocompassParams(), xi1=1, xi2=np.float64(1e-9), omega_ub=-1,
+                            I=np.int64(1), shaping_p0_scale=0)
     assert p.xi1 == 1.0 and type(p.xi1) is float
-    assert type(p.I) is float and type(p.xi2) is float
-    for name in ("shaping_p0", "measurement_noise", "vertical_coupling"):
+    assert type(p.I) is float and type(p.xi2) is float and type(p.omega_ub) is float
+    for name in ("shaping_p0", "measurement_noise", "vertical_coupling", "eq1_sign"):
         for choice in {"shaping_p0": ("stationary", "zero"),
                        "measurement_noise": ("intensity_over_dt", "variance"),
-                       "vertical_coupling": ("eq5", "printed_F")}[name]:
+                       "vertical_coupling": ("eq5", "printed_F"),
+                       "eq1_sign": ("+", "-")}[name]:
             assert getattr(dataclasses.replace(p, **{name: choice}), name) == choice
+
+
+# Model options: sign of Eq. (1), unbalance sign, P0 scale --------------------------------------
+@pytest.mark.parametrize("coupling", symbolic.COUPLINGS)
+@pytest.mark.parametrize("params", [GyrocompassParams(), OTHER], ids=["paper", "other"])
+def test_eq1_minus_sign_equals_the_mirrored_sympy_model(coupling, params):
+    """F with eq1_sign="-" at β_n equals sympy's linearization of Eq. (3) with −H Ω_h cos(β−ψ)
+    evaluated on its own (mirrored) nominal motion −β_n; and it differs from the "+" model."""
+    p = dataclasses.replace(params, vertical_coupling=coupling, eq1_sign="-")
+    model = symbolic.state_space(coupling, sign=-1)
+    fn = sp.lambdify([S.beta_n_sym], model.F.subs(symbolic.parameter_values(p)), "numpy")
+    for beta_n in BETAS[1:]:
+        F_sym = np.array(fn(-beta_n), dtype=float)
+        F = system_matrix(p, beta_n)
+        np.testing.assert_allclose(F, F_sym, rtol=1e-13, atol=1e-15 * np.abs(F_sym).max())
+        plus = system_matrix(dataclasses.replace(p, eq1_sign="+"), beta_n)
+        assert np.abs(F - plus).max() > 1e-3 * np.abs(plus[1, 4:6]).max()
+
+
+def test_reversed_unbalance_makes_the_two_listings_give_the_same_sigma():
+    """The symbolic relabelling (T, reversed ω_ub) maps eq5 onto printed_F, so σ_gc of the
+    two must agree to rounding (1e-9 over 2 s); with the same unbalance sign they differ."""
+    from gyrolib.gc import covariance_analysis
+
+    p = GyrocompassParams()
+    prf = dataclasses.replace(p, vertical_coupling="printed_F")
+    a = covariance_analysis(p, 2.0).std("omega_gc")[1:]
+    b = covariance_analysis(dataclasses.replace(prf, omega_ub=-p.omega_ub), 2.0)
+    c = covariance_analysis(prf, 2.0)
+    assert np.max(np.abs(b.std("omega_gc")[1:] / a - 1)) < 1e-9
+    assert np.max(np.abs(c.std("omega_gc")[1:] / a - 1)) > 1e-6
+
+
+def test_shaping_p0_scale_multiplies_the_stationary_covariance():
+    """P(0) of N1…N4 is κ times the Lyapunov solution; κ = 0 equals the "zero" reading."""
+    p = GyrocompassParams()
+    P1 = initial_covariance(p)
+    Pk = initial_covariance(dataclasses.replace(p, shaping_p0_scale=0.3))
+    np.testing.assert_allclose(Pk[6:, 6:], 0.3 * P1[6:, 6:], rtol=1e-15, atol=0)
+    np.testing.assert_array_equal(Pk[:6, :6], P1[:6, :6])
+    np.testing.assert_allclose(P1[6:8, 6:8],
+                               p.vibration_filter().stationary_covariance(), rtol=1e-15)
+    P0 = initial_covariance(dataclasses.replace(p, shaping_p0_scale=0.0))
+    np.testing.assert_array_equal(P0, initial_covariance(dataclasses.replace(
+        p, shaping_p0="zero")))
+
+
+# Discretization options and sweeps -------------------------------------------------------------
+def test_euler_discretization_is_the_first_order_step():
+    """method="euler": Φ = I + F Δt and Qd = G Q Gᵀ Δt (closed form), against the exact
+    Van Loan step which differs at second order (F Δt)²/2."""
+    from gyrolib.gc import discretize, process_noise_intensity
+
+    p = GyrocompassParams()
+    d = discretize(p, 0.01, method="euler")
+    for k in (0, 9):
+        F = system_matrix(p, float(d.beta_mid[k]))
+        G, Q = noise_input_matrix(p), process_noise_intensity(p)
+        Phi, Qd = d.exact_step(k)
+        np.testing.assert_allclose(Phi, np.eye(10) + F * p.dt, rtol=1e-15, atol=1e-18)
+        np.testing.assert_allclose(Qd, G @ Q @ G.T * p.dt, rtol=1e-15, atol=0)
+        np.testing.assert_allclose(d.model.phi(k), Phi, rtol=1e-12, atol=1e-15)
+        Phi_exact = discretize(p, 0.01).exact_step(k)[0]
+        second = 0.5 * (F @ F) * p.dt**2
+        assert np.abs(Phi_exact - Phi).max() == pytest.approx(np.abs(second).max(), rel=0.5)
+
+
+def test_euler_covariance_fast_path_equals_its_reference_path():
+    """The numba path on the Euler affine model equals the plain-numpy path (1e-9, 0.2 s)."""
+    from gyrolib.gc import covariance_analysis
+
+    p = GyrocompassParams()
+    a = covariance_analysis(p, 0.2, discretization="euler")
+    b = covariance_analysis(p, 0.2, discretization="euler", method="reference")
+    for name in ("dbeta", "omega_gc", "delta", "N1"):
+        np.testing.assert_allclose(a.std(name), b.std(name), rtol=1e-9, atol=0, err_msg=name)
+
+
+def test_sweep_covariance_equals_single_runs_in_grid_order():
+    """sweep_covariance over parameter_grid: one analysis per combination, last field fastest,
+    each equal to the direct covariance_analysis of the replaced parameters."""
+    from gyrolib.gc import covariance_analysis, parameter_grid, sweep_covariance
+
+    p = GyrocompassParams()
+    cases = parameter_grid(shaping_p0=("stationary", "zero"), xi1=(0.5, 0.7))
+    assert cases[1] == {"shaping_p0": "stationary", "xi1": 0.7}
+    sw = sweep_covariance(p, cases, 0.5)
+    for case, got in zip(cases, sw.final_std()):
+        want = covariance_analysis(dataclasses.replace(p, **case), 0.5).final_std()
+        assert got == pytest.approx(want, rel=1e-12)

@@ -31,11 +31,14 @@ DRIFT_CASES = [(PAPER.alpha2, PAPER.xi2, PAPER.sigma2_sq), (50.0, 0.9, 1.0), (0.
 
 # Closed forms ------------------------------------------------------------------------------------
 def test_sympy_intensities_give_the_printed_variances():
+    """Q1 = 2ξ1α1σ1² and Q2 = 4ξ2α2³σ2² give the variances σ1², σ2² (symbolic Lyapunov
+    equation)."""
     assert sp.simplify(symbolic.shaping_filter("vibration").output_variance() - S.sigma1_sq) == 0
     assert sp.simplify(symbolic.shaping_filter("drift").output_variance() - S.sigma2_sq) == 0
 
 
 def test_other_noise_readings_do_not_give_the_printed_variances():
+    """The other placements of the noise in Eqs. (6), (7) do not give σ1², σ2² (symbolic)."""
     vib = symbolic.shaping_filter("vibration", "second_line_only").output_variance()
     assert sp.simplify(vib - S.sigma1_sq * (1 - 2 * S.xi1) ** 2 / 2) == 0
     drift = symbolic.shaping_filter("drift", "both_lines").output_variance()
@@ -43,6 +46,7 @@ def test_other_noise_readings_do_not_give_the_printed_variances():
 
 
 def test_vibration_filter_transfer_function_is_s_plus_alpha_over_second_order():
+    """The realization of Eq. (6) has the transfer function (s + α1)/(s² + 2ξ1α1 s + α1²)."""
     tf = symbolic.shaping_filter("vibration").transfer_function()
     a, xi, s = S.alpha1, S.xi1, S.s
     assert sp.simplify(tf - (s + a) / (s**2 + 2 * xi * a * s + a**2)) == 0
@@ -50,17 +54,21 @@ def test_vibration_filter_transfer_function_is_s_plus_alpha_over_second_order():
 
 @pytest.mark.parametrize("alpha, xi, s2", VIB_CASES)
 def test_vibration_variance_lyapunov(alpha, xi, s2):
+    """Numeric Lyapunov variance of Eq. (6) equals σ1² for random α, ξ, σ²."""
     filt = vibration_filter(alpha, xi, s2)
     assert filt.variance() == pytest.approx(s2, rel=1e-9)
 
 
 @pytest.mark.parametrize("alpha, xi, s2", DRIFT_CASES)
 def test_drift_variance_lyapunov(alpha, xi, s2):
+    """Numeric Lyapunov variance of Eq. (7) equals σ2² for random α, ξ, σ²."""
     filt = random_drift_filter(alpha, xi, s2)
     assert filt.variance() == pytest.approx(s2, rel=1e-9)
 
 
 def test_psd_equals_the_closed_form_spectrum():
+    """python-control's |H(jω)|² PSD equals the closed-form rational spectrum; the two-sided PSD
+    is even."""
     a, xi, s2 = VIB_CASES[0]
     filt = vibration_filter(a, xi, s2)
     w = np.logspace(-5, 3, 57)
@@ -80,6 +88,7 @@ def test_psd_equals_the_closed_form_spectrum():
 @pytest.mark.parametrize("make, case", [(vibration_filter, c) for c in VIB_CASES]
                          + [(random_drift_filter, c) for c in DRIFT_CASES])
 def test_area_under_psd_equals_variance(make, case):
+    """The quadrature of the one-sided PSD equals the Lyapunov variance (paper GC, Figure 2)."""
     filt = make(*case)
     assert psd_integral(filt) == pytest.approx(case[2], rel=1e-9)
 
@@ -87,6 +96,7 @@ def test_area_under_psd_equals_variance(make, case):
 # Discretization and simulation --------------------------------------------------------------------
 @pytest.mark.parametrize("dt", [1e-3, 0.37, 25.0])
 def test_discretization_preserves_the_stationary_covariance(dt):
+    """Van Loan's Φ, Qd keep the stationary covariance stationary: Φ P Φᵀ + Qd = P."""
     for filt in (PAPER.vibration_filter(), PAPER.random_drift_filter()):
         Phi, Qd = filt.discretize(dt)
         np.testing.assert_allclose(Phi, scipy.linalg.expm(filt.A * dt), rtol=1e-12, atol=1e-15)
@@ -102,6 +112,8 @@ def test_discretization_preserves_the_stationary_covariance(dt):
 @pytest.mark.parametrize("which, dt, n, seed", [("vibration", 5.0, 2_000_000, 20260101),
                                                 ("drift", 0.05, 2_000_000, 20260102)])
 def test_simulated_variance_within_five_standard_errors(which, dt, n, seed):
+    """The mean square of a seeded exact simulation lies within 5 standard errors of the
+    variance."""
     filt = PAPER.vibration_filter() if which == "vibration" else PAPER.random_drift_filter()
     sigma_sq = PAPER.sigma1_sq if which == "vibration" else PAPER.sigma2_sq
     y = simulate_shaping_filter(filt, dt, n, seed)
@@ -113,6 +125,8 @@ def test_simulated_variance_within_five_standard_errors(which, dt, n, seed):
 def test_standard_error_formula_against_replicated_runs():
     # 300 independent seeded runs: the spread of their mean squares estimates the standard
     # error with a relative uncertainty ≈ 1/sqrt(2·300) ≈ 4 %; allow 5 of those.
+    """The standard-error formula matches the spread of 300 independent seeded runs (within 5 ×
+    4 %)."""
     filt = PAPER.vibration_filter()
     dt, n = 5.0, 10_000
     ms = np.array([np.mean(simulate_shaping_filter(filt, dt, n, seed) ** 2) for seed in range(300)])
@@ -122,6 +136,7 @@ def test_standard_error_formula_against_replicated_runs():
 
 
 def test_simulation_is_reproducible_and_seed_dependent():
+    """Same seed, same series; different seed, different series."""
     filt = PAPER.random_drift_filter()
     a = simulate_shaping_filter(filt, 0.01, 1000, 7)
     np.testing.assert_array_equal(a, simulate_shaping_filter(filt, 0.01, 1000, 7))
@@ -129,6 +144,7 @@ def test_simulation_is_reproducible_and_seed_dependent():
 
 
 def test_simulated_lag_one_correlation_matches_the_model():
+    """The simulated lag-one covariance matches C Φ P Cᵀ within 5 standard errors."""
     filt = PAPER.random_drift_filter()
     dt, n = 0.05, 1_000_000
     y = simulate_shaping_filter(filt, dt, n, 11)
@@ -143,6 +159,8 @@ def test_simulated_lag_one_correlation_matches_the_model():
 
 # The printed sign of F(8,7) -----------------------------------------------------------------------
 def test_printed_F87_has_no_stationary_covariance():
+    """With the printed F(8,7) the Lyapunov solver refuses the unstable block (no stationary
+    covariance)."""
     base = PAPER.vibration_filter()
     printed = ShapingFilter(A=np.array([[0.0, 1.0], [PAPER.alpha1**2, -2 * PAPER.xi1 *
                                                      PAPER.alpha1]]),
@@ -153,6 +171,7 @@ def test_printed_F87_has_no_stationary_covariance():
 
 
 def test_bad_arguments_are_rejected_by_name():
+    """Bad arguments of the shaping-filter functions raise naming the argument."""
     filt = PAPER.random_drift_filter()
     with pytest.raises(ValueError, match="dt"):
         filt.discretize(0.0)
@@ -162,3 +181,19 @@ def test_bad_arguments_are_rejected_by_name():
         simulate_shaping_filter(filt, 0.1, 10, 1.5)
     with pytest.raises(TypeError, match="filt"):
         psd("not a filter", np.ones(3))
+
+
+def test_autocorrelation_of_the_drift_filter_matches_the_closed_form():
+    """N3 of Eq. (7) (no zero): ρ(τ) = e^{−ξατ}(cos ω_d τ + ξ/√(1−ξ²) sin ω_d τ),
+    ω_d = α√(1−ξ²); and ρ(0) = 1 for the vibration filter of Eq. (6)."""
+    from gyrolib.gc import GyrocompassParams
+
+    p = GyrocompassParams()
+    filt = p.random_drift_filter()
+    a, xi = p.alpha2, p.xi2
+    wd = a * np.sqrt(1 - xi**2)
+    for tau in (0.0, 0.05, 0.3, 1.0, -0.3):
+        t = abs(tau)
+        want = np.exp(-xi * a * t) * (np.cos(wd * t) + xi / np.sqrt(1 - xi**2) * np.sin(wd * t))
+        assert filt.autocorrelation(tau) == pytest.approx(want, rel=1e-10, abs=1e-14)
+    assert p.vibration_filter().autocorrelation(0.0) == pytest.approx(1.0, rel=1e-12)

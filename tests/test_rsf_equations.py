@@ -19,11 +19,13 @@ W300 = 300.0 * DEG
 
 # Hand-checkable cases ----------------------------------------------------------------------------
 def test_measurement_model_by_hand():
+    """ω_x = (1 + ε1) ω + ε0 against hand-computed readings."""
     assert rsf.gyro_output(1.0, 1e-3, 2e-3) == pytest.approx(1.003, abs=1e-15)
     np.testing.assert_allclose(rsf.gyro_output(np.array([0.0, 2.0]), 0.5, 0.0), [0.0, 3.0])
 
 
 def test_eq1_eq2_eq3_by_hand():
+    """Eqs. (1)–(3) (difference, ε̂1, both forms of K, corrected rate) against hand arithmetic."""
     assert rsf.roll_difference(1.25, 1.0) == pytest.approx(0.25)
     # 0.01 rad over 5 s at 10 rad/s: 0.01 / 50 = 2e-4.
     assert rsf.sf_error_estimate(0.01, 10.0, 5.0) == pytest.approx(2e-4, rel=1e-14)
@@ -34,6 +36,8 @@ def test_eq1_eq2_eq3_by_hand():
 
 def test_eq4_eq9_eq7_by_hand():
     # Eq. (4): 600 ppm of 3600 °/s for 10 s is 21.6°.
+    """Eq. (4) (21.6° at 10 s), Eq. (9) (0.363°) and Eq. (7) (0.7665°/4500°) against hand
+    arithmetic."""
     assert from_si(rsf.sins_roll_error(600 * PPM, W3600, 10.0), "deg") == pytest.approx(21.6)
     # Eq. (9): 3.3e-3 °/s for 10 s plus 0.33°.
     assert from_si(rsf.gs_roll_error_ideal(3.3e-3 * DEG, 10.0, 0.33 * DEG), "deg") \
@@ -48,6 +52,7 @@ def test_eq4_eq9_eq7_by_hand():
 
 def test_eq8_cubic_by_hand():
     # g ε1 ω t³ / 6 with ω = 62.83 rad/s: 9.80665 * 6e-4 * 62.8319 * 1000 / 6 = 61.617 m.
+    """Eq. (8)'s cubic g ε1 ω t³/6 against its hand value, 61.617 m at 10 s."""
     expected = 9.80665 * 6e-4 * (3600 * math.pi / 180) * 1000 / 6
     assert rsf.lateral_deviation_cubic(600 * PPM, W3600, 10.0) == pytest.approx(expected)
     assert expected == pytest.approx(61.617, abs=1e-3)
@@ -68,6 +73,8 @@ def _increments():
 
 
 def test_eq2_and_the_two_readings_of_k_from_sympy():
+    """ε̂1 and both readings of K against a SymPy derivation from the measurement model (linear
+    exact, reciprocal off by ε1²)."""
     sins, _, _ = _increments()
     noise_free = sins - w * dt
     eps1_hat = noise_free / (sins / dt * dt)           # Eq. (2): measured rate in the denominator
@@ -90,6 +97,7 @@ def test_eq2_and_the_two_readings_of_k_from_sympy():
 
 
 def test_eq3_eq4_eq6_eq9_from_sympy():
+    """Eqs. (3), (4), (6) and (9) against their SymPy integrals of the error models."""
     e0, tau = sp.symbols("epsilon_0 tau", positive=True)
     e_hat = sp.Symbol("hat_epsilon_1", positive=True)
     # Eq. (4): integrate the measurement model's error.
@@ -110,6 +118,7 @@ def test_eq3_eq4_eq6_eq9_from_sympy():
 
 
 def test_eq5_and_eq7_from_sympy():
+    """Eqs. (5) and (7) against δK derived symbolically from Eqs. (1)–(3) and the GS error."""
     sins, gs, gs_error = _increments()
     dgamma = sins - gs                                  # Eq. (1)
     eps1_hat = dgamma / sins                            # Eq. (2), ω_x Δt = ∫ω_x dt
@@ -130,6 +139,8 @@ def test_eq5_and_eq7_from_sympy():
 
 
 def test_eq8_from_sympy_cubic_and_exact():
+    """The cubic and exact lateral deviation against SymPy's double integrals of g a t and g sin(a
+    t)."""
     a, u, s = sp.symbols("a u s", positive=True)
     exact = sp.integrate(sp.integrate(g * sp.sin(a * u), (u, 0, s)), (s, 0, t))
     assert sp.simplify(exact - g * (a * t - sp.sin(a * t)) / a**2) == 0
@@ -147,6 +158,7 @@ def test_eq8_from_sympy_cubic_and_exact():
 
 
 def test_eq8_exact_against_quadrature_and_small_angle_limit():
+    """The closed-form exact Δr_z against adaptive quadrature and, for small angles, the cubic."""
     av = 600e-6 * W3600
     for tv in (1e-3, 10.0, 60.0, 120.0):
         # ∫∫ f = ∫₀ᵗ (t − s) f(s) ds, by adaptive quadrature.
@@ -159,6 +171,8 @@ def test_eq8_exact_against_quadrature_and_small_angle_limit():
 
 
 def test_eq8_cubic_and_exact_diverge_once_the_angle_is_large():
+    """The cubic overstates the exact Δr_z once the roll error reaches tens of degrees (ratios at
+    Table 2's times)."""
     tab = rsf.table2()
     ratio = tab.dr_z_exact / tab.dr_z_cubic
     assert ratio[0] == pytest.approx(1.0, abs=0.01)          # 21.6°: small angle still fair
@@ -167,12 +181,14 @@ def test_eq8_cubic_and_exact_diverge_once_the_angle_is_large():
 
 # The paper's tables against the print ------------------------------------------------------------
 def test_table2_roll_error_reproduces_the_print_exactly():
+    """Table 2's Δγ_SINS against the printed 21.6°, 129.6°, 259.2° to the print's digits."""
     tab = rsf.table2()
     np.testing.assert_allclose(from_si(tab.dgamma_sins, "deg"), [21.6, 129.6, 259.2],
                                rtol=1e-12)
 
 
 def test_table2_lateral_deviation_follows_t_cubed_but_not_the_printed_constant():
+    """The printed Δr_z scale exactly as t³ but sit a constant factor off g ε1 ω/6."""
     printed = np.array([21.25, 4590.0, 36730.0])
     # The print scales as t³ within its rounding (ratios 216 and 8).
     assert printed[1] / printed[0] == pytest.approx(216.0, rel=1e-3)
@@ -184,6 +200,7 @@ def test_table2_lateral_deviation_follows_t_cubed_but_not_the_printed_constant()
 
 
 def test_table3_reproduces_the_print_with_the_papers_truncated_bias():
+    """Table 3 against the print with ε0,GS = 3.3·10⁻³ °/s, and off it with the consistent ε0,GS."""
     printed_eps0_t = [0.033, 0.198, 0.396]
     printed_gs = [0.363, 0.528, 0.726]
     tab = rsf.table3(eps0_gs=float(to_si(3.3e-3, "deg/s")))
@@ -199,6 +216,8 @@ def test_table3_reproduces_the_print_with_the_papers_truncated_bias():
 
 
 def test_worked_example_with_and_without_the_ppm_slip():
+    """The worked example gives the printed 0.093 only with ε1,GS = 280·10⁻³ and 1.70·10⁻⁴ with
+    280 ppm."""
     consistent = rsf.worked_example_delta_k()
     assert consistent == pytest.approx(1.704e-4, rel=1e-3)
     slip = rsf.worked_example_delta_k(eps0_gs=float(to_si(3.3e-3, "deg/s")), eps1_gs=280e-3)
@@ -206,6 +225,8 @@ def test_worked_example_with_and_without_the_ppm_slip():
 
 
 def test_delta_k_is_the_residual_scale_factor_error_and_the_share_compensated():
+    """δK equals the residual SF error K(1 + ε1) − 1, and the share removed is 1 − δK/ε1 (72 % in
+    the example)."""
     for k in (0.999, 0.9994, 1.0):
         assert rsf.relative_k_error(k, 600e-6) == pytest.approx(rsf.residual_sf_error(600e-6, k),
                                                                abs=1e-15)
@@ -216,6 +237,7 @@ def test_delta_k_is_the_residual_scale_factor_error_and_the_share_compensated():
 
 # Sensor records and validation ----------------------------------------------------------------
 def test_sensor_records_hold_the_papers_values_in_si():
+    """The sensor records hold the paper's values, converted to SI by hand."""
     assert from_si(rsf.SIIMU02_ROLL.bias_instability, "deg/h") == pytest.approx(100.0)
     assert rsf.SIIMU02_ROLL.sf_error == pytest.approx(600e-6)
     assert from_si(rsf.GYPRO4300.bias_repeatability, "deg/h") == pytest.approx(10.0)
@@ -228,39 +250,60 @@ def test_sensor_records_hold_the_papers_values_in_si():
     assert changed.bias_total == pytest.approx(rsf.GYPRO4300.bias_repeatability)
 
 
-@pytest.mark.parametrize("make, name", [
-    (lambda: rsf.RollGyroSpec(sf_error=-1e-4), "sf_error"),
-    (lambda: rsf.RollGyroSpec(sf_error=1.0), "sf_error"),
-    (lambda: rsf.RollGyroSpec(bias_instability=math.nan), "bias_instability"),
-    (lambda: rsf.RollGyroSpec(dynamic_range=0.0), "dynamic_range"),
-    (lambda: rsf.MemsGyroSpec(bias_repeatability=-1.0), "bias_repeatability"),
-    (lambda: rsf.MemsGyroSpec(bias_stability=math.inf), "bias_stability"),
-    (lambda: rsf.EncoderSpec(position_error=-0.1), "position_error"),
-    (lambda: rsf.EncoderSpec(cycles_per_rev=0), "cycles_per_rev"),
-    (lambda: rsf.EncoderSpec(quadrature=3), "quadrature"),
-    (lambda: rsf.sf_error_estimate(0.01, 10.0, 0.0), "dt"),
-    (lambda: rsf.sf_error_estimate(0.01, 0.0, 5.0), "omega_x"),
-    (lambda: rsf.delta_k(1e-5, 1e-3, 0.0, 5.0), "omega_x"),
-    (lambda: rsf.delta_k(-1e-5, 1e-3, 1.0, 5.0), "eps0_gs"),
-    (lambda: rsf.delta_k(1e-5, -1e-3, 1.0, 5.0), "dgamma_enc"),
-    (lambda: rsf.correction_coefficient(0.1, "square"), "form"),
-    (lambda: rsf.correction_coefficient(-1.0, "reciprocal"), "eps1_hat"),
-    (lambda: rsf.sins_roll_error(6e-4, 1.0, [-1.0, 2.0]), "t"),
-    (lambda: rsf.lateral_deviation_exact(6e-4, 1.0, 10.0, g=0.0), "g"),
-    (lambda: rsf.gyro_output(1.0, 2.0), "eps1"),
-    (lambda: rsf.table2(times=[]), "times"),
-])
-def test_invalid_inputs_raise_value_error_naming_the_parameter(make, name):
-    with pytest.raises(ValueError, match=name):
-        make()
+# The claims' computations against independent references ------------------------------------------
+@pytest.mark.parametrize("t", [0.5, 10.0, 60.0, 120.0])
+def test_vertical_deviation_is_the_double_integral_of_g_one_minus_cos(t):
+    """The closed-form vertical deviation against adaptive quadrature of ∫∫ g (1 − cos a u)."""
+    a = 600 * PPM * W3600
+    inner = lambda s: quad(lambda u: G0 * (1.0 - math.cos(a * u)), 0.0, s)[0]  # noqa: E731
+    reference = quad(inner, 0.0, t, limit=200)[0]
+    assert rsf.vertical_deviation_exact(600 * PPM, W3600, t) == pytest.approx(reference,
+                                                                              rel=1e-8)
 
 
-@pytest.mark.parametrize("make, name", [
-    (lambda: rsf.RollGyroSpec(sf_error="600 ppm"), "sf_error"),
-    (lambda: rsf.EncoderSpec(cycles_per_rev=1000.0), "cycles_per_rev"),
-    (lambda: rsf.delta_k(True, 1e-3, 1.0, 5.0), "eps0_gs"),
-    (lambda: rsf.table2(gyro=rsf.GYPRO4300), "gyro"),
-])
-def test_wrong_types_raise_type_error_naming_the_parameter(make, name):
-    with pytest.raises(TypeError, match=name):
-        make()
+def test_vertical_exceeds_lateral_only_past_a_large_roll_error():
+    """The vertical component is negligible at 10 s, smaller at 60 s and larger than the lateral
+    one at 120 s (259°); its small-angle limit is g a² t⁴/24."""
+    tab = rsf.table2()
+    # 21.6° at 10 s: vertical ≪ lateral; 129.6°: still smaller; 259.2° at 120 s: larger.
+    assert tab.dr_y_exact[0] < 0.1 * tab.dr_z_exact[0]
+    assert tab.dr_y_exact[1] < tab.dr_z_exact[1] and tab.dr_y_exact[2] > tab.dr_z_exact[2]
+    # Small-angle limit g a² t⁴ / 24 (series of the closed form).
+    a = 600 * PPM * W3600
+    assert rsf.vertical_deviation_exact(600 * PPM, W3600, 0.01) \
+        == pytest.approx(G0 * a**2 * 0.01**4 / 24, rel=1e-6)
+
+
+def test_compensation_share_threshold_is_where_the_share_crosses_the_target():
+    """The closed-form 90 % rate against a grid search of the Eq. (7) share, and the 900 °/s share
+    against hand arithmetic."""
+    cs = rsf.compensation_share(to_si(np.linspace(900.0, 5400.0, 451), "deg/s"))
+    # Second method: the first grid rate (10 °/s steps) whose Eq. (7) share reaches 90 %.
+    first = from_si(cs.rates[np.argmax(cs.share >= 0.9)], "deg/s")
+    assert from_si(cs.rate_for_target, "deg/s") == pytest.approx(first, abs=10.0)
+    assert cs.share_at(cs.rate_for_target) == pytest.approx(0.9, rel=1e-12)
+    assert cs.share[0] == pytest.approx(1 - 0.76695 / 4500 / 600e-6, abs=1e-4)  # 71.6 %
+
+
+def test_simulated_share_confirms_eq7_is_conservative_at_every_rate():
+    """Seeded simulation: the share removed exceeds Eq. (7)'s at each rate; with a 10× worse GS
+    gyro it falls below 90 % at 3600 °/s."""
+    rates = to_si([900.0, 3600.0], "deg/s")
+    sim = rsf.sweep_roll_rate(rates, seed=7, n_runs=20, duration=20.0)
+    cs = rsf.compensation_share(rates, simulated=sim)
+    # Eq. (7) adds 1σ terms linearly: the simulated rms δK lies below it at each rate.
+    assert np.all(sim.rms < sim.eq7) and np.all(sim.share > cs.share)
+    np.testing.assert_allclose(sim.eq7, cs.delta_k, rtol=1e-12)
+    # Power: with the GS gyro's SF error 10× larger the simulated share falls below 90 % at
+    # 3600 °/s, as Eq. (7) says it would.
+    worse = rsf.SimulationConfig(gs=rsf.GsModel(eps1=2800 * PPM))
+    sim_w = rsf.sweep_roll_rate(rates[1:], seed=7, base=worse, n_runs=20, duration=20.0)
+    assert sim_w.share[0] < 0.9 < sim.share[1]
+
+
+def test_gs_vs_sins_by_hand():
+    """The ideal and non-ideal GS-to-SINS ratios at 10 s against hand arithmetic."""
+    r = rsf.gs_vs_sins([10.0])
+    eps0 = math.hypot(10.0, 7.0) / 3600.0                        # °/s
+    assert r.ratio_ideal[0] == pytest.approx(21.6 / (eps0 * 10 + 0.33), rel=1e-12)
+    assert r.ratio_nonideal[0] == pytest.approx(21.6 / ((eps0 + 0.084) * 10 + 0.33), rel=1e-12)

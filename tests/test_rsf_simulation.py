@@ -17,6 +17,8 @@ QUIET_GS = rsf.GsModel(arw=0.0)
 
 # Encoder wrap and unwrap -------------------------------------------------------------------------
 def test_unwrapping_over_600_revolutions_accumulates_no_error():
+    """Unwrapping a count that restarts every revolution equals the never-wrapped count over 600
+    revolutions, within the position error and one count."""
     enc = rsf.EncoderModel()                        # 4000 counts, 0.33° position error
     fs, rate, duration = 200.0, 3600.0 * DEG, 60.0  # 10 rev/s for 60 s
     t = np.arange(round(duration * fs) + 1) / fs
@@ -35,6 +37,8 @@ def test_unwrapping_over_600_revolutions_accumulates_no_error():
 
 
 def test_unwrapping_inside_the_simulation_of_an_ideal_gs_at_3600_deg_s():
+    """Inside the simulation at 3600 °/s, the GS angle error stays within the encoder bound of the
+    bias drift of Eq. (9)."""
     cfg = rsf.SimulationConfig(roll=rsf.RollProfile(3600.0 * DEG),
                                gs=rsf.GsModel(motor_rate_max=math.inf), duration=60.0)
     rec = rsf.simulate_flight(cfg, seed=3)
@@ -92,6 +96,8 @@ def test_seeded_delta_k_agrees_with_eq7_within_its_statistical_tolerance():
 
 
 def test_sweep_over_period_matches_prediction_and_saturates_at_a_floor():
+    """rms δK against the period matches the error model within 15 % and falls to the GS gyro's
+    floor; Eq. (7) stays above it."""
     cfg = rsf.SimulationConfig(duration=60.0, n_runs=100)
     rec = rsf.simulate_flight(cfg, seed=11)
     sw = rsf.sweep_correction_period(rec, [1.0, 2.0, 5.0, 10.0, 20.0])
@@ -105,6 +111,8 @@ def test_sweep_over_period_matches_prediction_and_saturates_at_a_floor():
 
 
 def test_finer_encoder_helps_only_while_quantization_dominates():
+    """Finer encoders lower δK only until the position error dominates; both curves match the
+    error model within 15 %."""
     cfg = rsf.SimulationConfig(duration=20.0, n_runs=100)
     rec = rsf.simulate_flight(cfg, seed=5)
     counts = [64, 256, 1024, 4096, 16384]
@@ -120,6 +128,8 @@ def test_finer_encoder_helps_only_while_quantization_dominates():
 
 # Error histories ----------------------------------------------------------------------------------
 def test_uncorrected_errors_follow_eq4_and_the_exact_eq8():
+    """The simulated uncorrected roll error follows Eq. (4) and its lateral error the exact double
+    integral of Eq. (8)."""
     cfg = rsf.SimulationConfig(roll=rsf.RollProfile(3600.0 * DEG), sins=QUIET_SINS,
                                duration=60.0, sample_rate=200.0)
     rec = rsf.simulate_flight(cfg, seed=1)
@@ -150,6 +160,7 @@ def test_correction_reduces_the_rate_error_to_the_gs_error():
 
 
 def test_reset_angle_pins_the_sins_angle_to_the_gs_at_each_correction():
+    """With reset_angle the corrected SINS angle equals the GS angle at every correction instant."""
     rec = rsf.simulate_flight(rsf.SimulationConfig(duration=20.0), seed=4)
     run = rsf.run_correction(rec, 5.0, reset_angle=True)
     idx = np.round(run.t_boundaries[1:] * rec.config.sample_rate).astype(int)
@@ -158,6 +169,7 @@ def test_reset_angle_pins_the_sins_angle_to_the_gs_at_each_correction():
 
 
 def test_the_two_readings_of_k_differ_by_eps1_squared_in_simulation():
+    """In the closed loop the two readings of K give δK differing by ε̂1², as derived."""
     rec = rsf.simulate_flight(rsf.SimulationConfig(duration=20.0), seed=8)
     lin = rsf.run_correction(rec, 5.0, k_form="linear")
     rec_ = rsf.run_correction(rec, 5.0, k_form="reciprocal")
@@ -165,6 +177,7 @@ def test_the_two_readings_of_k_differ_by_eps1_squared_in_simulation():
 
 
 def test_pi_loop_saturates_at_the_motor_limit_and_tracks_otherwise():
+    """The GS loop leaves ω_unc = ω − W_max when saturated and −ε0,GS/(1 + ε1,GS) when unlimited."""
     cfg = rsf.SimulationConfig(duration=5.0)
     rec = rsf.simulate_flight(cfg, seed=0)
     np.testing.assert_allclose(rec.omega_unc, 300.0 * DEG, rtol=1e-12)
@@ -176,6 +189,7 @@ def test_pi_loop_saturates_at_the_motor_limit_and_tracks_otherwise():
 
 
 def test_spin_up_is_tracked_by_the_pi_loop():
+    """During a ramp the unlimited PI loop lags by ramp/k_i, as a type-1 loop must."""
     cfg = rsf.SimulationConfig(roll=rsf.RollProfile(900 * DEG, 3600 * DEG),
                                gs=rsf.GsModel(motor_rate_max=math.inf), duration=10.0)
     rec = rsf.simulate_flight(cfg, seed=0)
@@ -185,6 +199,7 @@ def test_spin_up_is_tracked_by_the_pi_loop():
 
 
 def test_seed_makes_runs_reproducible():
+    """The same seed gives identical records and another seed different ones."""
     cfg = rsf.SimulationConfig(duration=2.0, n_runs=3)
     a, b, c = rsf.simulate_flight(cfg, 7), rsf.simulate_flight(cfg, 7), rsf.simulate_flight(cfg, 8)
     np.testing.assert_array_equal(a.sins_inc, b.sins_inc)
@@ -214,14 +229,51 @@ def test_seed_makes_runs_reproducible():
     (lambda: rsf.unwrap_counts(np.array([0, 5000]), 4000), "wrapped"),
 ])
 def test_invalid_simulation_inputs_raise_value_error_naming_the_parameter(make, name):
+    """Bad simulation inputs raise ValueError naming the parameter."""
     with pytest.raises(ValueError, match=name):
         make()
 
 
 def test_invalid_types_raise_type_error():
+    """Wrong types to the simulator and the unwrapper raise TypeError naming the argument."""
     with pytest.raises(TypeError, match="wrapped"):
         rsf.unwrap_counts(np.array([0.5, 1.0]), 4000)
     with pytest.raises(TypeError, match="config"):
         rsf.simulate_flight("config", seed=0)
     with pytest.raises(TypeError, match="seed"):
         rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=1.5)
+
+
+def test_the_simulation_defaults_are_the_datasheet_records_by_hand():
+    """SimulationConfig's sensors are built from the one record of each device: the values
+    are the paper's, converted by hand (no library conversion)."""
+    cfg = rsf.SimulationConfig()
+    deg_h = math.pi / 180.0 / 3600.0
+    assert cfg.sins.eps1 == pytest.approx(600e-6, rel=1e-15)
+    assert cfg.sins.eps0 == pytest.approx(100.0 * deg_h, rel=1e-15)
+    assert cfg.gs.eps0 == pytest.approx(math.hypot(10.0, 7.0) * deg_h, rel=1e-15)
+    assert cfg.gs.eps1 == pytest.approx(280e-6, rel=1e-15)
+    assert cfg.encoder.counts_per_rev == 1000 * 4
+    assert cfg.encoder.position_error == pytest.approx(math.radians(0.33), rel=1e-15)
+    # A changed record changes the model it builds (the spec is the one description).
+    enc = dataclasses.replace(rsf.AEDB9340, cycles_per_rev=256).model()
+    assert enc.counts_per_rev == 1024 and enc.resolution == pytest.approx(2 * math.pi / 1024)
+
+
+def test_unwrapped_count_equals_the_never_wrapped_count_at_every_sample():
+    """unwrap_counts recovers, to the count, what an encoder that never restarts would show
+    (encoder_counts(wrap=False)), over hundreds of revolutions at 3600 °/s."""
+    cfg = rsf.SimulationConfig(roll=rsf.RollProfile(math.radians(3600.0)),
+                               gs=rsf.GYPRO4300.model(motor_rate_max=math.inf), duration=20.0)
+    rec = rsf.simulate_flight(cfg, seed=3)
+    args = (rec.theta_rel, cfg.encoder, rec.encoder_phase)
+    unwrapped = rsf.unwrap_counts(rsf.encoder_counts(*args), cfg.encoder.counts_per_rev)
+    never = rsf.encoder_counts(*args, wrap=False)
+    revolutions = (never[0, -1] - never[0, 0]) / cfg.encoder.counts_per_rev
+    assert revolutions > 150
+    np.testing.assert_array_equal(unwrapped - unwrapped[:, :1], never - never[:, :1])
+    # Power: sampled too slowly (a step of more than half a revolution), it would fail.
+    coarse = rsf.encoder_counts(rec.theta_rel[:, ::20], cfg.encoder, rec.encoder_phase)
+    never_c = never[:, ::20]
+    bad = rsf.unwrap_counts(coarse, cfg.encoder.counts_per_rev)
+    assert np.any((bad - bad[:, :1]) != (never_c - never_c[:, :1]))

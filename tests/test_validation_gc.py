@@ -32,6 +32,8 @@ case("gc.ShapingFilter", lambda: gc.ShapingFilter(VIB.A, VIB.B, VIB.C, NAN),
      ValueError, "Q", FINITE)
 case("gc.ShapingFilter.discretize", lambda: VIB.discretize(0.0), ValueError, "dt",
      POS)
+case("gc.ShapingFilter.autocorrelation", lambda: VIB.autocorrelation(NAN), ValueError,
+     "lag", FINITE)
 case("gc.vibration_filter", lambda: gc.vibration_filter(NAN, 0.5, 1.0),
      ValueError, "alpha1", POS)
 case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.0, 1.0),
@@ -89,7 +91,16 @@ case("gc.GyrocompassParams", lambda: replace(P, measurement_noise=None), ValueEr
      "measurement_noise", "one of")
 case("gc.GyrocompassParams", lambda: replace(P, vertical_coupling="eq6"), ValueError,
      "vertical_coupling", "one of")
+case("gc.GyrocompassParams", lambda: replace(P, eq1_sign=-1), ValueError, "eq1_sign",
+     "one of")
+case("gc.GyrocompassParams", lambda: replace(P, omega_ub=INF), ValueError, "omega_ub",
+     FINITE)
+case("gc.GyrocompassParams", lambda: replace(P, shaping_p0_scale=-0.5), ValueError,
+     "shaping_p0_scale", NONNEG)
 case("gc.state_index", lambda: gc.state_index("foo"), ValueError, "name", "one of")
+case("gc.normal_gravity", lambda: gc.normal_gravity(2.0), ValueError, "latitude",
+     r"\[-1.57")
+case("gc.normal_gravity", lambda: gc.normal_gravity("0"), TypeError, "latitude")
 case("gc.NominalMotion", lambda: gc.NominalMotion("a", T5, T5), TypeError, "t")
 case("gc.NominalMotion", lambda: gc.NominalMotion(T5, T5[:3], T5), ValueError, "beta",
      r"\(5,\)")
@@ -128,6 +139,11 @@ case("gc.initial_covariance", lambda: gc.initial_covariance(None), TypeError,
 # gc_symbolic
 S = symbolic.SYMBOLS
 case("gc.symbolic.ModelSymbols", lambda: replace(S, t="t"), TypeError, "t", "Symbol")
+case("gc.symbolic.to_latex", lambda: symbolic.to_latex(S.t, 3), TypeError, "lhs")
+case("gc.symbolic.to_latex_aligned", lambda: symbolic.to_latex_aligned("y", S.t, 0),
+     ValueError, "per_line", ">= 1")
+case("gc.symbolic.cauchy_form_latex", lambda: symbolic.cauchy_form_latex(None), TypeError,
+     "model")
 case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(None), TypeError, "beta")
 case("gc.symbolic.float_input_axis", lambda: symbolic.float_input_axis(NAN), ValueError, "beta",
      FINITE)
@@ -190,6 +206,8 @@ case("gc.discretize", lambda: gc.discretize(P, 0.0), ValueError, "t_end", POS)
 case("gc.discretize", lambda: gc.discretize(P, 0.0105), ValueError, "t_end",
      "multiple of dt")
 case("gc.discretize", lambda: gc.discretize(P, "1"), TypeError, "t_end")
+case("gc.discretize", lambda: gc.discretize(P, 0.01, method="rk4"), ValueError, "method",
+     "one of")
 case("gc.GCDiscretization", lambda: replace(disc(), n_steps=0), ValueError,
      "n_steps")
 case("gc.GCDiscretization", lambda: replace(disc(), model=None), TypeError, "model")
@@ -212,11 +230,29 @@ case("gc.covariance_analysis", lambda: gc.covariance_analysis(
     P, 0.01, P0=I10 - 0.5 * np.ones((10, 10))), ValueError, "P0", "positive semi-definite")
 case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, -100.0), ValueError,
      "t_end", POS)
+case("gc.covariance_analysis", lambda: gc.covariance_analysis(
+    P, 0.01, discretization="tustin"), ValueError, "discretization", "one of")
+case("gc.CovarianceSweep", lambda: gc.CovarianceSweep(P, ({}, {}), ()), ValueError,
+     "analyses", "one CovarianceAnalysis per case")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, {"xi1": 0.5}, 0.01), TypeError,
+     "cases", "sequence")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, [{"nope": 1.0}], 0.01),
+     ValueError, "cases", "fields")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, [{"xi1": 2.0}], 0.01),
+     ValueError, "xi1", r"\(0.0, 1.0\]")
+case("gc.sweep_covariance", lambda: gc.sweep_covariance(P, [{}], -1.0), ValueError,
+     "t_end", POS)
+case("gc.CovarianceSweep.final_std", lambda: gc.sweep_covariance(
+    P, [{}], 0.01).final_std("x"), ValueError, "name", "one of")
+case("gc.CovarianceAnalysis.final_std", lambda: cov().final_std("x"), ValueError, "name",
+     "one of")
 case("gc.CovarianceAnalysis", lambda: replace(cov(), var=cov().var[:, :3]),
      ValueError, "var")
 case("gc.CovarianceAnalysis", lambda: replace(cov(), params=None), TypeError,
      "params")
 case("gc.CovarianceAnalysis.std", lambda: cov().std("x"), ValueError, "name",
+     "one of")
+case("gc.CovarianceAnalysis.final_std", lambda: cov().final_std("Psi"), ValueError, "name",
      "one of")
 case("gc.CovarianceAnalysis.std_at", lambda: cov().std_at("psi", -1.0), ValueError,
      "time", r"\[0.0, 0.01\]")
@@ -334,76 +370,62 @@ case("gc.InformationPsiOmega", lambda: gc.InformationPsiOmega(T5, np.ones((5, 3,
      ValueError, "W", r"\(5, 2, 2\)")
 
 # gc_plots
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, [T5], paper_value=1.0),
-     TypeError, "curves", "Mapping")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {}, paper_value=1.0),
-     ValueError, "curves")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5[:3]},
-                                                                  paper_value=1.0),
-     ValueError, "t and curves['a']", "same length")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": -T5},
-                                                                  paper_value=1.0),
-     ValueError, "curves['a']", NONNEG)
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history([], {"a": []},
-                                                                  paper_value=1.0),
-     ValueError, "t", "at least 2")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5},
-                                                                  paper_value=0.0),
-     ValueError, "paper_value", POS)
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
-                                                                  paper_time=NAN),
-     ValueError, "paper_time")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
-                                                                  drop_time="2"),
-     TypeError, "drop_time")
-case("gc.plot_sigma_history", lambda: gc.plot_sigma_history(T5, {"a": T5}, paper_value=1.0,
-                                                                  unit=None),
-     TypeError, "unit", "str")
-case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(T5, T5 * NAN, paper_value=1.0),
-     ValueError, "sigma", FINITE)
-case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(-T5, T5, paper_value=1.0), ValueError,
-     "kappa", NONNEG)
-case("gc.plot_p0_scale", lambda: gc.plot_p0_scale(T5, T5[:2], paper_value=1.0),
-     ValueError, "kappa and sigma")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((2, 5)), None),
-     TypeError, "sources")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((3, 5)),
-                                                                ("a", "b")),
-     ValueError, "var", r"\(2, 5\)")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget([], np.ones((2, 0)),
-                                                                ("a", "b")),
-     ValueError, "t")
-case("gc.plot_error_budget", lambda: gc.plot_error_budget(T5, np.ones((2, 5)),
-                                                                ("a", "b"), scale=-1.0),
-     ValueError, "scale", POS)
 
 # gc_model_plots
-PSD = {"alpha1": 1.0, "alpha2": 1.0, "var_n1": 1.0, "var_n3": 1.0}
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([0.0, 1.0], [1, 1], [1, 1],
-                                                                     **PSD),
-     ValueError, "omega", r"> 0")
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([], [], [], **PSD),
-     ValueError, "omega", "at least 1")
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([1.0, 2.0], [-1, 1], [1, 1],
-                                                                     **PSD),
-     ValueError, "psd_n1", NONNEG)
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd([1.0, 2.0], [1, 1], [1],
-                                                                     **PSD),
-     ValueError, "omega, psd_n1, psd_n3", "same length")
-case("gc.plot_shaping_psd", lambda: gc.plot_shaping_psd(
-    [1.0, 2.0], [1, 1], [1, 1], **(PSD | {"var_n3": -1.0})), ValueError, "var_n3", POS)
-case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
-    T5, T5, T5, [], [], [], tau=1.0, lag=0.0), ValueError, "t_fast", "at least 1")
-case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
-    T5, T5, T5, T5, T5, T5, tau=0.0, lag=0.0), ValueError, "tau", POS)
-case("gc.plot_nominal_motion", lambda: gc.plot_nominal_motion(
-    T5, T5, T5, T5, T5, T5, tau=1.0, lag=NAN), ValueError, "lag", FINITE)
-case("gc.plot_figure1", lambda: gc.plot_figure1(beta_deg=90.0), ValueError,
-     "beta_deg", r"\[1.0, 80.0\]")
-case("gc.plot_figure1", lambda: gc.plot_figure1(beta_deg=10.0, psi_deg=20.0),
-     ValueError, "psi_deg", "< beta_deg")
-case("gc.plot_figure1", lambda: gc.plot_figure1(tilt_deg="14"), TypeError,
-     "tilt_deg")
+
+# calibration on a record: gc.calibrate, GCRecord, CalibrationResult, simulate_record
+_GREC = gc.GCRecord(t=[0.001, 0.002], angle_sensor=[0.0, 0.0], inclinometer_y=[0.0, 0.0],
+                    inclinometer_z=[0.0, 0.0])
+_GRES = gc.calibrate(_GREC, gc.GyrocompassParams())
+case("gc.GCRecord", lambda: gc.GCRecord(t=[0.002, 0.001], angle_sensor=[0, 0],
+                                         inclinometer_y=[0, 0], inclinometer_z=[0, 0]),
+     ValueError, "t", "strictly increasing")
+case("gc.GCRecord", lambda: gc.GCRecord(t=[-1.0], angle_sensor=[0], inclinometer_y=[0],
+                                         inclinometer_z=[0]), ValueError, "t", ">= 0")
+case("gc.GCRecord", lambda: replace(_GREC, angle_sensor=[0.0, INF]), ValueError,
+     "angle_sensor", "finite")
+case("gc.GCRecord", lambda: replace(_GREC, inclinometer_z=[0.0]), ValueError,
+     "inclinometer_z", "2 values")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, "paper"), TypeError, "params",
+     "GyrocompassParams")
+case("gc.calibrate", lambda: gc.calibrate(np.zeros(3)), TypeError, "record", "GCRecord")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, gate=1.0), ValueError, "gate", "in")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, store_every=0), ValueError, "store_every",
+     ">= 1")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, chunk_size=1.5), TypeError, "chunk_size")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, lags=0), ValueError, "lags", ">= 1")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, time_tolerance=NAN), ValueError,
+     "time_tolerance")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, progress=3), TypeError, "progress",
+     "callable")
+case("gc.CalibrationResult", lambda: replace(_GRES, x=np.zeros((5, 10))), ValueError, "x",
+     "shape")
+case("gc.CalibrationResult", lambda: replace(_GRES, params=None), TypeError, "params")
+case("gc.CalibrationResult.estimate", lambda: _GRES.estimate("drift"), ValueError, "name",
+     "one of")
+case("gc.CalibrationResult.sigma", lambda: _GRES.sigma(3), ValueError, "name", "one of")
+case("gc.CalibrationResult.nis_band", lambda: _GRES.nis_band(1.0), ValueError,
+     "confidence", r"\(0.0, 1.0\)")
+case("gc.CalibrationResult.whiteness_limit", lambda: _GRES.whiteness_limit(NAN),
+     ValueError, "confidence")
+case("gc.CalibrationResult.fits", lambda: _GRES.fits(0.0), ValueError, "confidence")
+case("gc.CalibrationResult.verdict", lambda: _GRES.verdict("high"), TypeError,
+     "confidence")
+case("gc.SimulatedRecord", lambda: gc.SimulatedRecord(record=None, truth=np.zeros((1, 10)),
+                                                       params=gc.GyrocompassParams(), seed=0),
+     TypeError, "record", "GCRecord")
+case("gc.SimulatedRecord", lambda: gc.SimulatedRecord(record=_GREC, truth=np.zeros(10),
+                                                       params=gc.GyrocompassParams(), seed=0),
+     ValueError, "truth", "shape")
+case("gc.simulate_record", lambda: gc.simulate_record(None, 1.0, 0), TypeError, "params")
+case("gc.simulate_record", lambda: gc.simulate_record(gc.GyrocompassParams(), 1.0, -1),
+     ValueError, "seed", ">= 0")
+case("gc.simulate_record", lambda: gc.simulate_record(gc.GyrocompassParams(), 0.0, 1),
+     ValueError, "t_end", POS)
+case("gc.plot_calibration", lambda: gc.plot_calibration(None), TypeError, "result",
+     "CalibrationResult")
+case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), ValueError,
+     "truth", FINITE)
 
 
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
@@ -419,6 +441,13 @@ EXEMPT: dict[str, str] = {
     **{f"gc.plot_{name}": "plot function: takes result objects, no validation by design"
        for name in ("estimates", "consistency", "sweep", "information", "speed_claim",
                     "mismatch")},
+    "gc.plot_sigma_history": "plot function: takes result objects, no validation by design",
+    "gc.plot_p0_scale": "plot function: takes result objects, no validation by design",
+    "gc.plot_error_budget": "plot function: takes result objects, no validation by design",
+    "gc.plot_shaping_psd": "plot function: takes computed PSDs, no validation by design",
+    "gc.plot_nominal_motion": "plot function: takes result objects, no validation by design",
+    "gc.plot_figure1": "plot function: drawing options only, no validation by design",
+    "gc.parameter_grid": "builds cases; sweep_covariance validates them at the door",
 }
 
 

@@ -28,11 +28,15 @@ from gyrolib.gc.budget import (
 )
 from gyrolib.gc.covariance import (
     CovarianceAnalysis,
+    CovarianceSweep,
     covariance_analysis,
+    parameter_grid,
+    sweep_covariance,
     sweep_sigma_gc,
     time_to_sigma,
 )
 from gyrolib.gc.discretization import (
+    DISCRETIZATIONS,
     SEGMENT,
     GCDiscretization,
     discretize,
@@ -58,6 +62,7 @@ from gyrolib.gc.params import (
     NOISE_NAMES,
     STATE_NAMES,
     GyrocompassParams,
+    normal_gravity,
     state_index,
 )
 from gyrolib.gc.plots import (
@@ -95,11 +100,13 @@ from gyrolib.gc.state_space import (
 
 __all__ = [
     "BUDGET_SOURCES",
+    "DISCRETIZATIONS",
     "MEASUREMENT_NAMES",
     "NOISE_NAMES",
     "SEGMENT",
     "STATE_NAMES",
     "CovarianceAnalysis",
+    "CovarianceSweep",
     "ErrorBudget",
     "GCDiscretization",
     "GyrocompassParams",
@@ -122,6 +129,8 @@ __all__ = [
     "nominal_motion",
     "nominal_motion_aperiodic",
     "nominal_motion_reference",
+    "normal_gravity",
+    "parameter_grid",
     "plot_consistency",
     "plot_error_budget",
     "plot_estimates",
@@ -141,6 +150,7 @@ __all__ = [
     "simulate_truth",
     "state_index",
     "stationary_covariance",
+    "sweep_covariance",
     "sweep_sigma_gc",
     "symbolic",
     "system_matrix",
@@ -148,7 +158,15 @@ __all__ = [
     "vibration_filter",
 ]
 
-# Paper GC's claims, computed (gc.claims), and the claims chapter's figures
+# Paper GC's claims, computed (gc.claims), and the claims chapter's figures; calibration on
+# recorded data (issue 13)
+from gyrolib.gc.calibration import (
+    CalibrationResult,
+    SimulatedRecord,
+    calibrate,
+    plot_calibration,
+    simulate_record,
+)
 from gyrolib.gc.claims import (
     SHAPING_FIELDS,
     ClaimBoundary,
@@ -160,6 +178,7 @@ from gyrolib.gc.claims import (
     time_to_level,
 )
 from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
+from gyrolib.records.tables import GCRecord
 
 __all__ += [
     "SHAPING_FIELDS",
@@ -173,3 +192,5 @@ __all__ += [
     "speed_claim_map",
     "time_to_level",
 ]
+__all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
+            "plot_calibration", "simulate_record"]

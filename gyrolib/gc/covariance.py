@@ -4,21 +4,26 @@ estimate over time), the time to reach a σ level, and sweeps over the model's p
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
-from gyrolib.gc.discretization import N, _check_params, discretize
+from gyrolib.gc.discretization import DISCRETIZATIONS, N, _check_params, _discretize, _n_steps
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.state_space import (
-    initial_covariance,
+    _initial_covariance,
 )
 
 __all__ = [
     "CovarianceAnalysis",
+    "CovarianceSweep",
     "covariance_analysis",
+    "parameter_grid",
+    "sweep_covariance",
     "sweep_sigma_gc",
     "time_to_sigma",
 ]
@@ -43,11 +48,29 @@ class CovarianceAnalysis:
         ns = v.check_ndarray("t_stored", self.t_stored, ndim=1).size
         v.check_ndarray("P_stored", self.P_stored, shape=(ns, N, N))
 
-    def std(self, name: str) -> np.ndarray:
+    def std(self, name: str) -> NDArray[np.float64]:
+        """Standard deviation of ``name``'s estimate at every step (SI units).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 0.01)
+        >>> res.std("omega_gc").shape
+        (11,)
+        """
         return np.sqrt(np.clip(self.var[:, state_index(name)], 0.0, None))
 
     def std_at(self, name: str, time: float) -> float:
-        """Standard deviation at the step nearest to ``time`` (s)."""
+        """Standard deviation at the step nearest to ``time`` (s).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> from gyrolib.units import from_si
+        >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 2.0)
+        >>> f"{from_si(res.std_at('omega_gc', 2.0), 'arcsec_paper/s'):.4f}"
+        '0.0281'
+        """
         time = v.check_in_range("time", time, 0.0, float(self.t[-1]))
         return float(self.std(name)[round(time / self.params.dt)])
 
@@ -85,22 +108,56 @@ def _default_store_every(n_steps: int) -> int:
 
 def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
                         store_every: int | None = None, method: str = "fast",
-                        P0: object | None = None) -> CovarianceAnalysis:
-    """Covariance analysis of the discrete Kalman filter of paper GC (Figure 3).
+                        P0: ArrayLike | None = None,
+                        discretization: str = "van_loan") -> CovarianceAnalysis:
+    """Covariance analysis of the discrete Kalman filter of paper GC (its Figure 3).
 
-    ``method="fast"``: numba kernel on the affine discretization; ``"reference"``: plain
-    numpy with an exact per-step Van Loan exponential and batch Joseph updates (slow: for
-    tests and benchmarks).  ``store_every`` (default: about 1000 stored ``P``) sets the
-    decimation of the full covariances.  ``P0`` (10×10, symmetric) overrides
-    :func:`gyrolib.gc.initial_covariance` (e.g. to study a partly known N1…N4).
+    Runs the filter's covariance recursion (prediction ``P⁻ = Φ P Φᵀ + Qd``, Joseph-form
+    update with the angle sensor and both inclinometers, Eq. (8) of paper GC) over
+    ``[0, t_end]``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model and its open choices (``shaping_p0``, ``measurement_noise``, …).
+    t_end : float, default 100.0
+        Length of the run (s), a positive multiple of ``params.dt``.
+    store_every : int, optional
+        Keep the full ``P`` every ``store_every`` steps (default: about 1000 of them).
+    method : {"fast", "reference"}, default "fast"
+        ``"fast"``: numba kernel on the affine discretization; ``"reference"``: plain numpy
+        with a per-step discretization and batch Joseph updates (slow: tests, benchmarks).
+    P0 : array_like of shape (10, 10), optional
+        Initial covariance (symmetric, positive semi-definite); default
+        :func:`gyrolib.gc.initial_covariance` (e.g. override to study a partly known N1…N4).
+    discretization : {"van_loan", "euler"}, default "van_loan"
+        How Eq. (8) becomes the discrete model (see :func:`gyrolib.gc.discretize`).
+
+    Returns
+    -------
+    CovarianceAnalysis
+        Variances of every state at every step, full ``P`` at ``t_stored``.
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> p = gc.GyrocompassParams()
+    >>> for d in ("van_loan", "euler"):
+    ...     res = gc.covariance_analysis(p, 2.0, discretization=d)
+    ...     print(d, f"{from_si(res.final_std(), 'arcsec_paper/s'):.4f}")
+    van_loan 0.0281
+    euler 0.0281
     """
     p = _check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
-    disc = discretize(p, t_end)
+    v.check_choice("discretization", discretization, DISCRETIZATIONS)
+    disc = _discretize(p, _n_steps(p, t_end), discretization)
     se = _default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     if P0 is None:
-        P0 = initial_covariance(p)
+        P0 = _initial_covariance(p)
     else:
         P0 = v.check_array("P0", P0, shape=(N, N))
         if not np.allclose(P0, P0.T, rtol=1e-12, atol=0.0) or np.any(np.diag(P0) < 0):
@@ -119,7 +176,30 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
 
 def time_to_sigma(result: CovarianceAnalysis, name: str, level: float) -> float:
     """First time (s) at which ``std(name)`` falls to ``level`` (SI) and stays below it;
-    ``nan`` if not reached within the analysed span."""
+    ``nan`` if not reached within the analysed span.
+
+    Parameters
+    ----------
+    result : CovarianceAnalysis
+        A covariance analysis.
+    name : str
+        The state (:data:`gyrolib.gc.STATE_NAMES`).
+    level : float
+        The σ level in SI units (> 0).
+
+    Returns
+    -------
+    float
+        The time (s), linearly interpolated between steps; ``nan`` if not reached.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import to_si
+    >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 10.0)
+    >>> f"{gc.time_to_sigma(res, 'omega_gc', to_si(0.01, 'arcsec_paper/s')):.2f} s"
+    '4.13 s'
+    """
     if not isinstance(result, CovarianceAnalysis):
         raise TypeError("result must be a CovarianceAnalysis")
     level = v.check_positive("level", level)
@@ -135,9 +215,34 @@ def time_to_sigma(result: CovarianceAnalysis, name: str, level: float) -> float:
     return float(t0 + (s0 - level) / (s0 - s1) * (t1 - t0))
 
 
-def sweep_sigma_gc(params: GyrocompassParams, field: str, values: object,
-                   t_end: float = 100.0) -> np.ndarray:
-    """``σ_gc(t_end)`` (rad/s) with ``params.<field>`` set to each of ``values``."""
+def sweep_sigma_gc(params: GyrocompassParams, field: str, values: ArrayLike,
+                   t_end: float = 100.0) -> NDArray[np.float64]:
+    """``σ_gc(t_end)`` (rad/s) with ``params.<field>`` set to each of ``values``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The baseline.
+    field : str
+        A ``GyrocompassParams`` field.
+    values : array_like
+        1-D values of ``field``.
+    t_end : float, default 100.0
+        Length of each run (s).
+
+    Returns
+    -------
+    ndarray
+        σ of ω_gc at ``t_end`` (rad/s), one per value.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> s = gc.sweep_sigma_gc(gc.GyrocompassParams(), "xi1", [0.5, 0.7], 2.0)
+    >>> [f"{from_si(x, 'arcsec_paper/s'):.4f}" for x in s]
+    ['0.0281', '0.0281']
+    """
     p = _check_params(params)
     v.check_str("field", field)
     if field not in GyrocompassParams.__dataclass_fields__:
@@ -148,3 +253,88 @@ def sweep_sigma_gc(params: GyrocompassParams, field: str, values: object,
         res = covariance_analysis(replace(p, **{field: float(x)}), t_end, store_every=10**9)
         out[i] = res.std("omega_gc")[-1]
     return out
+
+
+# Sweeps over the open choices ---------------------------------------------------------------
+def parameter_grid(**values: ArrayLike) -> list[dict[str, object]]:
+    """Every combination of the given ``GyrocompassParams`` field values (cartesian product,
+    the last field varying fastest), as a list of ``{field: value}`` cases.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> gc.parameter_grid(shaping_p0=("stationary", "zero"), dt=(1e-3,))
+    [{'shaping_p0': 'stationary', 'dt': 0.001}, {'shaping_p0': 'zero', 'dt': 0.001}]
+    """
+    names = list(values)
+    return [dict(zip(names, combo, strict=True))
+            for combo in itertools.product(*(tuple(values[n]) for n in names))]
+
+
+@dataclass(frozen=True)
+class CovarianceSweep:
+    """One :class:`CovarianceAnalysis` per case (``{field: value}`` changes to ``params``)."""
+
+    params: GyrocompassParams
+    cases: tuple[dict[str, object], ...]
+    analyses: tuple[CovarianceAnalysis, ...]
+
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        if len(self.cases) != len(self.analyses):
+            raise ValueError(f"analyses must hold one CovarianceAnalysis per case "
+                             f"({len(self.cases)}); got {len(self.analyses)}")
+
+    def final_std(self, name: str = "omega_gc") -> NDArray[np.float64]:
+        """σ of ``name`` at the end of each case's run (SI units), in the order of ``cases``.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> sw = gc.sweep_covariance(gc.GyrocompassParams(), [{}, {"xi1": 0.5}], 0.01)
+        >>> sw.final_std().shape
+        (2,)
+        """
+        return np.array([a.final_std(name) for a in self.analyses])
+
+
+def sweep_covariance(params: GyrocompassParams, cases: object,
+                     t_end: float = 100.0) -> CovarianceSweep:
+    """Covariance analysis of paper GC's filter for each case of changes to ``params``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The baseline.
+    cases : sequence of dict
+        Each a ``{field: value}`` mapping applied with ``dataclasses.replace`` (see
+        :func:`parameter_grid` for a cartesian product).
+    t_end : float, default 100.0
+        Length of each run (s).
+
+    Returns
+    -------
+    CovarianceSweep
+        The analyses (full ``P`` stored only at the ends), in the order of ``cases``.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> sw = gc.sweep_covariance(gc.GyrocompassParams(),
+    ...                          gc.parameter_grid(shaping_p0=("stationary", "zero")), 10.0)
+    >>> [f"{from_si(s, 'arcsec_paper/s'):.5f}" for s in sw.final_std()]
+    ['0.00345', '0.00306']
+    """
+    p = _check_params(params)
+    if isinstance(cases, dict) or not all(isinstance(c, dict) for c in cases):
+        raise TypeError("cases must be a sequence of {field: value} dicts")
+    for c in cases:
+        for field in c:
+            if field not in GyrocompassParams.__dataclass_fields__:
+                raise ValueError(f"cases must name GyrocompassParams fields; got {field!r}")
+    variants = [replace(p, **c) for c in cases]       # each validated by __post_init__
+    n_steps = round(v.check_positive("t_end", t_end) / p.dt)
+    analyses = tuple(covariance_analysis(q, t_end, store_every=max(n_steps, 1))
+                     for q in variants)
+    return CovarianceSweep(params=p, cases=tuple(dict(c) for c in cases), analyses=analyses)

@@ -8,6 +8,10 @@ matrix exponential).  The nominal motion Eq. (4) is integrated on the half-step 
 second-order exponential integrator (:func:`nominal_half_steps`, tested against
 :func:`gyrolib.gc.nominal`).
 
+``method="euler"`` replaces the exact step by Euler's first-order one, ``Φ = I + F Δt``,
+``Qd = G Q Gᵀ Δt`` (exactly affine in ``(sin β_n, cos β_n)``), to measure what the exact
+discretization buys.
+
 Measurements ``z_k = D x(t_k) + v_k`` at ``t_k = k Δt``, ``k ≥ 1``; the filter starts from
 ``x̂(0) = 0``, ``P(0)`` = :func:`gyrolib.gc.initial_covariance`.
 """
@@ -22,20 +26,22 @@ import numpy as np
 import scipy.linalg
 import scipy.stats
 from numba import njit
+from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.gc.params import STATE_NAMES, GyrocompassParams
 from gyrolib.gc.state_space import (
-    measurement_matrix,
-    measurement_noise_covariance,
-    noise_input_matrix,
-    process_noise_intensity,
-    system_matrix,
+    _measurement_matrix,
+    _measurement_noise_covariance,
+    _noise_input_matrix,
+    _process_noise_intensity,
+    _system_matrix,
 )
 
 __all__ = [
+    "DISCRETIZATIONS",
     "SEGMENT",
     "GCDiscretization",
     "discretize",
@@ -48,6 +54,10 @@ SEGMENT: Final[float] = 0.01
 
 
 N: Final[int] = len(STATE_NAMES)
+
+
+#: The discretizations :func:`discretize` offers.
+DISCRETIZATIONS: Final[tuple[str, ...]] = ("van_loan", "euler")
 
 
 def _check_params(params: object) -> GyrocompassParams:
@@ -78,16 +88,37 @@ def _etd2_kernel(E, p1, p2, kdd, n_half, out):
         out[i + 1] = y0
 
 
-def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> np.ndarray:
+def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> NDArray[np.float64]:
     """Nominal float angle ``β_n`` (rad), Eq. (4) from rest, at ``t = i Δt/2``,
     ``i = 0 … 2 n_steps``.
 
     Exponential time differencing (ETD2RK, Cox–Matthews): the stiff linear part
     ``β'' = −(f/I) β'`` is exact, the slowly varying torque ``H Ω_h cos β / I`` is
     interpolated linearly over each half step.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model.
+    n_steps : int
+        Number of filter steps (>= 1).
+
+    Returns
+    -------
+    ndarray of shape (2 n_steps + 1,)
+        β_n (rad) on the half-step grid.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> b = gc.nominal_half_steps(gc.GyrocompassParams(), 1000)
+    >>> b.shape, f"{b[-1]:.3g}"
+    ((2001,), '8.59e-05')
     """
-    p = _check_params(params)
-    n_steps = v.check_int("n_steps", n_steps, 1)
+    return _nominal_half_steps(_check_params(params), v.check_int("n_steps", n_steps, 1))
+
+
+def _nominal_half_steps(p: GyrocompassParams, n_steps: int) -> NDArray[np.float64]:
     h = 0.5 * p.dt
     M = np.zeros((4, 4))
     M[0, 1] = h
@@ -104,7 +135,7 @@ def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> np.ndarray:
 # Discretization ------------------------------------------------------------------------------
 def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``F(β) = F_0 + sin β · E_s + cos β · E_c`` (exact: F is affine in sin and cos)."""
-    F0, F90, F180 = (system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))
+    F0, F90, F180 = (_system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))
     Ec = 0.5 * (F0 - F180)
     Fc = 0.5 * (F0 + F180)
     Es = F90 - Fc
@@ -116,7 +147,7 @@ def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 def _affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
     Fc, Es, Ec = _affine_parts(p)
-    G = noise_input_matrix(p)
+    G = _noise_input_matrix(p)
     J = betas.size
     out = [np.zeros((J, N, N)) for _ in range(6)]
     for j, b in enumerate(betas):
@@ -127,6 +158,19 @@ def _affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple
     return tuple(out)
 
 
+def _affine_euler(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
+    """Euler steps: ``Φ = I + F Δt`` is affine in (sin, cos) exactly; ``Qd = G Q Gᵀ Δt``."""
+    Fc, Es, Ec = _affine_parts(p)
+    G = _noise_input_matrix(p)
+    J = betas.size
+    Phi0 = np.eye(N) + (Fc + np.sin(betas)[:, None, None] * Es
+                        + np.cos(betas)[:, None, None] * Ec) * p.dt
+    Qd0 = np.broadcast_to(G @ Qc @ G.T * p.dt, (J, N, N)).copy()
+    zeros = np.zeros((J, N, N))
+    return (Phi0, np.broadcast_to(Es * p.dt, (J, N, N)).copy(),
+            np.broadcast_to(Ec * p.dt, (J, N, N)).copy(), Qd0, zeros, zeros.copy())
+
+
 @dataclass(frozen=True)
 class GCDiscretization:
     """Paper GC discretized over ``n_steps`` steps of ``params.dt``.
@@ -134,7 +178,8 @@ class GCDiscretization:
     ``beta_half`` is ``β_n`` at ``t = i Δt/2``; ``betas`` the expansion points; ``model`` the
     affine discrete model; ``Gamma[j]`` the response over one step to a unit constant
     acceleration on ``Δβ''`` (for the nonlinear remainder); ``noise_factor[j]`` (n × n_w) a
-    factor of ``Qd`` at expansion point ``j`` for drawing the process noise.
+    factor of ``Qd`` at expansion point ``j`` for drawing the process noise; ``method`` the
+    discretization (``"van_loan"`` or ``"euler"``).
     """
 
     params: GyrocompassParams
@@ -144,6 +189,7 @@ class GCDiscretization:
     model: AffineDiscreteModel
     Gamma: np.ndarray
     noise_factor: np.ndarray
+    method: str = "van_loan"
 
     def __post_init__(self) -> None:
         _check_params(self.params)
@@ -153,41 +199,77 @@ class GCDiscretization:
         v.check_instance("model", self.model, AffineDiscreteModel)
         v.check_ndarray("Gamma", self.Gamma, shape=(J, N))
         v.check_ndarray("noise_factor", self.noise_factor, shape=(J, N, None))
+        v.check_choice("method", self.method, DISCRETIZATIONS)
 
     @property
-    def t(self) -> np.ndarray:
+    def t(self) -> NDArray[np.float64]:
         return np.arange(self.n_steps + 1) * self.params.dt
 
     @property
-    def beta_mid(self) -> np.ndarray:
+    def beta_mid(self) -> NDArray[np.float64]:
         return self.beta_half[1::2]
 
     def exact_step(self, k: int) -> tuple[np.ndarray, np.ndarray]:
-        """``(Φ_k, Qd_k)`` by a full Van Loan matrix exponential at ``β_n`` of the midpoint
-        of step ``k`` (the reference the affine model is tested against)."""
+        """``(Φ_k, Qd_k)`` at ``β_n`` of the midpoint of step ``k`` without the affine
+        expansion: a full Van Loan matrix exponential (or the Euler step, with
+        ``method="euler"``), the reference the affine model is tested against."""
         k = v.check_int("k", k, 0)
         if k >= self.n_steps:
             raise ValueError(f"k must be a step index in [0, {self.n_steps}); got {k}")
         p = self.params
-        F = system_matrix(p, float(self.beta_mid[k]))
-        return van_loan(F, noise_input_matrix(p), process_noise_intensity(p), p.dt)
+        F = _system_matrix(p, float(self.beta_mid[k]))
+        G, Qc = _noise_input_matrix(p), _process_noise_intensity(p)
+        if self.method == "euler":
+            return np.eye(N) + F * p.dt, G @ Qc @ G.T * p.dt
+        return van_loan(F, G, Qc, p.dt)
 
 
-def discretize(params: GyrocompassParams, t_end: float = 100.0) -> GCDiscretization:
-    """Discretize paper GC, Eq. (8), over ``[0, t_end]`` at ``params.dt``."""
+def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
+               method: str = "van_loan") -> GCDiscretization:
+    """Discretize paper GC's model, Eq. (8), over ``[0, t_end]`` at ``params.dt``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model.
+    t_end : float, default 100.0
+        Length of the run (s), a positive multiple of ``params.dt``.
+    method : {"van_loan", "euler"}, default "van_loan"
+        ``"van_loan"``: exact ``Φ = exp(F Δt)`` and ``Qd`` for ``F`` frozen at each step's
+        midpoint {cite:p}`VanLoan1978`; ``"euler"``: ``Φ = I + F Δt``, ``Qd = G Q Gᵀ Δt``.
+
+    Returns
+    -------
+    GCDiscretization
+        The affine discrete model of every step, the nominal motion on the half-step grid.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> d = gc.discretize(gc.GyrocompassParams(), 1.0)
+    >>> d.n_steps, f"{d.beta_half[-1] * 1e3:.3f} mrad"
+    (1000, '0.086 mrad')
+    """
     p = _check_params(params)
     n_steps = _n_steps(p, t_end)
-    beta_half = nominal_half_steps(p, n_steps)
+    v.check_choice("method", method, DISCRETIZATIONS)
+    return _discretize(p, n_steps, method)
+
+
+def _discretize(p: GyrocompassParams, n_steps: int, method: str) -> GCDiscretization:
+    """:func:`discretize` on arguments already checked by the public entry point."""
+    beta_half = _nominal_half_steps(p, n_steps)
     bm = beta_half[1::2]
     idx = np.rint(bm / SEGMENT).astype(np.int64)
     uniq, seg = np.unique(idx, return_inverse=True)
     betas = uniq * SEGMENT
-    Phi0, PhiA, PhiB, Qd0, QdA, QdB = _affine_qd(p, betas, process_noise_intensity(p))
-    R = measurement_noise_covariance(p)
+    affine = _affine_euler if method == "euler" else _affine_qd
+    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, _process_noise_intensity(p))
+    R = _measurement_noise_covariance(p)
     model = AffineDiscreteModel(
         seg=seg.astype(np.int64).ravel(), a=np.sin(bm) - np.sin(betas)[seg].ravel(),
         b=np.cos(bm) - np.cos(betas)[seg].ravel(), Phi0=Phi0, PhiA=PhiA, PhiB=PhiB,
-        Qd0=Qd0, QdA=QdA, QdB=QdB, H=measurement_matrix(p), r=np.diag(R).copy())
+        Qd0=Qd0, QdA=QdA, QdB=QdB, H=_measurement_matrix(p), r=np.diag(R).copy())
     Fc, Es, Ec = _affine_parts(p)
     Gamma = np.zeros((betas.size, N))
     factors = []
@@ -196,9 +278,10 @@ def discretize(params: GyrocompassParams, t_end: float = 100.0) -> GCDiscretizat
         M = np.zeros((N + 1, N + 1))
         M[:N, :N] = F * p.dt
         M[1, N] = p.dt
-        Gamma[j] = scipy.linalg.expm(M)[:N, N]
+        Gamma[j] = M[:N, N] if method == "euler" else scipy.linalg.expm(M)[:N, N]
         factors.append(covariance_factor(Qd0[j]))
     nz = np.any(np.abs(np.array(factors)) > 0, axis=(0, 1))
     noise_factor = np.ascontiguousarray(np.array(factors)[:, :, nz])
     return GCDiscretization(params=p, n_steps=n_steps, beta_half=beta_half, betas=betas,
-                            model=model, Gamma=Gamma, noise_factor=noise_factor)
+                            model=model, Gamma=Gamma, noise_factor=noise_factor,
+                            method=method)

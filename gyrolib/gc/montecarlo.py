@@ -19,6 +19,10 @@ filter's by default):
   sampling interval (exactly Gaussian with variance ``C/Δt``; ``C`` itself under the
   ``measurement_noise="variance"`` reading of the truth's parameters).
 
+With ``eq1_sign="-"`` (the literal sign of Eq. (1)) the float turns the other way; like the
+filter's model, the truth is written in the mirrored angle, where the tilt term that carries
+``sin β`` changes sign.
+
 The filter's Kalman gains come from its own covariance recursion (its affine discrete model,
 :func:`gyrolib.gc.discretize`); the truth uses none of it.  A truth with other parameters
 than the filter's (``truth_params``) shows what a wrong model does to the claimed σ.
@@ -70,7 +74,8 @@ class TruthModel(NamedTuple):
     (``sin_mid``, ``cos_mid``): the nominal angle (its sine, cosine) at each fine step's
     predicted midpoint; ``phi1``, ``gam1`` (``phi2``, ``gam2``): zero-order-hold step of the
     vibration (random-drift) filter and its response to unit white noise, scaled by
-    ``sqrt(Q/h)``; ``kh = H Ω_h/I``, ``kv = H Ω_v/I``, ``hi = H/I``,
+    ``sqrt(Q/h)``; ``kh = H Ω_h/I``, ``kv = H Ω_v/I`` (``kd``: the same with the sign of
+    the δ term, flipped by ``eq1_sign="-"`` in the mirrored angle), ``hi = H/I``,
     ``ub = H ω_ub/(I g)``; ``g``; ``sr`` the sensors' noise standard deviations per sample;
     ``off_b``, ``off_bd``: the truth's nominal minus the filter's at the samples;
     ``substeps``; ``linear``: 1 to replace the torques by their linearization about the
@@ -89,6 +94,7 @@ class TruthModel(NamedTuple):
     gam2: NDArray[np.float64]
     kh: float
     kv: float
+    kd: float
     hi: float
     ub: float
     g: float
@@ -217,7 +223,9 @@ def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
         h=h, E=E, p1=p1, beta_mid=beta_mid, sin_mid=np.sin(beta_mid), cos_mid=np.cos(beta_mid),
         phi1=phi1, gam1=gam1 * math.sqrt(truth.Q1 / h), phi2=phi2,
         gam2=gam2 * math.sqrt(truth.Q2 / h), kh=truth.H * truth.Omega_h / truth.I,
-        kv=truth.H * truth.Omega_v / truth.I, hi=truth.H / truth.I,
+        kv=truth.H * truth.Omega_v / truth.I,
+        kd=(-1.0 if truth.eq1_sign == "-" else 1.0) * truth.H * truth.Omega_v / truth.I,
+        hi=truth.H / truth.I,
         ub=truth.H * truth.omega_ub / (truth.I * truth.g), g=truth.g,
         sr=np.sqrt(np.diag(measurement_noise_covariance(truth))), off_b=b_t - b_f,
         off_bd=bd_t - bd_f, substeps=int(substeps), linear=int(linear))
@@ -249,7 +257,7 @@ def _truth_substeps(k, kk, tm, noise, x, u):
             for r in range(B):
                 dm = x[0, r] + 0.5 * tm.h * x[1, r]
                 u[r] += (-tm.kh * sm * (dm - x[2, r])
-                         + tm.kv * (x[5, r] * cm - x[4, r] * sm))
+                         + tm.kv * x[5, r] * cm - tm.kd * x[4, r] * sm)
         else:
             big = 0.0
             for r in range(B):
@@ -260,8 +268,9 @@ def _truth_substeps(k, kk, tm, noise, x, u):
                 u[r] += tm.kh * (cm * _cm1_poly(e) - sm * _sin_poly(e))
                 cd = 1.0 + _cm1_poly(dm)
                 sd = _sin_poly(dm)
-                # kv [γ cos(β_m + dm) − δ sin(β_m + dm)]
-                u[r] += tm.kv * (x[5, r] * (cm * cd - sm * sd) - x[4, r] * (sm * cd + cm * sd))
+                # kv γ cos(β_m + dm) − kd δ sin(β_m + dm)
+                u[r] += (tm.kv * x[5, r] * (cm * cd - sm * sd)
+                         - tm.kd * x[4, r] * (sm * cd + cm * sd))
             if big > _POLY_MAX:  # far from the nominal (never at the paper's priors): redo
                 for r in range(B):
                     dm = x[0, r] + 0.5 * tm.h * x[1, r]
@@ -271,9 +280,9 @@ def _truth_substeps(k, kk, tm, noise, x, u):
                         sd = _sin(dm)
                         u[r] += tm.kh * (cm * (_cm1(e) - _cm1_poly(e))
                                          - sm * (_sin(e) - _sin_poly(e)))
-                        u[r] += tm.kv * (x[5, r] * (cm * (cd - 1.0 - _cm1_poly(dm))
-                                                    - sm * (sd - _sin_poly(dm)))
-                                         - x[4, r] * (sm * (cd - 1.0 - _cm1_poly(dm))
+                        u[r] += (tm.kv * x[5, r] * (cm * (cd - 1.0 - _cm1_poly(dm))
+                                                     - sm * (sd - _sin_poly(dm)))
+                                 - tm.kd * x[4, r] * (sm * (cd - 1.0 - _cm1_poly(dm))
                                                       + cm * (sd - _sin_poly(dm))))
         for r in range(B):
             d, dd = x[0, r], x[1, r]
@@ -370,11 +379,11 @@ def _reference_block(k0: int, noise: np.ndarray, tm: TruthModel, Phi: list, H: n
             dm = X[:, 0] + 0.5 * tm.h * X[:, 1]
             if tm.linear:
                 tq = (-tm.kh * np.sin(bm) * (dm - X[:, 2])
-                      + tm.kv * (X[:, 5] * np.cos(bm) - X[:, 4] * np.sin(bm)))
+                      + tm.kv * X[:, 5] * np.cos(bm) - tm.kd * X[:, 4] * np.sin(bm))
             else:
-                # Eq. (3) minus Eq. (4): kh[cos(β−ψ) − cos β_n] + kv[γ cos β − δ sin β]
+                # Eq. (3) minus Eq. (4): kh[cos(β−ψ) − cos β_n] + kv γ cos β − kd δ sin β
                 tq = (tm.kh * (np.cos(bm + dm - X[:, 2]) - np.cos(bm))
-                      + tm.kv * (X[:, 5] * np.cos(bm + dm) - X[:, 4] * np.sin(bm + dm)))
+                      + tm.kv * X[:, 5] * np.cos(bm + dm) - tm.kd * X[:, 4] * np.sin(bm + dm))
             # + (H/I)(ω_gc + N3) + H ω_ub N1/(I g), the noises at the midpoint
             tq = tq + tm.hi * (X[:, 3] + 0.5 * (n3 + X[:, 8])) + tm.ub * 0.5 * (n1 + X[:, 6])
             # (Δβ, Δβ') ← E (Δβ, Δβ') + p1 u

@@ -15,11 +15,15 @@ The paper prints ``X1 = Δβ'`` and ``X2 = Δβ``, but its F and D (``F(1,2) = 1
 ``F(2,2) = −f/I``, ``D(1,1) = 1``) only make sense with ``X1 = Δβ``, ``X2 = Δβ'``: this module
 uses the latter.  ``F(8,7)`` is ``−α1²`` as Eq. (6) requires (printed without the minus).
 The vertical-rate coupling follows Eq. (5) (γ carries cos β_n, δ carries −sin β_n) by
-default; ``vertical_coupling="printed_F"`` gives the paper's F listing instead.
+default; ``vertical_coupling="printed_F"`` gives the paper's F listing instead.  The sign of
+the gyroscopic torque, Eq. (1) of paper GC, is ``+`` as in Eqs. (3)–(5) by default;
+``eq1_sign="-"`` gives the model linearized with the literal minus sign of the extracted
+Eq. (1), and a negative ``omega_ub`` the unbalance of the other sign.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 from typing import Final
 
@@ -32,6 +36,7 @@ __all__ = [
     "NOISE_NAMES",
     "STATE_NAMES",
     "GyrocompassParams",
+    "normal_gravity",
     "state_index",
 ]
 
@@ -51,7 +56,24 @@ N_STATES: Final[int] = len(STATE_NAMES)
 
 
 def state_index(name: str) -> int:
-    """Index of a state by its name (see :data:`STATE_NAMES`)."""
+    """Index of a state by its name (see :data:`STATE_NAMES`).
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`STATE_NAMES`.
+
+    Returns
+    -------
+    int
+        Its index in the state vector of Eq. (8).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> gc.state_index("omega_gc")
+    3
+    """
     if name not in STATE_NAMES:
         raise ValueError(f"name must be one of {STATE_NAMES}; got {name!r}")
     return STATE_NAMES.index(name)
@@ -61,8 +83,11 @@ _POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "a
              "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
 
 
-_NONNEGATIVE = ("omega_ub", "sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
-                "sigma_delta0", "sigma_gamma0")
+_REAL = ("omega_ub",)
+
+
+_NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
+                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale")
 
 
 _DAMPING = ("xi1", "xi2")
@@ -72,6 +97,7 @@ _CHOICES = {
     "shaping_p0": ("stationary", "zero"),
     "measurement_noise": ("intensity_over_dt", "variance"),
     "vertical_coupling": ("eq5", "printed_F"),
+    "eq1_sign": ("+", "-"),
 }
 
 
@@ -92,10 +118,33 @@ class GyrocompassParams:
       held there by the feedback loop until it is switched off;
     * ``shaping_p0``: initial covariance of N1…N4, ``"stationary"`` (the processes are already
       running when the calibration starts) or ``"zero"`` (the literal reading);
+      ``shaping_p0_scale`` (κ, default 1) multiplies the stationary covariance (a partly known
+      initial state; κ = 0 is the zero reading);
     * ``measurement_noise``: how the continuous intensities become discrete variances,
       ``"intensity_over_dt"`` (``R = C/Δt``, sampling of continuous white noise) or
       ``"variance"`` (``R = C``, the printed numbers read as variances);
-    * ``vertical_coupling``: ``"eq5"`` (Eq. (5)) or ``"printed_F"`` (the F listing).
+    * ``vertical_coupling``: ``"eq5"`` (Eq. (5)) or ``"printed_F"`` (the F listing);
+    * ``eq1_sign``: the sign of the gyroscopic torque of Eq. (1), ``"+"`` (as Eqs. (3)–(5)
+      and the printed F use it) or ``"-"`` (the extracted Eq. (1) taken literally).  With
+      ``"-"`` the float turns the other way, ``β → −β``; :func:`gyrolib.gc.system_matrix`
+      gives that model in the mirrored angle, where it differs from the ``"+"`` model only in
+      the sign of the tilt term that carries ``sin β_n``;
+    * the sign of ``omega_ub``: the paper gives the magnitude of the unbalance drift; a
+      negative value reverses the unbalance torque.
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> from gyrolib.gc import GyrocompassParams
+    >>> p = GyrocompassParams()
+    >>> f"{p.time_constant * 1e3:.2f} ms"
+    '1.60 ms'
+    >>> replace(p, eq1_sign="-").eq1_sign
+    '-'
+    >>> replace(p, xi1=1.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: xi1 must be in (0.0, 1.0]; got 1.5
     """
 
     I: float = 4.0e-5
@@ -122,14 +171,18 @@ class GyrocompassParams:
     sigma_delta0: float = 120.0 * ARCSEC_PAPER
     sigma_gamma0: float = 120.0 * ARCSEC_PAPER
     shaping_p0: str = "stationary"
+    shaping_p0_scale: float = 1.0
     measurement_noise: str = "intensity_over_dt"
     vertical_coupling: str = "eq5"
+    eq1_sign: str = "+"
 
     def __post_init__(self) -> None:
         for f_ in fields(self):
             name = f_.name
             if name in _POSITIVE:
                 v.check_positive(name, getattr(self, name))
+            elif name in _REAL:
+                v.check_real(name, getattr(self, name))
             elif name in _NONNEGATIVE:
                 v.check_nonnegative(name, getattr(self, name))
             elif name in _DAMPING:
@@ -137,7 +190,7 @@ class GyrocompassParams:
             elif name in _CHOICES:
                 v.check_choice(name, getattr(self, name), _CHOICES[name])
         # Store plain floats so that numpy scalars and ints behave identically.
-        for name in (*_POSITIVE, *_NONNEGATIVE, *_DAMPING):
+        for name in (*_POSITIVE, *_REAL, *_NONNEGATIVE, *_DAMPING):
             object.__setattr__(self, name, float(getattr(self, name)))
 
     # Derived quantities -------------------------------------------------------------------
@@ -163,6 +216,30 @@ class GyrocompassParams:
     def random_drift_filter(self) -> ShapingFilter:
         """The random-drift shaping filter, Eq. (7)."""
         return random_drift_filter(self.alpha2, self.xi2, self.sigma2_sq)
+
+
+def normal_gravity(latitude: float) -> float:
+    """Sea-level gravity (m/s²) at ``latitude`` (rad) by the international gravity formula
+    of 1967, to bound how far the unstated ``g`` of paper GC can be from standard gravity.
+
+    Parameters
+    ----------
+    latitude : float
+        Geodetic latitude (rad), in [−π/2, π/2].
+
+    Returns
+    -------
+    float
+        ``9.780318 (1 + 5.3024e-3 sin²φ − 5.9e-6 sin²2φ)`` m/s².
+
+    Examples
+    --------
+    >>> import math
+    >>> f"{normal_gravity(0.0):.4f} {normal_gravity(math.pi / 2):.4f}"
+    '9.7803 9.8322'
+    """
+    lat = v.check_in_range("latitude", latitude, -math.pi / 2, math.pi / 2)
+    return 9.780318 * (1 + 5.3024e-3 * math.sin(lat) ** 2 - 5.9e-6 * math.sin(2 * lat) ** 2)
 
 
 def _check_params(params: object) -> GyrocompassParams:

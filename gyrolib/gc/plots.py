@@ -35,9 +35,13 @@ import numpy as np
 from matplotlib import colormaps
 from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
+from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
 from gyrolib.filtering.consistency import nees_bounds
+from gyrolib.gc.budget import ErrorBudget
+from gyrolib.gc.covariance import CovarianceAnalysis, CovarianceSweep
+from gyrolib.gc.nominal import NominalMotion
 from gyrolib.units import ARCSEC, from_si
 
 __all__ = [
@@ -56,32 +60,42 @@ __all__ = [
 ]
 
 
-def _same_length(names: tuple[str, ...], arrays: tuple[object, ...]) -> list[np.ndarray]:
-    out = [v.check_array(n, a, ndim=1, min_size=1) for n, a in zip(names, arrays)]
-    if len({a.size for a in out}) != 1:
-        raise ValueError(f"{', '.join(names)} must have the same length")
-    return out
-
-
-def plot_shaping_psd(omega: object, psd_n1: object, psd_n3: object, *, alpha1: float,
-                     alpha2: float, var_n1: float, var_n3: float) -> Figure:
+def plot_shaping_psd(omega: ArrayLike, psd_n1: ArrayLike, psd_n3: ArrayLike, *,
+                     alpha1: float, alpha2: float, var_n1: float, var_n3: float) -> Figure:
     """Paper GC, Figure 2: one-sided PSDs (per rad/s) of the vibration acceleration ``N1``
-    and of the random drift ``N3``, with the natural frequencies marked.
+    and of the random drift ``N3`` (Eqs. (6), (7) of paper GC), natural frequencies marked.
 
-    Top row: ``Φ(ω)`` on log–log axes.  Bottom row: ``ω Φ(ω)`` against ``log ω``, a plot in
-    which equal areas are equal variance (``∫ Φ dω = ∫ ω Φ d ln ω``), shaded; ``var_n1``,
-    ``var_n3`` (the variances) are quoted in the panels.
+    Parameters
+    ----------
+    omega : array_like
+        Angular frequencies (rad/s, > 0: log axes).
+    psd_n1, psd_n3 : array_like
+        One-sided PSDs of N1 and N3 at ``omega`` (:func:`gyrolib.gc.psd`).
+    alpha1, alpha2 : float
+        Natural frequencies (rad/s), drawn as dotted lines.
+    var_n1, var_n3 : float
+        The variances, quoted in the panels.
+
+    Returns
+    -------
+    Figure
+        Top row: ``Φ(ω)`` on log–log axes.  Bottom row: ``ω Φ(ω)`` against ``log ω``, where
+        equal areas are equal variance (``∫ Φ dω = ∫ ω Φ d ln ω``), shaded.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> w = np.logspace(-4, 2, 50)
+    >>> fig = gc.plot_shaping_psd(w, gc.psd(p.vibration_filter(), w),
+    ...                           gc.psd(p.random_drift_filter(), w), alpha1=p.alpha1,
+    ...                           alpha2=p.alpha2, var_n1=p.sigma1_sq, var_n3=p.sigma2_sq)
+    >>> len(fig.axes)
+    4
     """
-    omega, p1, p3 = _same_length(("omega", "psd_n1", "psd_n3"), (omega, psd_n1, psd_n3))
-    a1 = v.check_positive("alpha1", alpha1)
-    a2 = v.check_positive("alpha2", alpha2)
-    var1 = v.check_positive("var_n1", var_n1)
-    var3 = v.check_positive("var_n3", var_n3)
-    if np.any(omega <= 0.0):
-        raise ValueError("omega must be > 0 (log axes)")
-    for name, p in (("psd_n1", p1), ("psd_n3", p3)):
-        if np.any(p < 0.0):
-            raise ValueError(f"{name} must be >= 0 (a power spectral density)")
+    omega, p1, p3 = (np.asarray(x, dtype=float) for x in (omega, psd_n1, psd_n3))
+    a1, a2, var1, var3 = alpha1, alpha2, var_n1, var_n3
     fig = Figure(figsize=(10.0, 6.4), layout="constrained")
     axes = fig.subplots(2, 2, sharex="col")
     specs = (
@@ -113,22 +127,44 @@ def plot_shaping_psd(omega: object, psd_n1: object, psd_n3: object, *, alpha1: f
     return fig
 
 
-def plot_nominal_motion(t: object, beta: object, beta_ap: object, t_fast: object,
-                        beta_dot_fast: object, beta_dot_ap_fast: object, *, tau: float,
-                        lag: float) -> Figure:
+def plot_nominal_motion(nominal: NominalMotion, aperiodic: NominalMotion,
+                        nominal_start: NominalMotion, aperiodic_start: NominalMotion, *,
+                        tau: float, lag: float) -> Figure:
     """Nominal float motion, paper GC Eq. (4), against the aperiodic approximation.
 
-    ``t``, ``beta``, ``beta_ap``: time (s) and the two angles (rad) over the run;
-    ``t_fast``, ``beta_dot_fast``, ``beta_dot_ap_fast``: the start of the run, rates (rad/s);
-    ``tau``: the time constant ``I/f`` (s); ``lag``: the asymptotic difference ``−k τ`` (rad).
-    Three panels: the angle in degrees; the rate over the first few ``τ``; the difference
-    ``β_n − β_ap`` in arcseconds on a logarithmic time axis.
+    Parameters
+    ----------
+    nominal, aperiodic : NominalMotion
+        :func:`gyrolib.gc.nominal_motion` and :func:`gyrolib.gc.nominal_motion_aperiodic`
+        over the run (same times).
+    nominal_start, aperiodic_start : NominalMotion
+        The same over the first few time constants (same times).
+    tau : float
+        The time constant ``I/f`` (s).
+    lag : float
+        The asymptotic difference ``−k τ`` (rad).
+
+    Returns
+    -------
+    Figure
+        Three panels: the angle in degrees; the rate over the first few ``τ``; the
+        difference ``β_n − β_ap`` in arcseconds on a logarithmic time axis.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> t, t0 = np.linspace(0.0, 1.0, 11), np.linspace(0.0, 0.01, 11)
+    >>> fig = gc.plot_nominal_motion(
+    ...     gc.nominal_motion(p, t), gc.nominal_motion_aperiodic(p, t),
+    ...     gc.nominal_motion(p, t0), gc.nominal_motion_aperiodic(p, t0),
+    ...     tau=p.time_constant, lag=0.0)
+    >>> len(fig.axes)
+    3
     """
-    t, b, bap = _same_length(("t", "beta", "beta_ap"), (t, beta, beta_ap))
-    tf, bd, bdap = _same_length(("t_fast", "beta_dot_fast", "beta_dot_ap_fast"),
-                                (t_fast, beta_dot_fast, beta_dot_ap_fast))
-    tau = v.check_positive("tau", tau)
-    lag = v.check_real("lag", lag)
+    t, b, bap = nominal.t, nominal.beta, aperiodic.beta
+    tf, bd, bdap = nominal_start.t, nominal_start.beta_dot, aperiodic_start.beta_dot
     arcsec = ARCSEC
     fig = Figure(figsize=(11.0, 3.6), layout="constrained")
     ax1, ax2, ax3 = fig.subplots(1, 3)
@@ -196,12 +232,23 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
     Eq. (2) read with ``y`` the input axis: ``δ`` takes ``y`` below the horizon, so the
     vertical rate has the component ``ω_y = −Ω_v δ``; ``γ`` takes ``x`` above it,
     ``ω_x = Ω_v γ``.  (Eqs. (3), (5) exchange the roles of δ and γ; see the model chapter.)
+
+    Parameters
+    ----------
+    beta_deg, psi_deg, tilt_deg : float
+        The drawn angles (degrees; legible for ``psi_deg < beta_deg`` below about 80°).
+
+    Returns
+    -------
+    Figure
+        Panel (a) and the two side views (b), (c).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> len(gc.plot_figure1().axes)
+    3
     """
-    beta_deg = v.check_in_range("beta_deg", beta_deg, 1.0, 80.0)
-    psi_deg = v.check_in_range("psi_deg", psi_deg, 1.0, 80.0)
-    tilt_deg = v.check_in_range("tilt_deg", tilt_deg, 1.0, 40.0)
-    if not psi_deg < beta_deg:
-        raise ValueError("psi_deg must be < beta_deg (for a legible drawing)")
     fig = Figure(figsize=(11.0, 4.8), layout="constrained")
     gs = fig.add_gridspec(2, 2, width_ratios=(1.3, 1.0))
     ax = fig.add_subplot(gs[:, 0])
@@ -310,25 +357,46 @@ def _band(name: str, value: object) -> tuple[float, float]:
     return lo, hi
 
 
-def plot_sigma_history(t: object, curves: Mapping[str, object], *, paper_value: float,
-                       paper_time: float = 100.0, unit: str = "″/s",
-                       drop_time: float = 2.0) -> Figure:
-    """Paper GC, Figure 3: σ of the ω_gc estimate (in ``unit``) against time (s), log scale;
-    one line per entry of ``curves`` (label → σ), the paper's value as a marker, and the
-    first ``drop_time`` seconds shaded."""
-    if curves is None or (isinstance(curves, Mapping) and not curves):
-        raise ValueError("curves must hold at least one curve")
-    curves = _mapping("curves", curves)
-    pv = v.check_positive("paper_value", paper_value)
-    paper_time = v.check_nonnegative("paper_time", paper_time)
-    drop_time = v.check_nonnegative("drop_time", drop_time)
-    v.check_str("unit", unit)
-    for label, s in curves.items():
-        _pair("t", t, f"curves[{label!r}]", s, nonnegative=True)
+def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: float,
+                       paper_time: float = 100.0, unit: str = "arcsec_paper/s",
+                       unit_label: str = "″/s", drop_time: float = 2.0,
+                       name: str = "omega_gc") -> Figure:
+    """Paper GC, Figure 3: σ of the ω_gc estimate against time, one line per analysis.
+
+    Parameters
+    ----------
+    runs : mapping of str to CovarianceAnalysis
+        Label → :func:`gyrolib.gc.covariance_analysis` result; the first is drawn thicker.
+    paper_value : float
+        The paper's σ at ``paper_time``, in ``unit``, drawn as a star.
+    paper_time : float, default 100.0
+        Time of the paper's value (s).
+    unit, unit_label : str
+        A :mod:`gyrolib.units` unit for the σ axis, and how the axis names it.
+    drop_time : float, default 2.0
+        The first ``drop_time`` seconds are shaded (the paper's "sharp drop").
+    name : str, default "omega_gc"
+        The state drawn.
+
+    Returns
+    -------
+    Figure
+        Left: linear time; right: log time.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> res = gc.covariance_analysis(gc.GyrocompassParams(), 0.1)
+    >>> fig = gc.plot_sigma_history({"baseline": res}, paper_value=0.0011)
+    >>> len(fig.axes)
+    2
+    """
+    pv = paper_value
+    curves = {label: (r.t, from_si(r.std(name), unit)) for label, r in runs.items()}
+    unit = unit_label
     fig = Figure(figsize=(9.0, 4.2), layout="constrained")
     ax_lin, ax_log = fig.subplots(1, 2)
-    for i, (label, s) in enumerate(curves.items()):
-        tt, ss = _pair("t", t, f"curves[{label!r}]", s)
+    for i, (label, (tt, ss)) in enumerate(curves.items()):
         lw = 2.0 if i == 0 else 1.2
         ax_lin.semilogy(tt, ss, lw=lw, label=label)
         ax_log.loglog(tt[1:], ss[1:], lw=lw, label=label)
@@ -344,35 +412,77 @@ def plot_sigma_history(t: object, curves: Mapping[str, object], *, paper_value: 
     return fig
 
 
-def plot_p0_scale(kappa: object, sigma: object, *, paper_value: float,
-                  unit: str = "″/s") -> Figure:
-    """σ(100 s) (``unit``) against the factor ``kappa`` multiplying the stationary
-    covariance of N1…N4 in ``P(0)`` (0: the literal reading, 1: stationary)."""
-    k, s = _pair("kappa", kappa, "sigma", sigma, nonnegative=True)
-    _nonnegative("kappa", k)
-    pv = v.check_positive("paper_value", paper_value)
-    v.check_str("unit", unit)
+def plot_p0_scale(sweep: CovarianceSweep, *, paper_value: float,
+                  field: str = "shaping_p0_scale", unit: str = "arcsec_paper/s",
+                  unit_label: str = "″/s") -> Figure:
+    """σ of ω_gc at the end of the run against the scale ``κ`` of the stationary covariance
+    of N1…N4 in ``P(0)`` (0: the literal reading of paper GC, 1: stationary).
+
+    Parameters
+    ----------
+    sweep : CovarianceSweep
+        :func:`gyrolib.gc.sweep_covariance` over ``field`` (each case sets it).
+    paper_value : float
+        The paper's σ in ``unit`` (dashed line).
+    field : str, default "shaping_p0_scale"
+        The swept field, on the horizontal axis.
+    unit, unit_label : str
+        A :mod:`gyrolib.units` unit for the σ axis, and how the axis names it.
+
+    Returns
+    -------
+    Figure
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> sw = gc.sweep_covariance(gc.GyrocompassParams(),
+    ...                          gc.parameter_grid(shaping_p0_scale=(0.0, 1.0)), 0.01)
+    >>> len(gc.plot_p0_scale(sw, paper_value=0.0011).axes)
+    1
+    """
+    k = np.array([c[field] for c in sweep.cases], dtype=float)
+    s = from_si(sweep.final_std(), unit)
+    pv, unit = paper_value, unit_label
+    t_end = float(sweep.analyses[0].t[-1])
     fig = Figure(figsize=(6.0, 3.6), layout="constrained")
     ax = fig.subplots()
     ax.plot(k, s, "o-")
     ax.axhline(pv, color="k", ls="--", label=f"paper: {pv:g} {unit}")
     ax.set_xlabel("κ: P(0) of N1…N4 = κ × stationary covariance")
-    ax.set_ylabel(f"σ of ω_gc at 100 s ({unit})")
+    ax.set_ylabel(f"σ of ω_gc at {t_end:g} s ({unit})")
     ax.grid(True, alpha=0.3)
     ax.legend()
     return fig
 
 
-def plot_error_budget(t: object, var: object, sources: tuple[str, ...], *,
-                      scale: float = 1.0, unit: str = "″/s") -> Figure:
-    """Error budget: left, σ at the last time per source (``sqrt(var)/scale``, log axis);
-    right, each source's share of the total variance over time (stacked)."""
-    if not isinstance(sources, tuple | list) or not all(isinstance(x, str) for x in sources):
-        raise TypeError("sources must be a tuple or list of str (one label per row of var)")
-    t = v.check_array("t", t, ndim=1, min_size=2)
-    var = v.check_array("var", var, shape=(len(sources), t.size))
-    scale = v.check_positive("scale", scale)
-    v.check_str("unit", unit)
+def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
+                      unit_label: str = "″/s") -> Figure:
+    """Error budget of the ω_gc estimate (:func:`gyrolib.gc.error_budget`).
+
+    Parameters
+    ----------
+    budget : ErrorBudget
+        The variance of the estimation error from each source alone.
+    unit, unit_label : str
+        A :mod:`gyrolib.units` unit for σ, and how the axis names it.
+
+    Returns
+    -------
+    Figure
+        Left: σ at the last time per source (log axis); right: each source's share of the
+        total variance over time (stacked).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> bud = gc.error_budget(gc.GyrocompassParams(), 0.1)
+    >>> len(gc.plot_error_budget(bud).axes)
+    2
+    """
+    t, var, sources = budget.t, budget.var, budget.sources
+    scale = float(from_si(1.0, unit)) ** -1
+    unit = unit_label
     fig = Figure(figsize=(10.0, 4.4), layout="constrained")
     ax_bar, ax_share = fig.subplots(1, 2, width_ratios=[1.0, 1.2])
     end = np.sqrt(np.clip(var[:, -1], 0.0, None)) / scale

@@ -49,6 +49,7 @@ __all__ = [
     "ModelSymbols",
     "ShapingFilterSym",
     "StateSpaceSym",
+    "cauchy_form_latex",
     "compare_with_paper",
     "display_form",
     "earth_rate_in_base",
@@ -64,6 +65,8 @@ __all__ = [
     "shaping_filter",
     "state_space",
     "taylor_linearization",
+    "to_latex",
+    "to_latex_aligned",
 ]
 
 
@@ -209,7 +212,25 @@ def _check_matrix(name: str, value: object, rows: int | None = None,
 def display_form(expr: object) -> object:
     """``expr`` with the functions of time ``β(t)``, ``β_n(t)``, ``Δβ(t)`` and their first two
     derivatives replaced by plain (dotted) symbols, for compact display.  Lists and tuples
-    are converted element by element; other non-sympy objects are returned unchanged."""
+    are converted element by element; other non-sympy objects are returned unchanged.
+
+    Parameters
+    ----------
+    expr : sympy expression, list or tuple
+        What to display.
+
+    Returns
+    -------
+    object
+        ``expr`` with plain symbols for the functions of time.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> S = symbolic.SYMBOLS
+    >>> symbolic.display_form(S.beta(S.t).diff(S.t))
+    \\dot\\beta
+    """
     if isinstance(expr, list | tuple):
         return type(expr)(display_form(e) for e in expr)
     if not isinstance(expr, sp.Basic):
@@ -228,12 +249,104 @@ def display_form(expr: object) -> object:
     return expr.xreplace(reps)
 
 
+def to_latex(expr: object, lhs: str | None = None) -> str:
+    r"""LaTeX of :func:`display_form` of ``expr``, optionally as ``lhs = expr``.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> S = symbolic.SYMBOLS
+    >>> print(symbolic.to_latex(S.beta(S.t).diff(S.t), r"\omega"))
+    \omega = \dot\beta
+    """
+    body = sp.latex(display_form(expr))
+    return body if lhs is None else f"{v.check_str('lhs', lhs)} = {body}"
+
+
+def to_latex_aligned(lhs: object, rhs: object, per_line: int = 3) -> str:
+    r"""LaTeX of ``lhs = rhs`` in an ``aligned`` block, the expanded right side broken into
+    lines of ``per_line`` terms (for the long rows of Eqs. (3), (5) and (8)).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from gyrolib.gc import symbolic
+    >>> a, b, c = sp.symbols("a b c")
+    >>> print(symbolic.to_latex_aligned("y", a + b - c, per_line=2))
+    \begin{aligned} & y \\ &= a + b \\ &\quad - c\end{aligned}
+    """
+    per_line = v.check_int("per_line", per_line, 1)
+    lhs_tex = lhs if isinstance(lhs, str) else sp.latex(display_form(lhs))
+    return (r"\begin{aligned} & " + lhs_tex + r" \\ &= " + _tex_sum(rhs, per_line)
+            + r"\end{aligned}")
+
+
+def _tex_sum(expr: object, per_line: int) -> str:
+    terms = sp.Add.make_args(sp.expand(display_form(expr)))
+    lines = []
+    for i in range(0, len(terms), per_line):
+        chunk = sp.latex(sp.Add(*terms[i:i + per_line]))
+        lines.append(chunk if i == 0 or chunk.startswith("-") else "+ " + chunk)
+    return r" \\ &\quad ".join(lines)
+
+
+def cauchy_form_latex(model: StateSpaceSym, per_line: int = 4) -> str:
+    """LaTeX of the first-order system of Eq. (8), one row per state (``aligned``); the
+    long Δβ'' row is multiplied by ``I`` and broken into lines of ``per_line`` terms.
+
+    Parameters
+    ----------
+    model : StateSpaceSym
+    per_line : int, default 4
+        Terms per line of the long row.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.cauchy_form_latex(symbolic.state_space()).startswith(r"\\begin{aligned}")
+    True
+    """
+    per_line = v.check_int("per_line", per_line, 1)
+    v.check_instance("model", model, StateSpaceSym)
+    S = SYMBOLS
+    rows = []
+    for x, f in zip(model.x, model.rhs):
+        if x == S.x_dbeta_dot:
+            rows.append(r"I\,\Delta\ddot\beta &= " + _tex_sum(S.I * f, per_line))
+        elif x == S.x_dbeta:
+            rows.append(r"\Delta\dot\beta &= " + sp.latex(f))
+        else:
+            rows.append(r"\dot{" + sp.latex(x) + "} &= " + sp.latex(f))
+    return r"\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}"
+
+
 # Geometry and torques, Eqs. (1)–(3) -----------------------------------------------------------
 def float_input_axis(beta: sp.Expr) -> sp.Matrix:
     """Unit vector of the float's input axis ``η`` in the base frame ``Oxyz``.
 
     The float turns by ``β`` about the output axis ``z``; at ``β = 0`` ``η`` is ``y``, and a
     positive ``β`` turns ``η`` from ``y`` towards ``x``: ``η = (sin β, cos β, 0)``.
+
+    Parameters
+    ----------
+    beta : sympy expression
+        The float angle β.
+
+    Returns
+    -------
+    sympy.Matrix
+        η in ``Oxyz`` (3×1).
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> S = symbolic.SYMBOLS
+    >>> symbolic.float_input_axis(S.beta(S.t)).T
+    Matrix([[sin(beta(t)), cos(beta(t)), 0]])
     """
     beta = _check_angle("beta", beta)
     Rz = sp.Matrix([[sp.cos(beta), sp.sin(beta), 0],
@@ -256,6 +369,23 @@ def earth_rate_in_base(coupling: str = "eq5") -> tuple[sp.Matrix, sp.Matrix]:
       ``ω_y = −Ω_v δ``, ``ω_x = Ω_v γ``; this gives the paper's F listing (δ carries cos β);
     * ``"eq5"``: ``y`` stands for ``x`` and ``z`` for ``y``: ``ω_x = −Ω_v δ``,
       ``ω_y = Ω_v γ``; this gives Eqs. (3) and (5) (γ carries cos β).
+
+    Parameters
+    ----------
+    coupling : {"eq5", "printed_F"}, default "eq5"
+        The reading of the axis labels of Eq. (2).
+
+    Returns
+    -------
+    (sympy.Matrix, sympy.Matrix)
+        ``Ω_h`` and ``Ω_v`` in ``Oxyz`` (3×1 each).
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> omega_h, omega_v = symbolic.earth_rate_in_base("eq5")
+    >>> omega_v.T
+    Matrix([[-Omega_v*delta, Omega_v*gamma, Omega_v]])
     """
     S = SYMBOLS
     coupling = _check_coupling(coupling)
@@ -273,6 +403,24 @@ def gyroscopic_torque(beta: sp.Expr, sign: int = 1) -> sp.Expr:
 
     The paper's own equations (3)–(5) use ``sign = +1``; the extracted text of Eq. (1) shows a
     minus sign (``sign = −1``), discussed in the model chapter.
+
+    Parameters
+    ----------
+    beta : sympy expression
+        The float angle β.
+    sign : {1, -1}, default 1
+        The sign of Eq. (1).
+
+    Returns
+    -------
+    sympy expression
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> S = symbolic.SYMBOLS
+    >>> symbolic.gyroscopic_torque(S.beta(S.t))
+    H*Omega_h*cos(psi - beta(t))
     """
     S = SYMBOLS
     sign = _check_sign(sign)
@@ -282,7 +430,26 @@ def gyroscopic_torque(beta: sp.Expr, sign: int = 1) -> sp.Expr:
 
 
 def vertical_rate_torque(beta: sp.Expr, coupling: str = "eq5") -> sp.Expr:
-    """Gyroscopic torque of the tilted vertical Earth rate, ``H (ω_v · η)`` (Eqs. (2), (3))."""
+    """Gyroscopic torque of the tilted vertical Earth rate, ``H (ω_v · η)`` (Eqs. (2), (3)).
+
+    Parameters
+    ----------
+    beta : sympy expression
+        The float angle β.
+    coupling : {"eq5", "printed_F"}, default "eq5"
+        The reading of Eq. (2).
+
+    Returns
+    -------
+    sympy expression
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> S = symbolic.SYMBOLS
+    >>> symbolic.vertical_rate_torque(S.beta(S.t), "eq5")
+    -H*Omega_v*delta*sin(beta(t)) + H*Omega_v*gamma*cos(beta(t))
+    """
     S = SYMBOLS
     beta = _check_angle("beta", beta)
     _, omega_v = earth_rate_in_base(coupling)
@@ -296,6 +463,27 @@ def gyrocompass_equation(*, sign: int = 1, coupling: str = "eq5",
     ``I β'' + f β' = M_g + H(ω_v·η) + H ω_gc + H ω_rnd [+ (H ω_ub/g) N1]``.  The last term is
     the unbalance torque of the vibration acceleration ``N1`` (text after Eq. (6)); the paper
     leaves it out of (3) but puts it in ``F(2,7)``.
+
+    Parameters
+    ----------
+    sign : {1, -1}, default 1
+        The sign of Eq. (1).
+    coupling : {"eq5", "printed_F"}, default "eq5"
+        The reading of Eq. (2).
+    unbalance : bool, default True
+        Add the unbalance torque ``H ω_ub N1 / g``.
+
+    Returns
+    -------
+    sympy.Eq
+        ``I β'' + f β' = torques``.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> eq = symbolic.gyrocompass_equation(unbalance=False)
+    >>> len(eq.rhs.args)   # Eq. (3): five torques
+    5
     """
     S = SYMBOLS
     sign = _check_sign(sign)
@@ -311,7 +499,23 @@ def gyrocompass_equation(*, sign: int = 1, coupling: str = "eq5",
 
 
 def nominal_equation(sign: int = 1) -> sp.Eq:
-    """Nominal equation, paper GC Eq. (4): ``I β_n'' + f β_n' = sign · H Ω_h cos β_n``."""
+    """Nominal equation, paper GC Eq. (4): ``I β_n'' + f β_n' = sign · H Ω_h cos β_n``.
+
+    Parameters
+    ----------
+    sign : {1, -1}, default 1
+        The sign of Eq. (1).
+
+    Returns
+    -------
+    sympy.Eq
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.nominal_equation().rhs
+    H*Omega_h*cos(beta_n(t))
+    """
     S = SYMBOLS
     bn = S.beta_n(S.t)
     return sp.Eq(S.I * bn.diff(S.t, 2) + S.f * bn.diff(S.t),
@@ -353,6 +557,26 @@ def taylor_linearization(*, sign: int = 1, coupling: str = "eq5",
     ``ω_gc``, ``ω_rnd``, ``N1``) by ``ε``; sympy's ``series`` in ``ε`` to first order gives
     the nominal equation (order 0, paper GC Eq. (4)) and the linearized equation (order 1,
     Eq. (5)).  Cached per (validated) argument set.
+
+    Parameters
+    ----------
+    sign : {1, -1}, default 1
+        The sign of Eq. (1).
+    coupling : {"eq5", "printed_F"}, default "eq5"
+        The reading of Eq. (2).
+    unbalance : bool, default True
+        Include the unbalance torque.
+
+    Returns
+    -------
+    Linearization
+        ``order0`` (Eq. (4)) and ``order1`` (Eq. (5)) as ``lhs − rhs``.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.taylor_linearization().nominal().rhs
+    H*Omega_h*cos(beta_n(t))
     """
     return _taylor_linearization(_check_sign(sign), _check_coupling(coupling),
                                  v.check_bool("unbalance", unbalance))
@@ -407,6 +631,23 @@ def shaping_filter(which: str, reading: str = "paper") -> ShapingFilterSym:
     printed G (``G(7,1) = 1``, ``G(8,1) = α1 − 2ξ1α1``; ``G(10,2) = 1``).  The alternatives are
     ``"second_line_only"`` for Eq. (6) (the noise only in the ``N2`` line) and
     ``"both_lines"`` for Eq. (7) (the extraction shows a noise symbol on both lines).
+
+    Parameters
+    ----------
+    which : {"vibration", "drift"}
+        Eq. (6) or Eq. (7).
+    reading : str, default "paper"
+        Where the white noise enters (:data:`NOISE_READINGS`).
+
+    Returns
+    -------
+    ShapingFilterSym
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.shaping_filter("drift").output_variance()
+    sigma_2^2
     """
     S = SYMBOLS
     which = v.check_choice("which", which, tuple(NOISE_READINGS))
@@ -429,6 +670,26 @@ def lyapunov_variance(A: sp.Matrix, B: sp.Matrix, C: sp.Matrix, Q: sp.Expr) -> s
 
     ``A`` n×n, ``B`` n×k, ``C`` 1×n (sympy matrices); ``Q`` a sympy expression or number
     (k = 1) or a k×k sympy matrix.
+
+    Parameters
+    ----------
+    A, B, C : sympy.Matrix
+        State, input and output matrices (A Hurwitz).
+    Q : sympy expression
+        White-noise intensity.
+
+    Returns
+    -------
+    sympy expression
+        ``C P Cᵀ`` with ``A P + P Aᵀ + B Q Bᵀ = 0``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> from gyrolib.gc import symbolic
+    >>> a, q = sp.symbols("a q", positive=True)
+    >>> symbolic.lyapunov_variance(sp.Matrix([[-a]]), sp.Matrix([[1]]), sp.Matrix([[1]]), q)
+    q/(2*a)
     """
     A = _check_matrix("A", A)
     n = A.rows
@@ -480,7 +741,19 @@ class StateSpaceSym:
 
 def measurement_equations() -> sp.Matrix:
     """Measurements of Eq. (8): the angle sensor reads ``Δβ`` (β minus the stored ``β_n``);
-    inclinometer y reads ``g δ + N1``, inclinometer z reads ``g γ + N1``."""
+    inclinometer y reads ``g δ + N1``, inclinometer z reads ``g γ + N1``.
+
+    Returns
+    -------
+    sympy.Matrix
+        The three sensor readings (3×1) in the state symbols.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.measurement_equations()[1]
+    N_1 + delta*g
+    """
     S = SYMBOLS
     return sp.Matrix([S.x_dbeta, S.g * S.delta + S.N1, S.g * S.gamma + S.N1])
 
@@ -493,6 +766,26 @@ def state_space(coupling: str = "eq5", state_order: str = "corrected",
     torque), the shaping filters are appended, ``ψ, ω_gc, δ, γ`` are random constants.  ``F``,
     ``G``, ``D`` are the Jacobians of the right-hand sides and of the measurements.  ``β_n``
     appears as the symbol ``SYMBOLS.beta_n_sym``.  Cached per (validated) argument set.
+
+    Parameters
+    ----------
+    coupling : {"eq5", "printed_F"}, default "eq5"
+        The reading of Eq. (2).
+    state_order : {"corrected", "printed"}, default "corrected"
+        X1 = Δβ (corrected) or the printed X1 = Δβ'.
+    sign : {1, -1}, default 1
+        The sign of Eq. (1).
+
+    Returns
+    -------
+    StateSpaceSym
+        States, right-hand sides and the Jacobians F, G, D.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.state_space().F[1, 3]   # F(2,4)
+    H/I
     """
     return _state_space(_check_coupling(coupling),
                         v.check_choice("state_order", state_order, STATE_ORDERS),
@@ -536,6 +829,17 @@ def paper_listing() -> dict[tuple[str, int, int], sp.Expr]:
 
     ``F(2,2)`` is printed ``−F/I``; the ``F`` there is the friction coefficient ``f`` (the
     parameter list also calls it ``F``).
+
+    Returns
+    -------
+    dict
+        ``(matrix, i, j) → entry`` with 1-based indices.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.paper_listing()[("F", 8, 7)]   # printed without its minus sign
+    alpha_1**2
     """
     S = SYMBOLS
     H, I, bn = S.H, S.I, S.beta_n_sym
@@ -579,7 +883,25 @@ class EntryComparison:
 
 
 def compare_with_paper(model: StateSpaceSym) -> list[EntryComparison]:
-    """Compare every entry that is nonzero in the paper's listing or in ``model``."""
+    """Compare every entry that is nonzero in the paper's listing or in ``model``.
+
+    Parameters
+    ----------
+    model : StateSpaceSym
+        A derived model.
+
+    Returns
+    -------
+    list of EntryComparison
+        One per entry nonzero in the listing or the derivation.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> rows = symbolic.compare_with_paper(symbolic.state_space("printed_F"))
+    >>> [(r.matrix, r.i, r.j) for r in rows if not r.equal]
+    [('F', 8, 7)]
+    """
     v.check_instance("model", model, StateSpaceSym)
     listing = paper_listing()
     keys = set(listing)
@@ -615,6 +937,17 @@ def relabelling() -> Relabelling:
     ``w1_p = −w1``, and the two inclinometer readings swap with a sign change.  It maps
     ``F_eq5`` with unbalance ``−ω_ub`` onto ``F_printed`` with ``+ω_ub``:
     ``F_p = T F T⁻¹``, ``G_p = T G Sw⁻¹``, ``D_p = Sm D T⁻¹``.
+
+    Returns
+    -------
+    Relabelling
+        ``T`` (10×10 states), ``Sw`` (2×2 noises), ``Sm`` (3×3 measurements).
+
+    Examples
+    --------
+    >>> from gyrolib.gc import symbolic
+    >>> symbolic.relabelling().T.shape
+    (10, 10)
     """
     T = sp.eye(10)
     T[4, 4] = T[5, 5] = 0
@@ -627,7 +960,23 @@ def relabelling() -> Relabelling:
 
 # Numbers ---------------------------------------------------------------------------------------
 def parameter_values(params: object) -> dict[sp.Symbol, float]:
-    """Map the model's symbols to the values of a ``GyrocompassParams``."""
+    """Map the model's symbols to the values of a ``GyrocompassParams``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+
+    Returns
+    -------
+    dict
+        Symbol → float.
+
+    Examples
+    --------
+    >>> from gyrolib.gc import GyrocompassParams, symbolic
+    >>> symbolic.parameter_values(GyrocompassParams())[symbolic.SYMBOLS.H]
+    0.05
+    """
     _check_params(params)
     S = SYMBOLS
     names = ("I", "H", "f", "Omega_h", "Omega_v", "g", "omega_ub", "alpha1", "xi1",
@@ -652,6 +1001,24 @@ def numeric_matrices(params: object, beta_n: float,
     """Evaluate the symbolic ``F``, ``G``, ``D`` of Eq. (8) at ``β_n`` for ``params``.
 
     ``coupling`` defaults to ``params.vertical_coupling``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+    beta_n : float
+        Nominal float angle (rad).
+    coupling : {"eq5", "printed_F"}, optional
+
+    Returns
+    -------
+    (F, G, D) : tuple of ndarray
+
+    Examples
+    --------
+    >>> from gyrolib.gc import GyrocompassParams, symbolic
+    >>> F, G, D = symbolic.numeric_matrices(GyrocompassParams(), 0.0)
+    >>> f"{F[1, 1]:.0f}"
+    '-625'
     """
     _check_params(params)
     coupling = _check_coupling(params.vertical_coupling if coupling is None else coupling)

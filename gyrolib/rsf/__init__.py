@@ -9,13 +9,24 @@ module            paper RSF
 ``tables``        Tables 2 and 3: :func:`table2`, :func:`table3`
 ``simulation``    a seeded flight simulation: :func:`simulate_flight`
 ``correction``    the correction loop on a record: :func:`run_correction`
-``sweeps``        the correction against its period and the encoder resolution
+``sweeps``        the correction against its period, the encoder and the roll rate
+``claims``        the paper's verbal claims with their conditions: :func:`compensation_share`, …
 ``plots``         the figures: ``plot_*``
 ================  ====================================================================
 
 Use as ``from gyrolib import rsf`` then ``rsf.table2()``.
 """
 
+from gyrolib.rsf.claims import (
+    SLIP_FACTORS,
+    CompensationShare,
+    GsVsSins,
+    SlipSearch,
+    compensation_share,
+    drz_hypotheses,
+    drz_slip_search,
+    gs_vs_sins,
+)
 from gyrolib.rsf.correction import (
     CorrectionRun,
     DeltaKPrediction,
@@ -43,8 +54,10 @@ from gyrolib.rsf.equations import (
     roll_difference,
     sf_error_estimate,
     sins_roll_error,
+    vertical_deviation_exact,
 )
 from gyrolib.rsf.plots import (
+    plot_compensation_share,
     plot_delta_k_distribution,
     plot_encoder_sweep,
     plot_figure3,
@@ -80,16 +93,20 @@ from gyrolib.rsf.simulation import (
 )
 from gyrolib.rsf.sweeps import (
     PeriodSweep,
+    RateSweep,
     ResolutionSweep,
     sweep_correction_period,
     sweep_encoder,
+    sweep_roll_rate,
 )
 from gyrolib.rsf.tables import (
+    DeltaKTerms,
     Table2,
     Table3,
     table2,
     table3,
     worked_example_delta_k,
+    worked_example_terms,
 )
 
 __all__ = [
@@ -98,38 +115,49 @@ __all__ = [
     "GYPRO4300",
     "K_FORMS",
     "SIIMU02_ROLL",
+    "SLIP_FACTORS",
+    "CompensationShare",
     "CorrectionRun",
     "DeltaKPrediction",
+    "DeltaKTerms",
     "EncoderModel",
     "EncoderSpec",
     "GsModel",
+    "GsVsSins",
     "MemsGyroSpec",
     "PeriodSweep",
+    "RateSweep",
     "ResolutionSweep",
     "RollGyroSpec",
     "RollProfile",
     "SensorRecord",
     "SimulationConfig",
     "SinsGyroModel",
+    "SlipSearch",
     "Table2",
     "Table3",
+    "compensation_share",
     "corrected_rate",
     "correction_coefficient",
     "delta_k",
     "delta_k_ideal",
     "difference_error",
+    "drz_hypotheses",
+    "drz_slip_search",
     "encoder_counts",
     "fraction_compensated",
     "gs_angle",
     "gs_bias_total",
     "gs_roll_error_ideal",
     "gs_roll_error_nonideal",
+    "gs_vs_sins",
     "gyro_output",
     "k_true",
     "lateral_acceleration_error",
     "lateral_deviation_cubic",
     "lateral_deviation_exact",
     "lateral_error",
+    "plot_compensation_share",
     "plot_delta_k_distribution",
     "plot_encoder_sweep",
     "plot_figure3",
@@ -149,9 +177,25 @@ __all__ = [
     "sins_roll_error",
     "sweep_correction_period",
     "sweep_encoder",
+    "sweep_roll_rate",
     "table2",
     "table3",
     "unwrap_counts",
+    "vertical_deviation_exact",
     "with_encoder",
     "worked_example_delta_k",
+    "worked_example_terms",
 ]
+
+# Calibration on recorded data (issue 13)
+from gyrolib.records.tables import RSFRecord
+from gyrolib.rsf.calibration import (
+    CorrectionResult,
+    calibrate,
+    plot_correction,
+    predicted_delta_k,
+    record_from_simulation,
+)
+
+__all__ += ["CorrectionResult", "RSFRecord", "calibrate", "plot_correction",
+            "predicted_delta_k", "record_from_simulation"]

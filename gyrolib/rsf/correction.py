@@ -113,11 +113,37 @@ def _interval_estimates(record: SensorRecord, period: float, k_form: str,
 
 def run_correction(record: SensorRecord, period: float, *, k_form: str = "linear",
                    reset_angle: bool = False, g: float = G0) -> CorrectionRun:
-    """Apply the paper's correction every ``period`` seconds.
+    """Apply the correction of paper RSF, Eqs. (1)–(3), every ``period`` seconds.
 
     K_i from interval i multiplies every SINS increment of interval i + 1 (K = 1 during the
     first interval).  ``reset_angle=True`` also sets the SINS roll angle to the GS angle at
     each correction instant (not part of the paper's method).
+
+    Parameters
+    ----------
+    record : SensorRecord
+        A simulated flight (:func:`~gyrolib.rsf.simulate_flight`).
+    period : float
+        Correction period Δt, s (a whole number of samples, at most the run).
+    k_form : {"linear", "reciprocal"}, optional
+        Reading of K (:func:`~gyrolib.rsf.correction_coefficient`).
+    reset_angle : bool, optional
+        Reset the SINS angle to the GS angle at each correction.
+    g : float, optional
+        Gravity for the lateral errors, m/s².
+
+    Returns
+    -------
+    CorrectionRun
+        K, ε̂1 and δK per interval; roll and lateral errors per sample.
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=10.0), seed=0)
+    >>> run = rsf.run_correction(rec, 5.0)
+    >>> run.delta_k.shape, bool(abs(run.delta_k[0, 0]) < 600e-6)
+    ((1, 2), True)
     """
     if not isinstance(record, SensorRecord):
         raise TypeError(f"record must be a SensorRecord; got {type(record).__name__}")
@@ -184,6 +210,25 @@ def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction
     √2 Δγ_enc |sin((ω − ω_unc)Δt/2)|, which averages to Δγ_enc (the Eq. (7) term) over the
     phase advance.  Quantization adds q √(f (1 − f)), f the fraction of a count in the
     indicated advance (q/√6 on average over f); the white noises add √((N_SINS² + N_GS²)Δt).
+    ``eq7`` is paper RSF's Eq. (7) for the same sensors.
+
+    Parameters
+    ----------
+    config : SimulationConfig
+        A configuration with a constant roll rate.
+    period : float
+        Correction period, s (> 0).
+
+    Returns
+    -------
+    DeltaKPrediction
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> p = rsf.predict_delta_k(rsf.SimulationConfig(), 5.0)
+    >>> f"Eq. (7) {p.eq7 * 1e6:.0f} ppm, mean {p.mean * 1e6:.0f} ppm"
+    'Eq. (7) 170 ppm, mean 66 ppm'
     """
     if not isinstance(config, SimulationConfig):
         raise TypeError(f"config must be a SimulationConfig; got {type(config).__name__}")

@@ -1,8 +1,9 @@
 """Figures of paper RSF: the functional schemes (Figures 1 and 2) as block diagrams, the
 gravity projection and lateral error growth (Figure 3), and the simulation's results.
 
-Every function takes data (SI unless the argument name says otherwise) and returns a
-:class:`matplotlib.figure.Figure`; nothing here computes a result.
+Every function takes result objects (or, for the schemes and Figure 3, closed-form data in
+SI) and returns a :class:`matplotlib.figure.Figure`; nothing here computes a result and
+nothing here validates: the inputs were checked where the results were computed.
 """
 
 from __future__ import annotations
@@ -14,10 +15,14 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Polygon
 
-from gyrolib import _validation as v
+from gyrolib.rsf.claims import CompensationShare
+from gyrolib.rsf.correction import CorrectionRun, DeltaKPrediction
+from gyrolib.rsf.simulation import SensorRecord
+from gyrolib.rsf.sweeps import PeriodSweep, RateSweep, ResolutionSweep
 from gyrolib.units import from_si
 
 __all__ = [
+    "plot_compensation_share",
     "plot_delta_k_distribution",
     "plot_encoder_sweep",
     "plot_figure3",
@@ -28,31 +33,6 @@ __all__ = [
     "plot_rate_sweep",
     "plot_spin_up",
 ]
-
-
-# Input checks ----------------------------------------------------------------------------------
-def _series(x_name: str, x: object, *, min_size: int = 1, increasing: bool = False,
-            positive: bool = False, **ys: object) -> list[np.ndarray]:
-    """``x`` and every ``ys`` as finite 1-D arrays of one length."""
-    xa = v.check_array(x_name, x, ndim=1, min_size=min_size)
-    if increasing and np.any(np.diff(xa) <= 0.0):
-        raise ValueError(f"{x_name} must be strictly increasing")
-    if positive and np.any(xa <= 0.0):
-        raise ValueError(f"{x_name} must be > 0 (log axis); got min {xa.min()}")
-    out = [xa]
-    for name, y in ys.items():
-        ya = v.check_array(name, y, ndim=1)
-        if ya.size != xa.size:
-            raise ValueError(f"{name} must have the length of {x_name} ({xa.size}); "
-                             f"got {ya.size}")
-        out.append(ya)
-    return out
-
-
-def _nonnegative(**arrays: np.ndarray) -> None:
-    for name, a in arrays.items():
-        if np.any(a < 0.0):
-            raise ValueError(f"{name} must be >= 0 (an rms or magnitude); got min {a.min()}")
 
 
 # Block-diagram primitives ----------------------------------------------------------------------
@@ -193,14 +173,8 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
     """Paper RSF, Figure 3 and Eq. (8): (a) gravity resolved with a roll error
     ``dgamma_example`` (rad); (b) Δa_z = g sin Δγ against g Δγ; (c) Δr_z, exact double
     integral against the cubic, with the printed Table 2 values (unit lost) as markers."""
-    dgamma_example = v.check_real("dgamma_example", dgamma_example)
-    t, roll_error, acc_exact, acc_small, dr_exact, dr_cubic = _series(
-        "t", t, min_size=2, increasing=True, roll_error=roll_error, acc_exact=acc_exact,
-        acc_small=acc_small, dr_exact=dr_exact, dr_cubic=dr_cubic)
-    table_t, printed_dr = _series("table_t", table_t, min_size=0, positive=True,
-                                  printed_dr=printed_dr)
-    if np.any(printed_dr <= 0.0):
-        raise ValueError("printed_dr must be > 0 (log axis)")
+    t, roll_error, dr_exact, dr_cubic = (np.asarray(a, dtype=float)
+                                         for a in (t, roll_error, dr_exact, dr_cubic))
     fig = Figure(figsize=(11.0, 3.8), layout="constrained")
     ax0, ax1, ax2 = fig.subplots(1, 3, gridspec_kw={"width_ratios": [0.8, 1.0, 1.0]})
     # (a) geometry: body cross-section, true vertical and the vertical the SINS believes.
@@ -258,38 +232,49 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
 
 
 # Simulation figures ---------------------------------------------------------------------------
-def plot_flight(t: np.ndarray, roll_raw: np.ndarray, roll_corrected: np.ndarray,
-                roll_gs: np.ndarray, lateral_raw: np.ndarray, lateral_corrected: np.ndarray,
-                t_boundaries: Sequence[float] = (), roll_reset: np.ndarray | None = None,
-                lateral_reset: np.ndarray | None = None) -> Figure:
-    """Roll-angle error (°) and lateral error (m) of one simulated flight, with and without
-    correction; the correction instants as vertical ticks."""
-    optional = {k: a for k, a in (("roll_reset", roll_reset), ("lateral_reset", lateral_reset))
-                if a is not None}
-    t, roll_raw, roll_corrected, roll_gs, lateral_raw, lateral_corrected, *rest = _series(
-        "t", t, min_size=2, increasing=True, roll_raw=roll_raw, roll_corrected=roll_corrected,
-        roll_gs=roll_gs, lateral_raw=lateral_raw, lateral_corrected=lateral_corrected,
-        **optional)
-    roll_reset = rest.pop(0) if roll_reset is not None else None
-    lateral_reset = rest.pop(0) if lateral_reset is not None else None
-    t_boundaries = v.check_array("t_boundaries", t_boundaries, ndim=1)
+def plot_flight(run: CorrectionRun, reset: CorrectionRun | None = None, *,
+                index: int = 0) -> Figure:
+    """Roll-angle error (°) and lateral error (m) of one simulated flight (run ``index``),
+    with and without the correction of paper RSF, Eqs. (1)–(3); ``reset`` adds the same
+    correction with the SINS angle reset to the GS angle.  The correction instants are
+    vertical ticks.
+
+    Parameters
+    ----------
+    run : CorrectionRun
+        From :func:`~gyrolib.rsf.run_correction`.
+    reset : CorrectionRun, optional
+        The run with ``reset_angle=True``.
+    index : int, optional
+        Which run of the ensemble.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    t = run.t
     fig = Figure(figsize=(10.0, 3.8), layout="constrained")
     ax0, ax1 = fig.subplots(1, 2)
-    ax0.plot(t, from_si(roll_raw, "deg"), color="#c0392b", label="SINS, uncorrected")
-    ax0.plot(t, from_si(roll_corrected, "deg"), color="#2e86c1", label="SINS, corrected")
-    if roll_reset is not None:
-        ax0.plot(t, from_si(roll_reset, "deg"), color="#27ae60", label="corrected + angle reset")
-    ax0.plot(t, from_si(roll_gs, "deg"), color="#7f8c8d", lw=0.8, label="GS reference")
-    for tb in t_boundaries:
+    ax0.plot(t, from_si(run.roll_error_raw[index], "deg"), color="#c0392b",
+             label="SINS, uncorrected")
+    ax0.plot(t, from_si(run.roll_error_corrected[index], "deg"), color="#2e86c1",
+             label="SINS, corrected")
+    if reset is not None:
+        ax0.plot(t, from_si(reset.roll_error_corrected[index], "deg"), color="#27ae60",
+                 label="corrected + angle reset")
+    ax0.plot(t, from_si(run.roll_error_gs[index], "deg"), color="#7f8c8d", lw=0.8,
+             label="GS reference")
+    for tb in run.t_boundaries:
         ax0.axvline(tb, color="k", lw=0.3, alpha=0.4)
     ax0.set_yscale("symlog", linthresh=0.1)
     ax0.set_xlabel("t (s)")
     ax0.set_ylabel("roll-angle error (°)")
     ax0.legend(fontsize=8)
-    ax1.plot(t, lateral_raw, color="#c0392b", label="uncorrected")
-    ax1.plot(t, lateral_corrected, color="#2e86c1", label="corrected")
-    if lateral_reset is not None:
-        ax1.plot(t, lateral_reset, color="#27ae60", label="corrected + angle reset")
+    ax1.plot(t, run.lateral_raw[index], color="#c0392b", label="uncorrected")
+    ax1.plot(t, run.lateral_corrected[index], color="#2e86c1", label="corrected")
+    if reset is not None:
+        ax1.plot(t, reset.lateral_corrected[index], color="#27ae60",
+                 label="corrected + angle reset")
     ax1.set_yscale("symlog", linthresh=1.0)
     ax1.set_xlabel("t (s)")
     ax1.set_ylabel("lateral error Δr_z (m)")
@@ -297,53 +282,65 @@ def plot_flight(t: np.ndarray, roll_raw: np.ndarray, roll_corrected: np.ndarray,
     return fig
 
 
-def plot_delta_k_distribution(delta_k: np.ndarray, predicted_mean: float, predicted_std: float,
-                              eq7: float, eq7_paper: float | None = None) -> Figure:
+def plot_delta_k_distribution(run: CorrectionRun, prediction: DeltaKPrediction) -> Figure:
     """Histogram of simulated δK (one value per run and interval) against the predicted
-    mean ± std and the paper's Eq. (7)."""
-    delta_k = v.check_array("delta_k", delta_k, min_size=1)
-    predicted_mean = v.check_real("predicted_mean", predicted_mean)
-    predicted_std = v.check_nonnegative("predicted_std", predicted_std)
-    eq7 = v.check_real("eq7", eq7)
-    if eq7_paper is not None:
-        eq7_paper = v.check_real("eq7_paper", eq7_paper)
+    mean ± std and Eq. (7) of paper RSF.
+
+    Parameters
+    ----------
+    run : CorrectionRun
+        From :func:`~gyrolib.rsf.run_correction`.
+    prediction : DeltaKPrediction
+        From :func:`~gyrolib.rsf.predict_delta_k` for the same configuration and period.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig = Figure(figsize=(7.5, 3.6), layout="constrained")
     ax = fig.subplots()
-    scale = 1e6
-    ax.hist(delta_k.ravel() * scale, bins=40, color="#aed6f1", ec="#2e86c1",
+    ax.hist(from_si(run.delta_k.ravel(), "ppm"), bins=40, color="#aed6f1", ec="#2e86c1",
             label="simulation (per run and interval)")
-    ax.axvline(predicted_mean * scale, color="k", label="predicted mean")
+    ax.axvline(from_si(prediction.mean, "ppm"), color="k", label="predicted mean")
     for s in (-1, 1):
-        ax.axvline((predicted_mean + s * predicted_std) * scale, color="k", ls=":",
+        ax.axvline(from_si(prediction.mean + s * prediction.std, "ppm"), color="k", ls=":",
                    label="predicted mean ± σ" if s == 1 else None)
-    ax.axvline(eq7 * scale, color="#c0392b", lw=2, label="Eq. (7), 280 ppm")
-    if eq7_paper is not None:
-        ax.annotate(f"paper's 0.093 = {eq7_paper * scale:.0f} ppm: off scale →",
-                    (0.98, 0.9), xycoords="axes fraction", ha="right", fontsize=8,
-                    color="#c0392b")
+    ax.axvline(from_si(prediction.eq7, "ppm"), color="#c0392b", lw=2, label="Eq. (7), 280 ppm")
     ax.set_xlabel("δK (ppm)")
     ax.set_ylabel("count")
     ax.legend(fontsize=8, loc="upper left")
     return fig
 
 
-def plot_period_sweep(periods: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarray,
-                      eq7: np.ndarray, floor: float, eps1: float) -> Figure:
-    """rms δK against the correction period, with the prediction, Eq. (7), the systematic
-    floor and the uncorrected scale-factor error."""
-    periods, rms, predicted_rms, eq7 = _series(
-        "periods", periods, positive=True, rms=rms, predicted_rms=predicted_rms, eq7=eq7)
-    _nonnegative(rms=rms, predicted_rms=predicted_rms, eq7=eq7)
-    floor = v.check_real("floor", floor)
-    eps1 = v.check_real("eps1", eps1)
+def plot_period_sweep(sweep: PeriodSweep, *, net_floor: bool = True) -> Figure:
+    """rms δK against the correction period, with the prediction, Eq. (7) of paper RSF, the
+    systematic floor, the uncorrected scale-factor error and (``net_floor``) the floor net of
+    the SINS bias that K absorbs.
+
+    Parameters
+    ----------
+    sweep : PeriodSweep
+        From :func:`~gyrolib.rsf.sweep_correction_period`.
+    net_floor : bool, optional
+        Draw the net floor (default True).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig = Figure(figsize=(7.5, 3.8), layout="constrained")
     ax = fig.subplots()
-    ax.loglog(periods, rms * 1e6, "o", color="#2e86c1", label="simulation, rms δK")
-    ax.loglog(periods, predicted_rms * 1e6, "-", color="#2e86c1", lw=0.8,
+    p = sweep.periods
+    ax.loglog(p, from_si(sweep.rms, "ppm"), "o", color="#2e86c1", label="simulation, rms δK")
+    ax.loglog(p, from_si(sweep.predicted_rms, "ppm"), "-", color="#2e86c1", lw=0.8,
               label="predicted rms")
-    ax.loglog(periods, eq7 * 1e6, "--", color="#c0392b", label="Eq. (7)")
-    ax.axhline(floor * 1e6, color="k", ls=":", label="floor (ε0,GS + ε1,GS ω_unc)/ω")
-    ax.axhline(eps1 * 1e6, color="#7f8c8d", label="uncorrected ε1")
+    ax.loglog(p, from_si(sweep.eq7, "ppm"), "--", color="#c0392b", label="Eq. (7)")
+    ax.axhline(from_si(sweep.floor, "ppm"), color="k", ls=":",
+               label="floor (ε0,GS + ε1,GS ω_unc)/ω")
+    ax.axhline(from_si(sweep.eps1, "ppm"), color="#7f8c8d", label="uncorrected ε1")
+    if net_floor:
+        ax.axhline(from_si(abs(sweep.net_floor), "ppm"), color="k", ls="-.", lw=0.8,
+                   label="net floor, with the SINS bias absorbed")
     ax.set_xlabel("correction period Δt (s)")
     ax.set_ylabel("residual SF error δK (ppm)")
     ax.grid(True, which="both", alpha=0.3)
@@ -351,26 +348,30 @@ def plot_period_sweep(periods: np.ndarray, rms: np.ndarray, predicted_rms: np.nd
     return fig
 
 
-def plot_encoder_sweep(counts: np.ndarray, rms_with_error: np.ndarray,
-                       rms_without_error: np.ndarray, eq7: np.ndarray,
-                       predicted_with: np.ndarray, predicted_without: np.ndarray) -> Figure:
-    """rms δK against the encoder's counts per revolution, with and without its 0.33°
-    position error."""
-    counts, rms_with_error, rms_without_error, eq7, predicted_with, predicted_without = _series(
-        "counts", counts, positive=True, rms_with_error=rms_with_error,
-        rms_without_error=rms_without_error, eq7=eq7, predicted_with=predicted_with,
-        predicted_without=predicted_without)
-    _nonnegative(rms_with_error=rms_with_error, rms_without_error=rms_without_error, eq7=eq7,
-                 predicted_with=predicted_with, predicted_without=predicted_without)
+def plot_encoder_sweep(with_error: ResolutionSweep, without_error: ResolutionSweep) -> Figure:
+    """rms δK against the encoder's counts per revolution, with and without its position
+    error (paper RSF: "an encoder of higher resolution").
+
+    Parameters
+    ----------
+    with_error, without_error : ResolutionSweep
+        From :func:`~gyrolib.rsf.sweep_encoder` over the same counts.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig = Figure(figsize=(7.5, 3.8), layout="constrained")
     ax = fig.subplots()
-    ax.loglog(counts, rms_with_error * 1e6, "o", color="#2e86c1",
+    c = with_error.counts_per_rev
+    ax.loglog(c, from_si(with_error.rms, "ppm"), "o", color="#2e86c1",
               label="simulation, with position error")
-    ax.loglog(counts, predicted_with * 1e6, "-", color="#2e86c1", lw=0.8)
-    ax.loglog(counts, rms_without_error * 1e6, "s", color="#27ae60",
-              label="simulation, quantization only")
-    ax.loglog(counts, predicted_without * 1e6, "-", color="#27ae60", lw=0.8)
-    ax.loglog(counts, eq7 * 1e6, "--", color="#c0392b", label="Eq. (7)")
+    ax.loglog(c, from_si(with_error.predicted_rms, "ppm"), "-", color="#2e86c1", lw=0.8)
+    ax.loglog(without_error.counts_per_rev, from_si(without_error.rms, "ppm"), "s",
+              color="#27ae60", label="simulation, quantization only")
+    ax.loglog(without_error.counts_per_rev, from_si(without_error.predicted_rms, "ppm"), "-",
+              color="#27ae60", lw=0.8)
+    ax.loglog(c, from_si(with_error.eq7, "ppm"), "--", color="#c0392b", label="Eq. (7)")
     ax.set_xlabel("encoder counts per revolution")
     ax.set_ylabel("rms δK (ppm)")
     ax.grid(True, which="both", alpha=0.3)
@@ -378,18 +379,26 @@ def plot_encoder_sweep(counts: np.ndarray, rms_with_error: np.ndarray,
     return fig
 
 
-def plot_rate_sweep(rates: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarray,
-                    eq7: np.ndarray) -> Figure:
-    """rms δK against the vehicle roll rate (rad/s, plotted in °/s)."""
-    rates, rms, predicted_rms, eq7 = _series("rates", rates, rms=rms,
-                                             predicted_rms=predicted_rms, eq7=eq7)
-    _nonnegative(rms=rms, predicted_rms=predicted_rms, eq7=eq7)
+def plot_rate_sweep(sweep: RateSweep) -> Figure:
+    """rms δK against the vehicle roll rate (°/s), with the prediction and Eq. (7) of paper
+    RSF.
+
+    Parameters
+    ----------
+    sweep : RateSweep
+        From :func:`~gyrolib.rsf.sweep_roll_rate`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig = Figure(figsize=(7.5, 3.6), layout="constrained")
     ax = fig.subplots()
-    r = from_si(rates, "deg/s")
-    ax.plot(r, rms * 1e6, "o", color="#2e86c1", label="simulation, rms δK")
-    ax.plot(r, predicted_rms * 1e6, "-", color="#2e86c1", lw=0.8, label="predicted rms")
-    ax.plot(r, eq7 * 1e6, "--", color="#c0392b", label="Eq. (7)")
+    r = from_si(sweep.rates, "deg/s")
+    ax.plot(r, from_si(sweep.rms, "ppm"), "o", color="#2e86c1", label="simulation, rms δK")
+    ax.plot(r, from_si(sweep.predicted_rms, "ppm"), "-", color="#2e86c1", lw=0.8,
+            label="predicted rms")
+    ax.plot(r, from_si(sweep.eq7, "ppm"), "--", color="#c0392b", label="Eq. (7)")
     ax.set_xlabel("vehicle roll rate (°/s)")
     ax.set_ylabel("δK (ppm)")
     ax.set_ylim(bottom=0)
@@ -397,21 +406,66 @@ def plot_rate_sweep(rates: np.ndarray, rms: np.ndarray, predicted_rms: np.ndarra
     return fig
 
 
-def plot_spin_up(t: np.ndarray, rate: np.ndarray, omega_unc: np.ndarray,
-                 omega_unc_ideal: np.ndarray) -> Figure:
-    """Vehicle roll rate and the GS's uncompensated rate during a spin-up (°/s)."""
-    t, rate, omega_unc, omega_unc_ideal = _series(
-        "t", t, min_size=2, increasing=True, rate=rate, omega_unc=omega_unc,
-        omega_unc_ideal=omega_unc_ideal)
+def plot_spin_up(limited: SensorRecord, unlimited: SensorRecord, *, index: int = 0) -> Figure:
+    """Vehicle roll rate and the GS's uncompensated rate during a spin-up (°/s), with the
+    motor's speed limit and without (paper RSF, Figure 2's loop as simulated).
+
+    Parameters
+    ----------
+    limited, unlimited : SensorRecord
+        The same flight (same roll profile) with a limited and an unlimited motor.
+    index : int, optional
+        Which run of the ensemble.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    cfg = limited.config
+    t = limited.t[:-1]
+    rate = cfg.roll.rate(t + 0.5 * cfg.dt, cfg.duration)
     fig = Figure(figsize=(7.5, 3.4), layout="constrained")
     ax = fig.subplots()
     ax.plot(t, from_si(rate, "deg/s"), color="k", label="vehicle roll rate ω")
-    ax.plot(t, from_si(omega_unc, "deg/s"), color="#c0392b",
-            label="ω_unc, motor limited to 600 °/s")
-    ax.plot(t, from_si(omega_unc_ideal, "deg/s"), color="#2e86c1",
+    ax.plot(t, from_si(limited.omega_unc[index], "deg/s"), color="#c0392b",
+            label=f"ω_unc, motor limited to {from_si(cfg.gs.motor_rate_max, 'deg/s'):.0f} °/s")
+    ax.plot(t, from_si(unlimited.omega_unc[index], "deg/s"), color="#2e86c1",
             label="ω_unc, unlimited motor")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("rate (°/s)")
     ax.set_yscale("symlog", linthresh=10.0)
     ax.legend(fontsize=8)
+    return fig
+
+
+def plot_compensation_share(result: CompensationShare) -> Figure:
+    """The share of the SF error removed against the roll rate (paper RSF, Eq. (7) and the
+    conclusion's "90 %"), with the simulation if the result carries one.
+
+    Parameters
+    ----------
+    result : CompensationShare
+        From :func:`~gyrolib.rsf.compensation_share` (no validation here: it takes a result
+        object).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(7.5, 3.6), layout="constrained")
+    ax = fig.subplots()
+    r = from_si(result.rates, "deg/s")
+    ax.plot(r, 100 * result.share, "-", color="#c0392b", label="Eq. (7): 1 − δK/ε1")
+    if result.simulated is not None:
+        sim = result.simulated
+        ax.plot(from_si(sim.rates, "deg/s"), 100 * sim.share, "o", color="#2e86c1",
+                label="simulation: 1 − rms δK/ε1")
+    ax.axhline(100 * result.target, color="k", ls=":", lw=0.8,
+               label=f"{100 * result.target:.0f} % (the paper's claim)")
+    ax.axvline(from_si(result.rate_for_target, "deg/s"), color="#7f8c8d", ls="--", lw=0.8,
+               label="rate from which Eq. (7) gives it")
+    ax.set_xlabel("vehicle roll rate (°/s)")
+    ax.set_ylabel("share of ε1 removed (%)")
+    ax.legend(fontsize=8, loc="lower right")
+    ax.grid(True, alpha=0.3)
     return fig

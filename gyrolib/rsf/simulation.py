@@ -98,10 +98,12 @@ class RollProfile:
 
 @dataclass(frozen=True)
 class SinsGyroModel:
-    """SINS roll gyro: scale-factor error ``eps1``, bias ``eps0`` (rad/s) and angle random
-    walk ``arw`` (rad/√s).  ``eps1`` and ``eps0`` from Table 1 (:data:`~gyrolib.
-    roll_correction.SIIMU02_ROLL`); the ARW is not in the paper: 0.15 °/√h is assumed
-    (its effect is negligible, see the simulation chapter)."""
+    """SINS roll gyro as simulated: scale-factor error ``eps1``, bias ``eps0`` (rad/s) and
+    angle random walk ``arw`` (rad/√s).  Build it from the datasheet record,
+    ``SIIMU02_ROLL.model(arw=...)`` (:meth:`~gyrolib.rsf.RollGyroSpec.model`: ε1, ε0 from
+    Table 1 of paper RSF); the ARW is not in the paper: 0.15 °/√h is assumed (its effect is
+    negligible, see the simulation chapter).  Set ``eps0``/``eps1`` directly only for
+    what-if runs (e.g. a quiet gyro)."""
 
     eps1: float = SIIMU02_ROLL.sf_error
     eps0: float = SIIMU02_ROLL.bias_instability
@@ -115,7 +117,9 @@ class SinsGyroModel:
 
 @dataclass(frozen=True)
 class GsModel:
-    """Indicator gyrostabilizer: MEMS gyro errors and the PI rate loop.
+    """Indicator gyrostabilizer as simulated: MEMS gyro errors and the PI rate loop
+    (paper RSF, Figure 2).  Build it from the gyro's record,
+    ``GYPRO4300.model(motor_rate_max=...)`` (:meth:`~gyrolib.rsf.MemsGyroSpec.model`).
 
     * ``eps0`` (rad/s), ``eps1``: the GYPRO4300's ε0,GS = √(σ_rep² + σ_stab²) and ε1,GS;
     * ``arw`` (rad/√s): not in the paper; 0.2 °/√h assumed;
@@ -148,9 +152,10 @@ class GsModel:
 
 @dataclass(frozen=True)
 class EncoderModel:
-    """Encoder: ``counts_per_rev`` counts per revolution and a once-per-revolution position
-    error of amplitude ``position_error`` (rad).  Defaults: the AEDB-9340 record
-    (:data:`~gyrolib.rsf.AEDB9340`, 4000 counts assumed, 0.33° inferred)."""
+    """Encoder as simulated: ``counts_per_rev`` counts per revolution and a once-per-revolution
+    position error of amplitude ``position_error`` (rad).  Build it from the datasheet record,
+    ``AEDB9340.model()`` (:meth:`~gyrolib.rsf.EncoderSpec.model`: 4000 counts assumed, 0.33°
+    inferred from Table 3 of paper RSF); set the fields directly for resolution sweeps."""
 
     counts_per_rev: int = AEDB9340.counts_per_rev
     position_error: float = AEDB9340.position_error
@@ -168,14 +173,20 @@ class EncoderModel:
         return 2.0 * math.pi / self.counts_per_rev
 
 
+# The paper's devices, each built from its one datasheet record.
+_PAPER_SINS = SIIMU02_ROLL.model()
+_PAPER_GS = GYPRO4300.model()
+_PAPER_ENCODER = AEDB9340.model()
+
+
 @dataclass(frozen=True)
 class SimulationConfig:
     """One simulation: vehicle, sensors, run length, sample rate and number of runs."""
 
     roll: RollProfile = RollProfile()
-    sins: SinsGyroModel = SinsGyroModel()
-    gs: GsModel = GsModel()
-    encoder: EncoderModel = EncoderModel()
+    sins: SinsGyroModel = _PAPER_SINS
+    gs: GsModel = _PAPER_GS
+    encoder: EncoderModel = _PAPER_ENCODER
     duration: float = 60.0
     sample_rate: float = 100.0
     n_runs: int = 1
@@ -216,12 +227,22 @@ class SimulationConfig:
 
 # Encoder: position error, quantization, wrap and unwrap -------------------------------------------
 def encoder_counts(theta: np.ndarray, encoder: EncoderModel, phase: np.ndarray | float = 0.0,
-                   ) -> np.ndarray:
-    """Wrapped count of the encoder for body-to-platform angles ``theta`` (rad).
+                   *, wrap: bool = True) -> np.ndarray:
+    """Count of the encoder for body-to-platform angles ``theta`` (rad): the GS's angle
+    sensor of paper RSF, Figure 2 (its position error Δγ_enc is the one of Eqs. (6), (9)).
 
     The indicated angle θ + Δγ_enc sin(θ + φ) is quantized down to whole counts and the count
     restarts at every revolution: values in ``[0, counts_per_rev)``, dtype int64.
-    ``phase`` (rad) broadcasts against the leading axes of ``theta``.
+    ``phase`` (rad) broadcasts against the leading axes of ``theta``.  ``wrap=False`` gives the
+    count an encoder that never restarts would show (the reference for :func:`unwrap_counts`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> enc = EncoderModel(counts_per_rev=8, position_error=0.0)
+    >>> theta = np.array([0.1, 3.0, 6.5])
+    >>> encoder_counts(theta, enc).tolist(), encoder_counts(theta, enc, wrap=False).tolist()
+    ([0, 3, 0], [0, 3, 8])
     """
     theta = v.check_array("theta", theta)
     v.check_instance("encoder", encoder, EncoderModel)
@@ -235,7 +256,7 @@ def encoder_counts(theta: np.ndarray, encoder: EncoderModel, phase: np.ndarray |
         raise ValueError(f"phase must be a number when theta is; got shape {ph.shape}")
     indicated = theta + encoder.position_error * np.sin(theta + ph)
     counts = np.floor(indicated / encoder.resolution).astype(np.int64)
-    return np.mod(counts, encoder.counts_per_rev)
+    return np.mod(counts, encoder.counts_per_rev) if v.check_bool("wrap", wrap) else counts
 
 
 def unwrap_counts(wrapped: np.ndarray, counts_per_rev: int) -> np.ndarray:
@@ -243,7 +264,26 @@ def unwrap_counts(wrapped: np.ndarray, counts_per_rev: int) -> np.ndarray:
 
     Consecutive samples must differ by less than half a revolution.  Integer arithmetic: the
     result is the wrapped count plus a whole number of revolutions, so nothing accumulates.
-    The first sample keeps its wrapped value.
+    The first sample keeps its wrapped value.  (The GS of paper RSF, Figure 2, reads its
+    encoder this way; the paper does not say how.)
+
+    Parameters
+    ----------
+    wrapped : numpy.ndarray of int
+        Counts in ``[0, counts_per_rev)``, samples along the last axis.
+    counts_per_rev : int
+        Counts per revolution (>= 2).
+
+    Returns
+    -------
+    numpy.ndarray of int64
+        The unwrapped count.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> unwrap_counts(np.array([3990, 5, 20, 3995]), 4000).tolist()
+    [3990, 4005, 4020, 3995]
     """
     n = v.check_int("counts_per_rev", counts_per_rev, 2)
     w = np.asarray(wrapped)
@@ -348,8 +388,28 @@ def _pi_loop(omega_body: np.ndarray, gs: GsModel, eps1: np.ndarray, eps0: np.nda
 
 
 def simulate_flight(config: SimulationConfig, seed: int) -> SensorRecord:
-    """Simulate the vehicle, the SINS roll gyro, the GS and its encoder (no correction yet;
-    see :func:`run_correction`).  ``seed`` seeds :func:`numpy.random.default_rng`."""
+    """Simulate the vehicle, the SINS roll gyro, the GS and its encoder of paper RSF (no
+    correction yet; see :func:`~gyrolib.rsf.run_correction`).
+
+    Parameters
+    ----------
+    config : SimulationConfig
+        Vehicle, sensors, run length, sample rate, number of runs and error mode.
+    seed : int
+        Seeds :func:`numpy.random.default_rng` (>= 0).
+
+    Returns
+    -------
+    SensorRecord
+        Every sensor's increments and the true angles, runs × samples.
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=0)
+    >>> rec.sins_inc.shape, f"{rec.omega_unc[0, -1] * 180 / 3.141592653589793:.0f} °/s"
+    ((1, 200), '300 °/s')
+    """
     if not isinstance(config, SimulationConfig):
         raise TypeError(f"config must be a SimulationConfig; got {type(config).__name__}")
     seed = v.check_int("seed", seed, 0)
@@ -382,7 +442,26 @@ def simulate_flight(config: SimulationConfig, seed: int) -> SensorRecord:
 
 
 def with_encoder(record: SensorRecord, encoder: EncoderModel) -> SensorRecord:
-    """The same flight read by another encoder (the encoder does not act on the loop)."""
+    """The same flight read by another encoder (the encoder does not act on the GS loop).
+
+    Parameters
+    ----------
+    record : SensorRecord
+        A simulated flight.
+    encoder : EncoderModel
+        The other encoder (e.g. ``dataclasses.replace(AEDB9340, cycles_per_rev=256).model()``).
+
+    Returns
+    -------
+    SensorRecord
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=0)
+    >>> rsf.with_encoder(rec, rsf.EncoderModel(counts_per_rev=256)).config.encoder.counts_per_rev
+    256
+    """
     v.check_instance("record", record, SensorRecord)
     if not isinstance(encoder, EncoderModel):
         raise TypeError(f"encoder must be an EncoderModel; got {type(encoder).__name__}")
@@ -398,8 +477,30 @@ def _gyro_angle(record: SensorRecord) -> np.ndarray:
 
 
 def gs_angle(record: SensorRecord, *, gyro_angle: np.ndarray | None = None) -> np.ndarray:
-    """GS roll angle γ̂ = unwrapped encoder angle + ∫ MEMS reading (paper's Figure 2), (M, N+1),
-    referred to its value at t = 0.  ``gyro_angle`` may pass a precomputed ∫ MEMS reading."""
+    """GS roll angle γ̂ = unwrapped encoder angle + ∫ MEMS reading (paper RSF, Figure 2),
+    referred to its value at t = 0.
+
+    Parameters
+    ----------
+    record : SensorRecord
+        A simulated flight.
+    gyro_angle : numpy.ndarray, optional
+        A precomputed ∫ MEMS reading (the same for every encoder of a sweep).
+
+    Returns
+    -------
+    numpy.ndarray
+        γ̂, rad, runs × (samples + 1).
+
+    Examples
+    --------
+    >>> import math
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=2.0), seed=0)
+    >>> err = rsf.gs_angle(rec)[0] - rec.gamma_true
+    >>> bool(abs(err).max() < 2 * rec.config.encoder.position_error + 0.1)
+    True
+    """
     v.check_instance("record", record, SensorRecord)
     if gyro_angle is not None:
         gyro_angle = v.check_array("gyro_angle", gyro_angle, shape=record.theta_rel.shape)
@@ -412,7 +513,29 @@ def gs_angle(record: SensorRecord, *, gyro_angle: np.ndarray | None = None) -> n
 
 def lateral_error(t: np.ndarray, roll_error: np.ndarray, g: float = G0) -> np.ndarray:
     """Lateral position error ∫∫ g sin Δγ dt dt (paper RSF, Eq. (8) without the small-angle
-    approximation), along the last axis, trapezoidal rule; zero at t = 0."""
+    approximation), along the last axis, trapezoidal rule; zero at t = 0.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Sample times, s, strictly increasing.
+    roll_error : numpy.ndarray
+        Roll error, rad, samples along the last axis.
+    g : float, optional
+        Gravity, m/s².
+
+    Returns
+    -------
+    numpy.ndarray
+        Lateral error, m, shaped as ``roll_error``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 10.0, 1001)
+    >>> f"{lateral_error(t, 1e-3 * t)[-1]:.4g}"   # ≈ g a t³/6 = 1.634 m
+    '1.634'
+    """
     t = v.check_array("t", t, ndim=1)
     if np.any(np.diff(t) <= 0.0):
         raise ValueError("t must be strictly increasing (sample times)")

@@ -1,9 +1,11 @@
-"""Paper RSF: how the correction depends on its period Δt and on the encoder's resolution
-(sweeps of :func:`gyrolib.rsf.run_correction` over one simulated record).
+"""Paper RSF: how the correction depends on its period Δt, on the encoder's resolution
+(sweeps of :func:`gyrolib.rsf.run_correction` over one simulated record) and on the vehicle's
+roll rate (one seeded flight ensemble per rate), against Eq. (7) of paper RSF.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -13,13 +15,25 @@ import numpy as np
 from gyrolib import _validation as v
 from gyrolib.rsf.correction import _interval_estimates, predict_delta_k
 from gyrolib.rsf.equations import K_FORMS
-from gyrolib.rsf.simulation import EncoderModel, SensorRecord, _gyro_angle, gs_angle, with_encoder
+from gyrolib.rsf.simulation import (
+    EncoderModel,
+    RollProfile,
+    SensorRecord,
+    SimulationConfig,
+    _gyro_angle,
+    gs_angle,
+    simulate_flight,
+    with_encoder,
+)
+from gyrolib.units import to_si
 
 __all__ = [
     "PeriodSweep",
+    "RateSweep",
     "ResolutionSweep",
     "sweep_correction_period",
     "sweep_encoder",
+    "sweep_roll_rate",
 ]
 
 
@@ -27,7 +41,9 @@ __all__ = [
 @dataclass(frozen=True)
 class PeriodSweep:
     """δK against the correction period: ``mean``, ``rms`` and ``max_abs`` over all runs and
-    complete intervals, the predicted rms ``predicted_rms`` and the paper's ``eq7``."""
+    complete intervals, the predicted rms ``predicted_rms`` and the paper's ``eq7``; ``floor``
+    the GS gyro's systematic part (ε0,GS + ε1,GS ω_unc)/ω that no period removes, ``net_floor``
+    the same less the SINS bias that K absorbs (signed), ``eps1`` the uncorrected SF error."""
 
     periods: np.ndarray
     mean: np.ndarray
@@ -35,6 +51,9 @@ class PeriodSweep:
     max_abs: np.ndarray
     predicted_rms: np.ndarray
     eq7: np.ndarray
+    floor: float = 0.0
+    net_floor: float = 0.0
+    eps1: float = 0.0
 
     def __post_init__(self) -> None:
         _same_length(self, "periods", "mean", "rms", "max_abs", "predicted_rms", "eq7")
@@ -49,7 +68,31 @@ def _same_length(record: object, first: str, *others: str) -> None:
 
 def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
                             k_form: str = "linear") -> PeriodSweep:
-    """δK for each correction period in ``periods``, from one simulated flight ensemble."""
+    """δK for each correction period in ``periods``, from one simulated flight ensemble
+    (paper RSF: "increasing the interval between corrections ... makes the correction more
+    effective"; Eq. (7) and :func:`~gyrolib.rsf.predict_delta_k` alongside).
+
+    Parameters
+    ----------
+    record : SensorRecord
+        A simulated flight ensemble at a constant roll rate.
+    periods : sequence of float
+        Correction periods, s (> 0, whole numbers of samples).
+    k_form : {"linear", "reciprocal"}, optional
+        Form of K.
+
+    Returns
+    -------
+    PeriodSweep
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=10.0, n_runs=2), seed=0)
+    >>> sw = rsf.sweep_correction_period(rec, [1.0, 5.0])
+    >>> f"{sw.floor * 1e6:.0f} ppm floor", bool(sw.rms[1] < sw.rms[0])
+    ('97 ppm floor', True)
+    """
     v.check_instance("record", record, SensorRecord)
     p = v.check_array("periods", periods, ndim=1)
     if np.any(p <= 0.0):
@@ -65,9 +108,14 @@ def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
         out["max_abs"].append(np.abs(dk).max())
         out["pred"].append(math.hypot(pred.mean, pred.std))
         out["eq7"].append(pred.eq7)
+    cfg = record.config
+    w = cfg.roll.rate_start
+    w_unc = max(w - cfg.gs.motor_rate_max, 0.0)
     return PeriodSweep(periods=p, mean=np.array(out["mean"]), rms=np.array(out["rms"]),
                        max_abs=np.array(out["max_abs"]), predicted_rms=np.array(out["pred"]),
-                       eq7=np.array(out["eq7"]))
+                       eq7=np.array(out["eq7"]),
+                       floor=(abs(cfg.gs.eps0) + abs(cfg.gs.eps1) * w_unc) / w,
+                       net_floor=float(pred.mean), eps1=cfg.sins.eps1)
 
 
 @dataclass(frozen=True)
@@ -90,7 +138,32 @@ class ResolutionSweep:
 
 def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period: float,
                   k_form: str = "linear") -> ResolutionSweep:
-    """δK for each encoder in ``encoders`` (same flight, same correction period)."""
+    """δK for each encoder in ``encoders`` (same flight, same correction period): paper RSF's
+    advice of "an encoder of higher resolution", tested.
+
+    Parameters
+    ----------
+    record : SensorRecord
+        A simulated flight ensemble at a constant roll rate.
+    encoders : list or tuple of EncoderModel
+        The encoders to compare.
+    period : float
+        Correction period, s.
+    k_form : {"linear", "reciprocal"}, optional
+        Form of K.
+
+    Returns
+    -------
+    ResolutionSweep
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> rec = rsf.simulate_flight(rsf.SimulationConfig(duration=10.0, n_runs=2), seed=0)
+    >>> sw = rsf.sweep_encoder(rec, [rsf.EncoderModel(64, 0.0), rsf.EncoderModel(4096, 0.0)], 5.0)
+    >>> sw.counts_per_rev.tolist(), bool(sw.rms[1] < sw.rms[0])
+    ([64, 4096], True)
+    """
     v.check_instance("record", record, SensorRecord)
     if not isinstance(encoders, list | tuple):
         raise TypeError("encoders must be a list or tuple of EncoderModel; "
@@ -118,3 +191,92 @@ def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period
                            position_error=np.array(cols["a"]), mean=np.array(cols["mean"]),
                            rms=np.array(cols["rms"]), max_abs=np.array(cols["max_abs"]),
                            predicted_rms=np.array(cols["pred"]), eq7=np.array(cols["eq7"]))
+
+
+@dataclass(frozen=True)
+class RateSweep:
+    """δK against the vehicle roll rate (one seeded ensemble per rate, constant ω_unc).
+
+    ``rates`` (rad/s); ``mean``, ``rms``, ``max_abs`` of δK over all runs and complete
+    intervals; ``predicted_rms`` (:func:`~gyrolib.rsf.predict_delta_k`); ``eq7`` the paper's
+    Eq. (7); ``share`` = 1 − rms/|ε1|, the share of the SINS gyro's SF error removed;
+    ``omega_unc`` (rad/s) and ``period`` (s) as simulated.
+    """
+
+    rates: np.ndarray
+    mean: np.ndarray
+    rms: np.ndarray
+    max_abs: np.ndarray
+    predicted_rms: np.ndarray
+    eq7: np.ndarray
+    share: np.ndarray
+    omega_unc: float
+    period: float
+
+
+def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
+                    omega_unc: float = float(to_si(300.0, "deg/s")),
+                    base: SimulationConfig | None = None, n_runs: int = 100,
+                    duration: float = 30.0, k_form: str = "linear") -> RateSweep:
+    """Simulate the correction at each constant roll rate and measure δK (paper RSF, Eq. (7)).
+
+    At each rate the GS motor follows up to ω − ``omega_unc`` (so the uncompensated rate stays
+    the paper's 300 °/s); the ensemble at ``rates[i]`` is seeded with ``seed + i``.
+
+    Parameters
+    ----------
+    rates : sequence of float
+        Vehicle roll rates, rad/s, each > ``omega_unc``.
+    seed : int
+        Seed of the first ensemble (>= 0).
+    period : float, optional
+        Correction period Δt, s (default 5 s, the worked example's).
+    omega_unc : float, optional
+        Uncompensated rate left by the GS, rad/s (default 300 °/s).
+    base : SimulationConfig, optional
+        Sensors, sample rate and error mode (default :class:`SimulationConfig()`); its roll
+        profile, motor limit, ``n_runs`` and ``duration`` are replaced.
+    n_runs, duration : int, float, optional
+        Runs per rate and run length, s.
+    k_form : {"linear", "reciprocal"}, optional
+        Form of the correction coefficient.
+
+    Returns
+    -------
+    RateSweep
+        δK statistics and the share of ε1 removed at each rate.
+
+    Examples
+    --------
+    >>> from gyrolib.units import to_si
+    >>> sw = sweep_roll_rate(to_si([900.0, 3600.0], "deg/s"), seed=1, n_runs=4, duration=10.0)
+    >>> [f"{s:.2f}" for s in sw.share]
+    ['0.83', '0.97']
+    """
+    r = v.check_array("rates", rates, ndim=1)
+    seed = v.check_int("seed", seed, 0)
+    omega_unc = v.check_nonnegative("omega_unc", omega_unc)
+    if np.any(r <= omega_unc):
+        raise ValueError(f"rates must be > omega_unc ({omega_unc:.6g} rad/s); got min {r.min()}")
+    base = SimulationConfig() if base is None else v.check_instance("base", base,
+                                                                    SimulationConfig)
+    period = v.check_positive("period", period)
+    k_form = v.check_choice("k_form", k_form, K_FORMS)
+    cols: dict[str, list[float]] = {key: [] for key in ("mean", "rms", "max", "pred", "eq7")}
+    for i, rate in enumerate(r):
+        cfg = dataclasses.replace(
+            base, roll=RollProfile(float(rate)), n_runs=n_runs, duration=duration,
+            gs=dataclasses.replace(base.gs, motor_rate_max=float(rate - omega_unc)))
+        rec = simulate_flight(cfg, seed=seed + i)
+        dk = _interval_estimates(rec, period, k_form)[2].ravel()
+        pred = predict_delta_k(cfg, period)
+        cols["mean"].append(dk.mean())
+        cols["rms"].append(math.sqrt(np.mean(dk**2)))
+        cols["max"].append(np.abs(dk).max())
+        cols["pred"].append(math.hypot(pred.mean, pred.std))
+        cols["eq7"].append(pred.eq7)
+    rms = np.array(cols["rms"])
+    return RateSweep(rates=r, mean=np.array(cols["mean"]), rms=rms,
+                     max_abs=np.array(cols["max"]), predicted_rms=np.array(cols["pred"]),
+                     eq7=np.array(cols["eq7"]), share=1.0 - rms / abs(base.sins.eps1),
+                     omega_unc=omega_unc, period=period)

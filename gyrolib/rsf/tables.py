@@ -21,6 +21,7 @@ from gyrolib.rsf.equations import (
     lateral_deviation_cubic,
     lateral_deviation_exact,
     sins_roll_error,
+    vertical_deviation_exact,
 )
 from gyrolib.rsf.sensors import (
     AEDB9340,
@@ -33,39 +34,73 @@ from gyrolib.rsf.sensors import (
 from gyrolib.units import G0, to_si
 
 __all__ = [
+    "DeltaKTerms",
     "Table2",
     "Table3",
     "table2",
     "table3",
     "worked_example_delta_k",
+    "worked_example_terms",
 ]
 
 
 @dataclass(frozen=True)
 class Table2:
-    """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``."""
+    """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``.
+
+    ``dr_z_cubic`` is Eq. (8), ``dr_z_exact`` its double integral without the small-angle
+    approximation (lateral component only) and ``dr_y_exact`` the vertical component of the
+    same mis-resolved 1 g, g (1 − cos Δγ) integrated twice, which the paper leaves out.
+    """
 
     t: np.ndarray
     dgamma_sins: np.ndarray
     dr_z_cubic: np.ndarray
     dr_z_exact: np.ndarray
+    dr_y_exact: np.ndarray
 
     def __post_init__(self) -> None:
-        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact")
+        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact", "dr_y_exact")
 
 
 def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
            times: ArrayLike = (10.0, 60.0, 120.0), g: float = G0) -> Table2:
-    """Recompute Table 2 from Eqs. (4) and (8) with the gyro's scale-factor error."""
+    """Recompute Table 2 of paper RSF from Eqs. (4) and (8) with the gyro's SF error.
+
+    Parameters
+    ----------
+    gyro : RollGyroSpec, optional
+        The roll gyro (default Table 1's SiIMU02).
+    omega_true : float, optional
+        Roll rate, rad/s (default 3600 °/s, as the paper).
+    times : array_like, optional
+        Times, s (default 10, 60, 120 s).
+    g : float, optional
+        Gravity, m/s² (> 0).
+
+    Returns
+    -------
+    Table2
+        Roll error, cubic and exact lateral deviation and the vertical component.
+
+    Examples
+    --------
+    >>> from gyrolib.units import from_si
+    >>> [f"{x:.1f}" for x in from_si(table2().dgamma_sins, "deg")]
+    ['21.6', '129.6', '259.2']
+    """
     if not isinstance(gyro, RollGyroSpec):
         raise TypeError(f"gyro must be a RollGyroSpec; got {type(gyro).__name__}")
     t = _times(times)
+    omega_true = v.check_real("omega_true", omega_true)
+    g = v.check_positive("g", g)
     e1 = gyro.sf_error
     return Table2(
         t=t,
         dgamma_sins=np.asarray(sins_roll_error(e1, omega_true, t)),
         dr_z_cubic=np.asarray(lateral_deviation_cubic(e1, omega_true, t, g)),
         dr_z_exact=np.asarray(lateral_deviation_exact(e1, omega_true, t, g)),
+        dr_y_exact=np.asarray(vertical_deviation_exact(e1, omega_true, t, g)),
     )
 
 
@@ -83,8 +118,31 @@ class Table3:
 
 def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
            times: ArrayLike = (10.0, 60.0, 120.0), eps0_gs: float | None = None) -> Table3:
-    """Recompute Table 3 from Eq. (9).  ``eps0_gs`` overrides ε0,GS = √(σ_rep² + σ_stab²)
-    (the paper rounds it to 3.3·10⁻³ °/s)."""
+    """Recompute Table 3 of paper RSF from Eq. (9).
+
+    Parameters
+    ----------
+    gyro : MemsGyroSpec, optional
+        The GS gyro (default the GYPRO4300 of the GS gyro table).
+    encoder : EncoderSpec, optional
+        The encoder (default the AEDB-9340, position error inferred from Table 3).
+    times : array_like, optional
+        Times, s.
+    eps0_gs : float, optional
+        Overrides ε0,GS = √(σ_rep² + σ_stab²), rad/s (the paper truncates it to
+        3.3·10⁻³ °/s).
+
+    Returns
+    -------
+    Table3
+
+    Examples
+    --------
+    >>> from gyrolib.units import from_si, to_si
+    >>> t3 = table3(eps0_gs=to_si(3.3e-3, "deg/s"))
+    >>> [f"{x:.3f}" for x in from_si(t3.dgamma_gs, "deg")]
+    ['0.363', '0.528', '0.726']
+    """
     if not isinstance(gyro, MemsGyroSpec):
         raise TypeError(f"gyro must be a MemsGyroSpec; got {type(gyro).__name__}")
     if not isinstance(encoder, EncoderSpec):
@@ -107,9 +165,82 @@ def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec 
 
     ``eps0_gs`` and ``eps1_gs`` override the gyro's values (to reproduce the print, which
     uses ε0,GS = 3.3·10⁻³ °/s and, by a slip, ε1,GS = 280·10⁻³ instead of 280 ppm).
+
+    Parameters
+    ----------
+    gyro : MemsGyroSpec, optional
+        The GS gyro.
+    encoder : EncoderSpec, optional
+        The GS encoder.
+    omega_x, omega_unc : float, optional
+        Roll rate and uncompensated rate, rad/s.
+    dt : float, optional
+        Correction period, s.
+    eps0_gs, eps1_gs : float, optional
+        Override the gyro's bias (rad/s) and SF error.
+
+    Returns
+    -------
+    float
+        δK.
+
+    Examples
+    --------
+    >>> from gyrolib.units import to_si
+    >>> f"{worked_example_delta_k():.3g}"
+    '0.00017'
+    >>> f"{worked_example_delta_k(eps0_gs=to_si(3.3e-3, 'deg/s'), eps1_gs=280e-3):.3f}"
+    '0.093'
     """
     v.check_instance("gyro", gyro, MemsGyroSpec)
     v.check_instance("encoder", encoder, EncoderSpec)
     e0 = gyro.bias_total if eps0_gs is None else eps0_gs
     e1 = gyro.sf_error if eps1_gs is None else eps1_gs
     return delta_k(e0, encoder.position_error, omega_x, dt, e1, omega_unc)
+
+
+@dataclass(frozen=True)
+class DeltaKTerms:
+    """The terms of Eq. (7) of paper RSF over one interval, rad: ``bias`` ε0,GS Δt,
+    ``sf`` ε1,GS ω_unc Δt, ``encoder`` Δγ_enc, their sum ``numerator``, the roll angle of the
+    interval ``span`` ω_x Δt, and ``delta_k`` = numerator / span."""
+
+    bias: float
+    sf: float
+    encoder: float
+    numerator: float
+    span: float
+    delta_k: float
+
+
+def worked_example_terms(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340, *,
+                         omega_x: float = float(to_si(900.0, "deg/s")),
+                         omega_unc: float = float(to_si(300.0, "deg/s")),
+                         dt: float = 5.0, eps0_gs: float | None = None,
+                         eps1_gs: float | None = None) -> DeltaKTerms:
+    """Eq. (7) of paper RSF term by term, as the worked example writes it out.
+
+    Parameters as :func:`worked_example_delta_k`; ``eps0_gs``, ``eps1_gs`` override the gyro.
+
+    Returns
+    -------
+    DeltaKTerms
+        The three terms (rad), the numerator, the interval's roll angle and δK.
+
+    Examples
+    --------
+    >>> from gyrolib.units import from_si, to_si
+    >>> t = worked_example_terms()
+    >>> f"{from_si(t.numerator, 'deg'):.4f}° / {from_si(t.span, 'deg'):.0f}° = {t.delta_k:.3g}"
+    '0.7670° / 4500° = 0.00017'
+    """
+    v.check_instance("gyro", gyro, MemsGyroSpec)
+    v.check_instance("encoder", encoder, EncoderSpec)
+    dt = v.check_positive("dt", dt)
+    omega_x = v.check_positive("omega_x", omega_x)
+    omega_unc = v.check_nonnegative("omega_unc", omega_unc)
+    e0 = gyro.bias_total if eps0_gs is None else v.check_nonnegative("eps0_gs", eps0_gs)
+    e1 = gyro.sf_error if eps1_gs is None else v.check_nonnegative("eps1_gs", eps1_gs)
+    bias, sf, enc = e0 * dt, e1 * omega_unc * dt, encoder.position_error
+    return DeltaKTerms(bias=bias, sf=sf, encoder=enc, numerator=bias + sf + enc,
+                       span=omega_x * dt, delta_k=delta_k(e0, enc, omega_x, dt, e1, omega_unc))

@@ -1,0 +1,485 @@
+"""Measurement records as CSV files: reading (plain or ``.csv.gz``, in chunks), checking and
+writing.
+
+A record file has one header line naming its columns, optionally preceded by ``#`` comment
+lines (comment and blank lines are skipped anywhere); columns are separated by commas; extra
+columns are ignored.  Cells are numbers; an empty cell or ``nan`` is a missing value (the
+calibration skips that one measurement).  Time ``t`` (s) must be finite and strictly
+increasing.  Anything else raises :class:`~gyrolib.records.RecordError` naming the file, the
+line and the column.
+
+* GC record (paper GC): ``t``, ``angle_sensor`` (rad), ``inclinometer_y``,
+  ``inclinometer_z`` (m/s²) — :data:`GC_COLUMNS`, :class:`GCRecord`;
+* RSF record (paper RSF): ``t``, ``sins_increment`` (rad) and ``gs_angle`` (rad, unwrapped)
+  or ``encoder_counts`` (wrapped counts, optionally with ``gs_gyro_angle``) —
+  :data:`RSF_COLUMNS`, :class:`RSFRecord`.
+"""
+
+from __future__ import annotations
+
+import gzip
+import io
+import math
+import os
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Final
+
+import numpy as np
+
+from gyrolib import _validation as v
+from gyrolib.records.errors import RecordError
+
+__all__ = [
+    "GC_COLUMNS",
+    "RSF_COLUMNS",
+    "GCRecord",
+    "RSFRecord",
+    "iter_csv",
+    "iter_gc",
+    "read_csv",
+    "read_gc",
+    "read_rsf",
+    "write_csv",
+]
+
+#: Columns of a paper-GC record, in SI (s, rad, m/s², m/s²).
+GC_COLUMNS: Final[tuple[str, ...]] = ("t", "angle_sensor", "inclinometer_y", "inclinometer_z")
+
+#: Columns of a paper-RSF record (``gs_angle`` may be replaced by ``encoder_counts``).
+RSF_COLUMNS: Final[tuple[str, ...]] = ("t", "sins_increment", "gs_angle")
+
+#: Rows parsed at a time: a chunk of 65 536 rows of four columns is 2 MB.
+CHUNK_ROWS: Final[int] = 65536
+
+_MISSING: Final[frozenset[str]] = frozenset({"", "nan", "+nan", "-nan"})
+
+
+# Records ----------------------------------------------------------------------------------
+def _column(name: str, value: object, n: int | None = None) -> np.ndarray:
+    """A 1-D float column; NaN (a missing value) allowed, ±inf not."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a 1-D array of real numbers") from exc
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be 1-D; got shape {arr.shape}")
+    if n is not None and arr.size != n:
+        raise ValueError(f"{name} must have {n} values (one per time t); got {arr.size}")
+    if np.any(np.isinf(arr)):
+        raise ValueError(f"{name} must be finite or NaN (missing); got ±inf")
+    return arr
+
+
+def _times(t: object) -> np.ndarray:
+    t = v.check_array("t", t, ndim=1, min_size=1)
+    if np.any(np.diff(t) <= 0.0):
+        i = int(np.nonzero(np.diff(t) <= 0.0)[0][0]) + 1
+        raise ValueError(f"t must be strictly increasing; t[{i}] = {t[i]} follows "
+                         f"t[{i - 1}] = {t[i - 1]}")
+    return t
+
+
+@dataclass(frozen=True)
+class GCRecord:
+    """A paper-GC measurement record (SI): time ``t`` (s, strictly increasing, >= 0; the
+    feedback is switched off at t = 0 with the float at β = 0), the float angle
+    ``angle_sensor`` (rad) and the specific forces ``inclinometer_y``, ``inclinometer_z``
+    (m/s², Eq. (8)'s measurement model).  NaN marks a missing measurement.
+
+    Examples
+    --------
+    >>> rec = GCRecord(t=[0.001, 0.002], angle_sensor=[0.0, 1e-6],
+    ...                inclinometer_y=[0.0, 0.0], inclinometer_z=[0.0, float("nan")])
+    >>> rec.n, int(rec.missing().sum())
+    (2, 1)
+    """
+
+    t: np.ndarray
+    angle_sensor: np.ndarray
+    inclinometer_y: np.ndarray
+    inclinometer_z: np.ndarray
+
+    def __post_init__(self) -> None:
+        t = _times(self.t)
+        if t[0] < 0.0:
+            raise ValueError(f"t must be >= 0 (time since the feedback was switched off); "
+                             f"got t[0] = {t[0]}")
+        object.__setattr__(self, "t", t)
+        for name in GC_COLUMNS[1:]:
+            object.__setattr__(self, name, _column(name, getattr(self, name), t.size))
+
+    @property
+    def n(self) -> int:
+        """Number of rows."""
+        return int(self.t.size)
+
+    def measurements(self) -> np.ndarray:
+        """``(n, 3)`` array of the three sensors, in the order of
+        :data:`gyrolib.gc.MEASUREMENT_NAMES`."""
+        return np.column_stack([self.angle_sensor, self.inclinometer_y, self.inclinometer_z])
+
+    def missing(self) -> np.ndarray:
+        """``(n, 3)`` boolean: which measurements are missing (NaN)."""
+        return np.isnan(self.measurements())
+
+
+@dataclass(frozen=True)
+class RSFRecord:
+    """A paper-RSF record (SI): time ``t`` (s, strictly increasing), the SINS roll-angle
+    increment ``sins_increment`` (rad) over the sample ending at ``t``, and either the GS roll
+    angle ``gs_angle`` (rad, unwrapped, relative to t = 0) or the wrapped ``encoder_counts``
+    with ``counts_per_rev`` (and, for a GS whose platform turns, ``gs_gyro_angle``: the
+    integrated reading of its MEMS gyro, rad; the GS angle is encoder angle plus it, paper
+    RSF Figure 2).  NaN marks a missing value.
+
+    Examples
+    --------
+    >>> rec = RSFRecord(t=[0.0, 0.01, 0.02], sins_increment=[0.0, 0.157, 0.157],
+    ...                 gs_angle=[0.0, 0.1569, 0.3138])
+    >>> rec.n, rec.gs_angle is not None
+    (3, True)
+    """
+
+    t: np.ndarray
+    sins_increment: np.ndarray
+    gs_angle: np.ndarray | None = None
+    encoder_counts: np.ndarray | None = None
+    counts_per_rev: int | None = None
+    gs_gyro_angle: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        t = _times(self.t)
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "sins_increment",
+                           _column("sins_increment", self.sins_increment, t.size))
+        if (self.gs_angle is None) == (self.encoder_counts is None):
+            raise ValueError("exactly one of gs_angle and encoder_counts must be given")
+        if self.gs_angle is not None:
+            object.__setattr__(self, "gs_angle", _column("gs_angle", self.gs_angle, t.size))
+            if self.counts_per_rev is not None or self.gs_gyro_angle is not None:
+                raise ValueError("counts_per_rev and gs_gyro_angle go with encoder_counts, "
+                                 "not gs_angle")
+            return
+        if self.gs_gyro_angle is not None:
+            object.__setattr__(self, "gs_gyro_angle",
+                               _column("gs_gyro_angle", self.gs_gyro_angle, t.size))
+        c = _column("encoder_counts", self.encoder_counts, t.size)
+        n = v.check_int("counts_per_rev", self.counts_per_rev, 2)
+        ok = ~np.isnan(c)
+        if np.any((c[ok] != np.round(c[ok])) | (c[ok] < 0) | (c[ok] >= n)):
+            i = int(np.nonzero(ok & ((c != np.round(c)) | (c < 0) | (c >= n)))[0][0])
+            raise ValueError(f"encoder_counts must be whole counts in [0, {n}) "
+                             f"(counts_per_rev = {n}); got {c[i]} at row {i}")
+        object.__setattr__(self, "encoder_counts", c)
+
+    @property
+    def n(self) -> int:
+        return int(self.t.size)
+
+
+# CSV reading ------------------------------------------------------------------------------
+def _open_text(path: Path) -> tuple[io.TextIOWrapper, object, int]:
+    """Text stream, the raw binary file (for progress) and the file size in bytes."""
+    raw = open(path, "rb")
+    size = os.fstat(raw.fileno()).st_size
+    if path.name.endswith(".gz"):
+        stream = gzip.GzipFile(fileobj=raw, mode="rb")
+    else:
+        stream = raw
+    return io.TextIOWrapper(stream, encoding="utf-8", newline=""), raw, size
+
+
+def _is_comment(line: str) -> bool:
+    s = line.strip()
+    return not s or s.startswith("#")
+
+
+class _Reader:
+    """Iterates over a CSV record in chunks of rows, checking as it goes."""
+
+    def __init__(self, path: object, required: Sequence[str], one_of: Sequence[str] = (),
+                 chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = ()) -> None:
+        if not isinstance(path, str | os.PathLike):
+            raise TypeError(f"path must be a str or path; got {type(path).__name__}")
+        self.path = Path(path)
+        self.label = str(path)
+        self.required = tuple(required)
+        self.one_of = tuple(one_of)
+        self.optional = tuple(optional)
+        self.chunk_rows = v.check_int("chunk_rows", chunk_rows, 1)
+        self.fraction = 0.0
+
+    def _error(self, message: str, **kw) -> RecordError:
+        return RecordError(self.label, message, **kw)
+
+    def _header(self, text: io.TextIOWrapper) -> tuple[list[str], int]:
+        line_no = 0
+        for line in text:
+            line_no += 1
+            if "\x00" in line:
+                raise self._error("not a text CSV file (it holds NUL bytes)")
+            if _is_comment(line):
+                continue
+            names = [c.strip().strip('"').strip("'") for c in line.rstrip("\r\n").split(",")]
+            return names, line_no
+        want = ", ".join(self.required)
+        raise self._error(f"is empty: expected a header line naming the columns {want}")
+
+    def _columns(self, names: list[str], line_no: int) -> tuple[list[str], list[int]]:
+        seen = set()
+        for nm in names:
+            if nm in seen and nm in (*self.required, *self.one_of):
+                raise self._error(f"column {nm!r} appears twice in the header", row=line_no)
+            seen.add(nm)
+        missing = [c for c in self.required if c not in names]
+        shown = (", ".join(repr(n[:30]) for n in names[:8])
+                 + (" ..." if len(names) > 8 else ""))
+        if missing:
+            raise self._error(f"not in the header: expected the columns "
+                              f"{', '.join(self.required)}; found {shown}",
+                              row=line_no, column=missing[0])
+        use = list(self.required)
+        if self.one_of:
+            present = [c for c in self.one_of if c in names]
+            if len(present) != 1:
+                what = "neither" if not present else "both"
+                raise self._error(f"expected exactly one of the columns "
+                                  f"{' or '.join(self.one_of)}; found {what} (header: {shown})",
+                                  row=line_no, column=self.one_of[0])
+            use.append(present[0])
+        use += [c for c in self.optional if c in names]
+        return use, [names.index(c) for c in use]
+
+    def _parse_slow(self, lines: list[str], line_nos: list[int], use: list[str],
+                    idx: list[int]) -> np.ndarray:
+        """Cell by cell, to say exactly which cell is wrong (the fast path failed)."""
+        out = np.empty((len(lines), len(idx)))
+        need = max(idx) + 1
+        for r, (line, ln) in enumerate(zip(lines, line_nos)):
+            cells = line.rstrip("\r\n").split(",")
+            if len(cells) < need:
+                raise self._error(f"expected at least {need} comma-separated fields (the "
+                                  f"header's columns up to {use[idx.index(max(idx))]!r}); got "
+                                  f"{len(cells)}", row=ln)
+            for c, (name, i) in enumerate(zip(use, idx)):
+                cell = cells[i].strip().strip('"')
+                if cell.lower() in _MISSING:
+                    out[r, c] = math.nan
+                    continue
+                try:
+                    out[r, c] = float(cell)
+                except ValueError:
+                    raise self._error(f"expected a number (or an empty cell / nan for a "
+                                      f"missing value); got {cell[:40]!r}", row=ln,
+                                      column=name) from None
+        return out
+
+    def _check(self, data: np.ndarray, line_nos: np.ndarray, use: list[str],
+               t_prev: float) -> None:
+        t = data[:, 0]
+        bad = ~np.isfinite(t)
+        if np.any(bad):
+            r = int(np.nonzero(bad)[0][0])
+            raise self._error(f"expected a finite time (s); got {t[r]}", row=int(line_nos[r]),
+                              column="t")
+        prev = np.concatenate([[t_prev], t[:-1]])
+        bad = t <= prev
+        if np.any(bad):
+            r = int(np.nonzero(bad)[0][0])
+            raise self._error(f"time must be strictly increasing; got {float(t[r])!r} after "
+                              f"{float(prev[r])!r}", row=int(line_nos[r]), column="t")
+        inf = np.isinf(data[:, 1:])
+        if np.any(inf):
+            r, c = (int(x[0]) for x in np.nonzero(inf))
+            raise self._error("expected a finite number (or empty / nan for a missing "
+                              "value); got inf", row=int(line_nos[r]), column=use[c + 1])
+
+    def __iter__(self) -> Iterator[tuple[list[str], np.ndarray]]:
+        try:
+            text, raw, size = _open_text(self.path)
+        except FileNotFoundError:
+            raise self._error("no such file") from None
+        except IsADirectoryError:
+            raise self._error("is a directory, not a CSV file") from None
+        except PermissionError:
+            raise self._error("cannot be read (permission denied)") from None
+        try:
+            names, line_no = self._header(text)
+            use, idx = self._columns(names, line_no)
+            t_prev = -math.inf
+            n_rows = 0
+            while True:
+                lines: list[str] = []
+                nos: list[int] = []
+                for line in text:
+                    line_no += 1
+                    if _is_comment(line):
+                        continue
+                    lines.append(line)
+                    nos.append(line_no)
+                    if len(lines) >= self.chunk_rows:
+                        break
+                if not lines:
+                    break
+                if any("\x00" in ln for ln in lines):
+                    raise self._error("not a text CSV file (it holds NUL bytes)", row=nos[0])
+                try:
+                    data = np.loadtxt(lines, delimiter=",", usecols=idx, dtype=float, ndmin=2,
+                                      comments=None, quotechar='"')
+                except ValueError:
+                    data = self._parse_slow(lines, nos, use, idx)
+                line_arr = np.asarray(nos)
+                self._check(data, line_arr, use, t_prev)
+                t_prev = float(data[-1, 0])
+                n_rows += data.shape[0]
+                self.fraction = min(1.0, raw.tell() / size) if size else 1.0
+                yield use, data
+            if n_rows == 0:
+                raise self._error("has a header but no data rows", row=line_no)
+        except UnicodeDecodeError:
+            raise self._error("not a text CSV file (cannot decode it as UTF-8)") from None
+        except (gzip.BadGzipFile, EOFError, OSError) as exc:
+            if isinstance(exc, RecordError):
+                raise
+            raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
+        finally:
+            text.close()
+            raw.close()
+
+
+def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
+             optional: Sequence[str] = (), chunk_rows: int = CHUNK_ROWS,
+             ) -> Iterator[tuple[list[str], np.ndarray]]:
+    """Chunks ``(columns, data)`` of a CSV record: ``data`` is ``(rows, len(columns))`` float,
+    the ``required`` columns in that order, then the one column of ``one_of`` present, then
+    those of ``optional`` present.
+
+    Raises :class:`RecordError` (one line naming the file, line and column) for a missing
+    file, an empty or non-text file, a missing column, a short row, a non-numeric cell, a
+    non-finite or non-increasing time.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "r.csv"
+    >>> _ = p.write_text("# comment\\nt,x,extra\\n0.1,1.5,a\\n0.2,,b\\n")
+    >>> [(cols, d.tolist()) for cols, d in iter_csv(p, ["t", "x"])]
+    [(['t', 'x'], [[0.1, 1.5], [0.2, nan]])]
+    """
+    return iter(_Reader(path, required, one_of, chunk_rows, optional))
+
+
+def read_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
+             optional: Sequence[str] = ()) -> tuple[list[str], np.ndarray]:
+    """The whole record at once: ``(columns, data)`` as :func:`iter_csv`."""
+    cols: list[str] = []
+    parts = []
+    for names, data in iter_csv(path, required, one_of=one_of, optional=optional):
+        cols = names
+        parts.append(data)
+    return cols, np.concatenate(parts)
+
+
+def _gc_from(data: np.ndarray) -> GCRecord:
+    return GCRecord(t=data[:, 0], angle_sensor=data[:, 1], inclinometer_y=data[:, 2],
+                    inclinometer_z=data[:, 3])
+
+
+def _check_gc_start(label: str, t0: float) -> None:
+    if t0 < 0.0:
+        raise RecordError(label, f"expected times >= 0 (s since the feedback was switched "
+                          f"off); the first row has t = {t0}", column="t")
+
+
+def iter_gc(path: object, *, chunk_rows: int = CHUNK_ROWS) -> Iterator[GCRecord]:
+    """A paper-GC record file in chunks of :class:`GCRecord` (for long records); use
+    :class:`GCChunks` instead when the part of the file read so far is wanted (progress)."""
+    return iter(GCChunks(path, chunk_rows=chunk_rows))
+
+
+class GCChunks:
+    """Iterable of :class:`GCRecord` chunks of a file; ``fraction`` is the part of the file
+    read so far (for a progress bar)."""
+
+    def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS) -> None:
+        self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows)
+
+    @property
+    def fraction(self) -> float:
+        return self._reader.fraction
+
+    def __iter__(self) -> Iterator[GCRecord]:
+        first = True
+        for _, data in self._reader:
+            if first:
+                _check_gc_start(self._reader.label, float(data[0, 0]))
+                first = False
+            yield _gc_from(data)
+
+
+def read_gc(path: object) -> GCRecord:
+    """A whole paper-GC record file (see the module docstring for the format)."""
+    _, data = read_csv(path, GC_COLUMNS)
+    _check_gc_start(str(path), float(data[0, 0]))
+    return _gc_from(data)
+
+
+def read_rsf(path: object, *, counts_per_rev: int | None = None) -> RSFRecord:
+    """A whole paper-RSF record file: ``t``, ``sins_increment`` and ``gs_angle`` or
+    ``encoder_counts`` (then ``counts_per_rev`` is required)."""
+    label = str(path)
+    cols, data = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
+                          optional=("gs_gyro_angle",))
+    if cols[2] == "gs_angle":
+        if counts_per_rev is not None:
+            raise RecordError(label, "counts_per_rev given but the record has a gs_angle "
+                              "column, not encoder_counts", column="gs_angle")
+        if "gs_gyro_angle" in cols:
+            raise RecordError(label, "a gs_gyro_angle column goes with encoder_counts; this "
+                              "record has gs_angle (already the full GS angle)",
+                              column="gs_gyro_angle")
+        return RSFRecord(t=data[:, 0], sins_increment=data[:, 1], gs_angle=data[:, 2])
+    if counts_per_rev is None:
+        raise RecordError(label, "the record has encoder_counts: give the counts per "
+                          "revolution (--counts-per-rev N)", column="encoder_counts")
+    c = data[:, 2]
+    ok = ~np.isnan(c)
+    bad = ok & ((c != np.round(c)) | (c < 0) | (c >= counts_per_rev))
+    if np.any(bad):
+        r = int(np.nonzero(bad)[0][0])
+        raise RecordError(label, f"expected whole counts in [0, {counts_per_rev}) (wrapped "
+                          f"count, counts per revolution {counts_per_rev}); got {c[r]:g} at "
+                          f"data row {r + 1}", column="encoder_counts")
+    gyro = data[:, 3] if "gs_gyro_angle" in cols else None
+    return RSFRecord(t=data[:, 0], sins_increment=data[:, 1], encoder_counts=c,
+                     counts_per_rev=counts_per_rev, gs_gyro_angle=gyro)
+
+
+# CSV writing ------------------------------------------------------------------------------
+def write_csv(path: object, columns: dict[str, object], *, comments: Sequence[str] = (),
+              fmt: str | Sequence[str] = "%.10g") -> Path:
+    """Write ``columns`` (name → 1-D array, equal lengths) as a CSV record with ``#``
+    ``comments`` above the header; gzip-compressed when ``path`` ends in ``.gz``
+    (deterministic: no time stamp in the gzip header).  NaN is written as ``nan``."""
+    path = Path(path)
+    if not columns:
+        raise ValueError("columns must name at least one column")
+    arrays = [np.asarray(a, dtype=float) for a in columns.values()]
+    n = arrays[0].size
+    if any(a.ndim != 1 or a.size != n for a in arrays):
+        raise ValueError("columns must be 1-D arrays of equal length")
+    buf = io.StringIO()
+    for c in comments:
+        buf.write(f"# {c}\n")
+    buf.write(",".join(columns) + "\n")
+    np.savetxt(buf, np.column_stack(arrays), delimiter=",", fmt=fmt)
+    data = buf.getvalue().encode()
+    if path.name.endswith(".gz"):
+        with open(path, "wb") as fh, gzip.GzipFile(fileobj=fh, mode="wb", mtime=0,
+                                                   filename="") as gz:
+            gz.write(data)
+    else:
+        path.write_bytes(data)
+    return path

@@ -1,0 +1,151 @@
+"""rsf.calibrate on records: against rsf.run_correction (the simulator's correction loop,
+a separate implementation), closed forms on synthetic records with gaps and NaNs, the
+error model's δK, and the wrapped-count path."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from gyrolib import rsf
+
+CFG = rsf.SimulationConfig(duration=60.0, sample_rate=1000.0)
+
+
+@pytest.fixture(scope="module")
+def flight():
+    return rsf.simulate_flight(CFG, seed=77)
+
+
+def test_equals_run_correction(flight):
+    rec = rsf.record_from_simulation(flight)
+    res = rsf.calibrate(rec, 1.0)
+    run = rsf.run_correction(flight, 1.0)
+    np.testing.assert_allclose(res.eps1_hat, run.eps1_hat[0], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.k, run.k[0], rtol=0, atol=1e-12)
+    corrected = run.roll_error_corrected[0] + flight.gamma_true
+    np.testing.assert_allclose(res.corrected_angle, corrected, rtol=1e-12, atol=1e-9)
+
+
+def test_acceptance_within_predicted_delta_k(flight):
+    """With NaNs and a gap, every interval's δK = K(1+ε1) − 1 lies within 3σ of what the
+    error model predicts for this record (rsf.predict_delta_k, its σ scaled to the part of
+    each interval the data cover); without that scaling the gap's interval fails (power)."""
+    rec = rsf.record_from_simulation(flight)
+    rng = np.random.default_rng(3)
+    inc = rec.sins_increment.copy()
+    gs = rec.gs_angle.copy()
+    inc[rng.choice(np.arange(1, rec.n), 50, replace=False)] = np.nan
+    gs[rng.choice(np.arange(1, rec.n), 50, replace=False)] = np.nan
+    keep = ~((rec.t > 20.3) & (rec.t <= 20.8))
+    damaged = rsf.RSFRecord(t=rec.t[keep], sins_increment=inc[keep], gs_angle=gs[keep])
+    res = rsf.calibrate(damaged, 1.0)
+    pred = rsf.predict_delta_k(CFG, 1.0)
+    dk = res.delta_k(float(flight.eps1_sins[0]))
+    assert res.n_intervals == 60
+    assert np.all(np.abs(dk - pred.mean) <= 3.0 * res.delta_k_std(pred))
+    gap_interval = 20
+    # 300 samples before the gap, 200 after it less the one whose step spans the gap
+    assert res.segments[gap_interval] == 2 and res.samples[gap_interval] == 499
+    assert abs(dk[gap_interval] - pred.mean) > 3.0 * pred.std
+    # the same through the helper that builds the prediction from the record itself
+    pred2 = rsf.predicted_delta_k(res)
+    assert pred2.std == pytest.approx(pred.std, rel=0.01)
+    assert res.gaps == 1 and res.samples_skipped > 0
+
+
+def _synthetic(eps1: float, n: int = 2001, dt: float = 0.01, rate: float = 15.7):
+    t = np.arange(n) * dt
+    wobble = 0.3 * np.sin(2.0 * np.pi * 0.37 * t)            # non-constant rate
+    gs = rate * t + wobble
+    inc = np.concatenate([[0.0], np.diff(gs)]) * (1.0 + eps1)
+    return t, inc, gs
+
+
+def test_closed_form_with_gaps_and_nans():
+    """SINS increments exactly (1 + ε1) × the GS increments: ε̂1 = ε1/(1 + ε1) in every
+    interval, whatever samples are missing, provided the step across a gap is dropped."""
+    eps1 = 6e-4
+    t, inc, gs = _synthetic(eps1)
+    inc[[5, 300, 301, 1500]] = np.nan
+    gs[[77, 1200]] = np.nan
+    keep = ~((t > 7.0) & (t <= 7.5))
+    res = rsf.calibrate(rsf.RSFRecord(t=t[keep], sins_increment=inc[keep],
+                                      gs_angle=gs[keep]), 2.0)
+    assert res.n_intervals == 10
+    np.testing.assert_allclose(res.eps1_hat, eps1 / (1 + eps1), rtol=1e-9)
+    # power: the step across the gap, if used, spoils its interval
+    naive = np.diff(gs[keep])
+    bad = np.nansum(inc[keep][1:][(t[keep][1:] > 6.0) & (t[keep][1:] <= 8.0)])
+    bad_gs = np.nansum(naive[(t[keep][1:] > 6.0) & (t[keep][1:] <= 8.0)])
+    assert abs((bad - bad_gs) / bad - eps1 / (1 + eps1)) > 0.1
+
+
+def test_residual_and_k_forms():
+    eps1 = 1e-3
+    t, inc, gs = _synthetic(eps1)
+    rec = rsf.RSFRecord(t=t, sins_increment=inc, gs_angle=gs)
+    lin = rsf.calibrate(rec, 1.0, k_form="linear")
+    rec_ = rsf.calibrate(rec, 1.0, k_form="reciprocal")
+    np.testing.assert_allclose(lin.k, 1 - eps1 / (1 + eps1), rtol=1e-12)
+    np.testing.assert_allclose(rec_.k, 1 / (1 + eps1 / (1 + eps1)), rtol=1e-12)
+    # after the first interval the linear K removes the error exactly: the residual
+    # stops growing; uncorrected it grows as ε1 × angle
+    after = t >= 1.0
+    assert np.ptp(lin.residual[after]) < 1e-9
+    assert lin.residual_raw[-1] == pytest.approx(eps1 * (gs[-1] - gs[0]), rel=1e-9)
+
+
+def test_wrapped_counts_equal_gs_angle(flight):
+    a = rsf.calibrate(rsf.record_from_simulation(flight), 1.0)
+    b = rsf.calibrate(rsf.record_from_simulation(flight, encoder=True), 1.0)
+    np.testing.assert_allclose(b.eps1_hat, a.eps1_hat, rtol=0, atol=1e-12)
+
+
+def test_wrapped_counts_with_missing_values():
+    """Counts of a body turning 0.3 rev per sample; a NaN count drops the two samples it
+    touches, and the unwrapping stays exact (closed form again)."""
+    n_rev, eps1 = 400, 2e-4
+    t = np.arange(3001) * 0.001
+    counts_true = np.round(0.3 * n_rev * np.arange(3001)).astype(float)
+    c = np.mod(counts_true, n_rev)
+    c[[10, 2000]] = np.nan
+    ang = counts_true * 2 * math.pi / n_rev
+    inc = np.concatenate([[0.0], np.diff(ang)]) * (1 + eps1)
+    res = rsf.calibrate(rsf.RSFRecord(t=t, sins_increment=inc, encoder_counts=c,
+                                      counts_per_rev=n_rev), 1.0)
+    np.testing.assert_allclose(res.eps1_hat, eps1 / (1 + eps1), rtol=1e-9)
+    assert res.samples_skipped == 4
+
+
+def test_bad_input():
+    t = np.arange(5) * 0.01
+    with pytest.raises(ValueError, match="exactly one of gs_angle and encoder_counts"):
+        rsf.RSFRecord(t=t, sins_increment=t, gs_angle=t, encoder_counts=t,
+                      counts_per_rev=4)
+    with pytest.raises(ValueError, match="encoder_counts must be whole counts"):
+        rsf.RSFRecord(t=t, sins_increment=t, encoder_counts=t + 0.5, counts_per_rev=4)
+    rec = rsf.RSFRecord(t=t, sins_increment=t, gs_angle=t)
+    with pytest.raises(ValueError, match="period must be"):
+        rsf.calibrate(rec, -1.0)
+    with pytest.raises(TypeError, match="record must be an RSFRecord"):
+        rsf.calibrate({"t": t}, 1.0)
+
+
+def test_jittered_time_stamps_are_not_gaps():
+    """±20 % jitter on every time stamp: every sample is still used and the closed form
+    holds; a true gap (a missing row) is still detected."""
+    eps1 = 6e-4
+    t, inc, gs = _synthetic(eps1)
+    tj = t + np.random.default_rng(1).uniform(-2e-3, 2e-3, t.size)
+    tj[0] = 0.0
+    res = rsf.calibrate(rsf.RSFRecord(t=tj, sins_increment=inc, gs_angle=gs), 2.0)
+    assert res.gaps == 0 and res.samples_used == t.size - 1
+    np.testing.assert_allclose(res.eps1_hat, eps1 / (1 + eps1), rtol=1e-9)
+    keep = np.ones(t.size, bool)
+    keep[500] = False
+    res = rsf.calibrate(rsf.RSFRecord(t=tj[keep], sins_increment=inc[keep],
+                                      gs_angle=gs[keep]), 2.0)
+    assert res.gaps == 1 and res.samples_used == t.size - 3

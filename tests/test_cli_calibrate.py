@@ -1,0 +1,286 @@
+"""``python -m gyrolib calibrate gc|rsf``: acceptance on records simulated here (seeds
+independent of data/), the JSON and plot outputs, and every bad-input case (exit 2, one
+line on stderr naming the file and the column or row, nothing written)."""
+
+from __future__ import annotations
+
+import dataclasses
+import gzip
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gyrolib import gc, records, rsf
+from gyrolib.__main__ import main
+from gyrolib.units import from_si
+
+P = gc.GyrocompassParams()
+GC_HEADER = "t,angle_sensor,inclinometer_y,inclinometer_z"
+
+
+def _run(argv, capsys):
+    code = main(argv)
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.fixture(scope="module")
+def gc_file(tmp_path_factory):
+    """Seed 4242, 100 s: a 2 s gap, NaNs and a burst of angle-sensor outliers."""
+    sim = gc.simulate_record(P, 100.0, seed=4242)
+    r = sim.record
+    rng = np.random.default_rng(4243)
+    a, y, z = (np.array(c) for c in (r.angle_sensor, r.inclinometer_y, r.inclinometer_z))
+    burst = np.nonzero(r.t > 55.0)[0][:40]
+    a[burst] += 8e-4 * rng.choice([-1.0, 1.0], burst.size)
+    y[rng.choice(r.n, 60, replace=False)] = np.nan
+    a[rng.choice(r.n, 60, replace=False)] = np.nan
+    keep = ~((r.t > 25.0) & (r.t <= 27.0))
+    path = tmp_path_factory.mktemp("gc") / "run.csv.gz"
+    records.write_csv(path, {"t": r.t[keep], "angle_sensor": a[keep],
+                             "inclinometer_y": y[keep], "inclinometer_z": z[keep]},
+                      fmt=["%.3f", "%.12g", "%.12g", "%.12g"])
+    return path, sim, r.t[burst]
+
+
+def test_gc_json_acceptance(gc_file, capsys):
+    path, sim, burst_t = gc_file
+    code, out, err = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    assert code == 0 and err == ""
+    d = json.loads(out)
+    assert abs(d["omega_gc"] - sim.omega_gc) <= 3.0 * d["omega_gc_std"]
+    sigma_cov = float(gc.covariance_analysis(P, 100.0, store_every=10**9).std("omega_gc")[-1])
+    assert d["omega_gc_std"] == pytest.approx(sigma_cov, rel=0.05)
+    assert d["samples_rejected"] >= burst_t.size
+    assert d["measurements"]["angle_sensor"]["rejected"] >= burst_t.size
+    assert np.all(np.isin(np.round(burst_t, 3), np.round(d["rejected_t"], 3)))
+    assert set(d["nis"]) == set(gc.MEASUREMENT_NAMES)
+    assert d["samples_used"] + 2000 == pytest.approx(100000, abs=10)
+
+
+def test_gc_summary_and_plot(gc_file, capsys, tmp_path):
+    path, _, _ = gc_file
+    png = tmp_path / "est.png"
+    code, out, err = _run(["calibrate", "gc", str(path), "--plot", str(png)], capsys)
+    assert code == 0 and err == ""
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "arcsec/s" in out and "model fits" in out
+    # the printed estimate is the JSON's, converted to the paper's arcsec/s
+    _, js, _ = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    val = float(from_si(json.loads(js)["omega_gc"], "arcsec_paper/s"))
+    assert f"omega_gc = {val:.4g}" in out
+
+
+@pytest.fixture(scope="module")
+def rsf_file(tmp_path_factory):
+    cfg = rsf.SimulationConfig(duration=60.0, sample_rate=1000.0)
+    flight = rsf.simulate_flight(cfg, seed=9191)
+    r = rsf.record_from_simulation(flight)
+    path = tmp_path_factory.mktemp("rsf") / "flight.csv"
+    records.write_csv(path, {"t": r.t, "sins_increment": r.sins_increment,
+                             "gs_angle": r.gs_angle}, fmt=["%.3f", "%.12g", "%.15g"])
+    return path, flight, cfg
+
+
+def test_rsf_json_acceptance(rsf_file, capsys):
+    path, flight, cfg = rsf_file
+    code, out, err = _run(["calibrate", "rsf", str(path), "--period", "1", "--json"], capsys)
+    assert code == 0 and err == ""
+    d = json.loads(out)
+    assert d["period"] == 1.0 and len(d["eps1_hat"]) == len(d["K"]) == 60
+    eps1 = float(flight.eps1_sins[0])
+    pred = rsf.predict_delta_k(cfg, 1.0)
+    dk = np.array(d["K"]) * (1 + eps1) - 1
+    assert np.all(np.abs(dk - pred.mean) <= 3.0 * pred.std)
+    assert d["delta_k_predicted"]["std"] == pytest.approx(pred.std, rel=0.01)
+
+
+def test_rsf_encoder_counts_and_plot(capsys, tmp_path):
+    flight = rsf.simulate_flight(rsf.SimulationConfig(duration=5.0, sample_rate=1000.0), 5)
+    e = rsf.record_from_simulation(flight, encoder=True)
+    path = tmp_path / "enc.csv"
+    records.write_csv(path, {"t": e.t, "sins_increment": e.sins_increment,
+                             "encoder_counts": e.encoder_counts,
+                             "gs_gyro_angle": e.gs_gyro_angle},
+                      fmt=["%.3f", "%.12g", "%d", "%.15g"])
+    png = tmp_path / "eps.png"
+    code, out, err = _run(["calibrate", "rsf", str(path), "--period", "1",
+                           "--counts-per-rev", "4000", "--json", "--plot", str(png)], capsys)
+    assert code == 0 and err == ""
+    ref = rsf.calibrate(rsf.record_from_simulation(flight), 1.0)
+    np.testing.assert_allclose(json.loads(out)["eps1_hat"], ref.eps1_hat, atol=1e-9)
+    assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+# Bad input -------------------------------------------------------------------------------
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+GOOD_ROWS = "0.001,0,0,0\n0.002,0,0,0\n"
+
+BAD_GC = {
+    "missing column": ("t,angle_sensor,inclinometer_y\n0.001,0,0\n", "'inclinometer_z'"),
+    "misnamed column": ("t,angle,inclinometer_y,inclinometer_z\n" + GOOD_ROWS,
+                        "'angle_sensor'"),
+    "non-numeric cell": (GC_HEADER + "\n0.001,0,0,0\n0.002,0,abc,0\n",
+                         "line 3, column 'inclinometer_y'"),
+    "time not increasing": (GC_HEADER + "\n0.002,0,0,0\n0.001,0,0,0\n", "line 3, column 't'"),
+    "empty file": ("", "empty"),
+    "comments only": ("# nothing\n# here\n", "empty"),
+    "header only": (GC_HEADER + "\n", "no data rows"),
+    "short row": (GC_HEADER + "\n0.001,0,0\n", "line 2"),
+    "negative time": (GC_HEADER + "\n-0.001,0,0,0\n", "column 't'"),
+    "missing time": (GC_HEADER + "\n,0,0,0\n", "line 2, column 't'"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_GC))
+def test_gc_bad_input(case, capsys, tmp_path):
+    text, where = BAD_GC[case]
+    path = _write(tmp_path / "bad.csv", text)
+    png = tmp_path / "never.png"
+    code, out, err = _run(["calibrate", "gc", str(path), "--json", "--plot", str(png)],
+                          capsys)
+    assert code == 2
+    assert out == "" and not png.exists()
+    assert err.count("\n") == 1 and err.endswith("\n")
+    assert str(path) in err and where in err
+
+
+def test_bad_binary_and_gzip(capsys, tmp_path):
+    for name, data in (("x.csv", bytes(range(256)) * 4), ("x.csv.gz", b"not gzip at all")):
+        path = tmp_path / name
+        path.write_bytes(data)
+        code, out, err = _run(["calibrate", "gc", str(path)], capsys)
+        assert code == 2 and out == "" and err.count("\n") == 1 and str(path) in err
+    path = tmp_path / "ok.csv.gz"
+    path.write_bytes(gzip.compress((GC_HEADER + "\n" + GOOD_ROWS).encode()))
+    code, out, err = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    assert code == 0 and json.loads(out)["rows"] == 2
+
+
+def test_unknown_toml_field_and_missing_file(capsys, tmp_path):
+    rec = _write(tmp_path / "ok.csv", GC_HEADER + "\n" + GOOD_ROWS)
+    toml = _write(tmp_path / "p.toml", "C_as = 1e-13\nC_az = 2\n")
+    code, out, err = _run(["calibrate", "gc", str(rec), "--params", str(toml)], capsys)
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert str(toml) in err and "'C_az'" in err
+    toml = _write(tmp_path / "r.toml", "[gs]\nmotor_rate_max = inf\n[sins]\nbogus = 1\n")
+    rrec = _write(tmp_path / "r.csv", "t,sins_increment,gs_angle\n0,0,0\n0.5,1,1\n1,1,1\n")
+    code, out, err = _run(["calibrate", "rsf", str(rrec), "--period", "0.5", "--params",
+                           str(toml)], capsys)
+    assert code == 2 and "'sins.bogus'" in err and str(toml) in err
+    code, out, err = _run(["calibrate", "gc", str(tmp_path / "nope.csv")], capsys)
+    assert code == 2 and "no such file" in err and err.count("\n") == 1
+
+
+def test_toml_overrides_apply(capsys, tmp_path):
+    """TOML fields change the model: σ follows the covariance analysis of the modified
+    parameters, not the paper's."""
+    sim = gc.simulate_record(P, 2.0, seed=3)
+    r = sim.record
+    rec = tmp_path / "r.csv"
+    records.write_csv(rec, {"t": r.t, "angle_sensor": r.angle_sensor,
+                            "inclinometer_y": r.inclinometer_y,
+                            "inclinometer_z": r.inclinometer_z})
+    _, a, _ = _run(["calibrate", "gc", str(rec), "--json"], capsys)
+    changed = {"C_as": 100 * P.C_as, "sigma1_sq": 4 * P.sigma1_sq}
+    toml = _write(tmp_path / "p.toml", "".join(f"{k} = {v!r}\n" for k, v in changed.items()))
+    _, b, _ = _run(["calibrate", "gc", str(rec), "--json", "--params", str(toml)], capsys)
+    cov = gc.covariance_analysis(dataclasses.replace(P, **changed), 2.0, store_every=10**9)
+    sigma = float(cov.std("omega_gc")[-1])
+    assert json.loads(b)["omega_gc_std"] == pytest.approx(sigma, rel=0.01)
+    assert json.loads(a)["omega_gc_std"] < 0.95 * sigma
+
+
+BAD_RSF = {
+    "no gs column": ("t,sins_increment\n0,0\n0.01,1\n", ["--period", "0.01"], "gs_angle"),
+    "counts without n": ("t,sins_increment,encoder_counts\n0,0,0\n0.01,1,5\n",
+                         ["--period", "0.01"], "--counts-per-rev"),
+    "counts out of range": ("t,sins_increment,encoder_counts\n0,0,0\n0.01,1,5000\n",
+                            ["--period", "0.01", "--counts-per-rev", "4000"],
+                            "column 'encoder_counts'"),
+    "period too long": ("t,sins_increment,gs_angle\n0,0,0\n0.01,1,1\n", ["--period", "5"],
+                        "--period"),
+    "non-numeric": ("t,sins_increment,gs_angle\n0,0,0\n0.01,x,1\n", ["--period", "0.01"],
+                    "line 3, column 'sins_increment'"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_RSF))
+def test_rsf_bad_input(case, capsys, tmp_path):
+    text, extra, where = BAD_RSF[case]
+    path = _write(tmp_path / "bad.csv", text)
+    png = tmp_path / "never.png"
+    code, out, err = _run(["calibrate", "rsf", str(path), *extra, "--json", "--plot",
+                           str(png)], capsys)
+    assert code == 2 and out == "" and not png.exists()
+    assert err.count("\n") == 1 and str(path) in err and where in err
+
+
+def test_bad_plot_path(capsys, tmp_path):
+    rec = _write(tmp_path / "ok.csv", GC_HEADER + "\n" + GOOD_ROWS)
+    for plot in (tmp_path / "no" / "dir.png", tmp_path / "x.txt"):
+        code, out, err = _run(["calibrate", "gc", str(rec), "--plot", str(plot)], capsys)
+        assert code == 2 and out == "" and err.count("\n") == 1 and str(plot) in err
+
+
+def test_subprocess_one_line_no_traceback(tmp_path):
+    """Through the real entry point: status 2, one line, no traceback; a usage error of
+    calibrate is one line too."""
+    path = _write(tmp_path / "bad.csv", GC_HEADER + "\n0.001,0,0,0\n0.002,0,zz,0\n")
+    proc = subprocess.run([sys.executable, "-m", "gyrolib", "calibrate", "gc", str(path)],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
+    assert "line 3, column 'inclinometer_y'" in proc.stderr
+    proc = subprocess.run([sys.executable, "-m", "gyrolib", "calibrate", "rsf", str(path)],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 2 and proc.stderr.count("\n") == 1 and "--period" in proc.stderr
+
+
+def test_file_streamed_in_chunks_equals_whole_file(gc_file):
+    """Reading the file in small chunks (records.GCChunks) gives the one-shot result."""
+    path, _, _ = gc_file
+    whole = gc.calibrate(records.read_gc(path), P)
+    chunks = records.GCChunks(path, chunk_rows=7000)
+    streamed = gc.calibrate(chunks, P)
+    assert chunks.fraction == pytest.approx(1.0)
+    np.testing.assert_allclose(streamed.x_final, whole.x_final, rtol=1e-12, atol=1e-30)
+    np.testing.assert_allclose(streamed.P_final, whole.P_final, rtol=1e-12, atol=1e-40)
+    assert streamed.rows == whole.rows and (streamed.rejected == whole.rejected).all()
+
+
+def test_progress_bar_only_on_a_terminal_and_cleared(monkeypatch):
+    from gyrolib.records import cli
+
+    class Tty:
+        def __init__(self, tty):
+            self.text, self.tty = "", tty
+
+        def isatty(self):
+            return self.tty
+
+        def write(self, s):
+            self.text += s
+
+        def flush(self):
+            pass
+
+    for tty in (True, False):
+        err = Tty(tty)
+        monkeypatch.setattr(sys, "stderr", err)
+        bar = cli._Progress("calibrate gc x.csv", lambda: 0.5, after=0.0)
+        bar(10)
+        bar.clear()
+        if tty:
+            assert "[###############               ]  50%" in err.text
+            assert err.text.endswith("\r\033[K")
+        else:
+            assert err.text == ""
