@@ -339,24 +339,6 @@ def _nonnegative(name: str, y: np.ndarray) -> np.ndarray:
     return y
 
 
-def _mapping(name: str, value: object) -> Mapping:
-    v.check_instance(name, value, Mapping)
-    if not value:
-        raise ValueError(f"{name} must hold at least one entry")
-    return value
-
-
-def _band(name: str, value: object) -> tuple[float, float]:
-    """A pair ``(low, high)`` of positive numbers with low <= high."""
-    if not isinstance(value, tuple | list) or len(value) != 2:
-        raise TypeError(f"{name} must be a pair (low, high) of positive numbers; "
-                        f"got {value!r}")
-    lo, hi = (v.check_positive(name, b) for b in value)
-    if lo > hi:
-        raise ValueError(f"{name} must have low <= high; got ({lo}, {hi})")
-    return lo, hi
-
-
 def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: float,
                        paper_time: float = 100.0, unit: str = "arcsec_paper/s",
                        unit_label: str = "″/s", drop_time: float = 2.0,
