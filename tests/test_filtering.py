@@ -38,8 +38,8 @@ def _rk4_cov(F_of_t, S, P, Phi, t0, t1, n_sub):
 
 
 def test_van_loan_matches_fine_step_covariance_ode_for_paper_gc():
-    # Paper GC's F at β_n = 0.005 rad: Φ and Qd over Δt = 1 ms against RK4 with 2000
-    # sub-steps (RK4 error ~ (0.5 µs · 625/s)^4 ≈ 1e-11): agreement to 1e-9 relative.
+    """Paper GC's F at β_n = 0.005 rad: Φ and Qd over Δt = 1 ms against RK4 with 2000
+    sub-steps (RK4 error ~ (0.5 µs · 625/s)^4 ≈ 1e-11): agreement to 1e-9 relative."""
     p = GyrocompassParams()
     F = system_matrix(p, 0.005)
     G, Qc = noise_input_matrix(p), process_noise_intensity(p)
@@ -52,9 +52,9 @@ def test_van_loan_matches_fine_step_covariance_ode_for_paper_gc():
 
 
 def test_gc_discretization_over_a_time_varying_span_matches_covariance_ode():
-    # 30 steps (30 ms) from P0, no updates: the product of the affine per-step (Φ_k, Qd_k)
-    # against RK4 of the covariance ODE with F(β_n(t)) varying continuously (β_n from the
-    # independent Radau solution of Eq. (4)).  Tolerance 1e-8 relative to √(Pii Pjj).
+    """30 steps (30 ms) from P0, no updates: the product of the affine per-step (Φ_k, Qd_k)
+    against RK4 of the covariance ODE with F(β_n(t)) varying continuously (β_n from the
+    independent Radau solution of Eq. (4)).  Tolerance 1e-8 relative to √(Pii Pjj)."""
     p = GyrocompassParams()
     n = 30
     disc = discretize(p, n * p.dt)
@@ -75,8 +75,8 @@ def test_gc_discretization_over_a_time_varying_span_matches_covariance_ode():
 
 
 def test_affine_expansion_matches_per_step_matrix_exponential():
-    # The first-order expansion in (sin β_n, cos β_n) against a full Van Loan exponential at
-    # the end of a 100 s run (β_n ≈ 0.0086 rad, farthest from its expansion point).
+    """The first-order expansion in (sin β_n, cos β_n) against a full Van Loan exponential at
+    the end of a 100 s run (β_n ≈ 0.0086 rad, farthest from its expansion point)."""
     p = GyrocompassParams()
     disc = discretize(p, 100.0)
     for k in (0, 1000, 37_000, disc.n_steps - 1):
@@ -87,6 +87,7 @@ def test_affine_expansion_matches_per_step_matrix_exponential():
 
 
 def test_van_loan_derivatives_match_finite_differences():
+    """Exact derivatives of Φ and Qd (Fréchet) against central finite differences."""
     p = GyrocompassParams()
     F = system_matrix(p, 0.3)
     G, Qc = noise_input_matrix(p), process_noise_intensity(p)
@@ -104,6 +105,7 @@ def test_van_loan_derivatives_match_finite_differences():
 
 
 def test_joseph_and_sequential_updates_agree():
+    """Joseph batch update, sequential scalar updates and the information form agree."""
     rng = np.random.default_rng(4)
     n, m = 10, 3
     A = rng.standard_normal((n, n))
@@ -122,7 +124,7 @@ def test_joseph_and_sequential_updates_agree():
 
 
 def test_joseph_is_symmetric_psd_for_a_suboptimal_gain_via_fixed_gain_path():
-    # The fixed-gain propagation with the optimal gains reproduces the optimal covariance.
+    """The fixed-gain propagation with the optimal gains reproduces the optimal covariance."""
     p = GyrocompassParams()
     disc = discretize(p, 0.5)
     P0 = initial_covariance(p)
@@ -133,8 +135,8 @@ def test_joseph_is_symmetric_psd_for_a_suboptimal_gain_via_fixed_gain_path():
 
 
 def test_fast_and_reference_covariance_paths_agree_to_1e_9():
-    # Same affine model, fast (numba, sequential scalar Joseph, sparse Φ) against reference
-    # (numpy, batch Joseph): every variance of every state over 2 s, 1e-9 relative.
+    """Same affine model, fast (numba, sequential scalar Joseph, sparse Φ) against reference
+    (numpy, batch Joseph): every variance of every state over 2 s, 1e-9 relative."""
     p = GyrocompassParams()
     disc = discretize(p, 2.0)
     P0 = initial_covariance(p)
@@ -147,6 +149,7 @@ def test_fast_and_reference_covariance_paths_agree_to_1e_9():
 
 
 def test_psd_factor_reproduces_gc_process_noise():
+    """The covariance factor of paper GC's Qd (entries decades apart) gives L Lᵀ = Qd."""
     p = GyrocompassParams()
     disc = discretize(p, 0.01)
     Qd = disc.model.Qd0[0]
@@ -156,7 +159,7 @@ def test_psd_factor_reproduces_gc_process_noise():
 
 
 def test_van_loan_for_a_scalar_closed_form():
-    # x' = −a x + w: Φ = e^{−a dt}, Qd = q (1 − e^{−2 a dt}) / (2 a).
+    """x' = −a x + w: Φ = e^{−a dt}, Qd = q (1 − e^{−2 a dt}) / (2 a)."""
     a, q, dt = 3.0, 0.7, 0.2
     Phi, Qd = filtering.van_loan([[-a]], [[1.0]], [[q]], dt)
     assert Phi[0, 0] == pytest.approx(np.exp(-a * dt), rel=1e-14)
@@ -173,12 +176,14 @@ def test_van_loan_for_a_scalar_closed_form():
     ],
 )
 def test_van_loan_validates(kwargs, match):
+    """Bad F, G, Qc, dt are rejected by name."""
     args = {"F": -np.eye(2), "G": np.ones((2, 1)), "Qc": np.eye(1), "dt": 0.1} | kwargs
     with pytest.raises(ValueError, match=match):
         filtering.van_loan(**args)
 
 
 def test_updates_validate_shapes():
+    """Measurement updates reject mismatched shapes by name."""
     with pytest.raises(ValueError, match="z must have shape"):
         filtering.joseph_update(np.zeros(2), np.eye(2), np.zeros(2), np.ones((1, 2)), np.eye(1))
     with pytest.raises(ValueError, match="R must be diagonal"):

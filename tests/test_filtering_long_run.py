@@ -33,6 +33,7 @@ def runs():
 
 
 def test_joseph_and_square_root_agree_over_a_million_steps(runs):
+    """Joseph (numba) and square-root (QR + Potter) recursions agree to 1e-8 on every σ."""
     joseph, sqrt_run, _ = runs
     sj, ss = np.sqrt(joseph.var[1:]), np.sqrt(sqrt_run.var[1:])
     rel = np.abs(sj - ss) / sj
@@ -41,6 +42,7 @@ def test_joseph_and_square_root_agree_over_a_million_steps(runs):
 
 
 def test_covariance_stays_positive_definite(runs):
+    """P stays symmetric and positive definite on the correlation scale over 10⁶ steps."""
     joseph, _, min_corr_eig = runs
     # Square-root form: positive definite by construction; its smallest correlation
     # eigenvalue over the run must stay clearly above rounding.
@@ -54,6 +56,7 @@ def test_covariance_stays_positive_definite(runs):
 
 
 def test_constant_states_never_gain_uncertainty(runs):
+    """ψ, ω_gc, δ, γ are constants: their variance never increases."""
     joseph, _, _ = runs
     for name in ("psi", "omega_gc", "delta", "gamma"):
         s = joseph.var[:, STATE_NAMES.index(name)]
@@ -61,6 +64,7 @@ def test_constant_states_never_gain_uncertainty(runs):
 
 
 def test_cholesky_semidefinite_rejects_indefinite_matrices():
+    """Indefinite or asymmetric input is rejected; a semidefinite one is factored."""
     with pytest.raises(ValueError, match="positive semi-definite"):
         cholesky_semidefinite(np.diag([1.0, -1.0]))
     with pytest.raises(ValueError, match="symmetric"):

@@ -13,7 +13,30 @@ __all__ = ["nees_bounds"]
 
 def nees_bounds(dof: int, n_runs: int, confidence: float = 0.95) -> tuple[float, float]:
     """Two-sided chi-square bounds on the ensemble-average NEES of ``n_runs`` runs of a
-    ``dof``-dimensional consistent estimator {cite:p}`BarShalom2001`."""
+    ``dof``-dimensional consistent estimator {cite:p}`BarShalom2001`: ``χ²_{dof·N}`` at
+    ``(1 ∓ confidence)/2``, divided by ``N`` (the check of paper GC's Monte Carlo runs).
+
+    Parameters
+    ----------
+    dof : int
+        Dimension of the estimate (>= 1).
+    n_runs : int
+        Number of runs ``N`` (>= 1).
+    confidence : float
+        Two-sided probability, in (0, 1).
+
+    Returns
+    -------
+    (float, float)
+        Lower and upper bound on the average NEES.
+
+    Examples
+    --------
+    >>> from gyrolib import filtering
+    >>> lo, hi = filtering.nees_bounds(1, 100)
+    >>> f"[{lo:.3f}, {hi:.3f}]"
+    '[0.742, 1.296]'
+    """
     dof = v.check_int("dof", dof, 1)
     n_runs = v.check_int("n_runs", n_runs, 1)
     confidence = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,

@@ -45,7 +45,19 @@ class AffineDiscreteModel:
         Φ_k  = Phi0[j] + a[k] PhiA[j] + b[k] PhiB[j]
         Qd_k = Qd0[j]  + a[k] QdA[j]  + b[k] QdB[j]
 
-    Measurements ``z_k = H x_k + v_k`` with ``R = diag(r)`` after every step.
+    Measurements ``z_k = H x_k + v_k`` with ``R = diag(r)`` after every step.  Paper GC's
+    Eq. (8) discretized by :func:`gyrolib.gc.discretize` is one.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> one, zero = np.ones((1, 1, 1)), np.zeros((1, 1, 1))
+    >>> walk = filtering.AffineDiscreteModel(   # x_{k+1} = x_k + w_k, z = x + v, q = r = 1
+    ...     seg=np.zeros(50, dtype=np.int64), a=np.zeros(50), b=np.zeros(50), Phi0=one,
+    ...     PhiA=zero, PhiB=zero, Qd0=one, QdA=zero, QdB=zero, H=np.ones((1, 1)), r=np.ones(1))
+    >>> walk.n_steps, walk.n
+    (50, 1)
     """
 
     seg: np.ndarray
@@ -171,7 +183,36 @@ def covariance_reference(
 
     Either ``model`` gives ``Φ_k``, ``Qd_k``, ``H``, ``R``; or ``step_matrices(k)`` returns
     ``(Φ_k, Qd_k)`` (e.g. an exact per-step :func:`van_loan`) with ``n_steps``, ``H``, ``R``.
-    The batch gains ``K_k`` (n×m) are returned.
+
+    Parameters
+    ----------
+    model : AffineDiscreteModel or None
+        The model (``None`` with ``step_matrices``).
+    P0 : array_like
+        Initial covariance (n×n).
+    store_every : int
+        Keep the full ``P`` every ``store_every`` steps.
+    step_matrices, n_steps, H, R
+        The alternative description of the model.
+
+    Returns
+    -------
+    CovarianceRun
+        Variances at every step, stored ``P`` and the batch gains ``K_k`` (n×m).
+
+    Examples
+    --------
+    A random walk observed in unit noise: ``P`` tends to ``(√5 − 1)/2``.
+
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> one, zero = np.ones((1, 1, 1)), np.zeros((1, 1, 1))
+    >>> walk = filtering.AffineDiscreteModel(   # x_{k+1} = x_k + w_k, z = x + v, q = r = 1
+    ...     seg=np.zeros(50, dtype=np.int64), a=np.zeros(50), b=np.zeros(50), Phi0=one,
+    ...     PhiA=zero, PhiB=zero, Qd0=one, QdA=zero, QdB=zero, H=np.ones((1, 1)), r=np.ones(1))
+    >>> run = filtering.covariance_reference(walk, np.ones((1, 1)))
+    >>> f"{run.var[-1, 0]:.4f}"
+    '0.6180'
     """
     if step_matrices is None:
         P0, store_every = _check_run(model, P0, store_every)
@@ -312,8 +353,35 @@ def _run_kernel(model, P0, store_every, gains, fixed, r=None, Qd=None) -> Covari
 def covariance_fast(model: AffineDiscreteModel, P0: object, store_every: int = 1, *,
                     keep_gains: bool = False) -> CovarianceRun:
     """Fast path of :func:`covariance_reference` (numba): sequential scalar Joseph updates
-    (``R`` diagonal) and sparse rows of ``Φ``.  ``keep_gains`` stores the scalar gains
-    ``(n_steps, m, n)`` for running the filter on measurements."""
+    (``R`` diagonal) and sparse rows of ``Φ`` (paper GC's Figure 3 runs on it).
+
+    Parameters
+    ----------
+    model : AffineDiscreteModel
+        The model.
+    P0 : array_like
+        Initial covariance (n×n).
+    store_every : int
+        Keep the full ``P`` every ``store_every`` steps.
+    keep_gains : bool
+        Store the scalar gains ``(n_steps, m, n)`` for running the filter on measurements.
+
+    Returns
+    -------
+    CovarianceRun
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> one, zero = np.ones((1, 1, 1)), np.zeros((1, 1, 1))
+    >>> walk = filtering.AffineDiscreteModel(   # x_{k+1} = x_k + w_k, z = x + v, q = r = 1
+    ...     seg=np.zeros(50, dtype=np.int64), a=np.zeros(50), b=np.zeros(50), Phi0=one,
+    ...     PhiA=zero, PhiB=zero, Qd0=one, QdA=zero, QdB=zero, H=np.ones((1, 1)), r=np.ones(1))
+    >>> run = filtering.covariance_fast(walk, np.ones((1, 1)))
+    >>> f"{run.var[-1, 0]:.4f}"   # (√5 − 1)/2
+    '0.6180'
+    """
     P0, store_every = _check_run(model, P0, store_every)
     keep_gains = v.check_bool("keep_gains", keep_gains)
     m = model.H.shape[0]
@@ -329,7 +397,43 @@ def propagate_fixed_gains(model: AffineDiscreteModel, P0: object, gains: object,
     (``(Qd0, QdA, QdB)`` as in :class:`AffineDiscreteModel`) and measurement variances ``r``.
 
     The error recursion is linear, so sources that are mutually independent add up in
-    covariance: this is how an error budget is split exactly.
+    covariance: this is how an error budget is split exactly (paper GC's budget).
+
+    Parameters
+    ----------
+    model : AffineDiscreteModel
+        The model (its ``Φ_k``, ``H``).
+    P0 : array_like
+        Initial covariance of the source (n×n).
+    gains : array_like
+        Sequential gains ``(n_steps, m, n)`` (from :func:`covariance_fast` with
+        ``keep_gains=True``).
+    r : array_like
+        Measurement variances of the source (m,).
+    Qd : tuple of ndarray
+        ``(Qd0, QdA, QdB)`` of the source.
+    store_every : int
+        Keep the full covariance every ``store_every`` steps.
+
+    Returns
+    -------
+    CovarianceRun
+
+    Examples
+    --------
+    With the optimal gains and all sources, the optimal covariance comes back:
+
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> one, zero = np.ones((1, 1, 1)), np.zeros((1, 1, 1))
+    >>> walk = filtering.AffineDiscreteModel(   # x_{k+1} = x_k + w_k, z = x + v, q = r = 1
+    ...     seg=np.zeros(50, dtype=np.int64), a=np.zeros(50), b=np.zeros(50), Phi0=one,
+    ...     PhiA=zero, PhiB=zero, Qd0=one, QdA=zero, QdB=zero, H=np.ones((1, 1)), r=np.ones(1))
+    >>> opt = filtering.covariance_fast(walk, np.ones((1, 1)), keep_gains=True)
+    >>> run = filtering.propagate_fixed_gains(walk, np.ones((1, 1)), opt.gains, np.ones(1),
+    ...                                       (walk.Qd0, walk.QdA, walk.QdB))
+    >>> f"{run.var[-1, 0]:.4f}"
+    '0.6180'
     """
     P0, store_every = _check_run(model, P0, store_every)
     m = model.H.shape[0]

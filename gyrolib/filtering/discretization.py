@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
+from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 
@@ -48,11 +49,40 @@ def _check_covariance(name: str, M: np.ndarray) -> np.ndarray:
     return M
 
 
-def van_loan(F: object, G: object, Qc: object, dt: float) -> tuple[np.ndarray, np.ndarray]:
+def van_loan(F: ArrayLike, G: ArrayLike, Qc: ArrayLike, dt: float
+             ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Exact discretization of ``x' = F x + G w`` (``E[w wᵀ] = Qc δ``) over ``dt``.
 
     Van Loan (1978): with ``M = [[−F, G Qc Gᵀ], [0, Fᵀ]] dt`` and ``E = exp(M)``,
-    ``Φ = E₂₂ᵀ`` and ``Qd = Φ E₁₂`` {cite:p}`VanLoan1978`.  Returns ``(Φ, Qd)``.
+    ``Φ = E₂₂ᵀ`` and ``Qd = Φ E₁₂`` {cite:p}`VanLoan1978`.  Paper GC's filter is Eq. (8)
+    discretized this way.
+
+    Parameters
+    ----------
+    F : array_like
+        System matrix (n×n), frozen over the step.
+    G : array_like
+        Noise input matrix (n×p).
+    Qc : array_like
+        Intensity of the white noise ``w`` (p×p, symmetric, diagonal >= 0).
+    dt : float
+        Step (> 0).
+
+    Returns
+    -------
+    Phi : ndarray
+        Transition matrix ``exp(F dt)`` (n×n).
+    Qd : ndarray
+        Process-noise covariance of the step (n×n, symmetric).
+
+    Examples
+    --------
+    Scalar ``x' = −x + w`` with ``Qc = 2``: ``Φ = e^{−dt}``, ``Qd = 1 − e^{−2 dt}``.
+
+    >>> from gyrolib import filtering
+    >>> Phi, Qd = filtering.van_loan([[-1.0]], [[1.0]], [[2.0]], 0.5)
+    >>> f"{Phi[0, 0]:.4f} {Qd[0, 0]:.4f}"
+    '0.6065 0.6321'
     """
     F, G, Qc, dt = _check_model(F, G, Qc, dt)
     n = F.shape[0]
@@ -67,11 +97,38 @@ def van_loan(F: object, G: object, Qc: object, dt: float) -> tuple[np.ndarray, n
 
 
 def van_loan_derivatives(
-    F: object, G: object, Qc: object, dt: float, directions: list[np.ndarray]
-) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray]]:
+    F: ArrayLike, G: ArrayLike, Qc: ArrayLike, dt: float, directions: list[ArrayLike]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], list[NDArray[np.float64]],
+           list[NDArray[np.float64]]]:
     """``(Φ, Qd)`` of :func:`van_loan` and their exact derivatives along each direction
     ``E`` of ``F`` (``d/dε`` at ``F + ε E``), from the Fréchet derivative of the block
-    exponential (``scipy.linalg.expm_frechet``)."""
+    exponential (``scipy.linalg.expm_frechet``): the basis of the affine expansion of paper
+    GC's ``F(β_n)`` in ``(sin β_n, cos β_n)``.
+
+    Parameters
+    ----------
+    F, G, Qc, dt
+        As in :func:`van_loan`.
+    directions : list of array_like
+        Directions ``E`` (n×n each).
+
+    Returns
+    -------
+    Phi, Qd : ndarray
+        As :func:`van_loan`.
+    dPhi, dQd : list of ndarray
+        Their derivatives along each direction.
+
+    Examples
+    --------
+    ``d/dε exp((−1 + ε) dt) = dt e^{−dt}`` at ``ε = 0``:
+
+    >>> from gyrolib import filtering
+    >>> _, _, dPhi, _ = filtering.van_loan_derivatives([[-1.0]], [[1.0]], [[2.0]], 0.5,
+    ...                                                [[[1.0]]])
+    >>> f"{dPhi[0][0, 0]:.4f}"
+    '0.3033'
+    """
     F, G, Qc, dt = _check_model(F, G, Qc, dt)
     if not isinstance(directions, list | tuple):
         raise TypeError("directions must be a list or tuple of n×n arrays; "
@@ -98,12 +155,31 @@ def van_loan_derivatives(
     return Phi, 0.5 * (Qd + Qd.T), dPhis, dQds
 
 
-def covariance_factor(Q: object) -> np.ndarray:
+def covariance_factor(Q: ArrayLike) -> NDArray[np.float64]:
     """A factor ``L`` (n×n) with ``L Lᵀ = Q`` for a symmetric positive semi-definite ``Q``.
 
     Diagonally scaled eigendecomposition, so that entries many orders of magnitude apart (as
     in paper GC's ``Qd``) are reproduced to rounding relative to ``√(Qᵢᵢ Qⱼⱼ)``; zero rows
-    stay zero.  Used to draw ``N(0, Q)`` samples.
+    stay zero.  Used to draw ``N(0, Q)`` samples (paper GC's initial states).
+
+    Parameters
+    ----------
+    Q : array_like
+        Symmetric positive semi-definite matrix (n×n).
+
+    Returns
+    -------
+    ndarray
+        ``L`` (n×n) with ``L Lᵀ = Q``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> Q = np.array([[4.0, 2.0], [2.0, 1.0]])   # singular
+    >>> L = filtering.covariance_factor(Q)
+    >>> bool(np.allclose(L @ L.T, Q, rtol=0.0, atol=1e-12))
+    True
     """
     Q = v.check_array("Q", Q, ndim=2)
     if Q.shape[0] != Q.shape[1]:

@@ -29,7 +29,28 @@ __all__ = [
 
 
 def cholesky_semidefinite(P: object) -> np.ndarray:
-    """A factor ``S`` with ``S Sᵀ = P`` for a symmetric positive semi-definite ``P``."""
+    """A factor ``S`` with ``S Sᵀ = P`` for a symmetric positive semi-definite ``P`` (a
+    singular direction gives a zero column).
+
+    Parameters
+    ----------
+    P : array_like
+        Symmetric positive semi-definite matrix (n×n).
+
+    Returns
+    -------
+    ndarray
+        ``S`` (n×n).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> P = np.array([[4.0, 2.0], [2.0, 1.0]])   # rank 1
+    >>> S = filtering.cholesky_semidefinite(P)
+    >>> bool(np.allclose(S @ S.T, P, rtol=0.0, atol=1e-12))
+    True
+    """
     return _checked_cholesky_semidefinite("P", P)
 
 
@@ -117,7 +138,37 @@ def covariance_square_root(model: AffineDiscreteModel, P0: object,
 
     Returns the run (variances at every step, ``P`` at every ``store_every``-th step) and the
     smallest eigenvalue of the correlation matrix of ``P`` over the stored steps (> 0: the
-    covariance stayed positive definite on the states that carry uncertainty).
+    covariance stayed positive definite on the states that carry uncertainty).  An
+    independent algorithm (QR time update, Potter measurement updates) to check the Joseph
+    recursion over paper GC's 10⁶-step runs.
+
+    Parameters
+    ----------
+    model : AffineDiscreteModel
+        The model.
+    P0 : array_like
+        Initial covariance (n×n).
+    store_every : int
+        Keep the full ``P`` every ``store_every`` steps.
+
+    Returns
+    -------
+    run : CovarianceRun
+        As :func:`gyrolib.filtering.covariance_fast` (without gains).
+    min_eig : float
+        Smallest correlation eigenvalue over the stored steps.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> one, zero = np.ones((1, 1, 1)), np.zeros((1, 1, 1))
+    >>> walk = filtering.AffineDiscreteModel(   # x_{k+1} = x_k + w_k, z = x + v, q = r = 1
+    ...     seg=np.zeros(50, dtype=np.int64), a=np.zeros(50), b=np.zeros(50), Phi0=one,
+    ...     PhiA=zero, PhiB=zero, Qd0=one, QdA=zero, QdB=zero, H=np.ones((1, 1)), r=np.ones(1))
+    >>> run, min_eig = filtering.covariance_square_root(walk, np.ones((1, 1)))
+    >>> f"{run.var[-1, 0]:.4f}"   # (√5 − 1)/2, as the Joseph recursion
+    '0.6180'
     """
     if not isinstance(model, AffineDiscreteModel):
         raise TypeError("model must be an AffineDiscreteModel")

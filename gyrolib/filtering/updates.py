@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 
@@ -33,13 +34,42 @@ def _check_update(x: object, P: object, z: object, H: object, R: object) -> tupl
     return x, P, z, H, R
 
 
-def joseph_update(x: object, P: object, z: object, H: object, R: object
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def joseph_update(x: ArrayLike, P: ArrayLike, z: ArrayLike, H: ArrayLike, R: ArrayLike
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Kalman measurement update in Joseph form {cite:p}`BarShalom2001`.
 
     ``K = P Hᵀ (H P Hᵀ + R)⁻¹``, ``x⁺ = x + K (z − H x)``,
     ``P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ`` (symmetric and positive semi-definite by
-    construction).  Returns ``(x⁺, P⁺, K)``.
+    construction).
+
+    Parameters
+    ----------
+    x : array_like
+        Prior state (n,).
+    P : array_like
+        Prior covariance (n×n).
+    z : array_like
+        Measurements (m,).
+    H : array_like
+        Measurement matrix (m×n).
+    R : array_like
+        Measurement-noise covariance (m×m).
+
+    Returns
+    -------
+    x : ndarray
+        Posterior state.
+    P : ndarray
+        Posterior covariance.
+    K : ndarray
+        Gain (n×m).
+
+    Examples
+    --------
+    >>> from gyrolib import filtering
+    >>> x, P, K = filtering.joseph_update([0.0], [[1.0]], [1.0], [[1.0]], [[1.0]])
+    >>> f"{x[0]:.2f} {P[0, 0]:.2f} {K[0, 0]:.2f}"
+    '0.50 0.50 0.50'
     """
     x, P, z, H, R = _check_update(x, P, z, H, R)
     S = H @ P @ H.T + R
@@ -53,13 +83,36 @@ def joseph_update(x: object, P: object, z: object, H: object, R: object
     return x + K @ (z - H @ x), 0.5 * (Pn + Pn.T), K
 
 
-def sequential_update(x: object, P: object, z: object, H: object, R: object
-                      ) -> tuple[np.ndarray, np.ndarray]:
+def sequential_update(x: ArrayLike, P: ArrayLike, z: ArrayLike, H: ArrayLike,
+                      R: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Kalman update processing the ``m`` measurements one scalar at a time, in the
     conventional form ``k = P h / (hᵀ P h + r)``, ``P⁺ = P − k hᵀ P`` {cite:p}`Bierman1977`.
 
-    Requires a diagonal ``R`` (independent sensor noises).  An independent algorithm to
-    cross-check :func:`joseph_update`.  Returns ``(x⁺, P⁺)``.
+    Requires a diagonal ``R`` (independent sensor noises, as paper GC's three sensors).  An
+    independent algorithm to cross-check :func:`joseph_update`.
+
+    Parameters
+    ----------
+    x, P, z, H, R
+        As in :func:`joseph_update`; ``R`` diagonal.
+
+    Returns
+    -------
+    x : ndarray
+        Posterior state.
+    P : ndarray
+        Posterior covariance.
+
+    Examples
+    --------
+    Two unit-variance readings of a unit-variance scalar: ``P⁺ = 1/3``, ``x⁺ = 2/3``.
+
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> x, P = filtering.sequential_update([0.0], [[1.0]], [1.0, 1.0], [[1.0], [1.0]],
+    ...                                    np.eye(2))
+    >>> f"{x[0]:.4f} {P[0, 0]:.4f}"
+    '0.6667 0.3333'
     """
     x, P, z, H, R = _check_update(x, P, z, H, R)
     if np.any(R != np.diag(np.diag(R))):

@@ -158,7 +158,8 @@ __all__ = [
     "vibration_filter",
 ]
 
-# Calibration on recorded data (issue 13)
+# Paper GC's claims, computed (gc.claims), and the claims chapter's figures; calibration on
+# recorded data (issue 13)
 from gyrolib.gc.calibration import (
     CalibrationResult,
     SimulatedRecord,
@@ -166,7 +167,30 @@ from gyrolib.gc.calibration import (
     plot_calibration,
     simulate_record,
 )
+from gyrolib.gc.claims import (
+    SHAPING_FIELDS,
+    ClaimBoundary,
+    ShapingSweep,
+    SpeedClaimMap,
+    claim_boundary,
+    shaping_sweep,
+    speed_claim_map,
+    time_to_level,
+)
+from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
 from gyrolib.records.tables import GCRecord
 
+__all__ += [
+    "SHAPING_FIELDS",
+    "ClaimBoundary",
+    "ShapingSweep",
+    "SpeedClaimMap",
+    "claim_boundary",
+    "plot_mismatch",
+    "plot_speed_claim",
+    "shaping_sweep",
+    "speed_claim_map",
+    "time_to_level",
+]
 __all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
             "plot_calibration", "simulate_record"]

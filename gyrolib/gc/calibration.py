@@ -39,7 +39,7 @@ from numba import njit
 
 from gyrolib import _validation as v
 from gyrolib.filtering.discretization import van_loan, van_loan_derivatives
-from gyrolib.gc.discretization import SEGMENT
+from gyrolib.gc.discretization import SEGMENT, _affine_parts, _etd2_advance, _etd2_coefficients
 from gyrolib.gc.params import MEASUREMENT_NAMES, STATE_NAMES, GyrocompassParams, state_index
 from gyrolib.gc.state_space import (
     initial_covariance,
@@ -47,7 +47,6 @@ from gyrolib.gc.state_space import (
     measurement_noise_covariance,
     noise_input_matrix,
     process_noise_intensity,
-    system_matrix,
 )
 from gyrolib.records.tables import GCRecord
 
@@ -250,42 +249,13 @@ def _finite(x: float) -> float | None:
 
 
 # Nominal motion along the record ------------------------------------------------------------
-@njit(cache=True)
-def _etd2_advance(E, p1, p2, kdd, y, n, out):
-    """``n`` half steps of the ETD2 scheme of :func:`gyrolib.gc.nominal_half_steps` from the
-    state ``y`` (updated in place); ``out`` (length n, or 0 to discard) receives β."""
-    y0 = y[0]
-    y1 = y[1]
-    store = out.shape[0] >= n
-    for i in range(n):
-        u0 = kdd * math.cos(y0)
-        a0 = E[0, 0] * y0 + E[0, 1] * y1 + p1[0] * u0
-        a1 = E[1, 0] * y0 + E[1, 1] * y1 + p1[1] * u0
-        du = kdd * math.cos(a0) - u0
-        y0 = a0 + p2[0] * du
-        y1 = a1 + p2[1] * du
-        if store:
-            out[i] = y0
-    y[0] = y0
-    y[1] = y1
-
-
 class _Nominal:
     """β_n(t) of Eq. (4) on the half-step grid ``i dt/2``, integrated forward on demand and
     kept only over the window the current chunk needs (constant memory)."""
 
     def __init__(self, p: GyrocompassParams) -> None:
         self.hh = 0.5 * p.dt
-        Mx = np.zeros((4, 4))
-        Mx[0, 1] = self.hh
-        Mx[1, 1] = -p.f / p.I * self.hh
-        Mx[1, 2] = self.hh
-        Mx[2, 3] = 1.0
-        Ex = scipy.linalg.expm(Mx)
-        self.E = Ex[:2, :2].copy()
-        self.p1 = Ex[:2, 2].copy()
-        self.p2 = Ex[:2, 3].copy()
-        self.kdd = p.H * p.Omega_h / p.I
+        self.E, self.p1, self.p2, self.kdd = _etd2_coefficients(p)
         self.y = np.zeros(2)        # state at grid index self.end
         self.start = 0              # grid index of buf[0]
         self.end = 0                # grid index of buf[-1]
@@ -529,17 +499,6 @@ def _filter_chunk(t, z, grid, g0, inv_hh, dt, n_whole, shift, Fc, Es, Ec, W, irr
 
 
 # The calibrator (streaming state) ------------------------------------------------------------
-def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``F(β) = Fc + sin β · Es + cos β · Ec`` (F is affine in sin and cos, Eq. (8))."""
-    F0, F90, F180 = (system_matrix(p, b) for b in (0.0, 0.5 * math.pi, math.pi))
-    Ec = 0.5 * (F0 - F180)
-    Fc = 0.5 * (F0 + F180)
-    Es = F90 - Fc
-    for A in (Ec, Fc, Es):  # sin(π), cos(π/2) are 1e-16, not 0
-        A[np.abs(A) < 1e-12 * np.max(np.abs(F0))] = 0.0
-    return Fc, Es, Ec
-
-
 class _Calibrator:
     """State of :func:`calibrate` between chunks."""
 

@@ -74,18 +74,37 @@ def _n_steps(params: GyrocompassParams, t_end: object) -> int:
 
 # Nominal motion on the half-step grid --------------------------------------------------------
 @njit(cache=True)
-def _etd2_kernel(E, p1, p2, kdd, n_half, out):
-    y0 = 0.0
-    y1 = 0.0
-    out[0] = 0.0
-    for i in range(n_half):
+def _etd2_advance(E, p1, p2, kdd, y, n, out):
+    """``n`` half steps of the ETD2 scheme of :func:`nominal_half_steps` from the state
+    ``y = (β, β')`` (updated in place, so a run can be continued chunk by chunk);
+    ``out`` (length >= n, or 0 to discard) receives β after each half step."""
+    y0 = y[0]
+    y1 = y[1]
+    store = out.shape[0] >= n
+    for i in range(n):
         u0 = kdd * math.cos(y0)
         a0 = E[0, 0] * y0 + E[0, 1] * y1 + p1[0] * u0
         a1 = E[1, 0] * y0 + E[1, 1] * y1 + p1[1] * u0
         du = kdd * math.cos(a0) - u0
         y0 = a0 + p2[0] * du
         y1 = a1 + p2[1] * du
-        out[i + 1] = y0
+        if store:
+            out[i] = y0
+    y[0] = y0
+    y[1] = y1
+
+
+def _etd2_coefficients(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """The half-step ETD2 coefficients of Eq. (4): ``E = exp(A h)`` of the linear part and the
+    two forcing columns (Van Loan's augmented exponential), and ``H Ω_h / I``."""
+    h = 0.5 * p.dt
+    M = np.zeros((4, 4))
+    M[0, 1] = h
+    M[1, 1] = -p.f / p.I * h
+    M[1, 2] = h
+    M[2, 3] = 1.0
+    Ex = scipy.linalg.expm(M)
+    return Ex[:2, :2].copy(), Ex[:2, 2].copy(), Ex[:2, 3].copy(), p.H * p.Omega_h / p.I
 
 
 def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> NDArray[np.float64]:
@@ -119,16 +138,9 @@ def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> NDArray[np.fl
 
 
 def _nominal_half_steps(p: GyrocompassParams, n_steps: int) -> NDArray[np.float64]:
-    h = 0.5 * p.dt
-    M = np.zeros((4, 4))
-    M[0, 1] = h
-    M[1, 1] = -p.f / p.I * h
-    M[1, 2] = h
-    M[2, 3] = 1.0
-    Ex = scipy.linalg.expm(M)
     out = np.empty(2 * n_steps + 1)
-    _etd2_kernel(Ex[:2, :2].copy(), Ex[:2, 2].copy(), Ex[:2, 3].copy(),
-                 p.H * p.Omega_h / p.I, 2 * n_steps, out)
+    out[0] = 0.0  # the float at rest at the sensor's null when the feedback is switched off
+    _etd2_advance(*_etd2_coefficients(p), np.zeros(2), 2 * n_steps, out[1:])
     return out
 
 

@@ -14,10 +14,16 @@ Estimator:
 * :func:`plot_sigma_history` — paper GC, Figure 3 (σ of the ω_gc estimate against time);
 * :func:`plot_p0_scale` — σ(100 s) against the scale of the initial N1…N4 covariance;
 * :func:`plot_error_budget` — σ(100 s) by source, and the variance shares over time;
+
+Claims (each takes the result object of :mod:`gyrolib.gc.montecarlo`,
+:mod:`gyrolib.gc.claims` or :mod:`gyrolib.gc.observability`; no validation by design):
+
 * :func:`plot_estimates` — paper GC, Figure 4 (estimates of ω_gc in runs against truth);
 * :func:`plot_consistency` — ensemble RMS error against σ, and NEES with chi-square bands;
 * :func:`plot_sweep` — σ(100 s) when the shaping-filter parameters vary;
-* :func:`plot_information` — how ψ and ω_gc separate as the float turns.
+* :func:`plot_information` — how ψ and ω_gc separate as the float turns;
+* :func:`plot_speed_claim` — time to σ_c over a grid of shaping-filter parameters;
+* :func:`plot_mismatch` — the filter's σ against the actual RMS error for several truths.
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
+from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.gc.budget import ErrorBudget
 from gyrolib.gc.covariance import CovarianceAnalysis, CovarianceSweep
 from gyrolib.gc.nominal import NominalMotion
@@ -43,10 +50,12 @@ __all__ = [
     "plot_estimates",
     "plot_figure1",
     "plot_information",
+    "plot_mismatch",
     "plot_nominal_motion",
     "plot_p0_scale",
     "plot_shaping_psd",
     "plot_sigma_history",
+    "plot_speed_claim",
     "plot_sweep",
 ]
 
@@ -330,24 +339,6 @@ def _nonnegative(name: str, y: np.ndarray) -> np.ndarray:
     return y
 
 
-def _mapping(name: str, value: object) -> Mapping:
-    v.check_instance(name, value, Mapping)
-    if not value:
-        raise ValueError(f"{name} must hold at least one entry")
-    return value
-
-
-def _band(name: str, value: object) -> tuple[float, float]:
-    """A pair ``(low, high)`` of positive numbers with low <= high."""
-    if not isinstance(value, tuple | list) or len(value) != 2:
-        raise TypeError(f"{name} must be a pair (low, high) of positive numbers; "
-                        f"got {value!r}")
-    lo, hi = (v.check_positive(name, b) for b in value)
-    if lo > hi:
-        raise ValueError(f"{name} must have low <= high; got ({lo}, {hi})")
-    return lo, hi
-
-
 def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: float,
                        paper_time: float = 100.0, unit: str = "arcsec_paper/s",
                        unit_label: str = "″/s", drop_time: float = 2.0,
@@ -499,143 +490,303 @@ def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
     return fig
 
 
-def plot_estimates(t: object, estimates: object, truths: object, sigma: object, *,
-                   unit: str = "″/s", t_zoom: float | None = 10.0) -> Figure:
-    """Paper GC, Figure 4: the ω_gc estimate of each run (rows of ``estimates``) against its
-    true value (``truths``, one per run), with the filter's ±σ band around the truth; a
-    second panel zooms on the first ``t_zoom`` seconds (``None`` or 0: no zoom)."""
-    t = v.check_array("t", t, ndim=1, min_size=1)
-    est = v.check_array("estimates", estimates, shape=(None, t.size), min_size=1)
-    tru = v.check_array("truths", truths, shape=(est.shape[0],))
-    sig = _nonnegative("sigma", v.check_array("sigma", sigma, shape=(t.size,)))
-    if t_zoom is not None:  # 0 (like None) draws no zoomed panel
-        t_zoom = v.check_nonnegative("t_zoom", t_zoom)
-    v.check_str("unit", unit)
+#: Axis labels of the shaping-filter parameters (claims figures).
+FIELD_LABELS: dict[str, str] = {
+    "alpha1": "α1 (rad/s)", "xi1": "ξ1", "sigma1_sq": "σ1² (m²/s⁴)",
+    "alpha2": "α2 (rad/s)", "xi2": "ξ2", "sigma2_sq": "σ2² (rad²/s²)",
+}
+
+#: How a unit of :mod:`gyrolib.units` is printed on an axis.
+_UNIT_LABELS: dict[str, str] = {"arcsec_paper/s": "″/s", "arcsec_paper": "″"}
+
+
+def _unit_label(unit: str) -> str:
+    return _UNIT_LABELS.get(unit, unit)
+
+
+def plot_estimates(mc, *, runs: tuple[int, ...] = (0, 1), state: str = "omega_gc",
+                   unit: str = "arcsec_paper/s", t_zoom: float | None = 10.0) -> Figure:
+    """Paper GC, Figure 4: the estimate of ``state`` in the ``runs`` of a Monte Carlo result
+    against each run's true value at ``t = 0`` (constant for ω_gc), with the filter's ±σ band
+    around the truth; a second panel zooms on the first ``t_zoom`` seconds (``None``: none).
+
+    Parameters
+    ----------
+    mc : MonteCarloResult
+        From :func:`gyrolib.gc.monte_carlo`.
+    runs : tuple of int
+        Runs drawn.
+    state : str
+        State name.
+    unit : str
+        A unit of :mod:`gyrolib.units` for the vertical axis.
+    t_zoom : float or None
+        Length of the zoomed panel (s).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    t = mc.t
+    est = from_si(mc.estimate(state)[list(runs)], unit)
+    tru = from_si(mc.truth(state)[list(runs), 0], unit)
+    sig = from_si(mc.std(state), unit)
+    ul = _unit_label(unit)
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     axes = fig.subplots(1, 2 if t_zoom else 1, squeeze=False)[0]
     for ax, tmax in zip(axes, (t[-1], t_zoom)):
         sel = t <= tmax
-        for i in range(est.shape[0]):
+        for i, run in enumerate(runs):
             c = f"C{i}"
-            ax.plot(t[sel], est[i, sel], color=c, lw=1.2, label=f"estimate, run {i + 1}")
-            ax.axhline(tru[i], color=c, ls="--", lw=1, label=f"true ω_gc, run {i + 1}")
+            ax.plot(t[sel], est[i, sel], color=c, lw=1.2, label=f"estimate, run {run + 1}")
+            ax.axhline(tru[i], color=c, ls="--", lw=1, label=f"true value, run {run + 1}")
             ax.fill_between(t[sel], tru[i] - sig[sel], tru[i] + sig[sel], color=c, alpha=0.15)
         ax.set_xlabel("time (s)")
-        ax.set_ylabel(f"ω_gc ({unit})")
+        ax.set_ylabel(f"{state} ({ul})")
         ax.grid(True, alpha=0.3)
         ax.set_title(f"0 – {tmax:g} s")
     axes[0].legend(fontsize=8)
     return fig
 
 
-def plot_consistency(t: object, rms: object, sigma: object, rms_band: tuple[float, float],
-                     nees: Mapping[str, tuple[object, tuple[float, float]]], *,
-                     unit: str = "″/s") -> Figure:
-    """Left: ensemble RMS error of ω_gc and the filter's σ (``unit``), with the 95 % band
-    of an RMS of ``n`` runs (``rms_band`` = factors on σ).  Right: ensemble-average NEES for
-    each entry of ``nees`` (label → (values, (low, high) bounds))."""
-    t, r = _pair("t", t, "rms", rms, nonnegative=True)
-    _, s = _pair("t", t, "sigma", sigma, nonnegative=True)
-    lo, hi = _band("rms_band", rms_band)
-    v.check_instance("nees", nees, Mapping)
-    for label, entry in nees.items():
-        if not isinstance(entry, tuple | list) or len(entry) != 2:
-            raise TypeError(f"nees[{label!r}] must be a pair (values, (low, high)); "
-                            f"got {type(entry).__name__}")
-        _band(f"nees[{label!r}] bounds", entry[1])
-    v.check_str("unit", unit)
+def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s",
+                     confidence: float = 0.95) -> Figure:
+    """Left: ensemble RMS error of ``state`` and the filter's σ, with the band of an RMS of
+    ``n_runs`` runs of a consistent filter.  Right: ensemble-average NEES of ``state`` (1 dof)
+    and of the full state (10 dof) with their chi-square bands {cite:p}`BarShalom2001`.
+
+    Parameters
+    ----------
+    mc : MonteCarloResult
+        From :func:`gyrolib.gc.monte_carlo`.
+    state : str
+        State of the left panel and of the 1-dof NEES.
+    unit : str
+        A unit of :mod:`gyrolib.units`.
+    confidence : float
+        Two-sided probability of the bands.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    t = mc.t
+    s = from_si(mc.std(state), unit)
+    r = from_si(mc.rms_error(state), unit)
+    b1 = nees_bounds(1, mc.n_runs, confidence)
+    bn = nees_bounds(mc.est.shape[2], mc.n_runs, confidence)
+    nees = {f"{state} (1 dof)": (mc.nees((state,)).mean(axis=0), b1),
+            f"full state ({mc.est.shape[2]} dof)": (mc.nees().mean(axis=0), bn)}
+    pct = f"{100 * confidence:g} %"
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     ax_r, ax_n = fig.subplots(1, 2)
     ax_r.loglog(t[1:], s[1:], "k", lw=2, label="filter σ")
-    ax_r.fill_between(t[1:], lo * s[1:], hi * s[1:], color="0.8", label="95 % band for the RMS")
+    ax_r.fill_between(t[1:], np.sqrt(b1[0]) * s[1:], np.sqrt(b1[1]) * s[1:], color="0.8",
+                      label=f"{pct} band for the RMS")
     ax_r.loglog(t[1:], r[1:], "C1", lw=1, label="ensemble RMS error")
     ax_r.set_xlabel("time (s)")
-    ax_r.set_ylabel(f"ω_gc error ({unit})")
+    ax_r.set_ylabel(f"{state} error ({_unit_label(unit)})")
     ax_r.grid(True, which="both", alpha=0.3)
     ax_r.legend(fontsize=8)
     for i, (label, (vals, (blo, bhi))) in enumerate(nees.items()):
-        _, y = _pair("t", t, f"nees[{label!r}]", np.nan_to_num(vals, nan=0.0))
         c = f"C{i}"
-        ax_n.semilogx(t[1:], y[1:], color=c, lw=1, label=f"NEES, {label}")
+        ax_n.semilogx(t[1:], np.nan_to_num(vals[1:], nan=0.0), color=c, lw=1,
+                      label=f"NEES, {label}")
         ax_n.axhspan(blo, bhi, color=c, alpha=0.15)
     ax_n.set_yscale("log")
     ax_n.set_xlabel("time (s)")
-    ax_n.set_ylabel("ensemble-average NEES (bands: 95 % chi-square)")
+    ax_n.set_ylabel(f"ensemble-average NEES (bands: {pct} chi-square)")
     ax_n.grid(True, which="both", alpha=0.3)
     ax_n.legend(fontsize=8)
     return fig
 
 
-def plot_sweep(sweeps: Mapping[str, tuple[object, object, float]], *, paper_value: float,
-               unit: str = "″/s") -> Figure:
-    """σ(100 s) of ω_gc (``unit``) when one shaping-filter parameter varies: ``sweeps`` maps
-    a parameter label to ``(values, sigma, nominal value)``; log–log panels."""
-    if sweeps is None or (isinstance(sweeps, Mapping) and not sweeps):
-        raise ValueError("sweeps must hold at least one parameter")
-    sweeps = _mapping("sweeps", sweeps)
-    pv = v.check_positive("paper_value", paper_value)
-    v.check_str("unit", unit)
-    for label, entry in sweeps.items():
-        if not isinstance(entry, tuple | list) or len(entry) != 3:
-            raise TypeError(f"sweeps[{label!r}] must be a triple (values, sigma, nominal); "
-                            f"got {entry!r:.80}")
-        x, s = _pair(f"sweeps[{label!r}] values", entry[0], f"sweeps[{label!r}] sigma",
-                     entry[1])
-        # log–log panels: values, sigma and the nominal value must be > 0
-        if np.any(x <= 0.0) or np.any(s <= 0.0):
-            raise ValueError(f"sweeps[{label!r}] values and sigma must be > 0 (log axes)")
-        v.check_positive(f"sweeps[{label!r}] nominal", entry[2])
-    n = len(sweeps)
+def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_paper/s",
+               decimal_ticks: bool = True) -> Figure:
+    """σ of ω_gc at the end of the analysis when one shaping-filter parameter varies
+    (:func:`gyrolib.gc.shaping_sweep`): one log–log panel per parameter, the baseline value
+    dotted, ``paper_value`` (rad/s, SI) dashed; ``decimal_ticks`` labels the σ axis with a
+    few decimal values instead of powers of ten.
+
+    Parameters
+    ----------
+    sweep : ShapingSweep
+        From :func:`gyrolib.gc.shaping_sweep`.
+    paper_value : float, optional
+        A reference σ (rad/s) drawn as a horizontal line.
+    unit : str
+        A unit of :mod:`gyrolib.units`.
+    decimal_ticks : bool
+        Decimal tick labels on the σ axis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.ticker import FuncFormatter, MaxNLocator, NullFormatter
+
+    ul = _unit_label(unit)
+    n = len(sweep.fields)
     cols = 3
     rows = -(-n // cols)
     fig = Figure(figsize=(10.0, 3.0 * rows), layout="constrained")
     axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
-    for ax, (label, (x, s, nominal)) in zip(axes, sweeps.items()):
-        xx, ss = _pair("values", x, "sigma", s)
-        ax.loglog(xx, ss, "o-")
-        ax.axvline(nominal, color="0.5", ls=":", label="paper's value")
-        ax.axhline(pv, color="k", ls="--", lw=1, label=f"{pv:g} {unit}")
-        ax.set_xlabel(label)
-        ax.set_ylabel(f"σ at 100 s ({unit})")
+    for a, (ax, field) in enumerate(zip(axes, sweep.fields)):
+        ax.loglog(sweep.values[a], from_si(sweep.sigma_end[a], unit), "o-")
+        ax.axvline(sweep.nominal(field), color="0.5", ls=":", label="paper's value")
+        if paper_value is not None:
+            pv = from_si(paper_value, unit)
+            ax.axhline(pv, color="k", ls="--", lw=1, label=f"{pv:g} {ul}")
+        ax.set_xlabel(FIELD_LABELS.get(field, field))
+        ax.set_ylabel(f"σ at {sweep.t_end:g} s ({ul})")
         ax.grid(True, which="both", alpha=0.3)
+        if decimal_ticks:
+            lo, hi = ax.get_ylim()
+            ticks = [y for y in MaxNLocator(6).tick_values(lo, hi) if lo <= y <= hi]
+            ax.set_yticks(ticks)
+            ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:.6g}"))
+            ax.yaxis.set_minor_formatter(NullFormatter())
+            ax.set_ylim(lo, hi)
     axes[0].legend(fontsize=7)
     for ax in axes[n:]:
         ax.set_visible(False)
     return fig
 
 
-def plot_information(t: object, sig_known: object, sig_unknown: object, corr: object,
-                     corr_frozen: object, *, unit: str = "″/s",
-                     beta_frozen: float | None = None) -> Figure:
-    """Left: σ of ω_gc from the angle sensor's information alone with ψ known and unknown
-    (``unit``).  Right: |correlation| of the ψ and ω_gc information, for the turning float
-    and for a float frozen at a constant angle."""
-    t, a = _pair("t", t, "sig_known", sig_known, nonnegative=True)
-    _, b = _pair("t", t, "sig_unknown", sig_unknown, nonnegative=True)
-    _, c = _pair("t", t, "corr", corr)
-    _, d = _pair("t", t, "corr_frozen", corr_frozen)
-    for name, arr in (("corr", c), ("corr_frozen", d)):
-        # a correlation, up to rounding
-        if np.any(np.abs(arr) > 1.0 + 1e-9):
-            raise ValueError(f"{name} must be in [-1, 1] (a correlation)")
-    v.check_str("unit", unit)
+def plot_information(info, frozen=None, *, unit: str = "arcsec_paper/s",
+                     beta_frozen: float | None = None,
+                     rounding_floor: float | None = 1e-12) -> Figure:
+    """Left: σ of ω_gc from the angle sensor's information alone with ψ known and unknown.
+    Right: ``1 − |correlation|`` of the ψ and ω_gc information for the turning float and (if
+    ``frozen`` is given) for a float frozen at ``beta_frozen``, the value ``1 − √15/4`` of
+    the regressors ``t`` and ``t²``, and a grey band below ``rounding_floor`` (double-
+    precision rounding; ``None``: none).  The first stored time (no information yet) is
+    left out.
+
+    Parameters
+    ----------
+    info, frozen : InformationPsiOmega
+        From :func:`gyrolib.gc.information_psi_omega` (``frozen``: with ``frozen_beta``).
+    unit : str
+        A unit of :mod:`gyrolib.units`.
+    beta_frozen : float, optional
+        The frozen angle (rad), for the legend.
+    rounding_floor : float, optional
+        Upper edge of the rounding band.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    t = info.t[1:]
+    ul = _unit_label(unit)
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     ax_s, ax_c = fig.subplots(1, 2)
-    ax_s.loglog(t[1:], a[1:], label="ψ known")
-    ax_s.loglog(t[1:], b[1:], label="ψ unknown (no prior)")
+    ax_s.loglog(t, from_si(info.sigma_gc_psi_known()[1:], unit), label="ψ known")
+    ax_s.loglog(t, from_si(info.sigma_gc_psi_unknown()[1:], unit),
+                label="ψ unknown (no prior)")
     ax_s.set_xlabel("time (s)")
-    ax_s.set_ylabel(f"σ of ω_gc, angle-sensor information only ({unit})")
+    ax_s.set_ylabel(f"σ of ω_gc, angle-sensor information only ({ul})")
     ax_s.grid(True, which="both", alpha=0.3)
     ax_s.legend(fontsize=8)
-    ax_c.semilogx(t[1:], 1.0 - np.abs(c[1:]), label="float turning (sin β_n grows)")
-    ax_c.semilogx(t[1:], np.clip(1.0 - np.abs(d[1:]), 1e-17, None),
-                  label="float frozen" if beta_frozen is None
-                  else f"float frozen at β = {v.check_real('beta_frozen', beta_frozen):g} rad")
+    ax_c.semilogx(t, 1.0 - np.abs(info.correlation()[1:]),
+                  label="float turning (sin β_n grows)")
+    if frozen is not None:
+        ax_c.semilogx(frozen.t[1:], np.clip(1.0 - np.abs(frozen.correlation()[1:]), 1e-17,
+                                            None),
+                      label="float frozen" if beta_frozen is None
+                      else f"float frozen at β = {beta_frozen:g} rad")
     ax_c.axhline(1.0 - np.sqrt(15.0) / 4.0, color="k", ls=":", lw=1,
                  label="1 − √15/4 (regressors t and t²)")
     ax_c.set_yscale("log")
+    if rounding_floor is not None:
+        ax_c.axhspan(ax_c.get_ylim()[0], rounding_floor, color="0.85", zorder=0,
+                     label="double-precision rounding")
     ax_c.set_xlabel("time (s)")
     ax_c.set_ylabel("1 − |correlation of ψ and ω_gc information|")
     ax_c.grid(True, which="both", alpha=0.3)
     ax_c.legend(fontsize=8)
+    return fig
+
+
+def plot_speed_claim(claim_map) -> Figure:
+    """Time for σ of ω_gc to reach σ_c over a grid of two parameters
+    (:func:`gyrolib.gc.speed_claim_map`): one panel per reading of the initial covariance of
+    N1…N4, colour the time (log scale), a black contour at the claim's bound, hatching where
+    σ_c is not reached within the analysed span, and the paper's parameters marked.
+
+    Parameters
+    ----------
+    claim_map : SpeedClaimMap
+        From :func:`gyrolib.gc.speed_claim_map`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import LogNorm
+
+    m = claim_map
+    x = m.x_factors * getattr(m.params, m.x_field)
+    y = m.y_factors * getattr(m.params, m.y_field)
+    shown = np.nan_to_num(m.t_c, nan=2.0 * m.t_max)
+    finite = m.t_c[np.isfinite(m.t_c)]
+    norm = LogNorm(vmin=max(1.0, float(finite.min()) if finite.size else 1.0),
+                   vmax=2.0 * m.t_max)
+    n = len(m.readings)
+    fig = Figure(figsize=(5.0 * n, 4.2), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, n, squeeze=False)).ravel()
+    mesh = None
+    for ax, reading, tc, raw in zip(axes, m.readings, shown, m.t_c):
+        mesh = ax.pcolormesh(x, y, tc, norm=norm, shading="nearest", cmap="viridis")
+        if np.nanmin(tc) < m.bound < np.nanmax(tc):
+            cs = ax.contour(x, y, tc, levels=[m.bound], colors="k", linewidths=2)
+            ax.clabel(cs, fmt=lambda _: f"{m.bound:g} s", fontsize=8)
+        miss = ~np.isfinite(raw)
+        if np.any(miss):
+            ax.contourf(x, y, miss.astype(float), levels=[0.5, 1.5], colors="none",
+                        hatches=["//"])
+        ax.plot(getattr(m.params, m.x_field), getattr(m.params, m.y_field), "r*", ms=14,
+                label="paper's parameters")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(FIELD_LABELS.get(m.x_field, m.x_field))
+        ax.set_ylabel(FIELD_LABELS.get(m.y_field, m.y_field))
+        ax.set_title(f"P0 of N1…N4: {reading}")
+        ax.legend(fontsize=8, loc="lower left")
+    fig.colorbar(mesh, ax=list(axes), label="time to reach σ_c (s)")
+    return fig
+
+
+def plot_mismatch(results: Mapping[str, object], *, state: str = "omega_gc",
+                  unit: str = "arcsec_paper/s") -> Figure:
+    """What the filter claims against what it gets: for each labelled Monte Carlo result
+    (e.g. a truth with a larger vibration than the filter assumes), the filter's σ of
+    ``state`` (dashed) and the ensemble RMS error (solid), in one colour per result.
+
+    Parameters
+    ----------
+    results : Mapping[str, MonteCarloResult]
+        Label → result of :func:`gyrolib.gc.monte_carlo`.
+    state : str
+        State drawn.
+    unit : str
+        A unit of :mod:`gyrolib.units`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+    ax = fig.subplots()
+    for i, (label, mc) in enumerate(results.items()):
+        c = f"C{i}"
+        ax.loglog(mc.t[1:], from_si(mc.std(state)[1:], unit), color=c, ls="--", lw=1.5,
+                  label=f"filter σ, {label}")
+        ax.loglog(mc.t[1:], from_si(mc.rms_error(state)[1:], unit), color=c, lw=1,
+                  label=f"RMS error, {label}")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel(f"{state} ({_unit_label(unit)})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
     return fig

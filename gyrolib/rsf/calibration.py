@@ -30,6 +30,7 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib.records.tables import RSFRecord
+from gyrolib.rsf._inputs import _sf
 from gyrolib.rsf.equations import K_FORMS, correction_coefficient, relative_k_error
 from gyrolib.rsf.simulation import SimulationConfig
 
@@ -92,8 +93,8 @@ class CorrectionResult:
 
     def delta_k(self, eps1: float) -> np.ndarray:
         """δK_i = K_i (1 + ε1) − 1 for a known true scale-factor error ``eps1``
-        (:func:`gyrolib.rsf.relative_k_error`)."""
-        return np.asarray(relative_k_error(self.k, eps1))
+        (:func:`gyrolib.rsf.relative_k_error`); ``eps1`` is checked here, at the door."""
+        return np.asarray(relative_k_error(self.k, _sf("eps1", eps1)))
 
     def delta_k_std(self, prediction: object) -> np.ndarray:
         """Per interval, the σ of δK that ``prediction`` (for a whole interval,

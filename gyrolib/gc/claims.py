@@ -1,0 +1,345 @@
+"""Paper GC, its Conclusion and the text after Figure 3: the claims, computed.
+
+* "More than 50 % faster" than ref. [2] (17 min): the time at which the filter's σ of ω_gc
+  crosses the required accuracy σ_c = 2·10⁻³″/s, over a grid of shaping-filter parameters
+  (:func:`speed_claim_map`), and the factor on one parameter at which that time reaches a
+  bound (:func:`claim_boundary`);
+* "the same trend when the parameters of the shaping filters vary widely": one parameter at
+  a time scaled over two decades (:func:`shaping_sweep`).
+
+Each evaluates :func:`gyrolib.gc.covariance_analysis`; nothing here is a threshold typed in:
+the level and the bound are arguments (the book derives them from the paper's printed
+numbers in :mod:`gyrolib.book.ledger.gc`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from gyrolib import _validation as v
+from gyrolib.gc.covariance import covariance_analysis, time_to_sigma
+from gyrolib.gc.params import GyrocompassParams, _check_params
+
+__all__ = [
+    "SHAPING_FIELDS",
+    "ClaimBoundary",
+    "ShapingSweep",
+    "SpeedClaimMap",
+    "claim_boundary",
+    "shaping_sweep",
+    "speed_claim_map",
+    "time_to_level",
+]
+
+#: The shaping-filter parameters of Eqs. (6), (7).
+SHAPING_FIELDS: Final[tuple[str, ...]] = ("alpha1", "xi1", "sigma1_sq", "alpha2", "xi2",
+                                          "sigma2_sq")
+
+#: Horizon of a first, short covariance analysis (s); longer only when σ has not crossed.
+_FIRST_HORIZON: Final[float] = 100.0
+
+
+def _check_field(name: str, field: object) -> str:
+    field = v.check_str(name, field)
+    if field not in GyrocompassParams.__dataclass_fields__:
+        raise ValueError(f"{name} must be a GyrocompassParams field; got {field!r}")
+    return field
+
+
+def _scaled(p: GyrocompassParams, field: str, factor: float) -> GyrocompassParams:
+    """``p`` with ``field`` multiplied by ``factor`` (a damping ratio capped at 1)."""
+    value = getattr(p, field) * factor
+    if field in ("xi1", "xi2"):
+        value = min(value, 1.0)
+    return replace(p, **{field: value})
+
+
+def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> float:
+    """Time (s) at which the filter's σ of ω_gc falls to ``level`` (rad/s) and stays below;
+    ``nan`` if not within ``t_max`` (s).
+
+    A first covariance analysis of ``min(100 s, t_max)``; a second of ``t_max`` only when σ
+    has not crossed by then.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model.
+    level : float
+        The σ level (rad/s), > 0.
+    t_max : float
+        The longest analysis (s), a multiple of ``params.dt``.
+
+    Returns
+    -------
+    float
+        The crossing time (s), or ``nan``.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import to_si
+    >>> t = gc.time_to_level(gc.GyrocompassParams(), to_si(2e-3, "arcsec_paper/s"), 100.0)
+    >>> f"{t:.0f} s"
+    '24 s'
+    """
+    p = _check_params(params)
+    level = v.check_positive("level", level)
+    t_max = v.check_positive("t_max", t_max)
+    first = min(_FIRST_HORIZON, t_max)
+    t = time_to_sigma(covariance_analysis(p, first, store_every=10**9), "omega_gc", level)
+    if np.isnan(t) and t_max > first:
+        t = time_to_sigma(covariance_analysis(p, t_max, store_every=10**9), "omega_gc",
+                          level)
+    return float(t)
+
+
+@dataclass(frozen=True)
+class SpeedClaimMap:
+    """Time for σ of ω_gc to reach ``level`` over a grid of two parameters, for each reading
+    of the unstated initial covariance of N1…N4 (``shaping_p0``).
+
+    ``t_c[r, i, j]`` (s) is for reading ``readings[r]``, ``y_field`` scaled by
+    ``y_factors[i]`` and ``x_field`` by ``x_factors[j]`` (``nan``: not reached within
+    ``t_max``).  The claim holds where ``t_c < bound``.
+    """
+
+    params: GyrocompassParams
+    x_field: str
+    x_factors: NDArray[np.float64]
+    y_field: str
+    y_factors: NDArray[np.float64]
+    readings: tuple[str, ...]
+    t_c: NDArray[np.float64]
+    level: float
+    bound: float
+    t_max: float
+
+    def holds(self) -> NDArray[np.bool_]:
+        """Where the claim holds: ``t_c < bound`` (``nan`` counts as not holding)."""
+        with np.errstate(invalid="ignore"):
+            return np.nan_to_num(self.t_c, nan=np.inf) < self.bound
+
+    def largest_x_factor_holding(self, reading: str, y_factor: float = 1.0) -> float:
+        """Largest grid factor on ``x_field`` at which the claim still holds for
+        ``reading`` and the row ``y_factor`` (``nan`` if it holds nowhere)."""
+        r = self.readings.index(v.check_choice("reading", reading, self.readings))
+        i = int(np.argmin(np.abs(np.log(self.y_factors / y_factor))))
+        ok = self.holds()[r, i]
+        return float(self.x_factors[ok].max()) if np.any(ok) else float("nan")
+
+
+def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
+                    x_field: str = "sigma1_sq", x_factors: ArrayLike = (0.1, 1.0, 10.0),
+                    y_field: str = "alpha1", y_factors: ArrayLike = (0.1, 1.0, 10.0),
+                    readings: tuple[str, ...] = ("stationary", "zero"),
+                    t_max: float | None = None) -> SpeedClaimMap:
+    """Where the speed claim of paper GC's Conclusion holds: the time for σ of ω_gc to reach
+    ``level`` (the paper's σ_c) over a grid of two shaping-filter parameters, each scaled by
+    its ``factors``, for each reading of the initial covariance of N1…N4.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The baseline model.
+    level : float
+        The σ level (rad/s), > 0.
+    bound : float
+        The time (s) the claim requires (the book's reading: half of ref. [2]'s 17 min).
+    x_field, y_field : str
+        Parameters scaled (damping ratios capped at 1).
+    x_factors, y_factors : array_like
+        Factors (> 0) on the baseline values.
+    readings : tuple of str
+        Values of ``shaping_p0``.
+    t_max : float, optional
+        Longest analysis (s); default ``1.25 bound`` rounded to a whole second.
+
+    Returns
+    -------
+    SpeedClaimMap
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import to_si
+    >>> m = gc.speed_claim_map(gc.GyrocompassParams(), to_si(2e-3, "arcsec_paper/s"), 510.0,
+    ...                        x_factors=[1.0], y_factors=[1.0], t_max=100.0)
+    >>> [f"{t:.0f}" for t in m.t_c[:, 0, 0]]   # stationary and zero P0 of N1…N4
+    ['24', '15']
+    """
+    p = _check_params(params)
+    level = v.check_positive("level", level)
+    bound = v.check_positive("bound", bound)
+    xf = _check_field("x_field", x_field)
+    yf = _check_field("y_field", y_field)
+    xs = v.check_array("x_factors", x_factors, ndim=1, min_size=1)
+    ys = v.check_array("y_factors", y_factors, ndim=1, min_size=1)
+    for name, arr in (("x_factors", xs), ("y_factors", ys)):
+        if np.any(arr <= 0.0):
+            raise ValueError(f"{name} must be > 0 (factors on the baseline values)")
+    if isinstance(readings, str) or not isinstance(readings, tuple) or not readings:
+        raise TypeError("readings must be a non-empty tuple of shaping_p0 values")
+    for r in readings:
+        v.check_choice("readings", r, ("stationary", "zero"))
+    t_max = float(round(1.25 * bound)) if t_max is None else v.check_positive("t_max", t_max)
+    t_c = np.empty((len(readings), ys.size, xs.size))
+    for r, reading in enumerate(readings):
+        for i, fy in enumerate(ys):
+            for j, fx in enumerate(xs):
+                q = _scaled(_scaled(replace(p, shaping_p0=reading), yf, fy), xf, fx)
+                t_c[r, i, j] = time_to_level(q, level, t_max)
+    return SpeedClaimMap(params=p, x_field=xf, x_factors=xs, y_field=yf, y_factors=ys,
+                         readings=tuple(readings), t_c=t_c, level=level, bound=bound,
+                         t_max=t_max)
+
+
+@dataclass(frozen=True)
+class ClaimBoundary:
+    """Where σ of ω_gc at ``bound`` equals ``level`` as ``field`` is scaled: ``factor``
+    (log–log interpolation between the computed ``factors``; ``nan`` if ``level`` is not
+    bracketed), with ``sigma`` (rad/s) the σ at ``bound`` for each factor.  Because σ only
+    decreases with time, the claim (``t_c < bound``) holds exactly where
+    ``sigma < level``."""
+
+    field: str
+    factors: NDArray[np.float64]
+    sigma: NDArray[np.float64]
+    level: float
+    bound: float
+    factor: float
+
+
+def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
+                   field: str = "sigma1_sq", factors: ArrayLike = (5.0, 10.0)
+                   ) -> ClaimBoundary:
+    """The factor on ``field`` at which the time for σ of ω_gc to reach ``level`` equals
+    ``bound``: σ at ``bound`` computed at each of ``factors`` and interpolated log–log.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The baseline model.
+    level : float
+        The σ level (rad/s).
+    bound : float
+        The time (s), a multiple of ``params.dt``.
+    field : str
+        The parameter scaled.
+    factors : array_like
+        Increasing factors (> 0), at least two.
+
+    Returns
+    -------
+    ClaimBoundary
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import to_si
+    >>> b = gc.claim_boundary(gc.GyrocompassParams(), to_si(2e-3, "arcsec_paper/s"), 60.0,
+    ...                       factors=[1.0, 3.0])
+    >>> f"{b.factor:.2g}"   # σ1² × this reaches σ_c in exactly 60 s
+    '1.9'
+    """
+    p = _check_params(params)
+    level = v.check_positive("level", level)
+    bound = v.check_positive("bound", bound)
+    field = _check_field("field", field)
+    fs = v.check_array("factors", factors, ndim=1, min_size=2)
+    if np.any(fs <= 0.0) or np.any(np.diff(fs) <= 0.0):
+        raise ValueError("factors must be > 0 and increasing")
+    sigma = np.array([covariance_analysis(_scaled(p, field, f), bound, store_every=10**9)
+                      .final_std("omega_gc") for f in fs])
+    factor = float("nan")
+    ls, lf = np.log(sigma / level), np.log(fs)
+    for k in range(fs.size - 1):
+        if ls[k] <= 0.0 < ls[k + 1] or ls[k] >= 0.0 > ls[k + 1]:
+            factor = float(np.exp(lf[k] - ls[k] * (lf[k + 1] - lf[k]) / (ls[k + 1] - ls[k])))
+            break
+    return ClaimBoundary(field=field, factors=fs, sigma=sigma, level=level, bound=bound,
+                         factor=factor)
+
+
+@dataclass(frozen=True)
+class ShapingSweep:
+    """One shaping-filter parameter at a time scaled: for ``fields[f]`` and ``factors[i]``,
+    ``values[f, i]`` (the parameter's value), ``sigma_end[f, i]`` (σ of ω_gc at ``t_end``,
+    rad/s), ``drop[f, i]`` (σ(``t_drop``)/σ(0), the "sharp drop") and ``monotone[f, i]``
+    (σ never increases)."""
+
+    params: GyrocompassParams
+    fields: tuple[str, ...]
+    factors: NDArray[np.float64]
+    values: NDArray[np.float64]
+    sigma_end: NDArray[np.float64]
+    drop: NDArray[np.float64]
+    monotone: NDArray[np.bool_]
+    t_end: float
+    t_drop: float
+
+    def nominal(self, field: str) -> float:
+        """The baseline value of ``field``."""
+        return float(getattr(self.params, field))
+
+
+def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
+                  fields: tuple[str, ...] = SHAPING_FIELDS,
+                  factors: ArrayLike = (0.1, 1.0, 10.0), t_drop: float = 2.0) -> ShapingSweep:
+    """Paper GC's "same trend when the parameters of the shaping filters vary widely": each
+    of ``fields`` scaled by each of ``factors`` (damping ratios capped at 1), the others at
+    the baseline, and the covariance analysis rerun.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The baseline.
+    t_end : float
+        Length of each analysis (s).
+    fields : tuple of str
+        Parameters varied one at a time.
+    factors : array_like
+        Factors (> 0).
+    t_drop : float
+        Time (s, ``<= t_end``) of the "sharp drop" ratio σ(t_drop)/σ(0).
+
+    Returns
+    -------
+    ShapingSweep
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> sw = gc.shaping_sweep(gc.GyrocompassParams(), 2.0, fields=("sigma1_sq",))
+    >>> f"{sw.drop.max():.2f}"   # σ(2 s)/σ(0) at the worst of σ1² × (0.1, 1, 10)
+    '0.19'
+    """
+    p = _check_params(params)
+    t_end = v.check_positive("t_end", t_end)
+    t_drop = v.check_in_range("t_drop", t_drop, 0.0, t_end, low_open=True)
+    if isinstance(fields, str) or not isinstance(fields, tuple) or not fields:
+        raise TypeError("fields must be a non-empty tuple of GyrocompassParams fields")
+    for f in fields:
+        _check_field("fields", f)
+    fs = v.check_array("factors", factors, ndim=1, min_size=1)
+    if np.any(fs <= 0.0):
+        raise ValueError("factors must be > 0")
+    shape = (len(fields), fs.size)
+    values, sigma_end, drop = np.empty(shape), np.empty(shape), np.empty(shape)
+    monotone = np.empty(shape, dtype=bool)
+    for a, field in enumerate(fields):
+        for i, f in enumerate(fs):
+            q = _scaled(p, field, f)
+            res = covariance_analysis(q, t_end, store_every=10**9)
+            s = res.std("omega_gc")
+            values[a, i] = getattr(q, field)
+            sigma_end[a, i] = s[-1]
+            drop[a, i] = res.std_at("omega_gc", t_drop) / s[0]
+            monotone[a, i] = bool(np.all(np.diff(s) <= 1e-12 * s[:-1]))
+    return ShapingSweep(params=p, fields=tuple(fields), factors=fs, values=values,
+                        sigma_end=sigma_end, drop=drop, monotone=monotone, t_end=t_end,
+                        t_drop=t_drop)
