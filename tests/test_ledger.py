@@ -15,11 +15,14 @@ from gyrolib.book.ledger import (
     KINDS,
     STATUSES_BY_KIND,
     LedgerItem,
+    anchor,
+    citation,
     collect,
+    entries_markdown,
     summary,
+    table_markdown,
     to_csv,
     to_json,
-    to_markdown,
 )
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -138,9 +141,16 @@ def test_json_and_markdown_of_a_known_item():
     csv_text = to_csv([it])
     assert csv_text.startswith(f"# Gyro calibration, reproduced {gyrolib.__version__}\n")
     assert "gc.test" in csv_text and ",0.4927," in csv_text
-    md = to_markdown([it], "GC")
+    md = table_markdown([it], "GC")
     assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md
-    assert "{bdg-success}`reproduced`" in md and "`gc.test`\n: shown" in md
+    assert "{bdg-success}`reproduced`" in md and "{ref}`gc.test <gc.test>`" in md
+    assert table_markdown([it], "RSF").count("\n") == 1  # header only: no RSF item
+    line = citation(it)
+    assert line.startswith("σ|x: 0.4927 m (paper GC, Fig. 3, printed: 0.5; reproduced).")
+    assert f"version {gyrolib.__version__}, ledger item gc.test (ledger.html#gc-test)" in line
+    entry = entries_markdown([it], "GC")
+    assert entry.startswith("(gc.test)=\n") and f"```text\n{line}\n```" in entry
+    assert anchor("gc.sigma_gc_100s") == "gc-sigma-gc-100s"
 
 
 class _Ids(HTMLParser):

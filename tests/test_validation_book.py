@@ -52,9 +52,15 @@ case("ledger.rounded", lambda: ledger.rounded(NAN, 3), ValueError, "value", FINI
 case("ledger.to_json", lambda: ledger.to_json([1]), TypeError, "items")
 case("ledger.to_table", lambda: ledger.to_table("abc"), TypeError, "items")
 case("ledger.summary", lambda: ledger.summary([item(), 1]), TypeError, "items")
-case("ledger.to_markdown", lambda: ledger.to_markdown([item()], "XYZ"), ValueError, "paper",
+case("ledger.table_markdown", lambda: ledger.table_markdown([item()], "XYZ"), ValueError, "paper",
      "'GC' or 'RSF'")
-case("ledger.to_markdown", lambda: ledger.to_markdown(None, "GC"), TypeError, "items")
+case("ledger.table_markdown", lambda: ledger.table_markdown(None, "GC"), TypeError, "items")
+case("ledger.entries_markdown", lambda: ledger.entries_markdown([item()], "XYZ"), ValueError,
+     "paper", "'GC' or 'RSF'")
+case("ledger.entries_markdown", lambda: ledger.entries_markdown([1], "GC"), TypeError, "items")
+case("ledger.citation", lambda: ledger.citation("gc.x"), TypeError, "item", "LedgerItem")
+case("ledger.anchor", lambda: ledger.anchor(3), TypeError, "item_id", "str")
+case("ledger.kinds_markdown", lambda: ledger.kinds_markdown([1]), TypeError, "items")
 case("ledger.gc.items", lambda: lgc.items("x"), TypeError, "params", "GyrocompassParams")
 case("ledger.rsf.items", lambda: lrsf.items(roll_gyro=None), TypeError, "roll_gyro",
      "RollGyroSpec")

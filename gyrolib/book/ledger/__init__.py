@@ -18,8 +18,9 @@ from dataclasses import asdict, dataclass, fields
 import gyrolib
 from gyrolib import _validation as v
 
-__all__ = ["KINDS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "TITLE", "LedgerItem",
-           "collect", "format_value", "rounded", "summary", "to_csv", "to_json", "to_markdown",
+__all__ = ["KINDS", "KIND_PLURALS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "TITLE",
+           "LedgerItem", "anchor", "citation", "collect", "entries_markdown", "format_value",
+           "kinds_markdown", "rounded", "summary", "table_markdown", "to_csv", "to_json",
            "to_table"]
 
 #: The book's title, as cited with the ledger's data files.
@@ -251,31 +252,95 @@ def summary(items: list[LedgerItem]) -> dict[str, object]:
     return counts
 
 
-def _md_escape(text: str) -> str:
-    return text.replace("|", "\\|").replace("\n", " ")
+# Rendering for the book's pages (MyST) ------------------------------------------------------
+#: How each kind is named in running text.
+KIND_PLURALS: dict[str, str] = {"printed number": "printed numbers", "input": "inputs",
+                                "inferred": "inferred values", "figure": "figures",
+                                "claim": "claims"}
 
 
-def to_markdown(items: list[LedgerItem], paper: str) -> str:
-    """MyST for one paper's items: a compact status table, then one note per item.
+def _md_escape(text: object) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
 
-    The "where" column links with ``{ref}`` roles, so a broken link fails the book build.
+
+def _shown(value: float | str | None, precision: int) -> str:
+    """A value as the ledger shows it: the item's precision, text as is, ``—`` for none."""
+    if value is None:
+        return "—"
+    if isinstance(value, str):
+        return value
+    return f"{float(value):.{precision}g}"
+
+
+def anchor(item_id: str) -> str:
+    """The HTML id of an item's entry on the ledger page (Sphinx's id for the label
+    ``item_id``), e.g. ``gc.sigma_gc_100s`` → ``gc-sigma-gc-100s``.
+
+    >>> anchor("gc.sigma_gc_100s")
+    'gc-sigma-gc-100s'
     """
+    from docutils.nodes import make_id
+
+    return make_id(v.check_str("item_id", item_id))
+
+
+def kinds_markdown(items: list[LedgerItem]) -> str:
+    """A bullet list of the items per kind, each with its statuses as badges."""
+    counts = summary(items)
+    lines = []
+    for kind in KINDS:
+        by_status = counts[kind]
+        n = sum(by_status.values())
+        if n:
+            parts = ", ".join(f"{c} {STATUS_MARKS[s]}" for s, c in by_status.items() if c)
+            lines.append(f"* **{KIND_PLURALS[kind]}**: {n} — {parts}")
+    return "\n".join(lines)
+
+
+def table_markdown(items: list[LedgerItem], paper: str) -> str:
+    """MyST table of one paper's items: status, id (linked to its entry), kind, printed and
+    reproduced value, unit, conditions, evidence, and where the book shows it.  Links are
+    ``{ref}`` roles, so a broken one fails the book build."""
     items = _check_items(items)
     if paper not in ("GC", "RSF"):
         raise ValueError(f"paper must be 'GC' or 'RSF'; got {paper!r}")
-    lines = [
-        "| status | item | where | paper | reproduced | unit |",
-        "| --- | --- | --- | --- | --- | --- |",
-    ]
-    notes = []
+    rows = ["| status | item | kind | printed | reproduced | unit | conditions | evidence "
+            "| where |", "|" + " --- |" * 9]
     for it in items:
-        if it.paper != paper:
-            continue
-        link = f"{{ref}}`{_md_escape(it.location)} <{it.target}>`"
-        lines.append(
-            f"| {STATUS_MARKS[it.status]} | `{it.id}`<br>{_md_escape(it.quantity)} | {link} | "
-            f"{format_value(it.paper_value)} | {format_value(it.reproduced_value)} | "
-            f"{_md_escape(it.unit)} |"
-        )
-        notes.append(f"`{it.id}`\n: {_md_escape(it.note)}\n")
-    return "\n".join(lines) + "\n\n" + "\n".join(notes)
+        if it.paper == paper:
+            rows.append(
+                f"| {STATUS_MARKS[it.status]} | {{ref}}`{it.id} <{it.id}>`<br>"
+                f"{_md_escape(it.quantity)} | {it.kind} | "
+                f"{_md_escape(_shown(it.paper_value, it.precision))} | "
+                f"{_shown(it.reproduced_value, it.precision)} | {_md_escape(it.unit)} | "
+                f"{_md_escape(it.conditions) or '—'} | {_md_escape(it.evidence)} | "
+                f"{{ref}}`{_md_escape(it.location)} <{it.target}>` |")
+    return "\n".join(rows)
+
+
+def citation(item: LedgerItem) -> str:
+    """One line a reader can paste into a paper: the value, the verdict, the item's id and
+    the book's version, and the page anchor that resolves it."""
+    it = v.check_instance("item", item, LedgerItem)
+    printed = _shown(it.paper_value, it.precision)
+    got = _shown(it.reproduced_value, it.precision)
+    unit = "" if it.unit in ("", "—") else f" {it.unit}"
+    what = f"{it.quantity}: {got}{unit}" if it.reproduced_value is not None else it.quantity
+    return (f"{what} (paper {it.paper}, {it.location}, printed: {printed}; {it.status}). "
+            f"{TITLE}, version {gyrolib.__version__}, ledger item {it.id} "
+            f"(ledger.html#{anchor(it.id)}).")
+
+
+def entries_markdown(items: list[LedgerItem], paper: str) -> str:
+    """One labelled entry per item of ``paper`` (the target of ``ledger.html#<anchor>``):
+    quantity, where it is shown, the note, and the citation line in a copyable block."""
+    items = _check_items(items)
+    if paper not in ("GC", "RSF"):
+        raise ValueError(f"paper must be 'GC' or 'RSF'; got {paper!r}")
+    out = []
+    for it in items:
+        if it.paper == paper:
+            out.append(f"({it.id})=\n**`{it.id}`** — {_md_escape(it.quantity)} "
+                       f"({{ref}}`{_md_escape(it.location)} <{it.target}>`). "
+                       f"{_md_escape(it.note)}\n\n```text\n{citation(it)}\n```\n")
+    return "\n".join(out)
