@@ -1,6 +1,6 @@
 """An independent implementation of paper GC's covariance analysis (Figure 3), for tests.
 
-Written from the paper's matrices as transcribed (``/work/shared/papers/TRANSCRIPTION.md``:
+Written from the paper's matrices as printed and transcribed (paper GC's
 Eqs. (4)-(8) and the parameter list), with plain numpy/scipy.  It imports nothing from
 gyrolib's model or filter: only the numbers of ``GyrocompassParams``' defaults are read.
 
