@@ -298,23 +298,26 @@ def kinds_markdown(items: list[LedgerItem]) -> str:
 
 
 def table_markdown(items: list[LedgerItem], paper: str) -> str:
-    """MyST table of one paper's items: status, id (linked to its entry), kind, printed and
-    reproduced value, unit, conditions, evidence, and where the book shows it.  Links are
-    ``{ref}`` roles, so a broken one fails the book build."""
+    """MyST table of one paper's items, six columns so that it fits a page: the verdict
+    (status badge over the kind), the item (id linked to its entry, quantity), the printed
+    value, the reproduced value with its unit, the conditions and the evidence, and where the
+    book shows it.  Links are ``{ref}`` roles, so a broken one fails the book build."""
     items = _check_items(items)
     if paper not in ("GC", "RSF"):
         raise ValueError(f"paper must be 'GC' or 'RSF'; got {paper!r}")
-    rows = ["| status | item | kind | printed | reproduced | unit | conditions | evidence "
-            "| where |", "|" + " --- |" * 9]
+    rows = ["| verdict | item | printed | reproduced | conditions · evidence | where |",
+            "|" + " --- |" * 6]
     for it in items:
-        if it.paper == paper:
-            rows.append(
-                f"| {STATUS_MARKS[it.status]} | {{ref}}`{it.id} <{it.id}>`<br>"
-                f"{_md_escape(it.quantity)} | {it.kind} | "
-                f"{_md_escape(_shown(it.paper_value, it.precision))} | "
-                f"{_shown(it.reproduced_value, it.precision)} | {_md_escape(it.unit)} | "
-                f"{_md_escape(it.conditions) or '—'} | {_md_escape(it.evidence)} | "
-                f"{{ref}}`{_md_escape(it.location)} <{it.target}>` |")
+        if it.paper != paper:
+            continue
+        unit = "" if it.unit in ("", "1", "—") or it.reproduced_value is None else f" {it.unit}"
+        why = (f"**conditions:** {_md_escape(it.conditions)}<br>" if it.conditions else "")
+        rows.append(
+            f"| {STATUS_MARKS[it.status]}<br>*{it.kind}* | {{ref}}`{it.id} <{it.id}>`<br>"
+            f"{_md_escape(it.quantity)} | {_md_escape(_shown(it.paper_value, it.precision))} | "
+            f"{_shown(it.reproduced_value, it.precision)}{_md_escape(unit)} | "
+            f"{why}**evidence:** {_md_escape(it.evidence)} | "
+            f"{{ref}}`{_md_escape(it.location)} <{it.target}>` |")
     return "\n".join(rows)
 
 
