@@ -273,9 +273,16 @@ case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, base=1), Type
 case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, period=0.0), ValueError,
      "period", POS)
 
-case("rsf.RollGyroSpec.model", lambda: rsf.SIIMU02_ROLL.model(arw=-1.0), ValueError, "arw",
-     NONNEG)
-case("rsf.MemsGyroSpec.model", lambda: rsf.GYPRO4300.model(ki=0.0), ValueError, "ki", POS)
+case("rsf.SinsGyroModel.from_spec",
+     lambda: rsf.SinsGyroModel.from_spec(rsf.SIIMU02_ROLL, arw=-1.0), ValueError, "arw", NONNEG)
+case("rsf.SinsGyroModel.from_spec", lambda: rsf.SinsGyroModel.from_spec(rsf.GYPRO4300),
+     TypeError, "spec", "RollGyroSpec")
+case("rsf.GsModel.from_spec", lambda: rsf.GsModel.from_spec(rsf.GYPRO4300, ki=0.0), ValueError,
+     "ki", POS)
+case("rsf.GsModel.from_spec", lambda: rsf.GsModel.from_spec(rsf.AEDB9340), TypeError, "spec",
+     "MemsGyroSpec")
+case("rsf.EncoderModel.from_spec", lambda: rsf.EncoderModel.from_spec(rsf.GYPRO4300), TypeError,
+     "spec", "EncoderSpec")
 case("rsf.worked_example_terms", lambda: rsf.worked_example_terms(dt=0.0), ValueError, "dt",
      POS)
 case("rsf.worked_example_terms", lambda: rsf.worked_example_terms(eps1_gs=-1.0), ValueError,
@@ -309,7 +316,6 @@ EXEMPT: dict[str, str] = {
     "rsf.difference_error": "one-line formula: inputs checked at the doors (records, configs, entry points)",
     "rsf.lateral_acceleration_error": "one-line formula: inputs checked at the doors (records, configs, entry points)",
     "rsf.lateral_deviation_cubic": "one-line formula: inputs checked at the doors (records, configs, entry points)",
-    "rsf.EncoderSpec.model": "no arguments: the record was validated when it was built",
     "rsf.DeltaKTerms": "result object, built by worked_example_terms (checked there)",
     "rsf.CompensationShare": "result object, built by compensation_share (checked there)",
     "rsf.GsVsSins": "result object, built by gs_vs_sins (checked there)",

@@ -14,6 +14,9 @@ module                  paper GC
 ``montecarlo``          Figure 4: :func:`monte_carlo`
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
+``claims``              the speed-claim map and the shaping-filter sweep
+``record``              :class:`GCRecord`, a recorded log the calibration reads (SI)
+``calibration``         the filter on a recorded log: :func:`calibrate`
 ``plots``               the figures: ``plot_*``
 ======================  ===============================================================
 
@@ -178,7 +181,7 @@ from gyrolib.gc.claims import (
     time_to_level,
 )
 from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
-from gyrolib.records.tables import GCRecord
+from gyrolib.gc.record import GCRecord
 
 __all__ += [
     "SHAPING_FIELDS",

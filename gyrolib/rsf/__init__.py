@@ -11,6 +11,8 @@ module            paper RSF
 ``correction``    the correction loop on a record: :func:`run_correction`
 ``sweeps``        the correction against its period, the encoder and the roll rate
 ``claims``        the paper's verbal claims with their conditions: :func:`compensation_share`, …
+``record``        :class:`RSFRecord`, a recorded log the correction reads (SI)
+``calibration``   the correction on a recorded log: :func:`calibrate`
 ``plots``         the figures: ``plot_*``
 ================  ====================================================================
 
@@ -188,7 +190,6 @@ __all__ = [
 ]
 
 # Calibration on recorded data (issue 13)
-from gyrolib.records.tables import RSFRecord
 from gyrolib.rsf.calibration import (
     CorrectionResult,
     calibrate,
@@ -196,6 +197,7 @@ from gyrolib.rsf.calibration import (
     predicted_delta_k,
     record_from_simulation,
 )
+from gyrolib.rsf.record import RSFRecord
 
 __all__ += ["CorrectionResult", "RSFRecord", "calibrate", "plot_correction",
             "predicted_delta_k", "record_from_simulation"]

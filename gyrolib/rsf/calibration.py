@@ -29,9 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib.records.tables import RSFRecord
 from gyrolib.rsf._inputs import _sf
 from gyrolib.rsf.equations import K_FORMS, correction_coefficient, relative_k_error
+from gyrolib.rsf.record import RSFRecord
 from gyrolib.rsf.simulation import SimulationConfig
 
 __all__ = [

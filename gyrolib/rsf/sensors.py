@@ -6,25 +6,22 @@
 
 SI inside: rates in rad/s, scale-factor errors dimensionless.
 
-One description per device: each record builds the simulation's model of its device
-(:meth:`RollGyroSpec.model`, :meth:`MemsGyroSpec.model`, :meth:`EncoderSpec.model`), adding
-only what a datasheet does not give (noise, the GS's rate loop, the encoder's resolution as
-counts); :class:`~gyrolib.rsf.SimulationConfig`'s defaults are built this way.
+One description per device: the simulation's model of a device is built from its record
+(:meth:`gyrolib.rsf.SinsGyroModel.from_spec`, :meth:`~gyrolib.rsf.GsModel.from_spec`,
+:meth:`~gyrolib.rsf.EncoderModel.from_spec`), adding only what a datasheet does not give
+(noise, the GS's rate loop); :class:`~gyrolib.rsf.SimulationConfig`'s defaults are built this
+way.  Imports run one way: :mod:`gyrolib.rsf.simulation` reads this module, never the reverse.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from gyrolib import _validation as v
 from gyrolib.rsf._inputs import _SF_LIMIT, _optional_positive
 from gyrolib.rsf.equations import gs_bias_total
 from gyrolib.units import to_si
-
-if TYPE_CHECKING:  # the simulation imports this module
-    from gyrolib.rsf.simulation import EncoderModel, GsModel, SinsGyroModel
 
 __all__ = [
     "AEDB9340",
@@ -62,16 +59,6 @@ class RollGyroSpec:
         object.__setattr__(self, "dynamic_range",
                            _optional_positive("dynamic_range", self.dynamic_range))
 
-    def model(self, **simulation: float) -> SinsGyroModel:
-        """The simulation's model of this gyro: ε1 = ``sf_error``, ε0 = ``bias_instability``
-        (at +1σ) plus ``simulation`` keywords of :class:`~gyrolib.rsf.SinsGyroModel` (``arw``).
-
-        >>> f"{SIIMU02_ROLL.model(arw=0.0).eps1:.1e}"
-        '6.0e-04'
-        """
-        from gyrolib.rsf.simulation import SinsGyroModel
-
-        return SinsGyroModel(eps1=self.sf_error, eps0=self.bias_instability, **simulation)
 
 
 @dataclass(frozen=True)
@@ -107,18 +94,6 @@ class MemsGyroSpec:
         """ε0,GS = √(σ_rep² + σ_stab²), rad/s."""
         return gs_bias_total(self.bias_repeatability, self.bias_stability)
 
-    def model(self, **simulation: float) -> GsModel:
-        """The simulation's GS with this gyro: ε0,GS = :attr:`bias_total`, ε1,GS =
-        ``sf_error`` (at +1σ) plus ``simulation`` keywords of :class:`~gyrolib.rsf.GsModel`
-        (``arw``, ``motor_rate_max``, ``kp``, ``ki``, ``tau_motor``).
-
-        >>> import math
-        >>> f"{GYPRO4300.model(motor_rate_max=math.inf).eps1:.1e}"
-        '2.8e-04'
-        """
-        from gyrolib.rsf.simulation import GsModel
-
-        return GsModel(eps0=self.bias_total, eps1=self.sf_error, **simulation)
 
 
 @dataclass(frozen=True)
@@ -162,17 +137,6 @@ class EncoderSpec:
         """Angle of one count, rad."""
         return 2.0 * math.pi / self.counts_per_rev
 
-    def model(self) -> EncoderModel:
-        """The simulation's model of this encoder: its counts per revolution and position
-        error.
-
-        >>> AEDB9340.model().counts_per_rev
-        4000
-        """
-        from gyrolib.rsf.simulation import EncoderModel
-
-        return EncoderModel(counts_per_rev=self.counts_per_rev,
-                            position_error=self.position_error)
 
 
 #: Paper RSF, Table 1: SiIMU02 roll gyro.
