@@ -15,6 +15,13 @@ module                  paper GC
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
 ``plots``               the figures: ``plot_*``
+``claims``              the speed-claim map, the shaping-filter sweep
+``calibration``         :func:`calibrate` (the filter on a recorded log)
+``ratesensor``          ref. [3], the method GC replaces: :class:`RateSensorProcedure`,
+                        :func:`rate_sensor_model` (classical and optimal estimators),
+                        :func:`rate_sensor_monte_carlo`
+``racing``              the race against it: :func:`race`, :func:`race_sweep`,
+                        :func:`procedure_for_time`
 ======================  ===============================================================
 
 Use as ``from gyrolib import gc`` then ``gc.covariance_analysis(gc.GyrocompassParams())``.
@@ -177,7 +184,29 @@ from gyrolib.gc.claims import (
     speed_claim_map,
     time_to_level,
 )
-from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
+
+# The race against the rate-sensor method of ref. [3] (issue 17), with the claims plots
+from gyrolib.gc.plots import plot_mismatch, plot_race, plot_race_sweep, plot_speed_claim
+from gyrolib.gc.racing import (
+    PROCEDURE_TARGETS,
+    RaceConditions,
+    RaceResult,
+    RaceSweep,
+    procedure_for_time,
+    race,
+    race_sweep,
+)
+from gyrolib.gc.ratesensor import (
+    RS_STATE_NAMES,
+    VIBRATION_FRAMES,
+    OptimalRun,
+    RateSensorModel,
+    RateSensorMonteCarlo,
+    RateSensorProcedure,
+    rate_sensor_model,
+    rate_sensor_monte_carlo,
+    turn_accuracy_limit,
+)
 from gyrolib.records.tables import GCRecord
 
 __all__ += [
@@ -194,3 +223,24 @@ __all__ += [
 ]
 __all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
             "plot_calibration", "simulate_record"]
+
+__all__ += [
+    "PROCEDURE_TARGETS",
+    "RS_STATE_NAMES",
+    "VIBRATION_FRAMES",
+    "OptimalRun",
+    "RaceConditions",
+    "RaceResult",
+    "RaceSweep",
+    "RateSensorModel",
+    "RateSensorMonteCarlo",
+    "RateSensorProcedure",
+    "plot_race",
+    "plot_race_sweep",
+    "procedure_for_time",
+    "race",
+    "race_sweep",
+    "rate_sensor_model",
+    "rate_sensor_monte_carlo",
+    "turn_accuracy_limit",
+]
