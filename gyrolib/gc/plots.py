@@ -849,18 +849,21 @@ def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = Non
                     ha="center", va="top", fontsize=8, rotation=90 if b - a < 0.06 * t_end
                     else 0)
     sc = from_si(r.procedure.sigma_c, unit)
-    curves = (("GC's method (gyrocompass, Kalman filter)", r.t_gc, r.sigma_gc, "C0", "-"),
-              ("rate sensor, classical half-sum", r.t_classical, r.sigma_classical, "C3", "-"),
+    # (label, t, σ, colour, line style, offset of the time label in points)
+    curves = (("GC's method (gyrocompass, Kalman filter)", r.t_gc, r.sigma_gc, "C0", "-",
+               (3, -14)),
+              ("rate sensor, classical half-sum", r.t_classical, r.sigma_classical, "C3", "-",
+               (4, 6)),
               ("rate sensor, optimal (Kalman) estimator", r.t_optimal, r.sigma_optimal, "C2",
-               "--"))
-    for (label, t, s, c, ls), tc in zip(curves, (r.t_c_gc, r.t_c_rate_sensor,
-                                                  r.t_c_rate_sensor_optimal)):
+               "--", (-34, -14)))
+    for (label, t, s, c, ls, off), tc in zip(curves, (r.t_c_gc, r.t_c_rate_sensor,
+                                                       r.t_c_rate_sensor_optimal)):
         keep = t <= t_end
         if np.any(keep):
             ax.semilogy(t[keep], from_si(s[keep], unit), color=c, ls=ls, lw=1.8, label=label)
         if np.isfinite(tc) and tc <= t_end:
             ax.plot([tc], [sc], "o", color=c, ms=7, mec="k")
-            ax.annotate(f"{tc:.1f} s", (tc, sc), textcoords="offset points", xytext=(3, -14),
+            ax.annotate(f"{tc:.1f} s", (tc, sc), textcoords="offset points", xytext=off,
                         color=c, fontsize=8)
     ax.axhline(sc, color="k", lw=1, ls=":", label=f"σ_c = {sc:g} {ul}")
     ax.set_xlim(0.0, t_end)
