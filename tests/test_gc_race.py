@@ -2,9 +2,9 @@
 ``gc.ratesensor`` and ``gc.racing``.
 
 Independent references: the ledger's time of GC's filter (itself tested against the
-plain-numpy filter of ``tests/gc_reference.py``); closed forms of the classical estimator's variance (white noise:
-``q/T``; coloured noise: the double sum of the shaping filters' autocorrelations over the
-samples); the information form of the optimal estimator on static states; a simulated truth
+plain-numpy filter of ``tests/gc_reference.py``); closed forms of the classical estimator's
+variance (white noise: ``q/T``; coloured noise: the double sum of the shaping filters'
+autocorrelations over the samples); the information form of the optimal estimator on static states; a simulated truth
 (nonlinear, its own grid) with a χ² band, and a wrong truth that must fail it.
 """
 
