@@ -4,8 +4,9 @@
 Independent references: the ledger's time of GC's filter (itself tested against the
 plain-numpy filter of ``tests/gc_reference.py``); closed forms of the classical estimator's
 variance (white noise: ``q/T``; coloured noise: the double sum of the shaping filters'
-autocorrelations over the samples); the information form of the optimal estimator on static states; a simulated truth
-(nonlinear, its own grid) with a χ² band, and a wrong truth that must fail it.
+autocorrelations over the samples); the information form of the optimal estimator on
+static states; a simulated truth (nonlinear, its own grid) with a χ² band, and a wrong truth
+that must fail it.
 """
 
 from __future__ import annotations
