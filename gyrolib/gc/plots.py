@@ -901,6 +901,8 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     >>> len(gc.plot_race_sweep(sw, "T_settle").axes)
     1
     """
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+
     from gyrolib.gc.racing import RaceSweep
 
     sw = v.check_instance("sweep", sweep, RaceSweep)
@@ -920,6 +922,8 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     if log_x:
         ax.set_xscale("log")
     ax.set_yscale("log")
+    ax.yaxis.set_major_formatter(ScalarFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel(label or field)
     ax.set_ylabel("time to σ_c (s)")
     ax.grid(True, which="both", alpha=0.3)

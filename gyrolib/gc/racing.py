@@ -135,8 +135,12 @@ def _rate_part(model: RateSensorModel) -> _RatePart:
 
 
 def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) -> float:
-    part = _rate_part(rate_sensor_model(p, proc))
-    t = part.t_c if estimator == "classical" else part.t_c_optimal
+    """The rate-sensor method's time to σ_c with one estimator (``inf``: not reached)."""
+    model = rate_sensor_model(p, proc)
+    if estimator == "classical":
+        found = _classical_samples(model)
+        return math.inf if found is None else sum(found) * proc.sample_dt + proc.overhead
+    t = _rate_part(model).t_c_optimal
     return math.inf if math.isnan(t) else t
 
 
@@ -356,9 +360,9 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
     -------
     float
         The value (s, or rad²/s for ``rate_noise``); 0 if the method takes longer than
-        ``target`` even at 0 (the smallest rate noise tried: 10⁻⁶ of the procedure's);
-        ``inf`` if it takes less at any value up to ``procedure.t_max`` (10⁶ times the
-        procedure's rate noise).
+        ``target`` even at 0 (for ``rate_noise``: at 10⁻⁶ of the procedure's); ``inf`` if it
+        takes less at any value up to ``target`` (for ``rate_noise``: 10⁶ times the
+        procedure's).
 
     Examples
     --------
@@ -377,18 +381,28 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
         return _rate_time(p, _with(proc, field, x), estimator) > target
 
     if field == "rate_noise":
-        lo, hi = proc.rate_noise * 1e-6, proc.rate_noise * 1e6
-        if too_slow(lo):
-            return 0.0
-        if not too_slow(hi):
-            return math.inf
+        # bracket by decades from the procedure's value, then bisect on a log scale
+        q0 = proc.rate_noise
+        if too_slow(q0):
+            lo, hi = q0, q0
+            while too_slow(lo):
+                if lo < q0 * 1e-6:
+                    return 0.0
+                lo, hi = lo / 10.0, lo
+        else:
+            lo, hi = q0, q0
+            while not too_slow(hi):
+                if hi > q0 * 1e6:
+                    return math.inf
+                lo, hi = hi, hi * 10.0
         while hi / lo > 1.0 + rtol:
             mid = math.sqrt(lo * hi)
             lo, hi = (lo, mid) if too_slow(mid) else (mid, hi)
         return math.sqrt(lo * hi)
-    lo, hi = 0.0, proc.t_max
-    if too_slow(lo):
+    if too_slow(0.0):
         return 0.0
+    # the whole procedure lasts longer than its turn and settling: target bounds the value
+    lo, hi = 0.0, min(target, proc.t_max)
     if not too_slow(hi):
         return math.inf
     while hi - lo > rtol * max(hi, 1.0):

@@ -54,6 +54,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from functools import cached_property
 from typing import Final
 
 import numpy as np
@@ -315,6 +316,11 @@ class RateSensorModel:
         c[_N + 3] = -p.Omega_v / (2.0 * p.g * n2)
         return c
 
+    @cached_property
+    def _gap_overhead(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(Φ, Qd)`` over the turn and the settling (computed once per model)."""
+        return self._gap(self.procedure.overhead)
+
     def _classical_after_w1(self, n1: int) -> np.ndarray:
         na = _N + 4
         P = np.zeros((na, na))
@@ -322,7 +328,7 @@ class RateSensorModel:
         M, Qa = self._window_step(self.H1, (_N, _N + 1), na)
         Mk, Sk = _power_sum(M, Qa, n1)
         P = Mk @ P @ Mk.T + Sk
-        Pg, Qg = self._gap(self.procedure.overhead)
+        Pg, Qg = self._gap_overhead
         A = np.eye(na)
         A[:_N, :_N] = Pg
         P = A @ P @ A.T
