@@ -486,6 +486,17 @@ class RaceSweep:
     t_c_rate_sensor: NDArray[np.float64]
     t_c_rate_sensor_optimal: NDArray[np.float64]
 
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        _check_procedure(self.procedure)
+        if not isinstance(self.cases, tuple):
+            raise TypeError("cases must be a tuple of {field: value} dicts")
+        for name in ("t_c_gc", "t_c_rate_sensor", "t_c_rate_sensor_optimal"):
+            arr = getattr(self, name)
+            if not isinstance(arr, np.ndarray) or arr.shape != (len(self.cases),):
+                raise ValueError(f"{name} must be an array with one time per case "
+                                 f"({len(self.cases)})")
+
     def faster_percent(self, estimator: str = "classical") -> NDArray[np.float64]:
         """``100 (1 − t_c_gc / t_rate_sensor)`` (%) per case.
 

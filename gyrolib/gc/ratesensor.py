@@ -209,6 +209,13 @@ class OptimalRun:
     sigma: NDArray[np.float64]
     phases: tuple[tuple[str, float, float], ...]
 
+    def __post_init__(self) -> None:
+        n = v.check_ndarray("t", self.t, ndim=1).size
+        v.check_ndarray("sigma", self.sigma, shape=(n,))
+        if not isinstance(self.phases, tuple) or not all(
+                isinstance(ph, tuple) and len(ph) == 3 for ph in self.phases):
+            raise TypeError("phases must be a tuple of (name, start, end) tuples")
+
     def time_to(self, level: float) -> float:
         """First elapsed time (s) at which ``sigma`` falls to ``level`` (rad/s) and stays
         below it, linearly interpolated; ``nan`` if not reached.
@@ -618,6 +625,16 @@ class RateSensorMonteCarlo:
     t2: float
     seed: int
     truth_params: GyrocompassParams | None = None
+
+    def __post_init__(self) -> None:
+        if v.check_ndarray("errors", self.errors, ndim=1).size < 2:
+            raise ValueError("errors must hold at least 2 runs")
+        v.check_positive("sigma", self.sigma)
+        lo, hi = (v.check_nonnegative("band", b) for b in self.band)
+        if not lo <= hi:
+            raise ValueError(f"band must be (low, high) with low <= high; got {self.band}")
+        if self.truth_params is not None:
+            v.check_instance("truth_params", self.truth_params, GyrocompassParams)
 
     @property
     def n_runs(self) -> int:
