@@ -17,6 +17,11 @@ module                  paper GC
 ``claims``              the speed-claim map and the shaping-filter sweep
 ``record``              :class:`GCRecord`, a recorded log the calibration reads (SI)
 ``calibration``         the filter on a recorded log: :func:`calibrate`
+``ratesensor``          ref. [3], the method GC replaces: :class:`RateSensorProcedure`,
+                        :func:`rate_sensor_model` (classical and optimal estimators),
+                        :func:`rate_sensor_monte_carlo`
+``racing``              the race against it: :func:`race`, :func:`race_sweep`,
+                        :func:`procedure_for_time`
 ``plots``               the figures: ``plot_*``
 ======================  ===============================================================
 
@@ -180,7 +185,29 @@ from gyrolib.gc.claims import (
     speed_claim_map,
     time_to_level,
 )
-from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
+
+# The race against the rate-sensor method of ref. [3] (issue 17), with the claims plots
+from gyrolib.gc.plots import plot_mismatch, plot_race, plot_race_sweep, plot_speed_claim
+from gyrolib.gc.racing import (
+    PROCEDURE_TARGETS,
+    RaceConditions,
+    RaceResult,
+    RaceSweep,
+    procedure_for_time,
+    race,
+    race_sweep,
+)
+from gyrolib.gc.ratesensor import (
+    RS_STATE_NAMES,
+    VIBRATION_FRAMES,
+    OptimalRun,
+    RateSensorModel,
+    RateSensorMonteCarlo,
+    RateSensorProcedure,
+    rate_sensor_model,
+    rate_sensor_monte_carlo,
+    turn_accuracy_limit,
+)
 from gyrolib.gc.record import GCRecord
 
 __all__ += [
@@ -197,3 +224,24 @@ __all__ += [
 ]
 __all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
             "plot_calibration", "simulate_record"]
+
+__all__ += [
+    "PROCEDURE_TARGETS",
+    "RS_STATE_NAMES",
+    "VIBRATION_FRAMES",
+    "OptimalRun",
+    "RaceConditions",
+    "RaceResult",
+    "RaceSweep",
+    "RateSensorModel",
+    "RateSensorMonteCarlo",
+    "RateSensorProcedure",
+    "plot_race",
+    "plot_race_sweep",
+    "procedure_for_time",
+    "race",
+    "race_sweep",
+    "rate_sensor_model",
+    "rate_sensor_monte_carlo",
+    "turn_accuracy_limit",
+]
