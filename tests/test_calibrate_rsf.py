@@ -50,8 +50,8 @@ def test_acceptance_within_predicted_delta_k(flight):
     # 300 samples before the gap, 200 after it less the one whose step spans the gap
     assert res.segments[gap_interval] == 2 and res.samples[gap_interval] == 499
     assert abs(dk[gap_interval] - pred.mean) > 3.0 * pred.std
-    # the same through the helper that builds the prediction from the record itself
-    pred2 = rsf.predicted_delta_k(res)
+    # the same at the rate the record itself measured
+    pred2 = rsf.predict_delta_k(CFG, res.period, rate=res.mean_rate)
     assert pred2.std == pytest.approx(pred.std, rel=0.01)
     assert res.gaps == 1 and res.samples_skipped > 0
 
