@@ -187,7 +187,7 @@ case("rsf.ResolutionSweep", lambda: rsf.ResolutionSweep(T5, T5, T5, "a", T5, T5,
 
 # rsf_plots
 
-# calibration on a record: rsf.calibrate, RSFRecord, CorrectionResult
+# calibration on a record: rsf.calibrate, RSFRecord, CalibrationResult
 _RREC = rsf.RSFRecord(t=[0.0, 0.5, 1.0], sins_increment=[0.0, 1.0, 1.0],
                       gs_angle=[0.0, 1.0, 2.0])
 _RRES = rsf.calibrate(_RREC, 0.5)
@@ -209,21 +209,22 @@ case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, k_form="square"), ValueE
 case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, dt=-1.0), ValueError, "dt", POS)
 case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, time_tolerance=0.0), ValueError,
      "time_tolerance")
-case("rsf.CorrectionResult", lambda: replace(_RRES, k=np.zeros(7)), ValueError, "k",
+case("rsf.CalibrationResult", lambda: replace(_RRES, k=np.zeros(7)), ValueError, "k",
      "shape")
-case("rsf.CorrectionResult", lambda: replace(_RRES, period=0.0), ValueError, "period", POS)
-case("rsf.CorrectionResult.delta_k", lambda: _RRES.delta_k(1.5), ValueError, "eps1",
+case("rsf.CalibrationResult", lambda: replace(_RRES, period=0.0), ValueError, "period", POS)
+case("rsf.CalibrationResult", lambda: replace(_RRES, gaps=-1), ValueError, "gaps", ">= 0")
+case("rsf.CalibrationResult.delta_k", lambda: _RRES.delta_k(1.5), ValueError, "eps1",
      r"\(-1.0, 1.0\)")
-case("rsf.CorrectionResult.delta_k_std", lambda: _RRES.delta_k_std(0.1), TypeError,
+case("rsf.CalibrationResult.delta_k_std", lambda: _RRES.delta_k_std(0.1), TypeError,
      "prediction", "DeltaKPrediction")
-case("rsf.predicted_delta_k", lambda: rsf.predicted_delta_k(None), TypeError, "result",
-     "CorrectionResult")
-case("rsf.predicted_delta_k", lambda: rsf.predicted_delta_k(_RRES, "paper"), TypeError,
-     "config", "SimulationConfig")
+case("rsf.predict_delta_k", lambda: rsf.predict_delta_k(cfg(), 0.5, rate=-_RRES.mean_rate),
+     ValueError, "rate", POS)
+case("rsf.predict_delta_k", lambda: rsf.predict_delta_k(
+    replace(cfg(), roll=rsf.RollProfile(10.0, 20.0)), 0.5), ValueError, "config", "constant")
 case("rsf.record_from_simulation", lambda: rsf.record_from_simulation(None), TypeError,
      "sim", "SensorRecord")
 case("rsf.plot_correction", lambda: rsf.plot_correction(None), TypeError, "result",
-     "CorrectionResult")
+     "CalibrationResult")
 case("rsf.plot_correction", lambda: rsf.plot_correction(_RRES, prediction=3), TypeError,
      "prediction", "DeltaKPrediction")
 

@@ -25,7 +25,8 @@ from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
 from gyrolib.records.tables import GCChunks, read_rsf
 from gyrolib.rsf.calibration import calibrate as calibrate_rsf
-from gyrolib.rsf.calibration import plot_correction, predicted_delta_k
+from gyrolib.rsf.calibration import plot_correction
+from gyrolib.rsf.correction import predict_delta_k
 
 __all__ = ["add_parser", "run"]
 
@@ -228,7 +229,7 @@ def _run_rsf(args: argparse.Namespace) -> int:
     if res.n_intervals == 0:
         raise RecordError(args.file, "no correction interval holds a usable sample (every "
                           "sample is missing or follows a gap)")
-    pred = predicted_delta_k(res, config)
+    pred = predict_delta_k(config, res.period, rate=res.mean_rate)
     if args.plot:
 
         _save(plot_correction(res, pred), args.plot)

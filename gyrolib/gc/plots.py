@@ -43,7 +43,6 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
-from gyrolib import _validation as v
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.gc.budget import ErrorBudget
 from gyrolib.gc.covariance import CovarianceAnalysis, CovarianceSweep
@@ -326,25 +325,6 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
         axs.set_title(rf"({'bc'[row]}) tilt ${angle_name}$ of the ${axis_name}$ axis: {proj}",
                       fontsize=10)
     return fig
-
-
-def _pair(name_t: str, t: object, name_y: str, y: object, *,
-          nonnegative: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    # two points at least: the log-time panels draw from the second sample on
-    t = v.check_array(name_t, t, ndim=1, min_size=2)
-    y = v.check_array(name_y, y, ndim=1)
-    if t.size != y.size:
-        raise ValueError(f"{name_t} and {name_y} must have the same length")
-    if nonnegative:
-        _nonnegative(name_y, y)
-    return t, y
-
-
-def _nonnegative(name: str, y: np.ndarray) -> np.ndarray:
-    if np.any(y < 0.0):
-        raise ValueError(f"{name} must be >= 0 everywhere (a standard deviation or scale); "
-                         f"got min {y.min()}")
-    return y
 
 
 def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: float,

@@ -8,7 +8,7 @@ module            paper RSF
 ``equations``     Eqs. (1)–(9): :func:`sf_error_estimate`, :func:`delta_k`, …
 ``tables``        Tables 2 and 3: :func:`table2`, :func:`table3`
 ``simulation``    a seeded flight simulation: :func:`simulate_flight`
-``correction``    the correction loop on a record: :func:`run_correction`
+``correction``    Eqs. (1)–(3), shared: :func:`run_correction` (simulation), :func:`predict_delta_k`
 ``sweeps``        the correction against its period, the encoder and the roll rate
 ``claims``        the paper's verbal claims with their conditions: :func:`compensation_share`, …
 ``record``        :class:`RSFRecord`, a recorded log the correction reads (SI)
@@ -191,13 +191,12 @@ __all__ = [
 
 # Calibration on recorded data (issue 13)
 from gyrolib.rsf.calibration import (
-    CorrectionResult,
+    CalibrationResult,
     calibrate,
     plot_correction,
-    predicted_delta_k,
     record_from_simulation,
 )
 from gyrolib.rsf.record import RSFRecord
 
-__all__ += ["CorrectionResult", "RSFRecord", "calibrate", "plot_correction",
-            "predicted_delta_k", "record_from_simulation"]
+__all__ += ["CalibrationResult", "RSFRecord", "calibrate", "plot_correction",
+            "record_from_simulation"]
