@@ -43,10 +43,12 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
+from gyrolib import _validation as v
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.gc.budget import ErrorBudget
 from gyrolib.gc.covariance import CovarianceAnalysis, CovarianceSweep
 from gyrolib.gc.nominal import NominalMotion
+from gyrolib.gc.racing import RaceResult, RaceSweep
 from gyrolib.units import ARCSEC, from_si
 
 __all__ = [
@@ -811,8 +813,6 @@ def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = Non
     >>> len(fig.axes)
     1
     """
-    from gyrolib.gc.racing import RaceResult
-
     r = v.check_instance("result", result, RaceResult)
     times = [t for t in (r.t_c_gc, r.t_c_rate_sensor, r.t_c_rate_sensor_optimal)
              if np.isfinite(t)]
@@ -882,8 +882,6 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     1
     """
     from matplotlib.ticker import NullFormatter, ScalarFormatter
-
-    from gyrolib.gc.racing import RaceSweep
 
     sw = v.check_instance("sweep", sweep, RaceSweep)
     field = v.check_str("field", field)
