@@ -155,7 +155,7 @@ class EncoderModel:
     """Encoder as simulated: ``counts_per_rev`` counts per revolution and a once-per-revolution
     position error of amplitude ``position_error`` (rad).  Build it from the datasheet record,
     ``AEDB9340.model()`` (:meth:`~gyrolib.rsf.EncoderSpec.model`: 4000 counts assumed, 0.33°
-    inferred from Table 3 of paper RSF); set the fields directly for resolution sweeps."""
+    as the worked example of paper RSF prints it); set the fields directly for resolution sweeps."""
 
     counts_per_rev: int = AEDB9340.counts_per_rev
     position_error: float = AEDB9340.position_error
