@@ -330,7 +330,8 @@ def _sigma_gc_100s(base: Baseline) -> LedgerItem:
     p, printed = base.params, PRINTED["sigma_gc_100s"]
     sigma, sigma_other = _arcsec_s(base.s100), _arcsec_s(base.cov_other.final_std("omega_gc"))
     lo, hi = sorted((sigma, sigma_other))
-    status = printed_verdict(sigma, printed, [Candidate(f"{base.other} P0", sigma_other)])
+    status = printed_verdict(sigma, printed, [Candidate(f"{p.shaping_p0} P0", sigma),
+                                              Candidate(f"{base.other} P0", sigma_other)])
     return _item(
         "sigma_gc_100s", "Fig. 3 / text", "sigma of the omega_gc estimate at 100 s",
         "arcsec/s (paper's 1\" = 0.485e-5 rad)", sigma, status,

@@ -16,8 +16,9 @@ consistent computation is compared first; where it does not agree, every *candid
 the book can name (a truncation, a unit slip, an unstated reading of the paper) is computed
 and compared by the same rule.  "differs: cause shown" only when every candidate gives the
 print (the print is explained whichever of them is true); "differs: bracketed" when some do
-and others do not, or none does but the print lies between the values the consistent
-computation and the candidates span; "not reproducible" otherwise.
+and others do not, or none does but the print lies between the candidates' values (where the
+candidates are readings of a choice the paper leaves open, the book's own reading among
+them); "not reproducible" otherwise.
 """
 
 from __future__ import annotations
@@ -294,7 +295,8 @@ def printed_verdict(consistent: float, printed: float | str,
     * ``"differs: cause shown"``: it does not, and every candidate agrees (the print is
       explained whichever candidate is true);
     * ``"differs: bracketed"``: some candidates agree and some do not, or none does but the
-      print lies within the range of the consistent value and the candidates;
+      print lies within the range of the candidates' values (list the book's own reading
+      among them when the candidates are readings of an open choice);
     * ``"not reproducible"``: otherwise.
 
     Parameters
@@ -319,7 +321,8 @@ def printed_verdict(consistent: float, printed: float | str,
     'differs: cause shown'
     >>> printed_verdict(0.2034, 0.198, [Candidate("cut", 0.198), Candidate("12 °/h", 0.2)])
     'differs: bracketed'
-    >>> printed_verdict(0.00137, 0.0011, [Candidate("zero P0", 0.00084)])
+    >>> printed_verdict(0.00137, 0.0011, [Candidate("stationary P0", 0.00137),
+    ...                                   Candidate("zero P0", 0.00084)])
     'differs: bracketed'
     """
     if not all(isinstance(c, Candidate) for c in candidates):
@@ -332,8 +335,8 @@ def printed_verdict(consistent: float, printed: float | str,
         return "differs: cause shown"
     if any(hits):
         return "differs: bracketed"
-    values = [float(consistent), *(c.value for c in candidates)]
+    values = [c.value for c in candidates]
     p = float(_print_decimal(printed))
-    if min(values) <= p <= max(values):
+    if values and min(values) <= p <= max(values):
         return "differs: bracketed"
     return "not reproducible"

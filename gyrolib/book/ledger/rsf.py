@@ -46,8 +46,8 @@ from gyrolib.rsf.tables import (
 )
 from gyrolib.units import from_si, to_si
 
-__all__ = ["CLAIM_RATES", "DRZ_TOLERANCE", "PRINTED", "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS",
-           "SIM_SEED", "TIMES", "items"]
+__all__ = ["CLAIM_RATES", "CUBIC_EXPONENT", "DRZ_TOLERANCE", "PRINTED", "RANDOM_RUNS",
+           "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "items"]
 
 #: Table columns of the paper, s.
 TIMES: Final[tuple[int, ...]] = (10, 60, 120)
