@@ -161,10 +161,12 @@ def compensation_share(rates: ArrayLike, *, roll_gyro: RollGyroSpec = SIIMU02_RO
 @dataclass(frozen=True)
 class FlightShares:
     """The share 1 − |δK|_rms/|ε1| of each simulated flight's own SF error that the correction
-    removes, with the sensors' systematic errors drawn at random per flight: ``share`` (one per
-    flight), the correction ``period`` (s), the roll ``rate`` (rad/s) and the ``seed``."""
+    removes, with the sensors' systematic errors drawn at random per flight: ``share`` and the
+    residual ``rms`` δK (one per flight), the correction ``period`` (s), the roll ``rate``
+    (rad/s) and the ``seed``."""
 
     share: NDArray[np.float64]
+    rms: NDArray[np.float64]
     period: float
     rate: float
     seed: int
@@ -219,7 +221,8 @@ def flight_shares(seed: int, *, config: SimulationConfig | None = None, period: 
     record = simulate_flight(cfg, seed=seed)
     rms = np.sqrt(np.mean(run_correction(record, period).delta_k ** 2, axis=1))
     share = np.asarray(fraction_compensated(record.eps1_sins, rms), dtype=float)
-    return FlightShares(share=share, period=period, rate=float(cfg.roll.rate_start), seed=seed)
+    return FlightShares(share=share, rms=rms, period=period, rate=float(cfg.roll.rate_start),
+                        seed=seed)
 
 
 # "Hundreds of times smaller" -------------------------------------------------------------------
