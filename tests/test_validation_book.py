@@ -67,6 +67,14 @@ case("ledger.rsf.items", lambda: lrsf.items(roll_gyro=None), TypeError, "roll_gy
 case("ledger.rsf.items", lambda: lrsf.items(gs_gyro="x"), TypeError, "gs_gyro", "MemsGyroSpec")
 case("ledger.rsf.items", lambda: lrsf.items(encoder=rsf.EncoderModel()), TypeError, "encoder",
      "EncoderSpec")
+case("ledger.agrees", lambda: ledger.agrees(1.0, "about 0.5"), ValueError, "printed")
+case("ledger.agrees", lambda: ledger.agrees(1.0, 1.0, tolerance=0.1), ValueError, "reason")
+case("ledger.agrees", lambda: ledger.agrees("1", 1.0), TypeError, "value", "real")
+case("ledger.half_unit", lambda: ledger.half_unit(None), TypeError, "printed")
+case("ledger.half_unit", lambda: ledger.half_unit(NAN), ValueError, "printed", FINITE)
+case("ledger.printed_verdict", lambda: ledger.printed_verdict(1.0, 1.0, [1.0]), TypeError,
+     "candidates", "Candidate")
+case("ledger.Candidate", lambda: ledger.Candidate("x", NAN), ValueError, "value", FINITE)
 case("ledger.format_value", lambda: ledger.format_value([1.0]), TypeError, "value", "real")
 case("ledger.format_value", lambda: ledger.format_value(NAN), ValueError, "value", FINITE)
 

@@ -42,6 +42,8 @@ case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.0, 1.0),
      ValueError, "xi1", r"\(0.0, 1.0\]")
 case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.5, "1"),
      TypeError, "sigma1_sq")
+case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.5, 1.0, f87="+"),
+     ValueError, "f87", "one of")
 case("gc.random_drift_filter", lambda: gc.random_drift_filter(-1.0, 0.5, 1.0),
      ValueError, "alpha2", POS)
 case("gc.random_drift_filter", lambda: gc.random_drift_filter(1.0, 1.5, 1.0),

@@ -255,6 +255,11 @@ case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], simulated=1
 case("rsf.compensation_share",
      lambda: rsf.compensation_share([1.0], roll_gyro=rsf.RollGyroSpec(sf_error=0.0)),
      ValueError, "roll_gyro.sf_error", "> 0")
+case("rsf.flight_shares", lambda: rsf.flight_shares(-1), ValueError, "seed")
+case("rsf.flight_shares", lambda: rsf.flight_shares(1, period=0.0), ValueError, "period", POS)
+case("rsf.flight_shares", lambda: rsf.flight_shares(1, n_runs=0), ValueError, "n_runs")
+case("rsf.flight_shares", lambda: rsf.flight_shares(1, config="x"), TypeError, "config",
+     "SimulationConfig")
 case("rsf.CompensationShare.share_at",
      lambda: rsf.compensation_share([1.0]).share_at(0.0), ValueError, "rate", POS)
 case("rsf.gs_vs_sins", lambda: rsf.gs_vs_sins([-1.0]), ValueError, "times")
@@ -320,6 +325,7 @@ EXEMPT: dict[str, str] = {
     "rsf.DeltaKTerms": "result object, built by worked_example_terms (checked there)",
     "rsf.CompensationShare": "result object, built by compensation_share (checked there)",
     "rsf.GsVsSins": "result object, built by gs_vs_sins (checked there)",
+    "rsf.FlightShares": "result object, built by flight_shares (checked there)",
     "rsf.RateSweep": "result object, built by sweep_roll_rate (checked there)",
     "rsf.SlipSearch": "result object, built by drz_slip_search (checked there)",
     "rsf.plot_compensation_share": "plot function: takes a result object, no validation by "

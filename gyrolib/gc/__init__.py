@@ -86,6 +86,7 @@ from gyrolib.gc.plots import (
     plot_sweep,
 )
 from gyrolib.gc.shaping_filters import (
+    F87_READINGS,
     ShapingFilter,
     mean_square_standard_error,
     psd,
@@ -109,6 +110,7 @@ from gyrolib.gc.state_space import (
 __all__ = [
     "BUDGET_SOURCES",
     "DISCRETIZATIONS",
+    "F87_READINGS",
     "MEASUREMENT_NAMES",
     "NOISE_NAMES",
     "SEGMENT",

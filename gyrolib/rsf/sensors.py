@@ -101,9 +101,10 @@ class EncoderSpec:
     """Optical encoder of the GS: paper RSF, Avago AEDB-9340.
 
     * ``position_error`` Δγ_enc (rad): "position error per revolution"; the value is lost in
-      the extraction.  Table 3 fixes it: Δγ_GS − ε0,GS·t is 0.33° in all three columns, so
-      the paper used Δγ_enc = 0.33° (≈ 20′).  This is the encoder's accuracy (e.g.
-      code-wheel eccentricity), not its resolution.
+      the encoder's data line, but the worked example of Eq. (7) prints it: 0.33° (≈ 20′;
+      its unit lost too, degrees by the other terms).  Table 3 leaves the same 0.33° in all
+      three columns (Δγ_GS − ε0,GS·t), a cross-check, not the source.  This is the encoder's
+      accuracy (e.g. code-wheel eccentricity), not its resolution.
     * ``cycles_per_rev`` and ``quadrature``: not given by the paper.  The AEDB-9340 family
       is a three-channel (A, B, index) incremental module offered in resolutions up to a few
       thousand cycles per revolution; we *assume* 1000 CPR decoded ×4 (4000 counts per
@@ -147,5 +148,5 @@ SIIMU02_ROLL = RollGyroSpec()
 GYPRO4300 = MemsGyroSpec()
 
 
-#: Paper RSF, the GS encoder: AEDB-9340 (position error inferred from Table 3).
+#: Paper RSF, the GS encoder: AEDB-9340 (position error as the worked example prints it).
 AEDB9340 = EncoderSpec()

@@ -185,8 +185,8 @@ class GsModel:
 class EncoderModel:
     """Encoder as simulated: ``counts_per_rev`` counts per revolution and a once-per-revolution
     position error of amplitude ``position_error`` (rad).  Build it from the datasheet record,
-    ``EncoderModel.from_spec(AEDB9340)`` (4000 counts assumed; the position error of
-    :class:`~gyrolib.rsf.EncoderSpec`); set the fields directly for resolution sweeps."""
+    ``EncoderModel.from_spec(AEDB9340)`` (4000 counts assumed, 0.33° as the worked example
+    of paper RSF prints it); set the fields directly for resolution sweeps."""
 
     counts_per_rev: int = AEDB9340.counts_per_rev
     position_error: float = AEDB9340.position_error
