@@ -45,7 +45,9 @@ from gyrolib.gc.discretization import (
 from gyrolib.gc.montecarlo import (
     MonteCarloResult,
     monte_carlo,
+    run_streams,
     simulate_truth,
+    truth_prior_factor,
 )
 from gyrolib.gc.nominal import (
     NominalMotion,
@@ -146,6 +148,7 @@ __all__ = [
     "psd_integral",
     "psd_two_sided",
     "random_drift_filter",
+    "run_streams",
     "simulate_shaping_filter",
     "simulate_truth",
     "state_index",
@@ -155,6 +158,7 @@ __all__ = [
     "symbolic",
     "system_matrix",
     "time_to_sigma",
+    "truth_prior_factor",
     "vibration_filter",
 ]
 
