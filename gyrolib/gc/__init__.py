@@ -12,6 +12,7 @@ module                  paper GC
 ``discretization``      the filter's discrete model: :func:`discretize`
 ``covariance``          Figure 3: :func:`covariance_analysis`, :func:`time_to_sigma`
 ``montecarlo``          Figure 4: :func:`monte_carlo`
+``linearization``       what linearizing Eq. (3) costs: :func:`linearization_effect`
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
 ``plots``               the figures: ``plot_*``
@@ -45,9 +46,7 @@ from gyrolib.gc.discretization import (
 from gyrolib.gc.montecarlo import (
     MonteCarloResult,
     monte_carlo,
-    run_streams,
     simulate_truth,
-    truth_prior_factor,
 )
 from gyrolib.gc.nominal import (
     NominalMotion,
@@ -148,7 +147,6 @@ __all__ = [
     "psd_integral",
     "psd_two_sided",
     "random_drift_filter",
-    "run_streams",
     "simulate_shaping_filter",
     "simulate_truth",
     "state_index",
@@ -158,7 +156,6 @@ __all__ = [
     "symbolic",
     "system_matrix",
     "time_to_sigma",
-    "truth_prior_factor",
     "vibration_filter",
 ]
 
@@ -198,3 +195,16 @@ __all__ += [
 ]
 __all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
             "plot_calibration", "simulate_record"]
+
+# What the filter's linearization costs against the nonlinear truth (issue 21, item 6)
+from gyrolib.gc.linearization import (  # noqa: E402
+    LinearizationEffect,
+    linearization_effect,
+    psi_for_drift,
+    remainder_drift,
+)
+from gyrolib.gc.montecarlo import run_streams, truth_prior_factor  # noqa: E402
+from gyrolib.gc.plots import plot_linearization  # noqa: E402
+
+__all__ += ["LinearizationEffect", "linearization_effect", "plot_linearization",
+            "psi_for_drift", "remainder_drift", "run_streams", "truth_prior_factor"]

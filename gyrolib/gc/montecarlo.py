@@ -1014,7 +1014,8 @@ def _run_all(task: _ChunkTask, X0: np.ndarray, states: np.ndarray, n_store: int,
 class MonteCarloResult:
     """Monte Carlo runs (paper GC, Figure 4): estimates and truth at ``t`` (every
     ``store_every`` samples), the filter's posterior covariance ``P`` at the same times, the
-    filter's ``params`` and the truth's ``truth_params`` (``None``: the same)."""
+    filter's ``params``, the truth's ``truth_params`` (``None``: the same) and which of its
+    torques were linearized (``truth_mode``: the ``truth`` of :func:`monte_carlo`)."""
 
     params: GyrocompassParams
     t: NDArray[np.float64]
@@ -1023,11 +1024,13 @@ class MonteCarloResult:
     P: NDArray[np.float64]
     seed: int
     truth_params: GyrocompassParams | None = None
+    truth_mode: str = "nonlinear"
 
     def __post_init__(self) -> None:
         _check_params(self.params)
         if self.truth_params is not None:
             v.check_instance("truth_params", self.truth_params, GyrocompassParams)
+        v.check_choice("truth_mode", self.truth_mode, tuple(LINEARIZE))
         nt = v.check_ndarray("t", self.t, ndim=1).size
         runs = v.check_ndarray("est", self.est, shape=(None, nt, N)).shape[0]
         v.check_ndarray("tru", self.tru, shape=(runs, nt, N))
@@ -1165,7 +1168,8 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     se = prep.store_every
     return MonteCarloResult(params=p, t=np.arange(0, n_steps + 1, se) * p.dt, est=est,
                             tru=tru, P=P_stored, seed=int(seed),
-                            truth_params=None if truth_params is None else tp)
+                            truth_params=None if truth_params is None else tp,
+                            truth_mode=truth)
 
 
 class _LazyPhi:
