@@ -73,8 +73,8 @@ def remainder_drift(params: GyrocompassParams, psi: ArrayLike, beta_n: ArrayLike
     '-1.64e-11'
     """
     p = _check_params(params)
-    x = np.asarray(dbeta, dtype=float) - np.asarray(psi, dtype=float)
-    b = np.asarray(beta_n, dtype=float)
+    x = v.check_array("dbeta", dbeta) - v.check_array("psi", psi)
+    b = v.check_array("beta_n", beta_n)
     cm1 = -2.0 * np.sin(0.5 * x) ** 2
     return p.Omega_h * (np.cos(b) * cm1 - np.sin(b) * (np.sin(x) - x))
 
