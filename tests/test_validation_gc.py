@@ -357,6 +357,9 @@ case("gc.MonteCarloResult", lambda: replace(mc(), tru=mc().tru[:1]), ValueError,
 case("gc.MonteCarloResult", lambda: replace(mc(), seed=-3), ValueError, "seed")
 case("gc.MonteCarloResult", lambda: replace(mc(), truth_mode="linearized"), ValueError,
      "truth_mode")
+case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share(confidence=1.5),
+     ValueError, "confidence")
+case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share("psi"), TypeError, "names")
 case("gc.MonteCarloResult.estimate", lambda: mc().estimate("x"), ValueError, "name")
 case("gc.MonteCarloResult.truth", lambda: mc().truth(3), ValueError, "name")
 case("gc.MonteCarloResult.error", lambda: mc().error(None), ValueError, "name")
@@ -469,7 +472,8 @@ EXEMPT: dict[str, str] = {
     "gc.symbolic.display_form": "returns non-sympy objects unchanged (documented)",
     **{f"gc.{name}": "result object built by its compute function, which validates"
        for name in ("ClaimBoundary", "ShapingSweep", "SpeedClaimMap", "ShapingSweep.nominal",
-                    "LinearizationEffect", "LinearizationEffect.excess")},
+                    "LinearizationEffect", "LinearizationEffect.excess",
+                    "LinearizationEffect.residual")},
     **{f"gc.plot_{name}": "plot function: takes result objects, no validation by design"
        for name in ("estimates", "consistency", "sweep", "information", "speed_claim",
                     "mismatch", "linearization")},

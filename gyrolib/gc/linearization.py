@@ -127,6 +127,13 @@ class LinearizationEffect:
         """Paired NEES excess of the nonlinear truth over the linearized one, per time."""
         return self.nees_nonlinear - self.nees_linear
 
+    @property
+    def residual(self) -> NDArray[np.float64]:
+        """Per time, the RMS over the runs of the ω_gc shift less its prediction, relative
+        to the RMS of the prediction (the part of the shift the constant ρ leaves out)."""
+        d = self.omega_shift - self.omega_shift_predicted
+        return np.sqrt(np.mean(d**2, axis=0) / np.mean(self.omega_shift_predicted**2, axis=0))
+
     def inside(self, which: str = "nonlinear") -> float:
         """Share of the stored times at which the full-state NEES of ``which`` truth
         (``"nonlinear"`` or ``"linear"``) lies in its per-time band (about 0.95 expected of

@@ -61,6 +61,7 @@ from numba import int64, njit, uint64
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import _csr, covariance_fast, covariance_reference
 from gyrolib.filtering.discretization import covariance_factor
 from gyrolib.gc.covariance import _default_store_every
@@ -1086,6 +1087,28 @@ class MonteCarloResult:
             sol = np.linalg.solve(C, es.T)
             out[:, ti] = np.sum(es.T * sol, axis=0)
         return out
+
+    def inside_share(self, names: tuple[str, ...] | None = None,
+                     confidence: float = 0.95) -> float:
+        """Share of the stored times ``t > 0`` at which the ensemble-average NEES of
+        ``names`` (default: all 10 states) lies in its two-sided chi-square band of one time
+        {cite:p}`BarShalom2001`.  A consistent filter is inside at ``confidence`` of the times
+        on average; neighbouring times are correlated, so the share of one set of runs
+        scatters widely around that.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> mc = gc.monte_carlo(gc.GyrocompassParams(), 64, 1.0, seed=1, store_every=100)
+        >>> 0.0 <= mc.inside_share(("omega_gc",)) <= 1.0
+        True
+        """
+        conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
+                                high_open=True)
+        x = self.nees(names).mean(axis=0)[1:]
+        dof = N if names is None else len(names)
+        lo, hi = nees_bounds(dof, self.n_runs, conf)
+        return float(np.mean((x > lo) & (x < hi)))
 
 
 def _initial_states(p: GyrocompassParams, n_runs: int, rng: np.random.Generator) -> np.ndarray:
