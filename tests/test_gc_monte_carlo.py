@@ -54,6 +54,10 @@ def test_matched_truth_lies_inside_the_chi_square_band(matched, matched_linear):
     assert lo10 < matched_linear.nees().mean(axis=0)[-1] < hi10
     ratio = matched.rms_error("omega_gc")[-1] / matched.std("omega_gc")[-1]
     assert np.sqrt(lo1) < ratio < np.sqrt(hi1)
+    # the share of times inside, counted by hand from the NEES and the chi-square quantiles
+    x = matched_linear.nees().mean(axis=0)[1:]
+    lo, hi = scipy.stats.chi2.ppf([0.025, 0.975], 10 * N_RUNS) / N_RUNS
+    assert matched_linear.inside_share() == pytest.approx(np.mean((x > lo) & (x < hi)))
 
 
 @pytest.mark.parametrize(("field", "factor"), [("sigma1_sq", 9.0), ("C_as", 100.0)])
