@@ -159,3 +159,29 @@ def check_ndarray(name: str, value: object, *, ndim: int | None = None,
     if value.dtype.kind == "f" and not np.isfinite(value).all():
         raise ValueError(f"{name} must contain only finite values")
     return value
+
+
+def check_series(name: str, value: object, n: int | None = None) -> np.ndarray:
+    """A 1-D float series (a record's column): NaN (a missing value) allowed, ±inf not;
+    ``n`` values when given."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a 1-D array of real numbers") from exc
+    if arr.ndim != 1:
+        raise ValueError(f"{name} must be 1-D; got shape {arr.shape}")
+    if n is not None and arr.size != n:
+        raise ValueError(f"{name} must have {n} values (one per time t); got {arr.size}")
+    if np.any(np.isinf(arr)):
+        raise ValueError(f"{name} must be finite or NaN (missing); got ±inf")
+    return arr
+
+
+def check_times(t: object) -> np.ndarray:
+    """A record's time column ``t``: 1-D, finite, strictly increasing."""
+    t = check_array("t", t, ndim=1, min_size=1)
+    if np.any(np.diff(t) <= 0.0):
+        i = int(np.nonzero(np.diff(t) <= 0.0)[0][0]) + 1
+        raise ValueError(f"t must be strictly increasing; t[{i}] = {t[i]} follows "
+                         f"t[{i - 1}] = {t[i - 1]}")
+    return t

@@ -1,6 +1,8 @@
-"""rsf.calibrate on records: against rsf.run_correction (the simulator's correction loop,
-a separate implementation), closed forms on synthetic records with gaps and NaNs, the
-error model's δK, and the wrapped-count path."""
+"""rsf.calibrate on records and rsf.run_correction on simulations: both against Eqs. (1)–(3)
+written out again here in plain numpy, against each other (they share the correction
+routine but cut the data differently: spans between GS angles vs whole intervals), closed
+forms on synthetic records with gaps and NaNs, the error model's δK, and the wrapped-count
+path."""
 
 from __future__ import annotations
 
@@ -29,6 +31,39 @@ def test_equals_run_correction(flight):
     np.testing.assert_allclose(res.corrected_angle, corrected, rtol=1e-12, atol=1e-9)
 
 
+def _reference(inc: np.ndarray, gs: np.ndarray, n_per: int, lag: int = 1):
+    """Paper RSF, Eqs. (1)–(3), in plain numpy from the text: over interval i the SINS turn
+    Σ ω_x dt and the GS change give ε̂1_i = (Σ ω_x dt − ΔGS)/Σ ω_x dt, K_i = 1 − ε̂1_i
+    multiplies the increments of interval i + ``lag`` (1 in the paper) and after."""
+    n_int = inc.size // n_per
+    sins = inc[: n_int * n_per].reshape(n_int, n_per).sum(axis=1)
+    d_gs = gs[n_per : (n_int + 1) * n_per : n_per] - gs[0 : n_int * n_per : n_per]
+    eps1_hat = (sins - d_gs) / sins
+    k_in_force = np.concatenate([np.ones(lag), 1.0 - eps1_hat])
+    k_step = k_in_force[np.minimum(np.arange(inc.size) // n_per, n_int + lag - 1)]
+    return eps1_hat, np.concatenate([[0.0], np.cumsum(k_step * inc)])
+
+
+def test_both_callers_match_eqs_1_to_3_written_out():
+    """10.5 s at 1 kHz, Δt = 1 s (a trailing half interval): ε̂1 and the corrected angle of
+    run_correction and of calibrate agree with the plain-numpy reference; the same reference
+    with K applied one interval early (in its own interval) does not (power)."""
+    cfg = rsf.SimulationConfig(duration=10.5, sample_rate=1000.0, n_runs=2)
+    sim = rsf.simulate_flight(cfg, seed=31)
+    gs = rsf.gs_angle(sim)
+    run = rsf.run_correction(sim, 1.0)
+    for m in range(2):
+        eps1_hat, corrected = _reference(sim.sins_inc[m], gs[m], 1000)
+        np.testing.assert_allclose(run.eps1_hat[m], eps1_hat, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(run.roll_error_corrected[m] + sim.gamma_true, corrected,
+                                   rtol=0, atol=1e-9)
+        res = rsf.calibrate(rsf.record_from_simulation(sim, m), 1.0)
+        np.testing.assert_allclose(res.eps1_hat, eps1_hat, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(res.corrected_angle, corrected, rtol=0, atol=1e-9)
+        _, early = _reference(sim.sins_inc[m], gs[m], 1000, lag=0)
+        assert np.max(np.abs(early - corrected)) > 1e3 * 1e-9
+
+
 def test_acceptance_within_predicted_delta_k(flight):
     """With NaNs and a gap, every interval's δK = K(1+ε1) − 1 lies within 3σ of what the
     error model predicts for this record (rsf.predict_delta_k, its σ scaled to the part of
@@ -50,8 +85,8 @@ def test_acceptance_within_predicted_delta_k(flight):
     # 300 samples before the gap, 200 after it less the one whose step spans the gap
     assert res.segments[gap_interval] == 2 and res.samples[gap_interval] == 499
     assert abs(dk[gap_interval] - pred.mean) > 3.0 * pred.std
-    # the same through the helper that builds the prediction from the record itself
-    pred2 = rsf.predicted_delta_k(res)
+    # the same at the rate the record itself measured
+    pred2 = rsf.predict_delta_k(CFG, res.period, rate=res.mean_rate)
     assert pred2.std == pytest.approx(pred.std, rel=0.01)
     assert res.gaps == 1 and res.samples_skipped > 0
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from gyrolib import gc, records, rsf
-from gyrolib.__main__ import main
+from gyrolib.cli import main
 from gyrolib.units import from_si
 
 P = gc.GyrocompassParams()
@@ -258,7 +258,7 @@ def test_file_streamed_in_chunks_equals_whole_file(gc_file):
 
 
 def test_progress_bar_only_on_a_terminal_and_cleared(monkeypatch):
-    from gyrolib.records import cli
+    from gyrolib.cli import calibrate as cli
 
     class Tty:
         def __init__(self, tty):

@@ -36,7 +36,17 @@ REQUIRED_IDS = [
     *[f"rsf.table2.dr_z_{t}" for t in (10, 60, 120)],
     *[f"rsf.table3.eps0_t_{t}" for t in (10, 60, 120)],
     *[f"rsf.table3.dgamma_gs_{t}" for t in (10, 60, 120)],
-    "rsf.example.delta_K",
+    "rsf.example.delta_K", "rsf.example.compensated",
+    # the second audit (#21): claims, figures and every input number of both papers
+    "gc.claim.psi_separable", "gc.fig2", "gc.fig3", "gc.faster_percent",
+    "rsf.claim.longer_finer", "rsf.claim.drz_cubic",
+    *[f"gc.input.{k}" for k in ("I", "H", "f", "Omega_v", "Omega_h", "alpha1", "xi1", "alpha2",
+                                "xi2", "omega_ub", "C_as", "C_incl", "dt", "P0_psi",
+                                "P0_omega_gc", "P0_tilts", "sigma_c")],
+    "gc.ref2_minutes", "gc.ref3_minutes",
+    *[f"rsf.input.{k}" for k in ("period", "omega_unc", "omega_example", "omega_table2",
+                                 "spin_min_hz", "spin_max_hz")],
+    "rsf.encoder.position_error",
 ]
 
 
@@ -114,6 +124,7 @@ def _item(**kw):
     ({"kind": "inferred", "status": "reproduced"}, "status of x.y"),
     ({"kind": "claim", "status": "holds under conditions"}, "conditions"),  # say where
     ({"kind": "claim", "status": "holds", "conditions": "only here"}, "conditions"),
+    ({"status": "reproduced", "conditions": "only here"}, "conditions"),  # numbers: none
     ({"evidence": ""}, "evidence"),
     ({"kind": "guess"}, "kind"),
 ])
@@ -122,14 +133,25 @@ def test_item_rejects_a_status_that_does_not_fit_its_kind(kw, match):
         _item(**kw)
 
 
-def test_every_kind_has_an_item_and_the_review_cases_are_classified(items):
+def test_a_failed_claim_may_state_the_assumptions_it_was_tested_under():
+    it = _item(kind="claim", status="fails", conditions="at 900 °/s, 1σ terms added")
+    assert it.conditions.startswith("at 900")
+
+
+def test_every_kind_but_inferred_has_an_item_and_the_review_cases_are_classified(items):
+    """Every kind is in use except 'inferred': the encoder error, once inferred from Table 3,
+    is an input printed by the worked example (second audit)."""
     by_id = {it.id: it for it in items}
-    assert {it.kind for it in items} == set(KINDS)
+    assert {it.kind for it in items} == set(KINDS) - {"inferred"}
     for echoed in ("rsf.table1.bias_instability", "rsf.table1.sf_error", "rsf.gs.sigma_rep",
-                   "rsf.gs.sigma_stab", "rsf.gs.sf_error"):
+                   "rsf.gs.sigma_stab", "rsf.gs.sf_error", "rsf.encoder.position_error"):
         assert by_id[echoed].kind == "input", echoed
-    assert by_id["rsf.encoder.position_error"].kind == "inferred"
     assert all(it.status == "redrawn" for it in items if it.paper_value == "figure")
+    # every input echoes a printed number and says what the book does with it
+    for it in items:
+        if it.kind == "input":
+            assert isinstance(it.paper_value, float) and it.reproduced_value is not None, it.id
+            assert it.reproduced_value == pytest.approx(it.paper_value, rel=1e-9), it.id
 
 
 def test_json_and_markdown_of_a_known_item():

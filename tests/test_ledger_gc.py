@@ -16,7 +16,7 @@ from gyrolib.units import ARCSEC_PAPER
 P = GyrocompassParams()
 REQUIRED = ("gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.fig2.var_N3",
             "gc.fig3.drop_2s", "gc.time_to_sigma_c", "gc.faster_percent",
-            "gc.claim.trend_holds")
+            "gc.claim.trend_holds", "gc.claim.psi_separable", "gc.fig2", "gc.fig3")
 
 
 @pytest.fixture(scope="module")
@@ -110,3 +110,72 @@ def test_items_reject_bad_params():
     """Bad input is rejected by name."""
     with pytest.raises(TypeError, match="params"):
         gc.items("baseline")
+
+
+# The second audit (#21): every input with its role, the separable claim, the figures ---------
+#: Every number paper GC gives and the book uses, as printed (its parameter list and the text
+#: of Eqs. (6)-(8); P0 as standard deviations in the paper's arcsecond), by hand.
+HAND_INPUTS = {
+    "gc.input.I": 0.00004, "gc.input.H": 0.05, "gc.input.f": 0.025,
+    "gc.input.Omega_v": 5.9e-5, "gc.input.Omega_h": 4.3e-5, "gc.input.alpha1": 1.33e-2,
+    "gc.input.xi1": 0.7, "gc.input.alpha2": 6.28, "gc.input.xi2": 0.4,
+    "gc.input.omega_ub": 4.84e-8, "gc.input.C_as": 2e-13, "gc.input.C_incl": 5e-15,
+    "gc.input.dt": 0.001, "gc.input.P0_psi": 180.0, "gc.input.P0_omega_gc": 0.15,
+    "gc.input.P0_tilts": 120.0, "gc.input.sigma_c": 2e-3, "gc.ref2_minutes": 17.0,
+    "gc.ref3_minutes": 20.0, "gc.fig2.var_N1": 1.86e-6, "gc.fig2.var_N3": 2.35e-15,
+}
+
+
+def test_every_input_number_is_echoed_with_its_role(base):
+    """Each input the paper prints is an item of kind 'input' whose printed and used values are
+    the hand-copied print, with its role in the note; a changed parameter moves the echo."""
+    for key, hand in HAND_INPUTS.items():
+        it = base[key]
+        assert it.kind == it.status == "input", key
+        assert it.paper_value == pytest.approx(hand, rel=1e-12), key
+        assert it.reproduced_value == pytest.approx(hand, rel=1e-9), key
+        if key.startswith(("gc.input", "gc.ref")):
+            assert it.note.startswith("role: ") and len(it.note) > 20, key
+    moved = {it.id: it for it in gc.items(replace(P, I=5e-5))}
+    assert moved["gc.input.I"].reproduced_value == pytest.approx(5e-5)
+    assert moved["gc.input.I"].paper_value == pytest.approx(4e-5)
+
+
+def test_psi_and_omega_gc_separate_as_the_closed_form_says(base):
+    """The angle-sensor signatures t (omega_gc) and t^2 (psi) of an aperiodic float correlate
+    by sqrt(15)/4 over any [0, T] (closed form), so the two separate, at a cost of
+    1/sqrt(1 - 15/16) = 4 in sigma with no prior on psi; a frozen float cannot separate them."""
+    it = base["gc.claim.psi_separable"]
+    assert it.kind == "claim" and it.status == "holds under conditions"
+    assert it.reproduced_value == pytest.approx(np.sqrt(15.0) / 4.0, abs=2e-3)
+    ratio = float(re.search(r"costs a factor ([0-9.]+)", it.conditions).group(1))
+    assert ratio == pytest.approx(4.0, abs=0.05)
+    assert "frozen" in it.conditions and "below 1e-12" in it.conditions
+
+
+def test_figures_2_and_3_are_redrawn_beside_their_printed_numbers(base):
+    """Fig. 2 and Fig. 3 are figure items (redrawn); their notes point to the numbers they
+    carry, which are items of their own."""
+    for key, numbers in (("gc.fig2", ("gc.fig2.var_N1", "gc.fig2.var_N3")),
+                         ("gc.fig3", ("gc.sigma_gc_100s", "gc.fig3.drop_2s"))):
+        it = base[key]
+        assert (it.kind, it.status, it.paper_value) == ("figure", "redrawn", "figure")
+        assert all(n in it.note and n in base for n in numbers), key
+
+
+def test_speed_claims_have_their_own_builders_and_say_the_times_are_quoted(base):
+    """time_to_sigma_c and faster_percent share one computation (SpeedEvidence, where
+    gc.race() will be wired) but each has its own builder; both say that 17 and 20 min are
+    times quoted from refs. [2], [3], not their methods rerun."""
+    speed = gc.speed_evidence(gc.baseline(P))
+    assert gc._time_to_sigma_c(speed) == base["gc.time_to_sigma_c"]
+    assert gc._faster_percent(speed) == base["gc.faster_percent"]
+    for key in ("gc.time_to_sigma_c", "gc.faster_percent"):
+        assert "not their methods rerun under the same disturbances" in base[key].conditions
+    assert "quoted" in base["gc.faster_percent"].quantity
+
+
+def test_the_float_rotation_is_quoted_as_printed(base):
+    """GC prints 'на угол 0,5°' with no 'about': the item quotes it so."""
+    it = base["gc.float_rotation_100s"]
+    assert "about" not in it.note + it.evidence and "'0,5°'" in it.note

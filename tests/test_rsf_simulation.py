@@ -256,7 +256,7 @@ def test_the_simulation_defaults_are_the_datasheet_records_by_hand():
     assert cfg.encoder.counts_per_rev == 1000 * 4
     assert cfg.encoder.position_error == pytest.approx(math.radians(0.33), rel=1e-15)
     # A changed record changes the model it builds (the spec is the one description).
-    enc = dataclasses.replace(rsf.AEDB9340, cycles_per_rev=256).model()
+    enc = rsf.EncoderModel.from_spec(dataclasses.replace(rsf.AEDB9340, cycles_per_rev=256))
     assert enc.counts_per_rev == 1024 and enc.resolution == pytest.approx(2 * math.pi / 1024)
 
 
@@ -264,7 +264,8 @@ def test_unwrapped_count_equals_the_never_wrapped_count_at_every_sample():
     """unwrap_counts recovers, to the count, what an encoder that never restarts would show
     (encoder_counts(wrap=False)), over hundreds of revolutions at 3600 °/s."""
     cfg = rsf.SimulationConfig(roll=rsf.RollProfile(math.radians(3600.0)),
-                               gs=rsf.GYPRO4300.model(motor_rate_max=math.inf), duration=20.0)
+                               gs=rsf.GsModel.from_spec(rsf.GYPRO4300, motor_rate_max=math.inf),
+                               duration=20.0)
     rec = rsf.simulate_flight(cfg, seed=3)
     args = (rec.theta_rel, cfg.encoder, rec.encoder_phase)
     unwrapped = rsf.unwrap_counts(rsf.encoder_counts(*args), cfg.encoder.counts_per_rev)

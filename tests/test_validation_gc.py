@@ -9,6 +9,8 @@ methods; hypothesis properties cover continuous ranges.
 
 from __future__ import annotations
 
+import functools
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -40,6 +42,8 @@ case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.0, 1.0),
      ValueError, "xi1", r"\(0.0, 1.0\]")
 case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.5, "1"),
      TypeError, "sigma1_sq")
+case("gc.vibration_filter", lambda: gc.vibration_filter(1.0, 0.5, 1.0, f87="+"),
+     ValueError, "f87", "one of")
 case("gc.random_drift_filter", lambda: gc.random_drift_filter(-1.0, 0.5, 1.0),
      ValueError, "alpha2", POS)
 case("gc.random_drift_filter", lambda: gc.random_drift_filter(1.0, 1.5, 1.0),
@@ -462,6 +466,88 @@ case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), Value
      "truth", FINITE)
 
 
+# the race against the rate-sensor method (gc.ratesensor, gc.racing); the race computed once
+@functools.cache
+def _race():
+    return gc.race()
+
+
+_RPROC = gc.RateSensorProcedure()
+_RMODEL = gc.rate_sensor_model()
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(T_rot=-1.0), ValueError,
+     "T_rot", NONNEG)
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(T_settle=NAN), ValueError,
+     "T_settle", FINITE)
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(rate_noise=0.0), ValueError,
+     "rate_noise", POS)
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(split=1.0), ValueError,
+     "split", r"\(0.0, 1.0\)")
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(vibration_frame="x"),
+     ValueError, "vibration_frame", "one of")
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(sample_dt="0.1"), TypeError,
+     "sample_dt")
+case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(procedure=P), TypeError,
+     "procedure", "RateSensorProcedure")
+case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(_RPROC), TypeError, "params",
+     "GyrocompassParams")
+case("gc.RateSensorModel", lambda: replace(_RMODEL, F=np.zeros((2, 2))), ValueError, "F",
+     "shape")
+case("gc.RateSensorModel.classical_sigma", lambda: _RMODEL.classical_sigma(0.0, 1.0),
+     ValueError, "t1", POS)
+case("gc.RateSensorModel.classical_sigma", lambda: _RMODEL.classical_sigma(1.0, NAN),
+     ValueError, "t2", FINITE)
+case("gc.RateSensorModel.classical_curve", lambda: _RMODEL.classical_curve(1.0, 0.01),
+     ValueError, "t2", "sample")
+case("gc.RateSensorModel.optimal_run", lambda: _RMODEL.optimal_run(-1.0, 1.0), ValueError,
+     "t1", POS)
+case("gc.OptimalRun", lambda: gc.OptimalRun(np.zeros(3), np.zeros(2), ()), ValueError,
+     "sigma", "shape")
+case("gc.OptimalRun.time_to", lambda: _RMODEL.optimal_run(1.0, 1.0).time_to(NAN),
+     ValueError, "level", FINITE)
+case("gc.rate_sensor_monte_carlo", lambda: gc.rate_sensor_monte_carlo(t1=1.0, t2=1.0,
+                                                                      n_runs=1),
+     ValueError, "n_runs", ">= 2")
+case("gc.rate_sensor_monte_carlo", lambda: gc.rate_sensor_monte_carlo(t1=1.0, t2=1.0,
+                                                                      seed=-1),
+     ValueError, "seed", ">= 0")
+case("gc.rate_sensor_monte_carlo", lambda: gc.rate_sensor_monte_carlo(t1=0.0, t2=1.0),
+     ValueError, "t1", POS)
+case("gc.rate_sensor_monte_carlo", lambda: gc.rate_sensor_monte_carlo(
+    t1=1.0, t2=1.0, truth_params=_RPROC), TypeError, "truth_params", "GyrocompassParams")
+case("gc.RateSensorMonteCarlo", lambda: gc.RateSensorMonteCarlo(
+    np.zeros(3), -1.0, (0.9, 1.1), 1.0, 1.0, 0), ValueError, "sigma", POS)
+case("gc.turn_accuracy_limit", lambda: gc.turn_accuracy_limit(P, 0.0), ValueError, "level",
+     POS)
+case("gc.turn_accuracy_limit", lambda: gc.turn_accuracy_limit(_RPROC), TypeError, "params")
+case("gc.race", lambda: gc.race("paper"), TypeError, "params", "GyrocompassParams")
+case("gc.race", lambda: gc.race(P, {"T_rot": 1.0}), TypeError, "procedure")
+case("gc.RaceResult", lambda: replace(_race(), t_gc=np.zeros(2)), ValueError, "sigma_gc",
+     "shape")
+case("gc.RaceResult.conditions", lambda: _race().conditions(100.0), ValueError, "percent",
+     r"\(0.0, 100.0\)")
+case("gc.race_sweep", lambda: gc.race_sweep(cases=[{"T_turn": 1.0}]), ValueError, "cases",
+     "fields")
+case("gc.race_sweep", lambda: gc.race_sweep(cases={"T_rot": 1.0}), TypeError, "cases")
+case("gc.race_sweep", lambda: gc.race_sweep(cases=[{"T_rot": -1.0}]), ValueError, "T_rot",
+     NONNEG)
+case("gc.RaceSweep", lambda: gc.RaceSweep(P, _RPROC, ({},), np.zeros(2), np.zeros(1),
+                                          np.zeros(1)), ValueError, "t_c_gc", "one time")
+case("gc.RaceSweep.faster_percent",
+     lambda: gc.RaceSweep(P, _RPROC, ({},), np.ones(1), np.ones(1), np.ones(1))
+     .faster_percent("best"), ValueError, "estimator", "one of")
+case("gc.procedure_for_time", lambda: gc.procedure_for_time(P, None, "sigma_rot", 60.0),
+     ValueError, "field", "one of")
+case("gc.procedure_for_time", lambda: gc.procedure_for_time(P, None, "overhead", NAN),
+     ValueError, "target", FINITE)
+case("gc.procedure_for_time", lambda: gc.procedure_for_time(P, None, "overhead", 60.0,
+                                                            rtol=0.0),
+     ValueError, "rtol")
+case("gc.plot_race", lambda: gc.plot_race(None), TypeError, "result", "RaceResult")
+case("gc.plot_race", lambda: gc.plot_race(_race(), t_end=-1.0), ValueError, "t_end", POS)
+case("gc.plot_race_sweep", lambda: gc.plot_race_sweep(None, "T_rot"), TypeError, "sweep",
+     "RaceSweep")
+
+
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
 def test_bad_input_is_rejected_by_name(call, exc, pattern):
     run_case(call, exc, pattern)
@@ -484,6 +570,7 @@ EXEMPT: dict[str, str] = {
     "gc.plot_nominal_motion": "plot function: takes result objects, no validation by design",
     "gc.plot_figure1": "plot function: drawing options only, no validation by design",
     "gc.parameter_grid": "builds cases; sweep_covariance validates them at the door",
+    "gc.RaceConditions": "result object built by RaceResult.conditions, which validates",
 }
 
 

@@ -187,7 +187,7 @@ case("rsf.ResolutionSweep", lambda: rsf.ResolutionSweep(T5, T5, T5, "a", T5, T5,
 
 # rsf_plots
 
-# calibration on a record: rsf.calibrate, RSFRecord, CorrectionResult
+# calibration on a record: rsf.calibrate, RSFRecord, CalibrationResult
 _RREC = rsf.RSFRecord(t=[0.0, 0.5, 1.0], sins_increment=[0.0, 1.0, 1.0],
                       gs_angle=[0.0, 1.0, 2.0])
 _RRES = rsf.calibrate(_RREC, 0.5)
@@ -209,21 +209,22 @@ case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, k_form="square"), ValueE
 case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, dt=-1.0), ValueError, "dt", POS)
 case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, time_tolerance=0.0), ValueError,
      "time_tolerance")
-case("rsf.CorrectionResult", lambda: replace(_RRES, k=np.zeros(7)), ValueError, "k",
+case("rsf.CalibrationResult", lambda: replace(_RRES, k=np.zeros(7)), ValueError, "k",
      "shape")
-case("rsf.CorrectionResult", lambda: replace(_RRES, period=0.0), ValueError, "period", POS)
-case("rsf.CorrectionResult.delta_k", lambda: _RRES.delta_k(1.5), ValueError, "eps1",
+case("rsf.CalibrationResult", lambda: replace(_RRES, period=0.0), ValueError, "period", POS)
+case("rsf.CalibrationResult", lambda: replace(_RRES, gaps=-1), ValueError, "gaps", ">= 0")
+case("rsf.CalibrationResult.delta_k", lambda: _RRES.delta_k(1.5), ValueError, "eps1",
      r"\(-1.0, 1.0\)")
-case("rsf.CorrectionResult.delta_k_std", lambda: _RRES.delta_k_std(0.1), TypeError,
+case("rsf.CalibrationResult.delta_k_std", lambda: _RRES.delta_k_std(0.1), TypeError,
      "prediction", "DeltaKPrediction")
-case("rsf.predicted_delta_k", lambda: rsf.predicted_delta_k(None), TypeError, "result",
-     "CorrectionResult")
-case("rsf.predicted_delta_k", lambda: rsf.predicted_delta_k(_RRES, "paper"), TypeError,
-     "config", "SimulationConfig")
+case("rsf.predict_delta_k", lambda: rsf.predict_delta_k(cfg(), 0.5, rate=-_RRES.mean_rate),
+     ValueError, "rate", POS)
+case("rsf.predict_delta_k", lambda: rsf.predict_delta_k(
+    replace(cfg(), roll=rsf.RollProfile(10.0, 20.0)), 0.5), ValueError, "config", "constant")
 case("rsf.record_from_simulation", lambda: rsf.record_from_simulation(None), TypeError,
      "sim", "SensorRecord")
 case("rsf.plot_correction", lambda: rsf.plot_correction(None), TypeError, "result",
-     "CorrectionResult")
+     "CalibrationResult")
 case("rsf.plot_correction", lambda: rsf.plot_correction(_RRES, prediction=3), TypeError,
      "prediction", "DeltaKPrediction")
 
@@ -254,6 +255,11 @@ case("rsf.compensation_share", lambda: rsf.compensation_share([1.0], simulated=1
 case("rsf.compensation_share",
      lambda: rsf.compensation_share([1.0], roll_gyro=rsf.RollGyroSpec(sf_error=0.0)),
      ValueError, "roll_gyro.sf_error", "> 0")
+case("rsf.flight_shares", lambda: rsf.flight_shares(-1), ValueError, "seed")
+case("rsf.flight_shares", lambda: rsf.flight_shares(1, period=0.0), ValueError, "period", POS)
+case("rsf.flight_shares", lambda: rsf.flight_shares(1, n_runs=0), ValueError, "n_runs")
+case("rsf.flight_shares", lambda: rsf.flight_shares(1, config="x"), TypeError, "config",
+     "SimulationConfig")
 case("rsf.CompensationShare.share_at",
      lambda: rsf.compensation_share([1.0]).share_at(0.0), ValueError, "rate", POS)
 case("rsf.gs_vs_sins", lambda: rsf.gs_vs_sins([-1.0]), ValueError, "times")
@@ -273,9 +279,16 @@ case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, base=1), Type
 case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, period=0.0), ValueError,
      "period", POS)
 
-case("rsf.RollGyroSpec.model", lambda: rsf.SIIMU02_ROLL.model(arw=-1.0), ValueError, "arw",
-     NONNEG)
-case("rsf.MemsGyroSpec.model", lambda: rsf.GYPRO4300.model(ki=0.0), ValueError, "ki", POS)
+case("rsf.SinsGyroModel.from_spec",
+     lambda: rsf.SinsGyroModel.from_spec(rsf.SIIMU02_ROLL, arw=-1.0), ValueError, "arw", NONNEG)
+case("rsf.SinsGyroModel.from_spec", lambda: rsf.SinsGyroModel.from_spec(rsf.GYPRO4300),
+     TypeError, "spec", "RollGyroSpec")
+case("rsf.GsModel.from_spec", lambda: rsf.GsModel.from_spec(rsf.GYPRO4300, ki=0.0), ValueError,
+     "ki", POS)
+case("rsf.GsModel.from_spec", lambda: rsf.GsModel.from_spec(rsf.AEDB9340), TypeError, "spec",
+     "MemsGyroSpec")
+case("rsf.EncoderModel.from_spec", lambda: rsf.EncoderModel.from_spec(rsf.GYPRO4300), TypeError,
+     "spec", "EncoderSpec")
 case("rsf.worked_example_terms", lambda: rsf.worked_example_terms(dt=0.0), ValueError, "dt",
      POS)
 case("rsf.worked_example_terms", lambda: rsf.worked_example_terms(eps1_gs=-1.0), ValueError,
@@ -309,10 +322,10 @@ EXEMPT: dict[str, str] = {
     "rsf.difference_error": "one-line formula: inputs checked at the doors (records, configs, entry points)",
     "rsf.lateral_acceleration_error": "one-line formula: inputs checked at the doors (records, configs, entry points)",
     "rsf.lateral_deviation_cubic": "one-line formula: inputs checked at the doors (records, configs, entry points)",
-    "rsf.EncoderSpec.model": "no arguments: the record was validated when it was built",
     "rsf.DeltaKTerms": "result object, built by worked_example_terms (checked there)",
     "rsf.CompensationShare": "result object, built by compensation_share (checked there)",
     "rsf.GsVsSins": "result object, built by gs_vs_sins (checked there)",
+    "rsf.FlightShares": "result object, built by flight_shares (checked there)",
     "rsf.RateSweep": "result object, built by sweep_roll_rate (checked there)",
     "rsf.SlipSearch": "result object, built by drz_slip_search (checked there)",
     "rsf.plot_compensation_share": "plot function: takes a result object, no validation by "

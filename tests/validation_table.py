@@ -28,8 +28,13 @@ import sympy as sp  # noqa: F401 - used by the tables
 from hypothesis import settings
 from hypothesis import strategies as st
 
-from gyrolib import __main__ as cli  # noqa: F401 - used by the tables
-from gyrolib import filtering, gc, rsf, units  # noqa: F401
+from gyrolib import (  # noqa: F401
+    cli,
+    filtering,
+    gc,
+    rsf,
+    units,
+)
 from gyrolib.book import ledger, report  # noqa: F401
 from gyrolib.book.ledger import gc as lgc  # noqa: F401
 from gyrolib.book.ledger import rsf as lrsf  # noqa: F401
@@ -151,6 +156,8 @@ def public_callables(modules: dict) -> set[str]:
             if inspect.isclass(obj):
                 out.add(f"{mod_name}.{name}")
                 for meth_name, meth in vars(obj).items():
+                    if isinstance(meth, classmethod | staticmethod):
+                        meth = meth.__func__
                     if (not meth_name.startswith("_") and inspect.isfunction(meth)
                             and _takes_input(meth)):
                         out.add(f"{mod_name}.{name}.{meth_name}")

@@ -15,6 +15,14 @@ module                  paper GC
 ``linearization``       what linearizing Eq. (3) costs: :func:`linearization_effect`
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
+``claims``              the speed-claim map and the shaping-filter sweep
+``record``              :class:`GCRecord`, a recorded log the calibration reads (SI)
+``calibration``         the filter on a recorded log: :func:`calibrate`
+``ratesensor``          ref. [3], the method GC replaces: :class:`RateSensorProcedure`,
+                        :func:`rate_sensor_model` (classical and optimal estimators),
+                        :func:`rate_sensor_monte_carlo`
+``racing``              the race against it: :func:`race`, :func:`race_sweep`,
+                        :func:`procedure_for_time`
 ``plots``               the figures: ``plot_*``
 ======================  ===============================================================
 
@@ -79,6 +87,7 @@ from gyrolib.gc.plots import (
     plot_sweep,
 )
 from gyrolib.gc.shaping_filters import (
+    F87_READINGS,
     ShapingFilter,
     mean_square_standard_error,
     psd,
@@ -102,6 +111,7 @@ from gyrolib.gc.state_space import (
 __all__ = [
     "BUDGET_SOURCES",
     "DISCRETIZATIONS",
+    "F87_READINGS",
     "MEASUREMENT_NAMES",
     "NOISE_NAMES",
     "SEGMENT",
@@ -178,8 +188,30 @@ from gyrolib.gc.claims import (
     speed_claim_map,
     time_to_level,
 )
-from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
-from gyrolib.records.tables import GCRecord
+
+# The race against the rate-sensor method of ref. [3] (issue 17), with the claims plots
+from gyrolib.gc.plots import plot_mismatch, plot_race, plot_race_sweep, plot_speed_claim
+from gyrolib.gc.racing import (
+    PROCEDURE_TARGETS,
+    RaceConditions,
+    RaceResult,
+    RaceSweep,
+    procedure_for_time,
+    race,
+    race_sweep,
+)
+from gyrolib.gc.ratesensor import (
+    RS_STATE_NAMES,
+    VIBRATION_FRAMES,
+    OptimalRun,
+    RateSensorModel,
+    RateSensorMonteCarlo,
+    RateSensorProcedure,
+    rate_sensor_model,
+    rate_sensor_monte_carlo,
+    turn_accuracy_limit,
+)
+from gyrolib.gc.record import GCRecord
 
 __all__ += [
     "SHAPING_FIELDS",
@@ -195,6 +227,27 @@ __all__ += [
 ]
 __all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
             "plot_calibration", "simulate_record"]
+
+__all__ += [
+    "PROCEDURE_TARGETS",
+    "RS_STATE_NAMES",
+    "VIBRATION_FRAMES",
+    "OptimalRun",
+    "RaceConditions",
+    "RaceResult",
+    "RaceSweep",
+    "RateSensorModel",
+    "RateSensorMonteCarlo",
+    "RateSensorProcedure",
+    "plot_race",
+    "plot_race_sweep",
+    "procedure_for_time",
+    "race",
+    "race_sweep",
+    "rate_sensor_model",
+    "rate_sensor_monte_carlo",
+    "turn_accuracy_limit",
+]
 
 # What the filter's linearization costs against the nonlinear truth (issue 21, item 6)
 from gyrolib.gc.linearization import (  # noqa: E402

@@ -41,6 +41,7 @@ from gyrolib import _validation as v
 from gyrolib.filtering.discretization import van_loan, van_loan_derivatives
 from gyrolib.gc.discretization import SEGMENT, _affine_parts, _etd2_advance, _etd2_coefficients
 from gyrolib.gc.params import MEASUREMENT_NAMES, STATE_NAMES, GyrocompassParams, state_index
+from gyrolib.gc.record import GCRecord
 from gyrolib.gc.state_space import (
     initial_covariance,
     measurement_matrix,
@@ -48,7 +49,6 @@ from gyrolib.gc.state_space import (
     noise_input_matrix,
     process_noise_intensity,
 )
-from gyrolib.records.tables import GCRecord
 
 __all__ = [
     "CalibrationResult",

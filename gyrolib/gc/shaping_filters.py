@@ -45,6 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib._validation import (
     check_array,
+    check_choice,
     check_in_range,
     check_int,
     check_nonnegative,
@@ -53,6 +54,7 @@ from gyrolib._validation import (
 )
 
 __all__ = [
+    "F87_READINGS",
     "ShapingFilter",
     "mean_square_standard_error",
     "psd",
@@ -96,6 +98,18 @@ class ShapingFilter:
         2
         """
         return control.ss(self.A, self.B, self.C, np.zeros((1, 1)))
+
+    def poles(self) -> NDArray[np.complex128]:
+        """The filter's poles, the eigenvalues of ``A`` (1/s), sorted by real part: the
+        filter is stable when every real part is negative.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> gc.GyrocompassParams().vibration_filter().poles().real.round(5)
+        array([-0.00931, -0.00931])
+        """
+        return np.sort_complex(np.linalg.eigvals(self.A).astype(complex))
 
     def stationary_covariance(self) -> NDArray[np.float64]:
         """Steady-state covariance of the filter state (continuous Lyapunov equation).
@@ -173,10 +187,19 @@ class ShapingFilter:
         return Phi, 0.5 * (Qd + Qd.T)
 
 
-def vibration_filter(alpha1: float, xi1: float, sigma1_sq: float) -> ShapingFilter:
+#: Readings of F(8,7) of paper GC: ``"eq6"`` (−α1², as Eq. (6) requires) or ``"printed"``
+#: (+α1², as the listing prints it: the filter is unstable).
+F87_READINGS = ("eq6", "printed")
+
+
+def vibration_filter(alpha1: float, xi1: float, sigma1_sq: float, *,
+                     f87: str = "eq6") -> ShapingFilter:
     """Vibration shaping filter of paper GC, Eq. (6); state ``(N1, N2)``, output ``N1``.
 
     The white-noise intensity is ``Q1 = 2 ξ1 α1 σ1²`` (paper GC, text after Eq. (6)).
+    ``f87="printed"`` gives the filter with F(8,7) = +α1² as the paper's F listing prints it
+    (a dropped minus sign): one pole is then positive and the filter has no stationary
+    variance.  The one place the book computes that pole (:meth:`ShapingFilter.poles`).
 
     Parameters
     ----------
@@ -186,6 +209,8 @@ def vibration_filter(alpha1: float, xi1: float, sigma1_sq: float) -> ShapingFilt
         Damping ratio ξ1, in (0, 1].
     sigma1_sq : float
         Variance σ1² of N1 (m²/s⁴, > 0).
+    f87 : {"eq6", "printed"}, optional
+        The sign of F(8,7): Eq. (6)'s −α1² (default) or the listing's +α1².
 
     Returns
     -------
@@ -196,11 +221,15 @@ def vibration_filter(alpha1: float, xi1: float, sigma1_sq: float) -> ShapingFilt
     >>> from gyrolib import gc
     >>> f"{gc.vibration_filter(1.33e-2, 0.7, 1.86e-6).variance():.3g}"
     '1.86e-06'
+    >>> gc.vibration_filter(1.33e-2, 0.7, 1.86e-6, f87="printed").poles().real.round(4)
+    array([-0.0255,  0.0069])
     """
     a = check_positive("alpha1", alpha1)
     xi = check_in_range("xi1", xi1, 0.0, 1.0, low_open=True)
     s2 = check_positive("sigma1_sq", sigma1_sq)
-    A = np.array([[0.0, 1.0], [-(a**2), -2.0 * xi * a]])
+    check_choice("f87", f87, F87_READINGS)
+    sign = -1.0 if f87 == "eq6" else 1.0
+    A = np.array([[0.0, 1.0], [sign * a**2, -2.0 * xi * a]])
     B = np.array([[1.0], [a - 2.0 * xi * a]])
     C = np.array([[1.0, 0.0]])
     return ShapingFilter(A=A, B=B, C=C, Q=2.0 * xi * a * s2)

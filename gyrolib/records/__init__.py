@@ -1,11 +1,13 @@
-"""Reading measurement records and parameter files for the calibration commands.
+"""Reading measurement records and parameter files: CSV files into the plain record objects
+:class:`gyrolib.gc.GCRecord` and :class:`gyrolib.rsf.RSFRecord` that the paper subpackages
+accept (records imports them; they never import records).
 
 ==================  ===============================================================
 module              what it holds
 ==================  ===============================================================
-``csv``             :func:`read_csv`, :func:`iter_csv` (CSV or ``.csv.gz``, ``#`` comments,
-                    chunked), :class:`GCRecord`, :class:`RSFRecord`, :func:`read_gc`,
-                    :func:`iter_gc`, :func:`read_rsf`
+``tables``          :func:`read_csv`, :func:`iter_csv` (CSV or ``.csv.gz``, ``#`` comments,
+                    chunked), :func:`read_gc`, :class:`GCChunks` (a long record in chunks),
+                    :func:`read_rsf`, :func:`write_csv`
 ``params``          :func:`load_toml`, :func:`gc_params_from_toml`,
                     :func:`rsf_config_from_toml`
 ``errors``          :class:`RecordError` (a bad file: names the file, row and column)
@@ -29,7 +31,6 @@ from gyrolib.records.tables import (
     GCRecord,
     RSFRecord,
     iter_csv,
-    iter_gc,
     read_csv,
     read_gc,
     read_rsf,
@@ -45,7 +46,6 @@ __all__ = [
     "RecordError",
     "gc_params_from_toml",
     "iter_csv",
-    "iter_gc",
     "load_toml",
     "read_csv",
     "read_gc",

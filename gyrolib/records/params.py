@@ -18,7 +18,9 @@ import os
 import tomllib
 from pathlib import Path
 
+from gyrolib.gc.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
+from gyrolib.rsf.simulation import SimulationConfig
 
 __all__ = ["gc_params_from_toml", "load_toml", "rsf_config_from_toml"]
 
@@ -60,8 +62,6 @@ def _replace(label: str, obj: object, values: dict, where: str = "") -> object:
 def gc_params_from_toml(path: object | None = None, base: object | None = None):
     """:class:`gyrolib.gc.GyrocompassParams` with the fields of the TOML file ``path``
     (``None``: the paper's values) applied over ``base`` (default: the paper's values)."""
-    from gyrolib.gc.params import GyrocompassParams
-
     base = GyrocompassParams() if base is None else base
     if path is None:
         return base
@@ -74,8 +74,6 @@ _RSF_TABLES = ("sins", "gs", "encoder")
 def rsf_config_from_toml(path: object | None = None, base: object | None = None):
     """:class:`gyrolib.rsf.SimulationConfig` whose ``sins``, ``gs`` and ``encoder`` models
     take the fields of the TOML tables ``[sins]``, ``[gs]``, ``[encoder]``."""
-    from gyrolib.rsf.simulation import SimulationConfig
-
     cfg = SimulationConfig() if base is None else base
     if path is None:
         return cfg

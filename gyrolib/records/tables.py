@@ -22,14 +22,15 @@ import io
 import math
 import os
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Final
 
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib.gc.record import GCRecord
 from gyrolib.records.errors import RecordError
+from gyrolib.rsf.record import RSFRecord
 
 __all__ = [
     "GC_COLUMNS",
@@ -37,7 +38,6 @@ __all__ = [
     "GCRecord",
     "RSFRecord",
     "iter_csv",
-    "iter_gc",
     "read_csv",
     "read_gc",
     "read_rsf",
@@ -54,129 +54,6 @@ RSF_COLUMNS: Final[tuple[str, ...]] = ("t", "sins_increment", "gs_angle")
 CHUNK_ROWS: Final[int] = 65536
 
 _MISSING: Final[frozenset[str]] = frozenset({"", "nan", "+nan", "-nan"})
-
-
-# Records ----------------------------------------------------------------------------------
-def _column(name: str, value: object, n: int | None = None) -> np.ndarray:
-    """A 1-D float column; NaN (a missing value) allowed, ±inf not."""
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a 1-D array of real numbers") from exc
-    if arr.ndim != 1:
-        raise ValueError(f"{name} must be 1-D; got shape {arr.shape}")
-    if n is not None and arr.size != n:
-        raise ValueError(f"{name} must have {n} values (one per time t); got {arr.size}")
-    if np.any(np.isinf(arr)):
-        raise ValueError(f"{name} must be finite or NaN (missing); got ±inf")
-    return arr
-
-
-def _times(t: object) -> np.ndarray:
-    t = v.check_array("t", t, ndim=1, min_size=1)
-    if np.any(np.diff(t) <= 0.0):
-        i = int(np.nonzero(np.diff(t) <= 0.0)[0][0]) + 1
-        raise ValueError(f"t must be strictly increasing; t[{i}] = {t[i]} follows "
-                         f"t[{i - 1}] = {t[i - 1]}")
-    return t
-
-
-@dataclass(frozen=True)
-class GCRecord:
-    """A paper-GC measurement record (SI): time ``t`` (s, strictly increasing, >= 0; the
-    feedback is switched off at t = 0 with the float at β = 0), the float angle
-    ``angle_sensor`` (rad) and the specific forces ``inclinometer_y``, ``inclinometer_z``
-    (m/s², Eq. (8)'s measurement model).  NaN marks a missing measurement.
-
-    Examples
-    --------
-    >>> rec = GCRecord(t=[0.001, 0.002], angle_sensor=[0.0, 1e-6],
-    ...                inclinometer_y=[0.0, 0.0], inclinometer_z=[0.0, float("nan")])
-    >>> rec.n, int(rec.missing().sum())
-    (2, 1)
-    """
-
-    t: np.ndarray
-    angle_sensor: np.ndarray
-    inclinometer_y: np.ndarray
-    inclinometer_z: np.ndarray
-
-    def __post_init__(self) -> None:
-        t = _times(self.t)
-        if t[0] < 0.0:
-            raise ValueError(f"t must be >= 0 (time since the feedback was switched off); "
-                             f"got t[0] = {t[0]}")
-        object.__setattr__(self, "t", t)
-        for name in GC_COLUMNS[1:]:
-            object.__setattr__(self, name, _column(name, getattr(self, name), t.size))
-
-    @property
-    def n(self) -> int:
-        """Number of rows."""
-        return int(self.t.size)
-
-    def measurements(self) -> np.ndarray:
-        """``(n, 3)`` array of the three sensors, in the order of
-        :data:`gyrolib.gc.MEASUREMENT_NAMES`."""
-        return np.column_stack([self.angle_sensor, self.inclinometer_y, self.inclinometer_z])
-
-    def missing(self) -> np.ndarray:
-        """``(n, 3)`` boolean: which measurements are missing (NaN)."""
-        return np.isnan(self.measurements())
-
-
-@dataclass(frozen=True)
-class RSFRecord:
-    """A paper-RSF record (SI): time ``t`` (s, strictly increasing), the SINS roll-angle
-    increment ``sins_increment`` (rad) over the sample ending at ``t``, and either the GS roll
-    angle ``gs_angle`` (rad, unwrapped, relative to t = 0) or the wrapped ``encoder_counts``
-    with ``counts_per_rev`` (and, for a GS whose platform turns, ``gs_gyro_angle``: the
-    integrated reading of its MEMS gyro, rad; the GS angle is encoder angle plus it, paper
-    RSF Figure 2).  NaN marks a missing value.
-
-    Examples
-    --------
-    >>> rec = RSFRecord(t=[0.0, 0.01, 0.02], sins_increment=[0.0, 0.157, 0.157],
-    ...                 gs_angle=[0.0, 0.1569, 0.3138])
-    >>> rec.n, rec.gs_angle is not None
-    (3, True)
-    """
-
-    t: np.ndarray
-    sins_increment: np.ndarray
-    gs_angle: np.ndarray | None = None
-    encoder_counts: np.ndarray | None = None
-    counts_per_rev: int | None = None
-    gs_gyro_angle: np.ndarray | None = None
-
-    def __post_init__(self) -> None:
-        t = _times(self.t)
-        object.__setattr__(self, "t", t)
-        object.__setattr__(self, "sins_increment",
-                           _column("sins_increment", self.sins_increment, t.size))
-        if (self.gs_angle is None) == (self.encoder_counts is None):
-            raise ValueError("exactly one of gs_angle and encoder_counts must be given")
-        if self.gs_angle is not None:
-            object.__setattr__(self, "gs_angle", _column("gs_angle", self.gs_angle, t.size))
-            if self.counts_per_rev is not None or self.gs_gyro_angle is not None:
-                raise ValueError("counts_per_rev and gs_gyro_angle go with encoder_counts, "
-                                 "not gs_angle")
-            return
-        if self.gs_gyro_angle is not None:
-            object.__setattr__(self, "gs_gyro_angle",
-                               _column("gs_gyro_angle", self.gs_gyro_angle, t.size))
-        c = _column("encoder_counts", self.encoder_counts, t.size)
-        n = v.check_int("counts_per_rev", self.counts_per_rev, 2)
-        ok = ~np.isnan(c)
-        if np.any((c[ok] != np.round(c[ok])) | (c[ok] < 0) | (c[ok] >= n)):
-            i = int(np.nonzero(ok & ((c != np.round(c)) | (c < 0) | (c >= n)))[0][0])
-            raise ValueError(f"encoder_counts must be whole counts in [0, {n}) "
-                             f"(counts_per_rev = {n}); got {c[i]} at row {i}")
-        object.__setattr__(self, "encoder_counts", c)
-
-    @property
-    def n(self) -> int:
-        return int(self.t.size)
 
 
 # CSV reading ------------------------------------------------------------------------------
@@ -391,12 +268,6 @@ def _check_gc_start(label: str, t0: float) -> None:
     if t0 < 0.0:
         raise RecordError(label, f"expected times >= 0 (s since the feedback was switched "
                           f"off); the first row has t = {t0}", column="t")
-
-
-def iter_gc(path: object, *, chunk_rows: int = CHUNK_ROWS) -> Iterator[GCRecord]:
-    """A paper-GC record file in chunks of :class:`GCRecord` (for long records); use
-    :class:`GCChunks` instead when the part of the file read so far is wanted (progress)."""
-    return iter(GCChunks(path, chunk_rows=chunk_rows))
 
 
 class GCChunks:

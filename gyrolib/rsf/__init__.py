@@ -8,9 +8,11 @@ module            paper RSF
 ``equations``     Eqs. (1)–(9): :func:`sf_error_estimate`, :func:`delta_k`, …
 ``tables``        Tables 2 and 3: :func:`table2`, :func:`table3`
 ``simulation``    a seeded flight simulation: :func:`simulate_flight`
-``correction``    the correction loop on a record: :func:`run_correction`
+``correction``    Eqs. (1)–(3), shared: :func:`run_correction` (simulation), :func:`predict_delta_k`
 ``sweeps``        the correction against its period, the encoder and the roll rate
 ``claims``        the paper's verbal claims with their conditions: :func:`compensation_share`, …
+``record``        :class:`RSFRecord`, a recorded log the correction reads (SI)
+``calibration``   the correction on a recorded log: :func:`calibrate`
 ``plots``         the figures: ``plot_*``
 ================  ====================================================================
 
@@ -20,11 +22,13 @@ Use as ``from gyrolib import rsf`` then ``rsf.table2()``.
 from gyrolib.rsf.claims import (
     SLIP_FACTORS,
     CompensationShare,
+    FlightShares,
     GsVsSins,
     SlipSearch,
     compensation_share,
     drz_hypotheses,
     drz_slip_search,
+    flight_shares,
     gs_vs_sins,
 )
 from gyrolib.rsf.correction import (
@@ -100,6 +104,10 @@ from gyrolib.rsf.sweeps import (
     sweep_roll_rate,
 )
 from gyrolib.rsf.tables import (
+    TABLE2_OMEGA,
+    WORKED_EXAMPLE_OMEGA_UNC,
+    WORKED_EXAMPLE_OMEGA_X,
+    WORKED_EXAMPLE_PERIOD,
     DeltaKTerms,
     Table2,
     Table3,
@@ -116,12 +124,17 @@ __all__ = [
     "K_FORMS",
     "SIIMU02_ROLL",
     "SLIP_FACTORS",
+    "TABLE2_OMEGA",
+    "WORKED_EXAMPLE_OMEGA_UNC",
+    "WORKED_EXAMPLE_OMEGA_X",
+    "WORKED_EXAMPLE_PERIOD",
     "CompensationShare",
     "CorrectionRun",
     "DeltaKPrediction",
     "DeltaKTerms",
     "EncoderModel",
     "EncoderSpec",
+    "FlightShares",
     "GsModel",
     "GsVsSins",
     "MemsGyroSpec",
@@ -145,6 +158,7 @@ __all__ = [
     "drz_hypotheses",
     "drz_slip_search",
     "encoder_counts",
+    "flight_shares",
     "fraction_compensated",
     "gs_angle",
     "gs_bias_total",
@@ -188,14 +202,13 @@ __all__ = [
 ]
 
 # Calibration on recorded data (issue 13)
-from gyrolib.records.tables import RSFRecord
 from gyrolib.rsf.calibration import (
-    CorrectionResult,
+    CalibrationResult,
     calibrate,
     plot_correction,
-    predicted_delta_k,
     record_from_simulation,
 )
+from gyrolib.rsf.record import RSFRecord
 
-__all__ += ["CorrectionResult", "RSFRecord", "calibrate", "plot_correction",
-            "predicted_delta_k", "record_from_simulation"]
+__all__ += ["CalibrationResult", "RSFRecord", "calibrate", "plot_correction",
+            "record_from_simulation"]

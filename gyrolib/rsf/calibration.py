@@ -1,5 +1,7 @@
 """Paper RSF applied to a measurement record: the scale-factor correction of Eqs. (1)–(3)
-computed from recorded SINS increments and GS angles (:func:`calibrate`).
+computed from recorded SINS increments and GS angles (:func:`calibrate`), by the same
+routine as the simulation's (:mod:`gyrolib.rsf.correction`); this module cuts the record
+into spans and reports the result (:class:`CalibrationResult`).
 
 Per correction interval ``i`` of length ``period`` (from the first row on):
 
@@ -27,25 +29,29 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from matplotlib.figure import Figure
 
 from gyrolib import _validation as v
-from gyrolib.records.tables import RSFRecord
 from gyrolib.rsf._inputs import _sf
-from gyrolib.rsf.equations import K_FORMS, correction_coefficient, relative_k_error
-from gyrolib.rsf.simulation import SimulationConfig
+from gyrolib.rsf.correction import DeltaKPrediction, _correct_spans
+from gyrolib.rsf.equations import K_FORMS, relative_k_error
+from gyrolib.rsf.record import RSFRecord
+from gyrolib.rsf.simulation import SensorRecord, encoder_counts, gs_angle
+from gyrolib.units import from_si
 
 __all__ = [
-    "CorrectionResult",
+    "CalibrationResult",
     "calibrate",
     "plot_correction",
-    "predicted_delta_k",
     "record_from_simulation",
 ]
 
 
 @dataclass(frozen=True)
-class CorrectionResult:
-    """The correction of paper RSF computed on a record (SI).
+class CalibrationResult:
+    """The correction of paper RSF computed on a recorded log (SI), by :func:`calibrate`:
+    what a log alone can tell (no truth; the simulation's counterpart, judged against its
+    truth, is :class:`gyrolib.rsf.CorrectionRun`).
 
     Per complete interval (n_int,): ``t_start``, ``t_end``, ``eps1_hat`` (Eq. (2)), ``k``
     (Eq. (3)), ``samples`` (samples used), ``segments`` (contiguous runs of used samples: 1
@@ -78,31 +84,42 @@ class CorrectionResult:
     dt: float
 
     def __post_init__(self) -> None:
-        v.check_positive("period", self.period)
-        v.check_choice("k_form", self.k_form, K_FORMS)
         n_int = v.check_ndarray("eps1_hat", self.eps1_hat, ndim=1).size
-        for name in ("t_start", "t_end", "k", "rate"):
+        for name in ("t_start", "t_end", "k", "rate", "samples", "segments"):
             v.check_ndarray(name, getattr(self, name), shape=(n_int,))
         nt = v.check_ndarray("t", self.t, ndim=1).size
         for name in ("corrected_angle", "residual", "residual_raw"):
             v.check_ndarray(name, getattr(self, name), shape=(nt,))
+        v.check_positive("period", self.period)
+        v.check_choice("k_form", self.k_form, K_FORMS)
+        v.check_positive("dt", self.dt)
+        for name in ("rows", "samples_used", "samples_skipped", "gaps"):
+            v.check_int(name, getattr(self, name), 0)
 
     @property
     def n_intervals(self) -> int:
         return int(self.eps1_hat.size)
+
+    @property
+    def mean_rate(self) -> float:
+        """|mean measured roll rate| over the intervals, rad/s: the ``rate`` at which
+        :func:`gyrolib.rsf.predict_delta_k` predicts δK for this record."""
+        if self.n_intervals == 0:
+            raise ValueError("mean_rate needs at least one complete interval; the result "
+                             "has none")
+        return float(abs(np.mean(self.rate)))
 
     def delta_k(self, eps1: float) -> np.ndarray:
         """δK_i = K_i (1 + ε1) − 1 for a known true scale-factor error ``eps1``
         (:func:`gyrolib.rsf.relative_k_error`); ``eps1`` is checked here, at the door."""
         return np.asarray(relative_k_error(self.k, _sf("eps1", eps1)))
 
-    def delta_k_std(self, prediction: object) -> np.ndarray:
+    def delta_k_std(self, prediction: DeltaKPrediction) -> np.ndarray:
         """Per interval, the σ of δK that ``prediction`` (for a whole interval,
-        :func:`predicted_delta_k`) implies for the turn actually used: the encoder and
-        quantization errors enter at the ends of each contiguous run of samples, so σ scales
-        as ``√segments`` over the fraction of the interval covered."""
-        from gyrolib.rsf.correction import DeltaKPrediction
-
+        :func:`gyrolib.rsf.predict_delta_k` at :attr:`mean_rate`) implies for the turn
+        actually used: the encoder and quantization errors enter at the ends of each
+        contiguous run of samples, so σ scales as ``√segments`` over the fraction of the
+        interval covered."""
         v.check_instance("prediction", prediction, DeltaKPrediction)
         full = self.period / self.dt
         return prediction.std * (full / self.samples) * np.sqrt(self.segments)
@@ -132,27 +149,40 @@ class CorrectionResult:
 
 
 def _gs_increments(record: RSFRecord) -> np.ndarray:
-    """GS angle increment of each row over the previous one (NaN for row 0 / unknown)."""
-    out = np.full(record.n, np.nan)
-    if record.gs_angle is not None:
-        out[1:] = np.diff(record.gs_angle)
-        return out
+    """GS angle increment of each row over the previous one (NaN for row 0 / unknown), from
+    wrapped encoder counts (one step modulo a turn) plus the platform's own turn."""
     c = record.encoder_counts
     n = record.counts_per_rev
     d = np.diff(c)
     ok = ~np.isnan(d)
-    di = np.zeros_like(d)
-    di[ok] = np.mod(d[ok].astype(np.int64) + n // 2, n) - n // 2   # one step modulo a turn
-    di[~ok] = np.nan
+    di = np.full(d.shape, np.nan)
+    di[ok] = np.mod(d[ok].astype(np.int64) + n // 2, n) - n // 2
+    out = np.full(record.n, np.nan)
     out[1:] = di * (2.0 * math.pi / n)
     if record.gs_gyro_angle is not None:   # non-ideal GS: add the platform's own turn
         out[1:] += np.diff(record.gs_gyro_angle)
     return out
 
 
+def _gs_spans(record: RSFRecord) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Start row, end row and GS angle change of every span between consecutive known GS
+    angles (with wrapped counts, of every sample whose two counts are known)."""
+    if record.gs_angle is not None:
+        # the GS change over a span telescopes: its encoder errors cancel inside
+        known = np.flatnonzero(~np.isnan(record.gs_angle))
+        return known[:-1], known[1:], np.diff(record.gs_angle[known])
+    gs_inc = _gs_increments(record)
+    j1 = np.flatnonzero(~np.isnan(gs_inc))
+    return j1 - 1, j1, gs_inc[j1]
+
+
 def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
-              dt: float | None = None, time_tolerance: float = 0.5) -> CorrectionResult:
+              dt: float | None = None, time_tolerance: float = 0.5) -> CalibrationResult:
     """Apply paper RSF's scale-factor correction (Eqs. (1)–(3)) to a record.
+
+    The spans between known GS angles that hold no gap and no missing SINS increment go to
+    the correction routine the simulation uses too (:func:`gyrolib.rsf.run_correction`),
+    each in the interval of its last row.
 
     Parameters
     ----------
@@ -171,7 +201,7 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
 
     Returns
     -------
-    CorrectionResult
+    CalibrationResult
         ε̂1 and K per complete interval, the corrected angle and residuals per row.
 
     Examples
@@ -185,7 +215,7 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     >>> [f"{e * 1e6:.1f}" for e in res.eps1_hat]         # ε1/(1 + ε1) in ppm
     ['599.6', '599.6']
     """
-    if not isinstance(record, RSFRecord):
+    if not isinstance(record, RSFRecord):   # "an RSFRecord": the article goes by the sound
         raise TypeError(f"record must be an RSFRecord; got {type(record).__name__}")
     period = v.check_positive("period", period)
     k_form = v.check_choice("k_form", k_form, K_FORMS)
@@ -199,91 +229,57 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     if period < dt * (1.0 - 1e-9):
         raise ValueError(f"period must be at least one sample interval ({dt} s); got {period}")
     inc = record.sins_increment
-    regular = np.zeros(t.size, dtype=bool)
-    regular[1:] = h <= (1.0 + time_tolerance) * dt
-    bad_row = ~regular | np.isnan(inc)
-    bad_row[0] = True
+    # a span is usable when every row in it is regular and has its SINS increment
+    bad_row = np.ones(t.size, dtype=bool)
+    bad_row[1:] = (h > (1.0 + time_tolerance) * dt) | np.isnan(inc[1:])
+    cum_bad = np.cumsum(bad_row)
+    j0, j1, gs_span = _gs_spans(record)
+    ok = (cum_bad[j1] - cum_bad[j0]) == 0
+    j0, j1, gs_span = j0[ok], j1[ok], gs_span[ok]
     inc0 = np.where(np.isnan(inc), 0.0, inc)
     inc0[0] = 0.0
     cum_inc = np.cumsum(inc0)
-    cum_bad = np.cumsum(bad_row)
-    if record.gs_angle is not None:
-        # spans between consecutive known GS angles: the GS change over a span telescopes
-        # (its encoder errors cancel inside), usable when every row in it is regular and
-        # has its SINS increment
-        known = np.nonzero(~np.isnan(record.gs_angle))[0]
-        j0, j1 = known[:-1], known[1:]
-        gs_span = record.gs_angle[j1] - record.gs_angle[j0]
-    else:
-        gs_inc = _gs_increments(record)
-        j1 = np.nonzero(~np.isnan(gs_inc))[0]
-        j0 = j1 - 1
-        gs_span = gs_inc[j1]
-    ok = (cum_bad[j1] - cum_bad[j0]) == 0
-    j0, j1, gs_span = j0[ok], j1[ok], gs_span[ok]
     sins_span = cum_inc[j1] - cum_inc[j0]
-    use = np.zeros(t.size, dtype=bool)          # rows inside a usable span
-    cover = np.zeros(t.size + 1, dtype=np.int64)
-    np.add.at(cover, j0 + 1, 1)
-    np.add.at(cover, j1 + 1, -1)
-    use = np.cumsum(cover[:-1]) > 0
     # interval of each row: the sample ending at t[k] lies in ((k-1) dt, k dt] from t[0];
     # a span counts in the interval of its last row
     n_int = math.floor((t[-1] - t[0]) / period * (1.0 + 1e-12))
-    idx = np.floor((t - t[0] - 0.5 * dt) / period).astype(np.int64)
-    idx[0] = -1
-    sidx = idx[j1]
-    s_sins = np.bincount(sidx, weights=sins_span, minlength=n_int + 1)[:n_int]
-    s_gs = np.bincount(sidx, weights=gs_span, minlength=n_int + 1)[:n_int]
-    cnt = np.bincount(sidx, weights=(j1 - j0).astype(float), minlength=n_int + 1)[:n_int]
-    # contiguous runs: a span starts a new run unless it continues the previous one
+    row_interval = np.floor((t - t[0] - 0.5 * dt) / period).astype(np.int64)
+    row_interval[0] = -1
+    sidx = row_interval[j1]
+    est = _correct_spans(sins_span[None], gs_span[None], sidx, n_int, period, k_form)
+    keep = np.flatnonzero(~np.isnan(est.eps1_hat[0]))
+    corrected = est.corrected_angle(inc0[None], row_interval)[0]
+    # bookkeeping of the spans: samples used and contiguous runs per interval
+    cnt = np.bincount(sidx, weights=j1 - j0, minlength=n_int + 1)[:n_int]
     starts = np.ones(j1.size, dtype=bool)
     starts[1:] = (j0[1:] != j1[:-1]) | (sidx[1:] != sidx[:-1])
     seg = np.bincount(sidx[starts], minlength=n_int + 1)[:n_int]
-    good = (cnt > 0) & (s_sins != 0.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        eps1_hat = np.where(good, (s_sins - s_gs) / np.where(good, s_sins, 1.0), np.nan)
-    if not np.all(good):
-        eps1_hat = eps1_hat[good]
-    keep_int = np.nonzero(good)[0]
-    k = np.asarray(correction_coefficient(eps1_hat, k_form)) if eps1_hat.size else np.zeros(0)
-    k = np.atleast_1d(k).astype(float)
-    # K per row: 1 in interval 0 (and before), K of the latest complete interval before
-    k_full = np.ones(n_int + 1)
-    last = 1.0
-    kmap = dict(zip(keep_int.tolist(), k.tolist()))
-    for i in range(n_int):
-        k_full[i] = last            # K applied during interval i
-        last = kmap.get(i, last)
-    k_full[n_int] = last
-    k_row = k_full[np.clip(idx, 0, n_int)]
-    corrected = np.cumsum(k_row * inc0)
-    cum_kinc = np.cumsum(k_row * inc0)
+    cover = np.zeros(t.size + 1, dtype=np.int64)
+    np.add.at(cover, j0 + 1, 1)
+    np.add.at(cover, j1 + 1, -1)
+    used = int(np.count_nonzero(np.cumsum(cover[:-1]) > 0))    # rows inside a usable span
+    # residuals against the GS, accumulated over the usable spans only
     res_inc = np.zeros(t.size)
     raw_inc = np.zeros(t.size)
-    np.add.at(res_inc, j1, (cum_kinc[j1] - cum_kinc[j0]) - gs_span)
+    np.add.at(res_inc, j1, (corrected[j1] - corrected[j0]) - gs_span)
     np.add.at(raw_inc, j1, sins_span - gs_span)
-    rate = s_sins[keep_int] / (cnt[keep_int] * dt)
-    return CorrectionResult(
-        period=period, k_form=k_form, t_start=t[0] + keep_int * period,
-        t_end=t[0] + (keep_int + 1) * period, eps1_hat=eps1_hat, k=k,
-        samples=cnt[keep_int].astype(np.int64), segments=seg[keep_int].astype(np.int64),
-        rate=rate, t=t, corrected_angle=corrected,
+    return CalibrationResult(
+        period=period, k_form=k_form, t_start=t[0] + keep * period,
+        t_end=t[0] + (keep + 1) * period, eps1_hat=est.eps1_hat[0, keep], k=est.k[0, keep],
+        samples=cnt[keep].astype(np.int64), segments=seg[keep].astype(np.int64),
+        rate=est.turn[0, keep] / (cnt[keep] * dt), t=t, corrected_angle=corrected,
         residual=np.cumsum(res_inc), residual_raw=np.cumsum(raw_inc), rows=int(t.size),
-        samples_used=int(np.count_nonzero(use)),
-        samples_skipped=int(t.size - 1 - np.count_nonzero(use)),
+        samples_used=used, samples_skipped=int(t.size - 1 - used),
         gaps=int(np.count_nonzero(h > 1.5 * dt)), dt=dt)
 
 
-def record_from_simulation(sim: object, run: int = 0, *, encoder: bool = False) -> RSFRecord:
+def record_from_simulation(sim: SensorRecord, run: int = 0, *,
+                           encoder: bool = False) -> RSFRecord:
     """The columns of an :class:`RSFRecord` from run ``run`` of a simulated flight
     (:func:`gyrolib.rsf.simulate_flight`): the SINS increments (0 at t = 0) and the GS angle
     (:func:`gyrolib.rsf.gs_angle`); with ``encoder=True`` the wrapped encoder counts and the
     GS gyro's integrated angle instead (the GS angle is their sum, paper RSF Figure 2)."""
-    from gyrolib.rsf.simulation import SensorRecord, encoder_counts, gs_angle
-
-    if not isinstance(sim, SensorRecord):
-        raise TypeError(f"sim must be a SensorRecord; got {type(sim).__name__}")
+    v.check_instance("sim", sim, SensorRecord)
     run = v.check_int("run", run, 0)
     if run >= sim.sins_inc.shape[0]:
         raise ValueError(f"run must be < {sim.sins_inc.shape[0]}; got {run}")
@@ -297,51 +293,22 @@ def record_from_simulation(sim: object, run: int = 0, *, encoder: bool = False) 
                      counts_per_rev=enc.counts_per_rev, gs_gyro_angle=gyro)
 
 
-def predicted_delta_k(result: CorrectionResult, config: SimulationConfig | None = None):
-    """What the error model predicts for δK per interval of ``result``
-    (:func:`gyrolib.rsf.predict_delta_k`) for the sensors of ``config`` (default: the
-    paper's) at the record's mean measured roll rate."""
-    import dataclasses
-
-    from gyrolib.rsf.correction import predict_delta_k
-    from gyrolib.rsf.simulation import RollProfile
-
-    if not isinstance(result, CorrectionResult):
-        raise TypeError(f"result must be a CorrectionResult; got {type(result).__name__}")
-    cfg = SimulationConfig() if config is None else v.check_instance(
-        "config", config, SimulationConfig)
-    if result.n_intervals == 0:
-        raise ValueError("result must hold at least one complete interval")
-    rate = float(abs(np.mean(result.rate)))
-    fs = 1.0 / result.dt
-    duration = max(result.period, 2.0 / fs) * max(result.n_intervals, 1)
-    duration = round(duration * fs) / fs
-    cfg = dataclasses.replace(cfg, roll=RollProfile(rate_start=rate), sample_rate=fs,
-                              duration=duration, n_runs=1)
-    return predict_delta_k(cfg, result.period)
-
-
-def plot_correction(result: CorrectionResult, prediction: object | None = None,
-                    eps1: float | None = None):
+def plot_correction(result: CalibrationResult, prediction: DeltaKPrediction | None = None,
+                    eps1: float | None = None) -> Figure:
     """ε̂1 per interval (ppm) with, when given, the ±2σ band of δK the error model predicts
-    (``prediction`` from :func:`predicted_delta_k`) about ``(ε1 − mean δK)/(1 + ε1)``
-    (``eps1`` the true error if known; else about the mean estimate), and below the roll
-    angle against the GS with and without correction.  Returns a
-    :class:`matplotlib.figure.Figure`."""
-    import matplotlib.pyplot as plt
-
-    from gyrolib.units import from_si
-
-    if not isinstance(result, CorrectionResult):
-        raise TypeError(f"result must be a CorrectionResult; got {type(result).__name__}")
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 5.4))
+    (``prediction`` from :func:`gyrolib.rsf.predict_delta_k` at the record's
+    :attr:`~CalibrationResult.mean_rate`) about ``(ε1 − mean δK)/(1 + ε1)`` (``eps1`` the
+    true error if known; else about the mean estimate), and below the roll angle against the
+    GS with and without correction.  Returns a :class:`matplotlib.figure.Figure`."""
+    v.check_instance("result", result, CalibrationResult)
+    if prediction is not None:
+        v.check_instance("prediction", prediction, DeltaKPrediction)
+    fig = Figure(figsize=(7.5, 5.4), layout="tight")
+    ax, bx = fig.subplots(2, 1)
     mid = 0.5 * (result.t_start + result.t_end)
     e = np.asarray(from_si(result.eps1_hat, "ppm"))
     ax.plot(mid, e, "o", ms=3.5, color="C0", label="ε̂1 per interval (Eq. (2))")
     if prediction is not None:
-        from gyrolib.rsf.correction import DeltaKPrediction
-
-        v.check_instance("prediction", prediction, DeltaKPrediction)
         # δK = K(1+ε1) − 1 with K = 1 − ε̂1, so ε̂1 = (ε1 − δK)/(1 + ε1)
         if eps1 is None:
             c = float(np.mean(result.eps1_hat))
@@ -362,5 +329,4 @@ def plot_correction(result: CorrectionResult, prediction: object | None = None,
     bx.set_ylabel("roll angle difference (°)")
     bx.set_xlabel("t (s)")
     bx.legend(loc="upper left", fontsize=8)
-    fig.tight_layout()
     return fig

@@ -1,5 +1,21 @@
-"""Paper RSF, the correction loop run on a simulated record: Eqs. (1)–(3) every Δt, and the
-δK that Eq. (7) predicts for the record's sensors (:func:`predict_delta_k`).
+"""Paper RSF, the scale-factor correction of Eqs. (1)–(3) and the δK it leaves.
+
+One routine does the correction for every input, :func:`_correct_spans`: it takes the SINS
+turn and the GS change over *spans* (stretches of samples over which both sides cover the
+same turn), the correction interval each span counts in, and returns Eq. (1) accumulated
+per interval, ε̂1 of Eq. (2), K of Eq. (3) and the K in force during each interval (the K
+of interval i multiplies every SINS increment of interval i + 1).  Its two callers differ
+only in how they cut spans and in what they report:
+
+* :func:`run_correction`, on a simulated ensemble (:class:`~gyrolib.rsf.SensorRecord`):
+  nothing is missing, so each interval is one span; the result, :class:`CorrectionRun`,
+  judges the correction against the simulation's truth (δK, roll and lateral errors);
+* :func:`gyrolib.rsf.calibrate`, on a recorded log (:class:`~gyrolib.rsf.RSFRecord`):
+  spans run between known GS angles and leave out gaps and missing values; the result,
+  :class:`gyrolib.rsf.CalibrationResult`, reports what a log alone can tell.
+
+:func:`predict_delta_k` gives the δK the error model expects, for a simulation's
+configuration or, with ``rate=``, for a record's measured roll rate.
 """
 
 from __future__ import annotations
@@ -7,6 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
@@ -30,9 +47,71 @@ __all__ = [
 ]
 
 
+# The correction, Eqs. (1)–(3), over spans ---------------------------------------------------------
+class _Intervals(NamedTuple):
+    """Eqs. (1)–(3) per correction interval (arrays runs × intervals; NaN where an interval
+    holds no turn): ``turn`` ω_x Δt, the SINS turn of the interval's spans; ``eps1_hat``
+    (Eq. (2)); ``k`` (Eq. (3)); ``k_in_force`` (runs × (intervals + 1)) the K multiplying
+    the SINS increments during each interval and after the last: 1 in the first, then the K
+    of the latest interval that has one."""
+
+    turn: np.ndarray
+    eps1_hat: np.ndarray
+    k: np.ndarray
+    k_in_force: np.ndarray
+
+    def corrected_angle(self, increments: np.ndarray, row_interval: np.ndarray) -> np.ndarray:
+        """∫ K ω_x dt per row (runs × rows): the SINS increment ending at each row times the K
+        in force in that row's interval (``row_interval``, clipped to [0, intervals]), summed
+        from the first row (whose increment is 0)."""
+        n_int = self.k.shape[-1]
+        return np.cumsum(self.k_in_force[:, np.clip(row_interval, 0, n_int)] * increments,
+                         axis=-1)
+
+
+def _per_interval(x: np.ndarray, interval: np.ndarray, n_int: int) -> np.ndarray:
+    """Sums of the spans ``x`` (runs × spans) per interval; ``interval`` is nondecreasing."""
+    out = np.zeros((x.shape[0], n_int))
+    if interval.size:
+        starts = np.flatnonzero(np.r_[True, interval[1:] != interval[:-1]])
+        out[:, interval[starts]] = np.add.reduceat(x, starts, axis=-1)
+    return out
+
+
+def _correct_spans(sins_turn: np.ndarray, gs_turn: np.ndarray, interval: np.ndarray,
+                   n_int: int, period: float, k_form: str) -> _Intervals:
+    """Paper RSF, Eqs. (1)–(3), from the SINS turn and the GS change over spans.
+
+    ``sins_turn``, ``gs_turn`` (runs × spans): Σ SINS increments and the GS angle change over
+    each span; ``interval`` (spans,), nondecreasing: the interval a span counts in (spans
+    outside [0, ``n_int``) are left out).  Per interval, Eq. (1) accumulates Δγ over the
+    spans, Eq. (2) divides it by the SINS turn ω_x Δt and Eq. (3) turns ε̂1 into K; an
+    interval without a turn has no estimate (NaN) and leaves the K before it in force.
+    """
+    inside = np.flatnonzero((interval >= 0) & (interval < n_int))
+    iv = interval[inside]
+    sins, gs = sins_turn[:, inside], gs_turn[:, inside]
+    turn = _per_interval(sins, iv, n_int)
+    dgamma = _per_interval(roll_difference(sins, gs), iv, n_int)      # Eq. (1)
+    good = turn != 0.0
+    eps1_hat = np.full(turn.shape, np.nan)
+    k = np.full(turn.shape, np.nan)
+    if np.any(good):
+        eps1_hat[good] = sf_error_estimate(dgamma[good], turn[good] / period, period)  # Eq. (2)
+        k[good] = correction_coefficient(eps1_hat[good], k_form)                     # Eq. (3)
+    # K in force: 1 in the first interval, then the latest K (carried over empty intervals).
+    latest = np.maximum.accumulate(np.where(good, np.arange(n_int), -1), axis=-1)
+    k1 = np.concatenate([np.ones((k.shape[0], 1)), k], axis=-1)
+    k_in_force = np.concatenate([np.ones((k.shape[0], 1)),
+                                 np.take_along_axis(k1, latest + 1, axis=-1)], axis=-1)
+    return _Intervals(turn=turn, eps1_hat=eps1_hat, k=k, k_in_force=k_in_force)
+
+
+# On a simulated ensemble ------------------------------------------------------------------------
 @dataclass(frozen=True)
 class CorrectionRun:
-    """The correction loop applied to a :class:`SensorRecord`.
+    """The correction loop applied to a simulated ensemble (:class:`SensorRecord`), judged
+    against the simulation's truth (:func:`run_correction`).
 
     Per interval i (arrays M × n_int): ``k`` the coefficient K_i computed at its end,
     ``eps1_hat`` the estimate of Eq. (2), ``delta_k`` δK_i = K_i (1 + ε1) − 1 (the residual
@@ -92,32 +171,46 @@ def _steps_per_interval(record: SensorRecord, period: float) -> int:
     return n_per
 
 
+class _Simulated(NamedTuple):
+    """The correction of every complete interval of a simulated ensemble: ``k``,
+    ``eps1_hat``, ``delta_k`` (M × n_int), the intervals' boundary samples ``idx``, the
+    SINS and GS angles (M × (N+1)) and the :class:`_Intervals` they came from."""
+
+    k: np.ndarray
+    eps1_hat: np.ndarray
+    delta_k: np.ndarray
+    idx: np.ndarray
+    sins_angle: np.ndarray
+    gs: np.ndarray
+    intervals: _Intervals
+
+
 def _interval_estimates(record: SensorRecord, period: float, k_form: str,
-                        gs: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
-    """K_i, ε̂1_i, δK_i and the boundary indices for every complete interval."""
+                        gs: np.ndarray | None = None) -> _Simulated:
+    """Eqs. (1)–(3) for every complete interval of a simulated ensemble: nothing is missing
+    in a simulation, so each interval is one span (``gs``: the GS angle if already known)."""
     n_per = _steps_per_interval(record, period)
     n_int = record.config.n_steps // n_per
     idx = np.arange(n_int + 1) * n_per
     sins_angle = np.concatenate([np.zeros((record.sins_inc.shape[0], 1)),
                                  np.cumsum(record.sins_inc, axis=1)], axis=1)
     gs = gs_angle(record) if gs is None else gs
-    sins_d = np.diff(sins_angle[:, idx], axis=1)    # ∫ ω_x dt over each interval
-    gs_d = np.diff(gs[:, idx], axis=1)              # GS angle increment over each interval
-    dgamma = roll_difference(sins_d, gs_d)        # Eq. (1), accumulated over the interval
-    omega_x = sins_d / period                        # mean measured rate
-    eps1_hat = sf_error_estimate(dgamma, omega_x, period)   # Eq. (2)
-    k = correction_coefficient(eps1_hat, k_form)
-    dk = relative_k_error(k, record.eps1_sins[:, None])
-    return k, eps1_hat, dk, idx, sins_angle, gs
+    est = _correct_spans(np.diff(sins_angle[:, idx], axis=1), np.diff(gs[:, idx], axis=1),
+                         np.arange(n_int), n_int, period, k_form)
+    dk = relative_k_error(est.k, record.eps1_sins[:, None])
+    return _Simulated(k=est.k, eps1_hat=est.eps1_hat, delta_k=dk, idx=idx,
+                      sins_angle=sins_angle, gs=gs, intervals=est)
 
 
 def run_correction(record: SensorRecord, period: float, *, k_form: str = "linear",
                    reset_angle: bool = False, g: float = G0) -> CorrectionRun:
-    """Apply the correction of paper RSF, Eqs. (1)–(3), every ``period`` seconds.
+    """Apply the correction of paper RSF, Eqs. (1)–(3), every ``period`` seconds to a
+    simulated ensemble and judge it against the simulation's truth.
 
     K_i from interval i multiplies every SINS increment of interval i + 1 (K = 1 during the
     first interval).  ``reset_angle=True`` also sets the SINS roll angle to the GS angle at
-    each correction instant (not part of the paper's method).
+    each correction instant (not part of the paper's method).  The same correction on a
+    recorded log is :func:`~gyrolib.rsf.calibrate`.
 
     Parameters
     ----------
@@ -145,33 +238,29 @@ def run_correction(record: SensorRecord, period: float, *, k_form: str = "linear
     >>> run.delta_k.shape, bool(abs(run.delta_k[0, 0]) < 600e-6)
     ((1, 2), True)
     """
-    if not isinstance(record, SensorRecord):
-        raise TypeError(f"record must be a SensorRecord; got {type(record).__name__}")
+    v.check_instance("record", record, SensorRecord)
     k_form = v.check_choice("k_form", k_form, K_FORMS)
-    if not isinstance(reset_angle, bool):
-        raise TypeError("reset_angle must be a bool")
-    k, eps1_hat, dk, idx, sins_angle, gs = _interval_estimates(record, period, k_form)
-    m_runs, n = record.sins_inc.shape
-    n_per, n_int = int(idx[1]), k.shape[1]
-    # K per step: 1 in the first interval, K_i in interval i + 1, the last K to the end.
-    k_ext = np.concatenate([np.ones((m_runs, 1)), k], axis=1)
-    k_step = k_ext[:, np.minimum(np.arange(n) // n_per, n_int)]
-    corrected = np.concatenate([np.zeros((m_runs, 1)),
-                                np.cumsum(k_step * record.sins_inc, axis=1)], axis=1)
+    v.check_bool("reset_angle", reset_angle)
+    g = v.check_positive("g", g)
+    sim = _interval_estimates(record, period, k_form)
+    idx, gs = sim.idx, sim.gs
+    n = record.sins_inc.shape[1]
+    row_interval = (np.arange(n + 1) - 1) // int(idx[1])    # row 0 (t = 0) before interval 0
+    increments = np.concatenate([np.zeros((record.sins_inc.shape[0], 1)),
+                                 record.sins_inc], axis=1)
+    corrected = sim.intervals.corrected_angle(increments, row_interval)
     if reset_angle:
         # From each correction instant on, start again from the GS angle.
         jump = gs[:, idx] - corrected[:, idx]
         jump[:, 0] = 0.0
-        corrected = corrected + jump[:, np.minimum(np.arange(n + 1) // n_per, n_int)]
+        corrected = corrected + jump[:, np.minimum(np.arange(n + 1) // int(idx[1]),
+                                                   idx.size - 1)]
     truth = record.gamma_true[None, :]
-    err_raw = sins_angle - truth
-    err_cor = corrected - truth
-    err_gs = gs - truth
     t = record.t
     return CorrectionRun(period=float(period), k_form=k_form, reset_angle=reset_angle, t=t,
-                         t_boundaries=t[idx], k=k, eps1_hat=eps1_hat, delta_k=dk,
-                         roll_error_raw=err_raw, roll_error_corrected=err_cor,
-                         roll_error_gs=err_gs, g=v.check_positive("g", g))
+                         t_boundaries=t[idx], k=sim.k, eps1_hat=sim.eps1_hat,
+                         delta_k=sim.delta_k, roll_error_raw=sim.sins_angle - truth,
+                         roll_error_corrected=corrected - truth, roll_error_gs=gs - truth, g=g)
 
 
 # Prediction of δK (Eq. (7) and its statistics) ----------------------------------------------------
@@ -202,7 +291,8 @@ class DeltaKPrediction:
             v.check_nonnegative(name, getattr(self, name))
 
 
-def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction:
+def predict_delta_k(config: SimulationConfig, period: float, *,
+                    rate: float | None = None) -> DeltaKPrediction:
     """Predicted mean and spread of δK for a constant roll rate (first-order error model).
 
     The encoder's increment error over one interval is Δγ_enc [sin(θ₁+φ) − sin(θ₀+φ)] with
@@ -215,9 +305,13 @@ def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction
     Parameters
     ----------
     config : SimulationConfig
-        A configuration with a constant roll rate.
+        The sensors (``sins``, ``gs``, ``encoder``) and error mode; without ``rate``, also
+        the roll rate, which must then be constant.
     period : float
         Correction period, s (> 0).
+    rate : float, optional
+        Roll rate ω, rad/s (> 0), in place of the configuration's: for a record, the mean
+        measured rate of its intervals (:attr:`gyrolib.rsf.CalibrationResult.mean_rate`).
 
     Returns
     -------
@@ -229,14 +323,20 @@ def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction
     >>> p = rsf.predict_delta_k(rsf.SimulationConfig(), 5.0)
     >>> f"Eq. (7) {p.eq7 * 1e6:.0f} ppm, mean {p.mean * 1e6:.0f} ppm"
     'Eq. (7) 170 ppm, mean 66 ppm'
+    >>> import math
+    >>> q = rsf.predict_delta_k(rsf.SimulationConfig(), 5.0, rate=math.radians(1200.0))
+    >>> f"at 1200 °/s: Eq. (7) {q.eq7 * 1e6:.0f} ppm, ω_unc {math.degrees(q.omega_unc):.0f} °/s"
+    'at 1200 °/s: Eq. (7) 198 ppm, ω_unc 600 °/s'
     """
-    if not isinstance(config, SimulationConfig):
-        raise TypeError(f"config must be a SimulationConfig; got {type(config).__name__}")
+    v.check_instance("config", config, SimulationConfig)
     period = v.check_positive("period", period)
-    if config.roll.rate_end not in (None, config.roll.rate_start):
-        raise ValueError("predict_delta_k needs a constant roll rate (rate_end None or equal "
-                         "to rate_start)")
-    w = config.roll.rate_start
+    if rate is not None:
+        w = v.check_positive("rate", rate)
+    elif config.roll.rate_end not in (None, config.roll.rate_start):
+        raise ValueError("config must have a constant roll rate (rate_end None or equal to "
+                         "rate_start) unless rate is given")
+    else:
+        w = config.roll.rate_start
     s, gs, enc = config.sins, config.gs, config.encoder
     w_unc = max(w - gs.motor_rate_max, 0.0)
     span = w * period
@@ -258,6 +358,6 @@ def predict_delta_k(config: SimulationConfig, period: float) -> DeltaKPrediction
         std_sys = math.sqrt(gs.eps0**2 + (gs.eps1 * w_unc) ** 2 + s.eps0**2) / w
     std = math.sqrt(std_enc**2 + std_q**2 + std_n**2 + std_sys**2)
     eq7 = delta_k(abs(gs.eps0), enc.position_error, w, period, abs(gs.eps1), w_unc)
-    return DeltaKPrediction(mean=systematic if config.errors == "fixed" else mean,
-                            std_encoder=std_enc, std_quantization=std_q, std_noise=std_n,
-                            std_systematic=std_sys, std=std, eq7=eq7, omega_unc=w_unc)
+    return DeltaKPrediction(mean=mean, std_encoder=std_enc, std_quantization=std_q,
+                            std_noise=std_n, std_systematic=std_sys, std=std, eq7=eq7,
+                            omega_unc=w_unc)

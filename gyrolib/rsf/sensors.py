@@ -6,25 +6,22 @@
 
 SI inside: rates in rad/s, scale-factor errors dimensionless.
 
-One description per device: each record builds the simulation's model of its device
-(:meth:`RollGyroSpec.model`, :meth:`MemsGyroSpec.model`, :meth:`EncoderSpec.model`), adding
-only what a datasheet does not give (noise, the GS's rate loop, the encoder's resolution as
-counts); :class:`~gyrolib.rsf.SimulationConfig`'s defaults are built this way.
+One description per device: the simulation's model of a device is built from its record
+(:meth:`gyrolib.rsf.SinsGyroModel.from_spec`, :meth:`~gyrolib.rsf.GsModel.from_spec`,
+:meth:`~gyrolib.rsf.EncoderModel.from_spec`), adding only what a datasheet does not give
+(noise, the GS's rate loop); :class:`~gyrolib.rsf.SimulationConfig`'s defaults are built this
+way.  Imports run one way: :mod:`gyrolib.rsf.simulation` reads this module, never the reverse.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from gyrolib import _validation as v
 from gyrolib.rsf._inputs import _SF_LIMIT, _optional_positive
 from gyrolib.rsf.equations import gs_bias_total
 from gyrolib.units import to_si
-
-if TYPE_CHECKING:  # the simulation imports this module
-    from gyrolib.rsf.simulation import EncoderModel, GsModel, SinsGyroModel
 
 __all__ = [
     "AEDB9340",
@@ -62,16 +59,6 @@ class RollGyroSpec:
         object.__setattr__(self, "dynamic_range",
                            _optional_positive("dynamic_range", self.dynamic_range))
 
-    def model(self, **simulation: float) -> SinsGyroModel:
-        """The simulation's model of this gyro: ε1 = ``sf_error``, ε0 = ``bias_instability``
-        (at +1σ) plus ``simulation`` keywords of :class:`~gyrolib.rsf.SinsGyroModel` (``arw``).
-
-        >>> f"{SIIMU02_ROLL.model(arw=0.0).eps1:.1e}"
-        '6.0e-04'
-        """
-        from gyrolib.rsf.simulation import SinsGyroModel
-
-        return SinsGyroModel(eps1=self.sf_error, eps0=self.bias_instability, **simulation)
 
 
 @dataclass(frozen=True)
@@ -107,18 +94,6 @@ class MemsGyroSpec:
         """ε0,GS = √(σ_rep² + σ_stab²), rad/s."""
         return gs_bias_total(self.bias_repeatability, self.bias_stability)
 
-    def model(self, **simulation: float) -> GsModel:
-        """The simulation's GS with this gyro: ε0,GS = :attr:`bias_total`, ε1,GS =
-        ``sf_error`` (at +1σ) plus ``simulation`` keywords of :class:`~gyrolib.rsf.GsModel`
-        (``arw``, ``motor_rate_max``, ``kp``, ``ki``, ``tau_motor``).
-
-        >>> import math
-        >>> f"{GYPRO4300.model(motor_rate_max=math.inf).eps1:.1e}"
-        '2.8e-04'
-        """
-        from gyrolib.rsf.simulation import GsModel
-
-        return GsModel(eps0=self.bias_total, eps1=self.sf_error, **simulation)
 
 
 @dataclass(frozen=True)
@@ -126,9 +101,10 @@ class EncoderSpec:
     """Optical encoder of the GS: paper RSF, Avago AEDB-9340.
 
     * ``position_error`` Δγ_enc (rad): "position error per revolution"; the value is lost in
-      the extraction.  Table 3 fixes it: Δγ_GS − ε0,GS·t is 0.33° in all three columns, so
-      the paper used Δγ_enc = 0.33° (≈ 20′).  This is the encoder's accuracy (e.g.
-      code-wheel eccentricity), not its resolution.
+      the encoder's data line, but the worked example of Eq. (7) prints it: 0.33° (≈ 20′;
+      its unit lost too, degrees by the other terms).  Table 3 leaves the same 0.33° in all
+      three columns (Δγ_GS − ε0,GS·t), a cross-check, not the source.  This is the encoder's
+      accuracy (e.g. code-wheel eccentricity), not its resolution.
     * ``cycles_per_rev`` and ``quadrature``: not given by the paper.  The AEDB-9340 family
       is a three-channel (A, B, index) incremental module offered in resolutions up to a few
       thousand cycles per revolution; we *assume* 1000 CPR decoded ×4 (4000 counts per
@@ -162,17 +138,6 @@ class EncoderSpec:
         """Angle of one count, rad."""
         return 2.0 * math.pi / self.counts_per_rev
 
-    def model(self) -> EncoderModel:
-        """The simulation's model of this encoder: its counts per revolution and position
-        error.
-
-        >>> AEDB9340.model().counts_per_rev
-        4000
-        """
-        from gyrolib.rsf.simulation import EncoderModel
-
-        return EncoderModel(counts_per_rev=self.counts_per_rev,
-                            position_error=self.position_error)
 
 
 #: Paper RSF, Table 1: SiIMU02 roll gyro.
@@ -183,5 +148,5 @@ SIIMU02_ROLL = RollGyroSpec()
 GYPRO4300 = MemsGyroSpec()
 
 
-#: Paper RSF, the GS encoder: AEDB-9340 (position error inferred from Table 3).
+#: Paper RSF, the GS encoder: AEDB-9340 (position error as the worked example prints it).
 AEDB9340 = EncoderSpec()

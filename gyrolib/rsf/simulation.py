@@ -41,7 +41,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib.rsf.sensors import AEDB9340, GYPRO4300, SIIMU02_ROLL
+from gyrolib.rsf.sensors import (
+    AEDB9340,
+    GYPRO4300,
+    SIIMU02_ROLL,
+    EncoderSpec,
+    MemsGyroSpec,
+    RollGyroSpec,
+)
 from gyrolib.units import G0, to_si
 
 __all__ = [
@@ -100,8 +107,8 @@ class RollProfile:
 class SinsGyroModel:
     """SINS roll gyro as simulated: scale-factor error ``eps1``, bias ``eps0`` (rad/s) and
     angle random walk ``arw`` (rad/√s).  Build it from the datasheet record,
-    ``SIIMU02_ROLL.model(arw=...)`` (:meth:`~gyrolib.rsf.RollGyroSpec.model`: ε1, ε0 from
-    Table 1 of paper RSF); the ARW is not in the paper: 0.15 °/√h is assumed (its effect is
+    ``SinsGyroModel.from_spec(SIIMU02_ROLL, arw=...)`` (ε1, ε0 from Table 1 of paper RSF);
+    the ARW is not in the paper: 0.15 °/√h is assumed (its effect is
     negligible, see the simulation chapter).  Set ``eps0``/``eps1`` directly only for
     what-if runs (e.g. a quiet gyro)."""
 
@@ -114,12 +121,23 @@ class SinsGyroModel:
         object.__setattr__(self, "eps0", v.check_real("eps0", self.eps0))
         object.__setattr__(self, "arw", v.check_nonnegative("arw", self.arw))
 
+    @classmethod
+    def from_spec(cls, spec: RollGyroSpec, **simulation: float) -> SinsGyroModel:
+        """The model of the gyro ``spec``: ε1 = ``sf_error``, ε0 = ``bias_instability`` (at
+        +1σ), plus ``simulation`` keywords (``arw``).
+
+        >>> f"{SinsGyroModel.from_spec(SIIMU02_ROLL, arw=0.0).eps1:.1e}"
+        '6.0e-04'
+        """
+        v.check_instance("spec", spec, RollGyroSpec)
+        return cls(eps1=spec.sf_error, eps0=spec.bias_instability, **simulation)
+
 
 @dataclass(frozen=True)
 class GsModel:
     """Indicator gyrostabilizer as simulated: MEMS gyro errors and the PI rate loop
     (paper RSF, Figure 2).  Build it from the gyro's record,
-    ``GYPRO4300.model(motor_rate_max=...)`` (:meth:`~gyrolib.rsf.MemsGyroSpec.model`).
+    ``GsModel.from_spec(GYPRO4300, motor_rate_max=...)``.
 
     * ``eps0`` (rad/s), ``eps1``: the GYPRO4300's ε0,GS = √(σ_rep² + σ_stab²) and ε1,GS;
     * ``arw`` (rad/√s): not in the paper; 0.2 °/√h assumed;
@@ -149,13 +167,26 @@ class GsModel:
         object.__setattr__(self, "ki", v.check_positive("ki", self.ki))
         object.__setattr__(self, "tau_motor", v.check_positive("tau_motor", self.tau_motor))
 
+    @classmethod
+    def from_spec(cls, spec: MemsGyroSpec, **simulation: float) -> GsModel:
+        """The GS with the MEMS gyro ``spec``: ε0,GS = ``spec.bias_total``, ε1,GS =
+        ``spec.sf_error`` (at +1σ), plus ``simulation`` keywords (``arw``,
+        ``motor_rate_max``, ``kp``, ``ki``, ``tau_motor``).
+
+        >>> import math
+        >>> f"{GsModel.from_spec(GYPRO4300, motor_rate_max=math.inf).eps1:.1e}"
+        '2.8e-04'
+        """
+        v.check_instance("spec", spec, MemsGyroSpec)
+        return cls(eps0=spec.bias_total, eps1=spec.sf_error, **simulation)
+
 
 @dataclass(frozen=True)
 class EncoderModel:
     """Encoder as simulated: ``counts_per_rev`` counts per revolution and a once-per-revolution
     position error of amplitude ``position_error`` (rad).  Build it from the datasheet record,
-    ``AEDB9340.model()`` (:meth:`~gyrolib.rsf.EncoderSpec.model`: 4000 counts assumed, 0.33°
-    inferred from Table 3 of paper RSF); set the fields directly for resolution sweeps."""
+    ``EncoderModel.from_spec(AEDB9340)`` (4000 counts assumed, 0.33° as the worked example
+    of paper RSF prints it); set the fields directly for resolution sweeps."""
 
     counts_per_rev: int = AEDB9340.counts_per_rev
     position_error: float = AEDB9340.position_error
@@ -172,11 +203,21 @@ class EncoderModel:
         """Angle of one count, rad."""
         return 2.0 * math.pi / self.counts_per_rev
 
+    @classmethod
+    def from_spec(cls, spec: EncoderSpec) -> EncoderModel:
+        """The model of the encoder ``spec``: its counts per revolution and position error.
+
+        >>> EncoderModel.from_spec(AEDB9340).counts_per_rev
+        4000
+        """
+        v.check_instance("spec", spec, EncoderSpec)
+        return cls(counts_per_rev=spec.counts_per_rev, position_error=spec.position_error)
+
 
 # The paper's devices, each built from its one datasheet record.
-_PAPER_SINS = SIIMU02_ROLL.model()
-_PAPER_GS = GYPRO4300.model()
-_PAPER_ENCODER = AEDB9340.model()
+_PAPER_SINS = SinsGyroModel.from_spec(SIIMU02_ROLL)
+_PAPER_GS = GsModel.from_spec(GYPRO4300)
+_PAPER_ENCODER = EncoderModel.from_spec(AEDB9340)
 
 
 @dataclass(frozen=True)
@@ -449,7 +490,8 @@ def with_encoder(record: SensorRecord, encoder: EncoderModel) -> SensorRecord:
     record : SensorRecord
         A simulated flight.
     encoder : EncoderModel
-        The other encoder (e.g. ``dataclasses.replace(AEDB9340, cycles_per_rev=256).model()``).
+        The other encoder (e.g.
+        ``EncoderModel.from_spec(dataclasses.replace(AEDB9340, cycles_per_rev=256))``).
 
     Returns
     -------

@@ -1,9 +1,13 @@
 """Paper RSF, Tables 2 and 3 and the worked example of δK, recomputed from the sensor data.
 
 * :func:`table2` — Table 2: the SINS roll error Δγ (Eq. (4)) and the lateral deviation Δr_z
-  (Eq. (8)) against time;
-* :func:`table3` — Table 3: the ideal GS's roll error (Eq. (9)) against time;
-* :func:`worked_example_delta_k` — the worked example of Eq. (7) (δK ≈ 0.093 as printed).
+  (Eq. (8)) against time, at the roll rate :data:`TABLE2_OMEGA`;
+* :func:`table3` — Table 3: the ideal GS's roll error (Eq. (9)) against time, from the GS gyro
+  table's ε0,GS and the encoder error Δγ_enc = 0.33° that the worked example prints (an
+  input: Table 3 is not used to find it, so recomputing Table 3 tests both terms);
+* :func:`worked_example_delta_k` — the worked example of Eq. (7) (δK ≈ 0.093 as printed), with
+  its printed inputs :data:`WORKED_EXAMPLE_PERIOD`, :data:`WORKED_EXAMPLE_OMEGA_UNC` and
+  :data:`WORKED_EXAMPLE_OMEGA_X`.
 """
 
 from __future__ import annotations
@@ -34,6 +38,10 @@ from gyrolib.rsf.sensors import (
 from gyrolib.units import G0, to_si
 
 __all__ = [
+    "TABLE2_OMEGA",
+    "WORKED_EXAMPLE_OMEGA_UNC",
+    "WORKED_EXAMPLE_OMEGA_X",
+    "WORKED_EXAMPLE_PERIOD",
     "DeltaKTerms",
     "Table2",
     "Table3",
@@ -42,6 +50,14 @@ __all__ = [
     "worked_example_delta_k",
     "worked_example_terms",
 ]
+
+#: The roll rate of Table 2, 3600 °/s (rad/s), as the paper prints it.
+TABLE2_OMEGA: float = float(to_si(3600.0, "deg/s"))
+#: The worked example's correction period Δt (s), uncompensated rate ω_unc and vehicle roll
+#: rate ω_x (rad/s), as the paper prints them (5 s, 300 °/s, 900 °/s).
+WORKED_EXAMPLE_PERIOD: float = 5.0
+WORKED_EXAMPLE_OMEGA_UNC: float = float(to_si(300.0, "deg/s"))
+WORKED_EXAMPLE_OMEGA_X: float = float(to_si(900.0, "deg/s"))
 
 
 @dataclass(frozen=True)
@@ -63,7 +79,7 @@ class Table2:
         _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact", "dr_y_exact")
 
 
-def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = float(to_si(3600.0, "deg/s")),
+def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = TABLE2_OMEGA,
            times: ArrayLike = (10.0, 60.0, 120.0), g: float = G0) -> Table2:
     """Recompute Table 2 of paper RSF from Eqs. (4) and (8) with the gyro's SF error.
 
@@ -125,7 +141,8 @@ def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
     gyro : MemsGyroSpec, optional
         The GS gyro (default the GYPRO4300 of the GS gyro table).
     encoder : EncoderSpec, optional
-        The encoder (default the AEDB-9340, position error inferred from Table 3).
+        The encoder (default the AEDB-9340 with the position error 0.33° that the worked
+        example prints).
     times : array_like, optional
         Times, s.
     eps0_gs : float, optional
@@ -157,9 +174,9 @@ def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
 
 
 def worked_example_delta_k(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340, *,
-                           omega_x: float = float(to_si(900.0, "deg/s")),
-                           omega_unc: float = float(to_si(300.0, "deg/s")),
-                           dt: float = 5.0, eps0_gs: float | None = None,
+                           omega_x: float = WORKED_EXAMPLE_OMEGA_X,
+                           omega_unc: float = WORKED_EXAMPLE_OMEGA_UNC,
+                           dt: float = WORKED_EXAMPLE_PERIOD, eps0_gs: float | None = None,
                            eps1_gs: float | None = None) -> float:
     """δK of the paper's worked example (Eq. (7)): Δt = 5 s, ω_unc = 300 °/s, ω_x = 900 °/s.
 
@@ -214,9 +231,9 @@ class DeltaKTerms:
 
 
 def worked_example_terms(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340, *,
-                         omega_x: float = float(to_si(900.0, "deg/s")),
-                         omega_unc: float = float(to_si(300.0, "deg/s")),
-                         dt: float = 5.0, eps0_gs: float | None = None,
+                         omega_x: float = WORKED_EXAMPLE_OMEGA_X,
+                         omega_unc: float = WORKED_EXAMPLE_OMEGA_UNC,
+                         dt: float = WORKED_EXAMPLE_PERIOD, eps0_gs: float | None = None,
                          eps1_gs: float | None = None) -> DeltaKTerms:
     """Eq. (7) of paper RSF term by term, as the worked example writes it out.
 

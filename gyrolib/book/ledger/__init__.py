@@ -2,8 +2,13 @@
 papers, with the value this book computes and whether the two agree.
 
 Items are computed, never stored: each paper's module (:mod:`gyrolib.book.ledger.gc`,
-:mod:`gyrolib.book.ledger.rsf`) builds its items by calling the same library functions the
-chapters call.  ``python -m gyrolib ledger [--json]`` prints the ledger.
+:mod:`gyrolib.book.ledger.rsf`) builds its items, one small function per table or claim, by
+calling the same library functions the chapters call.  :mod:`gyrolib.book.ledger.item` holds
+:class:`LedgerItem`, the verdict vocabulary and the one agreement rule every item uses
+(:func:`agrees`: within half a unit of the last printed digit, unless the item states another
+tolerance with its reason; :func:`printed_verdict` for a printed number and its candidate
+causes).  This package adds the files and pages built from the items.
+``python -m gyrolib ledger [--json]`` prints the ledger.
 """
 
 from __future__ import annotations
@@ -11,132 +16,30 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
-import numbers
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, fields
 
 import gyrolib
 from gyrolib import _validation as v
+from gyrolib.book.ledger import gc, rsf
+from gyrolib.book.ledger.item import (
+    KINDS,
+    STATUS_MARKS,
+    STATUSES,
+    STATUSES_BY_KIND,
+    Candidate,
+    LedgerItem,
+    agrees,
+    half_unit,
+    printed_verdict,
+)
 
 __all__ = ["KINDS", "KIND_PLURALS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "TITLE",
-           "LedgerItem", "anchor", "citation", "collect", "entries_markdown", "format_value",
-           "kinds_markdown", "rounded", "summary", "table_markdown", "to_csv", "to_json",
-           "to_table"]
+           "Candidate", "LedgerItem", "agrees", "anchor", "citation", "collect",
+           "entries_markdown", "format_value", "half_unit", "kinds_markdown", "printed_verdict",
+           "rounded", "summary", "table_markdown", "to_csv", "to_json", "to_table"]
 
 #: The book's title, as cited with the ledger's data files.
 TITLE = "Gyro calibration, reproduced"
-
-#: What an item is, and the statuses that fit each kind (the verdict vocabulary):
-#:
-#: * ``printed number`` — a number the paper prints as a result;
-#: * ``input`` — data the paper gives and uses (echoed, never "reproduced");
-#: * ``inferred`` — a value the paper lost or never printed, deduced by the book;
-#: * ``figure`` — a figure with no printed number (redrawn by code);
-#: * ``claim`` — a verbal claim (faster, holds when…, compensates…).
-#:
-#: ``differs: cause shown`` only where a computation with an identified cause gives the
-#: printed value; ``differs: bracketed`` where the printed value lies inside the range spanned
-#: by the paper's unstated choices but no defensible single choice gives it.
-STATUSES_BY_KIND: dict[str, tuple[str, ...]] = {
-    "printed number": ("reproduced", "differs: cause shown", "differs: bracketed",
-                       "not reproducible"),
-    "input": ("input",),
-    "inferred": ("inferred",),
-    "figure": ("redrawn",),
-    "claim": ("holds", "holds under conditions", "fails"),
-}
-KINDS: tuple[str, ...] = tuple(STATUSES_BY_KIND)
-#: Every allowed value of :attr:`LedgerItem.status`.
-STATUSES: tuple[str, ...] = tuple(s for kind in KINDS for s in STATUSES_BY_KIND[kind])
-#: A sphinx-design badge role per status, so that the ledger page shows it at a glance.
-STATUS_MARKS: dict[str, str] = {
-    "reproduced": "{bdg-success}`reproduced`",
-    "differs: cause shown": "{bdg-warning}`differs: cause shown`",
-    "differs: bracketed": "{bdg-warning}`differs: bracketed`",
-    "not reproducible": "{bdg-danger}`not reproducible`",
-    "input": "{bdg-secondary}`input`",
-    "inferred": "{bdg-info}`inferred`",
-    "redrawn": "{bdg-secondary}`redrawn`",
-    "holds": "{bdg-success}`holds`",
-    "holds under conditions": "{bdg-warning}`holds under conditions`",
-    "fails": "{bdg-danger}`fails`",
-}
-
-
-@dataclass(frozen=True)
-class LedgerItem:
-    """One printed item of a paper and its reproduction.
-
-    ``chapter`` is the Sphinx document name of the chapter that shows it (e.g.
-    ``"chapters/rsf_method"``) and ``anchor`` an optional label inside it, so the ledger page
-    and tests can link to it.  ``kind`` and ``status`` follow :data:`STATUSES_BY_KIND`;
-    ``conditions`` says where a claim holds (non-empty exactly for "holds under conditions"),
-    ``evidence`` in one line what computation decides the status, and ``precision`` the
-    significant digits to which ``reproduced_value`` is reported and cited (the same on every
-    CPU: see :func:`rounded`).
-    """
-
-    id: str
-    paper: str
-    location: str
-    quantity: str
-    unit: str
-    paper_value: float | str | None
-    reproduced_value: float | None
-    status: str
-    note: str
-    chapter: str
-    kind: str
-    evidence: str
-    conditions: str = ""
-    precision: int = 4
-    anchor: str = ""
-
-    @property
-    def target(self) -> str:
-        """The book label to link to: ``anchor``, or else the chapter's own label (the
-        chapter file name with ``_`` as ``-``, e.g. ``chapters/gc_model`` → ``gc-model``)."""
-        return self.anchor or self.chapter.rsplit("/", 1)[-1].replace("_", "-")
-
-    def __post_init__(self) -> None:
-        for f in fields(self):
-            if f.name not in ("paper_value", "reproduced_value", "precision"):
-                value = getattr(self, f.name)
-                if not isinstance(value, str):
-                    raise TypeError(f"{f.name} must be a str; got {type(value).__name__}")
-        if self.kind not in KINDS:
-            raise ValueError(f"kind of {self.id} must be one of {KINDS}; got {self.kind!r}")
-        allowed = STATUSES_BY_KIND[self.kind]
-        if self.status not in allowed:
-            raise ValueError(f"status of {self.id} (kind {self.kind!r}) must be one of "
-                             f"{allowed}; got {self.status!r}")
-        if (self.status == "holds under conditions") != bool(self.conditions.strip()):
-            raise ValueError(f"conditions of {self.id} must be non-empty exactly when the "
-                             f"status is 'holds under conditions'; got {self.conditions!r}")
-        if not self.evidence.strip() or "\n" in self.evidence:
-            raise ValueError(f"evidence of {self.id} must be one non-empty line")
-        if (not isinstance(self.precision, int) or isinstance(self.precision, bool)
-                or not 1 <= self.precision <= 15):
-            raise ValueError(f"precision of {self.id} must be an int in [1, 15]; "
-                             f"got {self.precision!r}")
-        if self.paper not in ("GC", "RSF"):
-            raise ValueError(f"paper must be 'GC' or 'RSF'; got {self.paper!r}")
-        pv = self.paper_value
-        if not (pv is None or isinstance(pv, str) or _is_real(pv)):
-            raise TypeError("paper_value must be a real number, a str or None; "
-                            f"got {type(pv).__name__}")
-        if _is_real(pv) and not math.isfinite(pv):
-            raise ValueError(f"paper_value of {self.id} must be finite; got {pv}")
-        rv = self.reproduced_value
-        if not (rv is None or _is_real(rv)):
-            raise TypeError("reproduced_value must be a real number or None; "
-                            f"got {type(rv).__name__}")
-        if rv is not None and not math.isfinite(rv):
-            raise ValueError(f"reproduced_value of {self.id} must be finite")
-
-
-def _is_real(value: object) -> bool:
-    return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
 def _check_items(items: object) -> list[LedgerItem]:
@@ -148,15 +51,7 @@ def _check_items(items: object) -> list[LedgerItem]:
 
 def collect() -> list[LedgerItem]:
     """All ledger items, paper GC first, each paper in the order of its printed items."""
-    items: list[LedgerItem] = []
-    for module_name in ("gc", "rsf"):
-        try:
-            module = __import__(f"gyrolib.book.ledger.{module_name}", fromlist=["items"])
-        except ModuleNotFoundError as exc:
-            if exc.name != f"gyrolib.book.ledger.{module_name}":
-                raise
-            continue
-        items.extend(module.items())
+    items = [*gc.items(), *rsf.items()]
     ids = [it.id for it in items]
     if len(ids) != len(set(ids)):
         raise RuntimeError("duplicate ledger ids")
@@ -232,8 +127,9 @@ def to_table(items: list[LedgerItem]) -> str:
     lines.append("")
     for kind in KINDS:
         by_status = counts[kind]
-        lines.append(f"{kind + ':':16}" + ", ".join(f"{n} {status}"
-                                                    for status, n in by_status.items() if n))
+        if sum(by_status.values()):
+            lines.append(f"{kind + ':':16}" + ", ".join(f"{n} {status}"
+                                                        for status, n in by_status.items() if n))
     return "\n".join(lines) + "\n"
 
 

@@ -17,15 +17,27 @@ from pathlib import Path
 
 import numpy as np
 
+from gyrolib import units
+from gyrolib.gc.calibration import calibrate as calibrate_gc
+from gyrolib.gc.calibration import plot_calibration
+from gyrolib.gc.params import MEASUREMENT_NAMES
 from gyrolib.records.errors import RecordError
+from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
+from gyrolib.records.tables import GCChunks, read_rsf
+from gyrolib.rsf.calibration import calibrate as calibrate_rsf
+from gyrolib.rsf.calibration import plot_correction
+from gyrolib.rsf.correction import predict_delta_k
 
-__all__ = ["add_arguments", "run"]
+__all__ = ["add_parser", "run"]
 
 _PLOT_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 
 
-def add_arguments(methods: argparse._SubParsersAction) -> None:
-    """Add the ``gc`` and ``rsf`` sub-commands of ``calibrate``."""
+def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
+    """Add ``calibrate`` with its ``gc`` and ``rsf`` sub-commands to ``sub``; usage errors of
+    those go through ``parser_class`` (one line, status 2)."""
+    cal = sub.add_parser("calibrate", help="apply paper GC or RSF to a recorded CSV file")
+    methods = cal.add_subparsers(dest="method", required=True, parser_class=parser_class)
     gc = methods.add_parser(
         "gc", help="paper GC: drift ω_gc of a floated gyro from a gyrocompass-mode record",
         description="Run paper GC's 10-state Kalman filter on a CSV record with the columns "
@@ -131,12 +143,6 @@ def _fmt(x: float, digits: int = 4) -> str:
 
 
 def _run_gc(args: argparse.Namespace) -> int:
-    from gyrolib import units
-    from gyrolib.gc.calibration import calibrate
-    from gyrolib.gc.params import MEASUREMENT_NAMES
-    from gyrolib.records.params import gc_params_from_toml, load_toml
-    from gyrolib.records.tables import GCChunks
-
     _check_plot_path(args.plot)
     if not 0.0 < args.gate < 1.0:
         raise RecordError(args.file, f"--gate must be a probability in (0, 1); got {args.gate}")
@@ -163,13 +169,12 @@ def _run_gc(args: argparse.Namespace) -> int:
 
     bar = _Progress(f"calibrate gc {args.file}", lambda: chunks.fraction)
     try:
-        res = calibrate(all_chunks(), params, gate=args.gate, store_every=args.store_every,
+        res = calibrate_gc(all_chunks(), params, gate=args.gate, store_every=args.store_every,
                         progress=bar)
     finally:
         bar.clear()
     fig = None
     if args.plot:
-        from gyrolib.gc.calibration import plot_calibration
 
         fig = plot_calibration(res)
         _save(fig, args.plot)
@@ -202,11 +207,6 @@ def _run_gc(args: argparse.Namespace) -> int:
 
 
 def _run_rsf(args: argparse.Namespace) -> int:
-    from gyrolib import units
-    from gyrolib.records.params import rsf_config_from_toml
-    from gyrolib.records.tables import read_rsf
-    from gyrolib.rsf.calibration import calibrate, predicted_delta_k
-
     _check_plot_path(args.plot)
     if not (math.isfinite(args.period) and args.period > 0):
         raise RecordError(args.file, f"--period must be a positive number of seconds; got "
@@ -223,15 +223,14 @@ def _run_rsf(args: argparse.Namespace) -> int:
         raise RecordError(args.file, f"--period {args.period} s is longer than the record "
                           f"({span:.6g} s): no complete correction interval")
     try:
-        res = calibrate(record, args.period, k_form=args.k_form)
+        res = calibrate_rsf(record, args.period, k_form=args.k_form)
     except ValueError as exc:
         raise RecordError(args.file, str(exc)) from None
     if res.n_intervals == 0:
         raise RecordError(args.file, "no correction interval holds a usable sample (every "
                           "sample is missing or follows a gap)")
-    pred = predicted_delta_k(res, config)
+    pred = predict_delta_k(config, res.period, rate=res.mean_rate)
     if args.plot:
-        from gyrolib.rsf.calibration import plot_correction
 
         _save(plot_correction(res, pred), args.plot)
     if args.json:

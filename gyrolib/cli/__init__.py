@@ -1,0 +1,48 @@
+"""The command line, ``python -m gyrolib COMMAND``; it sits above the paper subpackages and
+:mod:`gyrolib.records`, which never import it.
+
+=============  ====================================================================
+module         command
+=============  ====================================================================
+``ledger``     ``python -m gyrolib ledger [--json]``: the reproduction ledger
+``calibrate``  ``python -m gyrolib calibrate gc|rsf FILE [...]``: a recorded log
+=============  ====================================================================
+
+Each command module offers ``add_parser(sub)`` (its sub-parser) and ``run(args)`` (its exit
+status).  Usage errors exit with status 2 and one line on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from gyrolib.cli import calibrate, ledger
+
+__all__ = ["COMMANDS", "main"]
+
+#: The commands, by name: each a module with ``add_parser`` and ``run``.
+COMMANDS = {"ledger": ledger, "calibrate": calibrate}
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """Usage errors as one line on stderr, exit status 2."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        sys.stderr.write(f"{self.prog}: error: {' '.join(message.split())}\n")
+        raise SystemExit(2)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line on ``argv`` (default: ``sys.argv[1:]``); returns the exit code.
+
+    Unknown commands or options exit through argparse (status 2, with the usage)."""
+    if argv is not None and (not isinstance(argv, list | tuple)
+                             or not all(isinstance(a, str) for a in argv)):
+        raise TypeError(f"argv must be a list of str or None; got {argv!r:.80}")
+    parser = argparse.ArgumentParser(prog="python -m gyrolib")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for module in COMMANDS.values():
+        module.add_parser(sub, OneLineParser)
+    args = parser.parse_args(argv)
+    return COMMANDS[args.command].run(args)

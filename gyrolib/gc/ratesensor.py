@@ -1,0 +1,807 @@
+"""The method paper GC replaces (its ref. [3], p. 52): the north gyro in rate-sensor mode on
+the caged platform, two positions 180° apart, and what two estimators make of it.
+
+The procedure, as paper GC lists it after its Figure 1:
+
+1. measure the torque-sensor output for ``T1`` in position 1;
+2. turn the rate sensor's base by 180° (``T_rot``, turning error ``sigma_rot``);
+3. wait ``T_settle`` for the rate sensor's transient;
+4. measure for ``T2`` in position 2;
+5. correct for the vertical Earth rate from the inclinometers.
+
+The model uses paper GC's disturbances and priors: the vibration ``N1`` of Eq. (6) through the
+unbalance and on the inclinometers, the random drift ``N3`` of Eq. (7), the inclinometer
+noises, the priors of ω_gc, δ, γ (and of ψ, through the Earth-rate terms).  The float is held
+at its null by the feedback loop, so the output is the right-hand side of Eq. (3) over ``H``
+at ``β = 0``, with the base's azimuth ``θ`` (0, then ``π + ε``) in the horizontal term::
+
+    r = (1 + k) [Ω_h cos(θ − ψ) + Ω_v γ + ω_gc + s ω_ub N1 / g + N3] + v_r
+
+``k`` is the torque sensor's scale-factor error and ``v_r`` its white output noise (intensity
+``rate_noise``); ``s = ±1`` the sign with which the turned sensors see the carrier's vibration.
+A turn about the local vertical keeps the tilt of the input axis, so the vertical Earth rate
+``Ω_v γ`` does not change sign and has to be corrected (step 5); the horizontal term does.
+Linearized (the known ``±Ω_h`` removed), position 1 reads ``ω_gc + e + Ω_v γ + …`` and
+position 2 ``ω_gc − e + d + Ω_v γ + …`` with
+
+* ``e = (1 + k) Ω_h cos ψ − Ω_h`` — the part of the Earth-rate reading the method does not
+  know (to first order ``k Ω_h``: with the input axis near north, ψ enters only as ψ²/2);
+  the turn cancels it;
+* ``d = (1 + k) Ω_h [cos ψ − cos(ε − ψ)] ≈ Ω_h (ε²/2 − ε ψ)`` — what the turning error ε
+  leaves behind, second order, with ``E[d²] = Ω_h² (σ_ψ² σ_ε² + 3 σ_ε⁴ / 4)``.
+
+State vector of the model (:data:`RS_STATE_NAMES`, SI)::
+
+    omega_gc  ω_gc                                     rad/s
+    earth     e, unknown part of the Earth-rate reading rad/s
+    turn      d, left by the turning error              rad/s
+    delta     δ, gamma γ: platform tilts                rad
+    N1, N2    vibration, Eq. (6)                        m/s², m/s³
+    N3, N4    random drift, Eq. (7)                     rad/s, rad/s²
+
+Sampled every ``sample_dt`` (rate sensor and both inclinometers; a continuous white noise of
+intensity ``C`` averaged over a sample has variance ``C/sample_dt``).
+
+* :class:`RateSensorProcedure` — the procedure's parameters (the paper gives none);
+* :func:`rate_sensor_model` → :class:`RateSensorModel` — the discrete model, the classical
+  estimator's σ (:meth:`RateSensorModel.classical_sigma`) and the optimal one's
+  (:meth:`RateSensorModel.optimal_run`, a Kalman covariance analysis built from
+  :mod:`gyrolib.filtering`);
+* :func:`rate_sensor_monte_carlo` — the classical estimator on an independent truth.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from functools import cached_property
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrolib import _validation as v
+from gyrolib.filtering.consistency import nees_bounds
+from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
+from gyrolib.filtering.discretization import covariance_factor, van_loan
+from gyrolib.gc.montecarlo import TRUTH_SUBSTEPS, _zoh
+from gyrolib.gc.params import GyrocompassParams, _check_params
+from gyrolib.units import ARCMIN, ARCSEC_PAPER
+
+__all__ = [
+    "RS_STATE_NAMES",
+    "VIBRATION_FRAMES",
+    "OptimalRun",
+    "RateSensorModel",
+    "RateSensorMonteCarlo",
+    "RateSensorProcedure",
+    "rate_sensor_model",
+    "rate_sensor_monte_carlo",
+    "turn_accuracy_limit",
+]
+
+#: States of the rate-sensor model, in order.
+RS_STATE_NAMES: Final[tuple[str, ...]] = (
+    "omega_gc", "earth", "turn", "delta", "gamma", "N1", "N2", "N3", "N4",
+)
+
+#: How the turned sensors see the vibration ``N1`` in position 2: ``"carrier"`` (a
+#: horizontal acceleration of the carrier, seen with the opposite sign by sensors turned by
+#: 180°) or ``"sensor"`` (Eq. (8) read literally: the same ``+N1`` in both positions).
+VIBRATION_FRAMES: Final[tuple[str, ...]] = ("carrier", "sensor")
+
+_N: Final[int] = len(RS_STATE_NAMES)
+_OMEGA, _EARTH, _TURN, _DELTA, _GAMMA, _N1, _N2, _N3, _N4 = range(_N)
+
+_NONNEGATIVE = ("T_rot", "T_settle", "sigma_rot", "sigma_scale")
+_POSITIVE = ("rate_noise", "sample_dt", "sigma_c", "t_max")
+
+
+@dataclass(frozen=True)
+class RateSensorProcedure:
+    """The rate-sensor method's procedure and sensor (ref. [3] as paper GC describes it, p. 52).
+
+    Paper GC gives none of these numbers ("about 20 minutes, depending on the chosen
+    measurement time"); the defaults are the book's, each stated and swept in the chapter
+    "Racing the method it replaces".  SI units.
+
+    Attributes
+    ----------
+    rate_noise : float, default 6.0e-16
+        Intensity (rad²/s) of the white noise of the torque-sensor output (feedback amplifier,
+        torque sensor), on top of the gyro's own random drift ``N3``.  Default: the
+        low-frequency intensity of ``N3`` at the paper's values, ``4 ξ2 σ2² / α2`` =
+        5.99·10⁻¹⁶ — electronics as quiet as the gyro.
+    T_rot : float, default 10.0
+        Time (s) to turn the base by 180°.
+    T_settle : float, default 10.0
+        Wait (s) after the turn for the rate sensor's transient.
+    sigma_rot : float, default 1′
+        Standard deviation (rad) of the turning error ε.
+    sigma_scale : float, default 1e-3
+        Standard deviation of the torque sensor's scale-factor error ``k`` (relative): the
+        reason the Earth-rate reading is not known to σ_c and the base is turned.
+    split : float, default 0.5
+        ``T1 / (T1 + T2)``, the share of the measurement time spent in position 1.
+    vibration_frame : {"carrier", "sensor"}, default "carrier"
+        How sensors turned by 180° see ``N1`` (:data:`VIBRATION_FRAMES`).
+    sample_dt : float, default 0.1
+        Sample interval (s) of the rate sensor and the inclinometers.
+    sigma_c : float, default 2·10⁻³ ″/s
+        The required accuracy σ_c (rad/s) of the north gyro's drift (paper GC, after ref. [2]).
+    t_max : float, default 7200.0
+        Longest procedure (s) searched for σ_c.
+
+    Examples
+    --------
+    >>> from dataclasses import replace
+    >>> from gyrolib import gc
+    >>> proc = gc.RateSensorProcedure()
+    >>> proc.overhead
+    20.0
+    >>> replace(proc, T_settle=-1.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: T_settle must be >= 0 (finite); got -1.0
+    >>> replace(proc, rate_noise=float("nan"))
+    Traceback (most recent call last):
+    ...
+    ValueError: rate_noise must be > 0 (a finite positive number); got nan
+    """
+
+    rate_noise: float = 6.0e-16
+    T_rot: float = 10.0
+    T_settle: float = 10.0
+    sigma_rot: float = ARCMIN
+    sigma_scale: float = 1.0e-3
+    split: float = 0.5
+    vibration_frame: str = "carrier"
+    sample_dt: float = 0.1
+    sigma_c: float = 2.0e-3 * ARCSEC_PAPER
+    t_max: float = 7200.0
+
+    def __post_init__(self) -> None:
+        for f_ in fields(self):
+            name = f_.name
+            if name in _NONNEGATIVE:
+                v.check_nonnegative(name, getattr(self, name))
+            elif name in _POSITIVE:
+                v.check_positive(name, getattr(self, name))
+        v.check_in_range("split", self.split, 0.0, 1.0, low_open=True, high_open=True)
+        v.check_choice("vibration_frame", self.vibration_frame, VIBRATION_FRAMES)
+        for name in (*_NONNEGATIVE, *_POSITIVE, "split"):
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    @property
+    def overhead(self) -> float:
+        """``T_rot + T_settle`` (s): the time between the two measurements."""
+        return self.T_rot + self.T_settle
+
+
+def _check_procedure(procedure: object) -> RateSensorProcedure:
+    return v.check_instance("procedure", procedure, RateSensorProcedure)
+
+
+def _power_sum(M: np.ndarray, Q: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(M^k, Σ_{j<k} M^j Q M^jᵀ)`` by doubling: the covariance of ``k`` steps of
+    ``y ← M y + w``, ``Cov w = Q``, in O(log k) products."""
+    Mk = np.eye(M.shape[0])
+    Sk = np.zeros_like(Q)
+    B, SB = M.copy(), Q.copy()
+    while k:
+        if k & 1:
+            Sk = SB + B @ Sk @ B.T
+            Mk = B @ Mk
+        k >>= 1
+        if k:
+            SB = SB + B @ SB @ B.T
+            B = B @ B
+    return Mk, Sk
+
+
+@dataclass(frozen=True)
+class OptimalRun:
+    """The optimal estimator's σ of ω_gc over a procedure (:meth:`RateSensorModel.optimal_run`):
+    ``t`` (s, elapsed since the start of position 1) and ``sigma`` (rad/s) at every sample and
+    phase boundary; ``phases`` the ``(name, start, end)`` of each phase (s)."""
+
+    t: NDArray[np.float64]
+    sigma: NDArray[np.float64]
+    phases: tuple[tuple[str, float, float], ...]
+
+    def __post_init__(self) -> None:
+        n = v.check_ndarray("t", self.t, ndim=1).size
+        v.check_ndarray("sigma", self.sigma, shape=(n,))
+        if not isinstance(self.phases, tuple) or not all(
+                isinstance(ph, tuple) and len(ph) == 3 for ph in self.phases):
+            raise TypeError("phases must be a tuple of (name, start, end) tuples")
+
+    def time_to(self, level: float) -> float:
+        """First elapsed time (s) at which ``sigma`` falls to ``level`` (rad/s) and stays
+        below it, linearly interpolated; ``nan`` if not reached.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
+        >>> run = m.optimal_run(10.0, 10.0)
+        >>> f"{run.time_to(1e-8):.1f} s"
+        '34.5 s'
+        """
+        level = v.check_positive("level", level)
+        above = np.nonzero(self.sigma > level)[0]
+        if above.size == 0:
+            return float(self.t[0])
+        last = above[-1]
+        if last == self.sigma.size - 1:
+            return float("nan")
+        t0, t1, s0, s1 = self.t[last], self.t[last + 1], self.sigma[last], self.sigma[last + 1]
+        return float(t0 + (s0 - level) / (s0 - s1) * (t1 - t0))
+
+
+@dataclass(frozen=True)
+class RateSensorModel:
+    """The rate-sensor method's discrete model (:func:`rate_sensor_model`).
+
+    ``F``, ``G``, ``Q``: the continuous model of the nine states :data:`RS_STATE_NAMES` (the
+    shaping filters (6), (7); the rest constant); ``Phi``, ``Qd``: its exact step over
+    ``procedure.sample_dt``; ``P0`` the prior; ``H1``, ``H2`` (3×9): rate sensor, inclinometer y,
+    inclinometer z in positions 1 and 2; ``r`` (3,) their noise variances per sample.
+    """
+
+    params: GyrocompassParams
+    procedure: RateSensorProcedure
+    F: np.ndarray
+    G: np.ndarray
+    Q: np.ndarray
+    Phi: np.ndarray
+    Qd: np.ndarray
+    P0: np.ndarray
+    H1: np.ndarray
+    H2: np.ndarray
+    r: np.ndarray
+
+    def __post_init__(self) -> None:
+        _check_params(self.params)
+        _check_procedure(self.procedure)
+        for name in ("F", "Phi", "Qd", "P0"):
+            v.check_ndarray(name, getattr(self, name), shape=(_N, _N))
+        v.check_ndarray("G", self.G, shape=(_N, 2))
+        v.check_ndarray("Q", self.Q, shape=(2, 2))
+        v.check_ndarray("H1", self.H1, shape=(3, _N))
+        v.check_ndarray("H2", self.H2, shape=(3, _N))
+        v.check_ndarray("r", self.r, shape=(3,))
+
+    # -- helpers -------------------------------------------------------------------------------
+    def _samples(self, name: str, t: object) -> int:
+        t = v.check_positive(name, t)
+        n = round(t / self.procedure.sample_dt)
+        if n < 1:
+            raise ValueError(f"{name} must be at least one sample interval "
+                             f"sample_dt={self.procedure.sample_dt}; got {t}")
+        return n
+
+    def _gap(self, length: float) -> tuple[np.ndarray, np.ndarray]:
+        """``(Φ, Qd)`` over ``length`` (s): whole samples by doubling (a single matrix
+        exponential over minutes would overflow in Van Loan's block), the rest exactly."""
+        dt = self.procedure.sample_dt
+        k = math.floor(length / dt + 1e-9)
+        Phi, Qd = _power_sum(self.Phi, self.Qd, k)
+        rest = length - k * dt
+        if rest > 1e-12:
+            Pr, Qr = van_loan(self.F, self.G, self.Q, rest)
+            Phi, Qd = Pr @ Phi, Pr @ Qd @ Pr.T + Qr
+        return Phi, Qd
+
+    def _window_step(self, H: np.ndarray, slots: tuple[int, int],
+                     na: int) -> tuple[np.ndarray, np.ndarray]:
+        """One sample of a window on the augmented state ``[x; sums]``: the state steps by
+        ``Φ`` and the rate and inclinometer-z samples are added to their sums."""
+        ir, iz = slots
+        M = np.eye(na)
+        M[:_N, :_N] = self.Phi
+        M[ir, :_N] = H[0] @ self.Phi
+        M[iz, :_N] = H[2] @ self.Phi
+        S = np.zeros((na, _N))
+        S[:_N] = np.eye(_N)
+        S[ir] = H[0]
+        S[iz] = H[2]
+        Qa = S @ self.Qd @ S.T
+        Qa[ir, ir] += self.r[0]
+        Qa[iz, iz] += self.r[2]
+        return M, Qa
+
+    def _classical_weights(self, n1: int, n2: int) -> np.ndarray:
+        """The classical estimate minus ω_gc as a functional of ``[x; Σr1, Σz1, Σr2, Σz2]``:
+        ``½ (m1 + m2) − (Ω_v / 2g) (z̄1 + z̄2)``, each mean a sum over its samples."""
+        p = self.params
+        c = np.zeros(_N + 4)
+        c[_OMEGA] = -1.0
+        c[_N] = 0.5 / n1
+        c[_N + 2] = 0.5 / n2
+        c[_N + 1] = -p.Omega_v / (2.0 * p.g * n1)
+        c[_N + 3] = -p.Omega_v / (2.0 * p.g * n2)
+        return c
+
+    @cached_property
+    def _gap_overhead(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(Φ, Qd)`` over the turn and the settling (computed once per model)."""
+        return self._gap(self.procedure.overhead)
+
+    def _classical_after_w1(self, n1: int) -> np.ndarray:
+        na = _N + 4
+        P = np.zeros((na, na))
+        P[:_N, :_N] = self.P0
+        M, Qa = self._window_step(self.H1, (_N, _N + 1), na)
+        Mk, Sk = _power_sum(M, Qa, n1)
+        P = Mk @ P @ Mk.T + Sk
+        Pg, Qg = self._gap_overhead
+        A = np.eye(na)
+        A[:_N, :_N] = Pg
+        P = A @ P @ A.T
+        P[:_N, :_N] += Qg
+        return P
+
+    # -- the classical estimator ---------------------------------------------------------------
+    def classical_sigma(self, t1: float, t2: float) -> float:
+        """σ (rad/s) of the classical estimate of ω_gc: the half-sum of the two position
+        means of the rate sensor, corrected by the means of inclinometer z,
+        ``ω̂ = ½ (m1 + m2) − Ω_v (z̄1 + z̄2) / (2 g)`` (paper GC, p. 52, steps 1–5).
+
+        Computed exactly on the discrete model: the sums of the samples are states of an
+        augmented linear system whose covariance is propagated over each window by doubling.
+
+        Parameters
+        ----------
+        t1, t2 : float
+            Measurement times (s) in positions 1 and 2, rounded to whole samples.
+
+        Returns
+        -------
+        float
+            The σ of the estimation error (rad/s).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> from gyrolib.units import from_si
+        >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
+        >>> f"{from_si(m.classical_sigma(10.0, 10.0), 'arcsec_paper/s'):.5f}"
+        '0.00170'
+        """
+        n1, n2 = self._samples("t1", t1), self._samples("t2", t2)
+        return self._classical_sigma_n(n1, n2)
+
+    def _classical_sigma_n(self, n1: int, n2: int) -> float:
+        na = _N + 4
+        P = self._classical_after_w1(n1)
+        M, Qa = self._window_step(self.H2, (_N + 2, _N + 3), na)
+        Mk, Sk = _power_sum(M, Qa, n2)
+        P = Mk @ P @ Mk.T + Sk
+        c = self._classical_weights(n1, n2)
+        return float(math.sqrt(max(c @ P @ c, 0.0)))
+
+    def classical_curve(self, t1: float, t2: float) -> tuple[NDArray[np.float64],
+                                                             NDArray[np.float64]]:
+        """σ (rad/s) of the classical estimate after each sample of position 2, position 1
+        lasting ``t1``: what the procedure would give if stopped then.
+
+        Parameters
+        ----------
+        t1, t2 : float
+            Measurement time in position 1 and the longest in position 2 (s).
+
+        Returns
+        -------
+        t : ndarray
+            Elapsed time (s) since the start of position 1.
+        sigma : ndarray
+            σ of the classical estimate (rad/s).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
+        >>> t, s = m.classical_curve(10.0, 10.0)
+        >>> f"{t[-1]:.1f} s", bool(s[-1] == m.classical_sigma(10.0, 10.0))
+        ('40.0 s', True)
+        """
+        n1, n2 = self._samples("t1", t1), self._samples("t2", t2)
+        dt = self.procedure.sample_dt
+        na = _N + 4
+        P = self._classical_after_w1(n1)
+        M, Qa = self._window_step(self.H2, (_N + 2, _N + 3), na)
+        sigma = np.empty(n2)
+        for k in range(n2):
+            P = M @ P @ M.T + Qa
+            c = self._classical_weights(n1, k + 1)
+            sigma[k] = math.sqrt(max(c @ P @ c, 0.0))
+        if n2:
+            # the last point exactly as classical_sigma computes it (doubling)
+            sigma[-1] = self._classical_sigma_n(n1, n2)
+        t = n1 * dt + self.procedure.overhead + dt * np.arange(1, n2 + 1)
+        return t, sigma
+
+    # -- the optimal estimator -----------------------------------------------------------------
+    def _kalman(self, H: np.ndarray, r: np.ndarray, P: np.ndarray, n: int):
+        z = np.zeros((1, _N, _N))
+        model = AffineDiscreteModel(
+            seg=np.zeros(n, dtype=np.int64), a=np.zeros(n), b=np.zeros(n),
+            Phi0=self.Phi[None], PhiA=z, PhiB=z, Qd0=self.Qd[None], QdA=z, QdB=z,
+            H=np.ascontiguousarray(H), r=np.ascontiguousarray(r))
+        return covariance_fast(model, 0.5 * (P + P.T), n)
+
+    def optimal_run(self, t1: float, t2: float) -> OptimalRun:
+        """σ of ω_gc of the optimal (Kalman) estimator over the procedure.
+
+        A covariance analysis of the discrete Kalman filter on the same measurement model,
+        the turn a known time-varying input (it switches the signs of the Earth-rate reading
+        and of the turned sensors' vibration, and brings in the turning error): position 1
+        (rate sensor and both inclinometers every sample), the turn (no sample: the sensors
+        are moving), the settling (inclinometers only: the rate sensor's transient is not
+        modelled), position 2 (all three).  Built from :class:`gyrolib.filtering
+        .AffineDiscreteModel`, :func:`gyrolib.filtering.covariance_fast` and
+        :func:`gyrolib.filtering.van_loan`.
+
+        Parameters
+        ----------
+        t1, t2 : float
+            Measurement times (s) in positions 1 and 2.
+
+        Returns
+        -------
+        OptimalRun
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> from gyrolib.units import from_si
+        >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
+        >>> run = m.optimal_run(10.0, 10.0)
+        >>> f"{from_si(run.sigma[-1], 'arcsec_paper/s'):.5f}"   # classical: 0.00170
+        '0.00164'
+        """
+        n1, n2 = self._samples("t1", t1), self._samples("t2", t2)
+        return self._optimal_run_n(n1, n2)
+
+    def _optimal_run_n(self, n1: int, n2: int) -> OptimalRun:
+        proc = self.procedure
+        dt = proc.sample_dt
+        run = self._kalman(self.H1, self.r, self.P0, n1)
+        P = run.P_stored[-1]
+        ts = [dt * np.arange(n1 + 1)]
+        ss = [np.sqrt(np.clip(run.var[:, _OMEGA], 0.0, None))]
+        t = n1 * dt
+        phases = [("position 1", 0.0, t)]
+        # the turn: no sample (the sensors are moving); the state only propagates
+        Pg, Qg = self._gap(proc.T_rot)
+        P = Pg @ P @ Pg.T + Qg
+        phases.append(("turn", t, t + proc.T_rot))
+        t += proc.T_rot
+        # the settling: the inclinometers (turned) only
+        ns = math.floor(proc.T_settle / dt + 1e-9)
+        if ns:
+            run = self._kalman(self.H2[1:], self.r[1:], P, ns)
+            P = run.P_stored[-1]
+            ts.append(t + dt * np.arange(1, ns + 1))
+            ss.append(np.sqrt(np.clip(run.var[1:, _OMEGA], 0.0, None)))
+        Pg, Qg = self._gap(proc.T_settle - ns * dt)
+        P = Pg @ P @ Pg.T + Qg
+        phases.append(("settling", t, t + proc.T_settle))
+        t += proc.T_settle
+        ts.append(np.array([t]))
+        ss.append(np.sqrt([max(P[_OMEGA, _OMEGA], 0.0)]))
+        run = self._kalman(self.H2, self.r, P, n2)
+        ts.append(t + dt * np.arange(1, n2 + 1))
+        ss.append(np.sqrt(np.clip(run.var[1:, _OMEGA], 0.0, None)))
+        phases.append(("position 2", t, t + n2 * dt))
+        return OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
+
+    @property
+    def turn_floor(self) -> float:
+        """σ (rad/s) that the turning error alone leaves in the classical estimate,
+        ``sqrt(E[d²]) / 2`` (no measurement time removes it).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
+        >>> f"{m.turn_floor:.2e} rad/s"
+        '5.68e-12 rad/s'
+        """
+        return 0.5 * math.sqrt(self.P0[_TURN, _TURN])
+
+
+def rate_sensor_model(params: GyrocompassParams | None = None,
+                      procedure: RateSensorProcedure | None = None) -> RateSensorModel:
+    """The rate-sensor method's model under paper GC's disturbances and priors.
+
+    Parameters
+    ----------
+    params : GyrocompassParams, optional
+        Paper GC's parameters (default: the paper's): the shaping filters (6), (7), the
+        unbalance, the inclinometer noises, the priors of ω_gc, ψ, δ, γ and ``shaping_p0``.
+    procedure : RateSensorProcedure, optional
+        The procedure and the rate sensor (default: the book's).
+
+    Returns
+    -------
+    RateSensorModel
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> m = gc.rate_sensor_model()
+    >>> m.H1[0, :5].tolist(), m.H2[0, :5].tolist()   # ω_gc, e, d, δ, γ in the rate reading
+    ([1.0, 1.0, 0.0, 0.0, 5.9e-05], [1.0, -1.0, 1.0, 0.0, 5.9e-05])
+    """
+    p = GyrocompassParams() if params is None else _check_params(params)
+    proc = RateSensorProcedure() if procedure is None else _check_procedure(procedure)
+    vib, drift = p.vibration_filter(), p.random_drift_filter()
+    F = np.zeros((_N, _N))
+    F[_N1:_N2 + 1, _N1:_N2 + 1] = vib.A
+    F[_N3:_N4 + 1, _N3:_N4 + 1] = drift.A
+    G = np.zeros((_N, 2))
+    G[_N1:_N2 + 1, 0] = vib.B[:, 0]
+    G[_N3:_N4 + 1, 1] = drift.B[:, 0]
+    Q = np.diag([p.Q1, p.Q2])
+    Phi, Qd = van_loan(F, G, Q, proc.sample_dt)
+    # prior: paper GC's for ω_gc, δ, γ, N1…N4; e and d from k, ψ and ε (second moments)
+    P0 = np.zeros((_N, _N))
+    P0[_OMEGA, _OMEGA] = p.sigma_gc0**2
+    sk, sp, se = proc.sigma_scale, p.sigma_psi0, proc.sigma_rot
+    P0[_EARTH, _EARTH] = p.Omega_h**2 * (sk**2 + 0.75 * sp**4)
+    P0[_TURN, _TURN] = p.Omega_h**2 * (sp**2 * se**2 + 0.75 * se**4)
+    P0[_EARTH, _TURN] = P0[_TURN, _EARTH] = -0.25 * p.Omega_h**2 * sp**2 * se**2
+    P0[_DELTA, _DELTA] = p.sigma_delta0**2
+    P0[_GAMMA, _GAMMA] = p.sigma_gamma0**2
+    if p.shaping_p0 == "stationary":
+        k = p.shaping_p0_scale
+        P0[_N1:_N2 + 1, _N1:_N2 + 1] = k * vib.stationary_covariance()
+        P0[_N3:_N4 + 1, _N3:_N4 + 1] = k * drift.stationary_covariance()
+    # measurements: rate sensor, inclinometer y, inclinometer z
+    s2 = -1.0 if proc.vibration_frame == "carrier" else 1.0
+    ub = p.omega_ub / p.g
+    H1 = np.zeros((3, _N))
+    H1[0, [_OMEGA, _EARTH, _GAMMA, _N1, _N3]] = (1.0, 1.0, p.Omega_v, ub, 1.0)
+    H1[1, [_DELTA, _N1]] = (p.g, 1.0)
+    H1[2, [_GAMMA, _N1]] = (p.g, 1.0)
+    H2 = np.zeros((3, _N))
+    H2[0, [_OMEGA, _EARTH, _TURN, _GAMMA, _N1, _N3]] = (1.0, -1.0, 1.0, p.Omega_v, s2 * ub, 1.0)
+    H2[1, [_DELTA, _N1]] = (p.g, s2)
+    H2[2, [_GAMMA, _N1]] = (p.g, s2)
+    # the inclinometers' intensities as GC reads them; per sample of proc.sample_dt
+    c_incl = np.array([p.C_incl_y, p.C_incl_z])
+    if p.measurement_noise == "variance":   # printed numbers = variances per sample of p.dt
+        c_incl = c_incl * p.dt
+    r = np.concatenate(([proc.rate_noise], c_incl)) / proc.sample_dt
+    return RateSensorModel(params=p, procedure=proc, F=F, G=G, Q=Q, Phi=Phi, Qd=Qd, P0=P0,
+                           H1=H1, H2=H2, r=r)
+
+
+def turn_accuracy_limit(params: GyrocompassParams | None = None,
+                        level: float = 2.0e-3 * ARCSEC_PAPER) -> float:
+    """The turning error σ_ε (rad) at which the turn alone leaves ``level`` (rad/s) in the
+    classical estimate: ``Ω_h² (σ_ψ² σ_ε² + 3 σ_ε⁴/4) / 4 = level²`` solved for σ_ε — what
+    "turn by 180° with the required accuracy" (paper GC, p. 52) has to mean.
+
+    Parameters
+    ----------
+    params : GyrocompassParams, optional
+        For ``Omega_h`` and ``sigma_psi0``.
+    level : float
+        The σ (rad/s), > 0; default σ_c.
+
+    Returns
+    -------
+    float
+        σ_ε (rad).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> f"{from_si(gc.turn_accuracy_limit(), 'deg'):.2f} deg"
+    '1.31 deg'
+    """
+    p = GyrocompassParams() if params is None else _check_params(params)
+    level = v.check_positive("level", level)
+    a, b, c = 0.75, p.sigma_psi0**2, -4.0 * level**2 / p.Omega_h**2
+    x = (-b + math.sqrt(b * b - 4.0 * a * c)) / (2.0 * a)
+    return math.sqrt(x)
+
+
+# Monte Carlo check of the classical estimator on an independent truth -----------------------
+@dataclass(frozen=True)
+class RateSensorMonteCarlo:
+    """Runs of the classical estimator on a simulated truth (:func:`rate_sensor_monte_carlo`):
+    ``errors`` (rad/s) one per run, ``sigma`` (rad/s) the σ the model computes for it,
+    ``band`` the two-sided 95 % χ² band of ``mean(errors²) / sigma²``."""
+
+    errors: NDArray[np.float64]
+    sigma: float
+    band: tuple[float, float]
+    t1: float
+    t2: float
+    seed: int
+    truth_params: GyrocompassParams | None = None
+
+    def __post_init__(self) -> None:
+        if v.check_ndarray("errors", self.errors, ndim=1).size < 2:
+            raise ValueError("errors must hold at least 2 runs")
+        v.check_positive("sigma", self.sigma)
+        lo, hi = (v.check_nonnegative("band", b) for b in self.band)
+        if not lo <= hi:
+            raise ValueError(f"band must be (low, high) with low <= high; got {self.band}")
+        if self.truth_params is not None:
+            v.check_instance("truth_params", self.truth_params, GyrocompassParams)
+
+    @property
+    def n_runs(self) -> int:
+        """Number of runs."""
+        return int(self.errors.size)
+
+    @property
+    def ratio(self) -> float:
+        """``mean(errors²) / sigma²`` (1 for a σ that holds)."""
+        return float(np.mean(self.errors**2) / self.sigma**2)
+
+    @property
+    def rms(self) -> float:
+        """RMS of the errors (rad/s)."""
+        return float(np.sqrt(np.mean(self.errors**2)))
+
+    @property
+    def inside(self) -> bool:
+        """``ratio`` inside ``band``: the computed σ holds for this truth."""
+        return bool(self.band[0] <= self.ratio <= self.band[1])
+
+
+def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
+                            procedure: RateSensorProcedure | None = None, *,
+                            t1: float, t2: float, n_runs: int = 400, seed: int = 0,
+                            truth_params: GyrocompassParams | None = None,
+                            substeps: int = TRUTH_SUBSTEPS) -> RateSensorMonteCarlo:
+    """The classical estimator of the rate-sensor method on a simulated truth.
+
+    The truth shares no discretization with :func:`rate_sensor_model`: each run draws ψ,
+    ω_gc, δ, γ, the scale-factor error ``k``, the turning error ε and the shaping-filter
+    states from the truth's priors; integrates the shaping filters (6), (7) on its own grid of
+    ``substeps`` steps per sample, white noise held over each fine step (the zero-order-hold
+    steps of :mod:`gyrolib.gc.montecarlo`); evaluates the output of Eq. (3) at the float's
+    null in full, ``(1 + k)[Ω_h cos(θ − ψ) + Ω_v γ + ω_gc + s ω_ub N1/g + N3]`` with the base's
+    azimuth ``θ = 0`` in position 1 and ``π + ε`` after the turn, the turned sensors seeing
+    the vibration with the sign ``s`` of ``vibration_frame``; and adds the sensors' white
+    noise averaged over each sample.  The estimator is the paper's half-sum corrected by the
+    inclinometer means.
+
+    Parameters
+    ----------
+    params : GyrocompassParams, optional
+        The model the computed σ uses.
+    procedure : RateSensorProcedure, optional
+        The procedure (both the model's and the truth's).
+    t1, t2 : float
+        Measurement times (s) in positions 1 and 2.
+    n_runs : int
+        Number of runs (>= 2).
+    seed : int
+        Seed (>= 0); run ``i`` is the same whatever ``n_runs``.
+    truth_params : GyrocompassParams, optional
+        The truth's parameters (default: ``params``), e.g. a larger vibration.
+    substeps : int
+        Fine steps of the truth per sample (>= 1).
+
+    Returns
+    -------
+    RateSensorMonteCarlo
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> mc = gc.rate_sensor_monte_carlo(t1=10.0, t2=10.0, n_runs=200, seed=3)
+    >>> mc.inside, f"{mc.ratio:.2f}"
+    (True, '1.04')
+    """
+    p = GyrocompassParams() if params is None else _check_params(params)
+    proc = RateSensorProcedure() if procedure is None else _check_procedure(procedure)
+    tp = p if truth_params is None else v.check_instance("truth_params", truth_params,
+                                                         GyrocompassParams)
+    n_runs = v.check_int("n_runs", n_runs, 2)
+    seed = v.check_int("seed", seed, 0)
+    substeps = v.check_int("substeps", substeps, 1)
+    model = rate_sensor_model(p, proc)
+    n1, n2 = model._samples("t1", t1), model._samples("t2", t2)
+    sigma = model._classical_sigma_n(n1, n2)
+    errors = _truth_classical_errors(tp, proc, n1, n2, n_runs, seed, substeps)
+    return RateSensorMonteCarlo(errors=errors, sigma=sigma, band=nees_bounds(1, n_runs),
+                                t1=n1 * proc.sample_dt, t2=n2 * proc.sample_dt, seed=seed,
+                                truth_params=truth_params)
+
+
+_BLOCK: Final[int] = 64      # runs per random stream (run i is the same whatever n_runs)
+
+
+class _Truth:
+    """The truth's fixed arrays: zero-order-hold steps of the shaping filters on the fine
+    grid ``h`` (and over the part of the gap shorter than ``h``), noise levels, signs."""
+
+    def __init__(self, tp: GyrocompassParams, proc: RateSensorProcedure, substeps: int):
+        self.tp, self.proc, self.substeps = tp, proc, substeps
+        dt = proc.sample_dt
+        h = dt / substeps
+        self.vib, self.drift = tp.vibration_filter(), tp.random_drift_filter()
+        self.fine = self._steps(h)
+        self.n_gap = math.floor(proc.overhead / h + 1e-9)
+        rest = proc.overhead - self.n_gap * h
+        self.rest = self._steps(rest) if rest > 1e-12 else None
+        c_z = tp.C_incl_z * (tp.dt if tp.measurement_noise == "variance" else 1.0)
+        self.sd_rate = math.sqrt(proc.rate_noise / dt)
+        self.sd_z = math.sqrt(c_z / dt)
+        self.s2 = -1.0 if proc.vibration_frame == "carrier" else 1.0
+        self.ub = tp.omega_ub / tp.g
+        P = np.zeros((4, 4))
+        if tp.shaping_p0 == "stationary":
+            P[:2, :2] = tp.shaping_p0_scale * self.vib.stationary_covariance()
+            P[2:, 2:] = tp.shaping_p0_scale * self.drift.stationary_covariance()
+        self.L = covariance_factor(P) if np.any(P) else np.zeros((4, 1))
+
+    def _steps(self, h: float) -> tuple[np.ndarray, ...]:
+        phi1, gam1 = _zoh(self.vib.A, self.vib.B[:, 0], h)
+        phi2, gam2 = _zoh(self.drift.A, self.drift.B[:, 0], h)
+        return (phi1, gam1 * math.sqrt(self.tp.Q1 / h), phi2,
+                gam2 * math.sqrt(self.tp.Q2 / h))
+
+    @staticmethod
+    def advance(x: np.ndarray, n_fine: int, steps: tuple[np.ndarray, ...],
+                rng: np.random.Generator) -> None:
+        """``n_fine`` fine steps of N1…N4 (rows of ``x``), white noise held over each."""
+        phi1, gam1, phi2, gam2 = steps
+        w = rng.standard_normal((n_fine, 2, x.shape[1]))
+        for i in range(n_fine):
+            x[0:2] = phi1 @ x[0:2] + np.outer(gam1, w[i, 0])
+            x[2:4] = phi2 @ x[2:4] + np.outer(gam2, w[i, 1])
+
+    def errors(self, rng: np.random.Generator, n1: int, n2: int, B: int) -> np.ndarray:
+        """Classical-estimate errors of ``B`` runs drawn from ``rng``."""
+        tp = self.tp
+        # each run's constants and initial shaping-filter states, from the truth's priors
+        psi = tp.sigma_psi0 * rng.standard_normal(B)
+        omega = tp.sigma_gc0 * rng.standard_normal(B)
+        gamma = tp.sigma_gamma0 * rng.standard_normal(B)
+        k = self.proc.sigma_scale * rng.standard_normal(B)
+        eps = self.proc.sigma_rot * rng.standard_normal(B)
+        x = self.L @ rng.standard_normal((self.L.shape[1], B))      # N1, N2, N3, N4
+
+        def window(n: int, theta: np.ndarray, s: float) -> tuple[np.ndarray, np.ndarray]:
+            sum_r = np.zeros(B)
+            sum_z = np.zeros(B)
+            for _ in range(n):
+                self.advance(x, self.substeps, self.fine, rng)
+                e = rng.standard_normal((2, B))
+                # Eq. (3) over H at the float's null, the base at azimuth θ, in full
+                rate = (1.0 + k) * (tp.Omega_h * np.cos(theta - psi) + tp.Omega_v * gamma
+                                    + omega + s * self.ub * x[0] + x[2])
+                sum_r += rate + self.sd_rate * e[0]
+                sum_z += tp.g * gamma + s * x[0] + self.sd_z * e[1]
+            return sum_r / n, sum_z / n
+
+        m1, z1 = window(n1, np.zeros(B), 1.0)
+        self.advance(x, self.n_gap, self.fine, rng)      # the turn and the settling
+        if self.rest is not None:
+            self.advance(x, 1, self.rest, rng)
+        m2, z2 = window(n2, np.pi + eps, self.s2)
+        est = 0.5 * (m1 + m2) - tp.Omega_v * (z1 + z2) / (2.0 * tp.g)
+        return est - omega
+
+
+def _truth_classical_errors(tp: GyrocompassParams, proc: RateSensorProcedure, n1: int,
+                            n2: int, n_runs: int, seed: int, substeps: int) -> np.ndarray:
+    """Classical-estimate errors of ``n_runs`` truth runs (see
+    :func:`rate_sensor_monte_carlo`): one random stream per block of :data:`_BLOCK` runs."""
+    truth = _Truth(tp, proc, substeps)
+    n_blocks = -(-n_runs // _BLOCK)
+    streams = np.random.default_rng(seed).bit_generator.seed_seq.spawn(n_blocks)
+    out = np.concatenate([truth.errors(np.random.Generator(np.random.PCG64(ss)), n1, n2,
+                                       _BLOCK) for ss in streams])
+    return out[:n_runs]

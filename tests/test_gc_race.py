@@ -1,0 +1,319 @@
+"""The race of paper GC's method against the rate-sensor method it replaces (issue 17):
+``gc.ratesensor`` and ``gc.racing``.
+
+Independent references: the ledger's time of GC's filter (itself tested against the
+plain-numpy filter of ``tests/gc_reference.py``); closed forms of the classical estimator's
+variance (white noise: ``q/T``; coloured noise: the double sum of the shaping filters'
+autocorrelations over the samples); the information form of the optimal estimator on
+static states; a simulated truth (nonlinear, its own grid) with a χ² band, and a wrong truth
+that must fail it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from gyrolib import gc
+from gyrolib.book.ledger.gc import SIGMA_C
+from gyrolib.book.ledger.gc import items as ledger_items
+from gyrolib.gc.ratesensor import RS_STATE_NAMES
+
+BASE = gc.GyrocompassParams()
+PROC = gc.RateSensorProcedure()
+
+
+@pytest.fixture(scope="module")
+def result() -> gc.RaceResult:
+    return gc.race()
+
+
+# GC's time ----------------------------------------------------------------------------------
+def test_t_c_gc_is_the_ledgers_covariance_time(result):
+    led = {it.id: it for it in ledger_items()}
+    assert result.t_c_gc == pytest.approx(led["gc.time_to_sigma_c"].reproduced_value,
+                                          rel=1e-12)
+    assert PROC.sigma_c == pytest.approx(SIGMA_C, rel=1e-15)
+    assert round(result.t_c_gc, 1) == 24.1        # the issue's number at the defaults
+    # the GC curve crosses σ_c there
+    assert np.interp(result.t_c_gc, result.t_gc, result.sigma_gc) == pytest.approx(
+        SIGMA_C, rel=1e-3)
+
+
+# The acceptance items ------------------------------------------------------------------------
+def test_rate_sensor_time_counts_the_turn_and_the_settling(result):
+    assert result.t_c_rate_sensor >= PROC.T_rot + PROC.T_settle
+    assert result.t_c_rate_sensor == pytest.approx(result.t1 + PROC.overhead + result.t2,
+                                                   abs=1e-9)
+    assert result.t1 == pytest.approx(result.t2)                 # split = 0.5
+    # measurement time "chosen to just reach σ_c": one sample less in each window fails
+    m = gc.rate_sensor_model(BASE, PROC)
+    assert m.classical_sigma(result.t1, result.t2) <= PROC.sigma_c
+    dt = PROC.sample_dt
+    assert m.classical_sigma(result.t1 - dt, result.t2 - dt) > PROC.sigma_c
+
+
+@pytest.mark.parametrize("changes", [
+    {}, {"vibration_frame": "sensor"}, {"rate_noise": 6e-14}, {"T_rot": 0.0, "T_settle": 0.0},
+    {"sigma1_sq": 0.1 * BASE.sigma1_sq}, {"split": 0.3}, {"shaping_p0": "zero"},
+])
+def test_optimal_is_never_slower_than_classical(changes):
+    sw = gc.race_sweep(cases=[changes])
+    assert sw.t_c_rate_sensor_optimal[0] <= sw.t_c_rate_sensor[0]
+    assert sw.t_c_rate_sensor_optimal[0] >= PROC.overhead * (1 if "T_rot" not in changes
+                                                             else 0)
+
+
+def test_optimal_sigma_below_classical_on_the_same_data(result):
+    # the Kalman filter is the best linear estimator on the same samples: at every time of
+    # position 2 its σ is at most the half-sum's
+    s_opt = np.interp(result.t_classical, result.t_optimal, result.sigma_optimal)
+    assert np.all(s_opt <= result.sigma_classical * (1 + 1e-9))
+
+
+def test_faster_percent_definition(result):
+    assert result.faster_percent == pytest.approx(
+        100 * (1 - result.t_c_gc / result.t_c_rate_sensor))
+    assert result.faster_percent_optimal == pytest.approx(
+        100 * (1 - result.t_c_gc / result.t_c_rate_sensor_optimal))
+    assert "race" in result.evidence() and f"{result.t_c_gc:.1f} s" in result.evidence()
+
+
+# The classical estimator against closed forms --------------------------------------------------
+QUIET = replace(BASE, sigma1_sq=1e-30, sigma2_sq=1e-40)
+
+
+def test_classical_sigma_white_noise_closed_form():
+    # shaping filters silenced, no turning error: only the white noises of the rate sensor
+    # and inclinometer z are left, and the half-sum's variance is ¼ Σ q/T + (Ω_v/2g)² Σ C/T
+    proc = replace(PROC, sigma_rot=0.0, rate_noise=3e-15)
+    m = gc.rate_sensor_model(QUIET, proc)
+    for t1, t2 in ((1.0, 1.0), (3.0, 7.5), (20.0, 5.0)):
+        inv = 1 / t1 + 1 / t2
+        want = 0.25 * proc.rate_noise * inv + (QUIET.Omega_v / (2 * QUIET.g))**2 \
+            * QUIET.C_incl_z * inv
+        assert m.classical_sigma(t1, t2) ** 2 == pytest.approx(want, rel=1e-9)
+
+
+@pytest.mark.parametrize("frame", ["carrier", "sensor"])
+def test_classical_sigma_coloured_noise_double_sum(frame):
+    # the half-sum's error is a weighted sum of the N1, N3 samples (plus white noise and the
+    # turn): its variance is the double sum of the weights times each shaping filter's
+    # autocovariance at the sample lags (expm per lag, not the doubling of the model)
+    proc = replace(PROC, vibration_frame=frame, T_rot=7.0, T_settle=5.55)
+    dt, n1, n2 = proc.sample_dt, 12, 9
+    m = gc.rate_sensor_model(BASE, proc)
+    got = m.classical_sigma(n1 * dt, n2 * dt) ** 2
+    t = np.concatenate((dt * np.arange(1, n1 + 1), n1 * dt + proc.overhead
+                        + dt * np.arange(1, n2 + 1)))
+    s = np.where(np.arange(n1 + n2) < n1, 1.0, -1.0 if frame == "carrier" else 1.0)
+    n = np.where(np.arange(n1 + n2) < n1, n1, n2)
+    ub, wz = BASE.omega_ub / BASE.g, BASE.Omega_v / (2 * BASE.g)
+    c1 = s * ub / (2 * n) - wz * s / n          # weights of N1 (unbalance, inclinometer z)
+    c3 = 1.0 / (2 * n)                          # weights of N3
+    lags = np.abs(t[:, None] - t[None, :])
+    var = 0.0
+    for filt, c in ((BASE.vibration_filter(), c1), (BASE.random_drift_filter(), c3)):
+        uniq, inv = np.unique(np.round(lags, 9), return_inverse=True)
+        R = np.array([filt.variance() * filt.autocorrelation(x) for x in uniq])
+        var += c @ R[inv.reshape(lags.shape)] @ c
+    var += 0.25 * proc.rate_noise * (1 / (n1 * dt) + 1 / (n2 * dt))
+    var += wz**2 * BASE.C_incl_z * (1 / (n1 * dt) + 1 / (n2 * dt))
+    var += m.turn_floor**2
+    assert got == pytest.approx(var, rel=1e-7)
+
+
+def test_turn_floor_and_accuracy_limit():
+    limit = gc.turn_accuracy_limit(BASE, PROC.sigma_c)
+    m = gc.rate_sensor_model(BASE, replace(PROC, sigma_rot=limit))
+    assert m.turn_floor == pytest.approx(PROC.sigma_c, rel=1e-12)
+    # E[d²] of d = Ω_h(cos ψ − cos(ε − ψ)) by quadrature of the two normal priors
+    x, w = np.polynomial.hermite_e.hermegauss(40)
+    w = w / w.sum()
+    psi, eps = np.meshgrid(BASE.sigma_psi0 * x, limit * x)
+    d = BASE.Omega_h * (np.cos(psi) - np.cos(eps - psi))
+    assert math.sqrt(np.einsum("i,j,ij->", w, w, d**2)) / 2 == pytest.approx(PROC.sigma_c,
+                                                                             rel=1e-3)
+
+
+# The optimal estimator against the information form -------------------------------------------
+def test_optimal_run_information_form_on_static_states():
+    # shaping filters silenced: the states are constants, and the Kalman filter's posterior is
+    # the batch one, P⁻¹ = P0⁻¹ + Σ Hᵀ R⁻¹ H over the samples of each phase
+    proc = replace(PROC, T_rot=3.0, T_settle=2.0, sigma_rot=math.radians(1.0))
+    m = gc.rate_sensor_model(QUIET, proc)
+    n1, n2, ns = 40, 30, 20
+    run = m.optimal_run(n1 * proc.sample_dt, n2 * proc.sample_dt)
+    k = 5                                         # ω_gc, e, d, δ, γ
+    Ri = np.diag(1 / m.r)
+    info = np.linalg.inv(m.P0[:k, :k])
+    info += n1 * m.H1[:, :k].T @ Ri @ m.H1[:, :k]
+    info += ns * m.H2[1:, :k].T @ Ri[1:, 1:] @ m.H2[1:, :k]
+    info += n2 * m.H2[:, :k].T @ Ri @ m.H2[:, :k]
+    assert run.sigma[-1] == pytest.approx(math.sqrt(np.linalg.inv(info)[0, 0]), rel=1e-6)
+    assert [ph[0] for ph in run.phases] == ["position 1", "turn", "settling", "position 2"]
+    assert run.phases[-1][2] == pytest.approx(n1 * 0.1 + 5.0 + n2 * 0.1)
+
+
+def test_optimal_needs_the_turn():
+    # the Earth-rate reading is unknown to the method (σ = sigma_scale Ω_h): position 1 alone
+    # cannot separate it from ω_gc, so σ stalls near sigma_scale Ω_h until position 2
+    m = gc.rate_sensor_model(BASE, PROC)
+    run = m.optimal_run(30.0, 1.0)
+    s_end_1 = run.sigma[np.searchsorted(run.t, 30.0)]
+    assert s_end_1 > 0.9 * PROC.sigma_scale * BASE.Omega_h > PROC.sigma_c
+
+
+# Monte Carlo: the classical σ on an independent truth -------------------------------------------
+def test_monte_carlo_matched_truth_inside_the_band(result):
+    mc = gc.rate_sensor_monte_carlo(BASE, PROC, t1=result.t1, t2=result.t2, n_runs=400,
+                                    seed=17)
+    assert mc.inside, (mc.ratio, mc.band)
+    assert mc.sigma == pytest.approx(PROC.sigma_c, rel=0.05)
+
+
+def test_monte_carlo_wrong_truth_outside_the_band(result):
+    # the same check with power: a truth with σ1² × 9 (σ1 × 3) while the model keeps σ1²
+    wrong = replace(BASE, sigma1_sq=9 * BASE.sigma1_sq)
+    mc = gc.rate_sensor_monte_carlo(BASE, PROC, t1=result.t1, t2=result.t2, n_runs=400,
+                                    seed=17, truth_params=wrong)
+    assert not mc.inside and mc.ratio > mc.band[1], (mc.ratio, mc.band)
+
+
+def test_monte_carlo_sensor_frame_inside_the_band():
+    proc = replace(PROC, vibration_frame="sensor")
+    mc = gc.rate_sensor_monte_carlo(BASE, proc, t1=5.0, t2=5.0, n_runs=400, seed=5)
+    assert mc.inside, (mc.ratio, mc.band)
+
+
+def test_monte_carlo_large_turning_error():
+    # σ_ε = 2°: the turn dominates, the truth's cos(π + ε − ψ) in full against the model's
+    # second moment of d.  d ≈ Ω_h ε²/2 is far from normal, so the χ² band does not apply;
+    # the mean of the squared errors is judged by its own standard error (CLT, 4 σ)
+    proc = replace(PROC, sigma_rot=math.radians(2.0))
+    mc = gc.rate_sensor_monte_carlo(BASE, proc, t1=5.0, t2=5.0, n_runs=1000, seed=5)
+    m = gc.rate_sensor_model(BASE, proc)
+    assert m.turn_floor > 0.8 * mc.sigma          # the turn is what this run tests
+    e2 = mc.errors**2
+    se = e2.std(ddof=1) / math.sqrt(e2.size)
+    assert abs(e2.mean() - mc.sigma**2) < 4 * se
+    # and the same check fails for a model without the turning error
+    no_turn = m.classical_sigma(5.0, 5.0)**2 - m.turn_floor**2
+    assert abs(e2.mean() - no_turn) > 4 * se
+
+
+def test_monte_carlo_runs_do_not_depend_on_n_runs():
+    a = gc.rate_sensor_monte_carlo(t1=1.0, t2=1.0, n_runs=70, seed=9)
+    b = gc.rate_sensor_monte_carlo(t1=1.0, t2=1.0, n_runs=130, seed=9)
+    np.testing.assert_allclose(a.errors, b.errors[:70], rtol=1e-12, atol=0)
+
+
+# Conditions and sweeps ---------------------------------------------------------------------------
+def test_conditions_are_where_the_saving_crosses_50_percent(result):
+    c = result.conditions(50.0)
+    assert c.t_needed == pytest.approx(2 * result.t_c_gc)
+    assert c.holds_classical == (result.faster_percent > 50)
+    assert c.holds_optimal == (result.faster_percent_optimal > 50)
+    # rerun the race at each boundary: the saving is 50 % there (to the sample interval)
+    for est in ("classical", "optimal"):
+        o = getattr(c, f"overhead_{est}")
+        scale = o / PROC.overhead
+        pr = replace(PROC, T_rot=PROC.T_rot * scale, T_settle=PROC.T_settle * scale)
+        sw = gc.race_sweep(procedure=pr, cases=[{}])
+        assert sw.faster_percent(est)[0] == pytest.approx(50.0, abs=0.3)
+        q = getattr(c, f"rate_noise_{est}")
+        sw = gc.race_sweep(cases=[{"rate_noise": 1.05 * q}, {"rate_noise": 0.95 * q}])
+        above, below = sw.faster_percent(est)
+        assert below < 50.0 + 0.3 < above + 0.6 and above > below
+
+
+def test_procedure_for_time_hits_the_target():
+    q = gc.procedure_for_time(BASE, PROC, "rate_noise", 1200.0)
+    sw = gc.race_sweep(cases=[{"rate_noise": q}])
+    assert sw.t_c_rate_sensor[0] == pytest.approx(1200.0, rel=0.01)
+    o = gc.procedure_for_time(BASE, PROC, "T_settle", 100.0, estimator="optimal")
+    sw = gc.race_sweep(cases=[{"T_settle": o}])
+    assert sw.t_c_rate_sensor_optimal[0] == pytest.approx(100.0, abs=0.2)
+    assert gc.procedure_for_time(BASE, PROC, "overhead", 10.0) == 0.0   # slower even at 0
+
+
+def test_sweep_case_equals_the_race():
+    r = gc.race(BASE, replace(PROC, T_settle=30.0))
+    sw = gc.race_sweep(cases=[{"T_settle": 30.0}])
+    assert (sw.t_c_gc[0], sw.t_c_rate_sensor[0]) == pytest.approx(
+        (r.t_c_gc, r.t_c_rate_sensor), rel=1e-12)
+    assert sw.t_c_rate_sensor_optimal[0] == pytest.approx(r.t_c_rate_sensor_optimal, rel=1e-9)
+
+
+def test_sample_interval_converged():
+    sw = gc.race_sweep(cases=[{"sample_dt": 0.1}, {"sample_dt": 0.02}])
+    assert sw.t_c_rate_sensor[0] == pytest.approx(sw.t_c_rate_sensor[1], rel=0.005)
+    assert sw.t_c_rate_sensor_optimal[0] == pytest.approx(sw.t_c_rate_sensor_optimal[1],
+                                                          rel=0.005)
+
+
+def test_turn_cancels_a_carrier_vibration():
+    # turned sensors see a carrier-fixed vibration with the other sign: the slow N1 largely
+    # cancels in the corrected half-sum, which then needs less time than with Eq. (8)'s
+    # literal +N1 in both positions
+    sw = gc.race_sweep(cases=[{"vibration_frame": "carrier"}, {"vibration_frame": "sensor"}])
+    assert sw.t_c_rate_sensor[0] < sw.t_c_rate_sensor[1]
+
+
+# Bad input ---------------------------------------------------------------------------------------
+@pytest.mark.parametrize("field", ["T_rot", "T_settle", "sigma_rot", "sigma_scale"])
+@pytest.mark.parametrize("value", [-1.0, float("nan"), float("inf")])
+def test_procedure_rejects_bad_nonnegative(field, value):
+    with pytest.raises(ValueError, match=field):
+        gc.RateSensorProcedure(**{field: value})
+
+
+@pytest.mark.parametrize("field", ["rate_noise", "sample_dt", "sigma_c", "t_max"])
+@pytest.mark.parametrize("value", [0.0, -2.0, float("nan")])
+def test_procedure_rejects_bad_positive(field, value):
+    with pytest.raises(ValueError, match=field):
+        gc.RateSensorProcedure(**{field: value})
+
+
+@pytest.mark.parametrize(("field", "value", "err"), [
+    ("split", 0.0, ValueError), ("split", 1.0, ValueError), ("split", float("nan"), ValueError),
+    ("vibration_frame", "platform", ValueError), ("T_rot", "10", TypeError),
+    ("rate_noise", True, TypeError),
+])
+def test_procedure_rejects_other_bad_values(field, value, err):
+    with pytest.raises(err, match=field):
+        gc.RateSensorProcedure(**{field: value})
+
+
+def test_functions_reject_bad_arguments(result):
+    with pytest.raises(TypeError, match="params"):
+        gc.race("paper")
+    with pytest.raises(TypeError, match="procedure"):
+        gc.race(None, {"T_rot": 1.0})
+    with pytest.raises(ValueError, match="cases"):
+        gc.race_sweep(cases=[{"T_turn": 1.0}])
+    with pytest.raises(TypeError, match="cases"):
+        gc.race_sweep(cases={"T_rot": 1.0})
+    with pytest.raises(ValueError, match="field"):
+        gc.procedure_for_time(None, None, "sigma_rot", 100.0)
+    with pytest.raises(ValueError, match="target"):
+        gc.procedure_for_time(None, None, "overhead", -1.0)
+    with pytest.raises(ValueError, match="estimator"):
+        gc.procedure_for_time(None, None, "overhead", 100.0, estimator="best")
+    m = gc.rate_sensor_model()
+    with pytest.raises(ValueError, match="t1"):
+        m.classical_sigma(0.0, 1.0)
+    with pytest.raises(ValueError, match="t2"):
+        m.optimal_run(1.0, 0.01)
+    with pytest.raises(ValueError, match="n_runs"):
+        gc.rate_sensor_monte_carlo(t1=1.0, t2=1.0, n_runs=1)
+    with pytest.raises(TypeError, match="truth_params"):
+        gc.rate_sensor_monte_carlo(t1=1.0, t2=1.0, truth_params=PROC)
+    with pytest.raises(ValueError, match="percent"):
+        result.conditions(100.0)
+    with pytest.raises(ValueError, match="field"):
+        gc.plot_race_sweep(gc.race_sweep(cases=[{}]), "T_rot")
+    assert len(RS_STATE_NAMES) == m.P0.shape[0]

@@ -1,0 +1,116 @@
+"""The import graph of gyrolib runs one way (issue 20, "the knots"): records and parameters flow
+from :mod:`gyrolib.records` into the paper subpackages, never back; the command line sits
+above both; datasheet specs never import the simulation that models them.
+
+The graph is read from the source (every ``import``, also inside functions), so a lazy import
+that runs back up is caught too.  An edge goes from a module to the module it names
+(``from gyrolib.gc.params import X`` -> ``gyrolib.gc.params``); a package's ``__init__``
+re-exports its modules and is left out as a target, as Python resolves the named module.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1] / "gyrolib"
+
+
+def _module_name(path: Path) -> str:
+    parts = path.relative_to(ROOT.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def import_graph() -> dict[str, set[str]]:
+    """Module -> the gyrolib modules it imports (module-level or inside functions)."""
+    modules = {_module_name(p): p for p in ROOT.rglob("*.py")}
+    graph: dict[str, set[str]] = {}
+    for name, path in modules.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        targets: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text("utf-8"))):
+            if isinstance(node, ast.Import):
+                targets.update(a.name for a in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    base = ".".join(package.split(".")[: len(package.split(".")) - node.level
+                                                        + 1] + ([base] if base else []))
+                for alias in node.names:  # `from pkg import module` names a module
+                    full = f"{base}.{alias.name}"
+                    targets.add(full if full in modules else base)
+        graph[name] = {t for t in targets if t in modules and t != name}
+    return graph
+
+
+def _reaches(graph: dict[str, set[str]], start: str) -> set[str]:
+    seen, todo = set(), [start]
+    while todo:
+        for nxt in graph.get(todo.pop(), ()):
+            if nxt not in seen:
+                seen.add(nxt)
+                todo.append(nxt)
+    return seen
+
+
+def cycles(graph: dict[str, set[str]]) -> list[tuple[str, str]]:
+    """Pairs (a, b) with a importing b and b reaching a again; packages' ``__init__`` files
+    are left out as targets (importing a module runs its package's ``__init__``, which is not
+    a dependency of the module's code)."""
+    packages = {m for m in graph if (ROOT.parent / m.replace(".", "/") / "__init__.py").exists()}
+    inner = {m: {t for t in ts if t not in packages} for m, ts in graph.items()}
+    return sorted((a, b) for a, ts in inner.items() for b in ts if a in _reaches(inner, b))
+
+
+GRAPH = import_graph()
+
+
+def test_the_graph_sees_known_edges():
+    """The parser finds imports at module level, inside functions and relative ones."""
+    assert "gyrolib.gc.params" in GRAPH["gyrolib.gc.covariance"]
+    assert "gyrolib.records.tables" in GRAPH["gyrolib.cli.calibrate"]
+    assert "gyrolib.rsf.sensors" in GRAPH["gyrolib.rsf.simulation"]
+
+
+def test_cycle_finder_has_power():
+    """A deliberately circular graph is reported, an acyclic one is not."""
+    assert cycles({"a": {"b"}, "b": {"a"}, "c": set()}) == [("a", "b"), ("b", "a")]
+    assert cycles({"a": {"b"}, "b": set()}) == []
+
+
+def test_no_module_imports_back_up():
+    assert cycles(GRAPH) == []
+
+
+@pytest.mark.parametrize("package", ["gyrolib.gc", "gyrolib.rsf", "gyrolib.filtering"])
+def test_paper_subpackages_never_import_records_or_the_command_line(package):
+    mine = [m for m in GRAPH if m == package or m.startswith(package + ".")]
+    bad = {(m, t) for m in mine for t in GRAPH[m]
+           if t.startswith(("gyrolib.records", "gyrolib.cli"))}
+    assert bad == set()
+
+
+def test_records_never_imports_the_command_line():
+    mine = [m for m in GRAPH if m.startswith("gyrolib.records")]
+    assert not {t for m in mine for t in GRAPH[m] if t.startswith("gyrolib.cli")}
+
+
+def test_datasheet_specs_do_not_import_the_simulation():
+    assert not _reaches(GRAPH, "gyrolib.rsf.sensors") & {"gyrolib.rsf.simulation"}
+
+
+def test_no_dynamic_imports():
+    """Every import is an ordinary statement that this graph (and a reader) can see: no
+    ``__import__`` or ``importlib.import_module`` hiding an edge (issue 22: the ledger loaded
+    its paper modules that way, and they imported the ledger back)."""
+    found = []
+    for path in ROOT.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text("utf-8"))):
+            if isinstance(node, ast.Call):
+                f = node.func
+                name = f.id if isinstance(f, ast.Name) else getattr(f, "attr", "")
+                if name in ("__import__", "import_module"):
+                    found.append(f"{path.relative_to(ROOT.parent)}:{node.lineno}")
+    assert found == []
