@@ -710,7 +710,8 @@ def _reference_block(k0: int, noise: np.ndarray, tm: TruthModel, Phi: list, H: n
         store(k, X, Xh)
 
 
-# Runs in blocks ---------------------------------------------------------------------------------
+# Runs in blocks, one numpy generator per block: the previous path, kept for simulate_truth ----
+# (the sample records of data/ are made with its streams; monte_carlo uses _run_all below)
 def _block_rngs(rng: np.random.Generator, n_runs: int) -> list[np.random.Generator]:
     """One child generator per block of ``_RUN_BLOCK`` runs: run ``i`` gets the same numbers
     whatever ``n_runs`` and the number of threads.  SFC64 streams (seeded by spawning the
@@ -1112,6 +1113,8 @@ class MonteCarloResult:
 
 
 def _initial_states(p: GyrocompassParams, n_runs: int, rng: np.random.Generator) -> np.ndarray:
+    """The previous path's initial states, from the filter's P(0) (kept for the benchmark's
+    previous-path peer; :func:`monte_carlo` draws from :func:`truth_prior_factor`)."""
     L0 = covariance_factor(initial_covariance(p))
     return rng.standard_normal((n_runs, N)) @ L0.T
 
@@ -1210,6 +1213,10 @@ def simulate_truth(params: GyrocompassParams, t_end: float, x0: ArrayLike, *,
                    substeps: int = TRUTH_SUBSTEPS) -> tuple[NDArray[np.float64],
                                                             NDArray[np.float64]]:
     """The truth model of :func:`monte_carlo` alone, from the state ``x0`` (length 10, SI).
+
+    Its noise comes from the seed's generator as the previous Monte Carlo path drew it (one
+    SFC64 stream per block of 32 lanes, this run in lane 0), so the sample records of
+    ``data/`` made with it stay as they are; the model integrated is the same.
 
     Parameters
     ----------
