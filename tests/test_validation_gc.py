@@ -297,6 +297,35 @@ case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, truth_params=replace(P
      ValueError, "truth_params.dt")
 case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, substeps=0), ValueError,
      "substeps", ">= 1")
+case("gc.monte_carlo", lambda: gc.monte_carlo(P, 1, 0.01, executor=4), TypeError,
+     "executor", "Executor")
+case("gc.run_streams", lambda: gc.run_streams(-1, 2), ValueError, "seed", ">= 0")
+case("gc.run_streams", lambda: gc.run_streams(1, 0), ValueError, "n_runs", ">= 1")
+case("gc.truth_prior_factor", lambda: gc.truth_prior_factor(None), TypeError, "params")
+case("gc.remainder_drift", lambda: gc.remainder_drift(None, 0.0), TypeError, "params")
+case("gc.remainder_drift", lambda: gc.remainder_drift(P, NAN), ValueError, "psi", FINITE)
+case("gc.remainder_drift", lambda: gc.remainder_drift(P, 0.0, "b"), TypeError, "beta_n")
+case("gc.psi_for_drift", lambda: gc.psi_for_drift(P, NAN), ValueError, "drift", FINITE)
+case("gc.psi_for_drift", lambda: gc.psi_for_drift(None, 1e-9), TypeError, "params")
+
+
+@functools.cache
+def lin_effect() -> gc.LinearizationEffect:
+    return gc.linearization_effect(mc(), gc.monte_carlo(P, 2, 0.01, seed=1, truth="linear"))
+
+
+case("gc.linearization_effect", lambda: gc.linearization_effect(None, mc()), TypeError,
+     "nonlinear")
+case("gc.linearization_effect", lambda: gc.linearization_effect(mc(), mc()), ValueError,
+     "linear must come from")
+case("gc.linearization_effect", lambda: gc.linearization_effect(
+    mc(), gc.monte_carlo(P, 3, 0.01, seed=1, truth="linear")), ValueError,
+     "nonlinear and linear must share n_runs")
+case("gc.LinearizationEffect.inside", lambda: lin_effect().inside("x"), ValueError, "which")
+case("gc.LinearizationEffect.slope", lambda: lin_effect().slope(1e9), ValueError, "t_min",
+     "at most")
+case("gc.LinearizationEffect.slope", lambda: lin_effect().slope(NAN), ValueError, "t_min",
+     FINITE)
 # claims
 SC = units.to_si(2e-3, "arcsec_paper/s")
 case("gc.time_to_level", lambda: gc.time_to_level(P, -1.0, 1.0), ValueError, "level", POS)
@@ -330,6 +359,11 @@ case("gc.MonteCarloResult", lambda: replace(mc(), truth_params=1), TypeError,
 case("gc.MonteCarloResult", lambda: replace(mc(), tru=mc().tru[:1]), ValueError,
      "tru")
 case("gc.MonteCarloResult", lambda: replace(mc(), seed=-3), ValueError, "seed")
+case("gc.MonteCarloResult", lambda: replace(mc(), truth_mode="linearized"), ValueError,
+     "truth_mode")
+case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share(confidence=1.5),
+     ValueError, "confidence")
+case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share("psi"), TypeError, "names")
 case("gc.MonteCarloResult.estimate", lambda: mc().estimate("x"), ValueError, "name")
 case("gc.MonteCarloResult.truth", lambda: mc().truth(3), ValueError, "name")
 case("gc.MonteCarloResult.error", lambda: mc().error(None), ValueError, "name")
@@ -523,10 +557,12 @@ def test_bad_input_is_rejected_by_name(call, exc, pattern):
 EXEMPT: dict[str, str] = {
     "gc.symbolic.display_form": "returns non-sympy objects unchanged (documented)",
     **{f"gc.{name}": "result object built by its compute function, which validates"
-       for name in ("ClaimBoundary", "ShapingSweep", "SpeedClaimMap", "ShapingSweep.nominal")},
+       for name in ("ClaimBoundary", "ShapingSweep", "SpeedClaimMap", "ShapingSweep.nominal",
+                    "LinearizationEffect", "LinearizationEffect.excess",
+                    "LinearizationEffect.residual")},
     **{f"gc.plot_{name}": "plot function: takes result objects, no validation by design"
        for name in ("estimates", "consistency", "sweep", "information", "speed_claim",
-                    "mismatch")},
+                    "mismatch", "linearization")},
     "gc.plot_sigma_history": "plot function: takes result objects, no validation by design",
     "gc.plot_p0_scale": "plot function: takes result objects, no validation by design",
     "gc.plot_error_budget": "plot function: takes result objects, no validation by design",

@@ -12,6 +12,7 @@ module                  paper GC
 ``discretization``      the filter's discrete model: :func:`discretize`
 ``covariance``          Figure 3: :func:`covariance_analysis`, :func:`time_to_sigma`
 ``montecarlo``          Figure 4: :func:`monte_carlo`
+``linearization``       what linearizing Eq. (3) costs: :func:`linearization_effect`
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
 ``claims``              the speed-claim map and the shaping-filter sweep
@@ -247,3 +248,16 @@ __all__ += [
     "rate_sensor_monte_carlo",
     "turn_accuracy_limit",
 ]
+
+# What the filter's linearization costs against the nonlinear truth (issue 21, item 6)
+from gyrolib.gc.linearization import (  # noqa: E402
+    LinearizationEffect,
+    linearization_effect,
+    psi_for_drift,
+    remainder_drift,
+)
+from gyrolib.gc.montecarlo import run_streams, truth_prior_factor  # noqa: E402
+from gyrolib.gc.plots import plot_linearization  # noqa: E402
+
+__all__ += ["LinearizationEffect", "linearization_effect", "plot_linearization",
+            "psi_for_drift", "remainder_drift", "run_streams", "truth_prior_factor"]

@@ -19,6 +19,16 @@ filter's by default):
   sampling interval (exactly Gaussian with variance ``C/Δt``; ``C`` itself under the
   ``measurement_noise="variance"`` reading of the truth's parameters).
 
+The truth builds its arrays from the parameters itself (:func:`truth_model`,
+:func:`truth_prior_factor`): the shaping filters' matrices and white-noise intensities from
+α, ξ, σ² as the text after Eqs. (6), (7) defines them, their stationary covariance in closed
+form, the sensors' noise from ``C`` and ``Δt``, the prior from the parameters' standard
+deviations.  It calls nothing of :mod:`gyrolib.gc.shaping_filters`,
+:mod:`gyrolib.gc.state_space` or :mod:`gyrolib.gc.discretization` (the tests check that the
+two constructions agree).  What it shares with the filter is the parameter object, the
+order of the state vector (:data:`gyrolib.gc.STATE_NAMES`, to compare estimates with the
+truth) and the sampling grid.
+
 With ``eq1_sign="-"`` (the literal sign of Eq. (1)) the float turns the other way; like the
 filter's model, the truth is written in the mirrored angle, where the tilt term that carries
 ``sin β`` changes sign.
@@ -26,33 +36,45 @@ filter's model, the truth is written in the mirrored angle, where the tilt term 
 The filter's Kalman gains come from its own covariance recursion (its affine discrete model,
 :func:`gyrolib.gc.discretize`); the truth uses none of it.  A truth with other parameters
 than the filter's (``truth_params``) shows what a wrong model does to the claimed σ.
+
+Random numbers: run ``i`` has its own stream, an SFC64 generator seeded by the ``i``-th child
+of ``numpy.random.SeedSequence(seed)`` (:func:`run_streams`); it draws the run's initial state
+and then, sample after sample, the truth's white noises.  The fast path draws them inside its
+numba kernel with numpy's own algorithm (SFC64 and the 256-layer ziggurat of
+``Generator.standard_normal``; the tests compare it with numpy), so a run's numbers do not
+depend on how many runs there are, how they are grouped, or on how many threads or processes
+share the work (``executor``).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import os
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Executor, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Final, NamedTuple
 
 import numpy as np
 import scipy.linalg
-from numba import njit
+from numba import int64, njit, uint64
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import _csr, covariance_fast, covariance_reference
 from gyrolib.filtering.discretization import covariance_factor
 from gyrolib.gc.covariance import _default_store_every
 from gyrolib.gc.discretization import N, _check_params, _n_steps, discretize
 from gyrolib.gc.params import STATE_NAMES, GyrocompassParams, state_index
-from gyrolib.gc.state_space import initial_covariance, measurement_noise_covariance
+from gyrolib.gc.state_space import initial_covariance
 
 __all__ = [
     "MonteCarloResult",
     "monte_carlo",
+    "run_streams",
     "simulate_truth",
+    "truth_prior_factor",
 ]
 
 #: Fine steps of the truth per sampling interval of the filter.
@@ -139,9 +161,10 @@ def _sin(x):
     return math.sin(x)
 
 
-#: Below this |x| (rad) the branch-free series of :func:`_cm1_poly`, :func:`_sin_poly` are
-#: exact to rounding (first neglected term < 1e-20 relative); above it the kernels switch to
-#: :func:`_cm1`, :func:`_sin`.
+#: Below this |x| (rad) the longer branch-free series of :func:`_cm1_poly`, :func:`_sin_poly`
+#: are exact to rounding (first neglected term < 1e-20 relative).  The kernel now uses the
+#: shorter :func:`_cm1_short`, :func:`_sin_short` below :data:`_SHORT_MAX`; these stay for
+#: callers of the building blocks.
 _POLY_MAX: Final[float] = 0.25
 
 
@@ -161,6 +184,27 @@ def _sin_poly(x):
     return x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (
         1.0 / 362880.0 + x2 * (-1.0 / 39916800.0 + x2 * (1.0 / 6227020800.0
                                                           - x2 / 1307674368000.0)))))))
+
+
+#: Below this |x| (rad) the short series of :func:`_cm1_short`, :func:`_sin_short` are exact
+#: to rounding (first neglected term < 1e-19 of the result); the kernel adds the difference to
+#: :func:`_cm1`, :func:`_sin` for the rare lanes above it.  The paper's priors keep
+#: ``|Δβ|``, ``|Δβ − ψ|`` some 20 standard deviations below it.
+_SHORT_MAX: Final[float] = 0.02
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _cm1_short(x):
+    """``cos x − 1`` by its Taylor series to ``x⁸`` (for ``|x| <= _SHORT_MAX``)."""
+    x2 = x * x
+    return x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 / 40320.0)))
+
+
+@njit(cache=True, fastmath=True, inline="always")
+def _sin_short(x):
+    """``sin x`` by its Taylor series to ``x⁷`` (for ``|x| <= _SHORT_MAX``)."""
+    x2 = x * x
+    return x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 - x2 / 5040.0)))
 
 
 @njit(cache=True)
@@ -193,10 +237,93 @@ def _zoh(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray
     return X[:n, :n].copy(), X[:n, n].copy()
 
 
+def _truth_shaping(p: GyrocompassParams) -> tuple[tuple[np.ndarray, np.ndarray, float], ...]:
+    """The truth's own shaping filters ``(A, b, Q)``: ``x' = A x + b w`` with white ``w`` of
+    intensity ``Q``, written out from paper GC's Eqs. (6), (7) and the text after them
+    (``Q1 = 2 ξ1 α1 σ1²``, ``Q2 = 4 ξ2 α2³ σ2²``); not from :mod:`gyrolib.gc.shaping_filters`."""
+    a1, x1, a2, x2 = p.alpha1, p.xi1, p.alpha2, p.xi2
+    vib = (np.array([[0.0, 1.0], [-(a1**2), -2.0 * x1 * a1]]),
+           np.array([1.0, a1 - 2.0 * x1 * a1]), 2.0 * x1 * a1 * p.sigma1_sq)
+    drift = (np.array([[0.0, 1.0], [-(a2**2), -2.0 * x2 * a2]]), np.array([0.0, 1.0]),
+             4.0 * x2 * a2**3 * p.sigma2_sq)
+    return vib, drift
+
+
+def _stationary_2x2(A: np.ndarray, b: np.ndarray, Q: float) -> np.ndarray:
+    """Stationary covariance of ``x' = A x + b w``, ``A = [[0, 1], [−a², −2 ξ a]]``, in closed
+    form (the three scalar equations of ``A P + P Aᵀ + Q b bᵀ = 0`` solved by hand):
+    ``P12 = −Q b1²/2``, ``P22 = Q (b2² + a² b1²)/(4 ξ a)``,
+    ``P11 = (P22 − 2 ξ a P12 + Q b1 b2)/a²``."""
+    a2, two_xi_a = -A[1, 0], -A[1, 1]
+    p12 = -0.5 * Q * b[0] ** 2
+    p22 = Q * (b[1] ** 2 + a2 * b[0] ** 2) / (2.0 * two_xi_a)
+    p11 = (p22 - two_xi_a * p12 + Q * b[0] * b[1]) / a2
+    return np.array([[p11, p12], [p12, p22]])
+
+
+def truth_prior_factor(params: GyrocompassParams) -> NDArray[np.float64]:
+    """The truth's own factor ``L`` of its prior, ``x(0) = L z`` with ``z`` standard normal.
+
+    Δβ, Δβ', ψ, ω_gc, δ, γ independent with the parameters' standard deviations (paper GC's
+    P(0) and the book's readings of the entries it does not print); N1, N2 and N3, N4 with
+    their stationary covariance in closed form (times ``shaping_p0_scale``; zero under
+    ``shaping_p0="zero"``), factored by hand.  Built without
+    :func:`gyrolib.gc.initial_covariance`; the tests check that ``L Lᵀ`` equals it.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The truth's parameters.
+
+    Returns
+    -------
+    L : ndarray of shape (10, 10)
+        Lower triangular.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> from gyrolib.units import from_si
+    >>> L = gc.truth_prior_factor(gc.GyrocompassParams())
+    >>> f"{from_si(L[3, 3], 'arcsec_paper/s'):.2f}"   # σ of ω_gc, ″/s
+    '0.15'
+    """
+    p = _check_params(params)
+    L = np.zeros((N, N))
+    for i, sd in enumerate((p.sigma_dbeta0, p.sigma_dbeta_dot0, p.sigma_psi0, p.sigma_gc0,
+                            p.sigma_delta0, p.sigma_gamma0)):
+        L[i, i] = sd
+    if p.shaping_p0 == "stationary":
+        for i0, (A, b, Q) in zip((6, 8), _truth_shaping(p), strict=True):
+            S = p.shaping_p0_scale * _stationary_2x2(A, b, Q)
+            if S[0, 0] > 0.0:
+                l11 = math.sqrt(S[0, 0])
+                l21 = S[1, 0] / l11
+                L[i0, i0], L[i0 + 1, i0] = l11, l21
+                L[i0 + 1, i0 + 1] = math.sqrt(max(S[1, 1] - l21 * l21, 0.0))
+    return L
+
+
+def _truth_noise_sd(p: GyrocompassParams) -> np.ndarray:
+    """The sensors' noise standard deviation per sample: continuous white noise of intensity
+    ``C`` averaged over ``Δt`` (``√(C/Δt)``), or ``√C`` under the ``"variance"`` reading."""
+    C = np.array([p.C_as, p.C_incl_y, p.C_incl_z])
+    return np.sqrt(C / p.dt if p.measurement_noise == "intensity_over_dt" else C)
+
+
+#: ``TruthModel.linear``: which torques of Eq. (3) the truth replaces by their linearization
+#: about its nominal (Eq. (5)): none, all, only the horizontal-rate term
+#: ``Ω_h cos(β − ψ)``, only the vertical-rate (tilt) terms ``Ω_v (γ cos β − δ sin β)``.
+LINEARIZE: Final[dict[str, int]] = {"nonlinear": 0, "linear": 1, "linear_horizontal": 2,
+                                    "linear_tilt": 3}
+
+
 def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
-                substeps: int = TRUTH_SUBSTEPS, linear: bool = False) -> TruthModel:
+                substeps: int = TRUTH_SUBSTEPS, linear: bool | int = False) -> TruthModel:
     """The truth's arrays over ``n_steps`` samples of ``filt.dt`` (see :class:`TruthModel`);
-    ``filt`` only sets the nominal the states are reported against."""
+    ``filt`` only sets the nominal the states are reported against.  ``linear``: ``False``
+    (0) the nonlinear torques, ``True`` (1) all linearized, 2 or 3 one term (see
+    :data:`LINEARIZE`)."""
     h = truth.dt / substeps
     n_fine = n_steps * substeps
     Ab = np.array([[0.0, 1.0], [0.0, -truth.f / truth.I]])
@@ -216,18 +343,18 @@ def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
         b_f, bd_f = b_t, bd_t
     else:
         _, b_f, bd_f = nominal(filt)
-    vib, drift = truth.vibration_filter(), truth.random_drift_filter()
-    phi1, gam1 = _zoh(vib.A, vib.B[:, 0], h)
-    phi2, gam2 = _zoh(drift.A, drift.B[:, 0], h)
+    (A1, g1, Q1), (A2, g2, Q2) = _truth_shaping(truth)
+    phi1, gam1 = _zoh(A1, g1, h)
+    phi2, gam2 = _zoh(A2, g2, h)
     return TruthModel(
         h=h, E=E, p1=p1, beta_mid=beta_mid, sin_mid=np.sin(beta_mid), cos_mid=np.cos(beta_mid),
-        phi1=phi1, gam1=gam1 * math.sqrt(truth.Q1 / h), phi2=phi2,
-        gam2=gam2 * math.sqrt(truth.Q2 / h), kh=truth.H * truth.Omega_h / truth.I,
+        phi1=phi1, gam1=gam1 * math.sqrt(Q1 / h), phi2=phi2,
+        gam2=gam2 * math.sqrt(Q2 / h), kh=truth.H * truth.Omega_h / truth.I,
         kv=truth.H * truth.Omega_v / truth.I,
         kd=(-1.0 if truth.eq1_sign == "-" else 1.0) * truth.H * truth.Omega_v / truth.I,
         hi=truth.H / truth.I,
         ub=truth.H * truth.omega_ub / (truth.I * truth.g), g=truth.g,
-        sr=np.sqrt(np.diag(measurement_noise_covariance(truth))), off_b=b_t - b_f,
+        sr=_truth_noise_sd(truth), off_b=b_t - b_f,
         off_bd=bd_t - bd_f, substeps=int(substeps), linear=int(linear))
 
 
@@ -235,118 +362,148 @@ def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
 @njit(cache=True, nogil=True, fastmath=True)
 def _truth_substeps(k, kk, tm, noise, x, u):
     """Advance the truth ``x`` (n×B; rows 0, 1 the deviation from the truth's nominal) over
-    the fine steps of sample interval ``k``."""
-    B = x.shape[1]
-    for sub in range(tm.substeps):
-        i = k * tm.substeps + sub
+    the fine steps of sample interval ``k``: one pass over the lanes per fine step (SIMD),
+    ``u`` (B) a scratch for the rare lanes far from the nominal."""
+    B = _RUN_BLOCK  # a constant: the lane loops unroll into whole SIMD registers
+    M = tm.substeps
+    lin_h = tm.linear == 1 or tm.linear == 2
+    lin_v = tm.linear == 1 or tm.linear == 3
+    f00, f01, f10, f11 = tm.phi1[0, 0], tm.phi1[0, 1], tm.phi1[1, 0], tm.phi1[1, 1]
+    r00, r01, r10, r11 = tm.phi2[0, 0], tm.phi2[0, 1], tm.phi2[1, 0], tm.phi2[1, 1]
+    g10, g11, g20, g21 = tm.gam1[0], tm.gam1[1], tm.gam2[0], tm.gam2[1]
+    e00, e01, e10, e11 = tm.E[0, 0], tm.E[0, 1], tm.E[1, 0], tm.E[1, 1]
+    p0, p1 = tm.p1[0], tm.p1[1]
+    hh = 0.5 * tm.h
+    kh, kv, kd, hi, ub = tm.kh, tm.kv, tm.kd, tm.hi, tm.ub
+    x0, x1, x2, x3, x4 = x[0], x[1], x[2], x[3], x[4]
+    x5, x6, x7, x8, x9 = x[5], x[6], x[7], x[8], x[9]
+    for r in range(B):
+        u[r] = 0.0
+    for sub in range(M):
+        i = k * M + sub
         sm = tm.sin_mid[i]
         cm = tm.cos_mid[i]
-        for r in range(B):
-            # shaping filters (6), (7), white noise held over the fine step
-            w1 = noise[kk, 2 * sub, r]
-            w2 = noise[kk, 2 * sub + 1, r]
-            n1, n2, n3, n4 = x[6, r], x[7, r], x[8, r], x[9, r]
-            x[6, r] = tm.phi1[0, 0] * n1 + tm.phi1[0, 1] * n2 + tm.gam1[0] * w1
-            x[7, r] = tm.phi1[1, 0] * n1 + tm.phi1[1, 1] * n2 + tm.gam1[1] * w1
-            x[8, r] = tm.phi2[0, 0] * n3 + tm.phi2[0, 1] * n4 + tm.gam2[0] * w2
-            x[9, r] = tm.phi2[1, 0] * n3 + tm.phi2[1, 1] * n4 + tm.gam2[1] * w2
-            # torque of Eq. (3) minus Eq. (4), per unit I, at the predicted midpoint
-            u[r] = (tm.hi * (x[3, r] + 0.5 * (n3 + x[8, r]))
-                    + tm.ub * 0.5 * (n1 + x[6, r]))
-        if tm.linear:
-            for r in range(B):
-                dm = x[0, r] + 0.5 * tm.h * x[1, r]
-                u[r] += (-tm.kh * sm * (dm - x[2, r])
-                         + tm.kv * x[5, r] * cm - tm.kd * x[4, r] * sm)
-        else:
+        w1v = noise[kk, 2 * sub]
+        w2v = noise[kk, 2 * sub + 1]
+        far = False
+        if not (lin_h and lin_v):
             big = 0.0
             for r in range(B):
-                dm = x[0, r] + 0.5 * tm.h * x[1, r]
-                e = dm - x[2, r]
-                big = max(big, abs(e), abs(dm))
-                # kh [cos(β_m + dm − ψ) − cos β_m]
-                u[r] += tm.kh * (cm * _cm1_poly(e) - sm * _sin_poly(e))
-                cd = 1.0 + _cm1_poly(dm)
-                sd = _sin_poly(dm)
-                # kv γ cos(β_m + dm) − kd δ sin(β_m + dm)
-                u[r] += (tm.kv * x[5, r] * (cm * cd - sm * sd)
-                         - tm.kd * x[4, r] * (sm * cd + cm * sd))
-            if big > _POLY_MAX:  # far from the nominal (never at the paper's priors): redo
-                for r in range(B):
-                    dm = x[0, r] + 0.5 * tm.h * x[1, r]
-                    e = dm - x[2, r]
-                    if abs(e) > _POLY_MAX or abs(dm) > _POLY_MAX:
-                        cd = 1.0 + _cm1(dm)
-                        sd = _sin(dm)
-                        u[r] += tm.kh * (cm * (_cm1(e) - _cm1_poly(e))
-                                         - sm * (_sin(e) - _sin_poly(e)))
-                        u[r] += (tm.kv * x[5, r] * (cm * (cd - 1.0 - _cm1_poly(dm))
-                                                     - sm * (sd - _sin_poly(dm)))
-                                 - tm.kd * x[4, r] * (sm * (cd - 1.0 - _cm1_poly(dm))
-                                                      + cm * (sd - _sin_poly(dm))))
+                dm = x0[r] + hh * x1[r]
+                big = max(big, abs(dm), abs(dm - x2[r]))
+            far = big > _SHORT_MAX
+        if far:  # far from the nominal (never at the paper's priors): series → sin, cos
+            for r in range(B):
+                dm = x0[r] + hh * x1[r]
+                e = dm - x2[r]
+                if not lin_h and abs(e) > _SHORT_MAX:
+                    u[r] += kh * (cm * (_cm1(e) - _cm1_short(e)) - sm * (_sin(e) - _sin_short(e)))
+                if not lin_v and abs(dm) > _SHORT_MAX:
+                    dc = _cm1(dm) - _cm1_short(dm)
+                    ds = _sin(dm) - _sin_short(dm)
+                    u[r] += kv * x5[r] * (cm * dc - sm * ds) - kd * x4[r] * (sm * dc + cm * ds)
         for r in range(B):
-            d, dd = x[0, r], x[1, r]
-            x[0, r] = tm.E[0, 0] * d + tm.E[0, 1] * dd + tm.p1[0] * u[r]
-            x[1, r] = tm.E[1, 0] * d + tm.E[1, 1] * dd + tm.p1[1] * u[r]
+            # shaping filters (6), (7), white noise held over the fine step
+            n1, n2, n3, n4 = x6[r], x7[r], x8[r], x9[r]
+            w1, w2 = w1v[r], w2v[r]
+            n1n = f00 * n1 + f01 * n2 + g10 * w1
+            n2n = f10 * n1 + f11 * n2 + g11 * w1
+            n3n = r00 * n3 + r01 * n4 + g20 * w2
+            n4n = r10 * n3 + r11 * n4 + g21 * w2
+            # torque of Eq. (3) minus Eq. (4), per unit I, at the predicted midpoint:
+            # (H/I)(ω_gc + N3) + H ω_ub N1/(I g), the noises at the midpoint, ...
+            d, dd = x0[r], x1[r]
+            dm = d + hh * dd
+            e = dm - x2[r]
+            tq = hi * (x3[r] + 0.5 * (n3 + n3n)) + ub * 0.5 * (n1 + n1n) + u[r]
+            # ... kh [cos(β_m + dm − ψ) − cos β_m] (linearized: −kh sin β_m (dm − ψ)) ...
+            if lin_h:
+                tq -= kh * sm * e
+            else:
+                tq += kh * (cm * _cm1_short(e) - sm * _sin_short(e))
+            # ... kv γ cos(β_m + dm) − kd δ sin(β_m + dm) (linearized: at β_m)
+            if lin_v:
+                tq += kv * x5[r] * cm - kd * x4[r] * sm
+            else:
+                cd = 1.0 + _cm1_short(dm)
+                sd = _sin_short(dm)
+                tq += kv * x5[r] * (cm * cd - sm * sd) - kd * x4[r] * (sm * cd + cm * sd)
+            # (Δβ, Δβ') ← E (Δβ, Δβ') + p1 u
+            x0[r] = e00 * d + e01 * dd + p0 * tq
+            x1[r] = e10 * d + e11 * dd + p1 * tq
+            x6[r], x7[r], x8[r], x9[r] = n1n, n2n, n3n, n4n
+        if far:
+            for r in range(B):
+                u[r] = 0.0
+
+
+@njit(cache=True, nogil=True, fastmath=True)
+def _filter_and_store(k, kk, noise, tm, fm, x, xh, y, u, store_every, est, tru, run0,
+                      run_filter):
+    """The filter's step ``k`` on the truth's samples (``run_filter``), then, at a stored
+    time, estimates and truth of the block's runs into ``est``, ``tru`` (from row ``run0``)."""
+    n = x.shape[0]
+    B = _RUN_BLOCK
+    n_runs = est.shape[0]
+    m = fm.H.shape[0]
+    nw = 2 * tm.substeps
+    ob = tm.off_b[k + 1]
+    if run_filter:
+        # predict: x̂⁻ = Φ_k x̂
+        for i in range(n):
+            for r in range(B):
+                y[i, r] = 0.0
+            for p in range(fm.rowptr[i], fm.rowptr[i + 1]):
+                f = fm.phis[k, p]
+                c = fm.colidx[p]
+                for r in range(B):
+                    y[i, r] += f * xh[c, r]
+        for i in range(n):
+            for r in range(B):
+                xh[i, r] = y[i, r]
+        # the truth's samples: Δβ + v0, g δ + N1 + v1, g γ + N1 + v2
+        for r in range(B):
+            y[0, r] = x[0, r] + ob + tm.sr[0] * noise[kk, nw, r]
+            y[1, r] = tm.g * x[4, r] + x[6, r] + tm.sr[1] * noise[kk, nw + 1, r]
+            y[2, r] = tm.g * x[5, r] + x[6, r] + tm.sr[2] * noise[kk, nw + 2, r]
+        # update, one scalar measurement after the other (the gains of
+        # covariance_fast are those of sequential updates):
+        # x̂ ← x̂ + K_{k,q} (z_q − H_q x̂)
+        for q in range(m):
+            for r in range(B):
+                u[r] = y[q, r]
+            for p in range(fm.hptr[q], fm.hptr[q + 1]):
+                c = fm.hidx[p]
+                h = fm.H[q, c]
+                for r in range(B):
+                    u[r] -= h * xh[c, r]
+            for i in range(n):
+                g = fm.gains[k, q, i]
+                for r in range(B):
+                    xh[i, r] += g * u[r]
+    if (k + 1) % store_every == 0:
+        ii = (k + 1) // store_every
+        for r in range(B):
+            run = run0 + r
+            if run < n_runs:
+                for i in range(n):
+                    est[run, ii, i] = xh[i, r]
+                    tru[run, ii, i] = x[i, r]
+                tru[run, ii, 0] += ob
+                tru[run, ii, 1] += tm.off_bd[k + 1]
 
 
 @njit(cache=True, nogil=True, fastmath=True)
 def _mc_block_kernel(k0, noise, tm, fm, x, xh, y, u, store_every, est, tru, run0,
                      run_filter):
-    """Truth and filter for one block of ``B`` runs (``x``, ``xh``: n×B, updated in place)
-    over the samples ``k0 … k0 + len(noise) − 1``.  Releases the GIL: blocks run in
-    parallel threads."""
-    n, B = x.shape
-    n_runs = est.shape[0]
-    m = fm.H.shape[0]
-    nw = 2 * tm.substeps
+    """Truth (:func:`_truth_substeps`) and filter for one block of ``B`` runs (``x``,
+    ``xh``: n×B, updated in place) over the samples ``k0 … k0 + len(noise) − 1``.  Releases
+    the GIL: blocks run in parallel threads."""
     for kk in range(noise.shape[0]):
         k = k0 + kk
         _truth_substeps(k, kk, tm, noise, x, u)
-        ob = tm.off_b[k + 1]
-        if run_filter:
-            # predict: x̂⁻ = Φ_k x̂
-            for i in range(n):
-                for r in range(B):
-                    y[i, r] = 0.0
-                for p in range(fm.rowptr[i], fm.rowptr[i + 1]):
-                    f = fm.phis[k, p]
-                    c = fm.colidx[p]
-                    for r in range(B):
-                        y[i, r] += f * xh[c, r]
-            for i in range(n):
-                for r in range(B):
-                    xh[i, r] = y[i, r]
-            # the truth's samples: Δβ + v0, g δ + N1 + v1, g γ + N1 + v2
-            for r in range(B):
-                y[0, r] = x[0, r] + ob + tm.sr[0] * noise[kk, nw, r]
-                y[1, r] = tm.g * x[4, r] + x[6, r] + tm.sr[1] * noise[kk, nw + 1, r]
-                y[2, r] = tm.g * x[5, r] + x[6, r] + tm.sr[2] * noise[kk, nw + 2, r]
-            # update, one scalar measurement after the other (the gains of
-            # covariance_fast are those of sequential updates):
-            # x̂ ← x̂ + K_{k,q} (z_q − H_q x̂)
-            for q in range(m):
-                for r in range(B):
-                    u[r] = y[q, r]
-                for p in range(fm.hptr[q], fm.hptr[q + 1]):
-                    c = fm.hidx[p]
-                    h = fm.H[q, c]
-                    for r in range(B):
-                        u[r] -= h * xh[c, r]
-                for i in range(n):
-                    g = fm.gains[k, q, i]
-                    for r in range(B):
-                        xh[i, r] += g * u[r]
-        if (k + 1) % store_every == 0:
-            ii = (k + 1) // store_every
-            for r in range(B):
-                run = run0 + r
-                if run < n_runs:
-                    for i in range(n):
-                        est[run, ii, i] = xh[i, r]
-                        tru[run, ii, i] = x[i, r]
-                    tru[run, ii, 0] += ob
-                    tru[run, ii, 1] += tm.off_bd[k + 1]
+        _filter_and_store(k, kk, noise, tm, fm, x, xh, y, u, store_every, est, tru, run0,
+                          run_filter)
 
 
 @njit(cache=True)
@@ -358,6 +515,155 @@ def _step_phi(seg, a, b, Phi0, PhiA, PhiB, rowptr, colidx, out):
             for p in range(rowptr[i], rowptr[i + 1]):
                 c = colidx[p]
                 out[k, p] = Phi0[j, i, c] + a[k] * PhiA[j, i, c] + b[k] * PhiB[j, i, c]
+
+
+# Random numbers: numpy's SFC64 and ziggurat, one stream per run, inside the kernel -----------
+def _ziggurat_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The 256-layer ziggurat of numpy's ``Generator.standard_normal`` (Marsaglia and Tsang's
+    construction with numpy's ``r`` and layer area ``v``, 52-bit mantissa): ``ki`` (accept
+    thresholds), ``wi`` (widths per unit integer), ``fi`` (densities at the layers' edges).
+    Built in double precision: they match numpy's tables to about 1e-14, so a normal agrees
+    with numpy's to that precision (tested)."""
+    r = _ZIG_R
+    v_area = 4.928673233974654931590913431847e-3
+    m1 = 2.0**52
+    ki = np.zeros(256, np.uint64)
+    wi = np.zeros(256)
+    fi = np.zeros(256)
+    dn = tn = r
+    q = v_area / math.exp(-0.5 * dn * dn)
+    ki[0] = np.uint64((dn / q) * m1)
+    wi[0], wi[255] = q / m1, dn / m1
+    fi[0], fi[255] = 1.0, math.exp(-0.5 * dn * dn)
+    for i in range(254, 0, -1):
+        dn = math.sqrt(-2.0 * math.log(v_area / dn + math.exp(-0.5 * dn * dn)))
+        ki[i + 1] = np.uint64((dn / tn) * m1)
+        tn = dn
+        fi[i] = math.exp(-0.5 * dn * dn)
+        wi[i] = dn / m1
+    return ki, ki.astype(np.int64), wi, fi
+
+
+#: Start of the normal's tail in numpy's ziggurat, and its inverse.
+_ZIG_R: Final[float] = 3.6541528853610087963519472518
+_ZIG_INV_R: Final[float] = 0.27366123732975827203338247596
+_ZKI, _ZKI_SIGNED, _ZWI, _ZFI = _ziggurat_tables()
+
+#: Steps of noise drawn at a time per block (the buffer stays in the core's L2 cache).
+_NOISE_CHUNK: Final[int] = 16
+
+
+@njit(cache=True, nogil=True, fastmath=True)
+def _sfc64_step(a, b, c, w, out):
+    """One output of every lane's SFC64 generator (numpy's ``sfc64_next``), vectorized over
+    the lanes ``a, b, c, w`` (the four words of each lane's state)."""
+    for r in range(a.shape[0]):
+        tmp = a[r] + b[r] + w[r]
+        w[r] += uint64(1)
+        a[r] = b[r] ^ (b[r] >> uint64(11))
+        cc = c[r]
+        b[r] = cc + (cc << uint64(3))
+        c[r] = ((cc << uint64(24)) | (cc >> uint64(40))) + tmp
+        out[r] = tmp
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _sfc64_lane(s, r):
+    """The next output of lane ``r``'s SFC64 generator (state ``s[:, r]``)."""
+    a, b, c, w = s[0, r], s[1, r], s[2, r], s[3, r]
+    tmp = a + b + w
+    s[3, r] = w + uint64(1)
+    s[0, r] = b ^ (b >> uint64(11))
+    s[1, r] = c + (c << uint64(3))
+    s[2, r] = ((c << uint64(24)) | (c >> uint64(40))) + tmp
+    return tmp
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _uniform_lane(s, r):
+    """numpy's ``next_double``: the top 53 bits over 2⁵³."""
+    return float(_sfc64_lane(s, r) >> uint64(11)) * (1.0 / 9007199254740992.0)
+
+
+@njit(cache=True, nogil=True)
+def _ziggurat_rest(s, r, idx, rabs, x, ki, wi, fi):
+    """numpy's ``random_standard_normal`` for lane ``r`` after its first test failed (the
+    tail or the wedge, then, if rejected, the whole algorithm again)."""
+    while True:
+        if idx == 0:
+            while True:
+                xx = -_ZIG_INV_R * math.log1p(-_uniform_lane(s, r))
+                yy = -math.log1p(-_uniform_lane(s, r))
+                if yy + yy > xx * xx:
+                    return -(_ZIG_R + xx) if (rabs >> uint64(8)) & uint64(1) else _ZIG_R + xx
+        elif (fi[idx - 1] - fi[idx]) * _uniform_lane(s, r) + fi[idx] < math.exp(-0.5 * x * x):
+            return x
+        u = _sfc64_lane(s, r)
+        idx = int64(u & uint64(0xff))
+        u >>= uint64(8)
+        rabs = (u >> uint64(1)) & uint64(0x000fffffffffffff)
+        x = float(rabs) * wi[idx]
+        if u & uint64(1):
+            x = -x
+        if rabs < ki[idx]:
+            return x
+
+
+@njit(cache=True, nogil=True, fastmath=True)
+def _ziggurat_first(u, out, wi, ki_signed):
+    """The ziggurat's first try for every lane from its 64 random bits ``u`` (8 bits layer,
+    1 bit sign, 52 bits mantissa): ``out`` the candidate, returns how many lanes failed."""
+    bad = 0
+    for r in range(u.shape[0]):
+        ur = u[r]
+        idx = int64(ur & uint64(0xff))
+        rabs = int64((ur >> uint64(9)) & uint64(0x000fffffffffffff))
+        x = float(rabs) * wi[idx]
+        out[r] = -x if (ur >> uint64(8)) & uint64(1) else x
+        bad += rabs >= ki_signed[idx]
+    return bad
+
+
+@njit(cache=True, nogil=True)
+def _fill_normals(s, out, ubuf, ki, ki_signed, wi, fi):
+    """Standard normals ``out[k, j, r]`` from lane ``r``'s SFC64 state ``s[:, r]``, in the
+    order ``k``, then ``j``: lane ``r`` reads exactly what numpy's
+    ``Generator(SFC64).standard_normal(out.shape[:2])`` would draw from that state."""
+    a, b, c, w = s[0], s[1], s[2], s[3]
+    for k in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            o = out[k, j]
+            _sfc64_step(a, b, c, w, ubuf)
+            if _ziggurat_first(ubuf, o, wi, ki_signed):
+                for r in range(o.shape[0]):
+                    ur = ubuf[r]
+                    idx = int64(ur & uint64(0xff))
+                    rabs = (ur >> uint64(9)) & uint64(0x000fffffffffffff)
+                    if rabs >= ki[idx]:
+                        o[r] = _ziggurat_rest(s, r, idx, rabs, o[r], ki, wi, fi)
+
+
+def _standard_normals(state: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """``shape`` standard normals per lane from the SFC64 states ``state`` (4 × lanes,
+    ``uint64``, advanced in place) by the kernels' generator, ``(*shape, lanes)``; for the
+    tests, to compare with numpy's."""
+    st = np.ascontiguousarray(state, dtype=np.uint64)
+    out = np.empty((*shape, st.shape[1]))
+    _fill_normals(st, out, np.empty(st.shape[1], np.uint64), _ZKI, _ZKI_SIGNED, _ZWI, _ZFI)
+    state[...] = st
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _mc_block_run(n_steps, state, noise, ubuf, tm, fm, x, xh, y, u, store_every, est, tru,
+                  run0, run_filter, ki, ki_signed, wi, fi):
+    """The whole run of one block of lanes: draw ``len(noise)`` steps of noise from the
+    lanes' streams, advance truth and filter over them (:func:`_mc_block_kernel`), repeat."""
+    chunk = noise.shape[0]
+    for k0 in range(0, n_steps, chunk):
+        nz = noise[:min(chunk, n_steps - k0)]
+        _fill_normals(state, nz, ubuf, ki, ki_signed, wi, fi)
+        _mc_block_kernel(k0, nz, tm, fm, x, xh, y, u, store_every, est, tru, run0, run_filter)
 
 
 # Reference path (plain numpy): the same recursion, written like filterpy -----------------------
@@ -377,13 +683,16 @@ def _reference_block(k0: int, noise: np.ndarray, tm: TruthModel, Phi: list, H: n
             X[:, 8:10] = X[:, 8:10] @ tm.phi2.T + np.outer(w2, tm.gam2)
             bm = tm.beta_mid[i]
             dm = X[:, 0] + 0.5 * tm.h * X[:, 1]
-            if tm.linear:
-                tq = (-tm.kh * np.sin(bm) * (dm - X[:, 2])
-                      + tm.kv * X[:, 5] * np.cos(bm) - tm.kd * X[:, 4] * np.sin(bm))
+            # Eq. (3) minus Eq. (4): kh[cos(β−ψ) − cos β_n] + kv γ cos β − kd δ sin β, each
+            # term in full or linearized about β_n (Eq. (5))
+            if tm.linear in (1, 2):
+                tq = -tm.kh * np.sin(bm) * (dm - X[:, 2])
             else:
-                # Eq. (3) minus Eq. (4): kh[cos(β−ψ) − cos β_n] + kv γ cos β − kd δ sin β
-                tq = (tm.kh * (np.cos(bm + dm - X[:, 2]) - np.cos(bm))
-                      + tm.kv * X[:, 5] * np.cos(bm + dm) - tm.kd * X[:, 4] * np.sin(bm + dm))
+                tq = tm.kh * (np.cos(bm + dm - X[:, 2]) - np.cos(bm))
+            if tm.linear in (1, 3):
+                tq = tq + tm.kv * X[:, 5] * np.cos(bm) - tm.kd * X[:, 4] * np.sin(bm)
+            else:
+                tq = tq + tm.kv * X[:, 5] * np.cos(bm + dm) - tm.kd * X[:, 4] * np.sin(bm + dm)
             # + (H/I)(ω_gc + N3) + H ω_ub N1/(I g), the noises at the midpoint
             tq = tq + tm.hi * (X[:, 3] + 0.5 * (n3 + X[:, 8])) + tm.ub * 0.5 * (n1 + X[:, 6])
             # (Δβ, Δβ') ← E (Δβ, Δβ') + p1 u
@@ -401,7 +710,8 @@ def _reference_block(k0: int, noise: np.ndarray, tm: TruthModel, Phi: list, H: n
         store(k, X, Xh)
 
 
-# Runs in blocks ---------------------------------------------------------------------------------
+# Runs in blocks, one numpy generator per block: the previous path, kept for simulate_truth ----
+# (the sample records of data/ are made with its streams; monte_carlo uses _run_all below)
 def _block_rngs(rng: np.random.Generator, n_runs: int) -> list[np.random.Generator]:
     """One child generator per block of ``_RUN_BLOCK`` runs: run ``i`` gets the same numbers
     whatever ``n_runs`` and the number of threads.  SFC64 streams (seeded by spawning the
@@ -497,11 +807,217 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
     return est, tru
 
 
+# Runs with one random stream each; chunks of runs for an executor -------------------------------
+def run_streams(seed: int, n_runs: int) -> list[np.random.Generator]:
+    """The random streams of :func:`monte_carlo`'s runs: run ``i`` draws from an SFC64
+    generator seeded by the ``i``-th child of ``numpy.random.SeedSequence(seed)``, first its
+    initial state (10 normals, :func:`truth_prior_factor`), then its noise.
+
+    Parameters
+    ----------
+    seed : int
+        The Monte Carlo's seed (>= 0).
+    n_runs : int
+        Number of runs (>= 1).
+
+    Returns
+    -------
+    list of numpy.random.Generator
+        One per run; run ``i``'s is the same whatever ``n_runs``.
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> a, b = gc.run_streams(7, 2)[1], gc.run_streams(7, 5)[1]
+    >>> bool(a.standard_normal() == b.standard_normal())
+    True
+    """
+    seed = v.check_int("seed", seed, 0)
+    n_runs = v.check_int("n_runs", n_runs, 1)
+    return [np.random.Generator(np.random.SFC64(child))
+            for child in np.random.SeedSequence(seed).spawn(n_runs)]
+
+
+def _run_inputs(tp: GyrocompassParams, seed: int, n_runs: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each run's initial state (n_runs × 10, from the truth's prior) and the state of its
+    generator after drawing it (4 × n_runs ``uint64``: SFC64's ``a, b, c, counter``)."""
+    L = truth_prior_factor(tp)
+    X0 = np.empty((n_runs, N))
+    states = np.empty((4, n_runs), np.uint64)
+    for i, gen in enumerate(run_streams(seed, n_runs)):
+        X0[i] = L @ gen.standard_normal(N)
+        states[:, i] = gen.bit_generator.state["state"]["state"]
+    return X0, states
+
+
+class _Prepared(NamedTuple):
+    """What every chunk of runs needs: the truth's and the filter's arrays and the grid."""
+
+    tm: TruthModel
+    fm: FilterModel
+    n_steps: int
+    store_every: int
+    method: str
+    phi: object
+
+
+@dataclass(frozen=True)
+class _Recipe:
+    """How to build :class:`_Prepared` (small and picklable: what a worker process gets)."""
+
+    params: GyrocompassParams
+    truth_params: GyrocompassParams
+    t_end: float
+    store_every: int | None
+    method: str
+    linear: int
+    substeps: int
+
+
+def _prepare(r: _Recipe) -> tuple[_Prepared, np.ndarray]:
+    """The filter's gains and model, the truth's arrays; and the filter's stored P."""
+    p = r.params
+    disc = discretize(p, r.t_end)
+    se = _default_store_every(disc.n_steps) if r.store_every is None else r.store_every
+    mdl = disc.model
+    P0 = initial_covariance(p)
+    if r.method == "fast":
+        run = covariance_fast(mdl, P0, se, keep_gains=True)
+    else:
+        run = covariance_reference(mdl, P0, se)
+    tm = truth_model(r.truth_params, p, disc.n_steps, r.substeps, r.linear)
+    rowptr, colidx = mdl.sparsity()
+    hptr, hidx = _csr(mdl.H != 0)
+    phis = np.empty((mdl.n_steps, colidx.size))
+    if r.method == "fast":
+        _step_phi(mdl.seg, mdl.a, mdl.b, mdl.Phi0, mdl.PhiA, mdl.PhiB, rowptr, colidx, phis)
+    fm = FilterModel(phis, rowptr, colidx, np.ascontiguousarray(mdl.H), hptr, hidx,
+                     np.ascontiguousarray(run.gains))
+    phi = _LazyPhi(mdl) if r.method == "reference" else None
+    return _Prepared(tm, fm, disc.n_steps, se, r.method, phi), run.P_stored
+
+
+@functools.lru_cache(maxsize=1)
+def _prepared_in_worker(r: _Recipe) -> _Prepared:
+    return _prepare(r)[0]
+
+
+def _run_chunk(prep: _Prepared, X0: np.ndarray, states: np.ndarray) -> tuple[np.ndarray,
+                                                                              np.ndarray]:
+    """Truth and filter for the runs of one chunk (initial states ``X0``, generator states
+    ``states``), a block of ``_RUN_BLOCK`` lanes after the other; ``(est, tru)``."""
+    tm, fm, n_steps, se = prep.tm, prep.fm, prep.n_steps, prep.store_every
+    n, B = X0.shape[0], _RUN_BLOCK
+    width = 2 * tm.substeps + 3
+    n_store = n_steps // se + 1
+    est = np.zeros((n, n_store, N))
+    tru = np.zeros((n, n_store, N))
+    tru[:, 0] = X0
+    for b in range(-(-n // B)):
+        lanes = slice(b * B, min((b + 1) * B, n))
+        nv = lanes.stop - lanes.start
+        st = np.zeros((4, B), np.uint64)   # lanes past the last run: a dummy stream, unused
+        st[:, :nv] = states[:, lanes]
+        if prep.method == "fast":
+            x = np.zeros((N, B))
+            x[:, :nv] = X0[lanes].T
+            x[0] -= tm.off_b[0]
+            x[1] -= tm.off_bd[0]
+            _mc_block_run(n_steps, st, np.empty((_NOISE_CHUNK, width, B)),
+                          np.empty(B, np.uint64), tm, fm, x, np.zeros_like(x),
+                          np.zeros_like(x), np.zeros(B), se, est, tru, b * B, True,
+                          _ZKI, _ZKI_SIGNED, _ZWI, _ZFI)
+            continue
+        # reference: numpy's own generators from the same states, per-run draws stacked
+        gens = []
+        for r in range(nv):
+            bg = np.random.SFC64()
+            bg.state = {"bit_generator": "SFC64", "state": {"state": st[:, r].copy()},
+                        "has_uint32": 0, "uinteger": 0}
+            gens.append(np.random.Generator(bg))
+        X = np.zeros((B, N))
+        X[:nv] = X0[lanes]
+        Xh = np.zeros_like(X)
+
+        def store(k: int, X: np.ndarray, Xh: np.ndarray, lanes: slice = lanes,
+                  nv: int = nv) -> None:
+            if (k + 1) % se == 0:
+                ii = (k + 1) // se
+                est[lanes, ii] = Xh[:nv]
+                tru[lanes, ii] = X[:nv]
+                tru[lanes, ii, 0] += tm.off_b[k + 1]
+                tru[lanes, ii, 1] += tm.off_bd[k + 1]
+
+        for k0 in range(0, n_steps, _CHUNK):
+            steps = min(_CHUNK, n_steps - k0)
+            noise = np.zeros((steps, width, B))
+            for r, gen in enumerate(gens):
+                noise[:, :, r] = gen.standard_normal((steps, width))
+            _reference_block(k0, noise, tm, prep.phi, fm.H, fm.gains, X, Xh, store)
+    return est, tru
+
+
+class _ChunkTask:
+    """One chunk of runs for an executor: ``task(X0, states) -> (est, tru)``.  Picklable:
+    a worker process gets the recipe, not the arrays, and builds them once
+    (:func:`_prepared_in_worker`); threads of this process use the arrays already built."""
+
+    def __init__(self, recipe: _Recipe, prepared: _Prepared | None) -> None:
+        self.recipe = recipe
+        self.prepared = prepared
+
+    def __getstate__(self) -> dict:
+        return {"recipe": self.recipe, "prepared": None}
+
+    def __call__(self, X0: np.ndarray, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        prep = self.prepared if self.prepared is not None else _prepared_in_worker(self.recipe)
+        return _run_chunk(prep, X0, states)
+
+
+#: Chunks of runs handed to a caller's executor: at most this many (each of whole blocks).
+_EXECUTOR_CHUNKS: Final[int] = 16
+
+
+def _run_all(task: _ChunkTask, X0: np.ndarray, states: np.ndarray, n_store: int,
+             executor: Executor | None) -> tuple[np.ndarray, np.ndarray]:
+    """All runs, in chunks of whole blocks: one block per chunk on this process's threads
+    (``executor=None``), or up to :data:`_EXECUTOR_CHUNKS` chunks on ``executor``."""
+    n = X0.shape[0]
+    nb = -(-n // _RUN_BLOCK)
+    per = 1 if executor is None else -(-nb // _EXECUTOR_CHUNKS)
+    bounds = [(lo, min(lo + per * _RUN_BLOCK, n)) for lo in range(0, n, per * _RUN_BLOCK)]
+    est = np.empty((n, n_store, N))
+    tru = np.empty((n, n_store, N))
+
+    def put(lo: int, hi: int, out: tuple[np.ndarray, np.ndarray]) -> None:
+        est[lo:hi], tru[lo:hi] = out
+
+    if executor is None:
+        n_thr = min(_n_threads(), len(bounds))
+        if n_thr == 1:
+            for lo, hi in bounds:
+                put(lo, hi, task(X0[lo:hi], states[:, lo:hi]))
+            return est, tru
+        pool = ThreadPoolExecutor(max_workers=n_thr)
+    else:
+        pool = executor
+    try:
+        futures = [(lo, hi, pool.submit(task, X0[lo:hi], states[:, lo:hi]))
+                   for lo, hi in bounds]
+        for lo, hi, fut in futures:
+            put(lo, hi, fut.result())
+    finally:
+        if executor is None:
+            pool.shutdown()
+    return est, tru
+
+
 @dataclass(frozen=True)
 class MonteCarloResult:
     """Monte Carlo runs (paper GC, Figure 4): estimates and truth at ``t`` (every
     ``store_every`` samples), the filter's posterior covariance ``P`` at the same times, the
-    filter's ``params`` and the truth's ``truth_params`` (``None``: the same)."""
+    filter's ``params``, the truth's ``truth_params`` (``None``: the same) and which of its
+    torques were linearized (``truth_mode``: the ``truth`` of :func:`monte_carlo`)."""
 
     params: GyrocompassParams
     t: NDArray[np.float64]
@@ -510,11 +1026,13 @@ class MonteCarloResult:
     P: NDArray[np.float64]
     seed: int
     truth_params: GyrocompassParams | None = None
+    truth_mode: str = "nonlinear"
 
     def __post_init__(self) -> None:
         _check_params(self.params)
         if self.truth_params is not None:
             v.check_instance("truth_params", self.truth_params, GyrocompassParams)
+        v.check_choice("truth_mode", self.truth_mode, tuple(LINEARIZE))
         nt = v.check_ndarray("t", self.t, ndim=1).size
         runs = v.check_ndarray("est", self.est, shape=(None, nt, N)).shape[0]
         v.check_ndarray("tru", self.tru, shape=(runs, nt, N))
@@ -571,8 +1089,32 @@ class MonteCarloResult:
             out[:, ti] = np.sum(es.T * sol, axis=0)
         return out
 
+    def inside_share(self, names: tuple[str, ...] | None = None,
+                     confidence: float = 0.95) -> float:
+        """Share of the stored times ``t > 0`` at which the ensemble-average NEES of
+        ``names`` (default: all 10 states) lies in its two-sided chi-square band of one time
+        {cite:p}`BarShalom2001`.  A consistent filter is inside at ``confidence`` of the times
+        on average; neighbouring times are correlated, so the share of one set of runs
+        scatters widely around that.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> mc = gc.monte_carlo(gc.GyrocompassParams(), 64, 1.0, seed=1, store_every=100)
+        >>> 0.0 <= mc.inside_share(("omega_gc",)) <= 1.0
+        True
+        """
+        conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
+                                high_open=True)
+        x = self.nees(names).mean(axis=0)[1:]
+        dof = N if names is None else len(names)
+        lo, hi = nees_bounds(dof, self.n_runs, conf)
+        return float(np.mean((x > lo) & (x < hi)))
+
 
 def _initial_states(p: GyrocompassParams, n_runs: int, rng: np.random.Generator) -> np.ndarray:
+    """The previous path's initial states, from the filter's P(0) (kept for the benchmark's
+    previous-path peer; :func:`monte_carlo` draws from :func:`truth_prior_factor`)."""
     L0 = covariance_factor(initial_covariance(p))
     return rng.standard_normal((n_runs, N)) @ L0.T
 
@@ -580,7 +1122,8 @@ def _initial_states(p: GyrocompassParams, n_runs: int, rng: np.random.Generator)
 def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
                 seed: int = 0, *, truth_params: GyrocompassParams | None = None,
                 store_every: int | None = None, method: str = "fast",
-                truth: str = "nonlinear", substeps: int = TRUTH_SUBSTEPS) -> MonteCarloResult:
+                truth: str = "nonlinear", substeps: int = TRUTH_SUBSTEPS,
+                executor: Executor | None = None) -> MonteCarloResult:
     """``n_runs`` seeded runs of the truth model with paper GC's Kalman filter on its
     measurements (paper GC, Figure 4).
 
@@ -593,7 +1136,8 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     t_end : float
         Length of each run (s), a multiple of ``params.dt``.
     seed : int
-        Seed (>= 0); run ``i`` is the same whatever ``n_runs`` and the number of threads.
+        Seed (>= 0); run ``i`` draws from its own stream (:func:`run_streams`), so it is the
+        same whatever ``n_runs``, the executor and the number of threads or processes.
     truth_params : GyrocompassParams, optional
         The truth's parameters (default: the filter's); they must share ``dt``.  The initial
         states are drawn from the truth's prior.
@@ -602,11 +1146,17 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     method : {"fast", "reference"}
         ``"fast"``: numba, blocks of runs in parallel; ``"reference"``: plain numpy, the
         same random numbers (a second implementation for the tests).
-    truth : {"nonlinear", "linear"}
-        ``"linear"`` replaces the torques of Eq. (3) by their linearization (Eq. (5)), to
-        isolate the effect of the nonlinearity.
+    truth : {"nonlinear", "linear", "linear_horizontal", "linear_tilt"}
+        ``"linear"`` replaces the torques of Eq. (3) by their linearization about the nominal
+        (Eq. (5)), to isolate the effect of the nonlinearity; ``"linear_horizontal"`` only
+        the horizontal-rate term ``Ω_h cos(β − ψ)``, ``"linear_tilt"`` only the tilt terms
+        ``Ω_v (γ cos β − δ sin β)``.
     substeps : int
         Fine steps of the truth per sample (>= 1).
+    executor : concurrent.futures.Executor, optional
+        Where the runs go, in up to 16 chunks of whole blocks of 32 runs (a
+        ``ProcessPoolExecutor``'s workers build the model once each, from the parameters).
+        Default: this process, one thread per core.
 
     Returns
     -------
@@ -629,32 +1179,23 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     n_runs = v.check_int("n_runs", n_runs, 1)
     seed = v.check_int("seed", seed, 0)
     v.check_choice("method", method, ("fast", "reference"))
-    v.check_choice("truth", truth, ("nonlinear", "linear"))
+    v.check_choice("truth", truth, tuple(LINEARIZE))
     substeps = v.check_int("substeps", substeps, 1)
-    disc = discretize(p, t_end)
-    se = _default_store_every(disc.n_steps) if store_every is None else store_every
-    se = v.check_int("store_every", se, 1)
-    mdl = disc.model
-    P0 = initial_covariance(p)
-    if method == "fast":
-        run = covariance_fast(mdl, P0, se, keep_gains=True)
-    else:
-        run = covariance_reference(mdl, P0, se)
-    tm = truth_model(tp, p, disc.n_steps, substeps, truth == "linear")
-    rowptr, colidx = mdl.sparsity()
-    hptr, hidx = _csr(mdl.H != 0)
-    phis = np.empty((mdl.n_steps, colidx.size))
-    if method == "fast":
-        _step_phi(mdl.seg, mdl.a, mdl.b, mdl.Phi0, mdl.PhiA, mdl.PhiB, rowptr, colidx, phis)
-    fm = FilterModel(phis, rowptr, colidx, np.ascontiguousarray(mdl.H), hptr, hidx,
-                     np.ascontiguousarray(run.gains))
-    rng = np.random.default_rng(seed)
-    X0 = _initial_states(tp, n_runs, rng)
-    phi_of_step = _LazyPhi(mdl) if method == "reference" else None
-    est, tru = _run_batch(tm, disc.n_steps, X0, rng, fm, se, method, phi_of_step)
-    return MonteCarloResult(params=p, t=disc.t[::se].copy(), est=est, tru=tru,
-                            P=run.P_stored, seed=int(seed),
-                            truth_params=None if truth_params is None else tp)
+    if executor is not None:
+        v.check_instance("executor", executor, Executor)
+    n_steps = _n_steps(p, t_end)
+    if store_every is not None:
+        store_every = v.check_int("store_every", store_every, 1)
+    recipe = _Recipe(p, tp, float(t_end), store_every, method, LINEARIZE[truth], substeps)
+    prep, P_stored = _prepare(recipe)
+    X0, states = _run_inputs(tp, seed, n_runs)
+    est, tru = _run_all(_ChunkTask(recipe, prep), X0, states,
+                        n_steps // prep.store_every + 1, executor)
+    se = prep.store_every
+    return MonteCarloResult(params=p, t=np.arange(0, n_steps + 1, se) * p.dt, est=est,
+                            tru=tru, P=P_stored, seed=int(seed),
+                            truth_params=None if truth_params is None else tp,
+                            truth_mode=truth)
 
 
 class _LazyPhi:
@@ -672,6 +1213,10 @@ def simulate_truth(params: GyrocompassParams, t_end: float, x0: ArrayLike, *,
                    substeps: int = TRUTH_SUBSTEPS) -> tuple[NDArray[np.float64],
                                                             NDArray[np.float64]]:
     """The truth model of :func:`monte_carlo` alone, from the state ``x0`` (length 10, SI).
+
+    Its noise comes from the seed's generator as the previous Monte Carlo path drew it (one
+    SFC64 stream per block of 32 lanes, this run in lane 0), so the sample records of
+    ``data/`` made with it stay as they are; the model integrated is the same.
 
     Parameters
     ----------

@@ -24,6 +24,8 @@ Claims (each takes the result object of :mod:`gyrolib.gc.montecarlo`,
 * :func:`plot_information` — how ψ and ω_gc separate as the float turns;
 * :func:`plot_speed_claim` — time to σ_c over a grid of shaping-filter parameters;
 * :func:`plot_mismatch` — the filter's σ against the actual RMS error for several truths.
+* :func:`plot_linearization` — the nonlinear truth against the linearized one: NEES excess
+  and its cause.
 
 Race (each takes a result of :mod:`gyrolib.gc.racing`):
 
@@ -906,4 +908,62 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     ax.set_ylabel("time to σ_c (s)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
+    return fig
+
+
+def plot_linearization(effect) -> Figure:
+    """Where the full-state NEES of the nonlinear truth goes out of its band, and why
+    (:func:`gyrolib.gc.linearization_effect`).  Left: the full-state NEES with the nonlinear
+    and with the linearized truth (same runs), and the nonlinear one less the excess that
+    the ω_gc shift predicts, against the per-time chi-square band.  Middle: the paired change
+    of each state's error at the last time, RMS over the runs, in units of that state's σ.
+    Right: the paired shift of the ω_gc estimate per run at the last time against the
+    remainder drift of Eq. (3)'s linearization (paper GC, Eqs. (3), (5)), in units of the
+    filter's σ of ω_gc.
+
+    Parameters
+    ----------
+    effect : LinearizationEffect
+        From :func:`gyrolib.gc.linearization_effect`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from gyrolib.gc.params import STATE_NAMES
+
+    t = effect.t
+    fig = Figure(figsize=(12.0, 4.0), layout="constrained")
+    ax_n, ax_s, ax_w = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.4, 1.0, 1.0]})
+    ax_n.axhspan(*effect.band, color="0.85", label="95 % band per time")
+    ax_n.semilogx(t, effect.nees_nonlinear, "C3", lw=1,
+                  label=f"nonlinear truth ({100 * effect.inside('nonlinear'):.0f} % inside)")
+    ax_n.semilogx(t, effect.nees_linear, "C0", lw=1,
+                  label=f"linearized truth ({100 * effect.inside('linear'):.0f} % inside)")
+    ax_n.semilogx(t, effect.nees_nonlinear - effect.excess_predicted, "k", lw=0.8, ls=":",
+                  label="nonlinear less the predicted excess")
+    ax_n.set_xlabel("time (s)")
+    ax_n.set_ylabel(f"full-state NEES, average of {effect.n_runs} runs")
+    ax_n.grid(True, which="both", alpha=0.3)
+    ax_n.legend(fontsize=7, loc="upper right")
+    shift = np.maximum(effect.state_shift[-1], 1e-12)
+    ax_s.barh(np.arange(shift.size), shift, color="C1")
+    ax_s.set_yticks(np.arange(shift.size), STATE_NAMES, fontsize=8)
+    ax_s.invert_yaxis()
+    ax_s.set_xscale("log")
+    ax_s.set_xlim(1e-8, 1.0)
+    ax_s.set_xlabel(f"paired change of the error at {t[-1]:g} s (σ)")
+    ax_s.grid(True, axis="x", which="both", alpha=0.3)
+    sig = effect.omega_sigma[-1]
+    pred = effect.omega_shift_predicted[:, -1] / sig
+    got = effect.omega_shift[:, -1] / sig
+    lim = float(np.max(np.abs(np.concatenate([pred, got])))) * 1.05
+    ax_w.plot([-lim, lim], [-lim, lim], "k", lw=0.6, label="shift = remainder")
+    ax_w.plot(pred, got, ".", color="C3", ms=3, label="runs")
+    ax_w.set_xlim(-lim, 0.05 * lim)
+    ax_w.set_ylim(-lim, 0.05 * lim)
+    ax_w.set_xlabel("remainder −Ω_h cos β_n ψ²/2 (σ of ω_gc)")
+    ax_w.set_ylabel(f"shift of the ω_gc estimate at {t[-1]:g} s (σ)")
+    ax_w.grid(True, alpha=0.3)
+    ax_w.legend(fontsize=7)
     return fig
