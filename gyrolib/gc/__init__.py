@@ -42,8 +42,10 @@ from gyrolib.gc.discretization import (
     DISCRETIZATIONS,
     SEGMENT,
     GCDiscretization,
+    NominalIntegrator,
     discretize,
     nominal_half_steps,
+    system_matrix_parts,
 )
 from gyrolib.gc.montecarlo import (
     MonteCarloResult,
@@ -115,6 +117,7 @@ __all__ = [
     "GyrocompassParams",
     "InformationPsiOmega",
     "MonteCarloResult",
+    "NominalIntegrator",
     "NominalMotion",
     "ShapingFilter",
     "covariance_analysis",
@@ -157,6 +160,7 @@ __all__ = [
     "sweep_sigma_gc",
     "symbolic",
     "system_matrix",
+    "system_matrix_parts",
     "time_to_sigma",
     "vibration_filter",
 ]
