@@ -6,12 +6,12 @@ module                      what it holds
 ==========================  ===========================================================
 ``discretization``          :func:`van_loan` (exact Φ, Qd), :func:`van_loan_derivatives`,
                             :func:`covariance_factor`
-``updates``                 :func:`joseph_update`, :func:`sequential_update`; numba
-                            kernels :func:`joseph_scalar_update`,
-                            :func:`measurement_projection`
+``updates``                 :func:`joseph_update`, :func:`sequential_update`
+``kernels``                 numba kernels of the fast recursions:
+                            :func:`predict_covariance`, :func:`measurement_projection`,
+                            :func:`joseph_scalar_update`, :func:`kalman_kernels`
 ``covariance``              :class:`AffineDiscreteModel`, :func:`covariance_fast`,
-                            :func:`covariance_reference`, :func:`propagate_fixed_gains`;
-                            numba kernel :func:`predict_covariance`
+                            :func:`covariance_reference`, :func:`propagate_fixed_gains`
 ``square_root``             :func:`covariance_square_root` (QR + Potter), an independent check
 ``consistency``             :func:`nees_bounds` (chi-square bands of the NEES)
 ==========================  ===========================================================
@@ -27,7 +27,6 @@ from gyrolib.filtering.covariance import (
     CovarianceRun,
     covariance_fast,
     covariance_reference,
-    predict_covariance,
     propagate_fixed_gains,
 )
 from gyrolib.filtering.discretization import (
@@ -35,20 +34,26 @@ from gyrolib.filtering.discretization import (
     van_loan,
     van_loan_derivatives,
 )
+from gyrolib.filtering.kernels import (
+    KalmanKernels,
+    joseph_scalar_update,
+    kalman_kernels,
+    measurement_projection,
+    predict_covariance,
+)
 from gyrolib.filtering.square_root import (
     cholesky_semidefinite,
     covariance_square_root,
 )
 from gyrolib.filtering.updates import (
-    joseph_scalar_update,
     joseph_update,
-    measurement_projection,
     sequential_update,
 )
 
 __all__ = [
     "AffineDiscreteModel",
     "CovarianceRun",
+    "KalmanKernels",
     "cholesky_semidefinite",
     "covariance_factor",
     "covariance_fast",
@@ -56,6 +61,7 @@ __all__ = [
     "covariance_square_root",
     "joseph_scalar_update",
     "joseph_update",
+    "kalman_kernels",
     "measurement_projection",
     "nees_bounds",
     "predict_covariance",

@@ -6,10 +6,9 @@ exact to second order.  Two paths:
 
 * :func:`covariance_reference` — plain numpy, a batch Joseph update per step, any per-step
   ``Φ_k``, ``Qd_k``;
-* :func:`covariance_fast` — numba, sequential scalar Joseph updates (each O(n²),
-  :func:`gyrolib.filtering.joseph_scalar_update`) and sparse rows of ``Φ``
-  (:func:`predict_covariance`, a kernel shared with :func:`gyrolib.gc.calibrate`).  Tests
-  show they agree to 1e-9 relative.
+* :func:`covariance_fast` — numba, sequential scalar Joseph updates (each O(n²)) and sparse
+  rows of ``Φ``, by the kernels of :mod:`gyrolib.filtering.kernels` (shared with
+  :func:`gyrolib.gc.calibrate`).  Tests show they agree to 1e-9 relative.
 
 The filter is the discrete optimal filter of {cite:p}`Kalman1960` in the notation of
 {cite:p}`BarShalom2001`: predict ``P⁻ = Φ P Φᵀ + Qd``; update with ``z = H x + v``,
@@ -25,14 +24,18 @@ import numpy as np
 from numba import njit
 
 from gyrolib import _validation as v
-from gyrolib.filtering.updates import joseph_scalar_update, joseph_update, measurement_projection
+from gyrolib.filtering.kernels import (
+    joseph_scalar_update,
+    measurement_projection,
+    predict_covariance,
+)
+from gyrolib.filtering.updates import joseph_update
 
 __all__ = [
     "AffineDiscreteModel",
     "CovarianceRun",
     "covariance_fast",
     "covariance_reference",
-    "predict_covariance",
     "propagate_fixed_gains",
 ]
 
@@ -254,44 +257,6 @@ def covariance_reference(
         if (k + 1) % store_every == 0:
             P_stored[(k + 1) // store_every] = P
     return CovarianceRun(var=var, P_stored=P_stored, store_every=store_every, gains=gains)
-
-
-@njit(cache=True)
-def predict_covariance(P, Phi, rowptr, colidx, Qd, T):
-    """Numba kernel: ``P ← Φ P Φᵀ + Qd`` in place, with the nonzeros of ``Φ`` listed in CSR
-    form (row ``i`` at columns ``colidx[rowptr[i]:rowptr[i + 1]]``; values in the dense
-    ``Phi``); reads the upper triangle of ``Qd``, writes ``P`` symmetric (upper triangle
-    mirrored).  ``T`` (n×n) is scratch.  No input checks (a kernel).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from gyrolib import filtering
-    >>> Phi = np.array([[1.0, 0.1], [0.0, 1.0]]); P = np.eye(2); Qd = 0.01 * np.eye(2)
-    >>> rowptr, colidx = np.array([0, 2, 3]), np.array([0, 1, 1])
-    >>> filtering.predict_covariance(P, Phi, rowptr, colidx, Qd, np.zeros((2, 2)))
-    >>> bool(np.allclose(P, Phi @ Phi.T + Qd))
-    True
-    """
-    n = P.shape[0]
-    # T = Φ P (sparse rows of Φ; each row of T a sum of rows of P)
-    for i in range(n):
-        for col in range(n):
-            T[i, col] = 0.0
-        for p in range(rowptr[i], rowptr[i + 1]):
-            c = colidx[p]
-            f = Phi[i, c]
-            for col in range(n):
-                T[i, col] += f * P[c, col]
-    # P = T Φᵀ + Qd, upper triangle mirrored
-    for i in range(n):
-        for jj in range(i, n):
-            s = Qd[i, jj]
-            for p in range(rowptr[jj], rowptr[jj + 1]):
-                c = colidx[p]
-                s += T[i, c] * Phi[jj, c]
-            P[i, jj] = s
-            P[jj, i] = s
 
 
 @njit(cache=True)

@@ -91,8 +91,9 @@ def van_loan_derivatives(
            list[NDArray[np.float64]]]:
     """``(Φ, Qd)`` of :func:`van_loan` and their exact derivatives along each direction
     ``E`` of ``F`` (``d/dε`` at ``F + ε E``), from the Fréchet derivative of the block
-    exponential (``scipy.linalg.expm_frechet``): the basis of the affine expansion of paper
-    GC's ``F(β_n)`` in ``(sin β_n, cos β_n)``.
+    exponential (Van Loan's block-triangular exponential again, one for all directions,
+    {cite:p}`VanLoan1978`): the basis of the affine expansion of paper GC's ``F(β_n)`` in
+    ``(sin β_n, cos β_n)``.
 
     Parameters
     ----------
@@ -123,20 +124,27 @@ def van_loan_derivatives(
         raise TypeError("directions must be a list or tuple of n×n arrays; "
                         f"got {type(directions).__name__}")
     n = F.shape[0]
+    dirs = [v.check_array("direction", d, shape=(n, n)) for d in directions]
     M = np.zeros((2 * n, 2 * n))
     M[:n, :n] = -F * dt
     M[:n, n:] = G @ Qc @ G.T * dt
     M[n:, n:] = F.T * dt
-    dPhis, dQds = [], []
-    E = scipy.linalg.expm(M)
+    # one exponential for all: exp([[M, dM_1, …, dM_k], [0, M, 0 …], …, [0 …, M]]) holds
+    # exp(M) on its diagonal and the Fréchet derivative along dM_i in block (0, i)
+    m = 2 * n
+    B = np.zeros(((len(dirs) + 1) * m, (len(dirs) + 1) * m))
+    for i in range(len(dirs) + 1):
+        B[i * m:(i + 1) * m, i * m:(i + 1) * m] = M
+    for i, d in enumerate(dirs, start=1):
+        B[:n, i * m:i * m + n] = -d * dt
+        B[n:m, i * m + n:(i + 1) * m] = d.T * dt
+    X = scipy.linalg.expm(B)
+    E = X[:m, :m]
     Phi = E[n:, n:].T.copy()
     Qd = Phi @ E[:n, n:]
-    for d in directions:
-        d = v.check_array("direction", d, shape=(n, n))
-        dM = np.zeros_like(M)
-        dM[:n, :n] = -d * dt
-        dM[n:, n:] = d.T * dt
-        _, L = scipy.linalg.expm_frechet(M, dM)
+    dPhis, dQds = [], []
+    for i in range(1, len(dirs) + 1):
+        L = X[:m, i * m:(i + 1) * m]
         dPhi = L[n:, n:].T.copy()
         dQd = dPhi @ E[:n, n:] + Phi @ L[:n, n:]
         dPhis.append(dPhi)

@@ -27,6 +27,7 @@ also
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterable
 from concurrent.futures import Executor
@@ -39,9 +40,8 @@ from numba import njit
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.filtering.covariance import predict_covariance
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
-from gyrolib.filtering.updates import joseph_scalar_update, measurement_projection
+from gyrolib.filtering.kernels import kalman_kernels
 from gyrolib.gc.discretization import (
     SEGMENT,
     NominalIntegrator,
@@ -77,6 +77,12 @@ SMALL_SHIFT: Final[float] = 0.05
 
 #: Rejected measurements listed individually in a result (all are counted).
 MAX_LISTED_REJECTIONS: Final[int] = 10000
+
+# the shared kernels (gyrolib.filtering.kernels) compiled for the 10 states of Eq. (8)
+_kernels = kalman_kernels(N)
+predict_covariance = _kernels.predict_covariance
+measurement_projection = _kernels.measurement_projection
+joseph_scalar_update = _kernels.joseph_scalar_update
 
 
 # Result ---------------------------------------------------------------------------------
@@ -481,7 +487,7 @@ def _beta_at(t, grid, g0, inv_hh):
 @njit(cache=True, inline="always")
 def _predict_state(x, Phi, rowptr, colidx, y):
     """``x ← Φ x`` (sparse rows of Φ)."""
-    n = x.shape[0]
+    n = N
     for i in range(n):
         s = 0.0
         for p in range(rowptr[i], rowptr[i + 1]):
@@ -492,27 +498,20 @@ def _predict_state(x, Phi, rowptr, colidx, y):
 
 
 @njit(cache=True, inline="always")
-def _regular_step(md, st, bm):
-    """One step of ``dt`` with ``F`` frozen at ``β_n = bm``: ``Φ``, ``Qd`` from the affine
-    tables at the nearest expansion point ``j``, with ``(sin β_n − sin β_j, cos β_n −
-    cos β_j)`` by series in ``d = β_n − β_j`` (|d| ≤ seg_w/2: exact to rounding)."""
-    j = int(round(bm / md.seg_w))  # noqa: RUF046 - numba integer index
-    d = bm - j * md.seg_w
+def _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j, d, Phi, Qd):
+    """``Φ``, ``Qd`` of a step of ``dt`` with ``F`` frozen at ``β_n = β_j + d``, from the
+    affine tables of expansion point ``j``, with ``(sin β_n − sin β_j, cos β_n − cos β_j)``
+    by series in ``d`` (|d| ≤ SEGMENT/2: exact to rounding)."""
     d2 = d * d
     cm1 = d2 * (-0.5 + d2 * (1.0 / 24.0 - d2 / 720.0))          # cos d − 1
     sn = d * (1.0 + d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 - d2 / 5040.0)))   # sin d
-    a = md.sin_j[j] * cm1 + md.cos_j[j] * sn
-    b = md.cos_j[j] * cm1 - md.sin_j[j] * sn
-    n = st.x.shape[0]
-    ph = md.phi_tab[j]
-    for i in range(n):
-        for p in range(md.rowptr[i], md.rowptr[i + 1]):
-            st.Phi[i, md.colidx[p]] = ph[0, p] + a * ph[1, p] + b * ph[2, p]
-    qd = md.qd_tab[j]
-    for p in range(md.qi.shape[0]):
-        st.Qd[md.qi[p], md.qj[p]] = qd[0, p] + a * qd[1, p] + b * qd[2, p]
-    _predict_state(st.x, st.Phi, md.rowptr, md.colidx, st.y)
-    predict_covariance(st.P, st.Phi, md.rowptr, md.colidx, st.Qd, st.T)
+    a = sin_j[j] * cm1 + cos_j[j] * sn
+    b = cos_j[j] * cm1 - sin_j[j] * sn
+    for i in range(N):
+        for p in range(rowptr[i], rowptr[i + 1]):
+            Phi[i, colidx[p]] = phi_tab[j, 0, p] + a * phi_tab[j, 1, p] + b * phi_tab[j, 2, p]
+    for p in range(qi.shape[0]):
+        Qd[qi[p], qj[p]] = qd_tab[j, 0, p] + a * qd_tab[j, 1, p] + b * qd_tab[j, 2, p]
 
 
 @njit(cache=True)
@@ -571,18 +570,18 @@ def _shift(x, P, F, W, d, E, A, T, y):
 
 
 @njit(cache=True, inline="always")
-def _update(md, st, ss, q, zq, t):
-    """The scalar measurement ``zq`` of sensor ``q`` at time ``t``: gate, diagnostics,
-    Joseph update (:func:`gyrolib.filtering.joseph_scalar_update`).  Returns 1 if used,
-    -1 if rejected by the gate."""
-    n = st.x.shape[0]
+def _update(x, P, Ph, k, H, hptr, hidx, r, gate, ss, q, zq, t):
+    """The scalar measurement ``zq`` of sensor ``q`` at time ``t``: gate, diagnostics
+    (``ss``), Joseph update (:func:`gyrolib.filtering.joseph_scalar_update`).  Returns 1 if
+    used, -1 if rejected by the gate.  (The filter's arrays come one by one: numba keeps
+    them in registers, where fields of a tuple are read again after every store.)"""
     hx = 0.0
-    for p in range(md.hptr[q], md.hptr[q + 1]):
-        hx += md.H[q, md.hidx[p]] * st.x[md.hidx[p]]
-    S = measurement_projection(st.P, md.H, q, md.hptr, md.hidx, st.Ph) + md.r[q]
+    for p in range(hptr[q], hptr[q + 1]):
+        hx += H[q, hidx[p]] * x[hidx[p]]
+    S = measurement_projection(P, H, q, hptr, hidx, Ph) + r[q]
     nu = zq - hx
     nis = nu * nu / S
-    if nis > md.gate:
+    if nis > gate:
         ss.rejected[q] += 1
         kk = ss.n_rej[0]
         if kk < ss.rej_t.shape[0]:
@@ -611,17 +610,17 @@ def _update(md, st, ss, q, zq, t):
     ss.ring_pos[q] = pos + 1 if pos + 1 < L else 0
     ss.ring_n[q] = cnt + 1
     inv = 1.0 / S
-    for p in range(n):
-        st.k[p] = st.Ph[p] * inv
-        st.x[p] += st.k[p] * nu
-    joseph_scalar_update(st.P, st.Ph, st.k, S)
+    for p in range(N):
+        k[p] = Ph[p] * inv
+        x[p] += k[p] * nu
+    joseph_scalar_update(P, Ph, k, S)
     return 1
 
 
 @njit(cache=True, inline="always")
 def _store_row(st, ss, so, t, row):
-    n = st.x.shape[0]
-    m = ss.win_sum.shape[0]
+    n = N
+    m = M
     ii = so.n[0]
     so.t[ii] = t
     for p in range(n):
@@ -635,43 +634,55 @@ def _store_row(st, ss, so, t, row):
     so.n[0] = ii + 1
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _filter_chunk(md, ch, st, ss, so):
-    """Predict and update over the rows of one chunk (``st``, ``ss``, ``so`` in place)."""
-    n = st.x.shape[0]
-    m = md.H.shape[0]
-    for i in range(ch.t.shape[0]):
+    """Predict and update over the rows of one chunk (``st``, ``ss``, ``so`` in place).
+    Releases the GIL: the next chunk of a file can be read meanwhile."""
+    # the arrays of the hot loops as locals (see _update)
+    x, P, Phi, Qd, T, y, Ph, k = st.x, st.P, st.Phi, st.Qd, st.T, st.y, st.Ph, st.k
+    rowptr, colidx, qi, qj = md.rowptr, md.colidx, md.qi, md.qj
+    phi_tab, qd_tab, sin_j, cos_j = md.phi_tab, md.qd_tab, md.sin_j, md.cos_j
+    H, hptr, hidx, r, gate = md.H, md.hptr, md.hidx, md.r, md.gate
+    t, z, grid, g0, inv_hh = ch.t, ch.z, ch.grid, ch.g0, ch.inv_hh
+    n_whole, irr_idx = ch.n_whole, ch.irr_idx
+    dt, inv_seg = md.dt, 1.0 / md.seg_w
+    tcur = st.tcur[0]
+    for i in range(t.shape[0]):
         # predict: whole steps of dt, then a short shift or an exact remainder step
-        for _ in range(ch.n_whole[i]):
-            _regular_step(md, st, _beta_at(st.tcur[0] + 0.5 * md.dt, ch.grid, ch.g0,
-                                           ch.inv_hh))
-            st.tcur[0] += md.dt
+        for _ in range(n_whole[i]):
+            bm = _beta_at(tcur + 0.5 * dt, grid, g0, inv_hh)
+            j = int(bm * inv_seg + 0.5)      # the nearest expansion point (β_n >= 0)
+            _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j,
+                           bm - j * md.seg_w, Phi, Qd)
+            _predict_state(x, Phi, rowptr, colidx, y)
+            predict_covariance(P, Phi, rowptr, colidx, Qd, T)
+            tcur += dt
         d = ch.shift[i]
         if d != 0.0:   # a step of n·dt + d, |d| small: the regular steps, then shift by d
-            bm = _beta_at(st.tcur[0] + 0.5 * d, ch.grid, ch.g0, ch.inv_hh)
+            bm = _beta_at(tcur + 0.5 * d, grid, g0, inv_hh)
             sb = math.sin(bm)
             cb = math.cos(bm)
-            for p in range(n):
-                for c in range(n):
+            for p in range(N):
+                for c in range(N):
                     st.Fm[p, c] = md.Fc[p, c] + sb * md.Es[p, c] + cb * md.Ec[p, c]
-            _shift(st.x, st.P, st.Fm, md.W, d, st.Em, st.Am, st.T, st.y)
-        kk = ch.irr_idx[i]
+            _shift(x, P, st.Fm, md.W, d, st.Em, st.Am, T, y)
+        kk = irr_idx[i]
         if kk >= 0:
-            _predict_state(st.x, ch.irr_phi[kk], md.dense_ptr, md.dense_idx, st.y)
-            predict_covariance(st.P, ch.irr_phi[kk], md.dense_ptr, md.dense_idx,
-                               ch.irr_qd[kk], st.T)
-        st.tcur[0] = ch.t[i]
-        beta_n = _beta_at(ch.t[i], ch.grid, ch.g0, ch.inv_hh)
+            _predict_state(x, ch.irr_phi[kk], md.dense_ptr, md.dense_idx, y)
+            predict_covariance(P, ch.irr_phi[kk], md.dense_ptr, md.dense_idx,
+                               ch.irr_qd[kk], T)
+        tcur = t[i]
+        beta_n = _beta_at(t[i], grid, g0, inv_hh)
         any_used = False
         any_rej = False
-        for q in range(m):
-            zq = ch.z[i, q]
+        for q in range(M):
+            zq = z[i, q]
             if math.isnan(zq):
                 ss.missing[q] += 1
                 continue
             if q == 0:
                 zq -= beta_n     # the angle sensor reads β = β_n + Δβ
-            if _update(md, st, ss, q, zq, ch.t[i]) > 0:
+            if _update(x, P, Ph, k, H, hptr, hidx, r, gate, ss, q, zq, t[i]) > 0:
                 any_used = True
             else:
                 any_rej = True
@@ -680,7 +691,8 @@ def _filter_chunk(md, ch, st, ss, so):
         if any_rej:
             ss.rows_ur[1] += 1
         if (so.row0 + i + 1) % so.every == 0:
-            _store_row(st, ss, so, ch.t[i], so.row0 + i + 1)
+            _store_row(st, ss, so, t[i], so.row0 + i + 1)
+    st.tcur[0] = tcur
 
 
 # The calibrator (streaming state) ------------------------------------------------------------
@@ -694,21 +706,16 @@ def _closure(mask: np.ndarray) -> np.ndarray:
         R = R2
 
 
-class _Calibrator:
-    """State of :func:`calibrate` between chunks."""
+class _FilterModel:
+    """The filter's model for one set of parameters: :class:`_Model` (without the gate) and
+    its step tables, filled on demand (one Van Loan exponential per expansion point) and
+    kept for the next run with the same parameters (:func:`_filter_model`)."""
 
-    def __init__(self, p: GyrocompassParams, *, store_every: int, gate: float, lags: int,
-                 time_tolerance: float) -> None:
-        self.p = p
-        self.dt = p.dt
-        self.tol = time_tolerance * p.dt
-        self.store_every = store_every
-        self.gate_prob = gate
-        self.nominal = _Nominal(p)
+    def __init__(self, p: GyrocompassParams) -> None:
         Fc, Es, Ec = system_matrix_parts(p)
         self.G = noise_input_matrix(p)
         self.Qc = process_noise_intensity(p)
-        self.Fc, self.Es, self.Ec = Fc, Es, Ec
+        self.dt = p.dt
         # the nonzeros of Φ = exp(F dt) (and of its derivatives): the states each state
         # reaches through F; of Qd: pairs of states reached by the same noise input
         reach = _closure((Fc != 0) | (Es != 0) | (Ec != 0))
@@ -717,7 +724,6 @@ class _Calibrator:
         for w in range(self.G.shape[1]):
             qmask |= np.outer(by_noise[:, w], by_noise[:, w])
         self.phi_mask = reach
-        self.qd_mask = qmask
         rows, cols = np.nonzero(reach)
         rowptr = np.zeros(N + 1, dtype=np.int64)
         rowptr[1:] = np.cumsum(reach.sum(axis=1))
@@ -737,7 +743,44 @@ class _Calibrator:
             dense_idx=np.tile(np.arange(N, dtype=np.int64), N), Fc=Fc, Es=Es, Ec=Ec,
             W=self.G @ self.Qc @ self.G.T, H=H, hptr=hptr,
             hidx=np.nonzero(hmask)[1].astype(np.int64),
-            r=np.diag(measurement_noise_covariance(p)).copy(),
+            r=np.diag(measurement_noise_covariance(p)).copy(), gate=math.inf)
+
+    def table(self, j: int) -> None:
+        """Fill the tables of expansion point ``j`` (once)."""
+        if j < 0 or j >= self.have.size:
+            raise ValueError(f"the nominal float angle left [0, π] (expansion point {j}); "
+                             "check the parameters H, Omega_h, f, I")
+        if self.have[j]:
+            return
+        md = self.model
+        F = md.Fc + math.sin(j * SEGMENT) * md.Es + math.cos(j * SEGMENT) * md.Ec
+        Phi, Qd, (dPs, dPc), (dQs, dQc) = van_loan_derivatives(F, self.G, self.Qc, self.dt,
+                                                               [md.Es, md.Ec])
+        for k, arr in enumerate((Phi, dPs, dPc)):
+            md.phi_tab[j, k] = arr[self.phi_mask]
+        for k, arr in enumerate((Qd, dQs, dQc)):
+            md.qd_tab[j, k] = arr[md.qi, md.qj]
+        self.have[j] = True
+
+
+@functools.lru_cache(maxsize=8)
+def _filter_model(p: GyrocompassParams) -> _FilterModel:
+    return _FilterModel(p)
+
+
+class _Calibrator:
+    """State of :func:`calibrate` between chunks."""
+
+    def __init__(self, p: GyrocompassParams, *, store_every: int, gate: float, lags: int,
+                 time_tolerance: float) -> None:
+        self.p = p
+        self.dt = p.dt
+        self.tol = time_tolerance * p.dt
+        self.store_every = store_every
+        self.gate_prob = gate
+        self.nominal = _Nominal(p)
+        self.filter_model = _filter_model(p)
+        self.model = self.filter_model.model._replace(
             gate=float(scipy.stats.chi2.ppf(gate, 1)))
         self.state = _State(
             x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
@@ -759,22 +802,6 @@ class _Calibrator:
         self.gap_time = 0.0
         self.irregular = 0
         self.shifted = 0
-
-    def _table(self, j: int) -> None:
-        if j < 0 or j >= self.have.size:
-            raise ValueError(f"the nominal float angle left [0, π] (expansion point {j}); "
-                             "check the parameters H, Omega_h, f, I")
-        if self.have[j]:
-            return
-        F = self.Fc + math.sin(j * SEGMENT) * self.Es + math.cos(j * SEGMENT) * self.Ec
-        Phi, Qd, (dPs, dPc), (dQs, dQc) = van_loan_derivatives(F, self.G, self.Qc, self.dt,
-                                                               [self.Es, self.Ec])
-        md = self.model
-        for k, arr in enumerate((Phi, dPs, dPc)):
-            md.phi_tab[j, k] = arr[self.phi_mask]
-        for k, arr in enumerate((Qd, dQs, dQc)):
-            md.qd_tab[j, k] = arr[md.qi, md.qj]
-        self.have[j] = True
 
     def _steps(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
         """How each row's step from the previous row is taken (see :class:`_Chunk`)."""
@@ -807,10 +834,13 @@ class _Calibrator:
                              f"{self.state.tcur[0]}")
         prev, n_whole, shift, irregular, rem = self._steps(t)
         grid, g0 = self.nominal.window(float(prev[0]), float(t[-1]))
-        jlo = round(float(grid[0]) / SEGMENT)
-        jhi = round(float(grid[-1]) / SEGMENT)
-        for j in range(min(jlo, jhi), max(jlo, jhi) + 1):
-            self._table(j)
+        jlo = round(float(np.min(grid)) / SEGMENT)
+        jhi = round(float(np.max(grid)) / SEGMENT)
+        fm = self.filter_model
+        for j in range(max(jlo - 1, 0), min(jhi + 1, fm.have.size - 1) + 1):  # ±1: ties
+            fm.table(j)
+        if jlo < 0 or jhi >= fm.have.size:
+            fm.table(jlo if jlo < 0 else jhi)      # raises: β_n left [0, π]
         irr_rows = np.nonzero(irregular)[0]
         irr_idx = np.full(t.size, -1, dtype=np.int64)
         irr_idx[irr_rows] = np.arange(irr_rows.size)
@@ -821,8 +851,9 @@ class _Calibrator:
             for k, i in enumerate(irr_rows):
                 start = prev[i] + n_whole[i] * self.dt
                 bm = float(np.interp(0.5 * (start + t[i]), grid_t, grid))
-                F = self.Fc + math.sin(bm) * self.Es + math.cos(bm) * self.Ec
-                irr_phi[k], irr_qd[k] = van_loan(F, self.G, self.Qc, float(rem[i]))
+                md, fm = self.model, self.filter_model
+                F = md.Fc + math.sin(bm) * md.Es + math.cos(bm) * md.Ec
+                irr_phi[k], irr_qd[k] = van_loan(F, fm.G, fm.Qc, float(rem[i]))
             self.irregular += int(irr_rows.size)
         chunk = _Chunk(t=t, z=np.ascontiguousarray(rec.measurements()), grid=grid,
                        g0=float(g0), inv_hh=1.0 / self.nominal.hh, n_whole=n_whole,

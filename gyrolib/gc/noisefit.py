@@ -42,9 +42,8 @@ from numba import njit
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.filtering.covariance import predict_covariance
 from gyrolib.filtering.discretization import van_loan
-from gyrolib.filtering.updates import joseph_scalar_update, measurement_projection
+from gyrolib.filtering.kernels import kalman_kernels
 from gyrolib.gc.calibration import calibrate, innovation_log_likelihood
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.record import GCRecord
@@ -226,6 +225,12 @@ def _log_values(p: GyrocompassParams, names: tuple[str, ...]) -> np.ndarray:
 # The inclinometers' marginal likelihood (the start) --------------------------------------------
 _INCL_STATES: Final[tuple[int, ...]] = tuple(state_index(nm)
                                              for nm in ("delta", "gamma", "N1", "N2"))
+
+# the shared kernels (gyrolib.filtering.kernels) compiled for these 4 states
+_kernels4 = kalman_kernels(len(_INCL_STATES))
+predict_covariance = _kernels4.predict_covariance
+measurement_projection = _kernels4.measurement_projection
+joseph_scalar_update = _kernels4.joseph_scalar_update
 
 
 @njit(cache=True)
