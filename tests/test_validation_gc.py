@@ -465,6 +465,72 @@ case("gc.plot_calibration", lambda: gc.plot_calibration(None), TypeError, "resul
 case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), ValueError,
      "truth", FINITE)
 
+# lost lock, noise fit, likelihood, nominal integrator (issues 18, 22)
+case("gc.calibrate", lambda: gc.calibrate(_GREC, max_rejected=1.5), ValueError,
+     "max_rejected", r"\[0.0, 1.0\]")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=2.0), TypeError, "nis_range",
+     "pair")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=(0.5, 0.9)), ValueError,
+     "nis_range[1]", "> 1")
+case("gc.calibrate", lambda: gc.calibrate([_GREC], executor=4), TypeError, "executor",
+     "Executor")
+case("gc.CalibrationResult", lambda: replace(_GRES, max_rejected=-0.1), ValueError,
+     "max_rejected")
+case("gc.innovation_log_likelihood", lambda: gc.innovation_log_likelihood([_GREC]),
+     TypeError, "record", "GCRecord")
+case("gc.innovation_log_likelihood", lambda: gc.innovation_log_likelihood(_GREC, 1.0),
+     TypeError, "params", "GyrocompassParams")
+case("gc.innovation_log_likelihood",
+     lambda: gc.innovation_log_likelihood(_GREC, chunk_size=0), ValueError, "chunk_size",
+     ">= 1")
+case("gc.fit_noise", lambda: gc.fit_noise(np.zeros(3)), TypeError, "record", "GCRecord")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, "paper"), TypeError, "params",
+     "GyrocompassParams")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit="alpha1"), TypeError, "fit", "tuple")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=("alpha2",)), ValueError, "fit",
+     "names from")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=()), ValueError, "fit", "at least")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=("C_as", "C_as")), ValueError, "fit",
+     "repeat")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=("C_in", "C_incl_y")), ValueError,
+     "fit", "C_in")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, gate=1.0), ValueError, "gate", "in")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, max_evaluations=0), ValueError,
+     "max_evaluations", ">= 1")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, progress="bar"), TypeError, "progress",
+     "callable")
+
+
+@functools.cache
+def _nfit() -> gc.NoiseFit:
+    return gc.NoiseFit(params=P, start=P, names=("C_as",), values=np.array([P.C_as]),
+                       std_errors=np.array([1e-15]), cov_log=np.eye(1), loglik=0.0,
+                       loglik_start=-1.0, converged=True, message="", n_evaluations=1,
+                       outliers=0)
+
+
+case("gc.NoiseFit", lambda: replace(_nfit(), names=("beta",)), ValueError, "fit",
+     "names from")
+case("gc.NoiseFit", lambda: replace(_nfit(), values=np.zeros(2)), ValueError, "values",
+     "shape")
+case("gc.NoiseFit", lambda: replace(_nfit(), std_errors=np.array([np.inf])), ValueError,
+     "std_errors", "shape")
+case("gc.NoiseFit", lambda: replace(_nfit(), params=None), TypeError, "params")
+case("gc.NoiseFit.value", lambda: _nfit().value("alpha1"), ValueError, "name",
+     "fitted names")
+case("gc.NoiseFit.std_error", lambda: _nfit().std_error(3), ValueError, "name",
+     "fitted names")
+case("gc.NominalIntegrator", lambda: gc.NominalIntegrator(None), TypeError, "params",
+     "GyrocompassParams")
+case("gc.NominalIntegrator.advance", lambda: gc.NominalIntegrator(P).advance(-1),
+     ValueError, "n", ">= 0")
+case("gc.NominalIntegrator.advance", lambda: gc.NominalIntegrator(P).advance(1.5),
+     TypeError, "n", "integer")
+case("gc.NominalIntegrator.advance", lambda: gc.NominalIntegrator(P).advance(2, keep=1),
+     TypeError, "keep", "bool")
+case("gc.system_matrix_parts", lambda: gc.system_matrix_parts("paper"), TypeError,
+     "params", "GyrocompassParams")
+
 
 # the race against the rate-sensor method (gc.ratesensor, gc.racing); the race computed once
 @functools.cache

@@ -23,6 +23,7 @@ module                  paper GC
                         :func:`rate_sensor_monte_carlo`
 ``racing``              the race against it: :func:`race`, :func:`race_sweep`,
                         :func:`procedure_for_time`
+``noisefit``            noise parameters fitted from a record: :func:`fit_noise`
 ``plots``               the figures: ``plot_*``
 ======================  ===============================================================
 
@@ -48,8 +49,10 @@ from gyrolib.gc.discretization import (
     DISCRETIZATIONS,
     SEGMENT,
     GCDiscretization,
+    NominalIntegrator,
     discretize,
     nominal_half_steps,
+    system_matrix_parts,
 )
 from gyrolib.gc.montecarlo import (
     MonteCarloResult,
@@ -123,6 +126,7 @@ __all__ = [
     "GyrocompassParams",
     "InformationPsiOmega",
     "MonteCarloResult",
+    "NominalIntegrator",
     "NominalMotion",
     "ShapingFilter",
     "covariance_analysis",
@@ -165,6 +169,7 @@ __all__ = [
     "sweep_sigma_gc",
     "symbolic",
     "system_matrix",
+    "system_matrix_parts",
     "time_to_sigma",
     "vibration_filter",
 ]
@@ -175,6 +180,7 @@ from gyrolib.gc.calibration import (
     CalibrationResult,
     SimulatedRecord,
     calibrate,
+    innovation_log_likelihood,
     plot_calibration,
     simulate_record,
 )
@@ -188,6 +194,7 @@ from gyrolib.gc.claims import (
     speed_claim_map,
     time_to_level,
 )
+from gyrolib.gc.noisefit import NOISE_FIT_NAMES, NoiseFit, fit_noise
 
 # The race against the rate-sensor method of ref. [3] (issue 17), with the claims plots
 from gyrolib.gc.plots import plot_mismatch, plot_race, plot_race_sweep, plot_speed_claim
@@ -225,8 +232,18 @@ __all__ += [
     "speed_claim_map",
     "time_to_level",
 ]
-__all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
-            "plot_calibration", "simulate_record"]
+__all__ += [
+    "NOISE_FIT_NAMES",
+    "CalibrationResult",
+    "GCRecord",
+    "NoiseFit",
+    "SimulatedRecord",
+    "calibrate",
+    "fit_noise",
+    "innovation_log_likelihood",
+    "plot_calibration",
+    "simulate_record",
+]
 
 __all__ += [
     "PROCEDURE_TARGETS",
