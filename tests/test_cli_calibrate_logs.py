@@ -66,7 +66,7 @@ def _nothing_written(tmp_path: Path) -> bool:
 # Units at the door: status 2, one line naming the file, the column and the mistake ----------
 DOOR = {
     "degrees": ("column 'angle_sensor'", "read in degrees it fits: expected radians"),
-    "milliseconds": ("column 't'", "with t in milliseconds it does"),
+    "milliseconds": ("column 't'", "fit milliseconds: read so"),
     "in_g": ("column 'inclinometer_y'", "in g (or an angle in rad) instead of m/s²"),
 }
 

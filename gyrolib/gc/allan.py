@@ -6,12 +6,17 @@ with the curves paper GC's noise model predicts (:func:`allan_deviation`,
   the *phase* whose rate's Allan deviation is taken (rad/s).  Its white noise of variance
   ``R₁₁ = C_as/Δt`` is white phase noise: ``σ(τ) = √(3 R₁₁)/τ``, exact for every ``τ``
   that is a whole number of samples;
-* **inclinometers** — each column is a *frequency* series (m/s²).  The model is the white
-  sensor noise ``C_incl/τ`` plus the vibration N1 of Eq. (6) seen through the Allan filter,
-  ``σ²(τ) = ∫₀^∞ Φ(ω) · 2 sin⁴(ωτ/2)/(ωτ/2)² dω`` with ``Φ`` the one-sided PSD of N1
-  (:func:`gyrolib.gc.psd`); N1 is driven by white noise directly, so for ``τ ≪ 1/α1`` it
-  is a random walk of intensity ``Q1`` (``σ² ≈ Q1 τ/3``).  A constant tilt has no Allan
-  deviation.
+* **inclinometers** — each column is a *frequency* series (m/s²).  The model is Eq. (8)'s
+  measurement sampled every Δt: the white sensor noise (``C_incl/τ``) plus the vibration N1
+  of Eq. (6), whose Allan variance follows exactly from its sampled autocovariance
+  (:func:`allan_model_vibration`); N1 is driven by white noise directly, so for
+  ``τ ≪ 1/α1`` it is a random walk of intensity ``Q1`` (``σ² ≈ Q1 τ/3``).  A constant tilt
+  has no Allan deviation.
+
+Confidence intervals (68 %) use the equivalent degrees of freedom of Greenhall's algorithm
+(``allantools.edf_greenhall``) for the noise that dominates each series — white phase noise
+for the angle-sensor rate, random-walk frequency noise (the vibration) for the
+inclinometers.
 
 The Allan deviation needs evenly spaced samples: it is taken over the record's longest
 stretch without a gap (a step longer than 1.5 median steps), with missing cells filled by
@@ -32,7 +37,6 @@ from gyrolib import _validation as v
 from gyrolib.gc.nominal import nominal_motion_aperiodic
 from gyrolib.gc.params import GyrocompassParams
 from gyrolib.gc.record import GCRecord
-from gyrolib.gc.shaping_filters import psd
 
 __all__ = ["AllanDeviation", "AllanSeries", "allan_deviation", "allan_model_vibration",
            "plot_allan"]
@@ -43,15 +47,18 @@ SERIES: Final[tuple[str, ...]] = ("angle_sensor", "inclinometer_y", "inclinomete
 
 @dataclass(frozen=True)
 class AllanSeries:
-    """One sensor's Allan deviation: ``tau`` (s), ``adev`` and its 1σ error ``error`` (in
-    ``unit``), ``model`` the curve paper GC's model predicts at ``tau``, ``n`` the number of
-    terms of each estimate."""
+    """One sensor's Allan deviation: ``tau`` (s), ``adev`` (in ``unit``) with its 68 %
+    confidence interval ``lo``…``hi`` from ``edf`` equivalent degrees of freedom, ``model``
+    the curve paper GC's model predicts at ``tau``, ``n`` the number of terms of each
+    estimate."""
 
     name: str
     unit: str
     tau: np.ndarray
     adev: np.ndarray
-    error: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    edf: np.ndarray
     model: np.ndarray
     n: np.ndarray
 
@@ -80,32 +87,41 @@ class AllanDeviation:
         raise ValueError(f"name must be one of {SERIES}; got {name!r}")
 
 
-def allan_model_vibration(params: GyrocompassParams, tau: np.ndarray, *,
-                          n: int = 6000) -> np.ndarray:
-    """Allan deviation (m/s²) of the vibration N1 of Eq. (6) at averaging times ``tau`` (s):
-    ``√∫₀^∞ Φ(ω) 2 sin⁴(ωτ/2)/(ωτ/2)² dω`` by the trapezoid rule in ``ln ω`` over ten decades
-    about ``α1`` and ``1/τ`` (``sin⁴`` replaced by its mean 3/8 where ``ωτ > 200``).
+def allan_model_vibration(params: GyrocompassParams, tau: np.ndarray) -> np.ndarray:
+    """Allan deviation (m/s²) of the vibration N1 of Eq. (6) sampled every ``params.dt``, at
+    averaging times ``tau`` (whole multiples ``m dt``): exactly, from the autocovariance
+    ``R(j) = C Φʲ P Cᵀ`` of the sampled stationary process (``Φ = exp(A dt)``, ``P`` the
+    stationary covariance),
+    ``σ²(m) = m⁻² Σ_{|j|<m} (m − |j|) (R(j) − R(m + j))``.
 
     Examples
     --------
     >>> from gyrolib import gc
-    >>> p = gc.GyrocompassParams()                   # τ ≪ 1/α1: a random walk, Q1 τ / 3
-    >>> a = allan_model_vibration(p, np.array([0.01]))[0]
-    >>> f"{a / np.sqrt(p.Q1 * 0.01 / 3):.3f}"
-    '1.000'
+    >>> p = gc.GyrocompassParams()      # τ ≪ 1/α1: a random walk of step variance Q1 dt,
+    >>> m = 10                          # whose Allan variance is (2m² + 1)/(6m) Q1 dt
+    >>> a = allan_model_vibration(p, np.array([m * p.dt]))[0]
+    >>> f"{a / np.sqrt((2 * m**2 + 1) / (6 * m) * p.Q1 * p.dt):.4f}"
+    '1.0000'
     """
     p = v.check_instance("params", params, GyrocompassParams)
     tau = v.check_array("tau", tau, ndim=1)
+    m = np.rint(tau / p.dt).astype(np.int64)
+    if np.any(m < 1) or np.any(np.abs(m * p.dt - tau) > 1e-6 * np.maximum(tau, p.dt)):
+        raise ValueError(f"tau must be whole multiples of dt = {p.dt} s; got {tau.tolist()}")
     filt = p.vibration_filter()
-    out = np.empty(tau.size)
-    for i, t in enumerate(tau):
-        lo = min(p.alpha1, 1.0 / t) * 1e-5
-        hi = max(p.alpha1, 1.0 / t) * 1e5
-        w = np.geomspace(lo, hi, n)
-        x = 0.5 * w * t
-        s4 = np.where(w * t > 200.0, 0.375, np.sin(x) ** 4)
-        f = psd(filt, w) * 2.0 * s4 / x**2 * w          # d(ln ω) = dω / ω
-        out[i] = math.sqrt(float(np.trapezoid(f, np.log(w))))
+    phi, _ = filt.discretize(p.dt)
+    c = filt.C[0]
+    vec = filt.stationary_covariance() @ c                  # P Cᵀ
+    n_lag = 2 * int(m.max())
+    R = np.empty(n_lag)
+    for j in range(n_lag):
+        R[j] = float(c @ vec)
+        vec = phi @ vec
+    out = np.empty(m.size)
+    for i, mm in enumerate(m):
+        j = np.arange(-(mm - 1), mm)
+        w = (mm - np.abs(j)).astype(float)
+        out[i] = math.sqrt(max(float(np.sum(w * (R[np.abs(j)] - R[mm + j]))) / mm**2, 0.0))
     return out
 
 
@@ -131,13 +147,29 @@ def _filled(x: np.ndarray, name: str) -> tuple[np.ndarray, int]:
     return y, int(np.count_nonzero(bad))
 
 
-def _oadev(data: np.ndarray, rate: float, data_type: str, taus) -> tuple[np.ndarray, ...]:
+def _oadev(data: np.ndarray, rate: float, data_type: str, taus,
+           alpha: int) -> tuple[np.ndarray, ...]:
+    """``allantools.oadev`` and a 68 % interval from Greenhall's edf for noise ``alpha``
+    (2 white phase, −2 random-walk frequency); where Greenhall has no value (few averaging
+    intervals), the number of independent intervals ``N/m − 1``."""
     import allantools
 
     with contextlib.redirect_stdout(io.StringIO()):   # allantools prints warnings
-        tau, ad, err, n = allantools.oadev(data, rate=rate, data_type=data_type, taus=taus)
-    return (np.asarray(tau, float), np.asarray(ad, float), np.asarray(err, float),
-            np.asarray(n, float))
+        tau, ad, _, n = allantools.oadev(data, rate=rate, data_type=data_type, taus=taus)
+        tau, ad = np.asarray(tau, float), np.asarray(ad, float)
+        edf = np.empty(tau.size)
+        lo = np.empty(tau.size)
+        hi = np.empty(tau.size)
+        for i, t in enumerate(tau):
+            m = round(t * rate)
+            try:
+                e = float(allantools.edf_greenhall(alpha=alpha, d=2, m=m, N=data.size,
+                                                   overlapping=True))
+            except NotImplementedError:
+                e = max(data.size / m - 1.0, 1.0)
+            edf[i] = e
+            lo[i], hi[i] = allantools.confidence_interval(ad[i], e)
+    return tau, ad, lo, hi, edf, np.asarray(n, float)
 
 
 def allan_deviation(record: GCRecord, params: GyrocompassParams | None = None, *,
@@ -165,7 +197,7 @@ def allan_deviation(record: GCRecord, params: GyrocompassParams | None = None, *
     >>> rec = gc.simulate_record(gc.GyrocompassParams(), 20.0, seed=3).record
     >>> ad = gc.allan_deviation(rec)
     >>> s = ad.get("angle_sensor")              # white phase noise: √(3 R₁₁)/τ
-    >>> bool(np.all(np.abs(s.adev[:6] / s.model[:6] - 1) < 4 * s.error[:6] / s.adev[:6]))
+    >>> bool(np.all((s.lo < 1.05 * s.model) & (s.model < 1.05 * s.hi)))
     True
     """
     import dataclasses
@@ -197,16 +229,16 @@ def allan_deviation(record: GCRecord, params: GyrocompassParams | None = None, *
         x, filled[q] = _filled(getattr(record, name)[i0:i1], name)
         if q == 0:
             phase = x - nominal_motion_aperiodic(p_dt, t).beta
-            tau, ad, err, n = _oadev(phase, rate, "phase", taus)
+            tau, ad, lo, hi, edf, n = _oadev(phase, rate, "phase", taus, 2)
             model = np.sqrt(3.0 * R[0, 0]) / tau
             unit = "rad/s"
         else:
-            tau, ad, err, n = _oadev(x, rate, "freq", taus)
+            tau, ad, lo, hi, edf, n = _oadev(x, rate, "freq", taus, -2)
             white = R[q, q] * dt / tau           # C / τ for R = C/Δt
             model = np.sqrt(white + allan_model_vibration(p_dt, tau) ** 2)
             unit = "m/s²"
-        series.append(AllanSeries(name=name, unit=unit, tau=tau, adev=ad, error=err,
-                                  model=model, n=n))
+        series.append(AllanSeries(name=name, unit=unit, tau=tau, adev=ad, lo=lo, hi=hi,
+                                  edf=edf, model=model, n=n))
     return AllanDeviation(series=tuple(series), params=p, dt=dt, t_start=float(t[0]),
                           t_end=float(t[-1]), rows=int(t.size), filled=filled)
 
@@ -221,12 +253,14 @@ def plot_allan(result: AllanDeviation, *, title: str | None = None):
         raise TypeError(f"result must be an AllanDeviation; got {type(result).__name__}")
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8))
     s = result.series[0]
-    ax.errorbar(s.tau, s.adev, yerr=s.error, fmt="o-", ms=3, lw=1, color="C0",
+    ax.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3, lw=1,
+                color="C0",
                 label="angle-sensor rate")
     ax.plot(s.tau, s.model, "--", color="k", lw=1, label="model: white angle noise √(3R)/τ")
     ax.set_ylabel("Allan deviation (rad/s)")
     for q, s in enumerate(result.series[1:], start=1):
-        bx.errorbar(s.tau, s.adev, yerr=s.error, fmt="o-", ms=3, lw=1, color=f"C{q}",
+        bx.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3,
+                    lw=1, color=f"C{q}",
                     label=s.name)
     s = result.series[1]
     bx.plot(s.tau, s.model, "--", color="k", lw=1,

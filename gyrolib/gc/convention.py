@@ -60,7 +60,7 @@ class InclinometerMapping:
     >>> InclinometerMapping.parse("y,y")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ValueError: inclinometers must name each of y and z once, ...; got 'y,y'
+    ValueError: mapping must name each of y and z once, ...; got 'y,y'
     """
 
     delta: str = "y"
@@ -81,9 +81,9 @@ class InclinometerMapping:
             object.__setattr__(self, name, float(s))
 
     @classmethod
-    def parse(cls, text: str) -> InclinometerMapping:
+    def parse(cls, mapping: str) -> InclinometerMapping:
         """From ``"y,z"``, ``"z,y"``, ``"-y,z"``, … (δ's column first, then γ's)."""
-        text = v.check_str("inclinometers", text)
+        text = v.check_str("mapping", mapping)
         parts = [s.strip() for s in text.split(",")]
         axes, signs = [], []
         for part in parts:
@@ -92,7 +92,7 @@ class InclinometerMapping:
             signs.append(sign)
         if (len(parts) != 2 or sorted(axes) != ["y", "z"]
                 or any(p.count("-") + p.count("+") > 1 for p in parts)):
-            raise ValueError("inclinometers must name each of y and z once, as two of y, z, "
+            raise ValueError("mapping must name each of y and z once, as two of y, z, "
                              "-y, -z separated by a comma (e.g. y,z or z,y or -y,z); got "
                              f"{text!r}")
         return cls(axes[0], axes[1], signs[0], signs[1])
@@ -161,7 +161,7 @@ class InclinometerMapping:
         """The tilts ``(δ', γ')`` the filter sees when the true tilts are ``(δ, γ)`` and the
         columns are wired as this mapping says (the log's y column holds
         ``delta_sign × true column delta``, …)."""
-        true = {"y": delta, "z": gamma}
+        true = {"y": v.check_real("delta", delta), "z": v.check_real("gamma", gamma)}
         return self.delta_sign * true[self.delta], self.gamma_sign * true[self.gamma]
 
 
@@ -185,7 +185,10 @@ class ConventionStudy:
     ``fits_wrong`` (every sensor's NIS in band and its innovations white); ``valid_right``,
     ``valid_wrong`` (no lost lock); ``predicted_shift`` (rad/s): the shift of the estimate
     Eq. (5) predicts, ``Ω_v (c̄ (γ − γ') − s̄ (δ − δ'))`` with ``c̄``, ``s̄`` the mean cos β_n,
-    sin β_n over the record.
+    sin β_n over the record.  The prediction assumes the filter reads the tilts as wired;
+    it is exact for a swap, which leaves the tilts' common mode ``(δ + γ)/2`` alone, and an
+    upper bound in size for a wiring that flips the common mode, since the filter shares a
+    common mode between the tilts and the vibration N1 (both inclinometers read ``+N1``).
     """
 
     params: GyrocompassParams

@@ -9,10 +9,12 @@ Paper GC (:func:`check_gc`):
   bound, so ``|Δβ'| ≤ (H/f) U`` with ``U = Ω_h |ψ| + Ω_v (|δ| + |γ|) + |ω_gc| + |ω_rnd| +
   |ω_ub| |N1|/g`` taken at ``k = 10`` prior standard deviations (inertia only slows the float
   down).  A sample is *beyond what the float can turn* when
-  ``|β − β_n(t)| > (H/f) U t + k (σ_Δβ0 + √R₁₁)``.  When more than half of a block's samples
-  are, the block is refused, and the common mistakes are tried in turn — the angle in
-  degrees, mrad, µrad or arcseconds, the time in milliseconds or microseconds — to name the
-  one under which the record fits;
+  ``|β − β_n(t)| > (H/f) U t + k (σ_Δβ0 + σ_n)``, ``σ_n`` the angle noise (the model's
+  ``√R₁₁`` or the column's own, whichever is larger).  When more than half of a block's
+  samples are, or its median step exceeds 100 float time constants ``I/f`` (0.16 s for the
+  paper's gyro), the block is refused, and the common mistakes are tried in turn — the time
+  in milliseconds or microseconds, the angle in degrees, mrad, µrad or arcseconds — to name
+  the one under which the record fits;
 * **inclinometers** — the sample-to-sample noise (first differences, a robust median-based
   σ) is compared with the model's ``√(2 C_incl/h + Q1 h)`` at the record's median step ``h``
   (the sensor's white noise twice, and the vibration's increment: Eq. (6) drives N1 by white
@@ -60,6 +62,9 @@ _BEYOND_SHARE: Final[float] = 0.5
 #: Share of samples still beyond the bound under which a unit hypothesis "fits".
 _FITS_SHARE: Final[float] = 0.01
 
+#: Largest median step, in float time constants I/f, of a GC record in seconds.
+_MAX_STEP_TIME_CONSTANTS: Final[float] = 100.0
+
 #: Largest tilt (rad) the small-angle model of Eq. (5) is read with at the door.
 _MAX_TILT: Final[float] = 0.1
 
@@ -75,10 +80,11 @@ _TIME_UNITS: Final[tuple[tuple[str, float], ...]] = (
 
 # GC -------------------------------------------------------------------------------------
 def angle_bound(params: GyrocompassParams, t: np.ndarray, *,
-                k: float = ANGLE_PRIOR_SIGMAS) -> np.ndarray:
+                k: float = ANGLE_PRIOR_SIGMAS, noise: float | None = None) -> np.ndarray:
     """The largest ``|β − β_n(t)|`` (rad) the float can reach at times ``t`` (s) under paper
-    GC's model: ``(H/f) U t + k (σ_Δβ0 + √R₁₁)``, ``U`` the torque rate of Eq. (5) at ``k``
-    prior standard deviations of ψ, δ, γ, ω_gc, the random drift and the vibration.
+    GC's model: ``(H/f) U t + k (σ_Δβ0 + σ_n)``, ``U`` the torque rate of Eq. (5) at ``k``
+    prior standard deviations of ψ, δ, γ, ω_gc, the random drift and the vibration, ``σ_n``
+    the angle sensor's noise (default the model's ``√R₁₁`` at ``params.dt``).
 
     Examples
     --------
@@ -93,14 +99,17 @@ def angle_bound(params: GyrocompassParams, t: np.ndarray, *,
     sigma2 = math.sqrt(p.sigma2_sq)
     u = k * (p.Omega_h * p.sigma_psi0 + p.Omega_v * (p.sigma_delta0 + p.sigma_gamma0)
              + p.sigma_gc0 + sigma2 + abs(p.omega_ub) * sigma1 / p.g)
-    r11 = p.C_as / p.dt if p.measurement_noise == "intensity_over_dt" else p.C_as
-    return (p.H / p.f) * u * t + k * (p.sigma_dbeta0 + math.sqrt(r11))
+    if noise is None:
+        r11 = p.C_as / p.dt if p.measurement_noise == "intensity_over_dt" else p.C_as
+        noise = math.sqrt(r11)
+    return (p.H / p.f) * u * t + k * (p.sigma_dbeta0 + noise)
 
 
-def _beyond(params: GyrocompassParams, t: np.ndarray, angle: np.ndarray) -> np.ndarray:
-    """Boolean: which finite samples are beyond what the float can turn."""
+def _beyond(params: GyrocompassParams, t: np.ndarray, angle: np.ndarray,
+            noise: float) -> np.ndarray:
+    """Boolean: which samples are beyond what the float can turn."""
     beta_n = nominal_motion_aperiodic(params, np.maximum(t, 0.0)).beta
-    return np.abs(angle - beta_n) > angle_bound(params, t)
+    return np.abs(angle - beta_n) > angle_bound(params, t, noise=noise)
 
 
 def _median_step(t: np.ndarray) -> float:
@@ -130,32 +139,49 @@ def _check_angle(label: str, rec: GCRecord, p: GyrocompassParams, where: str) ->
     ok = np.isfinite(rec.angle_sensor)
     if np.count_nonzero(ok) < 10:
         return
+    step = _median_step(rec.t)
+    # the angle sensor's noise: the model's at the record's step, or what the column shows
+    # (first differences, robust), whichever is larger — a unit hypothesis rescales the latter
+    model_noise = float(angle_bound(p, np.zeros(1), k=1.0)[0]) - p.sigma_dbeta0
+    seen_noise = noise_ratio(rec.angle_sensor, math.sqrt(2.0))
+    seen_noise = seen_noise if math.isfinite(seen_noise) else 0.0
     t, a = rec.t[ok], rec.angle_sensor[ok]
     # a few hundred samples spread over the block decide (the bound is smooth in t)
     pick = np.unique(np.linspace(0, t.size - 1, min(t.size, 2000)).astype(int))
     t, a = t[pick], a[pick]
-    beyond = _beyond(p, t, a)
+
+    def share_beyond(tt, aa, scale: float = 1.0) -> float:
+        noise = max(model_noise, scale * seen_noise)
+        return float(np.mean(_beyond(p, tt, aa, noise)))
+
+    beyond = _beyond(p, t, a, max(model_noise, seen_noise))
     share = float(np.mean(beyond))
-    if share <= _BEYOND_SHARE:
+    slow = step > _MAX_STEP_TIME_CONSTANTS * p.time_constant
+    if share <= _BEYOND_SHARE and not slow:
         return
+    for unit, factor in _TIME_UNITS:
+        if (step * factor <= _MAX_STEP_TIME_CONSTANTS * p.time_constant
+                and share_beyond(t * factor, a) <= _FITS_SHARE):
+            raise RecordError(label, f"a median step of {step:.6g} and the last time "
+                              f"{rec.t[-1]:.6g}{where} fit {unit}: read so, the angle sensor "
+                              "follows the nominal motion β_n(t) of Eq. (4); expected t in s "
+                              "since the feedback was switched off", column="t")
+    if slow:
+        raise RecordError(label, f"a median step of {step:.6g} s{where} is more than "
+                          f"{_MAX_STEP_TIME_CONSTANTS:g} float time constants (I/f = "
+                          f"{p.time_constant:.3g} s): expected t in s, sampled fast enough "
+                          "for the filter to follow the float", column="t")
     i = int(np.nonzero(beyond)[0][-1])
-    bound = float(angle_bound(p, t[i:i + 1])[0])
+    bound = float(angle_bound(p, t[i:i + 1], noise=max(model_noise, seen_noise))[0])
     beta_n = float(nominal_motion_aperiodic(p, t[i:i + 1]).beta[0])
     share_text = (f"{100 * share:.0f} % of the samples{where} are farther from the nominal "
                   "motion β_n(t) of Eq. (4) than the float can turn")
     example = (f"e.g. at t = {t[i]:.6g} it reads {a[i]:.4g} where β_n = {beta_n:.4g} ± "
                f"{bound:.2g} rad")
     for unit, factor in _ANGLE_UNITS:
-        if np.mean(_beyond(p, t, a * factor)) <= _FITS_SHARE:
+        if share_beyond(t, a * factor, factor) <= _FITS_SHARE:
             raise RecordError(label, f"{share_text} ({example}); read in {unit} it fits: "
                               "expected radians", column="angle_sensor")
-    step = _median_step(rec.t)
-    for unit, factor in _TIME_UNITS:
-        if np.mean(_beyond(p, t * factor, a)) <= _FITS_SHARE:
-            raise RecordError(label, f"with t in seconds the angle sensor cannot follow the "
-                              f"nominal motion ({share_text}); with t in {unit} it does "
-                              f"(median step {step:.6g}, last time {rec.t[-1]:.6g}): expected "
-                              "t in s since the feedback was switched off", column="t")
     raise RecordError(label, f"{share_text} ({example}): expected radians, with t in s since "
                       "the feedback was switched off (β = 0 then); if the gyro is not paper "
                       "GC's, give its parameters with --params", column="angle_sensor")
@@ -216,7 +242,7 @@ def check_gc(record: GCRecord, params: GyrocompassParams | None = None, *, label
     Examples
     --------
     >>> from gyrolib import gc
-    >>> sim = gc.simulate_record(gc.GyrocompassParams(), 0.2, seed=1)
+    >>> sim = gc.simulate_record(gc.GyrocompassParams(), 20.0, seed=1)
     >>> check_gc(sim.record, label="ok.csv")                # passes
     >>> r = sim.record
     >>> deg = gc.GCRecord(t=r.t, angle_sensor=np.degrees(r.angle_sensor),
