@@ -6,9 +6,12 @@ module                      what it holds
 ==========================  ===========================================================
 ``discretization``          :func:`van_loan` (exact Φ, Qd), :func:`van_loan_derivatives`,
                             :func:`covariance_factor`
-``updates``                 :func:`joseph_update`, :func:`sequential_update`
+``updates``                 :func:`joseph_update`, :func:`sequential_update`; numba
+                            kernels :func:`joseph_scalar_update`,
+                            :func:`measurement_projection`
 ``covariance``              :class:`AffineDiscreteModel`, :func:`covariance_fast`,
-                            :func:`covariance_reference`, :func:`propagate_fixed_gains`
+                            :func:`covariance_reference`, :func:`propagate_fixed_gains`;
+                            numba kernel :func:`predict_covariance`
 ``square_root``             :func:`covariance_square_root` (QR + Potter), an independent check
 ``consistency``             :func:`nees_bounds` (chi-square bands of the NEES)
 ==========================  ===========================================================
@@ -24,6 +27,7 @@ from gyrolib.filtering.covariance import (
     CovarianceRun,
     covariance_fast,
     covariance_reference,
+    predict_covariance,
     propagate_fixed_gains,
 )
 from gyrolib.filtering.discretization import (
@@ -36,7 +40,9 @@ from gyrolib.filtering.square_root import (
     covariance_square_root,
 )
 from gyrolib.filtering.updates import (
+    joseph_scalar_update,
     joseph_update,
+    measurement_projection,
     sequential_update,
 )
 
@@ -48,8 +54,11 @@ __all__ = [
     "covariance_fast",
     "covariance_reference",
     "covariance_square_root",
+    "joseph_scalar_update",
     "joseph_update",
+    "measurement_projection",
     "nees_bounds",
+    "predict_covariance",
     "propagate_fixed_gains",
     "sequential_update",
     "van_loan",

@@ -33,20 +33,9 @@ def _check_model(F: object, G: object, Qc: object, dt: object) -> tuple:
         raise ValueError(f"F must be square; got shape {F.shape}")
     G = v.check_array("G", G, shape=(n, None))
     Qc = v.check_array("Qc", Qc, shape=(G.shape[1], G.shape[1]))
-    _check_covariance("Qc", Qc)
+    v.check_covariance("Qc", Qc)
     dt = v.check_positive("dt", dt)
     return F, G, Qc, dt
-
-
-def _check_covariance(name: str, M: np.ndarray) -> np.ndarray:
-    """A (noise or state) covariance: symmetric to rounding, with a diagonal >= 0."""
-    scale = float(np.max(np.abs(M))) if M.size else 0.0
-    if np.any(np.abs(M - M.T) > 1e-9 * scale):
-        raise ValueError(f"{name} must be a symmetric matrix (a covariance)")
-    if np.any(np.diag(M) < 0.0):
-        raise ValueError(f"{name} must have a diagonal >= 0 (variances); "
-                         f"got min {np.diag(M).min()}")
-    return M
 
 
 def van_loan(F: ArrayLike, G: ArrayLike, Qc: ArrayLike, dt: float
@@ -184,7 +173,7 @@ def covariance_factor(Q: ArrayLike) -> NDArray[np.float64]:
     Q = v.check_array("Q", Q, ndim=2)
     if Q.shape[0] != Q.shape[1]:
         raise ValueError(f"Q must be a square matrix; got shape {Q.shape}")
-    _check_covariance("Q", Q)
+    v.check_covariance("Q", Q)
     d = np.sqrt(np.diag(Q))
     nz = d > 0.0
     L = np.zeros_like(Q)

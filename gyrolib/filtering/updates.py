@@ -2,18 +2,26 @@
 
 * :func:`joseph_update` — Joseph form ``P⁺ = (I−KH)P(I−KH)ᵀ + KRKᵀ``, valid for any gain;
 * :func:`sequential_update` — the independent alternative: the measurements processed one
-  scalar at a time in the conventional form ``P⁺ = P − k hᵀP`` {cite:p}`Bierman1977`.
+  scalar at a time in the conventional form ``P⁺ = P − k hᵀP`` {cite:p}`Bierman1977`;
+* the numba kernels of the fast recursions (no input checks; float64 C-contiguous arrays,
+  updated in place), shared by :func:`gyrolib.filtering.covariance_fast` and
+  :func:`gyrolib.gc.calibrate`: :func:`measurement_projection` (``P h`` and ``hᵀ P h`` for a
+  sparse row ``h``) and :func:`joseph_scalar_update` (the Joseph form for one scalar
+  measurement).
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 
 __all__ = [
+    "joseph_scalar_update",
     "joseph_update",
+    "measurement_projection",
     "sequential_update",
 ]
 
@@ -130,3 +138,75 @@ def sequential_update(x: ArrayLike, P: ArrayLike, z: ArrayLike, H: ArrayLike,
         x = x + k * (z[i] - float(h @ x))
         P = P - np.outer(k, Ph)
     return x, 0.5 * (P + P.T)
+
+
+# Kernels (numba) ---------------------------------------------------------------------------
+@njit(cache=True)
+def measurement_projection(P, H, q, hptr, hidx, Ph):
+    """Numba kernel: ``Ph ← P h`` for the measurement row ``h = H[q]`` whose nonzeros are at
+    columns ``hidx[hptr[q]:hptr[q + 1]]`` (CSR), and return ``hᵀ P h``.
+
+    No input checks (a kernel): ``P`` (n×n, symmetric), ``H`` (m×n), ``Ph`` (n,) float64.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> P = np.array([[2.0, 1.0], [1.0, 3.0]]); H = np.array([[0.0, 1.0]])
+    >>> Ph = np.zeros(2)
+    >>> hph = filtering.measurement_projection(P, H, 0, np.array([0, 1]), np.array([1]), Ph)
+    >>> float(hph), Ph.tolist()
+    (3.0, [1.0, 3.0])
+    """
+    n = P.shape[0]
+    lo = hptr[q]
+    hi = hptr[q + 1]
+    for i in range(n):
+        s = 0.0
+        for p in range(lo, hi):
+            c = hidx[p]
+            s += P[i, c] * H[q, c]
+        Ph[i] = s
+    hph = 0.0
+    for p in range(lo, hi):
+        c = hidx[p]
+        hph += H[q, c] * Ph[c]
+    return hph
+
+
+@njit(cache=True)
+def joseph_scalar_update(P, Ph, k, S):
+    """Numba kernel: the Joseph-form update of ``P`` (in place) for one scalar measurement
+    ``z = hᵀ x + v``, ``var v = r``, with any gain ``k`` {cite:p}`BarShalom2001`:
+
+    ``P⁺ = (I − k hᵀ) P (I − k hᵀ)ᵀ + r k kᵀ = P − k (Ph)ᵀ − (Ph) kᵀ + S k kᵀ``
+
+    where ``Ph = P h`` and ``S = hᵀ P h + r`` (from :func:`measurement_projection`).  The
+    optimal gain is ``k = Ph / S``; a fixed (suboptimal) gain gives the error covariance of
+    that filter.  With ``v = S k / 2 − Ph`` the update is ``P⁺ = P + k vᵀ + v kᵀ`` (two
+    products an entry), the same expression for ``(i, j)`` and ``(j, i)``: a symmetric ``P``
+    stays symmetric.
+
+    No input checks (a kernel): ``P`` (n×n), ``Ph``, ``k`` (n,) float64; ``Ph`` is
+    overwritten with ``v``.
+
+    Examples
+    --------
+    A unit-variance scalar read with unit noise: ``P⁺ = 1/2`` (as :func:`joseph_update`).
+
+    >>> import numpy as np
+    >>> from gyrolib import filtering
+    >>> P = np.ones((1, 1)); Ph = np.ones(1); S = 2.0
+    >>> filtering.joseph_scalar_update(P, Ph, Ph / S, S)
+    >>> float(P[0, 0])
+    0.5
+    """
+    n = P.shape[0]
+    half = 0.5 * S
+    for i in range(n):
+        Ph[i] = half * k[i] - Ph[i]
+    for i in range(n):
+        ki = k[i]
+        vi = Ph[i]
+        for j in range(n):
+            P[i, j] += ki * Ph[j] + vi * k[j]

@@ -58,8 +58,10 @@ from gyrolib.gc.discretization import (
     DISCRETIZATIONS,
     SEGMENT,
     GCDiscretization,
+    NominalIntegrator,
     discretize,
     nominal_half_steps,
+    system_matrix_parts,
 )
 from gyrolib.gc.montecarlo import (
     MonteCarloResult,
@@ -135,6 +137,7 @@ __all__ = [
     "InclinometerMapping",
     "InformationPsiOmega",
     "MonteCarloResult",
+    "NominalIntegrator",
     "NominalMotion",
     "ShapingFilter",
     "allan_deviation",
@@ -182,6 +185,7 @@ __all__ = [
     "sweep_sigma_gc",
     "symbolic",
     "system_matrix",
+    "system_matrix_parts",
     "time_to_sigma",
     "vibration_filter",
 ]
