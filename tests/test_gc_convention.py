@@ -62,8 +62,6 @@ def test_both_signs_flipped_is_invisible_too():
     assert st.valid_wrong.all()
 
 
-@pytest.mark.skipif(not hasattr(gc.CalibrationResult, "valid"),
-                    reason="needs CalibrationResult.valid (engine)")
 def test_single_sign_flip_is_seen():
     """Power: one flipped sign makes N1 disagree between the channels, and the run is
     invalid (lost lock) on every seed."""

@@ -325,33 +325,9 @@ def _with_step(params: gc.GyrocompassParams, t: np.ndarray, notes: list[str],
     return params
 
 
-def _validity(res, max_rejected: float) -> tuple[bool, str]:
-    """Lost lock: the engine's ``res.valid`` / ``res.reason`` when it has them."""
-    if hasattr(res, "valid"):
-        return bool(res.valid), str(res.reason)
-    used = np.asarray(res.used, float)
-    rej = np.asarray(res.rejected, float)
-    share = rej / np.maximum(used + rej, 1.0)
-    parts = []
-    for q, name in enumerate(MEASUREMENT_NAMES):
-        if share[q] > max_rejected:
-            parts.append(f"{name}: {int(rej[q])} of {int(used[q] + rej[q])} samples "
-                         f"({100 * share[q]:.4g} %) rejected by the chi-square gate (limit "
-                         f"{100 * max_rejected:g} %)")
-        nis = res.nis_mean[q]
-        if used[q] > 0 and not 0.5 <= nis <= 2.0:
-            parts.append(f"{name}: mean NIS {nis:.3g} outside [0.5, 2]")
-    return not parts, "; ".join(parts)
-
-
 def _calibrate(record, params, o: dict, progress=None):
-    kw = {"gate": o["gate"], "store_every": o["store_every"], "progress": progress}
-    try:
-        return gc.calibrate(record, params, max_rejected=o["max_rejected"], **kw)
-    except TypeError as exc:
-        if "max_rejected" not in str(exc):
-            raise
-        return gc.calibrate(record, params, **kw)
+    return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
+                        max_rejected=o["max_rejected"], progress=progress)
 
 
 def _fit_noise(record, params, o: dict, bar_ok: bool):
@@ -404,7 +380,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
                   bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}") as bar:
             res = _calibrate(mapped(), params, o,
                              progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
-    valid, reason = _validity(res, o["max_rejected"])
+    valid, reason = bool(res.valid), str(res.reason)
     artifacts = []
     if o["plot"]:
         artifacts.append((o["plot"], "plot", res))

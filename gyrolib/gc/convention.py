@@ -258,12 +258,9 @@ def _one_run(params: GyrocompassParams, t_end: float, seed: int,
     c, s = float(np.mean(np.cos(beta))), float(np.mean(np.sin(beta)))
     pred = params.Omega_v * (c * (g - g_seen) - s * (d - d_seen))
 
-    def valid(res) -> bool:
-        return bool(getattr(res, "valid", True))
-
     return (sim.omega_gc, d, g, right.omega_gc, right.omega_gc_std, wrong.omega_gc,
             wrong.omega_gc_std, bool(np.all(right.fits())), bool(np.all(wrong.fits())),
-            valid(right), valid(wrong), pred)
+            bool(right.valid), bool(wrong.valid), pred)
 
 
 def convention_study(params: GyrocompassParams | None = None, *,
