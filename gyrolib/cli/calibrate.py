@@ -214,7 +214,8 @@ def _from_library(exc: BaseException) -> bool:
     while tb is not None:
         last = tb.tb_frame.f_code.co_filename
         tb = tb.tb_next
-    return last is not None and f"{os.sep}gyrolib{os.sep}" in last
+    package = str(Path(__file__).resolve().parents[1]) + os.sep
+    return last is not None and str(Path(last).resolve()).startswith(package)
 
 
 def _failure_message(label: str, exc: BaseException) -> str:
