@@ -10,9 +10,10 @@ lock prints "no valid estimate" and why (and one line on stderr).  In either cas
 written (no plot, no Allan plot, no TOML) — except ``--summary``, the report of a batch.
 
 Several files (or ``--summary OUT.csv``) make a batch: each file is calibrated on its own
-(``--workers K`` in a :class:`concurrent.futures.ProcessPoolExecutor`), a bad or invalid file
-is reported in its row and on stderr while the others proceed, and the exit status is 2 if
-any file was bad, else 3 if any was invalid.  A progress bar (tqdm) goes to stderr on a
+(``--workers K``: in a :class:`concurrent.futures.ProcessPoolExecutor` whose workers fork
+from a server process that has imported gyrolib once), a bad or invalid file is reported in
+its row and on stderr while the others proceed, and the exit status is 2 if any file was
+bad, else 3 if any was invalid.  A progress bar (tqdm) goes to stderr on a
 terminal, never with ``--json`` or when stderr is piped.
 """
 
@@ -571,9 +572,11 @@ def _summary_csv(path: str, outcomes: list[_Outcome]) -> None:
 def _executor(workers: int) -> concurrent.futures.Executor | None:
     if workers <= 1:
         return None
-    # spawn: a clean interpreter per worker (no fork of numba's or tqdm's threads)
-    return concurrent.futures.ProcessPoolExecutor(
-        max_workers=workers, mp_context=multiprocessing.get_context("spawn"))
+    # forkserver: workers fork from a clean server process that has imported gyrolib once
+    # (no fork of this process's threads; no import per worker as with spawn)
+    ctx = multiprocessing.get_context("forkserver")
+    ctx.set_forkserver_preload(["gyrolib.cli.calibrate"])
+    return concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
 
 
 def _run_files(method: str, args: argparse.Namespace, o: dict,
