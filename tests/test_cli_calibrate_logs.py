@@ -187,7 +187,6 @@ def test_wrong_spectrum_is_no_valid_estimate(wrong_spectrum, capsys, tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
-@pytest.mark.skipif(not hasattr(gc, "fit_noise"), reason="needs gc.fit_noise (engine)")
 def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
     """--fit-noise on the wrong-spectrum record: α1 and σ1² within two standard errors of the
     values simulated, ω_gc within 3σ of the truth, the diagnostics fit; the TOML it writes is

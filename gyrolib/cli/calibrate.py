@@ -333,9 +333,6 @@ def _calibrate(record, params, o: dict, progress=None):
 
 
 def _fit_noise(record, params, o: dict, bar_ok: bool):
-    fit_noise = getattr(gc, "fit_noise", None)
-    if fit_noise is None:
-        raise UsageError("--fit-noise needs gyrolib.gc.fit_noise, which this gyrolib lacks")
     from tqdm import tqdm
 
     with tqdm(total=400, desc="fitting the noise", unit="eval", file=sys.stderr,
@@ -343,7 +340,9 @@ def _fit_noise(record, params, o: dict, bar_ok: bool):
         def progress(n: int) -> None:
             bar.update(max(0, n - bar.n))
 
-        return fit_noise(record, params, fit=o["fit"], gate=o["gate"], progress=progress)
+        # fit_noise's own gate (a far tail: a gate as tight as the calibration's would cut
+        # good samples and bias the intensities low)
+        return gc.fit_noise(record, params, fit=o["fit"], progress=progress)
 
 
 def _run_gc_file(file: str, o: dict) -> _Outcome:

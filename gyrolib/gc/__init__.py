@@ -17,6 +17,7 @@ module                  paper GC
 ``claims``              the speed-claim map and the shaping-filter sweep
 ``record``              :class:`GCRecord`, a recorded log the calibration reads (SI)
 ``calibration``         the filter on a recorded log: :func:`calibrate`
+``noisefit``            noise parameters fitted from a record: :func:`fit_noise`
 ``convention``          which column is δ, which γ: :class:`InclinometerMapping`,
                         :func:`convention_study` (a wrongly wired pair, Monte Carlo)
 ``allan``               Allan deviation of a record's sensors: :func:`allan_deviation`
@@ -197,6 +198,7 @@ from gyrolib.gc.calibration import (
     CalibrationResult,
     SimulatedRecord,
     calibrate,
+    innovation_log_likelihood,
     plot_calibration,
     simulate_record,
 )
@@ -210,6 +212,7 @@ from gyrolib.gc.claims import (
     speed_claim_map,
     time_to_level,
 )
+from gyrolib.gc.noisefit import NOISE_FIT_NAMES, NoiseFit, fit_noise
 from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
 from gyrolib.gc.record import GCRecord
 
@@ -225,5 +228,15 @@ __all__ += [
     "speed_claim_map",
     "time_to_level",
 ]
-__all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
-            "plot_calibration", "simulate_record"]
+__all__ += [
+    "NOISE_FIT_NAMES",
+    "CalibrationResult",
+    "GCRecord",
+    "NoiseFit",
+    "SimulatedRecord",
+    "calibrate",
+    "fit_noise",
+    "innovation_log_likelihood",
+    "plot_calibration",
+    "simulate_record",
+]
