@@ -474,6 +474,14 @@ def _rsf_options(args: argparse.Namespace) -> dict:
             "counts_per_rev": args.counts_per_rev, "k_form": args.k_form, "plot": args.plot}
 
 
+def _rsf_prediction(res, config):
+    """δK the error model predicts at the record's mean rate: ``rsf.predict_delta_k`` (main
+    after issue 22 item 2) or ``rsf.predicted_delta_k`` (before it)."""
+    if hasattr(rsf, "predict_delta_k") and hasattr(res, "mean_rate"):
+        return rsf.predict_delta_k(config, res.period, rate=res.mean_rate)
+    return rsf.predicted_delta_k(res, config)
+
+
 def _run_rsf_file(file: str, o: dict) -> _Outcome:
     record = read_rsf(file, counts_per_rev=o["counts_per_rev"])
     if record.n < 2:
@@ -489,7 +497,7 @@ def _run_rsf_file(file: str, o: dict) -> _Outcome:
     if res.n_intervals == 0:
         raise RecordError(file, "no correction interval holds a usable sample (every "
                           "sample is missing or follows a gap)")
-    pred = rsf.predicted_delta_k(res, o["config"])
+    pred = _rsf_prediction(res, o["config"])
     out = res.summary()
     out["file"] = str(file)
     out["valid"] = True
