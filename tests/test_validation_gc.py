@@ -614,6 +614,45 @@ case("gc.plot_race_sweep", lambda: gc.plot_race_sweep(None, "T_rot"), TypeError,
      "RaceSweep")
 
 
+# real logs (issue 18): the inclinometer convention, its study, the Allan deviation
+_MAP = gc.InclinometerMapping()
+case("gc.InclinometerMapping", lambda: gc.InclinometerMapping(delta="x"), ValueError, "delta",
+     "one of")
+case("gc.InclinometerMapping", lambda: gc.InclinometerMapping(gamma="y"), ValueError,
+     "delta and gamma", "different")
+case("gc.InclinometerMapping", lambda: gc.InclinometerMapping(delta_sign=2.0), ValueError,
+     "delta_sign", "1")
+case("gc.InclinometerMapping.parse", lambda: gc.InclinometerMapping.parse("y,y"), ValueError,
+     "mapping", "each of y and z once")
+case("gc.InclinometerMapping.parse", lambda: gc.InclinometerMapping.parse(None), TypeError,
+     "mapping")
+case("gc.InclinometerMapping.apply", lambda: _MAP.apply(None), TypeError, "record",
+     "GCRecord")
+case("gc.InclinometerMapping.seen_tilts", lambda: _MAP.seen_tilts(NAN, 0.0), ValueError,
+     "delta", FINITE)
+case("gc.convention_study", lambda: gc.convention_study(seeds=[]), ValueError,
+     "seeds", "at least one")
+case("gc.convention_study", lambda: gc.convention_study(wiring="y,x"), ValueError, "mapping")
+case("gc.convention_study", lambda: gc.convention_study(t_end=0.0), ValueError, "t_end", POS)
+case("gc.convention_study", lambda: gc.convention_study(executor=4), TypeError, "executor",
+     "Executor")
+case("gc.plot_convention_study", lambda: gc.plot_convention_study(None), TypeError, "study",
+     "ConventionStudy")
+case("gc.allan_deviation", lambda: gc.allan_deviation(None), TypeError, "record", "GCRecord")
+case("gc.allan_deviation", lambda: gc.allan_deviation(_GREC), ValueError, "record",
+     "at least 10 rows")
+case("gc.allan_deviation",
+     lambda: gc.allan_deviation(gc.simulate_record(gc.GyrocompassParams(), 0.02, 1).record,
+                                taus=[-1.0]), ValueError, "taus", "positive")
+case("gc.allan_model_vibration", lambda: gc.allan_model_vibration(None, [1.0]), TypeError,
+     "params")
+case("gc.allan_model_vibration",
+     lambda: gc.allan_model_vibration(gc.GyrocompassParams(), [[1.0]]), ValueError, "tau")
+case("gc.plot_allan", lambda: gc.plot_allan(None), TypeError, "result", "AllanDeviation")
+case("gc.AllanDeviation.get",
+     lambda: gc.allan_deviation(gc.simulate_record(gc.GyrocompassParams(), 0.02, 1).record
+                                ).get("gyro"), ValueError, "name", "one of")
+
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
 def test_bad_input_is_rejected_by_name(call, exc, pattern):
     run_case(call, exc, pattern)
@@ -625,7 +664,8 @@ EXEMPT: dict[str, str] = {
     **{f"gc.{name}": "result object built by its compute function, which validates"
        for name in ("ClaimBoundary", "ShapingSweep", "SpeedClaimMap", "ShapingSweep.nominal",
                     "LinearizationEffect", "LinearizationEffect.excess",
-                    "LinearizationEffect.residual")},
+                    "LinearizationEffect.residual",
+                    "AllanDeviation", "AllanSeries", "ConventionStudy")},
     **{f"gc.plot_{name}": "plot function: takes result objects, no validation by design"
        for name in ("estimates", "consistency", "sweep", "information", "speed_claim",
                     "mismatch", "linearization")},

@@ -24,6 +24,9 @@ module                  paper GC
 ``racing``              the race against it: :func:`race`, :func:`race_sweep`,
                         :func:`procedure_for_time`
 ``noisefit``            noise parameters fitted from a record: :func:`fit_noise`
+``convention``          which column is δ, which γ: :class:`InclinometerMapping`,
+                        :func:`convention_study` (a wrongly wired pair, Monte Carlo)
+``allan``               Allan deviation of a record's sensors: :func:`allan_deviation`
 ``plots``               the figures: ``plot_*``
 ======================  ===============================================================
 
@@ -31,10 +34,23 @@ Use as ``from gyrolib import gc`` then ``gc.covariance_analysis(gc.GyrocompassPa
 """
 
 from gyrolib.gc import symbolic
+from gyrolib.gc.allan import (
+    AllanDeviation,
+    AllanSeries,
+    allan_deviation,
+    allan_model_vibration,
+    plot_allan,
+)
 from gyrolib.gc.budget import (
     BUDGET_SOURCES,
     ErrorBudget,
     error_budget,
+)
+from gyrolib.gc.convention import (
+    ConventionStudy,
+    InclinometerMapping,
+    convention_study,
+    plot_convention_study,
 )
 from gyrolib.gc.covariance import (
     CovarianceAnalysis,
@@ -119,16 +135,23 @@ __all__ = [
     "NOISE_NAMES",
     "SEGMENT",
     "STATE_NAMES",
+    "AllanDeviation",
+    "AllanSeries",
+    "ConventionStudy",
     "CovarianceAnalysis",
     "CovarianceSweep",
     "ErrorBudget",
     "GCDiscretization",
     "GyrocompassParams",
+    "InclinometerMapping",
     "InformationPsiOmega",
     "MonteCarloResult",
     "NominalIntegrator",
     "NominalMotion",
     "ShapingFilter",
+    "allan_deviation",
+    "allan_model_vibration",
+    "convention_study",
     "covariance_analysis",
     "discretize",
     "error_budget",
@@ -146,7 +169,9 @@ __all__ = [
     "nominal_motion_reference",
     "normal_gravity",
     "parameter_grid",
+    "plot_allan",
     "plot_consistency",
+    "plot_convention_study",
     "plot_error_budget",
     "plot_estimates",
     "plot_figure1",
@@ -173,6 +198,7 @@ __all__ = [
     "time_to_sigma",
     "vibration_filter",
 ]
+
 
 # Paper GC's claims, computed (gc.claims), and the claims chapter's figures; calibration on
 # recorded data (issue 13)
