@@ -1,7 +1,8 @@
 """Checks over the built HTML of the book (issue 2: offline; issue 8, item 2: accessibility).
 
-Read the files in ``_build/html`` as written by ``python3 tasks.py book`` and assert, for every
-page of the book at once (each test collects all problems, then fails with the full list):
+Read the files of the test session's book (``conftest.session_book``: built as
+``python3 tasks.py book`` builds ``_build/html``) and assert, for every page of the book at
+once (each test collects all problems, then fails with the full list):
 
 * the book is readable offline: no page loads a script, stylesheet, font or image from an
   ``http(s)://`` (or protocol-relative ``//``) address, no CSS file in ``_static`` imports or
@@ -13,8 +14,7 @@ page of the book at once (each test collects all problems, then fails with the f
 * links: every internal ``href``/``src`` resolves to a file of the build, and every
   ``#anchor`` to an ``id`` on the target page.
 
-If the book has not been built, the session fixture builds it (``python3 tasks.py book``);
-under ``python3 tasks.py test`` (``GYROLIB_BOOK_BUILT=1``) a missing build is a failure.
+A failed build fails these tests with the build's output.
 """
 
 from __future__ import annotations
@@ -30,7 +30,6 @@ from conftest import require_built_book
 bs4 = pytest.importorskip("bs4", reason="beautifulsoup4 (a jupyter-book dependency) is needed")
 
 ROOT = Path(__file__).resolve().parents[1]
-HTML = ROOT / "_build" / "html"
 
 # <link rel=...> values that make the browser fetch the target as a resource.
 RESOURCE_RELS = {
@@ -45,8 +44,7 @@ IMAGE_EXT = re.compile(r"\.(png|jpe?g|gif|svg|webp|bmp|pdf)$", re.IGNORECASE)
 
 @pytest.fixture(scope="session")
 def html_dir() -> Path:
-    require_built_book()
-    return HTML
+    return require_built_book()
 
 
 def book_pages(root: Path) -> list[Path]:
@@ -72,7 +70,7 @@ def is_redirect(soup: bs4.BeautifulSoup) -> bool:
 
 
 def _rel(path: Path) -> str:
-    return path.relative_to(HTML).as_posix()
+    return path.relative_to(require_built_book()).as_posix()
 
 
 def _report(title: str, problems: list[str]) -> str:
