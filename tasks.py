@@ -205,7 +205,7 @@ def test() -> None:
     lint()
     lab_setup()
     env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_TEST_COMMAND="1")
-    run(PY, "-m", "pytest", env=env)
+    run(PY, "-m", "pytest", "--durations=10", env=env)
 
 
 def chapter(name: str) -> None:

@@ -24,6 +24,7 @@ temporary build and prints where it is.
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -51,13 +52,15 @@ class Book:
     installed: ``pdf_error`` says why), ``executed`` the executed notebooks (myst-nb's
     ``jupyter_execute``), ``cache`` the jupyter cache the chapters were executed into, and
     ``fresh`` whether they were executed in this test session (a new, empty cache).
-    ``seconds`` is what each build step took.
+    ``seconds`` is what each build step took, ``chapters`` each chapter's execution (s, as
+    myst-nb reports it).
     """
 
     build: Path
     fresh: bool
     pdf_error: str = ""
     seconds: tuple[tuple[str, float], ...] = ()
+    chapters: tuple[tuple[str, float], ...] = ()
 
     @property
     def html(self) -> Path:
@@ -98,6 +101,7 @@ class _BookBuild:
         self.error = ""
         self.tmp: Path | None = None
         self.waited = False
+        self.logs: dict[str, str] = {}
         self._cancelled = False
         self._proc: subprocess.Popen | None = None
         self._thread: threading.Thread | None = None
@@ -136,6 +140,7 @@ class _BookBuild:
             self._proc.communicate()
             return f"{name}: more than {BUILD_TIMEOUT_S} s"
         seconds.append((name, round(time.perf_counter() - t0, 1)))
+        self.logs[name] = output
         if self._proc.returncode != 0:
             return f"{name} failed (exit {self._proc.returncode}):\n{output[-6000:]}"
         return None
@@ -186,7 +191,12 @@ class _BookBuild:
         if error:
             self.error = error
             return
-        self.book = Book(build=build, fresh=True, pdf_error=pdf_error, seconds=tuple(seconds))
+        executed = re.findall(r"(\S+)\.md: Executed notebook in ([\d.]+) seconds",
+                              "\n".join(self.logs.values()))
+        chapters = tuple(sorted(((Path(p).relative_to(ROOT).as_posix(), float(t))
+                                 for p, t in executed), key=lambda c: -c[1]))
+        self.book = Book(build=build, fresh=True, pdf_error=pdf_error, seconds=tuple(seconds),
+                         chapters=chapters)
 
     def cleanup(self) -> None:
         """At the end of the session: a build nobody waited for is stopped (a run of tests
@@ -228,6 +238,15 @@ def _uses_the_book(item: pytest.Item) -> bool:
 def pytest_collection_finish(session: pytest.Session) -> None:
     if any(_uses_the_book(item) for item in session.items):
         _BUILD.start()  # in the background while the other tests run
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus: int, config) -> None:
+    book = _BUILD.book
+    if book is not None and book.seconds:
+        steps = ", ".join(f"{name} {s:.0f} s" for name, s in book.seconds)
+        terminalreporter.write_line(f"the session's book: {steps}")
+        terminalreporter.write_line("chapters executed: " + ", ".join(
+            f"{doc} {s:.1f} s" for doc, s in book.chapters))
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:

@@ -47,11 +47,20 @@ def output_texts(nb) -> list[list[str]]:
     for cell in nb.cells:
         if cell.cell_type != "code":
             continue
-        texts = []
+        texts: list[str] = []
+        streams: dict[str, int] = {}  # all of a cell's stdout is one text (nb_merge_streams)
         for out in cell.get("outputs", []):
             if out.get("output_type") == "stream":
-                texts.append(f"{out.get('name')}: {out.get('text', '')}")
-            elif out.get("output_type") in ("display_data", "execute_result"):
+                text = out.get("text", "")
+                text = text if isinstance(text, str) else "".join(text)
+                name = out.get("name")
+                if name in streams:
+                    texts[streams[name]] += text
+                else:
+                    streams[name] = len(texts)
+                    texts.append(f"{name}: {text}")
+                continue
+            if out.get("output_type") in ("display_data", "execute_result"):
                 data = out.get("data", {})
                 texts += [f"{m}: {data[m]}" for m in TEXT_MIMES if m in data]
             elif out.get("output_type") == "error":
@@ -95,7 +104,8 @@ def differences(name: str, first: list[list[str]], second: list[list[str]]) -> l
             continue
         for x, y in zip(a, b, strict=True):
             if not same_text(x, y):
-                at = next((i for i, (c, d) in enumerate(zip(x, y)) if c != d), 0)
+                at = next((i for i, (c, d) in enumerate(zip(x, y)) if c != d),
+                          min(len(x), len(y)))
                 found.append(f"{name}, code cell {k + 1}: {x[max(0, at - 40):at + 60]!r} != "
                              f"{y[max(0, at - 40):at + 60]!r}")
     return found
