@@ -65,7 +65,8 @@ def output_texts(nb) -> list[list[str]]:
                 texts += [f"{m}: {data[m]}" for m in TEXT_MIMES if m in data]
             elif out.get("output_type") == "error":
                 texts.append(f"error: {out.get('ename')}: {out.get('evalue')}")
-        cells.append([ADDRESS.sub("0x…", t if isinstance(t, str) else "".join(t))
+        # trailing blank lines: myst-nb's stream merging drops them, a kernel sends them
+        cells.append([ADDRESS.sub("0x…", t if isinstance(t, str) else "".join(t)).rstrip()
                       for t in texts])
     return cells
 
