@@ -54,11 +54,11 @@ def main() -> None:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=clone, text=True,
                                 capture_output=True, check=True).stdout.strip()
         load_book = load()
-        t_book, _ = timed([sys.executable, "tasks.py", "book"], clone)
+        t_book, _ = timed(["python3", "tasks.py", "book"], clone)
         rec.case("python3 tasks.py book on a fresh clone (set-up of .venv included)", t_book,
                  note=f"commit {commit}; 1-minute load average at its start {load_book}")
         load_test = load()
-        t_test, log = timed([sys.executable, "tasks.py", "test"], clone)
+        t_test, log = timed(["python3", "tasks.py", "test"], clone)
         summary = re.findall(r"=+ (\d+ passed.*?) in ([\d.]+)s", log)
         passed, pytest_s = summary[-1] if summary else ("?", "nan")
         slowest = re.findall(r"^\s*([\d.]+)s (call|setup)\s+(\S+)", log, flags=re.M)[:3]
