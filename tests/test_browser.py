@@ -248,8 +248,14 @@ def _check_math(page) -> list[str]:
 @functools.cache
 def _axe():
     """axe-playwright-python's Axe: axe-core's script from the installed wheel."""
-    return pytest.importorskip("axe_playwright_python.sync_playwright",
-                               reason="axe-playwright-python is pinned in requirements.txt").Axe()
+    try:
+        from axe_playwright_python.sync_playwright import Axe
+    except ImportError:
+        if (os.environ.get("GYROLIB_REQUIRE_BROWSER") == "1"
+                or os.environ.get("GYROLIB_TEST_COMMAND") == "1"):
+            pytest.fail("axe-playwright-python (pinned in requirements.txt) is not installed")
+        pytest.skip("axe-playwright-python (pinned in requirements.txt) is not installed")
+    return Axe()
 
 
 def axe_violations(page) -> list[str]:
