@@ -259,7 +259,7 @@ def covariance_reference(
     return CovarianceRun(var=var, P_stored=P_stored, store_every=store_every, gains=gains)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, colidx, hptr,
                            hidx, H, r, P0, store_every, var, P_stored, gains, fixed):
     """One kernel for both uses: ``fixed=False`` computes the optimal sequential gains and
