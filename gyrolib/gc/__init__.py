@@ -15,6 +15,7 @@ module                  paper GC
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
 ``claims``              the speed-claim map and the shaping-filter sweep
+``sobol``               Sobol' indices of σ_gc(100 s) and t_c: :func:`sensitivity`
 ``record``              :class:`GCRecord`, a recorded log the calibration reads (SI)
 ``calibration``         the filter on a recorded log: :func:`calibrate`
 ``plots``               the figures: ``plot_*``
@@ -183,6 +184,15 @@ from gyrolib.gc.claims import (
 from gyrolib.gc.plots import plot_mismatch, plot_speed_claim
 from gyrolib.gc.record import GCRecord
 
+# Global sensitivity of sigma_gc(100 s) and t_c (issue 19)
+from gyrolib.gc.sobol import (
+    SENSITIVITY_OUTPUTS,
+    recheck_sensitivity,
+    sensitivity,
+    sensitivity_inputs,
+    sensitivity_outputs,
+)
+
 __all__ += [
     "SHAPING_FIELDS",
     "ClaimBoundary",
@@ -197,3 +207,5 @@ __all__ += [
 ]
 __all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
             "plot_calibration", "simulate_record"]
+__all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensitivity_inputs",
+            "sensitivity_outputs"]
