@@ -21,6 +21,7 @@ import os
 import platform
 import sys
 import time
+import types
 from contextlib import ExitStack
 from datetime import UTC, datetime
 from pathlib import Path
@@ -96,6 +97,8 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
         "sensitivity", help="Sobol' indices of paper GC's or RSF's verdicts",
         description="Global sensitivity analysis (Sobol' indices, SALib) of paper GC's "
                     "sigma_gc(100 s) and t_c, or of paper RSF's delta K and share removed.")
+    # ``sub`` builds plain parsers; this one's usage errors (an unknown model) are one line too
+    sen.error = types.MethodType(parser_class.error, sen)  # type: ignore[method-assign]
     models = sen.add_subparsers(dest="model", required=True, parser_class=parser_class)
     for name, text in (("gc", "paper GC: sigma_gc(100 s) and t_c over 12 inputs"),
                        ("rsf", "paper RSF: delta K and the share removed over 5 inputs")):
