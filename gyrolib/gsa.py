@@ -420,7 +420,8 @@ def run_study(model: str, inputs: Sequence[SobolInput], outputs: Sequence[str],
               progress: Callable[[int], None] | None = None,
               conditions: Mapping[str, object] | None = None,
               settings: Mapping[str, object] | None = None,
-              second_order: bool = True) -> SensitivityResult:
+              second_order: bool = True,
+              previous: SensitivityResult | None = None) -> SensitivityResult:
     """Run a Sobol' study: sample, evaluate the model in chunks on ``executor``, analyze.
 
     Parameters
@@ -450,10 +451,24 @@ def run_study(model: str, inputs: Sequence[SobolInput], outputs: Sequence[str],
     second_order : bool, default True
         Also estimate the second-order indices (``n (2D + 2)`` runs instead of
         ``n (D + 2)``).
+    previous : SensitivityResult, optional
+        The same study with a smaller ``n``: its values are reused and only the new points
+        are computed (the sample of ``n`` base points begins with that of any smaller power
+        of 2, so the result equals a study run from scratch).
 
     Returns
     -------
     SensitivityResult
+
+    Examples
+    --------
+    Growing a study reuses the smaller one and gives the same values as a fresh run:
+
+    >>> from gyrolib import rsf
+    >>> small = rsf.sensitivity(8, seed=1)
+    >>> grown = rsf.sensitivity(32, seed=1, previous=small)
+    >>> bool((grown.values == rsf.sensitivity(32, seed=1).values).all())
+    True
     """
     model = v.check_str("model", model)
     inputs = tuple(inputs)
@@ -470,13 +485,19 @@ def run_study(model: str, inputs: Sequence[SobolInput], outputs: Sequence[str],
     if progress is not None and not callable(progress):
         raise TypeError("progress must be callable or None")
     second_order = v.check_bool("second_order", second_order)
+    conditions, settings = dict(conditions or {}), dict(settings or {})
     pts = _points(inputs, unit_sample(len(inputs), n, seed, second_order))
-    chunks = _chunks(len(pts), chunk_size)
+    done = np.empty((0, len(outputs)))
+    if previous is not None:
+        done = _reusable(previous, model, inputs, outputs, n, seed, second_order, conditions,
+                         settings)
+    chunks = _chunks(len(pts) - len(done), chunk_size)
     report = None if progress is None else (lambda i: progress(chunks[i].stop
                                                                - chunks[i].start))
-    blocks = map_ordered(evaluate, [(pts[c], context) for c in chunks], executor, report)
-    values = np.concatenate([np.asarray(b, dtype=float).reshape(-1, len(outputs))
-                             for b in blocks])
+    new = pts[len(done):]
+    blocks = map_ordered(evaluate, [(new[c], context) for c in chunks], executor, report)
+    values = np.concatenate([done, *(np.asarray(b, dtype=float).reshape(-1, len(outputs))
+                                     for b in blocks)])
     if not np.all(np.isfinite(values)):
         raise ValueError("the model returned non-finite outputs on the sample")
     indices = [analyze(names, values[:, k], seed, second_order) for k in range(len(outputs))]
@@ -485,7 +506,23 @@ def run_study(model: str, inputs: Sequence[SobolInput], outputs: Sequence[str],
         values=values, first_order={o: s["S1"] for o, s in zip(outputs, indices)},
         total={o: s["ST"] for o, s in zip(outputs, indices)},
         second_order={o: s["S2"] for o, s in zip(outputs, indices)},
-        conditions=dict(conditions or {}), settings=dict(settings or {}))
+        conditions=conditions, settings=settings)
+
+
+def _reusable(previous: object, model: str, inputs: tuple[SobolInput, ...],
+              outputs: tuple[str, ...], n: int, seed: int, second_order: bool,
+              conditions: dict[str, object], settings: dict[str, object]) -> np.ndarray:
+    """The values of ``previous`` if it is the same study with ``n`` no larger."""
+    prev = v.check_instance("previous", previous, SensitivityResult)
+    same = (prev.model == model and prev.inputs == inputs and prev.outputs == outputs
+            and prev.seed == seed and prev.second_order_computed == second_order
+            and dict(prev.conditions) == conditions and dict(prev.settings) == settings)
+    if not same:
+        raise ValueError("previous must be the same study (model, inputs and their ranges, "
+                         "outputs, seed, second order, conditions and settings)")
+    if prev.n > n:
+        raise ValueError(f"previous must have n <= {n}; got {prev.n}")
+    return prev.values
 
 
 @dataclass(frozen=True)

@@ -89,3 +89,22 @@ def test_a_run_writes_the_indices_and_the_run_record(tmp_path, capsys):
         for name, idx in ref.total[o].items():
             assert data["total"][o][name]["value"] == pytest.approx(idx.value, rel=1e-12)
             assert data["total"][o][name]["conf"] == pytest.approx(idx.conf, rel=1e-12)
+
+
+def test_extend_reuses_a_smaller_study_and_refuses_another(tmp_path, capsys):
+    """--extend: the grown file equals a study run from scratch; a file of another study (a
+    larger N here) exits 2 with one line and writes nothing."""
+    small, grown, bad = tmp_path / "s16.json", tmp_path / "s64.json", tmp_path / "bad.json"
+    assert main(["sensitivity", "rsf", "--n", "16", "--out", str(small)]) == 0
+    assert main(["sensitivity", "rsf", "--n", "64", "--extend", str(small),
+                 "--out", str(grown)]) == 0
+    data = json.loads(grown.read_text())
+    assert data["run"]["model_runs_computed"] == (64 - 16) * 12
+    assert data["run"]["extends"]["n"] == 16
+    ref = rsf.sensitivity(64)
+    assert data["values"] == ref.values.tolist()
+    capsys.readouterr()
+    assert main(["sensitivity", "rsf", "--n", "8", "--extend", str(grown),
+                 "--out", str(bad)]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+    assert not bad.exists()

@@ -244,3 +244,13 @@ def test_rsf_sweeps_take_an_executor():
     assert par.net_floor == serial.net_floor
     with pytest.raises(TypeError, match=r"^executor must be"):
         rsf.sweep_roll_rate([10.0], seed=0, executor=2)
+
+
+def test_a_grown_study_equals_a_fresh_one_and_refuses_another_study():
+    small = rsf.sensitivity(16, seed=6)
+    grown = rsf.sensitivity(128, seed=6, previous=small)
+    assert_same_indices(rsf.sensitivity(128, seed=6), grown)
+    with pytest.raises(ValueError, match=r"^previous must be the same study"):
+        rsf.sensitivity(128, seed=7, previous=small)
+    with pytest.raises(ValueError, match=r"^previous must have n <= 8"):
+        rsf.sensitivity(8, seed=6, previous=small)

@@ -90,6 +90,33 @@ def _out(text: str) -> Path:
     return path
 
 
+def _existing(text: str) -> Path:
+    path = Path(text)
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(f"no such file: {text!r}")
+    return path
+
+
+def _previous(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
+    """The study to extend and its run record, or (None, {}); ValueError if unusable."""
+    if args.extend is None:
+        return None, {}
+    from gyrolib.gsa import result_from_dict
+
+    try:
+        data = json.loads(args.extend.read_text(encoding="utf-8"))
+        prev = result_from_dict(data)
+    except (OSError, ValueError, TypeError, KeyError) as exc:
+        raise ValueError(f"--extend: {args.extend} is not a results file ({exc})") from None
+    if prev.model != args.model or prev.seed != args.seed or prev.n > args.n \
+            or prev.second_order_computed != args.second_order:
+        raise ValueError(f"--extend: {args.extend} is another study (model {prev.model}, "
+                         f"n {prev.n}, seed {prev.seed}, second order "
+                         f"{prev.second_order_computed}); it needs model {args.model}, "
+                         f"n <= {args.n}, seed {args.seed}, second order {args.second_order}")
+    return prev, dict(data.get("run", {}))
+
+
 def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     """Add the ``sensitivity`` sub-command to ``sub``; its usage errors go through
     ``parser_class`` (one line, status 2)."""
@@ -117,6 +144,9 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                        help="seconds to wait for the scheduler and a worker (default 10)")
         p.add_argument("--out", type=_out, required=True, metavar="FILE.json",
                        help="where to write the results")
+        p.add_argument("--extend", type=_existing, metavar="OLD.json",
+                       help="a results file of the same study with a smaller N: its model "
+                            "runs are reused, only the new ones are computed")
 
 
 def _fail(message: str, status: int) -> int:
@@ -156,6 +186,11 @@ def run(args: argparse.Namespace) -> int:
 
     study = {"gc": (gc_sensitivity, 12), "rsf": (rsf_sensitivity, 5)}[args.model]
     total = args.n * ((2 if args.second_order else 1) * study[1] + 2)
+    try:
+        previous, prev_run = _previous(args)
+    except ValueError as exc:
+        return _fail(str(exc), 2)
+    reused = 0 if previous is None else len(previous.values)
     with ExitStack() as stack:
         t0 = time.perf_counter()
         try:
@@ -164,11 +199,12 @@ def run(args: argparse.Namespace) -> int:
             target = args.scheduler or f"{args.workers} local workers"
             return _fail(f"cannot reach the Dask cluster ({target}) within {args.timeout:g} "
                          f"s: {type(exc).__name__}", 1)
-        bar = stack.enter_context(tqdm(total=total, file=sys.stderr, unit="run",
-                                       desc=f"sensitivity {args.model}", mininterval=1.0))
+        bar = stack.enter_context(tqdm(total=total, initial=reused, file=sys.stderr,
+                                       unit="run", desc=f"sensitivity {args.model}",
+                                       mininterval=1.0))
         started = datetime.now(UTC).isoformat(timespec="seconds")
         result = study[0](args.n, seed=args.seed, executor=executor, progress=bar.update,
-                          second_order=args.second_order)
+                          second_order=args.second_order, previous=previous)
         wall = time.perf_counter() - t0
     record = result.to_dict()
     record["run"] = {"command": " ".join(["python -m gyrolib sensitivity", args.model, "--n",
@@ -176,10 +212,14 @@ def run(args: argparse.Namespace) -> int:
                                          + ([] if args.second_order else ["--no-second-order"])),
                      "version": __version__, "started": started, "machine": _machine(),
                      "executor": where, "workers": workers, "wall_time_s": wall,
-                     "model_runs": total}
+                     "model_runs": total, "model_runs_computed": total - reused}
+    if previous is not None:
+        record["run"]["extends"] = {"file": args.extend.name, "n": previous.n,
+                                    "run": prev_run}
     tmp = args.out.with_suffix(".json.tmp")
     tmp.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
     tmp.replace(args.out)
-    sys.stderr.write(f"wrote {args.out}: {total} model runs in {wall:.1f} s on {workers} "
+    sys.stderr.write(f"wrote {args.out}: {total} model runs ({total - reused} computed) in "
+                     f"{wall:.1f} s on {workers} "
                      f"worker(s) ({where}); widest interval {result.max_conf():.3f}\n")
     return 0

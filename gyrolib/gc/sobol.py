@@ -189,7 +189,8 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
                 params: GyrocompassParams | None = None, t_end: float = 100.0,
                 level: float = _LEVEL, t_max: float = _T_MAX, chunk_size: int = _CHUNK,
                 progress: Callable[[int], None] | None = None,
-                second_order: bool = True) -> SensitivityResult:
+                second_order: bool = True,
+                previous: SensitivityResult | None = None) -> SensitivityResult:
     """Sobol' indices of σ_gc(100 s) and of t_c with respect to the twelve inputs of
     :func:`sensitivity_inputs` (paper GC, Figure 3 and its Conclusion).
 
@@ -220,6 +221,9 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     second_order : bool, default True
         Also estimate the second-order indices (the sample grows from ``n (D + 2)`` to
         ``n (2D + 2)`` points).
+    previous : SensitivityResult, optional
+        The same study with a smaller ``n``, whose points are reused (see
+        :func:`gyrolib.gsa.run_study`).
 
     Returns
     -------
@@ -242,6 +246,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     return run_study("gc", inputs, SENSITIVITY_OUTPUTS, _UNITS, _evaluate,
                      (p, names, t_end, level, t_max), n, seed, executor=executor,
                      chunk_size=chunk_size, progress=progress,
+                     second_order=second_order, previous=previous,
                      conditions=_conditions(p, names),
                      settings={"t_end": t_end, "level": level, "t_max": t_max})
 

@@ -120,7 +120,8 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
                 roll_gyro: RollGyroSpec = SIIMU02_ROLL, gs_gyro: MemsGyroSpec = GYPRO4300,
                 encoder: EncoderSpec = AEDB9340, chunk_size: int = _CHUNK,
                 progress: Callable[[int], None] | None = None,
-                second_order: bool = True) -> SensitivityResult:
+                second_order: bool = True,
+                previous: SensitivityResult | None = None) -> SensitivityResult:
     """Sobol' indices of δK and of the share of the SF error removed (paper RSF, Eq. (7)
     and its "90 %") with respect to the five inputs of :func:`sensitivity_inputs`.
 
@@ -141,6 +142,9 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     second_order : bool, default True
         Also estimate the second-order indices (the sample grows from ``n (D + 2)`` to
         ``n (2D + 2)`` points).
+    previous : SensitivityResult, optional
+        The same study with a smaller ``n``, whose points are reused (see
+        :func:`gyrolib.gsa.run_study`).
 
     Returns
     -------
@@ -161,7 +165,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     return run_study("rsf", inputs, SENSITIVITY_OUTPUTS, _UNITS, _evaluate,
                      (names, gs_gyro.sf_error, roll_gyro.sf_error), n, seed,
                      executor=executor, chunk_size=chunk_size, progress=progress,
-                     second_order=second_order,
+                     second_order=second_order, previous=previous,
                      conditions={"eps1_gs": gs_gyro.sf_error, "eps1": roll_gyro.sf_error},
                      settings={"equation": "Eq. (7)"})
 

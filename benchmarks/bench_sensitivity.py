@@ -1,0 +1,95 @@
+#!/usr/bin/env python3
+"""Benchmark: paper GC's Sobol' study (``gc.sensitivity``) serial against 2 local Dask
+workers (issue 19, target ≥ 1.7× on 2 cores).
+
+Measures, in one process on one machine: the cost of one model run (one 100-s covariance
+analysis and t_c, ``gc.sensitivity_outputs``, best of 3); a small study (``--n`` base points,
+first-order and total indices: ``n (D + 2)`` runs) in this process (the peer), on a
+``dask.distributed.LocalCluster`` of 1 worker process (what handing chunks to a worker
+costs: its excess over the serial time) and of 2 worker processes (``Client.get_executor()``).
+The clusters are started and warmed up (numba's cached kernels loaded in each worker) before
+the clock starts.  Checks that the three give the same indices (1e-12), and projects the
+wall time of a full study from the per-run cost.  Writes
+``benchmarks/results/sensitivity.json``.
+
+    nice -n 10 .venv/bin/python benchmarks/bench_sensitivity.py [--n 8] [--full-n 4096]
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import time
+
+import numpy as np
+from _results import Recorder, load
+
+from gyrolib import gc
+
+
+def study(n: int, executor=None):
+    return gc.sensitivity(n, seed=0, executor=executor, second_order=False)
+
+
+def main() -> None:
+    from dask.distributed import Client, LocalCluster
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=8)
+    ap.add_argument("--full-n", type=int, default=4096,
+                    help="base sample size of the full study to project (default 4096)")
+    args = ap.parse_args()
+    rec = Recorder("sensitivity")
+    p = gc.GyrocompassParams()
+    gc.sensitivity_outputs(p)                       # numba cache load
+    per_run = min(_timed(lambda: gc.sensitivity_outputs(p)) for _ in range(3))
+    c0 = time.process_time()
+    gc.sensitivity_outputs(p)
+    cpu_run = time.process_time() - c0
+    runs = args.n * (12 + 2)
+    print(f"one model run: {per_run:.3f} s wall (best of 3), {cpu_run:.3f} s CPU; study: {runs} runs; load {load()}")
+
+    t0 = time.perf_counter()
+    serial = study(args.n)
+    t_serial = time.perf_counter() - t0
+    print(f"serial: {t_serial:.1f} s")
+    timings = {}
+    for workers in (1, 2):
+        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                          dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                Client(cluster) as client:
+            ex = client.get_executor()
+            gc.sensitivity(2, seed=1, executor=ex, t_end=1.0, t_max=1.0, chunk_size=2)  # warm
+            t0 = time.perf_counter()
+            res = study(args.n, ex)
+            timings[workers] = time.perf_counter() - t0
+        same = np.allclose(res.values, serial.values, rtol=1e-12, atol=0.0)
+        print(f"{workers} Dask worker(s): {timings[workers]:.1f} s; same values: {same}")
+        if not same:
+            raise SystemExit("the Dask run differs from the serial run")
+    overhead = timings[1] / t_serial - 1.0
+    print(f"speed-up on 2 workers: {t_serial / timings[2]:.2f}x; 1-worker overhead "
+          f"{100 * overhead:+.1f} %")
+    full_runs = args.full_n * (12 + 2)
+    rec.case(f"GC Sobol' study, n = {args.n} ({runs} covariance analyses of 100 s), "
+             "2 local Dask worker processes", timings[2],
+             peer="the same study in this process (executor=None)", peer_s=t_serial,
+             note=f"ratio = serial/2 workers = speed-up (target >= 1.7); one model run "
+                  f"{per_run:.3f} s wall (best of 3), {cpu_run:.3f} s CPU; 1 Dask worker {timings[1]:.1f} s, i.e. "
+                  f"{100 * overhead:+.1f} % over serial (scheduling and transfer); projected "
+                  f"full study n = {args.full_n} ({full_runs} runs): "
+                  f"{full_runs * cpu_run / 3600:.1f} h on one free core, "
+                  f"{full_runs * cpu_run / 3600 / 2:.1f} h on 2, "
+                  f"{full_runs * cpu_run / 60 / 32:.0f} min on 32 (CPU time per run); load "
+                  f"{load()} at the end (shared machine)")
+    rec.write()
+
+
+def _timed(fn) -> float:
+    t0 = time.perf_counter()
+    fn()
+    return time.perf_counter() - t0
+
+
+if __name__ == "__main__":
+    main()
