@@ -47,7 +47,8 @@ def main() -> None:
     gc.sensitivity_outputs(p)
     cpu_run = time.process_time() - c0
     runs = args.n * (12 + 2)
-    print(f"one model run: {per_run:.3f} s wall (best of 3), {cpu_run:.3f} s CPU; study: {runs} runs; load {load()}")
+    print(f"one model run: {per_run:.3f} s wall (best of 3), {cpu_run:.3f} s CPU; "
+          f"study: {runs} runs; load {load()}")
 
     t0 = time.perf_counter()
     serial = study(args.n)
@@ -75,7 +76,8 @@ def main() -> None:
              "2 local Dask worker processes", timings[2],
              peer="the same study in this process (executor=None)", peer_s=t_serial,
              note=f"ratio = serial/2 workers = speed-up (target >= 1.7); one model run "
-                  f"{per_run:.3f} s wall (best of 3), {cpu_run:.3f} s CPU; 1 Dask worker {timings[1]:.1f} s, i.e. "
+                  f"{per_run:.3f} s wall (best of 3), {cpu_run:.3f} s CPU; 1 Dask worker "
+                  f"{timings[1]:.1f} s, i.e. "
                   f"{100 * overhead:+.1f} % over serial (scheduling and transfer); projected "
                   f"full study n = {args.full_n} ({full_runs} runs): "
                   f"{full_runs * cpu_run / 3600:.1f} h on one free core, "
