@@ -122,9 +122,10 @@ def test_bad_input_is_rejected_by_name(call, exc, name):
 
 # GC and RSF studies ------------------------------------------------------------------------
 def small_gc(executor=None, chunk_size=5) -> gsa.SensitivityResult:
-    """A small GC study: 4 base points (104 runs) of 2-s analyses."""
+    """A small GC study: 4 base points (104 runs) of 2-s analyses, t_c to a level reached
+    within them (so that both outputs vary)."""
     return gc.sensitivity(4, seed=2, executor=executor, t_end=2.0, t_max=4.0,
-                          chunk_size=chunk_size)
+                          level=float(to_si(0.05, "arcsec_paper/s")), chunk_size=chunk_size)
 
 
 def assert_same_indices(a: gsa.SensitivityResult, b: gsa.SensitivityResult) -> None:

@@ -29,7 +29,7 @@ from typing import Any
 
 from gyrolib import __version__
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "write_results"]
 
 
 def _power_of_two(text: str) -> int:
@@ -172,6 +172,18 @@ def _connect(args: argparse.Namespace, stack: ExitStack) -> tuple[Any, int, str]
             f"dask scheduler {args.scheduler}")
 
 
+def write_results(record: dict[str, Any], path: Path) -> None:
+    """Write a results record as JSON: indented, the model's values one sample point a line
+    (through a temporary file, so that an interrupted write leaves no half file)."""
+    body = {k: val for k, val in record.items() if k != "values"}
+    text = json.dumps(body, indent=1, ensure_ascii=False)
+    rows = ",\n".join(json.dumps(row) for row in record.get("values", []))
+    text = text[:-2] + ',\n "values": [\n' + rows + "\n ]\n}\n"
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    tmp.replace(path)
+
+
 def _machine() -> dict[str, object]:
     return {"platform": platform.platform(), "processor": platform.machine(),
             "python": platform.python_version(), "cpus": os.cpu_count()}
@@ -216,9 +228,7 @@ def run(args: argparse.Namespace) -> int:
     if previous is not None:
         record["run"]["extends"] = {"file": args.extend.name, "n": previous.n,
                                     "run": prev_run}
-    tmp = args.out.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
-    tmp.replace(args.out)
+    write_results(record, args.out)
     sys.stderr.write(f"wrote {args.out}: {total} model runs ({total - reused} computed) in "
                      f"{wall:.1f} s on {workers} "
                      f"worker(s) ({where}); widest interval {result.max_conf():.3f}\n")

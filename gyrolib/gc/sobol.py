@@ -232,8 +232,11 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
 
     Examples
     --------
+    A tiny, fast study (2 base points, 2-s analyses, t_c to a coarse level):
+
     >>> from gyrolib import gc
-    >>> r = gc.sensitivity(2, seed=0, t_end=2.0, t_max=2.0)    # a tiny, fast study
+    >>> from gyrolib.units import to_si
+    >>> r = gc.sensitivity(2, seed=0, t_end=2.0, t_max=2.0, level=to_si(0.05, "arcsec_paper/s"))
     >>> r.values.shape, r.outputs
     ((52, 2), ('sigma_gc_100s', 't_c'))
     """
@@ -258,7 +261,8 @@ def recheck_sensitivity(result: SensitivityResult, k: int = 5, seed: int = 0) ->
     Examples
     --------
     >>> from gyrolib import gc
-    >>> r = gc.sensitivity(2, seed=0, t_end=2.0, t_max=2.0)
+    >>> from gyrolib.units import to_si
+    >>> r = gc.sensitivity(2, seed=0, t_end=2.0, t_max=2.0, level=to_si(0.05, "arcsec_paper/s"))
     >>> gc.recheck_sensitivity(r, k=2).max_rel_diff < 1e-12
     True
     """

@@ -98,10 +98,10 @@ def sensitivity_outputs(eps0_gs: float, encoder_error: float, period: float, ome
     --------
     >>> import math
     >>> from gyrolib import rsf
-    >>> dk, share = rsf.sensitivity_outputs(math.radians(3.39e-3), math.radians(0.33), 5.0,
+    >>> dk, share = rsf.sensitivity_outputs(rsf.GYPRO4300.bias_total, math.radians(0.33), 5.0,
     ...                                     math.radians(900.0), math.radians(300.0))
-    >>> f"{dk:.3g} {share:.3f}"
-    '0.000171 0.716'
+    >>> f"{dk:.3e} {share:.3f}"
+    '1.704e-04 0.716'
     """
     eps1 = v.check_positive("eps1", eps1)
     dk = delta_k(eps0_gs, encoder_error, omega_x, period, eps1_gs, omega_unc)
@@ -157,7 +157,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     >>> r = rsf.sensitivity(1024, seed=0)
     >>> top = r.ranked("delta_k")[0]
     >>> top[0], f"{top[1].value:.2f}"
-    ('encoder_error', '0.63')
+    ('encoder_error', '0.95')
     """
     v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
     inputs = sensitivity_inputs(gs_gyro, encoder)
