@@ -57,7 +57,7 @@ def main() -> None:
     timings = {}
     for workers in (1, 2):
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                          dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                          dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
                 Client(cluster) as client:
             ex = client.get_executor()
             gc.sensitivity(2, seed=1, executor=ex, t_end=1.0, t_max=1.0, chunk_size=2)  # warm

@@ -145,7 +145,7 @@ def test_dask_local_cluster_gives_the_serial_indices():
     distributed = pytest.importorskip("dask.distributed")
     serial = small_gc()
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster, \
+                                  dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as client:
         on_dask = small_gc(client.get_executor(), chunk_size=3)
     assert_same_indices(serial, on_dask)

@@ -163,7 +163,7 @@ def _connect(args: argparse.Namespace, stack: ExitStack) -> tuple[Any, int, str]
     if args.workers is not None:
         cluster = stack.enter_context(LocalCluster(
             n_workers=args.workers, threads_per_worker=1, processes=True,
-            dashboard_address=None, silence_logs=logging.ERROR))
+            dashboard_address=":0", silence_logs=logging.ERROR))
         client = stack.enter_context(Client(cluster, timeout=args.timeout))
         return client.get_executor(), args.workers, "dask LocalCluster"
     client = stack.enter_context(Client(args.scheduler, timeout=args.timeout))
