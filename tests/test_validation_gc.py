@@ -659,6 +659,20 @@ def test_bad_input_is_rejected_by_name(call, exc, pattern):
 
 
 #: Public callables without a bad-input case, and why.
+# global sensitivity (gc.sobol)
+case("gc.sensitivity", lambda: gc.sensitivity(6), ValueError, "n", "power of 2")
+case("gc.sensitivity", lambda: gc.sensitivity(4, seed=-1), ValueError, "seed", ">= 0")
+case("gc.sensitivity", lambda: gc.sensitivity(4, executor="dask"), TypeError, "executor")
+case("gc.sensitivity", lambda: gc.sensitivity(4, params=1), TypeError, "params")
+case("gc.sensitivity", lambda: gc.sensitivity(4, t_end=0.0), ValueError, "t_end", POS)
+case("gc.sensitivity_inputs", lambda: gc.sensitivity_inputs(1), TypeError, "params")
+case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(P, level=-1.0), ValueError,
+     "level", POS)
+case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(None), TypeError, "params")
+case("gc.recheck_sensitivity", lambda: gc.recheck_sensitivity(1), TypeError, "result")
+case("gc.recheck_sensitivity", lambda: gc.recheck_sensitivity(rsf.sensitivity(2)), ValueError,
+     "result", "GC study")
+
 EXEMPT: dict[str, str] = {
     "gc.symbolic.display_form": "returns non-sympy objects unchanged (documented)",
     **{f"gc.{name}": "result object built by its compute function, which validates"

@@ -16,6 +16,7 @@ module                  paper GC
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
 ``claims``              the speed-claim map and the shaping-filter sweep
+``sobol``               Sobol' indices of σ_gc(100 s) and t_c: :func:`sensitivity`
 ``record``              :class:`GCRecord`, a recorded log the calibration reads (SI)
 ``calibration``         the filter on a recorded log: :func:`calibrate`
 ``ratesensor``          ref. [3], the method GC replaces: :class:`RateSensorProcedure`,
@@ -246,6 +247,15 @@ from gyrolib.gc.ratesensor import (
 )
 from gyrolib.gc.record import GCRecord
 
+# Global sensitivity of sigma_gc(100 s) and t_c (issue 19)
+from gyrolib.gc.sobol import (
+    SENSITIVITY_OUTPUTS,
+    recheck_sensitivity,
+    sensitivity,
+    sensitivity_inputs,
+    sensitivity_outputs,
+)
+
 __all__ += [
     "SHAPING_FIELDS",
     "ClaimBoundary",
@@ -304,3 +314,5 @@ from gyrolib.gc.plots import plot_linearization  # noqa: E402
 
 __all__ += ["LinearizationEffect", "linearization_effect", "plot_linearization",
             "psi_for_drift", "remainder_drift", "run_streams", "truth_prior_factor"]
+__all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensitivity_inputs",
+            "sensitivity_outputs"]
