@@ -10,8 +10,8 @@ lock prints "no valid estimate" and why (and one line on stderr).  In either cas
 written (no plot, no Allan plot, no TOML) — except ``--summary``, the report of a batch.
 
 Several files (or ``--summary OUT.csv``) make a batch: each file is calibrated on its own
-(``--workers K``: in a :class:`concurrent.futures.ProcessPoolExecutor` whose workers fork
-from a server process that has imported gyrolib once), a bad or invalid file is reported in
+(``--workers K``: in a :class:`concurrent.futures.ProcessPoolExecutor` whose workers are
+forked from this process, gyrolib already imported), a bad or invalid file is reported in
 its row and on stderr while the others proceed, and the exit status is 2 if any file was
 bad, else 3 if any was invalid.  A progress bar (tqdm) goes to stderr on a
 terminal, never with ``--json`` or when stderr is piped.
@@ -574,13 +574,14 @@ def _summary_csv(path: str, outcomes: list[_Outcome]) -> None:
 
 
 def _executor(workers: int) -> concurrent.futures.Executor | None:
+    """``workers`` processes forked from this one, which has imported gyrolib already (a
+    spawned or forkserver worker would import it again: about 4 s, more than a 100 s record
+    takes).  They are forked at the first submit, before the progress bar's thread exists,
+    so no thread of this process is forked."""
     if workers <= 1:
         return None
-    # forkserver: workers fork from a clean server process that has imported gyrolib once
-    # (no fork of this process's threads; no import per worker as with spawn)
-    ctx = multiprocessing.get_context("forkserver")
-    ctx.set_forkserver_preload(["gyrolib.cli.calibrate"])
-    return concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    return concurrent.futures.ProcessPoolExecutor(
+        max_workers=workers, mp_context=multiprocessing.get_context("fork"))
 
 
 def _run_files(method: str, args: argparse.Namespace, o: dict,
@@ -599,21 +600,25 @@ def _run_files(method: str, args: argparse.Namespace, o: dict,
     from tqdm import tqdm
 
     batch = len(files) > 1
-    with tqdm(total=len(files), desc=f"calibrate {method}", unit="file", file=sys.stderr,
-              leave=False, disable=not (batch and _bar_enabled(args))) as bar:
-        ex = _executor(args.workers)
-        if ex is None:
-            for i, f in enumerate(files):
-                results[i] = _process(method, f, o)
-                bar.update(1)
-                flush()
-        else:
-            with ex:
-                futures = {ex.submit(_process, method, f, o): i for i, f in enumerate(files)}
+    ex = _executor(args.workers)
+    futures = ({} if ex is None else    # submitted first: the workers fork before the bar
+               {ex.submit(_process, method, f, o): i for i, f in enumerate(files)})
+    try:
+        with tqdm(total=len(files), desc=f"calibrate {method}", unit="file", file=sys.stderr,
+                  leave=False, disable=not (batch and _bar_enabled(args))) as bar:
+            if ex is None:
+                for i, f in enumerate(files):
+                    results[i] = _process(method, f, o)
+                    bar.update(1)
+                    flush()
+            else:
                 for fut in concurrent.futures.as_completed(futures):
                     results[futures[fut]] = fut.result()
                     bar.update(1)
                     flush()
+    finally:
+        if ex is not None:
+            ex.shutdown(cancel_futures=True)
     return [r for r in results if r is not None]
 
 
