@@ -199,3 +199,21 @@ def test_every_item_links_to_a_page_and_anchor_of_the_built_book(items):
             if it.anchor not in parser.ids:
                 problems.append(f"{it.id}: no anchor #{it.anchor} in {page.name}")
     assert not problems, "\n".join(problems)
+
+
+def test_collect_is_computed_once_per_state_of_the_sources_with_a_memo(tmp_path, monkeypatch):
+    """With GYROLIB_LEDGER_MEMO (set by the book build) the first collect() writes its items
+    to one file named by the hash of gyrolib's sources, equal to a computation without the
+    memo; later calls read that file (a mark put into it comes back) instead of computing."""
+    import gyrolib.book.ledger as ledger_module
+
+    plain = collect()
+    monkeypatch.setenv("GYROLIB_LEDGER_MEMO", str(tmp_path))
+    first = collect()
+    files = list(tmp_path.glob("ledger-*.json"))
+    assert len(files) == 1 and first == plain
+    data = json.loads(files[0].read_text(encoding="utf-8"))
+    data[0]["note"] = "read from the memo"
+    files[0].write_text(json.dumps(data), encoding="utf-8")
+    assert collect()[0].note == "read from the memo"
+    assert ledger_module._memo_file() == files[0]
