@@ -181,8 +181,7 @@ def _joseph_scalar_update(size: int | None):
         where ``Ph = P h`` and ``S = hᵀ P h + r`` (from :func:`measurement_projection`).  The
         optimal gain is ``k = Ph / S``; a fixed (suboptimal) gain gives the error covariance of
         that filter.  With ``v = S k / 2 − Ph`` the update is ``P⁺ = P + k vᵀ + v kᵀ`` (two
-        products an entry), the same expression for ``(i, j)`` and ``(j, i)``: a symmetric ``P``
-        stays symmetric.
+        products an entry), on the upper triangle, mirrored: ``P`` stays symmetric.
 
         No input checks (a kernel): ``P`` (n×n), ``Ph``, ``k`` (n,) float64; ``Ph`` is
         overwritten with ``v``.
@@ -205,8 +204,10 @@ def _joseph_scalar_update(size: int | None):
         for i in range(n):
             ki = k[i]
             vi = Ph[i]
-            for j in range(n):
-                P[i, j] += ki * Ph[j] + vi * k[j]
+            for j in range(i, n):     # the upper triangle, mirrored
+                val = P[i, j] + (ki * Ph[j] + vi * k[j])
+                P[i, j] = val
+                P[j, i] = val
 
     return joseph_scalar_update
 
