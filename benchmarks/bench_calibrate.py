@@ -82,17 +82,25 @@ def _peak_mb() -> float:
 
 
 def hour_record(t_end: float = 3600.0):
-    """An in-memory record of ``t_end`` s at 1 kHz: noise about the aperiodic nominal."""
+    """An in-memory record of ``t_end`` s at 1 kHz that the filter accepts: the aperiodic
+    nominal motion plus sensor noise on the angle sensor; on the inclinometers the vibration
+    N1 of Eq. (6) (exact simulation), fixed tilts of 20″ and sensor noise.  (Not the full
+    truth model of ``gc.simulate_record``, whose 10 sub-steps a sample would take minutes
+    and 300 MB for an hour.)"""
     from gyrolib import gc
+    from gyrolib.units import ARCSEC_PAPER
 
     p = gc.GyrocompassParams()
     n = round(t_end / p.dt)
     t = np.arange(1, n + 1) * p.dt
     sr = np.sqrt(np.diag(gc.measurement_noise_covariance(p)))
     rng = np.random.default_rng(1)
+    n1 = gc.simulate_shaping_filter(p.vibration_filter(), p.dt, n, seed=2)
+    tilt = p.g * 20.0 * ARCSEC_PAPER
     angle = gc.nominal_motion_aperiodic(p, t).beta + sr[0] * rng.standard_normal(n)
-    return gc.GCRecord(t=t, angle_sensor=angle, inclinometer_y=sr[1] * rng.standard_normal(n),
-                       inclinometer_z=sr[2] * rng.standard_normal(n))
+    return gc.GCRecord(t=t, angle_sensor=angle,
+                       inclinometer_y=tilt + n1 + sr[1] * rng.standard_normal(n),
+                       inclinometer_z=-tilt + n1 + sr[2] * rng.standard_normal(n))
 
 
 def hour_child(which: str, t_end: float) -> None:

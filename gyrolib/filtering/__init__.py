@@ -8,7 +8,8 @@ module                      what it holds
                             :func:`covariance_factor`
 ``updates``                 :func:`joseph_update`, :func:`sequential_update`
 ``kernels``                 numba kernels of the fast recursions:
-                            :func:`predict_covariance`, :func:`measurement_projection`,
+                            :func:`predict_state`, :func:`predict_covariance`,
+                            :func:`measurement_projection`,
                             :func:`joseph_scalar_update`, :func:`kalman_kernels`
 ``covariance``              :class:`AffineDiscreteModel`, :func:`covariance_fast`,
                             :func:`covariance_reference`, :func:`propagate_fixed_gains`
@@ -40,6 +41,7 @@ from gyrolib.filtering.kernels import (
     kalman_kernels,
     measurement_projection,
     predict_covariance,
+    predict_state,
 )
 from gyrolib.filtering.square_root import (
     cholesky_semidefinite,
@@ -65,6 +67,7 @@ __all__ = [
     "measurement_projection",
     "nees_bounds",
     "predict_covariance",
+    "predict_state",
     "propagate_fixed_gains",
     "sequential_update",
     "van_loan",

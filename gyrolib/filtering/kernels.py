@@ -2,7 +2,8 @@
 :func:`gyrolib.filtering.covariance_fast` and :func:`gyrolib.gc.calibrate` (no input checks:
 float64 C-contiguous arrays, updated in place).
 
-* :func:`predict_covariance` — ``P ← Φ P Φᵀ + Qd`` with the nonzeros of ``Φ`` in CSR form;
+* :func:`predict_state`, :func:`predict_covariance` — ``x ← Φ x``, ``P ← Φ P Φᵀ + Qd`` with
+  the nonzeros of ``Φ`` in CSR form;
 * :func:`measurement_projection` — ``P h`` and ``hᵀ P h`` for a sparse measurement row ``h``;
 * :func:`joseph_scalar_update` — the Joseph form for one scalar measurement, with any gain
   {cite:p}`BarShalom2001` (the batch form is :func:`gyrolib.filtering.joseph_update`).
@@ -29,7 +30,55 @@ __all__ = [
     "kalman_kernels",
     "measurement_projection",
     "predict_covariance",
+    "predict_state",
 ]
+
+
+@njit(cache=True, inline="always")
+def _sparse_times(Phi, rowptr, colidx, A, out, n):
+    """``out = Φ A`` (n×n) with the nonzeros of ``Φ`` in CSR form, row by row: each row of
+    ``out`` a sum of rows of ``A`` (contiguous, vectorized loops)."""
+    for i in range(n):
+        for col in range(n):
+            out[i, col] = 0.0
+        for p in range(rowptr[i], rowptr[i + 1]):
+            c = colidx[p]
+            f = Phi[i, c]
+            for col in range(n):
+                out[i, col] += f * A[c, col]
+
+
+def _predict_state(size: int | None):
+    """:func:`predict_state` for a state size (``None``: read from ``x``)."""
+
+    @njit(cache=True)
+    def predict_state(x, Phi, rowptr, colidx, y):
+        """Numba kernel: ``x ← Φ x`` in place, with the nonzeros of ``Φ`` in CSR form (as
+        :func:`predict_covariance`); ``y`` (n,) is scratch.  No input checks (a kernel).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gyrolib import filtering
+        >>> x = np.array([1.0, 2.0]); Phi = np.array([[1.0, 0.1], [0.0, 1.0]])
+        >>> filtering.predict_state(x, Phi, np.array([0, 2, 3]), np.array([0, 1, 1]),
+        ...                         np.zeros(2))
+        >>> x.tolist()
+        [1.2, 2.0]
+        """
+        n = x.shape[0] if size is None else size
+        for i in range(n):
+            s = 0.0
+            for p in range(rowptr[i], rowptr[i + 1]):
+                s += Phi[i, colidx[p]] * x[colidx[p]]
+            y[i] = s
+        for i in range(n):
+            x[i] = y[i]
+
+    return predict_state
+
+
+predict_state = _predict_state(None)
 
 
 def _predict_covariance(size: int | None):
@@ -55,27 +104,12 @@ def _predict_covariance(size: int | None):
         True
         """
         n = P.shape[0] if size is None else size
-        # T = Φ P, row by row: each row of T a sum of rows of P (contiguous, vectorized)
-        for i in range(n):
-            for col in range(n):
-                T[i, col] = 0.0
-            for p in range(rowptr[i], rowptr[i + 1]):
-                c = colidx[p]
-                f = Phi[i, c]
-                for col in range(n):
-                    T[i, col] += f * P[c, col]
-        # P ← Φ Tᵀ = Φ P Φᵀ, again a sum of rows: those of Tᵀ, written into P (free now)
+        _sparse_times(Phi, rowptr, colidx, P, T, n)      # T = Φ P
+        # P ← Φ Tᵀ = Φ P Φᵀ: Tᵀ written into P (free now), then Φ times it
         for i in range(n):
             for col in range(n):
                 P[col, i] = T[i, col]
-        for i in range(n):
-            for col in range(n):
-                T[i, col] = 0.0
-            for p in range(rowptr[i], rowptr[i + 1]):
-                c = colidx[p]
-                f = Phi[i, c]
-                for col in range(n):
-                    T[i, col] += f * P[c, col]
+        _sparse_times(Phi, rowptr, colidx, P, T, n)
         # symmetric to the bit (the two halves differ in rounding), plus Qd
         for i in range(n):
             for jj in range(i, n):
@@ -147,8 +181,7 @@ def _joseph_scalar_update(size: int | None):
         where ``Ph = P h`` and ``S = hᵀ P h + r`` (from :func:`measurement_projection`).  The
         optimal gain is ``k = Ph / S``; a fixed (suboptimal) gain gives the error covariance of
         that filter.  With ``v = S k / 2 − Ph`` the update is ``P⁺ = P + k vᵀ + v kᵀ`` (two
-        products an entry), the same expression for ``(i, j)`` and ``(j, i)``: a symmetric ``P``
-        stays symmetric.
+        products an entry), on the upper triangle, mirrored: ``P`` stays symmetric.
 
         No input checks (a kernel): ``P`` (n×n), ``Ph``, ``k`` (n,) float64; ``Ph`` is
         overwritten with ``v``.
@@ -171,8 +204,10 @@ def _joseph_scalar_update(size: int | None):
         for i in range(n):
             ki = k[i]
             vi = Ph[i]
-            for j in range(n):
-                P[i, j] += ki * Ph[j] + vi * k[j]
+            for j in range(i, n):     # the upper triangle, mirrored
+                val = P[i, j] + (ki * Ph[j] + vi * k[j])
+                P[i, j] = val
+                P[j, i] = val
 
     return joseph_scalar_update
 
@@ -184,6 +219,7 @@ class KalmanKernels(NamedTuple):
     """The numba kernels of the fast recursions for one state size (see
     :func:`kalman_kernels`)."""
 
+    predict_state: Callable
     predict_covariance: Callable
     measurement_projection: Callable
     joseph_scalar_update: Callable
@@ -191,8 +227,8 @@ class KalmanKernels(NamedTuple):
 
 @functools.cache
 def kalman_kernels(n: int) -> KalmanKernels:
-    """:func:`predict_covariance`, :func:`~gyrolib.filtering.measurement_projection` and
-    :func:`~gyrolib.filtering.joseph_scalar_update` compiled for the state size ``n``: the
+    """:func:`predict_state`, :func:`predict_covariance`, :func:`measurement_projection` and
+    :func:`joseph_scalar_update` compiled for the state size ``n``: the
     same code, with loops of a length known at compile time (they unroll; paper GC's
     10-state filter runs about twice as fast).  Call them only with ``n``-state arrays.
 
@@ -218,5 +254,5 @@ def kalman_kernels(n: int) -> KalmanKernels:
     [0.5, 1.0]
     """
     n = v.check_int("n", n, 1)
-    return KalmanKernels(_predict_covariance(n), _measurement_projection(n),
+    return KalmanKernels(_predict_state(n), _predict_covariance(n), _measurement_projection(n),
                          _joseph_scalar_update(n))

@@ -80,6 +80,7 @@ MAX_LISTED_REJECTIONS: Final[int] = 10000
 
 # the shared kernels (gyrolib.filtering.kernels) compiled for the 10 states of Eq. (8)
 _kernels = kalman_kernels(N)
+predict_state = _kernels.predict_state
 predict_covariance = _kernels.predict_covariance
 measurement_projection = _kernels.measurement_projection
 joseph_scalar_update = _kernels.joseph_scalar_update
@@ -485,19 +486,6 @@ def _beta_at(t, grid, g0, inv_hh):
 
 
 @njit(cache=True, inline="always")
-def _predict_state(x, Phi, rowptr, colidx, y):
-    """``x ← Φ x`` (sparse rows of Φ)."""
-    n = N
-    for i in range(n):
-        s = 0.0
-        for p in range(rowptr[i], rowptr[i + 1]):
-            s += Phi[i, colidx[p]] * x[colidx[p]]
-        y[i] = s
-    for i in range(n):
-        x[i] = y[i]
-
-
-@njit(cache=True, inline="always")
 def _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j, d, Phi, Qd):
     """``Φ``, ``Qd`` of a step of ``dt`` with ``F`` frozen at ``β_n = β_j + d``, from the
     affine tables of expansion point ``j``, with ``(sin β_n − sin β_j, cos β_n − cos β_j)``
@@ -654,7 +642,7 @@ def _filter_chunk(md, ch, st, ss, so):
             j = int(bm * inv_seg + 0.5)      # the nearest expansion point (β_n >= 0)
             _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j,
                            bm - j * md.seg_w, Phi, Qd)
-            _predict_state(x, Phi, rowptr, colidx, y)
+            predict_state(x, Phi, rowptr, colidx, y)
             predict_covariance(P, Phi, rowptr, colidx, Qd, T)
             tcur += dt
         d = ch.shift[i]
@@ -668,7 +656,7 @@ def _filter_chunk(md, ch, st, ss, so):
             _shift(x, P, st.Fm, md.W, d, st.Em, st.Am, T, y)
         kk = irr_idx[i]
         if kk >= 0:
-            _predict_state(x, ch.irr_phi[kk], md.dense_ptr, md.dense_idx, y)
+            predict_state(x, ch.irr_phi[kk], md.dense_ptr, md.dense_idx, y)
             predict_covariance(P, ch.irr_phi[kk], md.dense_ptr, md.dense_idx,
                                ch.irr_qd[kk], T)
         tcur = t[i]

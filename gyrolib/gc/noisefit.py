@@ -228,6 +228,7 @@ _INCL_STATES: Final[tuple[int, ...]] = tuple(state_index(nm)
 
 # the shared kernels (gyrolib.filtering.kernels) compiled for these 4 states
 _kernels4 = kalman_kernels(len(_INCL_STATES))
+predict_state = _kernels4.predict_state
 predict_covariance = _kernels4.predict_covariance
 measurement_projection = _kernels4.measurement_projection
 joseph_scalar_update = _kernels4.joseph_scalar_update
@@ -252,13 +253,7 @@ def _inclinometer_kernel(steps, z, Phi, Qd, H, hptr, hidx, r, P0):
     count = 0
     for i in range(z.shape[0]):
         for _ in range(steps[i]):
-            for a in range(n):
-                s = 0.0
-                for c in range(n):
-                    s += Phi[a, c] * x[c]
-                y[a] = s
-            for a in range(n):
-                x[a] = y[a]
+            predict_state(x, Phi, rowptr, colidx, y)
             predict_covariance(P, Phi, rowptr, colidx, Qd, T)
         for q in range(z.shape[1]):
             zq = z[i, q]
