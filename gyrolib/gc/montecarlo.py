@@ -48,6 +48,7 @@ share the work (``executor``).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import os
@@ -1088,6 +1089,25 @@ class MonteCarloResult:
             sol = np.linalg.solve(C, es.T)
             out[:, ti] = np.sum(es.T * sol, axis=0)
         return out
+
+    def select(self, runs: slice) -> MonteCarloResult:
+        """The same Monte Carlo restricted to the runs ``runs`` (a slice of run indices), e.g.
+        to compare disjoint sets of runs.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> mc = gc.monte_carlo(gc.GyrocompassParams(), 8, 0.01, seed=1)
+        >>> mc.select(slice(0, 4)).n_runs
+        4
+        """
+        if not isinstance(runs, slice):
+            raise TypeError(f"runs must be a slice of run indices; got {type(runs).__name__}")
+        idx = range(self.n_runs)[runs]
+        if len(idx) == 0:
+            raise ValueError(f"runs must select at least one of the {self.n_runs} runs; "
+                             f"got {runs}")
+        return dataclasses.replace(self, est=self.est[runs], tru=self.tru[runs])
 
     def inside_share(self, names: tuple[str, ...] | None = None,
                      confidence: float = 0.95) -> float:
