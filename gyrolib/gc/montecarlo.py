@@ -101,8 +101,9 @@ class TruthModel(NamedTuple):
     the δ term, flipped by ``eq1_sign="-"`` in the mirrored angle), ``hi = H/I``,
     ``ub = H ω_ub/(I g)``; ``g``; ``sr`` the sensors' noise standard deviations per sample;
     ``off_b``, ``off_bd``: the truth's nominal minus the filter's at the samples;
-    ``substeps``; ``linear``: 1 to replace the torques by their linearization about the
-    nominal (the filter's Eq. (5)).
+    ``substeps``; ``linear``: which torques are replaced by their linearization about the
+    nominal (the filter's Eq. (5)): 0 none, 1 all, 2 the horizontal-rate term, 3 the tilt
+    terms (:data:`LINEARIZE`).
     """
 
     h: float
