@@ -4,7 +4,7 @@
     python3 tasks.py book    # set up .venv, build the book into _build/html
     python3 tasks.py pdf     # the book as one PDF: _build/pdf/book.pdf (HTML links to it)
     python3 tasks.py lab     # pinned JupyterLab on chapters/ (args go to jupyter lab)
-    python3 tasks.py test    # set up .venv (and a browser), lint, clean book + PDF, all tests
+    python3 tasks.py test    # set up .venv (and a browser), lint, all tests (one clean book + PDF)
 
 Set-up is idempotent: the virtual environment ``.venv`` is (re)installed from the pinned
 ``requirements.txt`` whenever that file or ``pyproject.toml`` changes; ``lab`` adds the pinned
@@ -191,16 +191,21 @@ def lint() -> None:
 
 
 def test() -> None:
-    """Lint, clean full book build (warnings as errors) and PDF, the pinned JupyterLab
-    environment (a test runs a chapter's notebook with its kernel), then the whole suite."""
+    """Lint, the pinned JupyterLab environment (a test runs a chapter's notebook with its
+    kernel), then the whole suite.
+
+    The suite builds the book once, from clean, into a temporary folder (every chapter
+    executed, warnings as errors, the PDF printed; ``tests/conftest.py``), in the background
+    while the other tests run; the HTML, browser, PDF and determinism tests share that build.
+    ``_build/`` is left as it is: after ``python3 tasks.py book`` its jupyter cache is the
+    second, independent execution the determinism test compares the chapters' outputs with.
+    """
     setup()
     ensure_browser()
     lint()
-    book(clean=True)
-    pdf()
     lab_setup()
-    env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_BOOK_BUILT="1")
-    run(PY, "-m", "pytest", env=env)
+    env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_TEST_COMMAND="1")
+    run(PY, "-m", "pytest", "--durations=10", env=env)
 
 
 def chapter(name: str) -> None:

@@ -3,7 +3,8 @@
 * **Version.**  The book's version is gyrolib's (one string, in ``pyproject.toml``, read by
   ``gyrolib.__version__``).  It is set as Sphinx's ``version``/``release`` and shown in every
   page's footer, with a link to the PDF of the book when ``_build/pdf/book.pdf`` exists
-  (``python3 tasks.py pdf`` writes it, then rebuilds the HTML so that the link appears).
+  (``python3 tasks.py pdf`` writes it, then rebuilds the HTML so that the link appears;
+  the PDF is looked for beside the output folder, ``_build/pdf`` for ``_build/html``).
 * **Ledger data.**  After an HTML build, ``ledger.json`` and ``ledger.csv`` (the output of
   ``gyrolib.book.ledger.to_json``/``to_csv``, the same as ``python -m gyrolib ledger``, both
   carrying the version) are written to the root of the built site; the ledger page links to
@@ -32,7 +33,9 @@ def _book_version() -> str:
 
 
 def _pdf_path(app) -> Path:
-    return Path(app.srcdir) / "_build" / "pdf" / PDF_NAME
+    """``pdf/book.pdf`` beside the output folder (``_build/html`` -> ``_build/pdf``), so that
+    a build elsewhere (``--path-output``, the test session's book) finds its own PDF."""
+    return Path(app.outdir).parent / "pdf" / PDF_NAME
 
 
 def _config_inited(app, config) -> None:

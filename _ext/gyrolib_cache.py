@@ -6,11 +6,22 @@ chapters.  On ``config-inited`` this extension hashes ``gyrolib/**/*.py`` and
 ``requirements.txt``; when the hash differs from the one stored beside the cache, the cache is
 deleted before myst-nb opens it, and every document is marked outdated, so that Sphinx
 re-reads (and myst-nb re-executes) chapters whose own source did not change.
+
+It also sets the environment the chapters' kernels inherit (:func:`_kernel_env`):
+
+* ``GYROLIB_LEDGER_MEMO``, a folder inside the cache: the chapters that show the ledger
+  (intro, ledger, citing, errata) and the ledger files written after the build share one
+  computation of ``gyrolib.book.ledger.collect()`` (keyed by gyrolib's sources, and wiped
+  with the cache);
+* ``OPENBLAS_NUM_THREADS=1`` unless set: the chapters' linear algebra is on matrices of at
+  most a few dozen rows, where OpenBLAS's threads only wait for each other (three times
+  slower on a loaded 2-core machine); parallel work goes through ``executor=`` instead.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
 import shutil
 from pathlib import Path
 
@@ -52,6 +63,22 @@ def _invalidate(app, config) -> None:
     stamp.write_text(fingerprint + "\n")
 
 
+def _cache_dir(app, config) -> Path | None:
+    cache = getattr(config, "nb_execution_cache_path", "") or ""
+    if not cache:
+        return None
+    cache_dir = Path(cache)
+    return cache_dir if cache_dir.is_absolute() else Path(app.srcdir) / cache_dir
+
+
+def _kernel_env(app, config) -> None:
+    """Environment of the kernels myst-nb starts (they inherit this process's)."""
+    cache_dir = _cache_dir(app, config)
+    if cache_dir is not None:
+        os.environ["GYROLIB_LEDGER_MEMO"] = str(cache_dir / "ledger")
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+
 def _outdated(app, env, added, changed, removed):
     """After a library change every document is stale, not only the edited ones."""
     if getattr(app, "gyrolib_changed", False):
@@ -62,5 +89,6 @@ def _outdated(app, env, added, changed, removed):
 def setup(app):
     # Priority < 500 so that this runs before myst-nb reads the cache.
     app.connect("config-inited", _invalidate, priority=100)
+    app.connect("config-inited", _kernel_env, priority=101)
     app.connect("env-get-outdated", _outdated)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1"}

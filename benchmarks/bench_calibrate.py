@@ -1,18 +1,23 @@
 #!/usr/bin/env python3
-"""Benchmark: calibration on recorded data (issue 13).
+"""Benchmark: calibration on recorded data (issues 13, 18).
 
-Cases (targets from the issue; timings are never asserted in tests):
+Every GC case is timed against the **previous path**: ``gc.calibrate`` as it was before the
+kernel was rewritten for issues 18 and 22 (commit ``PREVIOUS``, loaded from git history into a
+module of its own, same process or a fresh one with the same record).  Wall time and CPU time
+of the process are both recorded (the machine is shared: under load the wall time of a
+single-threaded run is its CPU time stretched by the contention).
 
-1. GC, 100 s at 1 kHz: ``gc.calibrate`` on an in-memory record after import and JIT warm-up,
-   target <= 1 s.  Peer, same process: a plain-numpy filter (the library's per-step ``Φ_k``,
-   ``Qd_k`` of ``gc.discretize``, scalar updates in numpy) on the first 10 s of the same
-   record, scaled x10.  Also the same record with every time stamp jittered (no target).
-2. GC, one hour at 1 kHz (3.6·10⁶ rows) streamed in chunks, in a fresh process: peak resident
-   memory (target <= 500 MB) and cost per row against case 1.  The rows are generated chunk by
-   chunk (noise about the aperiodic nominal motion), so the generator holds no record either.
-3. GC end to end from the sample file (``records.read_gc`` + ``gc.calibrate``), no target.
-4. RSF, 60 s at 1 kHz: ``rsf.calibrate`` on an in-memory record, target <= 0.5 s.  Peer:
-   ``rsf.run_correction`` (plain numpy) on the simulated ``SensorRecord``.
+1. GC, 100 s at 1 kHz, ``gc.calibrate`` on an in-memory record after the JIT warm-up (target
+   <= 1 s); the same with every time stamp jittered (no target).
+2. GC, one hour at 1 kHz (3.6·10⁶ rows), ``gc.calibrate`` on an in-memory record, in a fresh
+   process each (target <= 5 s on 2 cores; peak resident memory recorded, the record alone
+   holds 115 MB).
+3. GC, the same hour end to end through the command line: ``python -m gyrolib calibrate gc
+   FILE --json`` on a 3.6·10⁶-row CSV (target <= 5 s, peak memory <= 300 MB).  Peer: reading
+   the file alone (``records.GCChunks``), in a fresh process: where the time goes.
+4. ``gc.fit_noise`` on the 100 s sample record with another vibration spectrum (target
+   <= 60 s).  Peer: one ``gc.calibrate`` of the same record (the unit of its cost).
+5. GC sample file read + calibrate; RSF, 60 s at 1 kHz against ``rsf.run_correction``.
 
     .venv/bin/python benchmarks/bench_calibrate.py [--repeat 3] [--no-hour] [--write]
 """
@@ -20,186 +25,234 @@ Cases (targets from the issue; timings are never asserted in tests):
 from __future__ import annotations
 
 import argparse
-import datetime as _dt
+import importlib.util
 import json
 import os
-import platform
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _results import Recorder
+
 ROOT = Path(__file__).resolve().parents[1]
-RESULTS = ROOT / "benchmarks" / "results" / "calibrate.json"
+
+#: The commit whose gc.calibrate is the peer (before issues 18 and 22).
+PREVIOUS = "6712084"
 
 
-def _best(fn, repeat: int) -> float:
-    times = []
+def previous_calibrate():
+    """``calibrate`` of gyrolib/gc/calibration.py at :data:`PREVIOUS`, or None."""
+    try:
+        src = subprocess.run(["git", "-C", str(ROOT), "show",
+                              f"{PREVIOUS}:gyrolib/gc/calibration.py"], capture_output=True,
+                             text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    path = Path(tempfile.gettempdir()) / f"gyrolib_calibration_{PREVIOUS}.py"
+    path.write_text(src)
+    spec = importlib.util.spec_from_file_location(f"calibration_{PREVIOUS}", path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    try:
+        spec.loader.exec_module(mod)
+    except ImportError:     # the private names it imported are gone
+        return None
+    return mod.calibrate
+
+
+def _best(fn, repeat: int) -> tuple[float, float]:
+    """Best wall and best CPU time of ``repeat`` calls."""
+    wall, cpu = [], []
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
+        wall.append(time.perf_counter() - t0)
+        cpu.append(time.process_time() - c0)
+    return min(wall), min(cpu)
 
 
-def peer_numpy(rec, params) -> float:
-    """Plain numpy: per-step Φ_k, Qd_k of gc.discretize, predict, three scalar updates."""
-    from gyrolib import gc
-
-    n = rec.n
-    disc = gc.discretize(params, n * params.dt)
-    mdl = disc.model
-    H, r = mdl.H, mdl.r
-    beta_n = disc.beta_half[2::2]
-    x = np.zeros(10)
-    P = gc.initial_covariance(params)
-    z = rec.measurements()
-    t0 = time.perf_counter()
-    for k in range(n):
-        Phi, Qd = mdl.phi(k), mdl.qd(k)
-        x = Phi @ x
-        P = Phi @ P @ Phi.T + Qd
-        zk = z[k].copy()
-        zk[0] -= beta_n[k]
-        for q in range(3):
-            h = H[q]
-            Ph = P @ h
-            S = h @ Ph + r[q]
-            kq = Ph / S
-            x = x + kq * (zk[q] - h @ x)
-            P = P - np.outer(kq, Ph)
-    return time.perf_counter() - t0
+def _peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def hour_child(t_end: float) -> None:
-    """Run in a fresh process: stream t_end seconds, print JSON {seconds, rows, peak_mb}."""
+def hour_record(t_end: float = 3600.0):
+    """An in-memory record of ``t_end`` s at 1 kHz: noise about the aperiodic nominal."""
     from gyrolib import gc
 
     p = gc.GyrocompassParams()
-    chunk = 100_000
-    n_total = round(t_end / p.dt)
+    n = round(t_end / p.dt)
+    t = np.arange(1, n + 1) * p.dt
     sr = np.sqrt(np.diag(gc.measurement_noise_covariance(p)))
     rng = np.random.default_rng(1)
+    angle = gc.nominal_motion_aperiodic(p, t).beta + sr[0] * rng.standard_normal(n)
+    return gc.GCRecord(t=t, angle_sensor=angle, inclinometer_y=sr[1] * rng.standard_normal(n),
+                       inclinometer_z=sr[2] * rng.standard_normal(n))
 
-    def chunks():
-        for s in range(0, n_total, chunk):
-            t = (np.arange(s, min(s + chunk, n_total)) + 1) * p.dt
-            beta = gc.nominal_motion_aperiodic(p, t).beta
-            z = rng.standard_normal((t.size, 3)) * sr
-            yield gc.GCRecord(t=t, angle_sensor=beta + z[:, 0], inclinometer_y=z[:, 1],
-                              inclinometer_z=z[:, 2])
 
-    gc.calibrate(next(chunks()), p)   # JIT warm-up (cache load)
-    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+def hour_child(which: str, t_end: float) -> None:
+    """Fresh process: calibrate an in-memory record of t_end s; print JSON."""
+    from gyrolib import gc
+
+    p = gc.GyrocompassParams()
+    calibrate = gc.calibrate if which == "ours" else previous_calibrate()
+    rec = hour_record(t_end)
+    calibrate(hour_record(1.0), p)   # JIT warm-up (cache load)
+    base = _peak_mb()
+    t0, c0 = time.perf_counter(), time.process_time()
+    res = calibrate(rec, p, store_every=1000)
+    print(json.dumps({"wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
+                      "rows": res.rows, "peak_mb": _peak_mb(), "before_mb": base}))
+
+
+def read_child(path: str) -> None:
+    """Fresh process: read a GC CSV file through records.GCChunks; print JSON."""
+    from gyrolib import records
+
+    t0, c0 = time.perf_counter(), time.process_time()
+    rows = sum(chunk.n for chunk in records.GCChunks(path))
+    print(json.dumps({"wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
+                      "rows": rows, "peak_mb": _peak_mb()}))
+
+
+def _child(*args: str) -> dict:
+    out = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True,
+                         check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _cli(path: Path) -> dict:
+    """``python -m gyrolib calibrate gc FILE --json``: wall time and the child's peak RSS."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     t0 = time.perf_counter()
-    res = gc.calibrate(chunks(), p, store_every=1000)
-    sec = time.perf_counter() - t0
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(json.dumps({"seconds": sec, "rows": res.rows, "peak_mb": peak,
-                      "peak_before_mb": base}))
-
-
-def _machine() -> dict:
-    cpu = platform.processor() or ""
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
-            "numpy": np.__version__}
+    out = subprocess.run([sys.executable, "-m", "gyrolib", "calibrate", "gc", str(path),
+                          "--json"], capture_output=True, text=True, cwd=ROOT)
+    wall = time.perf_counter() - t0
+    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    return {"wall": wall, "status": out.returncode, "peak_mb": max(peak, before) / 1024,
+            "stderr": out.stderr.strip()[-300:]}
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--no-hour", action="store_true", help="skip the one-hour case")
-    ap.add_argument("--write", action="store_true", help=f"write {RESULTS.relative_to(ROOT)}")
-    ap.add_argument("--hour-child", type=float, help=argparse.SUPPRESS)
+    ap.add_argument("--no-hour", action="store_true", help="skip the one-hour cases")
+    ap.add_argument("--write", action="store_true",
+                    help="write benchmarks/results/calibrate.json")
+    ap.add_argument("--hour-child", nargs=2, metavar=("WHICH", "T_END"),
+                    help=argparse.SUPPRESS)
+    ap.add_argument("--read-child", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.hour_child:
-        hour_child(args.hour_child)
+        hour_child(args.hour_child[0], float(args.hour_child[1]))
         return
-    load = os.getloadavg()[0]
+    if args.read_child:
+        read_child(args.read_child)
+        return
     from gyrolib import gc, records, rsf
 
+    rec_ = Recorder("calibrate")
+    previous = previous_calibrate()
+    if previous is None:
+        sys.exit(f"the previous path (commit {PREVIOUS}) cannot be loaded from git")
     p = gc.GyrocompassParams()
-    results = []
     sim = gc.simulate_record(p, 100.0, seed=1)
     t0 = time.perf_counter()
     gc.calibrate(sim.record, p)
-    print(f"first call (numba cache load or compile): {time.perf_counter() - t0:.2f} s")
-    ours = _best(lambda: gc.calibrate(sim.record, p), args.repeat)
-    short = gc.GCRecord(t=sim.record.t[:10_000], angle_sensor=sim.record.angle_sensor[:10_000],
-                        inclinometer_y=sim.record.inclinometer_y[:10_000],
-                        inclinometer_z=sim.record.inclinometer_z[:10_000])
-    peer10 = peer_numpy(short, p)
-    peer = 10 * peer10
-    print(f"GC 100 s @ 1 kHz: ours {ours:.3f} s; peer (numpy, 10 s x10) {peer:.2f} s; "
-          f"ratio {peer / ours:.0f}x")
-    results.append({"case": "gc: 100 s at 1 kHz, in memory, after warm-up", "ours_s": ours,
-                    "peer": "plain-numpy filter, same model (10 s measured, x10)",
-                    "peer_s": peer, "ratio": peer / ours, "target_s": 1.0,
-                    "note": f"best of {args.repeat}"})
+    previous(sim.record, p)
+    print(f"first calls (numba cache load or compile): {time.perf_counter() - t0:.2f} s")
+
+    # 1. 100 s in memory
+    ours, ours_cpu = _best(lambda: gc.calibrate(sim.record, p), args.repeat)
+    peer, peer_cpu = _best(lambda: previous(sim.record, p), args.repeat)
+    rec_.case("gc: 100 s at 1 kHz, in memory, after warm-up", ours,
+              peer=f"previous gc.calibrate (commit {PREVIOUS})", peer_s=peer, target_s=1.0,
+              note=f"best of {args.repeat}; CPU {ours_cpu:.3f} s vs {peer_cpu:.3f} s")
     rng = np.random.default_rng(2)
     jit = gc.GCRecord(t=sim.record.t + rng.uniform(-1e-5, 1e-5, sim.record.n),
                       angle_sensor=sim.record.angle_sensor,
                       inclinometer_y=sim.record.inclinometer_y,
                       inclinometer_z=sim.record.inclinometer_z)
-    ours_j = _best(lambda: gc.calibrate(jit, p), args.repeat)
-    print(f"GC 100 s @ 1 kHz, every time stamp jittered by up to ±10 µs: {ours_j:.3f} s")
-    results.append({"case": "gc: 100 s at 1 kHz, every time stamp jittered (±1 % of dt)",
-                    "ours_s": ours_j, "peer": "the same record without jitter",
-                    "peer_s": ours, "ratio": ours / ours_j, "target_s": None,
-                    "note": "Taylor time shift per step; no target"})
+    ours_j, ours_j_cpu = _best(lambda: gc.calibrate(jit, p), args.repeat)
+    peer_j, peer_j_cpu = _best(lambda: previous(jit, p), args.repeat)
+    rec_.case("gc: 100 s at 1 kHz, every time stamp jittered (±1 % of dt)", ours_j,
+              peer=f"previous gc.calibrate (commit {PREVIOUS})", peer_s=peer_j,
+              note=f"Taylor time shift per step; no target; CPU {ours_j_cpu:.3f} s vs "
+                   f"{peer_j_cpu:.3f} s")
+
+    # 2., 3. one hour
     if not args.no_hour:
-        out = subprocess.run([sys.executable, __file__, "--hour-child", "3600"],
-                             capture_output=True, text=True, check=True)
-        h = json.loads(out.stdout.strip().splitlines()[-1])
-        per_row_hour = h["seconds"] / h["rows"]
-        per_row_100 = ours / sim.record.n
-        print(f"GC 1 h @ 1 kHz streamed: {h['seconds']:.1f} s, {h['rows']} rows, "
-              f"{1e6 * per_row_hour:.2f} µs/row (100 s case {1e6 * per_row_100:.2f}); "
-              f"peak RSS {h['peak_mb']:.0f} MB (after warm-up {h['peak_before_mb']:.0f} MB)")
-        results.append({"case": "gc: 1 h at 1 kHz (3.6e6 rows) streamed in chunks, fresh "
-                                "process", "ours_s": h["seconds"], "peer": "gc 100 s case x36",
-                         "peer_s": 36 * ours, "ratio": 36 * ours / h["seconds"],
-                         "target_s": None,
-                         "note": (f"peak RSS {h['peak_mb']:.0f} MB (target <= 500 MB; "
-                                  f"{h['peak_before_mb']:.0f} MB already after import and "
-                                  "warm-up); "
-                                  f"{1e6 * per_row_hour:.2f} us/row vs "
-                                  f"{1e6 * per_row_100:.2f} us/row at 100 s")})
+        h = _child("--hour-child", "ours", "3600")
+        hp = _child("--hour-child", "previous", "3600")
+        rec_.case("gc: 1 h at 1 kHz (3.6e6 rows), in memory, fresh process", h["wall"],
+                  peer=f"previous gc.calibrate (commit {PREVIOUS}), fresh process",
+                  peer_s=hp["wall"], target_s=5.0,
+                  note=(f"CPU {h['cpu']:.2f} s vs {hp['cpu']:.2f} s; "
+                        f"{1e6 * h['cpu'] / h['rows']:.2f} vs "
+                        f"{1e6 * hp['cpu'] / hp['rows']:.2f} CPU us/row; peak RSS "
+                        f"{h['peak_mb']:.0f} MB vs {hp['peak_mb']:.0f} MB (the record "
+                        f"alone 115 MB; {h['before_mb']:.0f} MB before the call)"))
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / "gc_hour.csv"
+            hr = hour_record(3600.0)
+            records.write_csv(path, {"t": hr.t, "angle_sensor": hr.angle_sensor,
+                                     "inclinometer_y": hr.inclinometer_y,
+                                     "inclinometer_z": hr.inclinometer_z},
+                              fmt=["%.3f", "%.9g", "%.9g", "%.9g"])
+            del hr
+            mb = path.stat().st_size / 2**20
+            cli = _cli(path)
+            rd = _child("--read-child", str(path))
+            rec_.case("gc: 1 h at 1 kHz end to end, python -m gyrolib calibrate gc FILE "
+                      f"--json ({mb:.0f} MB CSV)", cli["wall"],
+                      peer="reading the file alone (records.GCChunks), fresh process",
+                      peer_s=rd["wall"], target_s=5.0,
+                      note=(f"exit {cli['status']}; peak RSS {cli['peak_mb']:.0f} MB "
+                            f"(target 300 MB); reading alone {rd['wall']:.2f} s wall, "
+                            f"{rd['cpu']:.2f} s CPU, {rd['peak_mb']:.0f} MB; filtering the "
+                            f"in-memory hour {h['cpu']:.2f} s CPU"
+                            + (f"; stderr: {cli['stderr']}" if cli["status"] else "")))
+
+    # 4. the noise fit on 100 s
+    wrong = records.read_gc(ROOT / "data" / "gc_record_wrong_spectrum.csv.gz")
+    t0, c0 = time.perf_counter(), time.process_time()
+    fit = gc.fit_noise(wrong, p)
+    fit_wall, fit_cpu = time.perf_counter() - t0, time.process_time() - c0
+    one, _ = _best(lambda: gc.calibrate(wrong, p), args.repeat)
+    truth = json.loads((ROOT / "data" / "truth.json").read_text())[
+        "gc_record_wrong_spectrum.csv.gz"]
+    rec_.case("gc: fit_noise on 100 s at 1 kHz (alpha1, sigma1_sq, C_as, C_in)", fit_wall,
+              peer="one gc.calibrate of the same record", peer_s=one, target_s=60.0,
+              note=(f"CPU {fit_cpu:.1f} s; {fit.n_evaluations} full likelihoods; alpha1 "
+                    f"{fit.value('alpha1'):.3g} +- {fit.std_error('alpha1'):.2g} (made with "
+                    f"{truth['alpha1']:.3g}), sigma1_sq {fit.value('sigma1_sq'):.3g} +- "
+                    f"{fit.std_error('sigma1_sq'):.2g} (made with {p.sigma1_sq:.3g}); "
+                    f"{fit.message}"))
+
+    # 5. sample file end to end; RSF
     sample = ROOT / "data" / "gc_record.csv.gz"
-    e2e = _best(lambda: gc.calibrate(records.read_gc(sample), p), args.repeat)
-    read = _best(lambda: records.read_gc(sample), args.repeat)
-    print(f"GC sample file end to end: {e2e:.3f} s (reading alone {read:.3f} s)")
-    results.append({"case": "gc: sample file read + calibrate (99 000 rows, gzip CSV)",
-                    "ours_s": e2e, "peer": "reading the file alone", "peer_s": read,
-                    "ratio": read / e2e, "target_s": None, "note": "no target"})
+    e2e, _ = _best(lambda: gc.calibrate(records.read_gc(sample), p), args.repeat)
+    read, _ = _best(lambda: records.read_gc(sample), args.repeat)
+    rec_.case("gc: sample file read + calibrate (99 000 rows, gzip CSV)", e2e,
+              peer="reading the file alone", peer_s=read, note="no target")
     cfg = rsf.SimulationConfig(duration=60.0, sample_rate=1000.0)
     flight = rsf.simulate_flight(cfg, seed=1)
     rrec = rsf.record_from_simulation(flight)
     rsf.calibrate(rrec, 1.0)
-    ours_r = _best(lambda: rsf.calibrate(rrec, 1.0), args.repeat)
-    peer_r = _best(lambda: rsf.run_correction(flight, 1.0), args.repeat)
-    print(f"RSF 60 s @ 1 kHz: ours {ours_r:.4f} s; peer run_correction {peer_r:.4f} s")
-    results.append({"case": "rsf: 60 s at 1 kHz, in memory", "ours_s": ours_r,
-                    "peer": "rsf.run_correction on the SensorRecord (plain numpy)",
-                    "peer_s": peer_r, "ratio": peer_r / ours_r, "target_s": 0.5,
-                    "note": f"best of {args.repeat}"})
-    doc = {"benchmark": "calibrate",
-           "date": _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat(),
-           "machine": _machine(), "load": load, "results": results}
+    ours_r, _ = _best(lambda: rsf.calibrate(rrec, 1.0), args.repeat)
+    peer_r, _ = _best(lambda: rsf.run_correction(flight, 1.0), args.repeat)
+    rec_.case("rsf: 60 s at 1 kHz, in memory", ours_r,
+              peer="rsf.run_correction on the SensorRecord (plain numpy)", peer_s=peer_r,
+              target_s=0.5, note=f"best of {args.repeat}")
     if args.write:
-        RESULTS.write_text(json.dumps(doc, indent=2) + "\n")
-        print(f"wrote {RESULTS}")
+        rec_.write()
 
 
 if __name__ == "__main__":
+    os.environ.setdefault("PYTHONHASHSEED", "0")
     main()

@@ -118,6 +118,18 @@ def check_instance(name: str, value: object, cls: type | tuple[type, ...]) -> ob
     return value
 
 
+def check_covariance(name: str, M: np.ndarray) -> np.ndarray:
+    """A (noise or state) covariance matrix, already a float array: symmetric to rounding
+    (1e-9 of its largest entry), with a diagonal >= 0."""
+    scale = float(np.max(np.abs(M))) if M.size else 0.0
+    if np.any(np.abs(M - M.T) > 1e-9 * scale):
+        raise ValueError(f"{name} must be a symmetric matrix (a covariance)")
+    if np.any(np.diag(M) < 0.0):
+        raise ValueError(f"{name} must have a diagonal >= 0 (variances); "
+                         f"got min {np.diag(M).min()}")
+    return M
+
+
 def check_bool(name: str, value: object) -> bool:
     """``True`` or ``False`` (numpy booleans included), not a truthy stand-in."""
     if not isinstance(value, bool | np.bool_):

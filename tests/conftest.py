@@ -1,33 +1,253 @@
-"""Shared test helpers."""
+"""Shared test helpers: the book built once per test session.
+
+The tests of the built book (HTML checks, the real browser, the PDF, determinism, the ledger
+pages, the release footer, the downloadable notebooks) share one build, made by
+:func:`session_book` in a temporary folder with a fresh jupyter cache, so every chapter is
+executed and every warning shown (``-W -n --keep-going``, as ``python3 tasks.py book``):
+
+1. ``jupyter-book build --builder singlehtml`` — executes every chapter;
+2. ``_ext/print_pdf.py`` prints that page to ``pdf/book.pdf`` with Chromium (when installed);
+3. ``jupyter-book build --builder html`` — reads the chapters' outputs from the cache of
+   step 1 (nothing executed again) and links the PDF from every page's footer.
+
+The build starts in the background as soon as the tests are collected (when a collected test
+module uses the book), so that the other tests run on the second core meanwhile; the first
+test that needs the book waits for it.  The project's own ``_build/`` is never touched.
+
+``GYROLIB_REUSE_BOOK=1`` skips the build and uses the project's ``_build/`` as
+``python3 tasks.py pdf`` left it (``GYROLIB_REUSE_BOOK=/path/to/_build``: another build
+folder, e.g. one kept by ``GYROLIB_KEEP_BOOK=1``), for quick local reruns; the determinism
+test then executes the chapters a second time itself.  ``GYROLIB_KEEP_BOOK=1`` keeps the
+temporary build and prints where it is.
+"""
 
 from __future__ import annotations
 
 import os
+import re
+import shutil
+import signal
 import subprocess
 import sys
+import tempfile
+import threading
+import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-HTML = ROOT / "_build" / "html"
+JUPYTER_BOOK = Path(sys.executable).with_name("jupyter-book")
+CHROMIUM = Path("/usr/bin/chromium")
+BUILD_FLAGS = ["-W", "-n", "--keep-going"]  # as in tasks.py
+BUILD_TIMEOUT_S = 1800
+
+
+@dataclass(frozen=True)
+class Book:
+    """A built book: ``build`` is its ``_build`` folder.
+
+    ``html`` the HTML pages, ``pdf`` the whole book as one PDF (missing when Chromium is not
+    installed: ``pdf_error`` says why), ``executed`` the executed notebooks (myst-nb's
+    ``jupyter_execute``), ``cache`` the jupyter cache the chapters were executed into, and
+    ``fresh`` whether they were executed in this test session (a new, empty cache).
+    ``seconds`` is what each build step took, ``chapters`` each chapter's execution (s, as
+    myst-nb reports it).
+    """
+
+    build: Path
+    fresh: bool
+    pdf_error: str = ""
+    seconds: tuple[tuple[str, float], ...] = ()
+    chapters: tuple[tuple[str, float], ...] = ()
+
+    @property
+    def html(self) -> Path:
+        return self.build / "html"
+
+    @property
+    def pdf(self) -> Path:
+        return self.build / "pdf" / "book.pdf"
+
+    @property
+    def executed(self) -> Path:
+        return self.build / "jupyter_execute"
+
+    @property
+    def cache(self) -> Path:
+        return self.build / ".jupyter_cache"
+
+
+def _config(out: Path) -> Path:
+    """The project's ``_config.yml`` with the jupyter cache in ``out`` (a fresh one) and the
+    local extensions found from anywhere."""
+    import yaml
+
+    cfg = yaml.safe_load((ROOT / "_config.yml").read_text(encoding="utf-8"))
+    cfg["execute"]["cache"] = str(out / "_build" / ".jupyter_cache")
+    cfg["sphinx"]["local_extensions"] = {name: str(ROOT / path) for name, path
+                                         in cfg["sphinx"]["local_extensions"].items()}
+    path = out / "_config.yml"
+    path.write_text(yaml.safe_dump(cfg, allow_unicode=True, sort_keys=False), encoding="utf-8")
+    return path
+
+
+class _BookBuild:
+    """The three build steps, run once, in a background thread."""
+
+    def __init__(self) -> None:
+        self.book: Book | None = None
+        self.error = ""
+        self.tmp: Path | None = None
+        self.waited = False
+        self.logs: dict[str, str] = {}
+        self._cancelled = False
+        self._proc: subprocess.Popen | None = None
+        self._thread: threading.Thread | None = None
+        self._lock = threading.Lock()
+
+    def start(self) -> None:
+        with self._lock:
+            if self._thread is None:
+                self._thread = threading.Thread(target=self._run, name="gyrolib-book",
+                                                daemon=True)
+                self._thread.start()
+
+    def wait(self) -> Book:
+        self.waited = True
+        self.start()
+        self._thread.join()
+        if self.book is None:
+            pytest.fail(self.error or "the session's book build did not finish")
+        return self.book
+
+    def _step(self, name: str, cmd: list[str], seconds: list) -> str | None:
+        env = dict(os.environ, MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1",
+                   NO_COLOR="1")
+        t0 = time.perf_counter()
+        with self._lock:
+            if self._cancelled:
+                return f"{name}: cancelled"
+            # its own process group: a cancelled build ends with its kernels
+            self._proc = subprocess.Popen([str(c) for c in cmd], cwd=ROOT, env=env, text=True,
+                                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                          start_new_session=True)
+        try:
+            output, _ = self._proc.communicate(timeout=BUILD_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            self._kill()
+            self._proc.communicate()
+            return f"{name}: more than {BUILD_TIMEOUT_S} s"
+        seconds.append((name, round(time.perf_counter() - t0, 1)))
+        self.logs[name] = output
+        if self._proc.returncode != 0:
+            return f"{name} failed (exit {self._proc.returncode}):\n{output[-6000:]}"
+        return None
+
+    def _kill(self) -> None:
+        """End the running step's process group (jupyter-book and its kernels)."""
+        proc = self._proc
+        if proc is not None and proc.poll() is None:
+            try:
+                os.killpg(proc.pid, signal.SIGTERM)
+            except ProcessLookupError:
+                pass
+
+    def _run(self) -> None:
+        reuse = os.environ.get("GYROLIB_REUSE_BOOK", "")
+        if reuse:
+            build = ROOT / "_build" if reuse == "1" else Path(reuse)
+            if not (build / "html" / "index.html").is_file():
+                self.error = (f"GYROLIB_REUSE_BOOK={reuse} but there is no "
+                              f"{build}/html/index.html: run `python3 tasks.py pdf` first")
+                return
+            self.book = Book(build=build, fresh=False,
+                             pdf_error="" if (build / "pdf" / "book.pdf").is_file()
+                             else f"no {build}/pdf/book.pdf: run `python3 tasks.py pdf`")
+            return
+        if not JUPYTER_BOOK.is_file():
+            self.error = f"no {JUPYTER_BOOK}: run the tests with the project's .venv python"
+            return
+        self.tmp = Path(tempfile.mkdtemp(prefix="gyrolib-test-book-"))
+        config = _config(self.tmp)
+        build = self.tmp / "_build"
+        base = [JUPYTER_BOOK, "build", ROOT, "--config", config, "--path-output", self.tmp,
+                *BUILD_FLAGS, "--builder"]
+        seconds: list[tuple[str, float]] = []
+        error = self._step("single-page build (executes every chapter)",
+                           [*base, "singlehtml"], seconds)
+        if error:
+            self.error = error
+            return
+        pdf_error = ""
+        if CHROMIUM.exists():
+            pdf_error = self._step("PDF print", [sys.executable, ROOT / "_ext" / "print_pdf.py",
+                                                 build / "singlehtml",
+                                                 build / "pdf" / "book.pdf"], seconds) or ""
+        else:
+            pdf_error = f"no {CHROMIUM}: the PDF was not printed"
+        error = self._step("HTML build (outputs from the cache)", [*base, "html"], seconds)
+        if error:
+            self.error = error
+            return
+        executed = re.findall(r"(\S+)\.md: Executed notebook in ([\d.]+) seconds",
+                              "\n".join(self.logs.values()))
+        chapters = tuple(sorted(((Path(p).relative_to(ROOT).as_posix(), float(t))
+                                 for p, t in executed), key=lambda c: -c[1]))
+        self.book = Book(build=build, fresh=True, pdf_error=pdf_error, seconds=tuple(seconds),
+                         chapters=chapters)
+
+    def cleanup(self) -> None:
+        """At the end of the session: a build nobody waited for is stopped (a run of tests
+        that turned out not to need it); the temporary folder is removed."""
+        if self._thread is None:
+            return
+        if not self.waited:
+            with self._lock:
+                self._cancelled = True
+            self._kill()
+        self._thread.join()
+        if self.tmp is not None:
+            if os.environ.get("GYROLIB_KEEP_BOOK") == "1" and self.book is not None:
+                print(f"\nthe test session's book is kept in {self.tmp}")
+            else:
+                shutil.rmtree(self.tmp, ignore_errors=True)
+
+
+_BUILD = _BookBuild()
+
+
+def session_book() -> Book:
+    """The book built once for this test session (see the module docstring); a failed build
+    fails every test that needs it, with the build's output."""
+    return _BUILD.wait()
 
 
 def require_built_book() -> Path:
-    """The built book's HTML folder; builds it (``python3 tasks.py book``) when missing.
+    """The HTML folder of :func:`session_book`."""
+    return session_book().html
 
-    Under the test command (``GYROLIB_BOOK_BUILT=1``) the book has just been built, so a
-    missing ``index.html`` is a failure, not a reason to build again.
-    """
-    index = HTML / "index.html"
-    if index.is_file():
-        return HTML
-    if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
-        pytest.fail(f"GYROLIB_BOOK_BUILT=1 but {index} is missing: the book build failed or "
-                    "wrote elsewhere")
-    proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "book"], cwd=ROOT,
-                          capture_output=True, text=True, check=False)
-    if proc.returncode != 0 or not index.is_file():
-        tail = (proc.stdout + proc.stderr)[-4000:]
-        pytest.fail(f"`python3 tasks.py book` failed (exit {proc.returncode}):\n{tail}")
-    return HTML
+
+def _uses_the_book(item: pytest.Item) -> bool:
+    module = getattr(item, "module", None)
+    names = vars(module) if module is not None else {}
+    return "session_book" in names or "require_built_book" in names
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    if any(_uses_the_book(item) for item in session.items):
+        _BUILD.start()  # in the background while the other tests run
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus: int, config) -> None:
+    book = _BUILD.book
+    if book is not None and book.seconds:
+        steps = ", ".join(f"{name} {s:.0f} s" for name, s in book.seconds)
+        terminalreporter.write_line(f"the session's book: {steps}")
+        terminalreporter.write_line("chapters executed: " + ", ".join(
+            f"{doc} {s:.1f} s" for doc, s in book.chapters))
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    _BUILD.cleanup()

@@ -10,10 +10,17 @@ Every page of the book is opened, and the test asserts, collecting all problems 
   127.0.0.1/localhost is aborted and reported (the book must read offline);
 * every ``<img>`` is decoded (``naturalWidth > 0``);
 * where a page has math, MathJax typeset it: one ``mjx-container`` per math element, no MathJax
-  error, and no raw ``$$``, ``\\[``, ``\\(`` or ``\\begin{`` left in the visible text.
+  error, and no raw ``$$``, ``\\[``, ``\\(`` or ``\\begin{`` left in the visible text;
+* no accessibility violation: axe-core runs every rule tagged WCAG 2.0 or 2.1, level A or AA
+  (the experimental ones too, such as label-content-name-mismatch) on the settled page.
+  axe-core comes inside the pinned ``axe-playwright-python`` wheel (``axe.min.js``) and is
+  injected into the page by Playwright: nothing is fetched.  A page with an injected
+  low-contrast paragraph shows that the check can fail.
 
 Further tests: the ledger page shows its table; the search page finds "gyrocompass";
 screenshots of the landing page and one chapter are saved in ``_build/screenshots/``.
+
+The pages are those of the test session's book (``conftest.session_book``).
 """
 
 from __future__ import annotations
@@ -34,7 +41,6 @@ from conftest import require_built_book
 pytestmark = pytest.mark.browser
 
 ROOT = Path(__file__).resolve().parents[1]
-HTML = ROOT / "_build" / "html"
 SHOTS = ROOT / "_build" / "screenshots"
 CHROMIUM = Path("/usr/bin/chromium")
 CHROMIUM_ARGS = [
@@ -47,6 +53,7 @@ LOCAL_HOSTS = {"127.0.0.1", "localhost"}
 TIMEOUT_MS = 30_000
 RAW_MATH = ("$$", "\\[", "\\(", "\\begin{")
 SEARCH_TERM = "gyrocompass"
+AXE_TAGS = ("wcag2a", "wcag2aa", "wcag21a", "wcag21aa")
 
 
 # ----------------------------------------------------------------------------- fixtures
@@ -68,8 +75,7 @@ class _QuietHandler(http.server.SimpleHTTPRequestHandler):
 @pytest.fixture(scope="session")
 def site() -> Iterator[str]:
     """Serve _build/html on 127.0.0.1 (ephemeral port); yields the base URL."""
-    require_built_book()
-    handler = functools.partial(_QuietHandler, directory=str(HTML))
+    handler = functools.partial(_QuietHandler, directory=str(require_built_book()))
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
     thread = threading.Thread(target=server.serve_forever, daemon=True)
     thread.start()
@@ -210,7 +216,7 @@ META_REFRESH = re.compile(r"<meta[^>]+http-equiv=[\"']?refresh", re.IGNORECASE)
 def _visit(browser: Browser, url: str):
     """Open url, following a <meta refresh> (index.html) to the page it leads to."""
     page = browser.open(url)
-    source = HTML / urlsplit(url).path.lstrip("/")
+    source = require_built_book() / urlsplit(url).path.lstrip("/")
     redirects = source.is_file() and bool(META_REFRESH.search(source.read_text()))
     page.goto(url, wait_until="load")
     if redirects:
@@ -239,11 +245,39 @@ def _check_math(page) -> list[str]:
     return problems
 
 
+@functools.cache
+def _axe():
+    """axe-playwright-python's Axe: axe-core's script from the installed wheel."""
+    try:
+        from axe_playwright_python.sync_playwright import Axe
+    except ImportError:
+        if (os.environ.get("GYROLIB_REQUIRE_BROWSER") == "1"
+                or os.environ.get("GYROLIB_TEST_COMMAND") == "1"):
+            pytest.fail("axe-playwright-python (pinned in requirements.txt) is not installed")
+        pytest.skip("axe-playwright-python (pinned in requirements.txt) is not installed")
+    return Axe()
+
+
+def axe_violations(page) -> list[str]:
+    """axe-core's violations of the WCAG 2.0/2.1 A and AA rules on the page, one line each
+    (rule, impact, help, the offending elements)."""
+    axe = _axe()
+    page.evaluate(axe.axe_script)  # to list the rules: every one with these tags
+    rules = page.evaluate("tags => axe.getRules(tags).map(r => r.ruleId)", list(AXE_TAGS))
+    assert "color-contrast" in rules and "label-content-name-mismatch" in rules, rules
+    results = axe.run(page, options={"runOnly": {"type": "rule", "values": rules},
+                                     "resultTypes": ["violations"]})
+    return [f"axe {v['id']} ({v['impact']}): {v['help']}: "
+            + "; ".join(" ".join(n["html"].split())[:160] for n in v["nodes"][:5])
+            + (f" (+{len(v['nodes']) - 5} more)" if len(v["nodes"]) > 5 else "")
+            for v in results.response["violations"]]
+
+
 # ----------------------------------------------------------------------------- tests
 
 
 def test_every_page_is_clean_in_a_real_browser(site, browser):
-    pages = book_pages(HTML)
+    pages = book_pages(require_built_book())
     assert "search.html" in pages and "chapters/intro.html" in pages, pages
     problems: list[str] = []
     for rel in pages:
@@ -258,11 +292,34 @@ def test_every_page_is_clean_in_a_real_browser(site, browser):
             found += page.problems
             found += [f"request leaves localhost (aborted): {u}"
                       for u in dict.fromkeys(browser.offsite)]
+            # after the page's own requests: axe-core preloads the stylesheets itself and
+            # resolves theme.css's `@import "../basic.css"` against the page (a 404 of its
+            # own making, not the book's)
+            found += axe_violations(page)
         finally:
             page.close()
         problems += [f"{rel}: {p}" for p in dict.fromkeys(found)]
     assert not problems, (f"{len(problems)} problems over {len(pages)} pages:\n  "
                           + "\n  ".join(problems))
+
+
+def test_the_accessibility_check_finds_an_injected_low_contrast_element(site, browser):
+    """The same check on a page of the book with one paragraph of light grey on white
+    (#aaaaaa on #ffffff, 2.3:1) added: axe-core reports it, and only it."""
+    page = _visit(browser, site + "chapters/intro.html")
+    try:
+        page.evaluate("""() => {
+          const p = document.createElement('p');
+          p.id = 'gyrolib-low-contrast';
+          p.textContent = 'A paragraph that is hard to read.';
+          p.style.cssText = 'color: #aaaaaa; background: #ffffff';
+          document.querySelector('article.bd-article').appendChild(p);
+        }""")
+        found = axe_violations(page)
+    finally:
+        page.close()
+    assert len(found) == 1 and found[0].startswith("axe color-contrast"), found
+    assert "gyrolib-low-contrast" in found[0], found
 
 
 def _ledger_items() -> int | None:
@@ -318,7 +375,7 @@ def test_search_finds_a_term(site, browser):
         # Independent check: every hit is a page of the book whose text has the term.
         wrong = []
         for href in hits:
-            target = HTML / urlsplit(href).path.lstrip("/")
+            target = require_built_book() / urlsplit(href).path.lstrip("/")
             if not target.is_file() or SEARCH_TERM not in target.read_text().lower():
                 wrong.append(href)
         assert not wrong, f"search hits without {SEARCH_TERM!r} in the page: {wrong}"
@@ -329,11 +386,12 @@ def test_search_finds_a_term(site, browser):
 def test_screenshots_of_landing_page_and_a_chapter(site, browser):
     SHOTS.mkdir(parents=True, exist_ok=True)
     # The first chapter (in reading order) with a figure, else the first chapter.
+    html = require_built_book()
     chapters = [c for c in ("gc_model", "gc_filter", "gc_claims", "rsf_method",
-                            "rsf_simulation") if (HTML / "chapters" / f"{c}.html").is_file()]
+                            "rsf_simulation") if (html / "chapters" / f"{c}.html").is_file()]
     assert chapters, "no chapter page to photograph"
     chapter = next((c for c in chapters
-                    if "<figure" in (HTML / "chapters" / f"{c}.html").read_text()), chapters[0])
+                    if "<figure" in (html / "chapters" / f"{c}.html").read_text()), chapters[0])
     for old in SHOTS.glob("chapter-*.png"):  # a previous run may have photographed another
         old.unlink()
     shots = {"landing.png": "index.html", f"chapter-{chapter}.png": f"chapters/{chapter}.html"}
@@ -369,6 +427,7 @@ def test_every_page_declares_a_favicon_that_loads(site, browser):
     assert icon is not None, "the page has no <link rel=icon>"
     assert icon["status"] == 200 and "svg" in (icon["type"] or ""), icon
     assert "<svg" in icon["body"], icon
-    missing = [rel for rel in book_pages(HTML) if 'rel="icon"' not in (HTML / rel).read_text()
-               and "Refresh" not in (HTML / rel).read_text()[:2000]]
+    html = require_built_book()
+    missing = [rel for rel in book_pages(html) if 'rel="icon"' not in (html / rel).read_text()
+               and "Refresh" not in (html / rel).read_text()[:2000]]
     assert not missing, f"pages without a favicon link: {missing}"

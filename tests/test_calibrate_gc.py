@@ -5,7 +5,9 @@ scalar updates), the truth of seeded simulations, and the gates, gaps, NaNs and 
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -246,3 +248,101 @@ def test_record_and_argument_errors():
         gc.calibrate(rec, P, gate=1.0)
     with pytest.raises(TypeError, match="record must be a GCRecord"):
         gc.calibrate(np.zeros((3, 4)), P)
+
+
+# Lost lock: the run is invalid, with a reason naming the sensor ---------------------------------
+@pytest.fixture(scope="module")
+def sample():
+    from gyrolib import records
+    return records.read_gc(Path(__file__).resolve().parents[1] / "data" / "gc_record.csv.gz")
+
+
+def _with_columns(rec: gc.GCRecord, **cols) -> gc.GCRecord:
+    base = {"t": rec.t, "angle_sensor": rec.angle_sensor,
+            "inclinometer_y": rec.inclinometer_y, "inclinometer_z": rec.inclinometer_z}
+    return gc.GCRecord(**{**base, **cols})
+
+
+def test_good_sample_record_is_valid(sample):
+    """The sample record (gap, NaNs, a 20-row outlier burst): valid, no reason, and the
+    estimate within 3σ of the truth in data/truth.json."""
+    truth = json.loads((Path(__file__).resolve().parents[1] / "data" / "truth.json")
+                       .read_text())["gc_record.csv.gz"]
+    res = gc.calibrate(sample, P)
+    assert res.valid and res.reason == ""
+    assert np.all(res.rejected_share <= 0.01)
+    assert abs(res.omega_gc - truth["omega_gc_rad_s"]) <= 3 * res.omega_gc_std
+    s = res.summary()
+    assert s["valid"] is True and s["reason"] == ""
+    json.dumps(s)   # JSON-ready
+
+
+def test_sign_flipped_inclinometer_is_invalid(sample):
+    """inclinometer_y negated: the filter follows y (processed first) and the gate rejects
+    almost every z sample; the run is invalid and the reason names the inclinometer whose
+    samples were rejected (the data cannot tell which of the two is flipped)."""
+    res = gc.calibrate(_with_columns(sample, inclinometer_y=-sample.inclinometer_y), P)
+    assert not res.valid
+    assert res.rejected_share[2] > 0.5
+    assert "inclinometer_z" in res.reason and "rejected by the chi-square gate" in res.reason
+    assert "angle_sensor" not in res.reason
+    assert res.summary()["valid"] is False
+
+
+def test_angle_in_degrees_is_invalid(sample):
+    """The angle column in degrees: nearly every angle-sensor sample rejected; invalid, the
+    reason names angle_sensor (and only it)."""
+    res = gc.calibrate(_with_columns(sample, angle_sensor=np.degrees(sample.angle_sensor)), P)
+    assert not res.valid
+    assert res.rejected_share[0] > 0.99
+    assert res.reason.startswith("angle_sensor: ")
+    assert "inclinometer" not in res.reason
+
+
+def test_validity_limits_are_parameters(sample):
+    """The limits decide: no rejection allowed makes the sample record's 30 angle-sensor
+    rejections (its outlier burst) invalid; a NIS range of ±0.1 % about 1 (tighter than the
+    sampling spread of a mean over 99 000 samples) fails every sensor."""
+    res = gc.calibrate(sample, P, max_rejected=0.0)
+    assert not res.valid and res.reason.startswith("angle_sensor: ")
+    assert int(res.rejected[0]) >= 20
+    res = gc.calibrate(sample, P, nis_range=(0.999, 1.001))
+    assert not res.valid
+    assert all(f"{name}: mean NIS" in res.reason for name in gc.MEASUREMENT_NAMES)
+
+
+def test_log_likelihood_equals_the_batch_gaussian_density():
+    """ln L of the prediction-error decomposition (recursive, the filter's S and ν) equals the
+    log-density of all 3·n measurements under their joint Gaussian, built in one batch from
+    the same discrete model (Φ_k, Qd_k of gc.discretize): a second algorithm."""
+    n = 40
+    sim = gc.simulate_record(P, n * P.dt, seed=41)
+    rec = sim.record
+    disc = gc.discretize(P, n * P.dt)
+    mdl = disc.model
+    # x_k = Φ_{k-1} x_{k-1} + w: the states at k = 1..n as a linear map of (x_0, w_0..w_{n-1})
+    P0 = gc.initial_covariance(P)
+    L = np.zeros((n, 10, 10 * (n + 1)))
+    X = np.zeros((10, 10 * (n + 1)))
+    X[:, :10] = np.eye(10)
+    blocks = [P0] + [mdl.qd(k) for k in range(n)]
+    for k in range(n):
+        X = mdl.phi(k) @ X
+        X[:, 10 * (k + 1):10 * (k + 2)] += np.eye(10)
+        L[k] = X
+    from scipy.linalg import block_diag
+    Sx = block_diag(*blocks)
+    D = gc.measurement_matrix(P)
+    M = np.concatenate([D @ L[k] for k in range(n)])              # (3n, 10(n+1))
+    R = np.kron(np.eye(n), gc.measurement_noise_covariance(P))
+    C = M @ Sx @ M.T + R
+    z = np.column_stack([rec.angle_sensor - disc.beta_half[2::2], rec.inclinometer_y,
+                         rec.inclinometer_z]).ravel()
+    batch = scipy.stats.multivariate_normal(mean=np.zeros(3 * n), cov=C).logpdf(z)
+    ll = gc.innovation_log_likelihood(rec, P)
+    assert ll == pytest.approx(batch, rel=1e-9, abs=1e-6)
+    res = gc.calibrate(rec, P, gate=1 - 1e-12)
+    assert res.rejected.sum() == 0 and res.log_likelihood == pytest.approx(ll, rel=1e-12)
+    # power: a wrong model gives another number
+    wrong = gc.innovation_log_likelihood(rec, dataclasses.replace(P, C_as=2 * P.C_as))
+    assert abs(wrong - batch) > 1.0

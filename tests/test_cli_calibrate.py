@@ -162,7 +162,8 @@ def test_bad_binary_and_gzip(capsys, tmp_path):
     path = tmp_path / "ok.csv.gz"
     path.write_bytes(gzip.compress((GC_HEADER + "\n" + GOOD_ROWS).encode()))
     code, out, err = _run(["calibrate", "gc", str(path), "--json"], capsys)
-    assert code == 0 and json.loads(out)["rows"] == 2
+    # readable (not status 2); two samples are too few for a valid estimate to be required
+    assert code in (0, 3) and json.loads(out)["rows"] == 2
 
 
 def test_unknown_toml_field_and_missing_file(capsys, tmp_path):
@@ -181,22 +182,22 @@ def test_unknown_toml_field_and_missing_file(capsys, tmp_path):
 
 
 def test_toml_overrides_apply(capsys, tmp_path):
-    """TOML fields change the model: σ follows the covariance analysis of the modified
-    parameters, not the paper's."""
-    sim = gc.simulate_record(P, 2.0, seed=3)
-    r = sim.record
+    """TOML fields change the model: on a record simulated with modified parameters, σ
+    follows the covariance analysis of those parameters, not the paper's."""
+    changed = {"C_as": 100 * P.C_as, "sigma1_sq": 4 * P.sigma1_sq}
+    p_changed = dataclasses.replace(P, **changed)
+    r = gc.simulate_record(p_changed, 2.0, seed=3).record
     rec = tmp_path / "r.csv"
     records.write_csv(rec, {"t": r.t, "angle_sensor": r.angle_sensor,
                             "inclinometer_y": r.inclinometer_y,
                             "inclinometer_z": r.inclinometer_z})
-    _, a, _ = _run(["calibrate", "gc", str(rec), "--json"], capsys)
-    changed = {"C_as": 100 * P.C_as, "sigma1_sq": 4 * P.sigma1_sq}
     toml = _write(tmp_path / "p.toml", "".join(f"{k} = {v!r}\n" for k, v in changed.items()))
-    _, b, _ = _run(["calibrate", "gc", str(rec), "--json", "--params", str(toml)], capsys)
-    cov = gc.covariance_analysis(dataclasses.replace(P, **changed), 2.0, store_every=10**9)
-    sigma = float(cov.std("omega_gc")[-1])
+    code, b, _ = _run(["calibrate", "gc", str(rec), "--json", "--params", str(toml)], capsys)
+    assert code == 0
+    sigma = float(gc.covariance_analysis(p_changed, 2.0, store_every=10**9).std("omega_gc")[-1])
+    sigma_paper = float(gc.covariance_analysis(P, 2.0, store_every=10**9).std("omega_gc")[-1])
     assert json.loads(b)["omega_gc_std"] == pytest.approx(sigma, rel=0.01)
-    assert json.loads(a)["omega_gc_std"] < 0.95 * sigma
+    assert sigma_paper < 0.95 * sigma
 
 
 BAD_RSF = {
@@ -257,30 +258,33 @@ def test_file_streamed_in_chunks_equals_whole_file(gc_file):
     assert streamed.rows == whole.rows and (streamed.rejected == whole.rejected).all()
 
 
-def test_progress_bar_only_on_a_terminal_and_cleared(monkeypatch):
-    from gyrolib.cli import calibrate as cli
+class _Tty:
+    """A stand-in for stderr: a terminal or a pipe, collecting what is written."""
 
-    class Tty:
-        def __init__(self, tty):
-            self.text, self.tty = "", tty
+    def __init__(self, tty: bool) -> None:
+        self.text, self.tty = "", tty
 
-        def isatty(self):
-            return self.tty
+    def isatty(self) -> bool:
+        return self.tty
 
-        def write(self, s):
-            self.text += s
+    def write(self, s: str) -> int:
+        self.text += s
+        return len(s)
 
-        def flush(self):
-            pass
+    def flush(self) -> None:
+        pass
 
-    for tty in (True, False):
-        err = Tty(tty)
-        monkeypatch.setattr(sys, "stderr", err)
-        bar = cli._Progress("calibrate gc x.csv", lambda: 0.5, after=0.0)
-        bar(10)
-        bar.clear()
-        if tty:
-            assert "[###############               ]  50%" in err.text
-            assert err.text.endswith("\r\033[K")
-        else:
-            assert err.text == ""
+
+@pytest.mark.parametrize("tty, as_json, shown", [(True, False, True), (True, True, False),
+                                                  (False, False, False)])
+def test_progress_bar_only_on_a_terminal_without_json(tty, as_json, shown, monkeypatch,
+                                                      gc_file):
+    """tqdm's bar goes to stderr on a terminal, never with --json or when piped."""
+    path, _, _ = gc_file
+    err = _Tty(tty)
+    monkeypatch.setattr(sys, "stderr", err)
+    code = main(["calibrate", "gc", str(path), *(["--json"] if as_json else [])])
+    assert code == 0
+    assert ("calibrate gc" in err.text and "%" in err.text) is shown
+    if not shown:
+        assert err.text == ""

@@ -1,6 +1,9 @@
 """gyrolib.gc.claims: the speed-claim map and the shaping sweep, against hand values (the
 scaled parameters, the 510-s bound) and a direct reading of the σ curve at the crossing."""
 
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -41,3 +44,58 @@ def test_shaping_sweep_scales_one_parameter_at_a_time_with_damping_capped():
     assert sw.values[1] == pytest.approx([0.07, 1.0], rel=1e-12)
     assert sw.monotone.all()
     assert np.all((sw.drop > 0.0) & (sw.drop < 1.0))
+
+
+def test_time_to_level_past_the_first_horizon_equals_a_whole_run_read_by_time_to_sigma():
+    """The fast path (chunks, stopped at the first crossing, the 100-s discretization
+    continued to t_max) against one covariance analysis over the whole span read by
+    gc.time_to_sigma (the last step above the level): equal to 1e-12 relative; and σ of ω_gc
+    never increases over that span (what makes the first crossing the last)."""
+    q = replace(P, sigma1_sq=4.64 * P.sigma1_sq)  # crosses σ_c after about 230 s
+    fast = gc.time_to_level(q, SIGMA_C, 300.0)
+    res = gc.covariance_analysis(q, 300.0, store_every=10**9)
+    whole = gc.time_to_sigma(res, "omega_gc", SIGMA_C)
+    assert 100.0 < whole < 300.0
+    assert fast == pytest.approx(whole, rel=1e-12, abs=0.0)
+    s = res.std("omega_gc")
+    assert np.all(np.diff(s) <= 1e-12 * s[:-1])
+    # not reached within t_max: nan, as time_to_sigma says on the whole run
+    assert np.isnan(gc.time_to_level(q, SIGMA_C, 150.0))
+
+
+def test_claim_boundary_sigma_is_the_final_sigma_of_a_covariance_analysis():
+    b = gc.claim_boundary(P, SIGMA_C, 60.0, factors=[1.0, 3.0])
+    ref = [gc.covariance_analysis(replace(P, sigma1_sq=f * P.sigma1_sq), 60.0).final_std()
+           for f in (1.0, 3.0)]
+    np.testing.assert_allclose(b.sigma, ref, rtol=1e-12, atol=0.0)
+
+
+@pytest.mark.parametrize("make", [lambda: ThreadPoolExecutor(2), lambda: ProcessPoolExecutor(2)],
+                         ids=["threads", "processes"])
+def test_results_do_not_depend_on_the_executor(make):
+    """The same grid run here and on an executor: equal to 1e-12 relative (nan where nan)."""
+    kw = dict(x_factors=[1.0, 4.64], y_factors=[0.5, 1.0], t_max=300.0)
+    here = gc.speed_claim_map(P, SIGMA_C, 240.0, **kw)
+    sweep_here = gc.shaping_sweep(P, 2.0, fields=("alpha1", "sigma2_sq"))
+    bound_here = gc.claim_boundary(P, SIGMA_C, 60.0, factors=[1.0, 3.0])
+    with make() as executor:
+        there = gc.speed_claim_map(P, SIGMA_C, 240.0, executor=executor, **kw)
+        sweep_there = gc.shaping_sweep(P, 2.0, fields=("alpha1", "sigma2_sq"),
+                                       executor=executor)
+        bound_there = gc.claim_boundary(P, SIGMA_C, 60.0, factors=[1.0, 3.0],
+                                        executor=executor)
+    assert np.isfinite(here.t_c).sum() >= 6
+    np.testing.assert_allclose(there.t_c, here.t_c, rtol=1e-12, atol=0.0, equal_nan=True)
+    for name in ("values", "sigma_end", "drop"):
+        np.testing.assert_allclose(getattr(sweep_there, name), getattr(sweep_here, name),
+                                   rtol=1e-12, atol=0.0)
+    assert np.array_equal(sweep_there.monotone, sweep_here.monotone)
+    np.testing.assert_allclose(bound_there.sigma, bound_here.sigma, rtol=1e-12, atol=0.0)
+
+
+def test_executor_must_be_a_concurrent_futures_executor():
+    with pytest.raises(TypeError, match=r"executor must be a concurrent\.futures\.Executor"):
+        gc.speed_claim_map(P, SIGMA_C, 60.0, x_factors=[1.0], y_factors=[1.0],
+                           executor=map)
+    with pytest.raises(TypeError, match="executor"):
+        gc.shaping_sweep(P, 2.0, executor=4)

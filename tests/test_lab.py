@@ -102,7 +102,7 @@ def _lab_installed() -> None:
     try:
         version("jupyterlab")
     except PackageNotFoundError:
-        if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
+        if os.environ.get("GYROLIB_TEST_COMMAND") == "1":
             pytest.fail("the test command installs requirements-lab.txt before pytest")
         pytest.skip("JupyterLab not installed: run `python3 tasks.py lab --version`")
 

@@ -26,7 +26,6 @@ from gyrolib.book.ledger import (
 )
 
 ROOT = Path(__file__).resolve().parents[1]
-HTML = ROOT / "_build" / "html"
 FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
           "status", "note", "chapter", "kind", "evidence", "conditions", "precision"}
 REQUIRED_IDS = [
@@ -187,12 +186,12 @@ class _Ids(HTMLParser):
 
 
 def test_every_item_links_to_a_page_and_anchor_of_the_built_book(items):
-    require_built_book()
+    html = require_built_book()
     problems = []
     for it in items:
-        page = HTML / f"{it.chapter}.html"
+        page = html / f"{it.chapter}.html"
         if not page.is_file():
-            problems.append(f"{it.id}: no page {page.relative_to(HTML)}")
+            problems.append(f"{it.id}: no page {page.relative_to(html)}")
             continue
         if it.anchor:
             parser = _Ids()

@@ -1,7 +1,8 @@
 """The PDF of the whole book (issue 14, item 1).
 
 ``python3 tasks.py pdf`` prints the single-page build with Chromium into
-``_build/pdf/book.pdf`` (the test command builds it before pytest).  This file extracts the
+``_build/pdf/book.pdf``; the test session's book (``conftest.session_book``) is built the same
+way, and these tests read its PDF and HTML.  This file extracts the
 PDF's text with ``pdftotext`` (Debian's poppler-utils) and checks it against sources
 independent of the PDF: the chapter titles as the HTML build shows them, every ledger id from
 ``gyrolib.book.ledger.collect()``, a glued number recomputed from the ledger, the version from
@@ -17,12 +18,11 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 from functools import cache
 from pathlib import Path
 
 import pytest
-from conftest import require_built_book
+from conftest import require_built_book, session_book
 
 import gyrolib
 from gyrolib.book import ledger
@@ -30,8 +30,6 @@ from gyrolib.book import ledger
 pytestmark = pytest.mark.book
 
 ROOT = Path(__file__).resolve().parents[1]
-PDF = ROOT / "_build" / "pdf" / "book.pdf"
-HTML = ROOT / "_build" / "html"
 
 
 def _norm(text: str) -> str:
@@ -46,19 +44,18 @@ def missing(text: str, needles: list[str]) -> list[str]:
 
 @cache
 def pages() -> tuple[str, ...]:
+    required = os.environ.get("GYROLIB_TEST_COMMAND") == "1"  # set by `python3 tasks.py test`
     if shutil.which("pdftotext") is None:
-        if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
+        if required:
             pytest.fail("pdftotext is missing: `python3 tasks.py test` installs poppler-utils")
         pytest.skip("pdftotext (Debian's poppler-utils) is needed to read the PDF")
-    if not PDF.is_file():
-        if os.environ.get("GYROLIB_BOOK_BUILT") == "1":
-            pytest.fail(f"{PDF} is missing: `python3 tasks.py pdf` failed or wrote elsewhere")
-        proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "pdf"], cwd=ROOT,
-                              capture_output=True, text=True, check=False)
-        if proc.returncode != 0:
-            pytest.fail(f"`python3 tasks.py pdf` failed:\n{(proc.stdout + proc.stderr)[-3000:]}")
-    out = subprocess.run(["pdftotext", "-enc", "UTF-8", str(PDF), "-"], capture_output=True,
-                         text=True, check=True).stdout
+    book = session_book()
+    if not book.pdf.is_file():
+        if required or os.environ.get("GYROLIB_REQUIRE_BROWSER") == "1":
+            pytest.fail(f"no PDF of the book: {book.pdf_error}")
+        pytest.skip(f"no PDF of the book: {book.pdf_error}")
+    out = subprocess.run(["pdftotext", "-enc", "UTF-8", str(book.pdf), "-"],
+                         capture_output=True, text=True, check=True).stdout
     return tuple(out.split("\f")[:-1] if out.endswith("\f") else out.split("\f"))
 
 
@@ -68,7 +65,7 @@ def chapter_titles() -> list[str]:
     import yaml
 
     bs4 = pytest.importorskip("bs4")
-    require_built_book()
+    HTML = require_built_book()
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
     docs = [toc["root"]] + [c["file"] for part in toc.get("parts", [])
                             for c in part.get("chapters", [])]
@@ -128,8 +125,8 @@ def test_the_content_check_can_fail():
 
 def test_html_links_to_the_pdf():
     pages()
-    require_built_book()
-    assert (HTML / "book.pdf").read_bytes() == PDF.read_bytes(), \
+    HTML = require_built_book()
+    assert (HTML / "book.pdf").read_bytes() == session_book().pdf.read_bytes(), \
         "_build/html/book.pdf is not the current PDF"
     intro = (HTML / "chapters" / "intro.html").read_text(encoding="utf-8")
     assert re.search(r'<a class="gyrolib-pdf-link" href="\.\./book\.pdf"', intro), \

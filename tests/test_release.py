@@ -23,7 +23,6 @@ from conftest import require_built_book
 import gyrolib
 
 ROOT = Path(__file__).resolve().parents[1]
-HTML = ROOT / "_build" / "html"
 
 
 def declared_versions(root: Path) -> dict[str, str | None]:
@@ -93,7 +92,7 @@ def test_version_falls_back_to_pyproject_without_installed_metadata(monkeypatch)
 
 @pytest.mark.book
 def test_built_book_shows_the_version_in_footer_citation_and_ledger_data():
-    require_built_book()
+    HTML = require_built_book()
     version = gyrolib.__version__
     pages = [p for p in HTML.rglob("*.html")
              if not {"_static", "_sources", "_images"} & set(p.relative_to(HTML).parts)

@@ -468,6 +468,72 @@ case("gc.plot_calibration", lambda: gc.plot_calibration(None), TypeError, "resul
 case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), ValueError,
      "truth", FINITE)
 
+# lost lock, noise fit, likelihood, nominal integrator (issues 18, 22)
+case("gc.calibrate", lambda: gc.calibrate(_GREC, max_rejected=1.5), ValueError,
+     "max_rejected", r"\[0.0, 1.0\]")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=2.0), TypeError, "nis_range",
+     "pair")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=(0.5, 0.9)), ValueError,
+     "nis_range[1]", "> 1")
+case("gc.calibrate", lambda: gc.calibrate([_GREC], executor=4), TypeError, "executor",
+     "Executor")
+case("gc.CalibrationResult", lambda: replace(_GRES, max_rejected=-0.1), ValueError,
+     "max_rejected")
+case("gc.innovation_log_likelihood", lambda: gc.innovation_log_likelihood([_GREC]),
+     TypeError, "record", "GCRecord")
+case("gc.innovation_log_likelihood", lambda: gc.innovation_log_likelihood(_GREC, 1.0),
+     TypeError, "params", "GyrocompassParams")
+case("gc.innovation_log_likelihood",
+     lambda: gc.innovation_log_likelihood(_GREC, chunk_size=0), ValueError, "chunk_size",
+     ">= 1")
+case("gc.fit_noise", lambda: gc.fit_noise(np.zeros(3)), TypeError, "record", "GCRecord")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, "paper"), TypeError, "params",
+     "GyrocompassParams")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit="alpha1"), TypeError, "fit", "tuple")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=("alpha2",)), ValueError, "fit",
+     "names from")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=()), ValueError, "fit", "at least")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=("C_as", "C_as")), ValueError, "fit",
+     "repeat")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, fit=("C_in", "C_incl_y")), ValueError,
+     "fit", "C_in")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, gate=1.0), ValueError, "gate", "in")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, max_evaluations=0), ValueError,
+     "max_evaluations", ">= 1")
+case("gc.fit_noise", lambda: gc.fit_noise(_GREC, progress="bar"), TypeError, "progress",
+     "callable")
+
+
+@functools.cache
+def _nfit() -> gc.NoiseFit:
+    return gc.NoiseFit(params=P, start=P, names=("C_as",), values=np.array([P.C_as]),
+                       std_errors=np.array([1e-15]), cov_log=np.eye(1), loglik=0.0,
+                       loglik_start=-1.0, converged=True, message="", n_evaluations=1,
+                       outliers=0)
+
+
+case("gc.NoiseFit", lambda: replace(_nfit(), names=("beta",)), ValueError, "fit",
+     "names from")
+case("gc.NoiseFit", lambda: replace(_nfit(), values=np.zeros(2)), ValueError, "values",
+     "shape")
+case("gc.NoiseFit", lambda: replace(_nfit(), std_errors=np.array([np.inf])), ValueError,
+     "std_errors", "shape")
+case("gc.NoiseFit", lambda: replace(_nfit(), params=None), TypeError, "params")
+case("gc.NoiseFit.value", lambda: _nfit().value("alpha1"), ValueError, "name",
+     "fitted names")
+case("gc.NoiseFit.std_error", lambda: _nfit().std_error(3), ValueError, "name",
+     "fitted names")
+case("gc.NominalIntegrator", lambda: gc.NominalIntegrator(None), TypeError, "params",
+     "GyrocompassParams")
+case("gc.NominalIntegrator.advance", lambda: gc.NominalIntegrator(P).advance(-1),
+     ValueError, "n", ">= 0")
+case("gc.NominalIntegrator.advance", lambda: gc.NominalIntegrator(P).advance(1.5),
+     TypeError, "n", "integer")
+case("gc.NominalIntegrator.advance", lambda: gc.NominalIntegrator(P).advance(2, keep=1),
+     TypeError, "keep", "bool")
+case("gc.system_matrix_parts", lambda: gc.system_matrix_parts("paper"), TypeError,
+     "params", "GyrocompassParams")
+
 
 # the race against the rate-sensor method (gc.ratesensor, gc.racing); the race computed once
 @functools.cache
@@ -551,18 +617,72 @@ case("gc.plot_race_sweep", lambda: gc.plot_race_sweep(None, "T_rot"), TypeError,
      "RaceSweep")
 
 
+# real logs (issue 18): the inclinometer convention, its study, the Allan deviation
+_MAP = gc.InclinometerMapping()
+case("gc.InclinometerMapping", lambda: gc.InclinometerMapping(delta="x"), ValueError, "delta",
+     "one of")
+case("gc.InclinometerMapping", lambda: gc.InclinometerMapping(gamma="y"), ValueError,
+     "delta and gamma", "different")
+case("gc.InclinometerMapping", lambda: gc.InclinometerMapping(delta_sign=2.0), ValueError,
+     "delta_sign", "1")
+case("gc.InclinometerMapping.parse", lambda: gc.InclinometerMapping.parse("y,y"), ValueError,
+     "mapping", "each of y and z once")
+case("gc.InclinometerMapping.parse", lambda: gc.InclinometerMapping.parse(None), TypeError,
+     "mapping")
+case("gc.InclinometerMapping.apply", lambda: _MAP.apply(None), TypeError, "record",
+     "GCRecord")
+case("gc.InclinometerMapping.seen_tilts", lambda: _MAP.seen_tilts(NAN, 0.0), ValueError,
+     "delta", FINITE)
+case("gc.convention_study", lambda: gc.convention_study(seeds=[]), ValueError,
+     "seeds", "at least one")
+case("gc.convention_study", lambda: gc.convention_study(wiring="y,x"), ValueError, "mapping")
+case("gc.convention_study", lambda: gc.convention_study(t_end=0.0), ValueError, "t_end", POS)
+case("gc.convention_study", lambda: gc.convention_study(executor=4), TypeError, "executor",
+     "Executor")
+case("gc.plot_convention_study", lambda: gc.plot_convention_study(None), TypeError, "study",
+     "ConventionStudy")
+case("gc.allan_deviation", lambda: gc.allan_deviation(None), TypeError, "record", "GCRecord")
+case("gc.allan_deviation", lambda: gc.allan_deviation(_GREC), ValueError, "record",
+     "at least 10 rows")
+case("gc.allan_deviation",
+     lambda: gc.allan_deviation(gc.simulate_record(gc.GyrocompassParams(), 0.02, 1).record,
+                                taus=[-1.0]), ValueError, "taus", "positive")
+case("gc.allan_model_vibration", lambda: gc.allan_model_vibration(None, [1.0]), TypeError,
+     "params")
+case("gc.allan_model_vibration",
+     lambda: gc.allan_model_vibration(gc.GyrocompassParams(), [[1.0]]), ValueError, "tau")
+case("gc.plot_allan", lambda: gc.plot_allan(None), TypeError, "result", "AllanDeviation")
+case("gc.AllanDeviation.get",
+     lambda: gc.allan_deviation(gc.simulate_record(gc.GyrocompassParams(), 0.02, 1).record
+                                ).get("gyro"), ValueError, "name", "one of")
+
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
 def test_bad_input_is_rejected_by_name(call, exc, pattern):
     run_case(call, exc, pattern)
 
 
 #: Public callables without a bad-input case, and why.
+# global sensitivity (gc.sobol)
+case("gc.sensitivity", lambda: gc.sensitivity(6), ValueError, "n", "power of 2")
+case("gc.sensitivity", lambda: gc.sensitivity(4, seed=-1), ValueError, "seed", ">= 0")
+case("gc.sensitivity", lambda: gc.sensitivity(4, executor="dask"), TypeError, "executor")
+case("gc.sensitivity", lambda: gc.sensitivity(4, params=1), TypeError, "params")
+case("gc.sensitivity", lambda: gc.sensitivity(4, t_end=0.0), ValueError, "t_end", POS)
+case("gc.sensitivity_inputs", lambda: gc.sensitivity_inputs(1), TypeError, "params")
+case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(P, level=-1.0), ValueError,
+     "level", POS)
+case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(None), TypeError, "params")
+case("gc.recheck_sensitivity", lambda: gc.recheck_sensitivity(1), TypeError, "result")
+case("gc.recheck_sensitivity", lambda: gc.recheck_sensitivity(rsf.sensitivity(2)), ValueError,
+     "result", "GC study")
+
 EXEMPT: dict[str, str] = {
     "gc.symbolic.display_form": "returns non-sympy objects unchanged (documented)",
     **{f"gc.{name}": "result object built by its compute function, which validates"
        for name in ("ClaimBoundary", "ShapingSweep", "SpeedClaimMap", "ShapingSweep.nominal",
                     "LinearizationEffect", "LinearizationEffect.excess",
-                    "LinearizationEffect.residual")},
+                    "LinearizationEffect.residual",
+                    "AllanDeviation", "AllanSeries", "ConventionStudy")},
     **{f"gc.plot_{name}": "plot function: takes result objects, no validation by design"
        for name in ("estimates", "consistency", "sweep", "information", "speed_claim",
                     "mismatch", "linearization")},

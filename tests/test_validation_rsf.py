@@ -300,6 +300,28 @@ case("rsf.drz_hypotheses", lambda: rsf.drz_hypotheses(roll_gyro=1), TypeError, "
 case("rsf.encoder_counts", lambda: rsf.encoder_counts(np.zeros(3), ENC, wrap=1), TypeError,
      "wrap")
 
+# global sensitivity (rsf.sobol) and the sweeps' executor
+case("rsf.sensitivity", lambda: rsf.sensitivity(3), ValueError, "n", "power of 2")
+case("rsf.sensitivity", lambda: rsf.sensitivity(4, chunk_size=0), ValueError, "chunk_size")
+case("rsf.sensitivity", lambda: rsf.sensitivity(4, roll_gyro=1), TypeError, "roll_gyro")
+case("rsf.sensitivity_inputs", lambda: rsf.sensitivity_inputs(period=0.0), ValueError,
+     "period", POS)
+case("rsf.sensitivity_inputs", lambda: rsf.sensitivity_inputs(encoder=ENC), TypeError,
+     "encoder", "EncoderSpec")
+case("rsf.sensitivity_outputs", lambda: rsf.sensitivity_outputs(-1.0, 0.0, 1.0, 1.0, 0.0),
+     ValueError, "eps0_gs", NONNEG)
+case("rsf.sensitivity_outputs", lambda: rsf.sensitivity_outputs(0.0, 0.0, 1.0, 1.0, 0.0,
+                                                                eps1=0.0),
+     ValueError, "eps1", POS)
+case("rsf.recheck_sensitivity", lambda: rsf.recheck_sensitivity(None), TypeError, "result")
+case("rsf.sweep_correction_period", lambda: rsf.sweep_correction_period(rec(), [1.0],
+                                                                        executor=1),
+     TypeError, "executor")
+case("rsf.sweep_encoder", lambda: rsf.sweep_encoder(rec(), [ENC], 1.0, executor="x"),
+     TypeError, "executor")
+case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, executor=1), TypeError,
+     "executor")
+
 EXEMPT: dict[str, str] = {
     "rsf.plot_figure3": "plot function: takes result objects, no validation by design",
     "rsf.plot_flight": "plot function: takes result objects, no validation by design",

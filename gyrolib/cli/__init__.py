@@ -1,12 +1,13 @@
 """The command line, ``python -m gyrolib COMMAND``; it sits above the paper subpackages and
 :mod:`gyrolib.records`, which never import it.
 
-=============  ====================================================================
-module         command
-=============  ====================================================================
-``ledger``     ``python -m gyrolib ledger [--json]``: the reproduction ledger
-``calibrate``  ``python -m gyrolib calibrate gc|rsf FILE [...]``: a recorded log
-=============  ====================================================================
+===============  ==================================================================
+module           command
+===============  ==================================================================
+``ledger``       ``python -m gyrolib ledger [--json]``: the reproduction ledger
+``calibrate``    ``python -m gyrolib calibrate gc|rsf FILE [...]``: a recorded log
+``sensitivity``  ``python -m gyrolib sensitivity gc|rsf --n N [...]``: Sobol' indices
+===============  ==================================================================
 
 Each command module offers ``add_parser(sub)`` (its sub-parser) and ``run(args)`` (its exit
 status).  Usage errors exit with status 2 and one line on stderr.
@@ -17,12 +18,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from gyrolib.cli import calibrate, ledger
+from gyrolib.cli import calibrate, ledger, sensitivity
 
 __all__ = ["COMMANDS", "main"]
 
 #: The commands, by name: each a module with ``add_parser`` and ``run``.
-COMMANDS = {"ledger": ledger, "calibrate": calibrate}
+COMMANDS = {"ledger": ledger, "calibrate": calibrate, "sensitivity": sensitivity}
 
 
 class OneLineParser(argparse.ArgumentParser):

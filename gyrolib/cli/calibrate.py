@@ -1,115 +1,167 @@
-"""The ``calibrate`` command: ``python -m gyrolib calibrate gc|rsf FILE [...]``.
+"""The ``calibrate`` command: ``python -m gyrolib calibrate gc|rsf FILE... [...]``.
 
-Bad input (a missing file or column, a non-numeric cell, time not increasing, an empty or
-non-CSV file, an unknown TOML field) exits with status 2 and one line on stderr naming the
-file, the row or column and what was expected; nothing is written (no JSON, no plot).
+Exit status: 0 every file gave a valid estimate; 2 bad input (a missing file or column, a
+non-numeric cell, time not increasing, an empty or non-CSV file, an unknown TOML field, a
+column whose values are implausible in SI — degrees, milliseconds, g — or a bad option);
+3 no valid estimate (paper GC: the filter lost lock — the gate rejected more than the allowed
+share of a sensor's samples, or a sensor's mean NIS is far outside its band).  Bad input
+prints one line on stderr naming the file, the row or column and what was expected; a lost
+lock prints "no valid estimate" and why (and one line on stderr).  In either case nothing is
+written (no plot, no Allan plot, no TOML) — except ``--summary``, the report of a batch.
+
+Several files (or ``--summary OUT.csv``) make a batch: each file is calibrated on its own
+(``--workers K``: in a :class:`concurrent.futures.ProcessPoolExecutor` whose workers fork
+from a server process that has imported gyrolib once), a bad or invalid file is reported in
+its row and on stderr while the others proceed, and the exit status is 2 if any file was
+bad, else 3 if any was invalid.  A progress bar (tqdm) goes to stderr on a
+terminal, never with ``--json`` or when stderr is piped.
 """
 
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
+import csv
+import dataclasses
 import json
 import math
+import multiprocessing
 import os
 import sys
-import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Final
 
 import numpy as np
 
-from gyrolib import units
-from gyrolib.gc.calibration import calibrate as calibrate_gc
-from gyrolib.gc.calibration import plot_calibration
+from gyrolib import gc, rsf, units
 from gyrolib.gc.params import MEASUREMENT_NAMES
 from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
-from gyrolib.records.tables import GCChunks, read_rsf
-from gyrolib.rsf.calibration import calibrate as calibrate_rsf
-from gyrolib.rsf.calibration import plot_correction
-from gyrolib.rsf.correction import predict_delta_k
+from gyrolib.records.tables import GCChunks, read_gc, read_rsf
 
-__all__ = ["add_parser", "run"]
+__all__ = ["EXIT_BAD_INPUT", "EXIT_INVALID", "SUMMARY_COLUMNS", "add_parser", "run"]
+
+#: Exit status of bad input (unreadable, implausible or a bad option).
+EXIT_BAD_INPUT: Final[int] = 2
+#: Exit status of a run without a valid estimate (paper GC's filter lost lock).
+EXIT_INVALID: Final[int] = 3
+
+#: Columns of ``--summary OUT.csv``, one row per file.
+SUMMARY_COLUMNS: Final[tuple[str, ...]] = (
+    "file", "method", "quantity", "estimate", "sigma", "unit", "valid", "status", "reason")
 
 _PLOT_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 
+#: Units of the noise parameters ``--fit-noise`` can fit (for the printed values).
+_FIT_UNITS: Final[dict[str, str]] = {
+    "alpha1": "rad/s", "sigma1_sq": "m²/s⁴", "xi1": "", "C_as": "rad²·s", "C_in": "m²/s³",
+    "C_incl_y": "m²/s³", "C_incl_z": "m²/s³"}
+_FIT_DEFAULT: Final[str] = "alpha1,sigma1_sq,C_as,C_in"
 
+
+# Parser ----------------------------------------------------------------------------------
 def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     """Add ``calibrate`` with its ``gc`` and ``rsf`` sub-commands to ``sub``; usage errors of
     those go through ``parser_class`` (one line, status 2)."""
-    cal = sub.add_parser("calibrate", help="apply paper GC or RSF to a recorded CSV file")
-    methods = cal.add_subparsers(dest="method", required=True, parser_class=parser_class)
-    gc = methods.add_parser(
+    cal = sub.add_parser("calibrate", help="apply paper GC or RSF to recorded CSV files")
+    methods = cal.add_subparsers(dest="method", required=True,
+                                 parser_class=_signed_values(parser_class))
+    gcp = methods.add_parser(
         "gc", help="paper GC: drift ω_gc of a floated gyro from a gyrocompass-mode record",
-        description="Run paper GC's 10-state Kalman filter on a CSV record with the columns "
-                    "t (s), angle_sensor (rad), inclinometer_y, inclinometer_z (m/s^2).")
-    gc.add_argument("file", help="CSV record (.csv or .csv.gz)")
-    gc.add_argument("--params", metavar="P.toml",
-                    help="TOML file overriding GyrocompassParams fields (SI)")
-    gc.add_argument("--json", action="store_true", help="print one JSON object (SI)")
-    gc.add_argument("--plot", metavar="OUT.png", help="write the ω_gc estimate with its ±σ band")
-    gc.add_argument("--gate", type=float, default=0.9999,
-                    help="χ² gate probability for an innovation (default 0.9999)")
-    gc.add_argument("--store-every", type=int, default=100, metavar="N",
-                    help="store estimates every N rows (default 100)")
-    rsf = methods.add_parser(
+        description="Run paper GC's 10-state Kalman filter on CSV records with the columns "
+                    "t (s), angle_sensor (rad), inclinometer_y, inclinometer_z (m/s^2). "
+                    "Exit status 0 valid, 2 bad input, 3 no valid estimate (lost lock).")
+    gcp.add_argument("files", nargs="+", metavar="FILE", help="CSV record (.csv or .csv.gz)")
+    gcp.add_argument("--params", metavar="P.toml",
+                     help="TOML file overriding GyrocompassParams fields (SI)")
+    gcp.add_argument("--json", action="store_true", help="print one JSON object per file (SI)")
+    gcp.add_argument("--plot", metavar="OUT.png", help="write the ω_gc estimate with its ±σ band")
+    gcp.add_argument("--gate", type=float, default=0.9999,
+                     help="χ² gate probability for an innovation (default 0.9999)")
+    gcp.add_argument("--store-every", type=int, default=100, metavar="N",
+                     help="store estimates every N rows (default 100)")
+    gcp.add_argument("--inclinometers", default="y,z", metavar="MAP",
+                     help="which columns the filter reads as δ (tilt about the input axis, "
+                          "−sin β_n in Eq. (5)) and γ (+cos β_n): 'y,z' (default), 'z,y' "
+                          "(a swapped pair), '-y,z' (y's sign flipped), ...")
+    gcp.add_argument("--fit-noise", nargs="?", const="", default=None, metavar="OUT.toml",
+                     help="fit the vibration filter and sensor noises to the record by maximum "
+                          "likelihood, print them ± SE, calibrate with them, and write them "
+                          "to OUT.toml (a file --params accepts) when given")
+    gcp.add_argument("--fit", default=_FIT_DEFAULT, metavar="NAMES",
+                     help=f"parameters --fit-noise fits, comma-separated (default "
+                          f"{_FIT_DEFAULT}; also xi1, C_incl_y, C_incl_z)")
+    gcp.add_argument("--allan", metavar="OUT.png",
+                     help="write the Allan deviation of the angle-sensor rate and of the "
+                          "inclinometers, with paper GC's model curves")
+    gcp.add_argument("--max-rejected", type=float, default=0.01, metavar="SHARE",
+                     help="largest share of a sensor's samples the gate may reject before "
+                          "the run counts as lost lock (default 0.01)")
+    _batch_options(gcp)
+    rsfp = methods.add_parser(
         "rsf", help="paper RSF: roll-gyro scale-factor error per correction interval",
-        description="Apply paper RSF's correction (Eqs. (1)-(3)) to a CSV record with the "
+        description="Apply paper RSF's correction (Eqs. (1)-(3)) to CSV records with the "
                     "columns t (s), sins_increment (rad) and gs_angle (rad) or "
-                    "encoder_counts (wrapped, with --counts-per-rev).")
-    rsf.add_argument("file", help="CSV record (.csv or .csv.gz)")
-    rsf.add_argument("--period", type=float, required=True, metavar="S",
-                     help="correction interval Δt in seconds")
-    rsf.add_argument("--counts-per-rev", type=int, metavar="N",
-                     help="encoder counts per revolution (for an encoder_counts column)")
-    rsf.add_argument("--k-form", choices=("linear", "reciprocal"), default="linear",
-                     help="K = 1 − ε̂1 (linear, default) or 1/(1 + ε̂1)")
-    rsf.add_argument("--params", metavar="P.toml",
-                     help="TOML tables [sins], [gs], [encoder] overriding the sensor models "
-                          "(for the predicted δK)")
-    rsf.add_argument("--json", action="store_true", help="print one JSON object (SI)")
-    rsf.add_argument("--plot", metavar="OUT.png", help="write ε̂1 per interval")
+                    "encoder_counts (wrapped, with --counts-per-rev). Exit status 0 ok, "
+                    "2 bad input.")
+    rsfp.add_argument("files", nargs="+", metavar="FILE", help="CSV record (.csv or .csv.gz)")
+    rsfp.add_argument("--period", type=float, required=True, metavar="S",
+                      help="correction interval Δt in seconds")
+    rsfp.add_argument("--counts-per-rev", type=int, metavar="N",
+                      help="encoder counts per revolution (for an encoder_counts column)")
+    rsfp.add_argument("--k-form", choices=("linear", "reciprocal"), default="linear",
+                      help="K = 1 − ε̂1 (linear, default) or 1/(1 + ε̂1)")
+    rsfp.add_argument("--params", metavar="P.toml",
+                      help="TOML tables [sins], [gs], [encoder] overriding the sensor models "
+                           "(for the predicted δK)")
+    rsfp.add_argument("--json", action="store_true", help="print one JSON object per file (SI)")
+    rsfp.add_argument("--plot", metavar="OUT.png", help="write ε̂1 per interval")
+    _batch_options(rsfp)
 
 
-class _Progress:
-    """A progress bar on stderr, shown only on a terminal and only once a run has taken more
-    than ``after`` seconds (short runs print nothing)."""
+def _signed_values(parser_class: type) -> type:
+    """``parser_class`` that reads ``--inclinometers -y,z`` as ``--inclinometers=-y,z``
+    (argparse would take ``-y,z`` for an option)."""
 
-    def __init__(self, label: str, fraction, after: float = 2.0) -> None:
-        self.label = label
-        self.fraction = fraction
-        self.after = after
-        self.t0 = time.perf_counter()
-        self.shown = False
-        self.enabled = sys.stderr.isatty()
+    class Parser(parser_class):
+        def parse_known_args(self, args=None, namespace=None):
+            if args is not None:
+                src, args = list(args), []
+                while src:
+                    a = src.pop(0)
+                    if a == "--inclinometers" and src and src[0].startswith("-"):
+                        a = f"--inclinometers={src.pop(0)}"
+                    args.append(a)
+            return super().parse_known_args(args, namespace)
 
-    def __call__(self, _rows: int) -> None:
-        if not self.enabled or time.perf_counter() - self.t0 < self.after:
-            return
-        f = min(max(self.fraction(), 0.0), 1.0)
-        bar = "#" * int(30 * f)
-        sys.stderr.write(f"\r{self.label} [{bar:<30}] {100 * f:3.0f}%")
-        sys.stderr.flush()
-        self.shown = True
-
-    def clear(self) -> None:
-        if self.shown:
-            sys.stderr.write("\r\033[K")
-            sys.stderr.flush()
-            self.shown = False
+    return Parser
 
 
-def _check_plot_path(path: str | None) -> None:
+def _batch_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--summary", metavar="OUT.csv",
+                   help="write one row per file: file, estimate, sigma, valid, reason")
+    p.add_argument("--workers", type=int, default=1, metavar="K",
+                   help="calibrate K files at a time in separate processes (default 1)")
+
+
+# Small helpers ----------------------------------------------------------------------------
+class UsageError(ValueError):
+    """A bad option (not a bad file): one line, status 2."""
+
+
+def _check_out_path(path: str | None, suffixes: tuple[str, ...], what: str) -> None:
     if path is None:
         return
     p = Path(path)
-    if p.suffix.lower() not in _PLOT_SUFFIXES:
-        raise RecordError(path, f"expected a plot file ending in {', '.join(_PLOT_SUFFIXES)}")
+    if p.suffix.lower() not in suffixes:
+        raise RecordError(path, f"expected {what} file ending in {', '.join(suffixes)}")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
-        raise RecordError(path, f"cannot write the plot: directory {str(parent)!r} does not "
-                          "exist")
+        raise RecordError(path, f"cannot write {what} file: directory {str(parent)!r} does "
+                          "not exist")
     if not os.access(parent, os.W_OK):
-        raise RecordError(path, f"cannot write the plot: directory {str(parent)!r} is not "
+        raise RecordError(path, f"cannot write {what} file: directory {str(parent)!r} is not "
                           "writable")
 
 
@@ -124,75 +176,277 @@ def _save(fig, path: str) -> None:
         plt.close(fig)
 
 
+def _write_text(path: str, text: str) -> None:
+    try:
+        Path(path).write_text(text)
+    except OSError as exc:
+        raise RecordError(path, f"cannot write the file: {exc.strerror or exc}") from None
+
+
+def _clean(o):
+    if isinstance(o, dict):
+        return {k: _clean(x) for k, x in o.items()}
+    if isinstance(o, list | tuple):
+        return [_clean(x) for x in o]
+    if isinstance(o, np.generic):
+        o = o.item()
+    if isinstance(o, float) and not math.isfinite(o):
+        return None
+    return o
+
+
 def _json(obj: object) -> str:
     """One line of strict JSON; a non-finite float becomes null."""
-    def clean(o):
-        if isinstance(o, dict):
-            return {k: clean(x) for k, x in o.items()}
-        if isinstance(o, list | tuple):
-            return [clean(x) for x in o]
-        if isinstance(o, float) and not math.isfinite(o):
-            return None
-        return o
-
-    return json.dumps(clean(obj), allow_nan=False) + "\n"
+    return json.dumps(_clean(obj), allow_nan=False) + "\n"
 
 
 def _fmt(x: float, digits: int = 4) -> str:
     return f"{x:.{digits}g}"
 
 
-def _run_gc(args: argparse.Namespace) -> int:
-    _check_plot_path(args.plot)
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _from_library(exc: BaseException) -> bool:
+    """Whether ``exc`` was raised by gyrolib's own code (not inside numpy or scipy)."""
+    tb = exc.__traceback__
+    last = None
+    while tb is not None:
+        last = tb.tb_frame.f_code.co_filename
+        tb = tb.tb_next
+    package = str(Path(__file__).resolve().parents[1]) + os.sep
+    return last is not None and str(Path(last).resolve()).startswith(package)
+
+
+def _failure_message(label: str, exc: BaseException) -> str:
+    """One line for an error the checks at the door did not catch: gyrolib's message, never
+    numpy's or scipy's."""
+    if isinstance(exc, RecordError):
+        return str(exc)
+    if _from_library(exc):
+        return f"{label}: {_one_line(exc)}"
+    return (f"{label}: the calibration failed on this record ({type(exc).__name__} inside "
+            "the numerics): check the units (t in s, angles in rad, inclinometers in m/s²) "
+            "and the parameters given with --params")
+
+
+@dataclasses.dataclass
+class _Outcome:
+    """What one file gave: ``status`` "ok", "invalid" or "bad"; ``message`` the one line for
+    stderr (bad: the error; invalid: the reason); ``text``/``data`` the report; ``row`` its
+    summary row; ``artifacts`` files to write when the run is valid (path → figure or text)."""
+
+    file: str
+    status: str
+    message: str = ""
+    text: str = ""
+    data: dict = dataclasses.field(default_factory=dict)
+    row: dict = dataclasses.field(default_factory=dict)
+    artifacts: list = dataclasses.field(default_factory=list)
+
+    @property
+    def code(self) -> int:
+        return {"ok": 0, "invalid": EXIT_INVALID, "bad": EXIT_BAD_INPUT}[self.status]
+
+
+def _bad(method: str, file: str, message: str) -> _Outcome:
+    quantity = "omega_gc" if method == "gc" else "eps1_hat_mean"
+    unit = "rad/s" if method == "gc" else "1"
+    return _Outcome(file=file, status="bad", message=message,
+                    data={"file": file, "valid": False, "status": "bad", "error": message},
+                    row={"file": file, "method": method, "quantity": quantity, "estimate": "",
+                         "sigma": "", "unit": unit, "valid": False, "status": "bad",
+                         "reason": message})
+
+
+# Progress -----------------------------------------------------------------------------------
+def _bar_enabled(args: argparse.Namespace) -> bool:
+    """A progress bar only on a terminal and never with --json."""
+    try:
+        tty = sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        tty = False
+    return bool(tty and not args.json)
+
+
+def _bar(args: argparse.Namespace, total: float, desc: str, unit: str):
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
+                disable=not _bar_enabled(args), dynamic_ncols=True)
+
+
+# Paper GC ---------------------------------------------------------------------------------
+def _gc_options(args: argparse.Namespace) -> dict:
+    """Checked options of ``calibrate gc`` (UsageError / RecordError on a bad one)."""
     if not 0.0 < args.gate < 1.0:
-        raise RecordError(args.file, f"--gate must be a probability in (0, 1); got {args.gate}")
+        raise UsageError(f"--gate must be a probability in (0, 1); got {args.gate}")
     if args.store_every < 1:
-        raise RecordError(args.file, f"--store-every must be >= 1; got {args.store_every}")
+        raise UsageError(f"--store-every must be >= 1; got {args.store_every}")
+    if not 0.0 <= args.max_rejected < 1.0:
+        raise UsageError(f"--max-rejected must be a share in [0, 1); got {args.max_rejected}")
+    try:
+        mapping = gc.InclinometerMapping.parse(args.inclinometers)
+    except ValueError:
+        raise UsageError(f"--inclinometers expects two of y, z, -y, -z separated by a comma, "
+                         f"each column once (e.g. y,z or z,y or -y,z); got "
+                         f"{args.inclinometers!r}") from None
+    fit = tuple(s.strip() for s in args.fit.split(",") if s.strip())
+    unknown = [s for s in fit if s not in _FIT_UNITS]
+    if not fit or unknown or ("C_in" in fit and ({"C_incl_y", "C_incl_z"} & set(fit))):
+        raise UsageError(f"--fit expects names among {', '.join(_FIT_UNITS)} (C_in not with "
+                         f"C_incl_y, C_incl_z), comma-separated; got {args.fit!r}")
+    batch = len(args.files) > 1
+    for opt, val in (("--plot", args.plot), ("--allan", args.allan),
+                     ("--fit-noise OUT.toml", args.fit_noise or None)):
+        if batch and val:
+            raise UsageError(f"{opt} writes one file: give one record, not {len(args.files)} "
+                             "(--summary OUT.csv reports a batch)")
+    _check_out_path(args.plot, _PLOT_SUFFIXES, "a plot")
+    _check_out_path(args.allan, _PLOT_SUFFIXES, "a plot")
+    _check_out_path(args.fit_noise or None, (".toml",), "a TOML")
     params = gc_params_from_toml(args.params)
     dt_given = args.params is not None and "dt" in load_toml(args.params)
-    chunks = GCChunks(args.file)
-    it = iter(chunks)
-    first = next(it)              # checks the header and the first chunk
-    notes = []
-    if not dt_given and first.n > 1:
-        step = float(np.median(np.diff(first.t)))
-        step = float(f"{step:.9g}")
-        if abs(step - params.dt) > 1e-6 * params.dt:
-            import dataclasses
+    return {"params": params, "dt_given": dt_given, "gate": args.gate,
+            "store_every": args.store_every, "max_rejected": args.max_rejected,
+            "mapping": mapping, "fit_noise": args.fit_noise, "fit": fit,
+            "allan": args.allan, "plot": args.plot, "json": args.json,
+            "bar": _bar_enabled(args) and not batch}
 
-            params = dataclasses.replace(params, dt=step)
-            notes.append(f"dt = {step:g} s taken from the record's median step")
 
-    def all_chunks():
-        yield first
-        yield from it
+def _with_step(params: gc.GyrocompassParams, t: np.ndarray, notes: list[str],
+               dt_given: bool) -> gc.GyrocompassParams:
+    """``params`` with ``dt`` the record's median step (unless the TOML file gave one)."""
+    if dt_given or t.size < 2:
+        return params
+    step = float(f"{float(np.median(np.diff(t))):.9g}")
+    if abs(step - params.dt) > 1e-6 * params.dt:
+        notes.append(f"dt = {step:g} s taken from the record's median step")
+        return dataclasses.replace(params, dt=step)
+    return params
 
-    bar = _Progress(f"calibrate gc {args.file}", lambda: chunks.fraction)
-    try:
-        res = calibrate_gc(all_chunks(), params, gate=args.gate, store_every=args.store_every,
-                        progress=bar)
-    finally:
-        bar.clear()
-    fig = None
-    if args.plot:
 
-        fig = plot_calibration(res)
-        _save(fig, args.plot)
-    if args.json:
-        out = res.summary()
-        out["file"] = str(args.file)
-        out["dt"] = params.dt
-        out["notes"] = notes
-        sys.stdout.write(_json(out))
-        return 0
-    a = units.from_si(res.omega_gc, "arcsec_paper/s")
-    s = units.from_si(res.omega_gc_std, "arcsec_paper/s")
+def _calibrate(record, params, o: dict, progress=None):
+    return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
+                        max_rejected=o["max_rejected"], progress=progress)
+
+
+def _fit_noise(record, params, o: dict, bar_ok: bool):
+    from tqdm import tqdm
+
+    with tqdm(total=400, desc="fitting the noise", unit="eval", file=sys.stderr,
+              leave=False, disable=not bar_ok) as bar:
+        def progress(n: int) -> None:
+            bar.update(max(0, n - bar.n))
+
+        # fit_noise's own gate (a far tail: a gate as tight as the calibration's would cut
+        # good samples and bias the intensities low)
+        return gc.fit_noise(record, params, fit=o["fit"], progress=progress)
+
+
+def _run_gc_file(file: str, o: dict) -> _Outcome:
+    """Calibrate one GC record with the checked options ``o``."""
+    params: gc.GyrocompassParams = o["params"]
+    mapping: gc.InclinometerMapping = o["mapping"]
+    notes: list[str] = []
+    fit = None
+    whole = o["fit_noise"] is not None or o["allan"] is not None
+    if whole:   # the fit and the Allan deviation read the record many times: in memory
+        raw = read_gc(file, params=params)
+        params = _with_step(params, raw.t, notes, o["dt_given"])
+        record = mapping.apply(raw)
+        if o["fit_noise"] is not None:
+            fit = _fit_noise(record, params, o, o["bar"])
+            params = fit.params
+        from tqdm import tqdm
+        with tqdm(total=record.n, desc=f"calibrate gc {file}", unit="row", file=sys.stderr,
+                  leave=False, disable=not o["bar"]) as bar:
+            res = _calibrate(record, params, o,
+                             progress=lambda rows: bar.update(rows - bar.n))
+    else:       # stream the file in chunks, each checked at the door
+        chunks = GCChunks(file, params=params)
+        it = iter(chunks)
+        first = next(it)
+        params = _with_step(params, first.t, notes, o["dt_given"])
+
+        def mapped():
+            yield mapping.apply(first)
+            for chunk in it:
+                yield mapping.apply(chunk)
+
+        from tqdm import tqdm
+        with tqdm(total=100.0, desc=f"calibrate gc {file}", unit="%", file=sys.stderr,
+                  leave=False, disable=not o["bar"],
+                  bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}") as bar:
+            res = _calibrate(mapped(), params, o,
+                             progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
+    valid, reason = bool(res.valid), str(res.reason)
+    artifacts = []
+    if o["plot"]:
+        artifacts.append((o["plot"], "plot", res))
+    if o["allan"]:
+        artifacts.append((o["allan"], "allan", (raw, params)))
+    if fit is not None and o["fit_noise"]:
+        artifacts.append((o["fit_noise"], "text", fit.to_toml()))
+    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason)
+    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o)
+    row = {"file": file, "method": "gc", "quantity": "omega_gc",
+           "estimate": res.omega_gc if valid else "",
+           "sigma": res.omega_gc_std if valid else "", "unit": "rad/s", "valid": valid,
+           "status": "ok" if valid else "invalid", "reason": reason}
+    return _Outcome(file=file, status="ok" if valid else "invalid",
+                    message="" if valid else f"{file}: no valid estimate: {reason}",
+                    text=text, data=data, row=row, artifacts=artifacts)
+
+
+def _gc_json(file, res, params, mapping, notes, fit, valid, reason) -> dict:
+    out = res.summary()
+    out["file"] = str(file)
+    out["dt"] = params.dt
+    out["notes"] = notes
+    out["valid"] = valid
+    out["reason"] = reason
+    out["inclinometers"] = {"mapping": str(mapping), "delta": _signed(mapping.delta_sign,
+                                                                      mapping.delta_column),
+                            "gamma": _signed(mapping.gamma_sign, mapping.gamma_column)}
+    if fit is not None:
+        out["noise_fit"] = fit.summary()
+    if not valid:       # a failure, not a result: no estimate to pick up by mistake
+        out["omega_gc"] = None
+        out["omega_gc_std"] = None
+        out.pop("states", None)
+    return out
+
+
+def _signed(sign: float, column: str) -> str:
+    return ("-" if sign < 0 else "") + column
+
+
+def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
     band = res.nis_band()
     lines = [
-        f"paper GC calibration of {args.file}: {res.rows} rows over {res.t_final:.6g} s"
+        f"paper GC calibration of {file}: {res.rows} rows over {res.t_final:.6g} s"
         + (f" ({res.gaps} gap(s), {res.gap_time:.6g} s without rows)" if res.gaps else ""),
-        f"  omega_gc = {_fmt(a)} ± {_fmt(s, 2)} arcsec/s (paper's arcsec, 1 sigma)"
-        f"  = {res.omega_gc:.4e} ± {res.omega_gc_std:.2e} rad/s",
+        f"  inclinometers (--inclinometers {mapping}): {mapping.describe()}",
+    ]
+    if fit is not None:
+        parts = [f"{n} = {_fmt(fit.value(n))} ± {_fmt(fit.std_error(n), 2)}"
+                 + (f" {_FIT_UNITS[n]}" if _FIT_UNITS.get(n) else "") for n in fit.names]
+        lines.append("  noise fitted (maximum likelihood, ± standard error): "
+                     + ", ".join(parts))
+        lines.append(f"  log-likelihood {fit.loglik:.6g} (start {fit.loglik_start:.6g}), "
+                     f"{fit.n_evaluations} evaluations, "
+                     + ("converged" if fit.converged else f"NOT converged: {fit.message}")
+                     + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else ""))
+    if valid:
+        a = units.from_si(res.omega_gc, "arcsec_paper/s")
+        s = units.from_si(res.omega_gc_std, "arcsec_paper/s")
+        lines.append(f"  omega_gc = {_fmt(a)} ± {_fmt(s, 2)} arcsec/s (paper's arcsec, 1 "
+                     f"sigma)  = {res.omega_gc:.4e} ± {res.omega_gc_std:.2e} rad/s")
+    else:
+        lines.append(f"  no valid estimate: {reason}")
+    lines += [
         f"  samples used {res.rows_used}, rejected {res.rows_rejected} (an innovation beyond "
         f"the {100 * res.gate:g} % chi-square gate), missing values "
         f"{int(res.missing.sum())}",
@@ -202,50 +456,56 @@ def _run_gc(args: argparse.Namespace) -> int:
         f"  {res.verdict()}",
     ]
     lines += [f"  note: {n}" for n in notes]
-    sys.stdout.write("\n".join(lines) + "\n")
-    return 0
+    return "\n".join(lines) + "\n"
 
 
-def _run_rsf(args: argparse.Namespace) -> int:
-    _check_plot_path(args.plot)
+# Paper RSF --------------------------------------------------------------------------------
+def _rsf_options(args: argparse.Namespace) -> dict:
     if not (math.isfinite(args.period) and args.period > 0):
-        raise RecordError(args.file, f"--period must be a positive number of seconds; got "
-                          f"{args.period}")
+        raise UsageError(f"--period must be a positive number of seconds; got {args.period}")
     if args.counts_per_rev is not None and args.counts_per_rev < 2:
-        raise RecordError(args.file, f"--counts-per-rev must be an integer >= 2; got "
-                          f"{args.counts_per_rev}")
-    config = rsf_config_from_toml(args.params)
-    record = read_rsf(args.file, counts_per_rev=args.counts_per_rev)
+        raise UsageError(f"--counts-per-rev must be an integer >= 2; got "
+                         f"{args.counts_per_rev}")
+    if len(args.files) > 1 and args.plot:
+        raise UsageError(f"--plot writes one file: give one record, not {len(args.files)} "
+                         "(--summary OUT.csv reports a batch)")
+    _check_out_path(args.plot, _PLOT_SUFFIXES, "a plot")
+    return {"config": rsf_config_from_toml(args.params), "period": args.period,
+            "counts_per_rev": args.counts_per_rev, "k_form": args.k_form, "plot": args.plot}
+
+
+def _rsf_prediction(res, config):
+    """δK the error model predicts at the record's mean rate (:func:`rsf.predict_delta_k`)."""
+    return rsf.predict_delta_k(config, res.period, rate=res.mean_rate)
+
+
+def _run_rsf_file(file: str, o: dict) -> _Outcome:
+    record = read_rsf(file, counts_per_rev=o["counts_per_rev"])
     if record.n < 2:
-        raise RecordError(args.file, "expected at least two data rows")
+        raise RecordError(file, "expected at least two data rows")
     span = float(record.t[-1] - record.t[0])
-    if args.period > span:
-        raise RecordError(args.file, f"--period {args.period} s is longer than the record "
+    if o["period"] > span:
+        raise RecordError(file, f"--period {o['period']} s is longer than the record "
                           f"({span:.6g} s): no complete correction interval")
     try:
-        res = calibrate_rsf(record, args.period, k_form=args.k_form)
+        res = rsf.calibrate(record, o["period"], k_form=o["k_form"])
     except ValueError as exc:
-        raise RecordError(args.file, str(exc)) from None
+        raise RecordError(file, _one_line(exc)) from None
     if res.n_intervals == 0:
-        raise RecordError(args.file, "no correction interval holds a usable sample (every "
+        raise RecordError(file, "no correction interval holds a usable sample (every "
                           "sample is missing or follows a gap)")
-    pred = predict_delta_k(config, res.period, rate=res.mean_rate)
-    if args.plot:
-
-        _save(plot_correction(res, pred), args.plot)
-    if args.json:
-        out = res.summary()
-        out["file"] = str(args.file)
-        out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
-                                    "std_per_interval": [float(x) for x in
-                                                         res.delta_k_std(pred)]}
-        sys.stdout.write(_json(out))
-        return 0
+    pred = _rsf_prediction(res, o["config"])
+    out = res.summary()
+    out["file"] = str(file)
+    out["valid"] = True
+    out["reason"] = ""
+    out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
+                                "std_per_interval": [float(x) for x in res.delta_k_std(pred)]}
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
     rate = units.from_si(float(np.mean(res.rate)), "deg/s")
     spread = f", spread {np.std(e, ddof=1):.4g} ppm" if e.size > 1 else ""
     lines = [
-        f"paper RSF correction of {args.file}: {res.rows} rows, period {res.period:g} s, "
+        f"paper RSF correction of {file}: {res.rows} rows, period {res.period:g} s, "
         f"{res.n_intervals} complete interval(s), mean roll rate {rate:.5g} deg/s",
         f"  eps1_hat: mean {np.mean(e):.4g} ppm{spread} (per interval: "
         + ", ".join(f"{x:.4g}" for x in e[:6]) + (", ..." if e.size > 6 else "") + ")",
@@ -258,20 +518,146 @@ def _run_rsf(args: argparse.Namespace) -> int:
         f"{units.from_si(res.residual[-1], 'deg'):.4g} deg, uncorrected "
         f"{units.from_si(res.residual_raw[-1], 'deg'):.4g} deg",
     ]
-    sys.stdout.write("\n".join(lines) + "\n")
-    return 0
+    eps = np.asarray(res.eps1_hat, float)
+    row = {"file": file, "method": "rsf", "quantity": "eps1_hat_mean",
+           "estimate": float(np.mean(eps)),
+           "sigma": float(np.std(eps, ddof=1)) if eps.size > 1 else "", "unit": "1",
+           "valid": True, "status": "ok", "reason": ""}
+    artifacts = [(o["plot"], "rsf_plot", (res, pred))] if o["plot"] else []
+    return _Outcome(file=file, status="ok", text="\n".join(lines) + "\n", data=out, row=row,
+                    artifacts=artifacts)
+
+
+# One file, many files ---------------------------------------------------------------------
+def _process(method: str, file: str, o: dict) -> _Outcome:
+    """One file, any failure turned into its outcome (runs in a worker process too)."""
+    try:
+        if method == "gc":
+            return _run_gc_file(file, o)
+        return _run_rsf_file(file, o)
+    except (UsageError, RecordError) as exc:
+        return _bad(method, file, str(exc))
+    except (ValueError, TypeError, ArithmeticError) as exc:
+        return _bad(method, file, _failure_message(file, exc))
+
+
+def _write_artifacts(outcome: _Outcome) -> None:
+    for path, kind, payload in outcome.artifacts:
+        if kind == "plot":
+            _save(gc.plot_calibration(payload), path)
+        elif kind == "rsf_plot":
+            _save(rsf.plot_correction(*payload), path)
+        elif kind == "allan":
+            raw, params = payload
+            result = gc.allan_deviation(raw, params)
+            _save(gc.plot_allan(result, title=f"Allan deviation of {outcome.file}"), path)
+        else:
+            _write_text(path, payload)
+
+
+def _summary_csv(path: str, outcomes: list[_Outcome]) -> None:
+    def cell(x) -> str:
+        if isinstance(x, bool):
+            return "true" if x else "false"
+        if isinstance(x, float):
+            return f"{x:.10g}"
+        return str(x)
+
+    try:
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(SUMMARY_COLUMNS)
+            for o in outcomes:
+                w.writerow([cell(o.row.get(c, "")) for c in SUMMARY_COLUMNS])
+    except OSError as exc:
+        raise RecordError(path, f"cannot write the summary: {exc.strerror or exc}") from None
+
+
+def _executor(workers: int) -> concurrent.futures.Executor | None:
+    if workers <= 1:
+        return None
+    # forkserver: workers fork from a clean server process that has imported gyrolib once
+    # (no fork of this process's threads; no import per worker as with spawn)
+    ctx = multiprocessing.get_context("forkserver")
+    ctx.set_forkserver_preload(["gyrolib.cli.calibrate"])
+    return concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+
+
+def _run_files(method: str, args: argparse.Namespace, o: dict,
+               emit: Callable[[_Outcome], None]) -> list[_Outcome]:
+    """Every file, in parallel when --workers > 1; ``emit`` each outcome in input order."""
+    files = list(args.files)
+    results: list[_Outcome | None] = [None] * len(files)
+    done = 0
+
+    def flush() -> None:
+        nonlocal done
+        while done < len(files) and results[done] is not None:
+            emit(results[done])
+            done += 1
+
+    from tqdm import tqdm
+
+    batch = len(files) > 1
+    with tqdm(total=len(files), desc=f"calibrate {method}", unit="file", file=sys.stderr,
+              leave=False, disable=not (batch and _bar_enabled(args))) as bar:
+        ex = _executor(args.workers)
+        if ex is None:
+            for i, f in enumerate(files):
+                results[i] = _process(method, f, o)
+                bar.update(1)
+                flush()
+        else:
+            with ex:
+                futures = {ex.submit(_process, method, f, o): i for i, f in enumerate(files)}
+                for fut in concurrent.futures.as_completed(futures):
+                    results[futures[fut]] = fut.result()
+                    bar.update(1)
+                    flush()
+    return [r for r in results if r is not None]
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run ``calibrate gc`` or ``calibrate rsf``; bad input: one line on stderr, status 2."""
+    """Run ``calibrate gc`` or ``calibrate rsf``: exit status 0, 2 (bad input) or 3 (no valid
+    estimate); see the module docstring."""
+    label = args.files[0] if len(args.files) == 1 else f"calibrate {args.method}"
     try:
-        if args.method == "gc":
-            return _run_gc(args)
-        return _run_rsf(args)
-    except RecordError as exc:
-        sys.stderr.write(f"error: {exc}\n")
-        return 2
-    except (ValueError, TypeError) as exc:
-        # a record that reads but cannot be used (e.g. parameters out of range)
-        sys.stderr.write(f"error: {args.file}: {' '.join(str(exc).split())}\n")
-        return 2
+        if args.workers < 1:
+            raise UsageError(f"--workers must be an integer >= 1; got {args.workers}")
+        _check_out_path(args.summary, (".csv",), "a summary CSV")
+        o = _gc_options(args) if args.method == "gc" else _rsf_options(args)
+    except UsageError as exc:
+        sys.stderr.write(f"error: {_one_line(exc)}\n")
+        return EXIT_BAD_INPUT
+    except (RecordError, ValueError, TypeError) as exc:
+        sys.stderr.write(f"error: {_failure_message(label, exc)}\n")
+        return EXIT_BAD_INPUT
+
+    def emit(out: _Outcome) -> None:
+        if out.status == "ok" or (out.status == "invalid"):
+            if args.json:
+                sys.stdout.write(_json(out.data))
+            else:
+                sys.stdout.write(out.text)
+        elif args.json and (len(args.files) > 1 or args.summary):
+            sys.stdout.write(_json(out.data))
+        if out.message:
+            sys.stderr.write(f"error: {_one_line(out.message)}\n")
+        sys.stdout.flush()
+
+    outcomes = _run_files(args.method, args, o, emit)
+    for out in outcomes:
+        if out.status == "ok":
+            try:
+                _write_artifacts(out)
+            except RecordError as exc:
+                sys.stderr.write(f"error: {_one_line(exc)}\n")
+                return EXIT_BAD_INPUT
+    if args.summary:
+        try:
+            _summary_csv(args.summary, outcomes)
+        except RecordError as exc:
+            sys.stderr.write(f"error: {_one_line(exc)}\n")
+            return EXIT_BAD_INPUT
+    return max(out.code for out in outcomes) if all(
+        out.status != "bad" for out in outcomes) else EXIT_BAD_INPUT

@@ -7,6 +7,9 @@ module                      what it holds
 ``discretization``          :func:`van_loan` (exact Φ, Qd), :func:`van_loan_derivatives`,
                             :func:`covariance_factor`
 ``updates``                 :func:`joseph_update`, :func:`sequential_update`
+``kernels``                 numba kernels of the fast recursions:
+                            :func:`predict_covariance`, :func:`measurement_projection`,
+                            :func:`joseph_scalar_update`, :func:`kalman_kernels`
 ``covariance``              :class:`AffineDiscreteModel`, :func:`covariance_fast`,
                             :func:`covariance_reference`, :func:`propagate_fixed_gains`
 ``square_root``             :func:`covariance_square_root` (QR + Potter), an independent check
@@ -31,6 +34,13 @@ from gyrolib.filtering.discretization import (
     van_loan,
     van_loan_derivatives,
 )
+from gyrolib.filtering.kernels import (
+    KalmanKernels,
+    joseph_scalar_update,
+    kalman_kernels,
+    measurement_projection,
+    predict_covariance,
+)
 from gyrolib.filtering.square_root import (
     cholesky_semidefinite,
     covariance_square_root,
@@ -43,13 +53,18 @@ from gyrolib.filtering.updates import (
 __all__ = [
     "AffineDiscreteModel",
     "CovarianceRun",
+    "KalmanKernels",
     "cholesky_semidefinite",
     "covariance_factor",
     "covariance_fast",
     "covariance_reference",
     "covariance_square_root",
+    "joseph_scalar_update",
     "joseph_update",
+    "kalman_kernels",
+    "measurement_projection",
     "nees_bounds",
+    "predict_covariance",
     "propagate_fixed_gains",
     "sequential_update",
     "van_loan",

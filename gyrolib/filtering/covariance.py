@@ -7,7 +7,8 @@ exact to second order.  Two paths:
 * :func:`covariance_reference` — plain numpy, a batch Joseph update per step, any per-step
   ``Φ_k``, ``Qd_k``;
 * :func:`covariance_fast` — numba, sequential scalar Joseph updates (each O(n²)) and sparse
-  rows of ``Φ``.  Tests show they agree to 1e-9 relative.
+  rows of ``Φ``, by the kernels of :mod:`gyrolib.filtering.kernels` (shared with
+  :func:`gyrolib.gc.calibrate`).  Tests show they agree to 1e-9 relative.
 
 The filter is the discrete optimal filter of {cite:p}`Kalman1960` in the notation of
 {cite:p}`BarShalom2001`: predict ``P⁻ = Φ P Φᵀ + Qd``; update with ``z = H x + v``,
@@ -23,7 +24,11 @@ import numpy as np
 from numba import njit
 
 from gyrolib import _validation as v
-from gyrolib.filtering.discretization import _check_covariance
+from gyrolib.filtering.kernels import (
+    joseph_scalar_update,
+    measurement_projection,
+    predict_covariance,
+)
 from gyrolib.filtering.updates import joseph_update
 
 __all__ = [
@@ -131,6 +136,10 @@ class AffineDiscreteModel:
         """CSR row pointers and column indices of the union of the nonzeros of ``Φ``."""
         return _csr(np.any((self.Phi0 != 0) | (self.PhiA != 0) | (self.PhiB != 0), axis=0))
 
+    def measurement_sparsity(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR row pointers and column indices of the nonzeros of ``H``."""
+        return _csr(self.H != 0)
+
 
 def _csr(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rowptr = np.zeros(mask.shape[0] + 1, dtype=np.int64)
@@ -164,7 +173,7 @@ class CovarianceRun:
 def _check_run(model: AffineDiscreteModel, P0: object, store_every: object) -> tuple:
     if not isinstance(model, AffineDiscreteModel):
         raise TypeError("model must be an AffineDiscreteModel")
-    P0 = _check_covariance("P0", v.check_array("P0", P0, shape=(model.n, model.n)))
+    P0 = v.check_covariance("P0", v.check_array("P0", P0, shape=(model.n, model.n)))
     store_every = v.check_int("store_every", store_every, 1)
     return P0, store_every
 
@@ -225,11 +234,11 @@ def covariance_reference(
         P0 = v.check_array("P0", P0, ndim=2)
         if P0.shape[0] != P0.shape[1]:
             raise ValueError(f"P0 must be a square matrix; got shape {P0.shape}")
-        _check_covariance("P0", P0)
+        v.check_covariance("P0", P0)
         store_every = v.check_int("store_every", store_every, 1)
         n_steps = v.check_int("n_steps", n_steps, 0)
         H = v.check_array("H", H, shape=(None, P0.shape[0]))
-        R = _check_covariance("R", v.check_array("R", R, shape=(H.shape[0], H.shape[0])))
+        R = v.check_covariance("R", v.check_array("R", R, shape=(H.shape[0], H.shape[0])))
     n, m = P0.shape[0], H.shape[0]
     P = P0.copy()
     var = np.empty((n_steps + 1, n))
@@ -250,7 +259,7 @@ def covariance_reference(
     return CovarianceRun(var=var, P_stored=P_stored, store_every=store_every, gains=gains)
 
 
-@njit(cache=True, fastmath=True)
+@njit(cache=True, nogil=True)
 def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, colidx, hptr,
                            hidx, H, r, P0, store_every, var, P_stored, gains, fixed):
     """One kernel for both uses: ``fixed=False`` computes the optimal sequential gains and
@@ -263,6 +272,7 @@ def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, c
     keep = gains.shape[0] == n_steps
     P = P0.copy()
     Phi = np.zeros((n, n))
+    Qd = np.zeros((n, n))
     T = np.zeros((n, n))
     Ph = np.zeros(n)
     kv = np.zeros(n)
@@ -279,37 +289,11 @@ def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, c
             for p in range(rowptr[i], rowptr[i + 1]):
                 c = colidx[p]
                 Phi[i, c] = Phi0[j, i, c] + ak * PhiA[j, i, c] + bk * PhiB[j, i, c]
-        # T = Φ P (sparse rows of Φ)
-        for i in range(n):
-            for col in range(n):
-                T[i, col] = 0.0
-            for p in range(rowptr[i], rowptr[i + 1]):
-                c = colidx[p]
-                f = Phi[i, c]
-                for col in range(n):
-                    T[i, col] += f * P[c, col]
-        # P = T Φᵀ + Qd, upper triangle mirrored
-        for i in range(n):
-            for jj in range(i, n):
-                s = Qd0[j, i, jj] + ak * QdA[j, i, jj] + bk * QdB[j, i, jj]
-                for p in range(rowptr[jj], rowptr[jj + 1]):
-                    c = colidx[p]
-                    s += T[i, c] * Phi[jj, c]
-                P[i, jj] = s
-                P[jj, i] = s
-        # scalar Joseph updates: P⁺ = P − k Phᵀ − Ph kᵀ + (hᵀPh + r) k kᵀ
+            for c in range(i, n):
+                Qd[i, c] = Qd0[j, i, c] + ak * QdA[j, i, c] + bk * QdB[j, i, c]
+        predict_covariance(P, Phi, rowptr, colidx, Qd, T)
         for q in range(m):
-            for i in range(n):
-                s = 0.0
-                for p in range(hptr[q], hptr[q + 1]):
-                    c = hidx[p]
-                    s += P[i, c] * H[q, c]
-                Ph[i] = s
-            hPh = 0.0
-            for p in range(hptr[q], hptr[q + 1]):
-                c = hidx[p]
-                hPh += H[q, c] * Ph[c]
-            S = hPh + r[q]
+            S = measurement_projection(P, H, q, hptr, hidx, Ph) + r[q]
             if fixed:
                 for i in range(n):
                     kv[i] = gains[k, q, i]
@@ -320,13 +304,7 @@ def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, c
                 if keep:
                     for i in range(n):
                         gains[k, q, i] = kv[i]
-            for i in range(n):
-                ki = kv[i]
-                pi = Ph[i]
-                for jj in range(i, n):
-                    val = P[i, jj] - ki * Ph[jj] - pi * kv[jj] + S * ki * kv[jj]
-                    P[i, jj] = val
-                    P[jj, i] = val
+            joseph_scalar_update(P, Ph, kv, S)
         for i in range(n):
             var[k + 1, i] = P[i, i]
         if (k + 1) % store_every == 0:
@@ -338,7 +316,7 @@ def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, c
 
 def _run_kernel(model, P0, store_every, gains, fixed, r=None, Qd=None) -> CovarianceRun:
     rowptr, colidx = model.sparsity()
-    hptr, hidx = _csr(model.H != 0)
+    hptr, hidx = model.measurement_sparsity()
     Qd0, QdA, QdB = Qd if Qd is not None else (model.Qd0, model.QdA, model.QdB)
     r = model.r if r is None else r
     var = np.empty((model.n_steps + 1, model.n))

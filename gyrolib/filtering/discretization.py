@@ -33,20 +33,9 @@ def _check_model(F: object, G: object, Qc: object, dt: object) -> tuple:
         raise ValueError(f"F must be square; got shape {F.shape}")
     G = v.check_array("G", G, shape=(n, None))
     Qc = v.check_array("Qc", Qc, shape=(G.shape[1], G.shape[1]))
-    _check_covariance("Qc", Qc)
+    v.check_covariance("Qc", Qc)
     dt = v.check_positive("dt", dt)
     return F, G, Qc, dt
-
-
-def _check_covariance(name: str, M: np.ndarray) -> np.ndarray:
-    """A (noise or state) covariance: symmetric to rounding, with a diagonal >= 0."""
-    scale = float(np.max(np.abs(M))) if M.size else 0.0
-    if np.any(np.abs(M - M.T) > 1e-9 * scale):
-        raise ValueError(f"{name} must be a symmetric matrix (a covariance)")
-    if np.any(np.diag(M) < 0.0):
-        raise ValueError(f"{name} must have a diagonal >= 0 (variances); "
-                         f"got min {np.diag(M).min()}")
-    return M
 
 
 def van_loan(F: ArrayLike, G: ArrayLike, Qc: ArrayLike, dt: float
@@ -102,8 +91,9 @@ def van_loan_derivatives(
            list[NDArray[np.float64]]]:
     """``(Φ, Qd)`` of :func:`van_loan` and their exact derivatives along each direction
     ``E`` of ``F`` (``d/dε`` at ``F + ε E``), from the Fréchet derivative of the block
-    exponential (``scipy.linalg.expm_frechet``): the basis of the affine expansion of paper
-    GC's ``F(β_n)`` in ``(sin β_n, cos β_n)``.
+    exponential (Van Loan's block-triangular exponential again, one for all directions,
+    {cite:p}`VanLoan1978`): the basis of the affine expansion of paper GC's ``F(β_n)`` in
+    ``(sin β_n, cos β_n)``.
 
     Parameters
     ----------
@@ -134,20 +124,27 @@ def van_loan_derivatives(
         raise TypeError("directions must be a list or tuple of n×n arrays; "
                         f"got {type(directions).__name__}")
     n = F.shape[0]
+    dirs = [v.check_array("direction", d, shape=(n, n)) for d in directions]
     M = np.zeros((2 * n, 2 * n))
     M[:n, :n] = -F * dt
     M[:n, n:] = G @ Qc @ G.T * dt
     M[n:, n:] = F.T * dt
-    dPhis, dQds = [], []
-    E = scipy.linalg.expm(M)
+    # one exponential for all: exp([[M, dM_1, …, dM_k], [0, M, 0 …], …, [0 …, M]]) holds
+    # exp(M) on its diagonal and the Fréchet derivative along dM_i in block (0, i)
+    m = 2 * n
+    B = np.zeros(((len(dirs) + 1) * m, (len(dirs) + 1) * m))
+    for i in range(len(dirs) + 1):
+        B[i * m:(i + 1) * m, i * m:(i + 1) * m] = M
+    for i, d in enumerate(dirs, start=1):
+        B[:n, i * m:i * m + n] = -d * dt
+        B[n:m, i * m + n:(i + 1) * m] = d.T * dt
+    X = scipy.linalg.expm(B)
+    E = X[:m, :m]
     Phi = E[n:, n:].T.copy()
     Qd = Phi @ E[:n, n:]
-    for d in directions:
-        d = v.check_array("direction", d, shape=(n, n))
-        dM = np.zeros_like(M)
-        dM[:n, :n] = -d * dt
-        dM[n:, n:] = d.T * dt
-        _, L = scipy.linalg.expm_frechet(M, dM)
+    dPhis, dQds = [], []
+    for i in range(1, len(dirs) + 1):
+        L = X[:m, i * m:(i + 1) * m]
         dPhi = L[n:, n:].T.copy()
         dQd = dPhi @ E[:n, n:] + Phi @ L[:n, n:]
         dPhis.append(dPhi)
@@ -184,7 +181,7 @@ def covariance_factor(Q: ArrayLike) -> NDArray[np.float64]:
     Q = v.check_array("Q", Q, ndim=2)
     if Q.shape[0] != Q.shape[1]:
         raise ValueError(f"Q must be a square matrix; got shape {Q.shape}")
-    _check_covariance("Q", Q)
+    v.check_covariance("Q", Q)
     d = np.sqrt(np.diag(Q))
     nz = d > 0.0
     L = np.zeros_like(Q)

@@ -3,6 +3,9 @@
 * :func:`joseph_update` — Joseph form ``P⁺ = (I−KH)P(I−KH)ᵀ + KRKᵀ``, valid for any gain;
 * :func:`sequential_update` — the independent alternative: the measurements processed one
   scalar at a time in the conventional form ``P⁺ = P − k hᵀP`` {cite:p}`Bierman1977`.
+
+The numba kernels of the fast recursions (the Joseph form for one scalar measurement among
+them) are in :mod:`gyrolib.filtering.kernels`.
 """
 
 from __future__ import annotations

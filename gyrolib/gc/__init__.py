@@ -16,6 +16,7 @@ module                  paper GC
 ``budget``              :func:`error_budget` (σ of ω_gc by source)
 ``observability``       :func:`information_psi_omega` (how ψ and ω_gc separate)
 ``claims``              the speed-claim map and the shaping-filter sweep
+``sobol``               Sobol' indices of σ_gc(100 s) and t_c: :func:`sensitivity`
 ``record``              :class:`GCRecord`, a recorded log the calibration reads (SI)
 ``calibration``         the filter on a recorded log: :func:`calibrate`
 ``ratesensor``          ref. [3], the method GC replaces: :class:`RateSensorProcedure`,
@@ -23,6 +24,10 @@ module                  paper GC
                         :func:`rate_sensor_monte_carlo`
 ``racing``              the race against it: :func:`race`, :func:`race_sweep`,
                         :func:`procedure_for_time`
+``noisefit``            noise parameters fitted from a record: :func:`fit_noise`
+``convention``          which column is δ, which γ: :class:`InclinometerMapping`,
+                        :func:`convention_study` (a wrongly wired pair, Monte Carlo)
+``allan``               Allan deviation of a record's sensors: :func:`allan_deviation`
 ``plots``               the figures: ``plot_*``
 ======================  ===============================================================
 
@@ -30,10 +35,23 @@ Use as ``from gyrolib import gc`` then ``gc.covariance_analysis(gc.GyrocompassPa
 """
 
 from gyrolib.gc import symbolic
+from gyrolib.gc.allan import (
+    AllanDeviation,
+    AllanSeries,
+    allan_deviation,
+    allan_model_vibration,
+    plot_allan,
+)
 from gyrolib.gc.budget import (
     BUDGET_SOURCES,
     ErrorBudget,
     error_budget,
+)
+from gyrolib.gc.convention import (
+    ConventionStudy,
+    InclinometerMapping,
+    convention_study,
+    plot_convention_study,
 )
 from gyrolib.gc.covariance import (
     CovarianceAnalysis,
@@ -48,8 +66,10 @@ from gyrolib.gc.discretization import (
     DISCRETIZATIONS,
     SEGMENT,
     GCDiscretization,
+    NominalIntegrator,
     discretize,
     nominal_half_steps,
+    system_matrix_parts,
 )
 from gyrolib.gc.montecarlo import (
     MonteCarloResult,
@@ -116,15 +136,23 @@ __all__ = [
     "NOISE_NAMES",
     "SEGMENT",
     "STATE_NAMES",
+    "AllanDeviation",
+    "AllanSeries",
+    "ConventionStudy",
     "CovarianceAnalysis",
     "CovarianceSweep",
     "ErrorBudget",
     "GCDiscretization",
     "GyrocompassParams",
+    "InclinometerMapping",
     "InformationPsiOmega",
     "MonteCarloResult",
+    "NominalIntegrator",
     "NominalMotion",
     "ShapingFilter",
+    "allan_deviation",
+    "allan_model_vibration",
+    "convention_study",
     "covariance_analysis",
     "discretize",
     "error_budget",
@@ -142,7 +170,9 @@ __all__ = [
     "nominal_motion_reference",
     "normal_gravity",
     "parameter_grid",
+    "plot_allan",
     "plot_consistency",
+    "plot_convention_study",
     "plot_error_budget",
     "plot_estimates",
     "plot_figure1",
@@ -165,9 +195,11 @@ __all__ = [
     "sweep_sigma_gc",
     "symbolic",
     "system_matrix",
+    "system_matrix_parts",
     "time_to_sigma",
     "vibration_filter",
 ]
+
 
 # Paper GC's claims, computed (gc.claims), and the claims chapter's figures; calibration on
 # recorded data (issue 13)
@@ -175,6 +207,7 @@ from gyrolib.gc.calibration import (
     CalibrationResult,
     SimulatedRecord,
     calibrate,
+    innovation_log_likelihood,
     plot_calibration,
     simulate_record,
 )
@@ -188,6 +221,7 @@ from gyrolib.gc.claims import (
     speed_claim_map,
     time_to_level,
 )
+from gyrolib.gc.noisefit import NOISE_FIT_NAMES, NoiseFit, fit_noise
 
 # The race against the rate-sensor method of ref. [3] (issue 17), with the claims plots
 from gyrolib.gc.plots import plot_mismatch, plot_race, plot_race_sweep, plot_speed_claim
@@ -213,6 +247,15 @@ from gyrolib.gc.ratesensor import (
 )
 from gyrolib.gc.record import GCRecord
 
+# Global sensitivity of sigma_gc(100 s) and t_c (issue 19)
+from gyrolib.gc.sobol import (
+    SENSITIVITY_OUTPUTS,
+    recheck_sensitivity,
+    sensitivity,
+    sensitivity_inputs,
+    sensitivity_outputs,
+)
+
 __all__ += [
     "SHAPING_FIELDS",
     "ClaimBoundary",
@@ -225,8 +268,18 @@ __all__ += [
     "speed_claim_map",
     "time_to_level",
 ]
-__all__ += ["CalibrationResult", "GCRecord", "SimulatedRecord", "calibrate",
-            "plot_calibration", "simulate_record"]
+__all__ += [
+    "NOISE_FIT_NAMES",
+    "CalibrationResult",
+    "GCRecord",
+    "NoiseFit",
+    "SimulatedRecord",
+    "calibrate",
+    "fit_noise",
+    "innovation_log_likelihood",
+    "plot_calibration",
+    "simulate_record",
+]
 
 __all__ += [
     "PROCEDURE_TARGETS",
@@ -261,3 +314,5 @@ from gyrolib.gc.plots import plot_linearization  # noqa: E402
 
 __all__ += ["LinearizationEffect", "linearization_effect", "plot_linearization",
             "psi_for_drift", "remainder_drift", "run_streams", "truth_prior_factor"]
+__all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensitivity_inputs",
+            "sensitivity_outputs"]

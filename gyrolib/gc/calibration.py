@@ -27,19 +27,28 @@ also
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Iterable
+from concurrent.futures import Executor
 from dataclasses import dataclass
-from typing import Final
+from typing import Final, NamedTuple
 
 import numpy as np
-import scipy.linalg
 import scipy.stats
 from numba import njit
+from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.filtering.discretization import van_loan, van_loan_derivatives
-from gyrolib.gc.discretization import SEGMENT, _affine_parts, _etd2_advance, _etd2_coefficients
+from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
+from gyrolib.filtering.kernels import kalman_kernels
+from gyrolib.gc.discretization import (
+    SEGMENT,
+    NominalIntegrator,
+    nominal_half_steps,
+    system_matrix_parts,
+)
+from gyrolib.gc.montecarlo import simulate_truth
 from gyrolib.gc.params import MEASUREMENT_NAMES, STATE_NAMES, GyrocompassParams, state_index
 from gyrolib.gc.record import GCRecord
 from gyrolib.gc.state_space import (
@@ -54,6 +63,7 @@ __all__ = [
     "CalibrationResult",
     "SimulatedRecord",
     "calibrate",
+    "innovation_log_likelihood",
     "plot_calibration",
     "simulate_record",
 ]
@@ -67,6 +77,12 @@ SMALL_SHIFT: Final[float] = 0.05
 
 #: Rejected measurements listed individually in a result (all are counted).
 MAX_LISTED_REJECTIONS: Final[int] = 10000
+
+# the shared kernels (gyrolib.filtering.kernels) compiled for the 10 states of Eq. (8)
+_kernels = kalman_kernels(N)
+predict_covariance = _kernels.predict_covariance
+measurement_projection = _kernels.measurement_projection
+joseph_scalar_update = _kernels.joseph_scalar_update
 
 
 # Result ---------------------------------------------------------------------------------
@@ -83,12 +99,18 @@ class CalibrationResult:
       ``rows_used`` (rows with at least one measurement used), ``rows_rejected`` (rows with at
       least one rejected); ``rejected_t``, ``rejected_sensor``, ``rejected_nis``: the first
       :data:`MAX_LISTED_REJECTIONS` rejections;
-    * ``nis_sum`` (3,): sum of the NIS of the used measurements; ``acf`` (3, lags): the
-      autocorrelation at lags 1…lags of each sensor's normalized innovations ``ν/√S``;
+    * ``nis_sum`` (3,): sum of the NIS of the used measurements, ``log_s_sum`` (3,): sum of
+      the logarithms of their innovation variances ``S`` (together the innovations'
+      log-likelihood, :attr:`log_likelihood`); ``acf`` (3, lags): the autocorrelation at
+      lags 1…lags of each sensor's normalized innovations ``ν/√S``;
     * ``gaps`` (steps longer than 1.5 ``dt``), ``gap_time`` (s of missing rows),
       ``irregular_steps`` (remainders discretized exactly at their own length),
       ``jittered_steps`` (steps within 5 % of a whole number of ``dt``, shifted in time),
-      ``gate`` (probability).
+      ``gate`` (probability);
+    * ``max_rejected``, ``nis_range``: the limits of a valid run (:attr:`valid`,
+      :attr:`reason`): a sensor whose share of gate rejections exceeds ``max_rejected``, or
+      whose mean NIS is outside ``nis_range``, has lost lock or is not the sensor the model
+      describes, and the estimate is not a result.
     """
 
     params: GyrocompassParams
@@ -110,6 +132,7 @@ class CalibrationResult:
     rejected_sensor: np.ndarray
     rejected_nis: np.ndarray
     nis_sum: np.ndarray
+    log_s_sum: np.ndarray
     acf: np.ndarray
     gaps: int
     gap_time: float
@@ -117,6 +140,8 @@ class CalibrationResult:
     jittered_steps: int
     gate: float
     store_every: int
+    max_rejected: float = 0.01
+    nis_range: tuple[float, float] = (0.5, 2.0)
 
     def __post_init__(self) -> None:
         v.check_instance("params", self.params, GyrocompassParams)
@@ -125,9 +150,11 @@ class CalibrationResult:
         v.check_ndarray("std", self.std, shape=(ns, N))
         v.check_ndarray("x_final", self.x_final, shape=(N,))
         v.check_ndarray("P_final", self.P_final, shape=(N, N))
-        for name in ("used", "missing", "rejected", "nis_sum"):
+        for name in ("used", "missing", "rejected", "nis_sum", "log_s_sum"):
             if np.shape(getattr(self, name)) != (M,):
                 raise ValueError(f"{name} must have shape ({M},)")
+        v.check_in_range("max_rejected", self.max_rejected, 0.0, 1.0)
+        object.__setattr__(self, "nis_range", _check_nis_range(self.nis_range))
 
     # estimates -----------------------------------------------------------------------
     def estimate(self, name: str) -> np.ndarray:
@@ -209,10 +236,54 @@ class CalibrationResult:
                              f"{self.whiteness[q]:.3g} > {self.whiteness_limit(confidence):.3g})")
         return "model does NOT fit: " + "; ".join(parts)
 
+    @property
+    def log_likelihood(self) -> float:
+        """The innovations log-likelihood of the record under ``params``,
+        ``−½ Σ (ln 2π S + ν²/S)`` over the used measurements (the prediction-error
+        decomposition of the Gaussian likelihood; rejected and missing ones left out)."""
+        return _log_likelihood(self.used, self.log_s_sum, self.nis_sum)
+
+    @property
+    def rejected_share(self) -> np.ndarray:
+        """(3,): the share of each sensor's measurements (not missing) the gate rejected."""
+        seen = self.used + self.rejected
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(seen > 0, self.rejected / np.maximum(seen, 1), 0.0)
+
+    def _invalid_parts(self) -> list[str]:
+        parts = []
+        share = self.rejected_share
+        nis = self.nis_mean
+        lo, hi = self.nis_range
+        for q, name in enumerate(MEASUREMENT_NAMES):
+            if share[q] > self.max_rejected:
+                seen = int(self.used[q] + self.rejected[q])
+                parts.append(f"{name}: {int(self.rejected[q])} of {seen} samples "
+                             f"({100 * share[q]:.3g} %) rejected by the chi-square gate "
+                             f"(limit {100 * self.max_rejected:.3g} %)")
+            if self.used[q] > 0 and not lo <= nis[q] <= hi:
+                parts.append(f"{name}: mean NIS {nis[q]:.3g} outside [{lo:g}, {hi:g}]")
+        return parts
+
+    @property
+    def valid(self) -> bool:
+        """False when the filter lost lock on the record: the gate rejected more than
+        ``max_rejected`` of a sensor's measurements, or a sensor's mean NIS is outside
+        ``nis_range`` (far outside its χ² band); the estimate is then not a result."""
+        return not self._invalid_parts()
+
+    @property
+    def reason(self) -> str:
+        """Why the run is not valid, naming each sensor at fault (``""`` when valid)."""
+        return "; ".join(self._invalid_parts())
+
     def summary(self) -> dict:
         """The result as a JSON-ready dict (SI; a value that is not finite is ``None``)."""
         band = self.nis_band()
+        share = self.rejected_share
         return {
+            "valid": self.valid,
+            "reason": self.reason,
             "omega_gc": self.omega_gc,
             "omega_gc_std": self.omega_gc_std,
             "t_end": self.t_final,
@@ -231,6 +302,11 @@ class CalibrationResult:
             "model_fits": bool(np.all(self.fits())),
             "verdict": self.verdict(),
             "gate": self.gate,
+            "rejected_share": {name: float(share[q])
+                               for q, name in enumerate(MEASUREMENT_NAMES)},
+            "max_rejected": self.max_rejected,
+            "nis_range": list(self.nis_range),
+            "log_likelihood": self.log_likelihood,
             "gaps": self.gaps,
             "gap_time": self.gap_time,
             "irregular_steps": self.irregular_steps,
@@ -242,6 +318,12 @@ class CalibrationResult:
         }
 
 
+def _log_likelihood(used: np.ndarray, log_s_sum: np.ndarray, nis_sum: np.ndarray) -> float:
+    """``−½ Σ (ln 2π S + ν²/S)`` from its per-sensor sums."""
+    n = float(np.sum(used))
+    return float(-0.5 * (n * math.log(2.0 * math.pi) + np.sum(log_s_sum) + np.sum(nis_sum)))
+
+
 def _finite(x: float) -> float | None:
     """``x`` as a float, or ``None`` when it is not finite (JSON has no NaN)."""
     x = float(x)
@@ -250,38 +332,146 @@ def _finite(x: float) -> float | None:
 
 # Nominal motion along the record ------------------------------------------------------------
 class _Nominal:
-    """β_n(t) of Eq. (4) on the half-step grid ``i dt/2``, integrated forward on demand and
-    kept only over the window the current chunk needs (constant memory)."""
+    """β_n(t) of Eq. (4) on the half-step grid ``i dt/2`` (:class:`gyrolib.gc.NominalIntegrator`),
+    integrated forward on demand and kept only over the window the current chunk needs
+    (constant memory)."""
 
     def __init__(self, p: GyrocompassParams) -> None:
-        self.hh = 0.5 * p.dt
-        self.E, self.p1, self.p2, self.kdd = _etd2_coefficients(p)
-        self.y = np.zeros(2)        # state at grid index self.end
+        self.integrator = NominalIntegrator(p)
+        self.hh = self.integrator.half_step
         self.start = 0              # grid index of buf[0]
-        self.end = 0                # grid index of buf[-1]
-        self.buf = np.zeros(1)
+        self.buf = np.zeros(1)      # β at grid indices start … integrator.index
 
     def window(self, t_lo: float, t_hi: float) -> tuple[np.ndarray, int]:
         """β on the grid from ≤ ``t_lo`` to ≥ ``t_hi`` and the grid index of its first value."""
+        nom = self.integrator
         lo = max(math.floor(t_lo / self.hh) - 1, 0)
         hi = math.ceil(t_hi / self.hh) + 2
-        empty = np.zeros(0)
-        if lo > self.end:
-            _etd2_advance(self.E, self.p1, self.p2, self.kdd, self.y, lo - self.end, empty)
-            self.buf = np.array([self.y[0]])
-            self.start = self.end = lo
+        if lo > nom.index:
+            nom.advance(lo - nom.index, keep=False)
+            self.buf = np.array([nom.beta])
+            self.start = lo
         elif lo > self.start:
             self.buf = self.buf[lo - self.start:]
             self.start = lo
-        if hi > self.end:
-            new = np.empty(hi - self.end)
-            _etd2_advance(self.E, self.p1, self.p2, self.kdd, self.y, hi - self.end, new)
-            self.buf = np.concatenate([self.buf, new])
-            self.end = hi
+        if hi > nom.index:
+            self.buf = np.concatenate([self.buf, nom.advance(hi - nom.index)])
         return self.buf, self.start
 
 
 # The filter kernel ----------------------------------------------------------------------
+class _Model(NamedTuple):
+    """The filter's arrays, constant over a run (SI).
+
+    ``phi_tab[j]`` (3, nnz): ``Φ``, ``∂Φ/∂ sin β``, ``∂Φ/∂ cos β`` at expansion point
+    ``j · seg_w`` on the nonzeros of ``Φ`` (CSR ``rowptr``, ``colidx``); ``qd_tab[j]``
+    (3, nq): the same for ``Qd`` on its nonzeros in the upper triangle (``qi ≤ qj``);
+    ``sin_j``, ``cos_j`` at the expansion points; ``dense_ptr``, ``dense_idx``: a CSR pattern
+    of a full matrix (the irregular steps' own ``Φ``); ``Fc``, ``Es``, ``Ec``, ``W = G Q Gᵀ``
+    for the short time shift; ``H`` with its nonzeros (``hptr``, ``hidx``), ``r`` = diag R;
+    ``gate`` the χ²(1) threshold of the normalized innovation squared."""
+
+    dt: float
+    seg_w: float
+    sin_j: NDArray[np.float64]
+    cos_j: NDArray[np.float64]
+    phi_tab: NDArray[np.float64]
+    qd_tab: NDArray[np.float64]
+    rowptr: NDArray[np.int64]
+    colidx: NDArray[np.int64]
+    qi: NDArray[np.int64]
+    qj: NDArray[np.int64]
+    dense_ptr: NDArray[np.int64]
+    dense_idx: NDArray[np.int64]
+    Fc: NDArray[np.float64]
+    Es: NDArray[np.float64]
+    Ec: NDArray[np.float64]
+    W: NDArray[np.float64]
+    H: NDArray[np.float64]
+    hptr: NDArray[np.int64]
+    hidx: NDArray[np.int64]
+    r: NDArray[np.float64]
+    gate: float
+
+
+class _Chunk(NamedTuple):
+    """One chunk of rows: times ``t``, measurements ``z`` (rows × 3, NaN missing), the
+    nominal angle on the half-step grid (``grid`` from index ``g0``, ``inv_hh = 2/dt``) and
+    how each row's step is taken: ``n_whole`` regular steps, then a short ``shift`` (jitter)
+    or, where ``irr_idx >= 0``, an exact remainder step ``irr_phi``, ``irr_qd``."""
+
+    t: NDArray[np.float64]
+    z: NDArray[np.float64]
+    grid: NDArray[np.float64]
+    g0: float
+    inv_hh: float
+    n_whole: NDArray[np.int64]
+    shift: NDArray[np.float64]
+    irr_idx: NDArray[np.int64]
+    irr_phi: NDArray[np.float64]
+    irr_qd: NDArray[np.float64]
+
+
+class _State(NamedTuple):
+    """The filter between rows (updated in place): ``x``, ``P``, ``tcur`` (1,) the time of
+    ``x``, and scratch arrays."""
+
+    x: NDArray[np.float64]
+    P: NDArray[np.float64]
+    tcur: NDArray[np.float64]
+    Phi: NDArray[np.float64]
+    Qd: NDArray[np.float64]
+    T: NDArray[np.float64]
+    y: NDArray[np.float64]
+    Ph: NDArray[np.float64]
+    k: NDArray[np.float64]
+    Fm: NDArray[np.float64]
+    Em: NDArray[np.float64]
+    Am: NDArray[np.float64]
+
+
+class _Stats(NamedTuple):
+    """Diagnostics accumulated over the run (in place), per sensor (3,) unless said:
+    ``used``, ``missing``, ``rejected``; ``rows_ur`` (2,) rows with a use / a rejection;
+    ``nis_sum``, ``log_s_sum`` (Σ ln S over the used measurements); the last ``lags``
+    normalized innovations (``ring``, ``ring_pos``, ``ring_n``), ``acf_sum`` (3, lags),
+    ``acf_sq``; the first rejections (``rej_t``, ``rej_q``, ``rej_nis``, ``n_rej`` (1,));
+    the NIS window since the last stored row (``win_sum``, ``win_cnt``)."""
+
+    used: NDArray[np.int64]
+    missing: NDArray[np.int64]
+    rejected: NDArray[np.int64]
+    rows_ur: NDArray[np.int64]
+    nis_sum: NDArray[np.float64]
+    log_s_sum: NDArray[np.float64]
+    ring: NDArray[np.float64]
+    ring_pos: NDArray[np.int64]
+    ring_n: NDArray[np.int64]
+    acf_sum: NDArray[np.float64]
+    acf_sq: NDArray[np.float64]
+    rej_t: NDArray[np.float64]
+    rej_q: NDArray[np.int64]
+    rej_nis: NDArray[np.float64]
+    n_rej: NDArray[np.int64]
+    win_sum: NDArray[np.float64]
+    win_cnt: NDArray[np.int64]
+
+
+class _Store(NamedTuple):
+    """What is kept every ``every`` rows of the run (row numbers from ``row0`` at the start
+    of the chunk): ``t``, ``x``, ``s`` (σ), the NIS window mean ``nis`` and count ``cnt``;
+    ``n`` (1,) how many were written."""
+
+    every: int
+    row0: int
+    t: NDArray[np.float64]
+    x: NDArray[np.float64]
+    s: NDArray[np.float64]
+    nis: NDArray[np.float64]
+    cnt: NDArray[np.int64]
+    n: NDArray[np.int64]
+
+
 @njit(cache=True, inline="always")
 def _beta_at(t, grid, g0, inv_hh):
     u = t * inv_hh - g0
@@ -294,37 +484,42 @@ def _beta_at(t, grid, g0, inv_hh):
     return grid[i] * (1.0 - f) + grid[i + 1] * f
 
 
-@njit(cache=True)
-def _predict(x, P, Phi, Qd, T, y):
-    n = x.shape[0]
+@njit(cache=True, inline="always")
+def _predict_state(x, Phi, rowptr, colidx, y):
+    """``x ← Φ x`` (sparse rows of Φ)."""
+    n = N
     for i in range(n):
         s = 0.0
-        for c in range(n):
-            s += Phi[i, c] * x[c]
+        for p in range(rowptr[i], rowptr[i + 1]):
+            s += Phi[i, colidx[p]] * x[colidx[p]]
         y[i] = s
     for i in range(n):
         x[i] = y[i]
-    for i in range(n):
-        for col in range(n):
-            s = 0.0
-            for c in range(n):
-                s += Phi[i, c] * P[c, col]
-            T[i, col] = s
-    for i in range(n):
-        for jj in range(i, n):
-            s = Qd[i, jj]
-            for c in range(n):
-                s += T[i, c] * Phi[jj, c]
-            P[i, jj] = s
-            P[jj, i] = s
+
+
+@njit(cache=True, inline="always")
+def _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j, d, Phi, Qd):
+    """``Φ``, ``Qd`` of a step of ``dt`` with ``F`` frozen at ``β_n = β_j + d``, from the
+    affine tables of expansion point ``j``, with ``(sin β_n − sin β_j, cos β_n − cos β_j)``
+    by series in ``d`` (|d| ≤ SEGMENT/2: exact to rounding)."""
+    d2 = d * d
+    cm1 = d2 * (-0.5 + d2 * (1.0 / 24.0 - d2 / 720.0))          # cos d − 1
+    sn = d * (1.0 + d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0 - d2 / 5040.0)))   # sin d
+    a = sin_j[j] * cm1 + cos_j[j] * sn
+    b = cos_j[j] * cm1 - sin_j[j] * sn
+    for i in range(N):
+        for p in range(rowptr[i], rowptr[i + 1]):
+            Phi[i, colidx[p]] = phi_tab[j, 0, p] + a * phi_tab[j, 1, p] + b * phi_tab[j, 2, p]
+    for p in range(qi.shape[0]):
+        Qd[qi[p], qj[p]] = qd_tab[j, 0, p] + a * qd_tab[j, 1, p] + b * qd_tab[j, 2, p]
 
 
 @njit(cache=True)
 def _shift(x, P, F, W, d, E, A, T, y):
     """Move the state and covariance on by a short time ``d`` (either sign, |F d| ≪ 1):
     ``E = exp(F d)`` (Taylor to 4th order), ``x ← E x``, ``P ← E (P + Q̃) Eᵀ`` with
-    ``Q̃ = d W − d²/2 (F W + W Fᵀ)``, ``W = G Q Gᵀ``: exact to O(d³) for both signs, since
-    ``Qd(h + d) = E (Qd(h) + Q̃) Eᵀ``."""
+    ``Q̃ = W d − (F W + W Fᵀ) d²/2`` so that ``E (P + Q̃) Eᵀ = E P Eᵀ + Qd(d)`` to O(d³)
+    (``W = G Q Gᵀ``; for ``d < 0`` this undoes the part of a step that came too far)."""
     n = x.shape[0]
     for i in range(n):
         for j in range(n):
@@ -374,131 +569,205 @@ def _shift(x, P, F, W, d, E, A, T, y):
             P[j, i] = sm
 
 
-@njit(cache=True)
-def _filter_chunk(t, z, grid, g0, inv_hh, dt, n_whole, shift, Fc, Es, Ec, W, irr_idx,
-                  irr_phi, irr_qd,
-                  Phi0, PhiA, PhiB, Qd0, QdA, QdB, seg_w, H, r, gate, x, P, tcur,
-                  row0, store_every, st_t, st_x, st_s, st_nis, st_cnt, n_st,
-                  used, missing, rejected, rows_ur, nis_sum, ring, ring_n, acf_sum, acf_sq,
-                  rej_t, rej_q, rej_nis, n_rej, win_sum, win_cnt):
-    """Predict and update over the rows of one chunk (state arrays updated in place)."""
-    n = x.shape[0]
-    m = H.shape[0]
-    L = ring.shape[1]
-    Phi = np.zeros((n, n))
-    Qd = np.zeros((n, n))
-    T = np.zeros((n, n))
-    y = np.zeros(n)
-    Ph = np.zeros(n)
-    kv = np.zeros(n)
-    Fm = np.zeros((n, n))
-    Em = np.zeros((n, n))
-    Am = np.zeros((n, n))
+@njit(cache=True, inline="always")
+def _update(x, P, Ph, k, H, hptr, hidx, r, gate, ss, q, zq, t):
+    """The scalar measurement ``zq`` of sensor ``q`` at time ``t``: gate, diagnostics
+    (``ss``), Joseph update (:func:`gyrolib.filtering.joseph_scalar_update`).  Returns 1 if
+    used, -1 if rejected by the gate.  (The filter's arrays come one by one: numba keeps
+    them in registers, where fields of a tuple are read again after every store.)"""
+    hx = 0.0
+    for p in range(hptr[q], hptr[q + 1]):
+        hx += H[q, hidx[p]] * x[hidx[p]]
+    S = measurement_projection(P, H, q, hptr, hidx, Ph) + r[q]
+    nu = zq - hx
+    nis = nu * nu / S
+    if nis > gate:
+        ss.rejected[q] += 1
+        kk = ss.n_rej[0]
+        if kk < ss.rej_t.shape[0]:
+            ss.rej_t[kk] = t
+            ss.rej_q[kk] = q
+            ss.rej_nis[kk] = nis
+        ss.n_rej[0] = kk + 1
+        return -1
+    ss.used[q] += 1
+    ss.nis_sum[q] += nis
+    ss.log_s_sum[q] += math.log(S)
+    ss.win_sum[q] += nis
+    ss.win_cnt[q] += 1
+    # whiteness: products with the last L normalized innovations (a ring buffer)
+    e = nu / math.sqrt(S)
+    ss.acf_sq[q] += e * e
+    L = ss.ring.shape[1]
+    cnt = ss.ring_n[q]
+    pos = ss.ring_pos[q]
+    for lag in range(1, min(cnt, L) + 1):
+        idx = pos - lag
+        if idx < 0:
+            idx += L
+        ss.acf_sum[q, lag - 1] += e * ss.ring[q, idx]
+    ss.ring[q, pos] = e
+    ss.ring_pos[q] = pos + 1 if pos + 1 < L else 0
+    ss.ring_n[q] = cnt + 1
+    inv = 1.0 / S
+    for p in range(N):
+        k[p] = Ph[p] * inv
+        x[p] += k[p] * nu
+    joseph_scalar_update(P, Ph, k, S)
+    return 1
+
+
+@njit(cache=True, inline="always")
+def _store_row(st, ss, so, t, row):
+    n = N
+    m = M
+    ii = so.n[0]
+    so.t[ii] = t
+    for p in range(n):
+        so.x[ii, p] = st.x[p]
+        so.s[ii, p] = math.sqrt(max(st.P[p, p], 0.0))
+    for q in range(m):
+        so.cnt[ii, q] = ss.win_cnt[q]
+        so.nis[ii, q] = ss.win_sum[q] / ss.win_cnt[q] if ss.win_cnt[q] > 0 else math.nan
+        ss.win_sum[q] = 0.0
+        ss.win_cnt[q] = 0
+    so.n[0] = ii + 1
+
+
+@njit(cache=True, nogil=True)
+def _filter_chunk(md, ch, st, ss, so):
+    """Predict and update over the rows of one chunk (``st``, ``ss``, ``so`` in place).
+    Releases the GIL: the next chunk of a file can be read meanwhile."""
+    # the arrays of the hot loops as locals (see _update)
+    x, P, Phi, Qd, T, y, Ph, k = st.x, st.P, st.Phi, st.Qd, st.T, st.y, st.Ph, st.k
+    rowptr, colidx, qi, qj = md.rowptr, md.colidx, md.qi, md.qj
+    phi_tab, qd_tab, sin_j, cos_j = md.phi_tab, md.qd_tab, md.sin_j, md.cos_j
+    H, hptr, hidx, r, gate = md.H, md.hptr, md.hidx, md.r, md.gate
+    t, z, grid, g0, inv_hh = ch.t, ch.z, ch.grid, ch.g0, ch.inv_hh
+    n_whole, irr_idx = ch.n_whole, ch.irr_idx
+    dt, inv_seg = md.dt, 1.0 / md.seg_w
+    tcur = st.tcur[0]
     for i in range(t.shape[0]):
-        # predict: whole steps of dt, then the remainder (exact, precomputed)
+        # predict: whole steps of dt, then a short shift or an exact remainder step
         for _ in range(n_whole[i]):
-            bm = _beta_at(tcur[0] + 0.5 * dt, grid, g0, inv_hh)
-            j = int(round(bm / seg_w))  # noqa: RUF046 - numba integer index
-            a = math.sin(bm) - math.sin(j * seg_w)
-            b = math.cos(bm) - math.cos(j * seg_w)
-            for p in range(n):
-                for c in range(n):
-                    Phi[p, c] = Phi0[j, p, c] + a * PhiA[j, p, c] + b * PhiB[j, p, c]
-                    Qd[p, c] = Qd0[j, p, c] + a * QdA[j, p, c] + b * QdB[j, p, c]
-            _predict(x, P, Phi, Qd, T, y)
-            tcur[0] += dt
-        d = shift[i]
+            bm = _beta_at(tcur + 0.5 * dt, grid, g0, inv_hh)
+            j = int(bm * inv_seg + 0.5)      # the nearest expansion point (β_n >= 0)
+            _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j,
+                           bm - j * md.seg_w, Phi, Qd)
+            _predict_state(x, Phi, rowptr, colidx, y)
+            predict_covariance(P, Phi, rowptr, colidx, Qd, T)
+            tcur += dt
+        d = ch.shift[i]
         if d != 0.0:   # a step of n·dt + d, |d| small: the regular steps, then shift by d
-            bm = _beta_at(tcur[0] + 0.5 * d, grid, g0, inv_hh)
+            bm = _beta_at(tcur + 0.5 * d, grid, g0, inv_hh)
             sb = math.sin(bm)
             cb = math.cos(bm)
-            for p in range(n):
-                for c in range(n):
-                    Fm[p, c] = Fc[p, c] + sb * Es[p, c] + cb * Ec[p, c]
-            _shift(x, P, Fm, W, d, Em, Am, T, y)
-        k = irr_idx[i]
-        if k >= 0:
-            _predict(x, P, irr_phi[k], irr_qd[k], T, y)
-        tcur[0] = t[i]
+            for p in range(N):
+                for c in range(N):
+                    st.Fm[p, c] = md.Fc[p, c] + sb * md.Es[p, c] + cb * md.Ec[p, c]
+            _shift(x, P, st.Fm, md.W, d, st.Em, st.Am, T, y)
+        kk = irr_idx[i]
+        if kk >= 0:
+            _predict_state(x, ch.irr_phi[kk], md.dense_ptr, md.dense_idx, y)
+            predict_covariance(P, ch.irr_phi[kk], md.dense_ptr, md.dense_idx,
+                               ch.irr_qd[kk], T)
+        tcur = t[i]
         beta_n = _beta_at(t[i], grid, g0, inv_hh)
         any_used = False
         any_rej = False
-        for q in range(m):
+        for q in range(M):
             zq = z[i, q]
             if math.isnan(zq):
-                missing[q] += 1
+                ss.missing[q] += 1
                 continue
             if q == 0:
                 zq -= beta_n     # the angle sensor reads β = β_n + Δβ
-            hx = 0.0
-            for c in range(n):
-                hx += H[q, c] * x[c]
-            for p in range(n):
-                s = 0.0
-                for c in range(n):
-                    s += P[p, c] * H[q, c]
-                Ph[p] = s
-            hPh = 0.0
-            for c in range(n):
-                hPh += H[q, c] * Ph[c]
-            S = hPh + r[q]
-            nu = zq - hx
-            nis = nu * nu / S
-            if nis > gate:
-                rejected[q] += 1
+            if _update(x, P, Ph, k, H, hptr, hidx, r, gate, ss, q, zq, t[i]) > 0:
+                any_used = True
+            else:
                 any_rej = True
-                kk = n_rej[0]
-                if kk < rej_t.shape[0]:
-                    rej_t[kk] = t[i]
-                    rej_q[kk] = q
-                    rej_nis[kk] = nis
-                n_rej[0] = kk + 1
-                continue
-            any_used = True
-            used[q] += 1
-            nis_sum[q] += nis
-            win_sum[q] += nis
-            win_cnt[q] += 1
-            e = nu / math.sqrt(S)
-            acf_sq[q] += e * e
-            cnt = ring_n[q]
-            for lag in range(1, L + 1):
-                if cnt >= lag:
-                    acf_sum[q, lag - 1] += e * ring[q, (cnt - lag) % L]
-            ring[q, cnt % L] = e
-            ring_n[q] = cnt + 1
-            inv = 1.0 / S
-            for p in range(n):
-                kv[p] = Ph[p] * inv
-            for p in range(n):
-                x[p] += kv[p] * nu
-            for p in range(n):
-                kp = kv[p]
-                pp = Ph[p]
-                for jj in range(p, n):
-                    val = P[p, jj] - kp * Ph[jj] - pp * kv[jj] + S * kp * kv[jj]
-                    P[p, jj] = val
-                    P[jj, p] = val
         if any_used:
-            rows_ur[0] += 1
+            ss.rows_ur[0] += 1
         if any_rej:
-            rows_ur[1] += 1
-        row = row0 + i + 1
-        if row % store_every == 0:
-            ii = n_st[0]
-            st_t[ii] = t[i]
-            for p in range(n):
-                st_x[ii, p] = x[p]
-                st_s[ii, p] = math.sqrt(max(P[p, p], 0.0))
-            for q in range(m):
-                st_cnt[ii, q] = win_cnt[q]
-                st_nis[ii, q] = win_sum[q] / win_cnt[q] if win_cnt[q] > 0 else math.nan
-                win_sum[q] = 0.0
-                win_cnt[q] = 0
-            n_st[0] = ii + 1
+            ss.rows_ur[1] += 1
+        if (so.row0 + i + 1) % so.every == 0:
+            _store_row(st, ss, so, t[i], so.row0 + i + 1)
+    st.tcur[0] = tcur
 
 
 # The calibrator (streaming state) ------------------------------------------------------------
+def _closure(mask: np.ndarray) -> np.ndarray:
+    """Reachability (transitive closure, with the diagonal) of a square boolean pattern."""
+    R = mask | np.eye(mask.shape[0], dtype=bool)
+    while True:
+        R2 = (R.astype(np.int64) @ R.astype(np.int64)) > 0
+        if np.array_equal(R2, R):
+            return R
+        R = R2
+
+
+class _FilterModel:
+    """The filter's model for one set of parameters: :class:`_Model` (without the gate) and
+    its step tables, filled on demand (one Van Loan exponential per expansion point) and
+    kept for the next run with the same parameters (:func:`_filter_model`)."""
+
+    def __init__(self, p: GyrocompassParams) -> None:
+        Fc, Es, Ec = system_matrix_parts(p)
+        self.G = noise_input_matrix(p)
+        self.Qc = process_noise_intensity(p)
+        self.dt = p.dt
+        # the nonzeros of Φ = exp(F dt) (and of its derivatives): the states each state
+        # reaches through F; of Qd: pairs of states reached by the same noise input
+        reach = _closure((Fc != 0) | (Es != 0) | (Ec != 0))
+        by_noise = (reach.astype(np.int64) @ (self.G != 0).astype(np.int64)) > 0
+        qmask = np.zeros((N, N), dtype=bool)
+        for w in range(self.G.shape[1]):
+            qmask |= np.outer(by_noise[:, w], by_noise[:, w])
+        self.phi_mask = reach
+        rows, cols = np.nonzero(reach)
+        rowptr = np.zeros(N + 1, dtype=np.int64)
+        rowptr[1:] = np.cumsum(reach.sum(axis=1))
+        qi, qj = np.nonzero(np.triu(qmask))
+        J = math.ceil(math.pi / SEGMENT) + 2   # β_n stays in [0, π/2]; room to spare
+        self.have = np.zeros(J, dtype=bool)
+        H = measurement_matrix(p)
+        hmask = H != 0
+        hptr = np.zeros(M + 1, dtype=np.int64)
+        hptr[1:] = np.cumsum(hmask.sum(axis=1))
+        self.model = _Model(
+            dt=float(p.dt), seg_w=float(SEGMENT),
+            sin_j=np.sin(np.arange(J) * SEGMENT), cos_j=np.cos(np.arange(J) * SEGMENT),
+            phi_tab=np.zeros((J, 3, rows.size)), qd_tab=np.zeros((J, 3, qi.size)),
+            rowptr=rowptr, colidx=cols.astype(np.int64), qi=qi.astype(np.int64),
+            qj=qj.astype(np.int64), dense_ptr=np.arange(0, N * N + 1, N, dtype=np.int64),
+            dense_idx=np.tile(np.arange(N, dtype=np.int64), N), Fc=Fc, Es=Es, Ec=Ec,
+            W=self.G @ self.Qc @ self.G.T, H=H, hptr=hptr,
+            hidx=np.nonzero(hmask)[1].astype(np.int64),
+            r=np.diag(measurement_noise_covariance(p)).copy(), gate=math.inf)
+
+    def table(self, j: int) -> None:
+        """Fill the tables of expansion point ``j`` (once)."""
+        if j < 0 or j >= self.have.size:
+            raise ValueError(f"the nominal float angle left [0, π] (expansion point {j}); "
+                             "check the parameters H, Omega_h, f, I")
+        if self.have[j]:
+            return
+        md = self.model
+        F = md.Fc + math.sin(j * SEGMENT) * md.Es + math.cos(j * SEGMENT) * md.Ec
+        Phi, Qd, (dPs, dPc), (dQs, dQc) = van_loan_derivatives(F, self.G, self.Qc, self.dt,
+                                                               [md.Es, md.Ec])
+        for k, arr in enumerate((Phi, dPs, dPc)):
+            md.phi_tab[j, k] = arr[self.phi_mask]
+        for k, arr in enumerate((Qd, dQs, dQc)):
+            md.qd_tab[j, k] = arr[md.qi, md.qj]
+        self.have[j] = True
+
+
+@functools.lru_cache(maxsize=8)
+def _filter_model(p: GyrocompassParams) -> _FilterModel:
+    return _FilterModel(p)
+
+
 class _Calibrator:
     """State of :func:`calibrate` between chunks."""
 
@@ -509,61 +778,34 @@ class _Calibrator:
         self.tol = time_tolerance * p.dt
         self.store_every = store_every
         self.gate_prob = gate
-        self.gate = float(scipy.stats.chi2.ppf(gate, 1))
         self.nominal = _Nominal(p)
-        self.Fc, self.Es, self.Ec = _affine_parts(p)
-        self.G = noise_input_matrix(p)
-        self.Qc = process_noise_intensity(p)
-        self.W = self.G @ self.Qc @ self.G.T
-        J = math.ceil(math.pi / SEGMENT) + 2   # β_n stays in [0, π/2]; room to spare
-        self.tables = np.zeros((6, J, N, N))
-        self.have = np.zeros(J, dtype=bool)
-        self.H = measurement_matrix(p)
-        self.r = np.diag(measurement_noise_covariance(p)).copy()
-        self.x = np.zeros(N)
-        self.P = initial_covariance(p)
-        self.tcur = np.zeros(1)
+        self.filter_model = _filter_model(p)
+        self.model = self.filter_model.model._replace(
+            gate=float(scipy.stats.chi2.ppf(gate, 1)))
+        self.state = _State(
+            x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
+            Qd=np.zeros((N, N)), T=np.zeros((N, N)), y=np.zeros(N), Ph=np.zeros(N),
+            k=np.zeros(N), Fm=np.zeros((N, N)), Em=np.zeros((N, N)), Am=np.zeros((N, N)))
+        self.stats = _Stats(
+            used=np.zeros(M, dtype=np.int64), missing=np.zeros(M, dtype=np.int64),
+            rejected=np.zeros(M, dtype=np.int64), rows_ur=np.zeros(2, dtype=np.int64),
+            nis_sum=np.zeros(M), log_s_sum=np.zeros(M), ring=np.zeros((M, lags)),
+            ring_pos=np.zeros(M, dtype=np.int64), ring_n=np.zeros(M, dtype=np.int64),
+            acf_sum=np.zeros((M, lags)), acf_sq=np.zeros(M),
+            rej_t=np.zeros(MAX_LISTED_REJECTIONS),
+            rej_q=np.zeros(MAX_LISTED_REJECTIONS, dtype=np.int64),
+            rej_nis=np.zeros(MAX_LISTED_REJECTIONS), n_rej=np.zeros(1, dtype=np.int64),
+            win_sum=np.zeros(M), win_cnt=np.zeros(M, dtype=np.int64))
         self.rows = 0
-        self.used = np.zeros(M, dtype=np.int64)
-        self.missing = np.zeros(M, dtype=np.int64)
-        self.rejected = np.zeros(M, dtype=np.int64)
-        self.rows_ur = np.zeros(2, dtype=np.int64)
-        self.nis_sum = np.zeros(M)
-        self.ring = np.zeros((M, lags))
-        self.ring_n = np.zeros(M, dtype=np.int64)
-        self.acf_sum = np.zeros((M, lags))
-        self.acf_sq = np.zeros(M)
-        self.rej_t = np.zeros(MAX_LISTED_REJECTIONS)
-        self.rej_q = np.zeros(MAX_LISTED_REJECTIONS, dtype=np.int64)
-        self.rej_nis = np.zeros(MAX_LISTED_REJECTIONS)
-        self.n_rej = np.zeros(1, dtype=np.int64)
-        self.win_sum = np.zeros(M)
-        self.win_cnt = np.zeros(M, dtype=np.int64)
         self.stored: list[tuple[np.ndarray, ...]] = []
         self.gaps = 0
         self.gap_time = 0.0
         self.irregular = 0
         self.shifted = 0
 
-    def _table(self, j: int) -> None:
-        if j < 0 or j >= self.have.size:
-            raise ValueError(f"the nominal float angle left [0, π] (expansion point {j}); "
-                             "check the parameters H, Omega_h, f, I")
-        if self.have[j]:
-            return
-        F = self.Fc + math.sin(j * SEGMENT) * self.Es + math.cos(j * SEGMENT) * self.Ec
-        Phi, Qd, (dPs, dPc), (dQs, dQc) = van_loan_derivatives(F, self.G, self.Qc, self.dt,
-                                                               [self.Es, self.Ec])
-        for k, arr in enumerate((Phi, dPs, dPc, Qd, dQs, dQc)):
-            self.tables[k, j] = arr
-        self.have[j] = True
-
-    def feed(self, rec: GCRecord) -> None:
-        t = rec.t
-        if t[0] <= self.tcur[0] and self.rows > 0:
-            raise ValueError(f"record chunks must continue in time: t = {t[0]} follows "
-                             f"{self.tcur[0]}")
-        prev = np.concatenate([[self.tcur[0]], t[:-1]])
+    def _steps(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
+        """How each row's step from the previous row is taken (see :class:`_Chunk`)."""
+        prev = np.concatenate([[self.state.tcur[0]], t[:-1]])
         h = t - prev
         # a step near a whole number of dt (jitter, |d| <= SMALL_SHIFT dt): the regular
         # steps and a short shift; anything else: whole steps and an exact remainder step
@@ -580,13 +822,25 @@ class _Calibrator:
             irregular[0] = False
             shift[0] = 0.0
         self.shifted += int(np.count_nonzero(small))
-        self.gaps += int(np.count_nonzero(h > 1.5 * self.dt))
-        self.gap_time += float(np.sum(np.where(h > 1.5 * self.dt, h - self.dt, 0.0)))
+        long_ = h > 1.5 * self.dt
+        self.gaps += int(np.count_nonzero(long_))
+        self.gap_time += float(np.sum(h[long_] - self.dt))
+        return prev, n_whole, shift, irregular, rem
+
+    def feed(self, rec: GCRecord) -> None:
+        t = rec.t
+        if t[0] <= self.state.tcur[0] and self.rows > 0:
+            raise ValueError(f"record chunks must continue in time: t = {t[0]} follows "
+                             f"{self.state.tcur[0]}")
+        prev, n_whole, shift, irregular, rem = self._steps(t)
         grid, g0 = self.nominal.window(float(prev[0]), float(t[-1]))
-        jlo = round(float(grid[0]) / SEGMENT)
-        jhi = round(float(grid[-1]) / SEGMENT)
-        for j in range(min(jlo, jhi), max(jlo, jhi) + 1):
-            self._table(j)
+        jlo = round(float(np.min(grid)) / SEGMENT)
+        jhi = round(float(np.max(grid)) / SEGMENT)
+        fm = self.filter_model
+        for j in range(max(jlo - 1, 0), min(jhi + 1, fm.have.size - 1) + 1):  # ±1: ties
+            fm.table(j)
+        if jlo < 0 or jhi >= fm.have.size:
+            fm.table(jlo if jlo < 0 else jhi)      # raises: β_n left [0, π]
         irr_rows = np.nonzero(irregular)[0]
         irr_idx = np.full(t.size, -1, dtype=np.int64)
         irr_idx[irr_rows] = np.arange(irr_rows.size)
@@ -597,58 +851,53 @@ class _Calibrator:
             for k, i in enumerate(irr_rows):
                 start = prev[i] + n_whole[i] * self.dt
                 bm = float(np.interp(0.5 * (start + t[i]), grid_t, grid))
-                F = self.Fc + math.sin(bm) * self.Es + math.cos(bm) * self.Ec
-                irr_phi[k], irr_qd[k] = van_loan(F, self.G, self.Qc, float(rem[i]))
+                md, fm = self.model, self.filter_model
+                F = md.Fc + math.sin(bm) * md.Es + math.cos(bm) * md.Ec
+                irr_phi[k], irr_qd[k] = van_loan(F, fm.G, fm.Qc, float(rem[i]))
             self.irregular += int(irr_rows.size)
-        z = np.ascontiguousarray(rec.measurements())
+        chunk = _Chunk(t=t, z=np.ascontiguousarray(rec.measurements()), grid=grid,
+                       g0=float(g0), inv_hh=1.0 / self.nominal.hh, n_whole=n_whole,
+                       shift=shift, irr_idx=irr_idx, irr_phi=irr_phi, irr_qd=irr_qd)
         n_store = t.size // self.store_every + 1
-        st_t = np.zeros(n_store)
-        st_x = np.zeros((n_store, N))
-        st_s = np.zeros((n_store, N))
-        st_nis = np.zeros((n_store, M))
-        st_cnt = np.zeros((n_store, M), dtype=np.int64)
-        n_st = np.zeros(1, dtype=np.int64)
-        tb = self.tables
-        _filter_chunk(t, z, grid, float(g0), 1.0 / self.nominal.hh, self.dt, n_whole, shift,
-                      self.Fc, self.Es, self.Ec, self.W, irr_idx, irr_phi, irr_qd, tb[0], tb[1],
-                      tb[2], tb[3], tb[4], tb[5], SEGMENT,
-                      self.H, self.r, self.gate, self.x, self.P, self.tcur, self.rows,
-                      self.store_every, st_t, st_x, st_s, st_nis, st_cnt, n_st, self.used,
-                      self.missing, self.rejected, self.rows_ur, self.nis_sum, self.ring,
-                      self.ring_n, self.acf_sum, self.acf_sq, self.rej_t, self.rej_q,
-                      self.rej_nis, self.n_rej, self.win_sum, self.win_cnt)
-        k = int(n_st[0])
-        self.stored.append((st_t[:k].copy(), st_x[:k].copy(), st_s[:k].copy(),
-                            st_nis[:k].copy(), st_cnt[:k].copy()))
+        store = _Store(every=self.store_every, row0=self.rows, t=np.zeros(n_store),
+                       x=np.zeros((n_store, N)), s=np.zeros((n_store, N)),
+                       nis=np.zeros((n_store, M)), cnt=np.zeros((n_store, M), dtype=np.int64),
+                       n=np.zeros(1, dtype=np.int64))
+        _filter_chunk(self.model, chunk, self.state, self.stats, store)
+        k = int(store.n[0])
+        self.stored.append((store.t[:k].copy(), store.x[:k].copy(), store.s[:k].copy(),
+                            store.nis[:k].copy(), store.cnt[:k].copy()))
         self.rows += t.size
 
-    def result(self) -> CalibrationResult:
+    def result(self, max_rejected: float, nis_range: tuple[float, float]
+               ) -> CalibrationResult:
         if self.rows == 0:
             raise ValueError("record must hold at least one row")
+        st, ss = self.state, self.stats
         parts = list(self.stored)
         if self.rows % self.store_every:   # the last row is not a store point: add it
             with np.errstate(invalid="ignore", divide="ignore"):
-                win = np.where(self.win_cnt > 0, self.win_sum / np.maximum(self.win_cnt, 1),
-                               np.nan)
-            parts.append((np.array([self.tcur[0]]), self.x[None, :].copy(),
-                          np.sqrt(np.clip(np.diag(self.P), 0.0, None))[None, :], win[None, :],
-                          self.win_cnt[None, :].copy()))
+                win = np.where(ss.win_cnt > 0, ss.win_sum / np.maximum(ss.win_cnt, 1), np.nan)
+            parts.append((np.array([st.tcur[0]]), st.x[None, :].copy(),
+                          np.sqrt(np.clip(np.diag(st.P), 0.0, None))[None, :], win[None, :],
+                          ss.win_cnt[None, :].copy()))
         cat = [np.concatenate([part[k] for part in parts]) for k in range(5)]
         with np.errstate(invalid="ignore", divide="ignore"):
-            acf = np.where(self.acf_sq[:, None] > 0,
-                           self.acf_sum / np.where(self.acf_sq > 0, self.acf_sq, 1.0)[:, None],
-                           0.0)
-        nr = min(int(self.n_rej[0]), MAX_LISTED_REJECTIONS)
+            acf = np.where(ss.acf_sq[:, None] > 0,
+                           ss.acf_sum / np.where(ss.acf_sq > 0, ss.acf_sq, 1.0)[:, None], 0.0)
+        nr = min(int(ss.n_rej[0]), MAX_LISTED_REJECTIONS)
         return CalibrationResult(
             params=self.p, t=cat[0], x=cat[1], std=cat[2], nis_window=cat[3],
-            nis_window_count=cat[4], x_final=self.x.copy(), P_final=self.P.copy(),
-            t_final=float(self.tcur[0]), rows=self.rows, used=self.used.copy(),
-            missing=self.missing.copy(), rejected=self.rejected.copy(),
-            rows_used=int(self.rows_ur[0]), rows_rejected=int(self.rows_ur[1]),
-            rejected_t=self.rej_t[:nr].copy(), rejected_sensor=self.rej_q[:nr].copy(),
-            rejected_nis=self.rej_nis[:nr].copy(), nis_sum=self.nis_sum.copy(), acf=acf,
-            gaps=self.gaps, gap_time=self.gap_time, irregular_steps=self.irregular,
-            jittered_steps=self.shifted, gate=self.gate_prob, store_every=self.store_every)
+            nis_window_count=cat[4], x_final=st.x.copy(), P_final=st.P.copy(),
+            t_final=float(st.tcur[0]), rows=self.rows, used=ss.used.copy(),
+            missing=ss.missing.copy(), rejected=ss.rejected.copy(),
+            rows_used=int(ss.rows_ur[0]), rows_rejected=int(ss.rows_ur[1]),
+            rejected_t=ss.rej_t[:nr].copy(), rejected_sensor=ss.rej_q[:nr].copy(),
+            rejected_nis=ss.rej_nis[:nr].copy(), nis_sum=ss.nis_sum.copy(),
+            log_s_sum=ss.log_s_sum.copy(), acf=acf, gaps=self.gaps, gap_time=self.gap_time,
+            irregular_steps=self.irregular, jittered_steps=self.shifted, gate=self.gate_prob,
+            store_every=self.store_every, max_rejected=max_rejected,
+            nis_range=(float(nis_range[0]), float(nis_range[1])))
 
 
 def _chunks(record: GCRecord, size: int):
@@ -659,10 +908,39 @@ def _chunks(record: GCRecord, size: int):
                        inclinometer_z=record.inclinometer_z[sl])
 
 
+def _check_nis_range(nis_range: object) -> tuple[float, float]:
+    if not isinstance(nis_range, tuple | list) or len(nis_range) != 2:
+        raise TypeError("nis_range must be a pair (low, high) of mean-NIS limits; got "
+                        f"{type(nis_range).__name__}")
+    lo = v.check_in_range("nis_range[0]", nis_range[0], 0.0, 1.0, high_open=True)
+    hi = v.check_real("nis_range[1]", nis_range[1], "> 1")
+    if not hi > 1.0:
+        raise ValueError(f"nis_range[1] must be > 1; got {hi}")
+    return lo, hi
+
+
+def _prefetched(chunks: Iterable[GCRecord], executor: Executor | None):
+    """The chunks, the next one read through ``executor`` while the current one is filtered
+    (the kernel releases the GIL)."""
+    it = iter(chunks)
+    if executor is None:
+        yield from it
+        return
+    fut = executor.submit(next, it, None)
+    while True:
+        chunk = fut.result()
+        if chunk is None:
+            return
+        fut = executor.submit(next, it, None)
+        yield chunk
+
+
 def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams | None = None,
               *, chunk_size: int = 65536, store_every: int = 100, gate: float = 0.9999,
               lags: int = 10, time_tolerance: float = 1e-6,
-              progress: Callable[[int], None] | None = None) -> CalibrationResult:
+              progress: Callable[[int], None] | None = None, max_rejected: float = 0.01,
+              nis_range: tuple[float, float] = (0.5, 2.0),
+              executor: Executor | None = None) -> CalibrationResult:
     """Calibrate the systematic drift ω_gc of a floated gyro from a record (paper GC).
 
     Runs the 10-state Kalman filter of Eq. (8) on ``record`` (a :class:`GCRecord`, or an
@@ -692,11 +970,21 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         discretized exactly at its own length.
     progress : callable, optional
         Called with the number of rows processed after each chunk.
+    max_rejected : float
+        The run is invalid (lost lock, :attr:`CalibrationResult.valid`) when the gate rejects
+        more than this share of any sensor's measurements (default 1 %).
+    nis_range : (float, float)
+        The run is invalid when a sensor's mean NIS is outside this range (far outside its
+        χ² band, which is within a few % of 1 on a long record).
+    executor : concurrent.futures.Executor, optional
+        Reads the next chunk of an iterable ``record`` through it while the current one is
+        filtered (a file read in chunks: reading and filtering overlap on two cores).
 
     Returns
     -------
     CalibrationResult
-        ``omega_gc`` ± ``omega_gc_std`` (rad/s), every state over time, diagnostics.
+        ``omega_gc`` ± ``omega_gc_std`` (rad/s), every state over time, diagnostics,
+        ``valid`` and ``reason``.
 
     Examples
     --------
@@ -710,6 +998,10 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
     >>> res = gc.calibrate(rec, p)
     >>> res.rows, res.rows_used, bool(res.omega_gc_std < p.sigma_gc0)
     (200, 200, True)
+    >>> res.valid                 # noise-free readings: every mean NIS far below 1
+    False
+    >>> res.reason.split(" outside ")[0][:22]
+    'angle_sensor: mean NIS'
     """
     p = GyrocompassParams() if params is None else v.check_instance(
         "params", params, GyrocompassParams)
@@ -718,13 +1010,17 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
     gate = v.check_in_range("gate", gate, 0.0, 1.0, low_open=True, high_open=True)
     lags = v.check_int("lags", lags, 1)
     time_tolerance = v.check_in_range("time_tolerance", time_tolerance, 0.0, 0.5)
+    max_rejected = v.check_in_range("max_rejected", max_rejected, 0.0, 1.0)
+    nis_range = _check_nis_range(nis_range)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable or None; got {type(progress).__name__}")
+    if executor is not None:
+        v.check_instance("executor", executor, Executor)
     if isinstance(record, GCRecord):
         chunks: Iterable[GCRecord] = _chunks(record, chunk_size)
     elif isinstance(record, Iterable) and not isinstance(record,
                                                           str | bytes | dict | np.ndarray):
-        chunks = record
+        chunks = _prefetched(record, executor)
     else:
         raise TypeError(f"record must be a GCRecord or an iterable of GCRecord chunks; got "
                         f"{type(record).__name__}")
@@ -736,7 +1032,53 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         cal.feed(chunk)
         if progress is not None:
             progress(cal.rows)
-    return cal.result()
+    return cal.result(max_rejected, nis_range)
+
+
+def innovation_log_likelihood(record: GCRecord, params: GyrocompassParams | None = None, *,
+                              chunk_size: int = 65536) -> float:
+    """The Gaussian log-likelihood of ``record`` under the model ``params`` by the
+    prediction-error decomposition of the filter of :func:`calibrate` (paper GC, Eq. (8)):
+    ``ln L = −½ Σ (ln 2π S + ν²/S)`` over every scalar measurement that is not NaN, with the
+    innovation ``ν`` and its variance ``S`` of the sequential scalar updates
+    {cite:p}`BarShalom2001`.  No gate: every measurement counts (set outliers to NaN first).
+    :func:`gyrolib.gc.fit_noise` maximizes it.
+
+    Parameters
+    ----------
+    record : GCRecord
+        The record (SI), as for :func:`calibrate`.
+    params : GyrocompassParams, optional
+        The model (default: the paper's).
+    chunk_size : int
+        Rows per chunk.
+
+    Returns
+    -------
+    float
+        ``ln L`` (nats).
+
+    Examples
+    --------
+    The true model is more likely than one with a 10× wider vibration spectrum:
+
+    >>> import dataclasses
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> rec = gc.simulate_record(p, 5.0, seed=3).record
+    >>> wide = dataclasses.replace(p, alpha1=10 * p.alpha1)
+    >>> bool(gc.innovation_log_likelihood(rec, p) > gc.innovation_log_likelihood(rec, wide))
+    True
+    """
+    p = GyrocompassParams() if params is None else v.check_instance(
+        "params", params, GyrocompassParams)
+    v.check_instance("record", record, GCRecord)
+    chunk_size = v.check_int("chunk_size", chunk_size, 1)
+    cal = _Calibrator(p, store_every=record.n + 1, gate=1.0, lags=1, time_tolerance=1e-6)
+    for chunk in _chunks(record, chunk_size):
+        cal.feed(chunk)
+    ss = cal.stats
+    return _log_likelihood(ss.used, ss.log_s_sum, ss.nis_sum)
 
 
 # Simulated records --------------------------------------------------------------------------
@@ -779,10 +1121,6 @@ def simulate_record(params: GyrocompassParams, t_end: float, seed: int) -> Simul
     >>> sim.record.n, sim.truth.shape
     (10, (11, 10))
     """
-    from gyrolib.filtering.discretization import covariance_factor
-    from gyrolib.gc.discretization import nominal_half_steps
-    from gyrolib.gc.montecarlo import simulate_truth
-
     p = v.check_instance("params", params, GyrocompassParams)
     seed = v.check_int("seed", seed, 0)
     rng = np.random.default_rng(seed)

@@ -7,13 +7,30 @@
 * "the same trend when the parameters of the shaping filters vary widely": one parameter at
   a time scaled over two decades (:func:`shaping_sweep`).
 
-Each evaluates :func:`gyrolib.gc.covariance_analysis`; nothing here is a threshold typed in:
+Each runs the covariance recursion of :func:`gyrolib.gc.covariance_analysis` (the same
+discretization and numba kernel, so the same numbers); nothing here is a threshold typed in:
 the level and the bound are arguments (the book derives them from the paper's printed
 numbers in :mod:`gyrolib.book.ledger.gc`).
+
+Speed.  The time to a level is found by running the recursion in chunks of
+:data:`_CHUNK` steps and stopping at the first step at which σ of ω_gc is at or below the
+level.  That first crossing is also the last: ω_gc is a constant state (no process noise, an
+identity row of Φ), so its posterior variance is the variance of one random variable given
+ever more measurements, which never increases.  The 100-s discretization is extended to
+``t_max`` only when σ has not crossed by then, and the run continues from where it stopped
+(the longer discretization starts with the same steps), so nothing is computed twice.  The
+grid points are independent: ``executor=`` (any :class:`concurrent.futures.Executor`; the
+numba kernel releases the GIL, so threads use every core) runs them concurrently, with the
+same numbers whatever the executor.  Tolerance: the times agree with one whole
+:func:`gyrolib.gc.covariance_analysis` read by :func:`gyrolib.gc.time_to_sigma` to 1e-12
+relative, and the results of any executor with those run here to 1e-12 relative
+(``tests/test_gc_claims.py``); on the book's map they were identical to the last bit.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
+from concurrent.futures import Executor
 from dataclasses import dataclass, replace
 from typing import Final
 
@@ -21,8 +38,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
-from gyrolib.gc.covariance import covariance_analysis, time_to_sigma
-from gyrolib.gc.params import GyrocompassParams, _check_params
+from gyrolib.filtering.covariance import covariance_fast
+from gyrolib.gc.covariance import covariance_analysis
+from gyrolib.gc.discretization import _discretize, _n_steps
+from gyrolib.gc.params import GyrocompassParams, _check_params, state_index
+from gyrolib.gc.state_space import _initial_covariance
 
 __all__ = [
     "SHAPING_FIELDS",
@@ -39,8 +59,78 @@ __all__ = [
 SHAPING_FIELDS: Final[tuple[str, ...]] = ("alpha1", "xi1", "sigma1_sq", "alpha2", "xi2",
                                           "sigma2_sq")
 
-#: Horizon of a first, short covariance analysis (s); longer only when σ has not crossed.
+#: Horizon of a first, short discretization (s); longer only when σ has not crossed.
 _FIRST_HORIZON: Final[float] = 100.0
+
+#: Steps of the covariance recursion run between two looks at σ of ω_gc.
+_CHUNK: Final[int] = 5000
+
+
+def _check_executor(executor: object) -> Executor | None:
+    if executor is not None and not isinstance(executor, Executor):
+        raise TypeError("executor must be a concurrent.futures.Executor or None; got "
+                        f"{type(executor).__name__}")
+    return executor
+
+
+def _map(executor: Executor | None, fn: Callable, tasks: Iterable) -> list:
+    """``fn`` over ``tasks`` in order: here, or on ``executor`` (results in task order)."""
+    tasks = list(tasks)
+    if executor is None:
+        return [fn(*t) for t in tasks]
+    return list(executor.map(fn, *zip(*tasks, strict=True))) if tasks else []
+
+
+def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: float,
+                  level: float | None) -> list[tuple[float, float]]:
+    """The covariance recursion of :func:`gyrolib.gc.covariance_analysis` in chunks, for
+    models ``ps`` that differ at most in ``shaping_p0`` (the initial covariance of N1…N4,
+    which does not enter the discretization: each discretization is computed once for all).
+
+    With ``level``: per model ``(time, nan)``, the time (s) at which σ of ω_gc first falls
+    to ``level`` (linear interpolation between the steps on either side, as
+    :func:`gyrolib.gc.time_to_sigma`), 0 if it starts there, ``nan`` if not by ``t_max``;
+    the discretization covers ``t_first`` first and ``t_max`` only when needed.  Without:
+    ``(nan, σ(t_max))``.
+    """
+    p = ps[0]
+    dt = p.dt
+    i = state_index("omega_gc")
+    n_max = _n_steps(p, t_max)
+    n_first = n_max if level is None else min(_n_steps(p, t_first), n_max)
+    models: dict[int, object] = {}
+
+    def model(n: int):
+        if n not in models:
+            models[n] = _discretize(p, n, "van_loan").model
+        return models[n]
+
+    def run(q: GyrocompassParams) -> tuple[float, float]:
+        P = _initial_covariance(q)
+        if level is not None and np.sqrt(max(P[i, i], 0.0)) <= level:
+            return 0.0, float("nan")
+        m = model(n_first)
+        k = 0
+        while True:
+            if k == m.n_steps:
+                if m.n_steps == n_max:
+                    return float("nan"), float(np.sqrt(max(P[i, i], 0.0)))
+                m = model(n_max)  # the longer discretization: the same first steps
+            k1 = min(k + _CHUNK, m.n_steps)
+            window = replace(m, seg=m.seg[k:k1], a=m.a[k:k1], b=m.b[k:k1])
+            res = covariance_fast(window, P, store_every=k1 - k)
+            P = res.P_stored[-1]
+            if level is not None:
+                s = np.sqrt(np.clip(res.var[:, i], 0.0, None))  # s[0]: step k
+                below = np.nonzero(s[1:] <= level)[0]
+                if below.size:
+                    last = k + int(below[0])  # the last step above the level
+                    t0, t1 = last * dt, (last + 1) * dt
+                    s0, s1 = s[last - k], s[last - k + 1]
+                    return float(t0 + (s0 - level) / (s0 - s1) * (t1 - t0)), float("nan")
+            k = k1
+
+    return [run(q) for q in ps]
 
 
 def _check_field(name: str, field: object) -> str:
@@ -62,8 +152,10 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     """Time (s) at which the filter's σ of ω_gc falls to ``level`` (rad/s) and stays below;
     ``nan`` if not within ``t_max`` (s).
 
-    A first covariance analysis of ``min(100 s, t_max)``; a second of ``t_max`` only when σ
-    has not crossed by then.
+    The covariance recursion of :func:`gyrolib.gc.covariance_analysis`, stopped at the first
+    crossing (σ of the constant ω_gc never increases, so it stays below; the time is
+    interpolated as by :func:`gyrolib.gc.time_to_sigma`); discretized over
+    ``min(100 s, t_max)`` first, and over ``t_max`` only when σ has not crossed by then.
 
     Parameters
     ----------
@@ -90,12 +182,8 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     p = _check_params(params)
     level = v.check_positive("level", level)
     t_max = v.check_positive("t_max", t_max)
-    first = min(_FIRST_HORIZON, t_max)
-    t = time_to_sigma(covariance_analysis(p, first, store_every=10**9), "omega_gc", level)
-    if np.isnan(t) and t_max > first:
-        t = time_to_sigma(covariance_analysis(p, t_max, store_every=10**9), "omega_gc",
-                          level)
-    return float(t)
+    _n_steps(p, t_max)
+    return _run_omega_gc((p,), _FIRST_HORIZON, t_max, level)[0][0]
 
 
 @dataclass(frozen=True)
@@ -137,7 +225,8 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
                     x_field: str = "sigma1_sq", x_factors: ArrayLike = (0.1, 1.0, 10.0),
                     y_field: str = "alpha1", y_factors: ArrayLike = (0.1, 1.0, 10.0),
                     readings: tuple[str, ...] = ("stationary", "zero"),
-                    t_max: float | None = None) -> SpeedClaimMap:
+                    t_max: float | None = None,
+                    executor: Executor | None = None) -> SpeedClaimMap:
     """Where the speed claim of paper GC's Conclusion holds: the time for σ of ω_gc to reach
     ``level`` (the paper's σ_c) over a grid of two shaping-filter parameters, each scaled by
     its ``factors``, for each reading of the initial covariance of N1…N4.
@@ -158,10 +247,14 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
         Values of ``shaping_p0``.
     t_max : float, optional
         Longest analysis (s); default ``1.25 bound`` rounded to a whole second.
+    executor : concurrent.futures.Executor, optional
+        Runs the grid points concurrently (e.g. a ``ThreadPoolExecutor`` with one worker per
+        core); the numbers do not depend on it.
 
     Returns
     -------
     SpeedClaimMap
+        ``t_c`` as :func:`time_to_level` gives it at each grid point.
 
     Examples
     --------
@@ -187,12 +280,14 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
     for r in readings:
         v.check_choice("readings", r, ("stationary", "zero"))
     t_max = float(round(1.25 * bound)) if t_max is None else v.check_positive("t_max", t_max)
-    t_c = np.empty((len(readings), ys.size, xs.size))
-    for r, reading in enumerate(readings):
-        for i, fy in enumerate(ys):
-            for j, fx in enumerate(xs):
-                q = _scaled(_scaled(replace(p, shaping_p0=reading), yf, fy), xf, fx)
-                t_c[r, i, j] = time_to_level(q, level, t_max)
+    _n_steps(p, t_max)
+    executor = _check_executor(executor)
+    # one task per grid point, for every reading (they share the discretization)
+    tasks = [(tuple(_scaled(_scaled(replace(p, shaping_p0=r), yf, fy), xf, fx) for r in readings),
+              _FIRST_HORIZON, t_max, level) for fy in ys for fx in xs]
+    done = _map(executor, _run_omega_gc, tasks)
+    t_c = np.array([[t for t, _ in point] for point in done]).T
+    t_c = t_c.reshape(len(readings), ys.size, xs.size)
     return SpeedClaimMap(params=p, x_field=xf, x_factors=xs, y_field=yf, y_factors=ys,
                          readings=tuple(readings), t_c=t_c, level=level, bound=bound,
                          t_max=t_max)
@@ -215,8 +310,8 @@ class ClaimBoundary:
 
 
 def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
-                   field: str = "sigma1_sq", factors: ArrayLike = (5.0, 10.0)
-                   ) -> ClaimBoundary:
+                   field: str = "sigma1_sq", factors: ArrayLike = (5.0, 10.0),
+                   executor: Executor | None = None) -> ClaimBoundary:
     """The factor on ``field`` at which the time for σ of ω_gc to reach ``level`` equals
     ``bound``: σ at ``bound`` computed at each of ``factors`` and interpolated log–log.
 
@@ -232,6 +327,8 @@ def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
         The parameter scaled.
     factors : array_like
         Increasing factors (> 0), at least two.
+    executor : concurrent.futures.Executor, optional
+        Runs the factors concurrently; the numbers do not depend on it.
 
     Returns
     -------
@@ -253,8 +350,11 @@ def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
     fs = v.check_array("factors", factors, ndim=1, min_size=2)
     if np.any(fs <= 0.0) or np.any(np.diff(fs) <= 0.0):
         raise ValueError("factors must be > 0 and increasing")
-    sigma = np.array([covariance_analysis(_scaled(p, field, f), bound, store_every=10**9)
-                      .final_std("omega_gc") for f in fs])
+    _n_steps(p, bound)
+    executor = _check_executor(executor)
+    sigma = np.array([s for (_, s), in _map(executor, _run_omega_gc,
+                                            [((_scaled(p, field, f),), bound, bound, None)
+                                             for f in fs])])
     factor = float("nan")
     ls, lf = np.log(sigma / level), np.log(fs)
     for k in range(fs.size - 1):
@@ -287,9 +387,19 @@ class ShapingSweep:
         return float(getattr(self.params, field))
 
 
+def _sweep_case(q: GyrocompassParams, field: str, t_end: float,
+                t_drop: float) -> tuple[float, float, float, bool]:
+    """One case of :func:`shaping_sweep`: the value, σ(t_end), σ(t_drop)/σ(0), monotone."""
+    res = covariance_analysis(q, t_end, store_every=10**9)
+    s = res.std("omega_gc")
+    return (float(getattr(q, field)), float(s[-1]), res.std_at("omega_gc", t_drop) / s[0],
+            bool(np.all(np.diff(s) <= 1e-12 * s[:-1])))
+
+
 def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
                   fields: tuple[str, ...] = SHAPING_FIELDS,
-                  factors: ArrayLike = (0.1, 1.0, 10.0), t_drop: float = 2.0) -> ShapingSweep:
+                  factors: ArrayLike = (0.1, 1.0, 10.0), t_drop: float = 2.0,
+                  executor: Executor | None = None) -> ShapingSweep:
     """Paper GC's "same trend when the parameters of the shaping filters vary widely": each
     of ``fields`` scaled by each of ``factors`` (damping ratios capped at 1), the others at
     the baseline, and the covariance analysis rerun.
@@ -306,6 +416,8 @@ def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
         Factors (> 0).
     t_drop : float
         Time (s, ``<= t_end``) of the "sharp drop" ratio σ(t_drop)/σ(0).
+    executor : concurrent.futures.Executor, optional
+        Runs the cases concurrently; the numbers do not depend on it.
 
     Returns
     -------
@@ -328,18 +440,13 @@ def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
     fs = v.check_array("factors", factors, ndim=1, min_size=1)
     if np.any(fs <= 0.0):
         raise ValueError("factors must be > 0")
+    _n_steps(p, t_end)
+    executor = _check_executor(executor)
+    cases = _map(executor, _sweep_case, [(_scaled(p, field, f), field, t_end, t_drop)
+                                         for field in fields for f in fs])
     shape = (len(fields), fs.size)
-    values, sigma_end, drop = np.empty(shape), np.empty(shape), np.empty(shape)
-    monotone = np.empty(shape, dtype=bool)
-    for a, field in enumerate(fields):
-        for i, f in enumerate(fs):
-            q = _scaled(p, field, f)
-            res = covariance_analysis(q, t_end, store_every=10**9)
-            s = res.std("omega_gc")
-            values[a, i] = getattr(q, field)
-            sigma_end[a, i] = s[-1]
-            drop[a, i] = res.std_at("omega_gc", t_drop) / s[0]
-            monotone[a, i] = bool(np.all(np.diff(s) <= 1e-12 * s[:-1]))
+    values, sigma_end, drop, monotone = (np.array(col).reshape(shape)
+                                         for col in zip(*cases, strict=True))
     return ShapingSweep(params=p, fields=tuple(fields), factors=fs, values=values,
                         sigma_end=sigma_end, drop=drop, monotone=monotone, t_end=t_end,
                         t_drop=t_drop)

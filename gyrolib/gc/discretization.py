@@ -44,8 +44,10 @@ __all__ = [
     "DISCRETIZATIONS",
     "SEGMENT",
     "GCDiscretization",
+    "NominalIntegrator",
     "discretize",
     "nominal_half_steps",
+    "system_matrix_parts",
 ]
 
 
@@ -144,7 +146,77 @@ def _nominal_half_steps(p: GyrocompassParams, n_steps: int) -> NDArray[np.float6
     return out
 
 
+class NominalIntegrator:
+    """β_n of Eq. (4) from rest, advanced on demand on the half-step grid ``t = i Δt/2`` by
+    the scheme of :func:`nominal_half_steps` (constant memory: a run continued chunk by chunk
+    equals one run).  ``index`` is the grid index reached, ``beta`` the angle there (rad).
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> nom = gc.NominalIntegrator(p)
+    >>> b = np.concatenate([nom.advance(700), nom.advance(1300)])
+    >>> nom.index, bool(np.allclose(b, gc.nominal_half_steps(p, 1000)[1:], rtol=1e-14))
+    (2000, True)
+    """
+
+    def __init__(self, params: GyrocompassParams) -> None:
+        p = _check_params(params)
+        self.half_step = 0.5 * p.dt
+        self._coef = _etd2_coefficients(p)
+        self._y = np.zeros(2)
+        self.index = 0
+
+    @property
+    def beta(self) -> float:
+        """β_n (rad) at grid index ``index``."""
+        return float(self._y[0])
+
+    def advance(self, n: int, keep: bool = True) -> NDArray[np.float64]:
+        """Advance ``n`` half steps; return β_n after each of them (``keep=False``: an empty
+        array, for skipping ahead)."""
+        n = v.check_int("n", n, 0)
+        keep = v.check_bool("keep", keep)
+        out = np.empty(n if keep else 0)
+        _etd2_advance(*self._coef, self._y, n, out)
+        self.index += n
+        return out
+
+
 # Discretization ------------------------------------------------------------------------------
+def system_matrix_parts(params: GyrocompassParams
+                        ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """``F(β) = F_c + sin β · E_s + cos β · E_c``: the state matrix of Eq. (8) is affine in
+    ``(sin β_n, cos β_n)`` exactly; returns ``(F_c, E_s, E_c)``.
+
+    Parameters
+    ----------
+    params : GyrocompassParams
+        The model.
+
+    Returns
+    -------
+    tuple of ndarray of shape (10, 10)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> Fc, Es, Ec = gc.system_matrix_parts(p)
+    >>> bool(np.allclose(Fc + np.sin(0.3) * Es + np.cos(0.3) * Ec, gc.system_matrix(p, 0.3)))
+    True
+    """
+    return _affine_parts(_check_params(params))
+
+
 def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``F(β) = F_0 + sin β · E_s + cos β · E_c`` (exact: F is affine in sin and cos)."""
     F0, F90, F180 = (_system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))

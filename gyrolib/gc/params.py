@@ -93,6 +93,11 @@ _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
 _DAMPING = ("xi1", "xi2")
 
 
+#: Checked by the shaping filters they build (:func:`vibration_filter`,
+#: :func:`random_drift_filter`), with the same messages.
+_SHAPING = ("alpha1", "xi1", "sigma1_sq", "alpha2", "xi2", "sigma2_sq")
+
+
 _CHOICES = {
     "shaping_p0": ("stationary", "zero"),
     "measurement_noise": ("intensity_over_dt", "variance"),
@@ -179,7 +184,14 @@ class GyrocompassParams:
     def __post_init__(self) -> None:
         for f_ in fields(self):
             name = f_.name
-            if name in _POSITIVE:
+            if name in _SHAPING:
+                # the shaping filters check their own parameters (once, here: the filters
+                # are built at the door and reused by every model function)
+                if name == "alpha1":
+                    vib = vibration_filter(self.alpha1, self.xi1, self.sigma1_sq)
+                elif name == "alpha2":
+                    drift = random_drift_filter(self.alpha2, self.xi2, self.sigma2_sq)
+            elif name in _POSITIVE:
                 v.check_positive(name, getattr(self, name))
             elif name in _REAL:
                 v.check_real(name, getattr(self, name))
@@ -192,6 +204,11 @@ class GyrocompassParams:
         # Store plain floats so that numpy scalars and ints behave identically.
         for name in (*_POSITIVE, *_REAL, *_NONNEGATIVE, *_DAMPING):
             object.__setattr__(self, name, float(getattr(self, name)))
+        for filt in (vib, drift):
+            for arr in (filt.A, filt.B, filt.C):
+                arr.flags.writeable = False
+        object.__setattr__(self, "_vibration", vib)
+        object.__setattr__(self, "_random_drift", drift)
 
     # Derived quantities -------------------------------------------------------------------
     @property
@@ -210,12 +227,12 @@ class GyrocompassParams:
         return 4.0 * self.xi2 * self.alpha2**3 * self.sigma2_sq
 
     def vibration_filter(self) -> ShapingFilter:
-        """The vibration shaping filter, Eq. (6)."""
-        return vibration_filter(self.alpha1, self.xi1, self.sigma1_sq)
+        """The vibration shaping filter, Eq. (6) (built once, at construction; read-only)."""
+        return self._vibration
 
     def random_drift_filter(self) -> ShapingFilter:
-        """The random-drift shaping filter, Eq. (7)."""
-        return random_drift_filter(self.alpha2, self.xi2, self.sigma2_sq)
+        """The random-drift shaping filter, Eq. (7) (built once, at construction; read-only)."""
+        return self._random_drift
 
 
 def normal_gravity(latitude: float) -> float:

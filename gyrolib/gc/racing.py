@@ -185,6 +185,9 @@ class RaceConditions:
                     f"{self.overhead:g} s and rate noise {self.rate_noise:.3g} rad^2/s; it "
                     f"holds for T_rot + T_settle > {o:.1f} s at that noise, or for rate noise "
                     f"> {q:.3g} rad^2/s at those times")
+        if not np.isfinite(self.t_needed):
+            return (f"GC's method does not reach sigma_c within its horizon, so it is not more "
+                    f"than {self.percent:g} % faster at any procedure time or rate noise")
         return (f"more than {self.percent:g} % faster needs the rate-sensor method to take over "
                 f"{self.t_needed:.1f} s; "
                 + side("classical", self.holds_classical, self.overhead_classical,
@@ -279,6 +282,13 @@ class RaceResult:
         percent = v.check_in_range("percent", percent, 0.0, 100.0, low_open=True,
                                    high_open=True)
         need = self.t_c_gc / (1.0 - percent / 100.0)
+        if not np.isfinite(need):  # GC does not reach σ_c within its horizon: never faster
+            return RaceConditions(
+                percent=percent, t_c_gc=self.t_c_gc, t_needed=math.inf,
+                overhead=self.procedure.overhead, rate_noise=self.procedure.rate_noise,
+                holds_classical=False, holds_optimal=False, overhead_classical=math.inf,
+                overhead_optimal=math.inf, rate_noise_classical=math.inf,
+                rate_noise_optimal=math.inf)
         out: dict[str, float | bool] = {}
         for est, t in (("classical", self.t_c_rate_sensor),
                        ("optimal", self.t_c_rate_sensor_optimal)):
@@ -301,12 +311,18 @@ class RaceResult:
         race (gc.race) under the same disturbances: t_c = 24.1 s (GC) against 34.0 s ...
         """
         proc = self.procedure
-        return (f"race (gc.race) under the same disturbances: t_c = {self.t_c_gc:.1f} s (GC) "
-                f"against {self.t_c_rate_sensor:.1f} s (rate-sensor method, classical "
-                f"half-sum) and {self.t_c_rate_sensor_optimal:.1f} s (same measurements, "
+
+        def t(x: float) -> str:
+            return f"{x:.1f} s" if np.isfinite(x) else "not reached"
+
+        def pct(x: float) -> str:
+            return f"{x:.0f} %" if np.isfinite(x) else "undefined (GC does not reach sigma_c)"
+        return (f"race (gc.race) under the same disturbances: t_c = {t(self.t_c_gc)} (GC) "
+                f"against {t(self.t_c_rate_sensor)} (rate-sensor method, classical "
+                f"half-sum) and {t(self.t_c_rate_sensor_optimal)} (same measurements, "
                 f"optimal Kalman), turn {proc.T_rot:g} s and settling {proc.T_settle:g} s "
-                f"included: GC faster by {self.faster_percent:.0f} % and "
-                f"{self.faster_percent_optimal:.0f} %")
+                f"included: GC faster by {pct(self.faster_percent)} and "
+                f"{pct(self.faster_percent_optimal)}")
 
 
 def _percent(t_gc: float, t_other: float) -> float:

@@ -36,12 +36,14 @@ mean square (:func:`mean_square_standard_error`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import control
 import numpy as np
 import scipy.linalg
-import scipy.signal
 from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:  # python-control and scipy.signal are imported where used: together they
+    import control  # are 1 s and 80 MB of every chapter's start-up otherwise
 
 from gyrolib._validation import (
     check_array,
@@ -97,6 +99,8 @@ class ShapingFilter:
         >>> gc.GyrocompassParams().random_drift_filter().as_control().nstates
         2
         """
+        import control
+
         return control.ss(self.A, self.B, self.C, np.zeros((1, 1)))
 
     def poles(self) -> NDArray[np.complex128]:
@@ -342,6 +346,8 @@ def psd_two_sided(filt: ShapingFilter, omega: ArrayLike) -> NDArray[np.float64]:
     """
     filt = _check_filter(filt)
     omega = check_array("omega", omega, ndim=1)
+    import control
+
     resp = control.frequency_response(filt.as_control(), np.abs(omega))
     mag = np.asarray(resp.magnitude, dtype=float).reshape(omega.shape)
     return filt.Q * mag**2
@@ -460,6 +466,8 @@ def simulate_shaping_filter(filt: ShapingFilter, dt: float, n: int,
     ...                            seed=1).shape
     (1000,)
     """
+    import scipy.signal
+
     filt = _check_filter(filt)
     dt = check_positive("dt", dt)
     n = check_int("n", n, 1)

@@ -10,6 +10,9 @@ module              what it holds
                     :func:`read_rsf`, :func:`write_csv`
 ``params``          :func:`load_toml`, :func:`gc_params_from_toml`,
                     :func:`rsf_config_from_toml`
+``plausibility``    units and conventions at the door: :func:`check_gc`,
+                    :func:`check_rsf` (a column in degrees, milliseconds or g refused with
+                    the likely mistake named), :func:`angle_bound`, :func:`noise_ratio`
 ``errors``          :class:`RecordError` (a bad file: names the file, row and column)
 ==================  ===============================================================
 
@@ -23,6 +26,12 @@ from gyrolib.records.params import (
     gc_params_from_toml,
     load_toml,
     rsf_config_from_toml,
+)
+from gyrolib.records.plausibility import (
+    angle_bound,
+    check_gc,
+    check_rsf,
+    noise_ratio,
 )
 from gyrolib.records.tables import (
     GC_COLUMNS,
@@ -44,9 +53,13 @@ __all__ = [
     "GCRecord",
     "RSFRecord",
     "RecordError",
+    "angle_bound",
+    "check_gc",
+    "check_rsf",
     "gc_params_from_toml",
     "iter_csv",
     "load_toml",
+    "noise_ratio",
     "read_csv",
     "read_gc",
     "read_rsf",

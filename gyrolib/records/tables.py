@@ -28,8 +28,10 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib.gc.params import GyrocompassParams
 from gyrolib.gc.record import GCRecord
 from gyrolib.records.errors import RecordError
+from gyrolib.records.plausibility import check_gc, check_rsf
 from gyrolib.rsf.record import RSFRecord
 
 __all__ = [
@@ -272,10 +274,15 @@ def _check_gc_start(label: str, t0: float) -> None:
 
 class GCChunks:
     """Iterable of :class:`GCRecord` chunks of a file; ``fraction`` is the part of the file
-    read so far (for a progress bar)."""
+    read so far (for a progress bar).  Each chunk is checked at the door
+    (:func:`gyrolib.records.check_gc` with ``params``, default the paper's) unless
+    ``check=False``."""
 
-    def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS) -> None:
+    def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS,
+                 params: GyrocompassParams | None = None, check: bool = True) -> None:
         self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows)
+        self._params = params
+        self._check = v.check_bool("check", check)
 
     @property
     def fraction(self) -> float:
@@ -283,24 +290,38 @@ class GCChunks:
 
     def __iter__(self) -> Iterator[GCRecord]:
         first = True
+        row = 0
         for _, data in self._reader:
             if first:
                 _check_gc_start(self._reader.label, float(data[0, 0]))
                 first = False
-            yield _gc_from(data)
+            rec = _gc_from(data)
+            if self._check:
+                check_gc(rec, self._params, label=self._reader.label,
+                         rows=(row + 1, row + rec.n))
+            row += rec.n
+            yield rec
 
 
-def read_gc(path: object) -> GCRecord:
-    """A whole paper-GC record file (see the module docstring for the format)."""
+def read_gc(path: object, *, params: GyrocompassParams | None = None,
+            check: bool = True) -> GCRecord:
+    """A whole paper-GC record file (see the module docstring for the format), checked at
+    the door (:func:`gyrolib.records.check_gc` with ``params``) unless ``check=False``."""
     _, data = read_csv(path, GC_COLUMNS)
     _check_gc_start(str(path), float(data[0, 0]))
-    return _gc_from(data)
+    rec = _gc_from(data)
+    if v.check_bool("check", check):
+        check_gc(rec, params, label=str(path))
+    return rec
 
 
-def read_rsf(path: object, *, counts_per_rev: int | None = None) -> RSFRecord:
+def read_rsf(path: object, *, counts_per_rev: int | None = None,
+             check: bool = True) -> RSFRecord:
     """A whole paper-RSF record file: ``t``, ``sins_increment`` and ``gs_angle`` or
-    ``encoder_counts`` (then ``counts_per_rev`` is required)."""
+    ``encoder_counts`` (then ``counts_per_rev`` is required), checked at the door
+    (:func:`gyrolib.records.check_rsf`) unless ``check=False``."""
     label = str(path)
+    check = v.check_bool("check", check)
     cols, data = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
                           optional=("gs_gyro_angle",))
     if cols[2] == "gs_angle":
@@ -311,7 +332,10 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None) -> RSFRecord:
             raise RecordError(label, "a gs_gyro_angle column goes with encoder_counts; this "
                               "record has gs_angle (already the full GS angle)",
                               column="gs_gyro_angle")
-        return RSFRecord(t=data[:, 0], sins_increment=data[:, 1], gs_angle=data[:, 2])
+        rec = RSFRecord(t=data[:, 0], sins_increment=data[:, 1], gs_angle=data[:, 2])
+        if check:
+            check_rsf(rec, label=label)
+        return rec
     if counts_per_rev is None:
         raise RecordError(label, "the record has encoder_counts: give the counts per "
                           "revolution (--counts-per-rev N)", column="encoder_counts")
@@ -324,8 +348,11 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None) -> RSFRecord:
                           f"count, counts per revolution {counts_per_rev}); got {c[r]:g} at "
                           f"data row {r + 1}", column="encoder_counts")
     gyro = data[:, 3] if "gs_gyro_angle" in cols else None
-    return RSFRecord(t=data[:, 0], sins_increment=data[:, 1], encoder_counts=c,
-                     counts_per_rev=counts_per_rev, gs_gyro_angle=gyro)
+    rec = RSFRecord(t=data[:, 0], sins_increment=data[:, 1], encoder_counts=c,
+                    counts_per_rev=counts_per_rev, gs_gyro_angle=gyro)
+    if check:
+        check_rsf(rec, label=label)
+    return rec
 
 
 # CSV writing ------------------------------------------------------------------------------

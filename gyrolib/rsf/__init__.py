@@ -11,6 +11,7 @@ module            paper RSF
 ``correction``    Eqs. (1)–(3), shared: :func:`run_correction` (simulation), :func:`predict_delta_k`
 ``sweeps``        the correction against its period, the encoder and the roll rate
 ``claims``        the paper's verbal claims with their conditions: :func:`compensation_share`, …
+``sobol``         Sobol' indices of δK and the share removed: :func:`sensitivity`
 ``record``        :class:`RSFRecord`, a recorded log the correction reads (SI)
 ``calibration``   the correction on a recorded log: :func:`calibrate`
 ``plots``         the figures: ``plot_*``
@@ -210,5 +211,16 @@ from gyrolib.rsf.calibration import (
 )
 from gyrolib.rsf.record import RSFRecord
 
+# Global sensitivity of delta K and the share removed (issue 19)
+from gyrolib.rsf.sobol import (
+    SENSITIVITY_OUTPUTS,
+    recheck_sensitivity,
+    sensitivity,
+    sensitivity_inputs,
+    sensitivity_outputs,
+)
+
 __all__ += ["CalibrationResult", "RSFRecord", "calibrate", "plot_correction",
             "record_from_simulation"]
+__all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensitivity_inputs",
+            "sensitivity_outputs"]

@@ -1,6 +1,10 @@
 """Paper RSF: how the correction depends on its period Δt, on the encoder's resolution
 (sweeps of :func:`gyrolib.rsf.run_correction` over one simulated record) and on the vehicle's
 roll rate (one seeded flight ensemble per rate), against Eq. (7) of paper RSF.
+
+Each sweep takes ``executor=`` (any :class:`concurrent.futures.Executor`, e.g. a Dask
+cluster's ``Client(...).get_executor()``; ``None`` runs in this process): one task per swept
+value, the rows put back in order, so the result does not depend on the executor.
 """
 
 from __future__ import annotations
@@ -13,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._executor import check_executor, map_ordered
 from gyrolib.rsf.correction import _interval_estimates, predict_delta_k
 from gyrolib.rsf.equations import K_FORMS
 from gyrolib.rsf.simulation import (
@@ -66,8 +71,18 @@ def _same_length(record: object, first: str, *others: str) -> None:
         v.check_ndarray(name, getattr(record, name), shape=shape)
 
 
+def _period_row(record: SensorRecord, period: float, k_form: str,
+                gs: np.ndarray) -> tuple[float, ...]:
+    """δK statistics at one correction period (one task of :func:`sweep_correction_period`)."""
+    dk = _interval_estimates(record, period, k_form, gs)[2].ravel()
+    pred = predict_delta_k(record.config, period)
+    return (dk.mean(), math.sqrt(np.mean(dk**2)), np.abs(dk).max(),
+            math.hypot(pred.mean, pred.std), pred.eq7, float(pred.mean))
+
+
 def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
-                            k_form: str = "linear") -> PeriodSweep:
+                            k_form: str = "linear", *,
+                            executor: object = None) -> PeriodSweep:
     """δK for each correction period in ``periods``, from one simulated flight ensemble
     (paper RSF: "increasing the interval between corrections ... makes the correction more
     effective"; Eq. (7) and :func:`~gyrolib.rsf.predict_delta_k` alongside).
@@ -80,6 +95,8 @@ def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
         Correction periods, s (> 0, whole numbers of samples).
     k_form : {"linear", "reciprocal"}, optional
         Form of K.
+    executor : concurrent.futures.Executor, optional
+        Where the periods run, one task each (``None``: in this process).
 
     Returns
     -------
@@ -98,24 +115,17 @@ def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
     if np.any(p <= 0.0):
         raise ValueError(f"periods must be > 0 (s); got min {p.min()}")
     k_form = v.check_choice("k_form", k_form, K_FORMS)
+    executor = check_executor(executor)
     gs = gs_angle(record)
-    out = {key: [] for key in ("mean", "rms", "max_abs", "pred", "eq7")}
-    for period in p:
-        dk = _interval_estimates(record, float(period), k_form, gs)[2].ravel()
-        pred = predict_delta_k(record.config, float(period))
-        out["mean"].append(dk.mean())
-        out["rms"].append(math.sqrt(np.mean(dk**2)))
-        out["max_abs"].append(np.abs(dk).max())
-        out["pred"].append(math.hypot(pred.mean, pred.std))
-        out["eq7"].append(pred.eq7)
+    rows = np.array(map_ordered(_period_row, [(record, float(period), k_form, gs)
+                                              for period in p], executor))
     cfg = record.config
     w = cfg.roll.rate_start
     w_unc = max(w - cfg.gs.motor_rate_max, 0.0)
-    return PeriodSweep(periods=p, mean=np.array(out["mean"]), rms=np.array(out["rms"]),
-                       max_abs=np.array(out["max_abs"]), predicted_rms=np.array(out["pred"]),
-                       eq7=np.array(out["eq7"]),
+    return PeriodSweep(periods=p, mean=rows[:, 0], rms=rows[:, 1], max_abs=rows[:, 2],
+                       predicted_rms=rows[:, 3], eq7=rows[:, 4],
                        floor=(abs(cfg.gs.eps0) + abs(cfg.gs.eps1) * w_unc) / w,
-                       net_floor=float(pred.mean), eps1=cfg.sins.eps1)
+                       net_floor=float(rows[-1, 5]), eps1=cfg.sins.eps1)
 
 
 @dataclass(frozen=True)
@@ -136,8 +146,18 @@ class ResolutionSweep:
                      "predicted_rms", "eq7")
 
 
+def _encoder_row(record: SensorRecord, enc: EncoderModel, period: float, k_form: str,
+                 gyro: np.ndarray) -> tuple[float, ...]:
+    """δK statistics with one encoder (one task of :func:`sweep_encoder`)."""
+    rec = with_encoder(record, enc)
+    dk = _interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2].ravel()
+    pred = predict_delta_k(rec.config, period)
+    return (enc.counts_per_rev, enc.position_error, dk.mean(), math.sqrt(np.mean(dk**2)),
+            np.abs(dk).max(), math.hypot(pred.mean, pred.std), pred.eq7)
+
+
 def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period: float,
-                  k_form: str = "linear") -> ResolutionSweep:
+                  k_form: str = "linear", *, executor: object = None) -> ResolutionSweep:
     """δK for each encoder in ``encoders`` (same flight, same correction period): paper RSF's
     advice of "an encoder of higher resolution", tested.
 
@@ -151,6 +171,8 @@ def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period
         Correction period, s.
     k_form : {"linear", "reciprocal"}, optional
         Form of K.
+    executor : concurrent.futures.Executor, optional
+        Where the encoders run, one task each (``None``: in this process).
 
     Returns
     -------
@@ -174,23 +196,13 @@ def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period
         v.check_instance(f"encoders[{i}]", enc, EncoderModel)
     period = v.check_positive("period", period)
     k_form = v.check_choice("k_form", k_form, K_FORMS)
-    cols = {key: [] for key in ("c", "a", "mean", "rms", "max_abs", "pred", "eq7")}
+    executor = check_executor(executor)
     gyro = _gyro_angle(record)    # the same for every encoder
-    for enc in encoders:
-        rec = with_encoder(record, enc)
-        dk = _interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2].ravel()
-        pred = predict_delta_k(rec.config, period)
-        cols["c"].append(enc.counts_per_rev)
-        cols["a"].append(enc.position_error)
-        cols["mean"].append(dk.mean())
-        cols["rms"].append(math.sqrt(np.mean(dk**2)))
-        cols["max_abs"].append(np.abs(dk).max())
-        cols["pred"].append(math.hypot(pred.mean, pred.std))
-        cols["eq7"].append(pred.eq7)
-    return ResolutionSweep(counts_per_rev=np.array(cols["c"]),
-                           position_error=np.array(cols["a"]), mean=np.array(cols["mean"]),
-                           rms=np.array(cols["rms"]), max_abs=np.array(cols["max_abs"]),
-                           predicted_rms=np.array(cols["pred"]), eq7=np.array(cols["eq7"]))
+    rows = map_ordered(_encoder_row, [(record, enc, period, k_form, gyro) for enc in encoders],
+                       executor)
+    cols = [np.array(c) for c in zip(*rows, strict=True)]
+    return ResolutionSweep(counts_per_rev=cols[0], position_error=cols[1], mean=cols[2],
+                           rms=cols[3], max_abs=cols[4], predicted_rms=cols[5], eq7=cols[6])
 
 
 @dataclass(frozen=True)
@@ -214,10 +226,25 @@ class RateSweep:
     period: float
 
 
+def _rate_row(base: SimulationConfig, rate: float, omega_unc: float, n_runs: int,
+              duration: float, seed: int, period: float, k_form: str) -> tuple[float, ...]:
+    """One seeded ensemble at one roll rate and its δK statistics (one task of
+    :func:`sweep_roll_rate`)."""
+    cfg = dataclasses.replace(
+        base, roll=RollProfile(rate), n_runs=n_runs, duration=duration,
+        gs=dataclasses.replace(base.gs, motor_rate_max=rate - omega_unc))
+    rec = simulate_flight(cfg, seed=seed)
+    dk = _interval_estimates(rec, period, k_form)[2].ravel()
+    pred = predict_delta_k(cfg, period)
+    return (dk.mean(), math.sqrt(np.mean(dk**2)), np.abs(dk).max(),
+            math.hypot(pred.mean, pred.std), pred.eq7)
+
+
 def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
                     omega_unc: float = float(to_si(300.0, "deg/s")),
                     base: SimulationConfig | None = None, n_runs: int = 100,
-                    duration: float = 30.0, k_form: str = "linear") -> RateSweep:
+                    duration: float = 30.0, k_form: str = "linear",
+                    executor: object = None) -> RateSweep:
     """Simulate the correction at each constant roll rate and measure δK (paper RSF, Eq. (7)).
 
     At each rate the GS motor follows up to ω − ``omega_unc`` (so the uncompensated rate stays
@@ -240,6 +267,9 @@ def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
         Runs per rate and run length, s.
     k_form : {"linear", "reciprocal"}, optional
         Form of the correction coefficient.
+    executor : concurrent.futures.Executor, optional
+        Where the rates run, one ensemble per task (``None``: in this process); each rate's
+        seed is fixed before, so the result does not depend on it.
 
     Returns
     -------
@@ -262,21 +292,12 @@ def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
                                                                     SimulationConfig)
     period = v.check_positive("period", period)
     k_form = v.check_choice("k_form", k_form, K_FORMS)
-    cols: dict[str, list[float]] = {key: [] for key in ("mean", "rms", "max", "pred", "eq7")}
-    for i, rate in enumerate(r):
-        cfg = dataclasses.replace(
-            base, roll=RollProfile(float(rate)), n_runs=n_runs, duration=duration,
-            gs=dataclasses.replace(base.gs, motor_rate_max=float(rate - omega_unc)))
-        rec = simulate_flight(cfg, seed=seed + i)
-        dk = _interval_estimates(rec, period, k_form)[2].ravel()
-        pred = predict_delta_k(cfg, period)
-        cols["mean"].append(dk.mean())
-        cols["rms"].append(math.sqrt(np.mean(dk**2)))
-        cols["max"].append(np.abs(dk).max())
-        cols["pred"].append(math.hypot(pred.mean, pred.std))
-        cols["eq7"].append(pred.eq7)
-    rms = np.array(cols["rms"])
-    return RateSweep(rates=r, mean=np.array(cols["mean"]), rms=rms,
-                     max_abs=np.array(cols["max"]), predicted_rms=np.array(cols["pred"]),
-                     eq7=np.array(cols["eq7"]), share=1.0 - rms / abs(base.sins.eps1),
-                     omega_unc=omega_unc, period=period)
+    executor = check_executor(executor)
+    rows = np.array(map_ordered(_rate_row, [(base, float(rate), omega_unc, n_runs, duration,
+                                             seed + i, period, k_form)
+                                            for i, rate in enumerate(r)], executor))
+    rms = rows[:, 1]
+    return RateSweep(rates=r, mean=rows[:, 0], rms=rms, max_abs=rows[:, 2],
+                     predicted_rms=rows[:, 3], eq7=rows[:, 4],
+                     share=1.0 - rms / abs(base.sins.eps1), omega_unc=omega_unc,
+                     period=period)

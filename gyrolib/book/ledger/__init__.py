@@ -14,9 +14,12 @@ causes).  This package adds the files and pages built from the items.
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import json
+import os
 from dataclasses import asdict, fields
+from pathlib import Path
 
 import gyrolib
 from gyrolib import _validation as v
@@ -49,8 +52,42 @@ def _check_items(items: object) -> list[LedgerItem]:
     return list(items)
 
 
+#: Environment variable naming a folder where :func:`collect` keeps its items between
+#: processes (the book build sets it, so the chapters that show the ledger compute it once).
+MEMO_ENV = "GYROLIB_LEDGER_MEMO"
+
+
+def _memo_file() -> Path | None:
+    """``$GYROLIB_LEDGER_MEMO/ledger-<hash of gyrolib's sources>.json``, or ``None``."""
+    folder = os.environ.get(MEMO_ENV)
+    if not folder:
+        return None
+    h = hashlib.sha256()
+    package = Path(gyrolib.__file__).resolve().parent
+    for path in sorted(package.rglob("*.py")):
+        h.update(path.relative_to(package).as_posix().encode() + b"\0" + path.read_bytes())
+    return Path(folder) / f"ledger-{h.hexdigest()[:32]}.json"
+
+
 def collect() -> list[LedgerItem]:
-    """All ledger items, paper GC first, each paper in the order of its printed items."""
+    """All ledger items, paper GC first, each paper in the order of its printed items.
+
+    With ``$GYROLIB_LEDGER_MEMO`` set (the book build does), the items are computed once for
+    a given state of gyrolib's sources and read back from that folder afterwards.
+    """
+    memo = _memo_file()
+    if memo is not None and memo.is_file():
+        return [LedgerItem(**d) for d in json.loads(memo.read_text(encoding="utf-8"))]
+    items = _collect()
+    if memo is not None:
+        memo.parent.mkdir(parents=True, exist_ok=True)
+        tmp = memo.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(json.dumps([asdict(it) for it in items]), encoding="utf-8")
+        tmp.replace(memo)  # atomic: a concurrent reader sees the whole file or none
+    return items
+
+
+def _collect() -> list[LedgerItem]:
     items = [*gc.items(), *rsf.items()]
     ids = [it.id for it in items]
     if len(ids) != len(set(ids)):

@@ -24,6 +24,7 @@ from gyrolib.gc.covariance import CovarianceAnalysis, covariance_analysis, time_
 from gyrolib.gc.discretization import nominal_half_steps
 from gyrolib.gc.observability import information_psi_omega
 from gyrolib.gc.params import GyrocompassParams
+from gyrolib.gc.racing import RaceConditions, RaceResult, race
 from gyrolib.units import ARCSEC_PAPER, from_si
 
 __all__ = ["BETA_FROZEN", "PRINTED", "SIGMA_C", "TREND_FACTORS", "T_BOUND", "items"]
@@ -127,8 +128,8 @@ def baseline(p: GyrocompassParams) -> Baseline:
 class SpeedEvidence:
     """What the speed claims rest on: ``t_c`` (s; ``nan`` if σ_c is not reached before the
     bound) and ``t_c_other`` (the other P0 reading), the claim's ``status`` and
-    ``conditions``, and the one-line ``evidence``.  Today the comparison is with the times
-    refs. [2], [3] print, not with their methods run under the same disturbances."""
+    ``conditions``, and the one-line ``evidence``: the comparison with the time ref. [2]
+    prints (a quoted bound; ref. [3]'s method is raced in :func:`_faster_percent`)."""
 
     t_c: float
     t_c_other: float
@@ -156,9 +157,9 @@ def speed_evidence(base: Baseline) -> SpeedEvidence:
     cov_other_wide = covariance_analysis(
         replace(p, shaping_p0=other, sigma1_sq=wide * p.sigma1_sq), 100.0, store_every=n100)
     t_c_other_wide = time_to_sigma(cov_other_wide, "omega_gc", SIGMA_C)
-    quoted = ("against the times refs. [2] and [3] print (17 and about 20 min, obtained under "
-              "other assumptions; ref. [2] modelled no vibration), not their methods rerun "
-              "under the same disturbances")
+    quoted = ("against the time ref. [2] prints (17 min, obtained under other assumptions: "
+              "ref. [2] modelled no vibration), not its method rerun under the same "
+              "disturbances (ref. [3]'s method is raced under them: gc.faster_percent)")
     if not t_c < T_BOUND:
         status, conditions = "fails", quoted
     elif np.isnan(bnd.factor):
@@ -411,32 +412,60 @@ def _trend_holds(p: GyrocompassParams, base: Baseline) -> LedgerItem:
         "more than half of the prior is removed in 2 s in every variation")
 
 
-def _time_to_sigma_c(speed: SpeedEvidence) -> LedgerItem:
-    """"More than 50 % faster", as the time to σ_c against the inferred bound of 510 s."""
+def _time_to_sigma_c(speed: SpeedEvidence, race: RaceResult) -> LedgerItem:
+    """"More than 50 % faster" than ref. [2]: the time to σ_c against the inferred bound of
+    510 s, half of the 17 min ref. [2] reports (a quoted bound: ref. [2]'s method, an
+    accelerometer-based filter on another INS with no model given, cannot be rerun)."""
     return _item(
         "time_to_sigma_c", "Conclusion", "time for sigma_gc to reach sigma_c = 2e-3\"/s",
         "s", speed.t_c if np.isfinite(speed.t_c) else None, speed.status,
         f"the book infers < {T_BOUND:.0f} s from 'more than 50 % faster' than ref. [2]'s "
-        "17 min, a time quoted from ref. [2] (no vibration modelled), not recomputed; ref. "
-        "[3]: about 20 min for its whole procedure; the 0.0011\"/s of Fig. 3 is another "
-        "quantity", _CLAIMS, "gc-claims-speed", paper_value="more than 50 % faster than 17 min",
-        kind="claim", precision=3, conditions=speed.conditions, evidence=speed.evidence)
-
-
-def _faster_percent(speed: SpeedEvidence) -> LedgerItem:
-    """The saving against ref. [2]'s quoted 17 min (the same computation as
-    :func:`_time_to_sigma_c`, expressed as a percentage)."""
-    faster = 100.0 * (1.0 - speed.t_c / (PRINTED["ref2_minutes"] * 60.0))
-    return _item(
-        "faster_percent", "Conclusion", "time saved against ref. [2]'s quoted 17 min", "%",
-        faster if np.isfinite(faster) else None, speed.status,
-        "100 (1 - t_c / 17 min): the book's model time against a time quoted from ref. [2], "
-        "not ref. [2]'s method run under the same disturbances; against ref. [3]'s ~20 min "
-        "the saving is larger still", _CLAIMS, "gc-claims-speed", paper_value="> 50",
+        "17 min, a time quoted from ref. [2] (no vibration modelled; its method, given without "
+        "a model, stays a quoted bound); the race against ref. [3]'s method under the same "
+        "disturbances is gc.faster_percent; the 0.0011\"/s of Fig. 3 is another quantity",
+        _CLAIMS, "gc-claims-speed", paper_value="more than 50 % faster than 17 min",
         kind="claim", precision=3, conditions=speed.conditions,
-        evidence=f"100 (1 - t_c / 17 min) = {faster:.0f} % with t_c = {speed.t_c_text} from "
-        "the covariance analysis and 17 min as ref. [2] prints it; the same t_c as "
-        "gc.time_to_sigma_c")
+        evidence=f"{speed.evidence}; the race (gc.race) finds the same t_c = "
+        f"{race.t_c_gc:.1f} s")
+
+
+def race_status(cond: RaceConditions) -> str:
+    """The verdict on "more than 50 % faster" than the rate-sensor method: it holds under
+    conditions when some procedure overhead or rate-sensor noise makes it hold against both
+    estimators (the paper gives neither), and fails when none does."""
+    reachable = (np.isfinite(max(cond.overhead_classical, cond.overhead_optimal))
+                 or np.isfinite(max(cond.rate_noise_classical, cond.rate_noise_optimal)))
+    # Even where it holds at the book's defaults, those are the book's choices, not the paper's.
+    return "holds under conditions" if reachable or (cond.holds_classical
+                                                     and cond.holds_optimal) else "fails"
+
+
+def _faster_percent(race: RaceResult, cond: RaceConditions) -> LedgerItem:
+    """"More than 50 % faster than the calibration methods considered", judged by the race
+    (:func:`gyrolib.gc.race`): GC's method against the rate-sensor method of ref. [3] that it
+    replaces, under the same disturbances, sensors and accuracy target."""
+    proc = race.procedure
+    at_defaults = ("holds" if cond.holds_classical and cond.holds_optimal else
+                   "fails against " + " and ".join(
+                       n for n, h in (("the classical", cond.holds_classical),
+                                      ("the optimal", cond.holds_optimal)) if not h)
+                   + " estimator")
+    return _item(
+        "faster_percent", "Conclusion",
+        "time saved against the rate-sensor method of ref. [3] run under the same "
+        "disturbances (race, classical half-sum estimator)", "%",
+        race.faster_percent if np.isfinite(race.faster_percent) else None,
+        race_status(cond),
+        "the paper compares with times quoted from refs. [2] and [3]; the book races ref. "
+        "[3]'s procedure as the paper describes it (p. 52), with the procedure times and the "
+        "rate-sensor noise as the book's stated choices (the paper gives neither); against "
+        f"the optimal estimator on the same measurements the saving is "
+        f"{race.faster_percent_optimal:.0f} %", "chapters/gc_race", "gcr-verdict",
+        paper_value="> 50", kind="claim", precision=2,
+        conditions=f"at the book's defaults (turn {proc.T_rot:g} s, settling "
+        f"{proc.T_settle:g} s, rate noise {proc.rate_noise:.3g} rad^2/s) it {at_defaults}; "
+        + cond.text(),
+        evidence=race.evidence())
 
 
 def items(params: GyrocompassParams | None = None) -> list[LedgerItem]:
@@ -447,6 +476,7 @@ def items(params: GyrocompassParams | None = None) -> list[LedgerItem]:
         raise TypeError("params must be a GyrocompassParams")
     base = baseline(p)
     speed = speed_evidence(base)
+    race_result = race(p)
     inputs = {it.id: it for it in _inputs(p)}
     intro = [inputs.pop(f"gc.{k}") for k in ("input.sigma_c", "ref2_minutes", "ref3_minutes")]
     return [
@@ -460,8 +490,8 @@ def items(params: GyrocompassParams | None = None) -> list[LedgerItem]:
         _fig3(),
         _sigma_gc_100s(base),
         _drop_2s(base),
-        _time_to_sigma_c(speed),
-        _faster_percent(speed),
+        _time_to_sigma_c(speed, race_result),
+        _faster_percent(race_result, race_result.conditions()),
         _fig4(),
         _trend_holds(p, base),
     ]

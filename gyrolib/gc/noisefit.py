@@ -1,0 +1,613 @@
+"""Paper GC: the noise parameters of the model fitted from a record (:func:`fit_noise`).
+
+The vibration shaping filter of Eq. (6) (``α1``, ``σ1²``, optionally ``ξ1``) and the sensor
+noise intensities (``C_as``; ``C_incl_y``, ``C_incl_z`` together as ``C_in`` or apart) are
+found by maximizing the Gaussian log-likelihood of the record by the prediction-error
+decomposition, ``ln L = −½ Σ (ln 2π S + ν²/S)`` over the filter's scalar innovations
+(:func:`gyrolib.gc.innovation_log_likelihood`) {cite:p}`BarShalom2001`, in the logarithms of
+the parameters (positive, and of very different scales), with :mod:`scipy.optimize`
+(``trust-exact``: Newton steps in a trust region, on a central-difference gradient and
+Hessian).  The standard errors come from the curvature at the optimum: the inverse of the
+Hessian of ``−ln L`` in the log-parameters, carried back by the delta method
+(``SE(θ) = θ · SE(ln θ)``).
+
+Cost and how it is kept down (a likelihood is one run of the 10-state filter over the
+record, about 0.2 s per 100 s at 1 kHz):
+
+1. a start from a cheaper, exact likelihood: the inclinometers alone.  Their states
+   ``(δ, γ, N1, N2)`` evolve on their own (Eqs. (6), (8): nothing else drives them), so the
+   inclinometers' marginal likelihood is that of a 4-state time-invariant filter, a few ms
+   per evaluation; it fits the vibration filter and the inclinometer noise.  (Time steps are
+   rounded to whole ``dt`` here: jitter and remainders only move the start.)
+2. the full likelihood (every sensor, every time step exact) from there: a few Newton steps,
+   each a stencil of ``1 + 2n + n(n−1)/2`` likelihoods for ``n`` fitted parameters.
+
+Outliers: a likelihood without a gate is not robust, a likelihood with one is not smooth.
+The measurements the gate of :func:`gyrolib.gc.calibrate` rejects under the current fit are
+left out (set missing) and the fit is repeated until that set no longer changes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Final
+
+import numpy as np
+import scipy.optimize
+from numba import njit
+from numpy.typing import NDArray
+
+from gyrolib import _validation as v
+from gyrolib.filtering.discretization import van_loan
+from gyrolib.filtering.kernels import kalman_kernels
+from gyrolib.gc.calibration import calibrate, innovation_log_likelihood
+from gyrolib.gc.params import GyrocompassParams, state_index
+from gyrolib.gc.record import GCRecord
+from gyrolib.gc.state_space import (
+    initial_covariance,
+    measurement_matrix,
+    measurement_noise_covariance,
+    noise_input_matrix,
+    system_matrix,
+)
+
+__all__ = [
+    "NOISE_FIT_NAMES",
+    "NoiseFit",
+    "fit_noise",
+]
+
+#: What :func:`fit_noise` can fit: fields of :class:`GyrocompassParams`, and ``C_in`` (one
+#: intensity for both inclinometers, ``C_incl_y = C_incl_z``).
+NOISE_FIT_NAMES: Final[tuple[str, ...]] = ("alpha1", "sigma1_sq", "xi1", "C_as", "C_in",
+                                           "C_incl_y", "C_incl_z")
+
+#: The names the inclinometers' marginal likelihood depends on (the start, step 1).
+_INCLINOMETER_NAMES: Final[frozenset[str]] = frozenset(
+    {"alpha1", "sigma1_sq", "xi1", "C_in", "C_incl_y", "C_incl_z"})
+
+#: Finite-difference step in the log-parameters.
+_STEP: Final[float] = 1e-3
+
+#: Rounds of (fit, find the outliers under the fit) at most.
+_MAX_ROUNDS: Final[int] = 3
+
+
+# Result ---------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class NoiseFit:
+    """The noise parameters fitted from a record (:func:`fit_noise`), SI.
+
+    ``params`` the fitted model (the other fields as given), ``start`` the model the fit
+    started from; ``names`` the fitted names (:data:`NOISE_FIT_NAMES`), ``values`` and
+    ``std_errors`` in the same order; ``cov_log`` the covariance of their logarithms (the
+    inverse Hessian of ``−ln L``); ``loglik``, ``loglik_start`` the log-likelihood at the
+    optimum and at the start (the same measurements: outliers left out); ``converged``,
+    ``message``, ``n_evaluations`` (likelihoods of the full filter; the inclinometer-only
+    start is not counted); ``outliers`` the measurements left out as outliers.  The
+    standard errors are NaN when the Hessian at the end is not positive definite.
+    """
+
+    params: GyrocompassParams
+    start: GyrocompassParams
+    names: tuple[str, ...]
+    values: NDArray[np.float64]
+    std_errors: NDArray[np.float64]
+    cov_log: NDArray[np.float64]
+    loglik: float
+    loglik_start: float
+    converged: bool
+    message: str
+    n_evaluations: int
+    outliers: int
+
+    def __post_init__(self) -> None:
+        v.check_instance("params", self.params, GyrocompassParams)
+        v.check_instance("start", self.start, GyrocompassParams)
+        names = _check_names(self.names)
+        n = len(names)
+        object.__setattr__(self, "names", names)
+        v.check_ndarray("values", self.values, shape=(n,))
+        # NaN standard errors: no curvature (see message)
+        for name, shape in (("std_errors", (n,)), ("cov_log", (n, n))):
+            arr = getattr(self, name)
+            if not isinstance(arr, np.ndarray) or arr.shape != shape or np.any(np.isinf(arr)):
+                raise ValueError(f"{name} must be a float array of shape {shape} (finite or "
+                                 "NaN)")
+        v.check_real("loglik", self.loglik)
+        v.check_real("loglik_start", self.loglik_start)
+        v.check_bool("converged", self.converged)
+        v.check_str("message", self.message)
+        v.check_int("n_evaluations", self.n_evaluations, 0)
+        v.check_int("outliers", self.outliers, 0)
+
+    def _index(self, name: object) -> int:
+        if not isinstance(name, str) or name not in self.names:
+            raise ValueError(f"name must be one of the fitted names {self.names}; got "
+                             f"{name!r}")
+        return self.names.index(name)
+
+    def value(self, name: str) -> float:
+        """The fitted value of ``name`` (SI)."""
+        return float(self.values[self._index(name)])
+
+    def std_error(self, name: str) -> float:
+        """Its standard error (SI), from the curvature of ``ln L`` at the optimum."""
+        return float(self.std_errors[self._index(name)])
+
+    def summary(self) -> dict:
+        """The fit as a JSON-ready dict (SI)."""
+        return {
+            "fitted": {nm: {"value": float(self.values[i]),
+                            "std_error": float(self.std_errors[i])}
+                       for i, nm in enumerate(self.names)},
+            "loglik": self.loglik, "loglik_start": self.loglik_start,
+            "converged": self.converged, "message": self.message,
+            "n_evaluations": self.n_evaluations, "outliers": self.outliers,
+        }
+
+    def to_toml(self) -> str:
+        """Every field of the fitted :attr:`params` as TOML text (the fitted ones first, each
+        with its standard error in a comment), the format of
+        :func:`gyrolib.records.gc_params_from_toml` (``--params`` of the command line)."""
+        fitted = set()
+        lines = ["# paper GC model with noise parameters fitted from a record "
+                 "(gyrolib.gc.fit_noise:",
+                 "# maximum of the innovations log-likelihood; standard errors from its "
+                 "curvature); SI units",
+                 f"# log-likelihood {self.loglik:.6f} (start {self.loglik_start:.6f}); "
+                 f"converged: {str(self.converged).lower()}", ""]
+        for i, nm in enumerate(self.names):
+            for field in _fields_of(nm):
+                fitted.add(field)
+                lines.append(f"{field} = {_toml_value(getattr(self.params, field))}   "
+                             f"# fitted: +- {self.std_errors[i]:.3g} (standard error)")
+        lines.append("")
+        for f in dataclasses.fields(self.params):
+            if f.name not in fitted:
+                lines.append(f"{f.name} = {_toml_value(getattr(self.params, f.name))}")
+        return "\n".join(lines) + "\n"
+
+
+def _toml_value(x: object) -> str:
+    if isinstance(x, str):
+        return json.dumps(x)
+    x = float(x)
+    if math.isinf(x):
+        return "inf" if x > 0 else "-inf"
+    return repr(x)
+
+
+def _fields_of(name: str) -> tuple[str, ...]:
+    return ("C_incl_y", "C_incl_z") if name == "C_in" else (name,)
+
+
+def _check_names(fit: object) -> tuple[str, ...]:
+    if isinstance(fit, str) or not isinstance(fit, Sequence):
+        raise TypeError(f"fit must be a tuple of names from {NOISE_FIT_NAMES}; got "
+                        f"{type(fit).__name__}")
+    names = tuple(fit)
+    if not names:
+        raise ValueError(f"fit must name at least one of {NOISE_FIT_NAMES}")
+    for nm in names:
+        if not isinstance(nm, str) or nm not in NOISE_FIT_NAMES:
+            raise ValueError(f"fit must hold names from {NOISE_FIT_NAMES}; got {nm!r}")
+    if len(set(names)) != len(names):
+        raise ValueError(f"fit must not repeat a name; got {names}")
+    if "C_in" in names and ({"C_incl_y", "C_incl_z"} & set(names)):
+        raise ValueError("fit must not hold C_in together with C_incl_y or C_incl_z (C_in "
+                         "sets both)")
+    return names
+
+
+def _with(p: GyrocompassParams, names: tuple[str, ...], theta: np.ndarray
+          ) -> GyrocompassParams:
+    """``p`` with the fitted names set to ``exp(theta)``."""
+    values = {}
+    for nm, th in zip(names, theta):
+        for field in _fields_of(nm):
+            values[field] = math.exp(float(th))
+    return dataclasses.replace(p, **values)
+
+
+def _log_values(p: GyrocompassParams, names: tuple[str, ...]) -> np.ndarray:
+    out = []
+    for nm in names:
+        fields = _fields_of(nm)
+        out.append(np.mean([math.log(getattr(p, f)) for f in fields]))
+    return np.array(out)
+
+
+# The inclinometers' marginal likelihood (the start) --------------------------------------------
+_INCL_STATES: Final[tuple[int, ...]] = tuple(state_index(nm)
+                                             for nm in ("delta", "gamma", "N1", "N2"))
+
+# the shared kernels (gyrolib.filtering.kernels) compiled for these 4 states
+_kernels4 = kalman_kernels(len(_INCL_STATES))
+predict_covariance = _kernels4.predict_covariance
+measurement_projection = _kernels4.measurement_projection
+joseph_scalar_update = _kernels4.joseph_scalar_update
+
+
+@njit(cache=True)
+def _inclinometer_kernel(steps, z, Phi, Qd, H, hptr, hidx, r, P0):
+    """Σ (ln S + ν²/S) and the number of measurements of the 4-state inclinometer filter;
+    ``steps[i]`` whole steps of ``Phi``, ``Qd`` before row ``i``, ``z`` (rows × 2)."""
+    n = P0.shape[0]
+    P = P0.copy()
+    x = np.zeros(n)
+    y = np.zeros(n)
+    T = np.zeros((n, n))
+    Ph = np.zeros(n)
+    k = np.zeros(n)
+    rowptr = np.arange(0, n * n + 1, n)
+    colidx = np.zeros(n * n, dtype=np.int64)
+    for i in range(n * n):
+        colidx[i] = i % n
+    total = 0.0
+    count = 0
+    for i in range(z.shape[0]):
+        for _ in range(steps[i]):
+            for a in range(n):
+                s = 0.0
+                for c in range(n):
+                    s += Phi[a, c] * x[c]
+                y[a] = s
+            for a in range(n):
+                x[a] = y[a]
+            predict_covariance(P, Phi, rowptr, colidx, Qd, T)
+        for q in range(z.shape[1]):
+            zq = z[i, q]
+            if math.isnan(zq):
+                continue
+            S = measurement_projection(P, H, q, hptr, hidx, Ph) + r[q]
+            hx = 0.0
+            for c in range(n):
+                hx += H[q, c] * x[c]
+            nu = zq - hx
+            total += math.log(S) + nu * nu / S
+            count += 1
+            for a in range(n):
+                k[a] = Ph[a] / S
+                x[a] += k[a] * nu
+            joseph_scalar_update(P, Ph, k, S)
+    return total, count
+
+
+def _inclinometer_loglik(p: GyrocompassParams, steps: np.ndarray, z: np.ndarray) -> float:
+    idx = list(_INCL_STATES)
+    F = system_matrix(p, 0.0)[np.ix_(idx, idx)]     # (δ, γ, N1, N2) do not depend on β_n
+    G = noise_input_matrix(p)[idx, :1]
+    Phi, Qd = van_loan(F, G, np.array([[p.Q1]]), p.dt)
+    H = np.ascontiguousarray(measurement_matrix(p)[1:, idx])
+    hmask = H != 0
+    hptr = np.concatenate([[0], np.cumsum(hmask.sum(axis=1))]).astype(np.int64)
+    hidx = np.nonzero(hmask)[1].astype(np.int64)
+    r = np.diag(measurement_noise_covariance(p))[1:].copy()
+    P0 = initial_covariance(p)[np.ix_(idx, idx)]
+    total, count = _inclinometer_kernel(steps, z, Phi, Qd, H, hptr, hidx, r, P0)
+    return -0.5 * (count * math.log(2.0 * math.pi) + total)
+
+
+def _whole_steps(t: np.ndarray, dt: float) -> np.ndarray:
+    h = np.diff(np.concatenate([[0.0], t]))
+    return np.maximum(np.rint(h / dt), 0).astype(np.int64)
+
+
+# Maximization in log-parameters ---------------------------------------------------------------
+class _BudgetExceeded(Exception):
+    pass
+
+
+class _Objective:
+    """``−ln L`` as a function of the coordinates ``φ = A θ`` (``θ`` the log-parameters),
+    with a finite-difference gradient and Hessian (diagonal and gradient central, off-diagonal
+    forward) from one cached stencil per point; the step of each coordinate follows its
+    curvature (a tenth of its standard error), so that a flat direction is resolved above the
+    rounding of ``ln L``."""
+
+    def __init__(self, loglik: Callable[[np.ndarray], float], A: np.ndarray,
+                 max_evaluations: int, progress: Callable[[int], None] | None,
+                 steps: np.ndarray | None = None) -> None:
+        self.loglik = loglik
+        self.A_inv = np.linalg.inv(A)
+        self.max_evaluations = max_evaluations
+        self.progress = progress
+        self.values: dict[bytes, float] = {}
+        self.stencils: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+        self.n = 0
+        self.h = np.full(A.shape[0], _STEP) if steps is None else steps.copy()
+
+    def theta(self, phi: np.ndarray) -> np.ndarray:
+        return self.A_inv @ np.asarray(phi, dtype=float)
+
+    def __call__(self, phi: np.ndarray) -> float:
+        phi = np.asarray(phi, dtype=float)
+        key = phi.tobytes()
+        if key not in self.values:
+            if self.n >= self.max_evaluations:
+                raise _BudgetExceeded
+            try:
+                val = -self.loglik(self.theta(phi))
+            except ValueError:     # a step outside the parameters' range (ξ1 > 1)
+                val = math.inf
+            self.n += 1
+            if self.progress is not None:
+                self.progress(self.n)
+            self.values[key] = val if math.isfinite(val) else math.inf
+        return self.values[key]
+
+    def stencil(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        phi = np.asarray(phi, dtype=float)
+        key = phi.tobytes()
+        if key in self.stencils:
+            return self.stencils[key]
+        n = phi.size
+        h = self.h
+        f0 = self(phi)
+        e = np.diag(h)
+        fp = np.array([self(phi + e[i]) for i in range(n)])
+        fm = np.array([self(phi - e[i]) for i in range(n)])
+        g = (fp - fm) / (2.0 * h)
+        H = np.diag((fp - 2.0 * f0 + fm) / h**2)
+        for i in range(n):
+            for j in range(i + 1, n):
+                fij = self(phi + e[i] + e[j])
+                H[i, j] = H[j, i] = (fij - fp[i] - fp[j] + f0) / (h[i] * h[j])
+        self.stencils[key] = (g, H)
+        # the next stencil's steps: a tenth of each coordinate's standard error
+        d = np.diag(H)
+        self.h = np.where(d > 0, np.clip(0.1 / np.sqrt(np.where(d > 0, d, 1.0)), 1e-5, 0.2),
+                          self.h)
+        return g, H
+
+
+def _maximize(objective: _Objective | _Sub, phi0: np.ndarray, tol: float
+              ) -> tuple[np.ndarray, bool, str]:
+    """Minimize ``objective`` from ``phi0`` by scipy's ``trust-exact`` (Newton steps in a
+    trust region; an indefinite Hessian is handled), stopped when the Newton decrement
+    ``gᵀ H⁻¹ g`` (the squared distance to the optimum in standard errors) is below ``tol``:
+    a gradient tolerance would be lost in the rounding of ``ln L``, whose curvatures differ
+    by many orders of magnitude between the parameters."""
+    best = [np.asarray(phi0, dtype=float).copy()]
+    state = {"done": False}
+
+    def fun(phi):
+        val = objective(phi)
+        if val < objective(best[0]):
+            best[0] = np.array(phi, dtype=float)
+        return val
+
+    def close_enough(phi) -> bool:
+        g, H = objective.stencil(phi)
+        try:
+            w = np.linalg.eigvalsh(H)
+            return bool(w[0] > 0 and g @ np.linalg.solve(H, g) < tol)
+        except np.linalg.LinAlgError:
+            return False
+
+    def callback(intermediate_result):
+        if close_enough(intermediate_result.x):
+            state["done"] = True
+            raise StopIteration
+
+    if close_enough(phi0):
+        return np.asarray(phi0, dtype=float), True, "at the optimum already"
+    try:
+        res = scipy.optimize.minimize(
+            fun, phi0, method="trust-exact", jac=lambda ph: objective.stencil(ph)[0],
+            hess=lambda ph: objective.stencil(ph)[1], callback=callback,
+            options={"gtol": 1e-12, "initial_trust_radius": 1.0, "max_trust_radius": 5.0,
+                     "maxiter": 100})
+    except _BudgetExceeded:
+        return best[0], False, "stopped after max_evaluations likelihoods"
+    if state["done"]:
+        return np.asarray(res.x, dtype=float), True, (
+            f"converged: Newton decrement below {tol:g} after {res.nit} iterations")
+    return np.asarray(res.x, dtype=float), bool(res.success), str(res.message)
+
+
+def _coordinates(names: tuple[str, ...]) -> np.ndarray:
+    """``A`` with ``φ = A θ``: the log-parameters, except that ``ln σ1²`` is replaced by
+    ``ln Q1 − ln 2 = ln ξ1 + ln α1 + ln σ1²`` when ``α1`` is fitted with it.  The record
+    pins the white-noise intensity ``Q1`` (the vibration's fast part) far better than ``α1``
+    (its slow part), so ``(ln α1, ln σ1²)`` lie along a narrow ridge; ``(ln α1, ln Q1)`` do
+    not."""
+    n = len(names)
+    A = np.eye(n)
+    if "sigma1_sq" in names and "alpha1" in names:
+        i = names.index("sigma1_sq")
+        A[i, names.index("alpha1")] = 1.0
+        if "xi1" in names:
+            A[i, names.index("xi1")] = 1.0
+    return A
+
+
+def _fit_inclinometers(p0: GyrocompassParams, names: tuple[str, ...], record: GCRecord,
+                       budget: int) -> tuple[np.ndarray, np.ndarray]:
+    """The start (step 1): the inclinometers' marginal likelihood maximized over ``names``
+    (all of them inclinometer names); ``α1`` first by a scan over ×/÷ 100 of its start
+    (the likelihood is flat for small ``α1``, where Newton steps stall).  Returns the
+    log-parameters and the finite-difference steps its curvature asks for."""
+    steps = _whole_steps(record.t, p0.dt)
+    z = np.column_stack([record.inclinometer_y, record.inclinometer_z])
+    A = _coordinates(names)
+    obj = _Objective(lambda th: _inclinometer_loglik(_with(p0, names, th), steps, z), A,
+                     budget, None)
+    phi = A @ _log_values(p0, names)
+    if "alpha1" in names:
+        ia = names.index("alpha1")
+        rest = [i for i in range(len(names)) if i != ia]
+        if rest:   # the others at the start's α1
+            phi[rest] = _maximize(_Sub(obj, phi, rest), phi[rest], 1e-2)[0]
+        grid = phi[ia] + np.linspace(-math.log(100.0), math.log(100.0), 21)
+        vals = []
+        for a in grid:
+            trial = phi.copy()
+            trial[ia] = a
+            vals.append(obj(trial))
+        phi[ia] = grid[int(np.argmin(vals))]
+    phi = _maximize(obj, phi, 1e-3)[0]
+    obj.stencil(phi)
+    return obj.theta(phi), obj.h
+
+
+class _Sub:
+    """``objective`` over the coordinates ``idx`` only, the others held at ``phi``."""
+
+    def __init__(self, objective: _Objective, phi: np.ndarray, idx: list[int]) -> None:
+        self.objective = objective
+        self.phi = np.asarray(phi, dtype=float).copy()
+        self.idx = idx
+
+    def _full(self, sub: np.ndarray) -> np.ndarray:
+        out = self.phi.copy()
+        out[self.idx] = sub
+        return out
+
+    def __call__(self, sub: np.ndarray) -> float:
+        return self.objective(self._full(sub))
+
+    def stencil(self, sub: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        g, H = self.objective.stencil(self._full(sub))
+        return g[self.idx], H[np.ix_(self.idx, self.idx)]
+
+
+# The fit ----------------------------------------------------------------------------------
+def _masked(record: GCRecord, rows: np.ndarray, sensors: np.ndarray) -> GCRecord:
+    cols = [np.array(c, dtype=float) for c in (record.angle_sensor, record.inclinometer_y,
+                                               record.inclinometer_z)]
+    for q in range(3):
+        cols[q][rows[sensors == q]] = np.nan
+    return GCRecord(t=record.t, angle_sensor=cols[0], inclinometer_y=cols[1],
+                    inclinometer_z=cols[2])
+
+
+def _rejected_cells(record: GCRecord, res: object) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and sensors the gate of a :func:`calibrate` run rejected (sorted)."""
+    rows = np.searchsorted(record.t, res.rejected_t)
+    order = np.lexsort((res.rejected_sensor, rows))
+    return rows[order], res.rejected_sensor[order]
+
+
+def fit_noise(record: GCRecord, params: GyrocompassParams | None = None, *,
+              fit: Sequence[str] = ("alpha1", "sigma1_sq", "C_as", "C_in"),
+              gate: float = 1.0 - 1e-9, max_evaluations: int = 400,
+              progress: Callable[[int], None] | None = None) -> NoiseFit:
+    """Fit the noise parameters of paper GC's model to a record by maximum likelihood.
+
+    Maximizes the innovations log-likelihood (:func:`gyrolib.gc.innovation_log_likelihood`)
+    over the parameters ``fit``, in their logarithms, with :func:`scipy.optimize.minimize`
+    (see the module docstring: start from the inclinometers' exact marginal likelihood,
+    Newton steps on the full one, outliers left out); standard errors from the curvature at
+    the optimum.  Paper GC models the vibration by Eq. (6) with the HFB 320's spectrum; a
+    gyro on another base needs its own ``α1``, ``σ1²`` (and the sensors their own noise).
+
+    Parameters
+    ----------
+    record : GCRecord
+        The record (SI), in memory (the fit reads it many times).
+    params : GyrocompassParams, optional
+        The model; its values of the fitted names are the start, the others stay fixed
+        (default: the paper's).
+    fit : sequence of str
+        Names from :data:`NOISE_FIT_NAMES`: ``alpha1``, ``sigma1_sq``, ``xi1`` (Eq. (6)),
+        ``C_as``, ``C_in`` (both inclinometers alike) or ``C_incl_y``, ``C_incl_z``.
+    gate : float
+        The gate of :func:`gyrolib.gc.calibrate` that finds the outliers left out (default
+        a tail of 1e-9: gross outliers only; a tighter gate would cut the tails of good
+        data and bias the intensities low, by 0.2 % at 0.9999).
+    max_evaluations : int
+        Likelihoods of the full filter at the most (each about 0.2 s per 100 s of record).
+    progress : callable, optional
+        Called with the number of full likelihoods evaluated so far.
+
+    Returns
+    -------
+    NoiseFit
+        The fitted model, each value with its standard error, ``to_toml()``.
+
+    Examples
+    --------
+    >>> import dataclasses
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> rec = gc.simulate_record(dataclasses.replace(p, C_as=4e-13), 2.0, seed=1).record
+    >>> fit = gc.fit_noise(rec, p, fit=("C_as",))
+    >>> z = (fit.value("C_as") - 4e-13) / fit.std_error("C_as")
+    >>> bool(abs(z) < 3), bool(fit.loglik > fit.loglik_start)
+    (True, True)
+    """
+    v.check_instance("record", record, GCRecord)
+    p0 = GyrocompassParams() if params is None else v.check_instance(
+        "params", params, GyrocompassParams)
+    names = _check_names(fit)
+    gate = v.check_in_range("gate", gate, 0.0, 1.0, low_open=True, high_open=True)
+    max_evaluations = v.check_int("max_evaluations", max_evaluations, 1)
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable or None; got {type(progress).__name__}")
+    theta = _log_values(p0, names)
+    # 1. the start: the inclinometers' marginal likelihood over the names it depends on
+    sub = [i for i, nm in enumerate(names) if nm in _INCLINOMETER_NAMES]
+    steps = np.full(len(names), _STEP)
+    if sub:
+        theta[sub], steps[sub] = _fit_inclinometers(p0, tuple(names[i] for i in sub), record,
+                                                    50 * max_evaluations)
+    A = _coordinates(names)
+    # 2. the full likelihood, the outliers under the current fit left out, until they stay;
+    # the angle sensor's intensity starts where its mean NIS is 1 (its innovations are
+    # almost all sensor noise)
+    objective = None
+    rows = sensors = np.zeros(0, dtype=np.int64)
+    spent = 0            # full likelihoods of the rounds before the current one
+    converged, message = False, ""
+    for rnd in range(_MAX_ROUNDS):
+        res = calibrate(record, _with(p0, names, theta), gate=gate, store_every=record.n + 1)
+        if rnd == 0 and "C_as" in names and res.used[0] > 0:
+            ia = names.index("C_as")
+            theta[ia] += math.log(float(res.nis_mean[0]))
+            # −ln L ≈ Σ ½ (ln S + ν²/S) with S ∝ C_as: curvature n/2 in ln C_as
+            steps[ia] = 0.1 * math.sqrt(2.0 / float(res.used[0]))
+            res = calibrate(record, _with(p0, names, theta), gate=gate,
+                            store_every=record.n + 1)
+        new_rows, new_sensors = _rejected_cells(record, res)
+        if objective is not None and np.array_equal(new_rows, rows) and np.array_equal(
+                new_sensors, sensors):
+            break
+        if objective is not None:
+            spent += objective.n
+            steps = objective.h
+        rows, sensors = new_rows, new_sensors
+        clean = _masked(record, rows, sensors)
+        objective = _Objective(
+            lambda th, clean=clean: innovation_log_likelihood(clean, _with(p0, names, th)),
+            A, max_evaluations - spent,
+            None if progress is None else (lambda k, base=spent: progress(base + k)), steps)
+        phi, converged, message = _maximize(objective, A @ theta, 1e-4)
+        theta = objective.theta(phi)
+        if not converged:
+            break
+    n = len(names)
+    cov_log = np.full((n, n), np.nan)
+    try:
+        _, hess = objective.stencil(A @ theta)
+    except _BudgetExceeded:
+        converged, message = False, message + "; no budget left for the curvature"
+    else:
+        if np.all(np.linalg.eigvalsh(0.5 * (hess + hess.T)) > 0):
+            A_inv = np.linalg.inv(A)
+            cov_log = A_inv @ np.linalg.inv(hess) @ A_inv.T     # back to the log-parameters
+        else:
+            converged = False
+            message += "; the Hessian at the end is not positive definite"
+    values = np.exp(theta)
+    return NoiseFit(params=_with(p0, names, theta), start=p0, names=names, values=values,
+                    std_errors=values * np.sqrt(np.diag(cov_log)), cov_log=cov_log,
+                    loglik=-objective(A @ theta),
+                    loglik_start=innovation_log_likelihood(_masked(record, rows, sensors), p0),
+                    converged=converged, message=message, n_evaluations=spent + objective.n,
+                    outliers=int(rows.size))

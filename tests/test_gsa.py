@@ -1,0 +1,257 @@
+"""Global sensitivity analysis (:mod:`gyrolib.gsa`, ``gc.sensitivity``, ``rsf.sensitivity``).
+
+References independent of the code under test: the closed-form Sobol' indices of the Ishigami
+function (Ishigami & Homma 1990; Sobol' & Levitan 1999), with a deliberately wrong estimator
+(input columns shuffled) that must fail the same check; the serial run as the reference for
+the executors (a Dask LocalCluster of 2 worker processes, a process pool); the ledger's own
+calls and constants for the GC outputs; Eq. (7) through ``rsf.compensation_share`` for RSF.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from gyrolib import gc, gsa, rsf
+from gyrolib.book.ledger import gc as lgc
+from gyrolib.units import to_si
+
+A_ISH, B_ISH = 7.0, 0.1
+
+
+def ishigami(points: np.ndarray, context: object) -> np.ndarray:
+    x1, x2, x3 = points.T
+    return (np.sin(x1) + A_ISH * np.sin(x2) ** 2
+            + B_ISH * x3**4 * np.sin(x1)).reshape(-1, 1)
+
+
+def ishigami_shuffled(points: np.ndarray, context: object) -> np.ndarray:
+    """The wrong estimator: the model reads the input columns in another order."""
+    return ishigami(points[:, [1, 2, 0]], context)
+
+
+def ishigami_exact() -> tuple[dict[str, float], dict[str, float]]:
+    """Closed-form first-order and total indices of the Ishigami function on [−π, π]³."""
+    a, b, pi = A_ISH, B_ISH, math.pi
+    v1 = 0.5 * (1 + b * pi**4 / 5) ** 2
+    v2 = a**2 / 8
+    v13 = b**2 * pi**8 * (1 / 18 - 1 / 50)
+    var = v1 + v2 + v13
+    return ({"x1": v1 / var, "x2": v2 / var, "x3": 0.0},
+            {"x1": (v1 + v13) / var, "x2": v2 / var, "x3": v13 / var})
+
+
+ISH_INPUTS = tuple(gsa.SobolInput(f"x{i}", f"x{i}", 0.0, -math.pi, math.pi)
+                   for i in (1, 2, 3))
+
+
+def ishigami_study(evaluate) -> gsa.SensitivityResult:
+    return gsa.run_study("ishigami", ISH_INPUTS, ("y",), ("1",), evaluate, None, 4096, seed=3,
+                         chunk_size=4096, second_order=False)
+
+
+def misses(result: gsa.SensitivityResult) -> list[str]:
+    """The indices whose confidence interval does not hold the exact value."""
+    s1, st = ishigami_exact()
+    out = []
+    for name in s1:
+        if s1[name] not in result.first_order["y"][name]:
+            out.append(f"S1[{name}]")
+        if st[name] not in result.total["y"][name]:
+            out.append(f"ST[{name}]")
+    return out
+
+
+def test_ishigami_indices_lie_within_their_intervals():
+    """SALib's estimator through run_study: all six exact indices inside their 95 % bootstrap
+    intervals, and the intervals are informative (narrower than 0.05)."""
+    r = ishigami_study(ishigami)
+    assert misses(r) == []
+    assert r.max_conf() < 0.05
+
+
+def test_a_wrong_estimator_fails_the_ishigami_check():
+    """Power: with the input columns shuffled, the same check fails on most indices."""
+    assert len(misses(ishigami_study(ishigami_shuffled))) >= 4
+
+
+def test_unit_sample_is_saltelli_layout_and_prefix_stable():
+    """n (2d + 2) rows; each block is A, AB_j (column j from B), BA_j (column j from A), B;
+    a larger n extends the same sequence."""
+    u = gsa.unit_sample(3, 8, seed=1)
+    assert u.shape == (64, 3)
+    block = u[:8]
+    a, b = block[0], block[-1]
+    np.testing.assert_array_equal(block[1], [b[0], a[1], a[2]])   # AB_0
+    np.testing.assert_array_equal(block[4], [a[0], b[1], b[2]])   # BA_0
+    np.testing.assert_array_equal(gsa.unit_sample(3, 16, seed=1)[:64], u)
+
+
+def test_sobol_input_ranges():
+    """±10 % uniform for a printed value; a factor of 3 either way, log-uniform (median at the
+    nominal) for an unstated one."""
+    p = gsa.SobolInput.printed("a", "a", 2.0)
+    assert (p.low, p.high) == pytest.approx((1.8, 2.2))
+    assert p.value(0.5) == pytest.approx(2.0)
+    q = gsa.SobolInput.unstated("b", "b", 5.0)
+    assert (q.low, q.high) == pytest.approx((5 / 3, 15.0))
+    assert q.value(0.5) == pytest.approx(5.0)
+    assert q.value(0.25) == pytest.approx(5.0 / math.sqrt(3.0))
+
+
+@pytest.mark.parametrize("call, exc, name", [
+    (lambda: gsa.unit_sample(3, 6, 0), ValueError, "n must be a power of 2"),
+    (lambda: gsa.SobolInput("a", "a", 1.0, 2.0, 1.0), ValueError, "low must be < high"),
+    (lambda: gsa.SobolInput("a", "a", 1.0, -1.0, 1.0, "loguniform"), ValueError, "low must"),
+    (lambda: gsa.SobolInput.unstated("a", "a", 1.0, 0.5), ValueError, "factor must be > 1"),
+    (lambda: gsa.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
+                           executor="dask"), TypeError, "executor must be"),
+    (lambda: gsa.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
+                           chunk_size=0), ValueError, "chunk_size must be"),
+    (lambda: gsa.result_from_dict({"model": "x"}), ValueError, "data lacks"),
+])
+def test_bad_input_is_rejected_by_name(call, exc, name):
+    with pytest.raises(exc, match="^" + name):
+        call()
+
+
+# GC and RSF studies ------------------------------------------------------------------------
+def small_gc(executor=None, chunk_size=5) -> gsa.SensitivityResult:
+    """A small GC study: 4 base points (104 runs) of 2-s analyses, t_c to a level reached
+    within them (so that both outputs vary)."""
+    return gc.sensitivity(4, seed=2, executor=executor, t_end=2.0, t_max=4.0,
+                          level=float(to_si(0.05, "arcsec_paper/s")), chunk_size=chunk_size)
+
+
+def assert_same_indices(a: gsa.SensitivityResult, b: gsa.SensitivityResult) -> None:
+    np.testing.assert_allclose(a.values, b.values, rtol=1e-12, atol=0.0)
+    for table in ("first_order", "total", "second_order"):
+        ta, tb = getattr(a, table), getattr(b, table)
+        for o in a.outputs:
+            assert ta[o].keys() == tb[o].keys()
+            for k in ta[o]:
+                assert ta[o][k].value == pytest.approx(tb[o][k].value, rel=1e-12, abs=1e-15)
+                assert ta[o][k].conf == pytest.approx(tb[o][k].conf, rel=1e-12, abs=1e-15)
+
+
+def test_dask_local_cluster_gives_the_serial_indices():
+    """The same small study on a dask.distributed LocalCluster with 2 worker processes, through
+    Client.get_executor() unchanged: the serial values and indices within 1e-12."""
+    distributed = pytest.importorskip("dask.distributed")
+    serial = small_gc()
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=":0") as cluster, \
+            distributed.Client(cluster) as client:
+        on_dask = small_gc(client.get_executor(), chunk_size=3)
+    assert_same_indices(serial, on_dask)
+
+
+def test_process_pool_and_chunk_size_do_not_change_the_result():
+    """A standard-library process pool and other chunk sizes: the serial indices (RSF)."""
+    serial = rsf.sensitivity(64, seed=4)
+    with ProcessPoolExecutor(2) as ex:
+        assert_same_indices(serial, rsf.sensitivity(64, seed=4, executor=ex, chunk_size=7))
+    with ThreadPoolExecutor(3) as ex:
+        assert_same_indices(serial, rsf.sensitivity(64, seed=4, executor=ex, chunk_size=100))
+
+
+def test_progress_counts_every_point():
+    seen = []
+    r = rsf.sensitivity(16, seed=0, chunk_size=50, progress=seen.append)
+    assert sum(seen) == len(r.values) == 16 * 12
+
+
+def test_gc_outputs_are_the_ledgers_quantities():
+    """σ_gc(100 s) and t_c at the paper's values are what the ledger computes: the same level
+    and bound, and the covariance analysis read the ledger's way."""
+    assert gc.sobol._LEVEL == lgc.SIGMA_C
+    assert gc.sobol._T_MAX == lgc.T_BOUND
+    p = gc.GyrocompassParams()
+    s, t = gc.sensitivity_outputs(p)
+    cov = gc.covariance_analysis(p, 100.0, store_every=100_000)
+    assert s == pytest.approx(cov.std_at("omega_gc", 100.0), rel=1e-12)
+    assert t == pytest.approx(gc.time_to_sigma(cov, "omega_gc", lgc.SIGMA_C), rel=1e-12)
+
+
+def test_gc_t_c_beyond_the_horizon_is_looked_for_then_censored():
+    """σ has not crossed σ_c by t_end = 10 s (it does at about 24 s): t_c from a longer
+    analysis, as gc.time_to_level finds it; not crossed by t_max = 20 s: recorded as t_max."""
+    p = gc.GyrocompassParams()
+    lvl = float(to_si(2e-3, "arcsec_paper/s"))
+    _, t_short = gc.sensitivity_outputs(p, t_end=10.0, t_max=20.0)
+    assert t_short == 20.0
+    _, t_long = gc.sensitivity_outputs(p, t_end=10.0, t_max=40.0)
+    assert 20.0 < t_long == pytest.approx(gc.time_to_level(p, lvl, 40.0), rel=1e-12)
+
+
+def test_gc_inputs_follow_the_transcription():
+    """Printed values ±10 % uniform; the garbled sensor intensities a factor of 3, log-uniform;
+    centred on the paper's values."""
+    p = gc.GyrocompassParams()
+    inputs = {x.name: x for x in gc.sensitivity_inputs()}
+    assert len(inputs) == 12
+    for name, x in inputs.items():
+        if name in ("C_as", "C_incl"):
+            assert x.distribution == "loguniform"
+            assert x.high / x.low == pytest.approx(9.0)
+        else:
+            assert x.distribution == "uniform"
+            assert x.nominal == getattr(p, name)
+            assert (x.low, x.high) == pytest.approx((0.9 * x.nominal, 1.1 * x.nominal))
+
+
+def test_rsf_outputs_are_eq7_and_the_claims_share():
+    """δK of Eq. (7) and the share as rsf.compensation_share computes it; the share's indices
+    equal δK's (an affine function of it at fixed ε1)."""
+    w = float(to_si(900.0, "deg/s"))
+    x = {i.name: i.nominal for i in rsf.sensitivity_inputs()}
+    dk, share = rsf.sensitivity_outputs(**x)
+    assert share == pytest.approx(float(rsf.compensation_share([w]).share[0]), rel=1e-12)
+    assert dk == pytest.approx(rsf.delta_k(x["eps0_gs"], x["encoder_error"], w, 5.0,
+                                           rsf.GYPRO4300.sf_error, x["omega_unc"]))
+    r = rsf.sensitivity(256, seed=1)
+    for name in r.input_names:
+        assert r.total["share"][name].value == pytest.approx(r.total["delta_k"][name].value,
+                                                             abs=1e-9)
+
+
+def test_results_file_round_trip_and_recheck_has_power():
+    """JSON round trip; the recheck finds a stored value 1e-6 off (the chapter's check at
+    1e-9 would fail the build) and none on the true file."""
+    r = rsf.sensitivity(32, seed=5)
+    back = gsa.result_from_dict(json.loads(json.dumps(r.to_dict())))
+    assert_same_indices(r, back)
+    assert rsf.recheck_sensitivity(back, k=6, seed=1).max_rel_diff < 1e-12
+    stale = back.values.copy()
+    stale *= 1 + 1e-6
+    bad = replace(back, values=stale)
+    assert rsf.recheck_sensitivity(bad, k=6, seed=1).max_rel_diff > 1e-9
+    with pytest.raises(ValueError, match=r"^result must be a GC study"):
+        gc.recheck_sensitivity(back)
+
+
+def test_rsf_sweeps_take_an_executor():
+    """The period sweep on a thread pool equals the serial sweep."""
+    rec = rsf.simulate_flight(rsf.SimulationConfig(duration=10.0, n_runs=2), seed=0)
+    serial = rsf.sweep_correction_period(rec, [1.0, 2.0, 5.0])
+    with ThreadPoolExecutor(2) as ex:
+        par = rsf.sweep_correction_period(rec, [1.0, 2.0, 5.0], executor=ex)
+    np.testing.assert_allclose(par.rms, serial.rms, rtol=1e-12)
+    assert par.net_floor == serial.net_floor
+    with pytest.raises(TypeError, match=r"^executor must be"):
+        rsf.sweep_roll_rate([10.0], seed=0, executor=2)
+
+
+def test_a_grown_study_equals_a_fresh_one_and_refuses_another_study():
+    small = rsf.sensitivity(16, seed=6)
+    grown = rsf.sensitivity(128, seed=6, previous=small)
+    assert_same_indices(rsf.sensitivity(128, seed=6), grown)
+    with pytest.raises(ValueError, match=r"^previous must be the same study"):
+        rsf.sensitivity(128, seed=7, previous=small)
+    with pytest.raises(ValueError, match=r"^previous must have n <= 8"):
+        rsf.sensitivity(8, seed=6, previous=small)
