@@ -62,6 +62,7 @@ from numba import int64, njit, uint64
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib._executor import check_executor
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import _csr, covariance_fast, covariance_reference
 from gyrolib.filtering.discretization import covariance_factor
@@ -1177,7 +1178,8 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     executor : concurrent.futures.Executor, optional
         Where the runs go, in up to 16 chunks of whole blocks of 32 runs (a
         ``ProcessPoolExecutor``'s workers build the model once each, from the parameters).
-        Default: this process, one thread per core.
+        Default: this process, its blocks on one thread per core (the kernels release the
+        GIL; a standard-library thread pool for the call, closed before it returns).
 
     Returns
     -------
@@ -1202,8 +1204,7 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("truth", truth, tuple(LINEARIZE))
     substeps = v.check_int("substeps", substeps, 1)
-    if executor is not None:
-        v.check_instance("executor", executor, Executor)
+    executor = check_executor(executor)
     n_steps = _n_steps(p, t_end)
     if store_every is not None:
         store_every = v.check_int("store_every", store_every, 1)
