@@ -364,6 +364,9 @@ case("gc.MonteCarloResult", lambda: replace(mc(), truth_mode="linearized"), Valu
 case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share(confidence=1.5),
      ValueError, "confidence")
 case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share("psi"), TypeError, "names")
+case("gc.MonteCarloResult.select", lambda: mc().select(3), TypeError, "runs", "slice")
+case("gc.MonteCarloResult.select", lambda: mc().select(slice(5, 9)), ValueError, "runs",
+     "at least one")
 case("gc.MonteCarloResult.estimate", lambda: mc().estimate("x"), ValueError, "name")
 case("gc.MonteCarloResult.truth", lambda: mc().truth(3), ValueError, "name")
 case("gc.MonteCarloResult.error", lambda: mc().error(None), ValueError, "name")

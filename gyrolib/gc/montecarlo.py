@@ -48,6 +48,7 @@ share the work (``executor``).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import os
@@ -61,6 +62,7 @@ from numba import int64, njit, uint64
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib._executor import check_executor
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import _csr, covariance_fast, covariance_reference
 from gyrolib.filtering.discretization import covariance_factor
@@ -100,8 +102,9 @@ class TruthModel(NamedTuple):
     the δ term, flipped by ``eq1_sign="-"`` in the mirrored angle), ``hi = H/I``,
     ``ub = H ω_ub/(I g)``; ``g``; ``sr`` the sensors' noise standard deviations per sample;
     ``off_b``, ``off_bd``: the truth's nominal minus the filter's at the samples;
-    ``substeps``; ``linear``: 1 to replace the torques by their linearization about the
-    nominal (the filter's Eq. (5)).
+    ``substeps``; ``linear``: which torques are replaced by their linearization about the
+    nominal (the filter's Eq. (5)): 0 none, 1 all, 2 the horizontal-rate term, 3 the tilt
+    terms (:data:`LINEARIZE`).
     """
 
     h: float
@@ -1089,6 +1092,25 @@ class MonteCarloResult:
             out[:, ti] = np.sum(es.T * sol, axis=0)
         return out
 
+    def select(self, runs: slice) -> MonteCarloResult:
+        """The same Monte Carlo restricted to the runs ``runs`` (a slice of run indices), e.g.
+        to compare disjoint sets of runs.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> mc = gc.monte_carlo(gc.GyrocompassParams(), 8, 0.01, seed=1)
+        >>> mc.select(slice(0, 4)).n_runs
+        4
+        """
+        if not isinstance(runs, slice):
+            raise TypeError(f"runs must be a slice of run indices; got {type(runs).__name__}")
+        idx = range(self.n_runs)[runs]
+        if len(idx) == 0:
+            raise ValueError(f"runs must select at least one of the {self.n_runs} runs; "
+                             f"got {runs}")
+        return dataclasses.replace(self, est=self.est[runs], tru=self.tru[runs])
+
     def inside_share(self, names: tuple[str, ...] | None = None,
                      confidence: float = 0.95) -> float:
         """Share of the stored times ``t > 0`` at which the ensemble-average NEES of
@@ -1156,7 +1178,8 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     executor : concurrent.futures.Executor, optional
         Where the runs go, in up to 16 chunks of whole blocks of 32 runs (a
         ``ProcessPoolExecutor``'s workers build the model once each, from the parameters).
-        Default: this process, one thread per core.
+        Default: this process, its blocks on one thread per core (the kernels release the
+        GIL; a standard-library thread pool for the call, closed before it returns).
 
     Returns
     -------
@@ -1181,8 +1204,7 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("truth", truth, tuple(LINEARIZE))
     substeps = v.check_int("substeps", substeps, 1)
-    if executor is not None:
-        v.check_instance("executor", executor, Executor)
+    executor = check_executor(executor)
     n_steps = _n_steps(p, t_end)
     if store_every is not None:
         store_every = v.check_int("store_every", store_every, 1)
