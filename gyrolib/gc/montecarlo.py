@@ -613,47 +613,53 @@ def _ziggurat_rest(s, r, idx, rabs, x, ki, wi, fi):
 
 
 @njit(cache=True, nogil=True, fastmath=True)
-def _ziggurat_first(u, out, wi, ki_signed):
-    """The ziggurat's first try for every lane from its 64 random bits ``u`` (8 bits layer,
-    1 bit sign, 52 bits mantissa): ``out`` the candidate, returns how many lanes failed."""
-    bad = 0
-    for r in range(u.shape[0]):
-        ur = u[r]
-        idx = int64(ur & uint64(0xff))
-        rabs = int64((ur >> uint64(9)) & uint64(0x000fffffffffffff))
-        x = float(rabs) * wi[idx]
-        out[r] = -x if (ur >> uint64(8)) & uint64(1) else x
-        bad += rabs >= ki_signed[idx]
-    return bad
-
-
-@njit(cache=True, nogil=True)
 def _fill_normals(s, out, ubuf, ki, ki_signed, wi, fi):
     """Standard normals ``out[k, j, r]`` from lane ``r``'s SFC64 state ``s[:, r]``, in the
     order ``k``, then ``j``: lane ``r`` reads exactly what numpy's
-    ``Generator(SFC64).standard_normal(out.shape[:2])`` would draw from that state."""
+    ``Generator(SFC64).standard_normal(out.shape[:2])`` would draw from that state.
+
+    Per draw, all lanes' 64 random bits at once (:func:`_sfc64_step`), the ziggurat's first
+    try from them (8 bits layer, 1 bit sign, 52 bits mantissa; accepted about 99 % of the
+    time), then the rest of numpy's algorithm for the lanes whose try failed."""
     a, b, c, w = s[0], s[1], s[2], s[3]
+    lanes = _RUN_BLOCK  # a constant (out.shape[2] must be it): the lane loops unroll
+    failed = np.empty(lanes, np.int64)
     for k in range(out.shape[0]):
         for j in range(out.shape[1]):
-            o = out[k, j]
             _sfc64_step(a, b, c, w, ubuf)
-            if _ziggurat_first(ubuf, o, wi, ki_signed):
-                for r in range(o.shape[0]):
-                    ur = ubuf[r]
-                    idx = int64(ur & uint64(0xff))
-                    rabs = (ur >> uint64(9)) & uint64(0x000fffffffffffff)
-                    if rabs >= ki[idx]:
-                        o[r] = _ziggurat_rest(s, r, idx, rabs, o[r], ki, wi, fi)
+            n_failed = 0
+            for r in range(lanes):
+                ur = ubuf[r]
+                idx = int64(ur & uint64(0xff))
+                rabs = int64((ur >> uint64(9)) & uint64(0x000fffffffffffff))
+                x = float(rabs) * wi[idx]
+                out[k, j, r] = -x if (ur >> uint64(8)) & uint64(1) else x
+                if rabs >= ki_signed[idx]:
+                    failed[n_failed] = r
+                    n_failed += 1
+            for q in range(n_failed):
+                r = failed[q]
+                ur = ubuf[r]
+                idx = int64(ur & uint64(0xff))
+                rabs = (ur >> uint64(9)) & uint64(0x000fffffffffffff)
+                out[k, j, r] = _ziggurat_rest(s, r, idx, rabs, out[k, j, r], ki, wi, fi)
 
 
 def _standard_normals(state: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     """``shape`` standard normals per lane from the SFC64 states ``state`` (4 × lanes,
     ``uint64``, advanced in place) by the kernels' generator, ``(*shape, lanes)``; for the
     tests, to compare with numpy's."""
-    st = np.ascontiguousarray(state, dtype=np.uint64)
-    out = np.empty((*shape, st.shape[1]))
-    _fill_normals(st, out, np.empty(st.shape[1], np.uint64), _ZKI, _ZKI_SIGNED, _ZWI, _ZFI)
-    state[...] = st
+    n = state.shape[1]
+    out = np.empty((*shape, n))
+    B = _RUN_BLOCK
+    for lo in range(0, n, B):
+        hi = min(lo + B, n)
+        st = np.zeros((4, B), np.uint64)   # lanes past the last: a dummy stream
+        st[:, :hi - lo] = state[:, lo:hi]
+        buf = np.empty((*shape, B))
+        _fill_normals(st, buf, np.empty(B, np.uint64), _ZKI, _ZKI_SIGNED, _ZWI, _ZFI)
+        out[..., lo:hi] = buf[..., :hi - lo]
+        state[:, lo:hi] = st[:, :hi - lo]
     return out
 
 
