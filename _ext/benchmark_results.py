@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 import json
+import re
 from pathlib import Path
 
 from docutils import nodes
@@ -31,8 +32,15 @@ def _seconds(x) -> str:
     return f"{x:.3g}" if x < 100 else f"{x:.0f}"
 
 
+_OPTION = re.compile(r"(?<![\w`])(--[A-Za-z][\w-]*)")
+
+
 def _cell(text) -> str:
-    return "—" if text in (None, "") else str(text).replace("|", "\\|").replace("\n", " ")
+    """A table cell: pipes escaped, command-line options as code (smartquotes would turn
+    ``--workers`` into an en dash)."""
+    if text in (None, ""):
+        return "—"
+    return _OPTION.sub(r"`\1`", str(text).replace("|", "\\|").replace("\n", " "))
 
 
 def load(path: Path) -> dict:

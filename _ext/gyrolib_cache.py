@@ -16,6 +16,12 @@ It also sets the environment the chapters' kernels inherit (:func:`_kernel_env`)
 * ``OPENBLAS_NUM_THREADS=1`` unless set: the chapters' linear algebra is on matrices of at
   most a few dozen rows, where OpenBLAS's threads only wait for each other (three times
   slower on a loaded 2-core machine); parallel work goes through ``executor=`` instead.
+
+And it makes a lost output fail the build (:func:`_no_lost_outputs`).  nbclient waits only
+``iopub_timeout`` = 4 s, after a cell's reply, for the cell's last outputs; on a loaded machine
+a print at the end of a long cell can arrive later, and nbclient then only logs a warning and
+the page silently misses that output (seen once in CI: the last line of a calibrate cell).
+Here the wait is 120 s and a timeout is an error.
 """
 
 from __future__ import annotations
@@ -79,6 +85,32 @@ def _kernel_env(app, config) -> None:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
+IOPUB_TIMEOUT_S = 120
+
+
+def _no_lost_outputs(app, config) -> None:
+    """Execute chapters with a long IOPub wait and an error, not a warning, when it runs out.
+
+    myst-nb executes through ``jupyter_cache.executors.utils.single_nb_execution``, which
+    calls the module's ``executenb`` (``nbclient.execute``) with no way to pass nbclient's
+    ``iopub_timeout`` / ``raise_on_iopub_timeout``; the module's ``executenb`` is wrapped to
+    add them.
+    """
+    from jupyter_cache.executors import utils
+
+    inner = utils.executenb
+    if getattr(inner, "gyrolib_no_lost_outputs", False):
+        return
+
+    def executenb(nb, **kwargs):
+        kwargs.setdefault("iopub_timeout", IOPUB_TIMEOUT_S)
+        kwargs.setdefault("raise_on_iopub_timeout", True)
+        return inner(nb, **kwargs)
+
+    executenb.gyrolib_no_lost_outputs = True
+    utils.executenb = executenb
+
+
 def _outdated(app, env, added, changed, removed):
     """After a library change every document is stale, not only the edited ones."""
     if getattr(app, "gyrolib_changed", False):
@@ -90,5 +122,6 @@ def setup(app):
     # Priority < 500 so that this runs before myst-nb reads the cache.
     app.connect("config-inited", _invalidate, priority=100)
     app.connect("config-inited", _kernel_env, priority=101)
+    app.connect("config-inited", _no_lost_outputs, priority=102)
     app.connect("env-get-outdated", _outdated)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1"}

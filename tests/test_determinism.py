@@ -160,7 +160,9 @@ def _execute_again(nb, chapter_dir: Path):
     for cell in fresh.cells:
         if cell.cell_type == "code":
             cell.outputs, cell.execution_count = [], None
-    nbclient.NotebookClient(fresh, timeout=600, kernel_name="python3",
+    # as the book build (_ext/gyrolib_cache.py): a late output is waited for, and an error
+    nbclient.NotebookClient(fresh, timeout=600, kernel_name="python3", iopub_timeout=120,
+                            raise_on_iopub_timeout=True,
                             resources={"metadata": {"path": str(chapter_dir)}}).execute()
     return fresh
 
