@@ -4,8 +4,8 @@ the angle-sensor and inclinometer readings of a gyro in gyrocompass mode (:func:
 The filter is the one of the covariance analysis (:func:`gyrolib.gc.covariance_analysis`):
 ``F`` frozen at the nominal float angle ``β_n`` of each step's midpoint, exact Van Loan
 transition and process noise expanded to first order in ``(sin β_n, cos β_n)`` about points
-:data:`gyrolib.gc.SEGMENT` rad apart, sequential scalar Joseph updates.  On a record it
-also
+:data:`gyrolib.gc.SEGMENT` rad apart, sequential scalar Joseph updates (the kernels of
+:mod:`gyrolib.filtering.kernels`, compiled for the 10 states).  On a record it also
 
 * subtracts the nominal motion ``β_n(t)`` (Eq. (4), from rest at t = 0, integrated along the
   record by the exponential integrator of :func:`gyrolib.gc.nominal_half_steps`) from the
@@ -20,9 +20,16 @@ also
 * keeps the diagnostics that say whether the model fits the gyro: the mean normalized
   innovation squared (NIS) of each sensor against its χ² band, and the autocorrelation of
   the normalized innovations (whiteness, a portmanteau test) {cite:p}`BarShalom2001`;
+* declares the run invalid when the filter has lost lock (:attr:`CalibrationResult.valid`,
+  :attr:`CalibrationResult.reason`): the gate rejected more than ``max_rejected`` of a
+  sensor's measurements, or a sensor's mean NIS is far outside its band (``nis_range``) —
+  an angle column in degrees, an inclinometer of the wrong sign;
+* accumulates the innovations' log-likelihood (:func:`innovation_log_likelihood`, which
+  :func:`gyrolib.gc.fit_noise` maximizes);
 * streams: the record is processed in chunks with a constant-size state (``x``, ``P``, the
   nominal motion's integrator state), and estimates and σ are stored every ``store_every``
-  rows.  A chunked run equals a one-shot run.
+  rows.  A chunked run equals a one-shot run.  The step tables (one Van Loan exponential
+  per expansion point) are kept for the next run with the same parameters.
 """
 
 from __future__ import annotations
