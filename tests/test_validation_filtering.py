@@ -137,6 +137,11 @@ case("filtering.nees_bounds", lambda: filtering.nees_bounds(1, 1.0), TypeError, 
 case("filtering.nees_bounds", lambda: filtering.nees_bounds(1, 10, 1.0), ValueError, "confidence",
      r"\(0.0, 1.0\)")
 
+# kernels (numba kernels themselves take no checks: the factory checks the size)
+case("filtering.kalman_kernels", lambda: filtering.kalman_kernels(0), ValueError, "n", ">= 1")
+case("filtering.kalman_kernels", lambda: filtering.kalman_kernels(2.0), TypeError, "n",
+     "integer")
+
 
 @pytest.mark.parametrize(("call", "exc", "pattern"), TABLE.cases)
 def test_bad_input_is_rejected_by_name(call, exc, pattern):

@@ -225,7 +225,6 @@ class KalmanKernels(NamedTuple):
     joseph_scalar_update: Callable
 
 
-@functools.cache
 def kalman_kernels(n: int) -> KalmanKernels:
     """:func:`predict_state`, :func:`predict_covariance`, :func:`measurement_projection` and
     :func:`joseph_scalar_update` compiled for the state size ``n``: the
@@ -253,6 +252,10 @@ def kalman_kernels(n: int) -> KalmanKernels:
     >>> P.diagonal().tolist()
     [0.5, 1.0]
     """
-    n = v.check_int("n", n, 1)
+    return _kalman_kernels(v.check_int("n", n, 1))
+
+
+@functools.cache
+def _kalman_kernels(n: int) -> KalmanKernels:
     return KalmanKernels(_predict_state(n), _predict_covariance(n), _measurement_projection(n),
                          _joseph_scalar_update(n))

@@ -4,8 +4,8 @@ the angle-sensor and inclinometer readings of a gyro in gyrocompass mode (:func:
 The filter is the one of the covariance analysis (:func:`gyrolib.gc.covariance_analysis`):
 ``F`` frozen at the nominal float angle ``β_n`` of each step's midpoint, exact Van Loan
 transition and process noise expanded to first order in ``(sin β_n, cos β_n)`` about points
-:data:`gyrolib.gc.SEGMENT` rad apart, sequential scalar Joseph updates.  On a record it
-also
+:data:`gyrolib.gc.SEGMENT` rad apart, sequential scalar Joseph updates (the kernels of
+:mod:`gyrolib.filtering.kernels`, compiled for the 10 states).  On a record it also
 
 * subtracts the nominal motion ``β_n(t)`` (Eq. (4), from rest at t = 0, integrated along the
   record by the exponential integrator of :func:`gyrolib.gc.nominal_half_steps`) from the
@@ -20,9 +20,16 @@ also
 * keeps the diagnostics that say whether the model fits the gyro: the mean normalized
   innovation squared (NIS) of each sensor against its χ² band, and the autocorrelation of
   the normalized innovations (whiteness, a portmanteau test) {cite:p}`BarShalom2001`;
+* declares the run invalid when the filter has lost lock (:attr:`CalibrationResult.valid`,
+  :attr:`CalibrationResult.reason`): the gate rejected more than ``max_rejected`` of a
+  sensor's measurements, or a sensor's mean NIS is far outside its band (``nis_range``) —
+  an angle column in degrees, an inclinometer of the wrong sign;
+* accumulates the innovations' log-likelihood (:func:`innovation_log_likelihood`, which
+  :func:`gyrolib.gc.fit_noise` maximizes);
 * streams: the record is processed in chunks with a constant-size state (``x``, ``P``, the
   nominal motion's integrator state), and estimates and σ are stored every ``store_every``
-  rows.  A chunked run equals a one-shot run.
+  rows.  A chunked run equals a one-shot run.  The step tables (one Van Loan exponential
+  per expansion point) are kept for the next run with the same parameters.
 """
 
 from __future__ import annotations
@@ -431,46 +438,32 @@ class _State(NamedTuple):
     Am: NDArray[np.float64]
 
 
-class _Stats(NamedTuple):
-    """Diagnostics accumulated over the run (in place), per sensor (3,) unless said:
-    ``used``, ``missing``, ``rejected``; ``rows_ur`` (2,) rows with a use / a rejection;
-    ``nis_sum``, ``log_s_sum`` (Σ ln S over the used measurements); the last ``lags``
-    normalized innovations (``ring``, ``ring_pos``, ``ring_n``), ``acf_sum`` (3, lags),
-    ``acf_sq``; the first rejections (``rej_t``, ``rej_q``, ``rej_nis``, ``n_rej`` (1,));
-    the NIS window since the last stored row (``win_sum``, ``win_cnt``)."""
+class _Rejections(NamedTuple):
+    """The first rejections of the gate (time ``t``, sensor ``q``, NIS), ``n`` (1,) how many
+    in all (updated in place)."""
 
-    used: NDArray[np.int64]
-    missing: NDArray[np.int64]
-    rejected: NDArray[np.int64]
-    rows_ur: NDArray[np.int64]
-    nis_sum: NDArray[np.float64]
-    log_s_sum: NDArray[np.float64]
-    ring: NDArray[np.float64]
-    ring_pos: NDArray[np.int64]
-    ring_n: NDArray[np.int64]
-    acf_sum: NDArray[np.float64]
-    acf_sq: NDArray[np.float64]
-    rej_t: NDArray[np.float64]
-    rej_q: NDArray[np.int64]
-    rej_nis: NDArray[np.float64]
-    n_rej: NDArray[np.int64]
-    win_sum: NDArray[np.float64]
-    win_cnt: NDArray[np.int64]
+    t: NDArray[np.float64]
+    q: NDArray[np.int64]
+    nis: NDArray[np.float64]
+    n: NDArray[np.int64]
 
 
 class _Store(NamedTuple):
-    """What is kept every ``every`` rows of the run (row numbers from ``row0`` at the start
-    of the chunk): ``t``, ``x``, ``s`` (σ), the NIS window mean ``nis`` and count ``cnt``;
-    ``n`` (1,) how many were written."""
+    """What the kernel writes for a chunk: every ``every`` rows of the run (row numbers from
+    ``row0`` at the start of the chunk) ``t``, ``x``, ``s`` (σ), with ``n`` (1,) how many;
+    for every row and sensor the fate of the measurement ``flag`` (0 missing, 1 used,
+    2 rejected) and, when used, its normalized innovation ``e = ν/√S`` and variance ``S``
+    (the diagnostics are computed from them after the chunk, vectorized)."""
 
     every: int
     row0: int
     t: NDArray[np.float64]
     x: NDArray[np.float64]
     s: NDArray[np.float64]
-    nis: NDArray[np.float64]
-    cnt: NDArray[np.int64]
     n: NDArray[np.int64]
+    flag: NDArray[np.int8]
+    e: NDArray[np.float64]
+    S: NDArray[np.float64]
 
 
 @njit(cache=True, inline="always")
@@ -558,11 +551,11 @@ def _shift(x, P, F, W, d, E, A, T, y):
 
 
 @njit(cache=True, inline="always")
-def _update(x, P, Ph, k, H, hptr, hidx, r, gate, ss, q, zq, t):
-    """The scalar measurement ``zq`` of sensor ``q`` at time ``t``: gate, diagnostics
-    (``ss``), Joseph update (:func:`gyrolib.filtering.joseph_scalar_update`).  Returns 1 if
-    used, -1 if rejected by the gate.  (The filter's arrays come one by one: numba keeps
-    them in registers, where fields of a tuple are read again after every store.)"""
+def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq):
+    """The scalar measurement ``zq`` of sensor ``q``: the gate, then the Joseph update
+    (:func:`gyrolib.filtering.joseph_scalar_update`).  Returns ``(used, ν, S)``.  (The
+    arrays come one by one: numba keeps them in registers, where fields of a tuple would be
+    read again after every store.)"""
     hx = 0.0
     for p in range(hptr[q], hptr[q + 1]):
         hx += H[q, hidx[p]] * x[hidx[p]]
@@ -570,61 +563,28 @@ def _update(x, P, Ph, k, H, hptr, hidx, r, gate, ss, q, zq, t):
     nu = zq - hx
     nis = nu * nu / S
     if nis > gate:
-        ss.rejected[q] += 1
-        kk = ss.n_rej[0]
-        if kk < ss.rej_t.shape[0]:
-            ss.rej_t[kk] = t
-            ss.rej_q[kk] = q
-            ss.rej_nis[kk] = nis
-        ss.n_rej[0] = kk + 1
-        return -1
-    ss.used[q] += 1
-    ss.nis_sum[q] += nis
-    ss.log_s_sum[q] += math.log(S)
-    ss.win_sum[q] += nis
-    ss.win_cnt[q] += 1
-    # whiteness: products with the last L normalized innovations (a ring buffer)
-    e = nu / math.sqrt(S)
-    ss.acf_sq[q] += e * e
-    L = ss.ring.shape[1]
-    cnt = ss.ring_n[q]
-    pos = ss.ring_pos[q]
-    for lag in range(1, min(cnt, L) + 1):
-        idx = pos - lag
-        if idx < 0:
-            idx += L
-        ss.acf_sum[q, lag - 1] += e * ss.ring[q, idx]
-    ss.ring[q, pos] = e
-    ss.ring_pos[q] = pos + 1 if pos + 1 < L else 0
-    ss.ring_n[q] = cnt + 1
+        return False, nu, S
     inv = 1.0 / S
     for p in range(N):
         k[p] = Ph[p] * inv
         x[p] += k[p] * nu
     joseph_scalar_update(P, Ph, k, S)
-    return 1
+    return True, nu, S
 
 
 @njit(cache=True, inline="always")
-def _store_row(st, ss, so, t, row):
-    n = N
-    m = M
+def _store_row(x, P, so, t):
     ii = so.n[0]
     so.t[ii] = t
-    for p in range(n):
-        so.x[ii, p] = st.x[p]
-        so.s[ii, p] = math.sqrt(max(st.P[p, p], 0.0))
-    for q in range(m):
-        so.cnt[ii, q] = ss.win_cnt[q]
-        so.nis[ii, q] = ss.win_sum[q] / ss.win_cnt[q] if ss.win_cnt[q] > 0 else math.nan
-        ss.win_sum[q] = 0.0
-        ss.win_cnt[q] = 0
+    for p in range(N):
+        so.x[ii, p] = x[p]
+        so.s[ii, p] = math.sqrt(max(P[p, p], 0.0))
     so.n[0] = ii + 1
 
 
 @njit(cache=True, nogil=True)
-def _filter_chunk(md, ch, st, ss, so):
-    """Predict and update over the rows of one chunk (``st``, ``ss``, ``so`` in place).
+def _filter_chunk(md, ch, st, rj, so):
+    """Predict and update over the rows of one chunk (``st``, ``rj``, ``so`` in place).
     Releases the GIL: the next chunk of a file can be read meanwhile."""
     # the arrays of the hot loops as locals (see _update)
     x, P, Phi, Qd, T, y, Ph, k = st.x, st.P, st.Phi, st.Qd, st.T, st.y, st.Ph, st.k
@@ -661,26 +621,39 @@ def _filter_chunk(md, ch, st, ss, so):
                                ch.irr_qd[kk], T)
         tcur = t[i]
         beta_n = _beta_at(t[i], grid, g0, inv_hh)
-        any_used = False
-        any_rej = False
         for q in range(M):
             zq = z[i, q]
             if math.isnan(zq):
-                ss.missing[q] += 1
-                continue
+                continue                          # flag 0: missing
             if q == 0:
                 zq -= beta_n     # the angle sensor reads β = β_n + Δβ
-            if _update(x, P, Ph, k, H, hptr, hidx, r, gate, ss, q, zq, t[i]) > 0:
-                any_used = True
+            used, nu, S = _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq)
+            if used:
+                so.flag[i, q] = 1
+                so.e[i, q] = nu / math.sqrt(S)
+                so.S[i, q] = S
             else:
-                any_rej = True
-        if any_used:
-            ss.rows_ur[0] += 1
-        if any_rej:
-            ss.rows_ur[1] += 1
+                so.flag[i, q] = 2
+                kk = rj.n[0]
+                if kk < rj.t.shape[0]:
+                    rj.t[kk] = t[i]
+                    rj.q[kk] = q
+                    rj.nis[kk] = nu * nu / S
+                rj.n[0] = kk + 1
         if (so.row0 + i + 1) % so.every == 0:
-            _store_row(st, ss, so, t[i], so.row0 + i + 1)
+            _store_row(x, P, so, t[i])
     st.tcur[0] = tcur
+
+
+@njit(cache=True)
+def _lag_products(seq, old, out):
+    """``out[l − 1] += Σ_k seq[k] seq[k − l]`` over the new values ``k >= old`` (the first
+    ``old`` continue the previous chunk), lags ``l = 1 … len(out)``."""
+    for lag in range(1, out.shape[0] + 1):
+        s = 0.0
+        for kk in range(max(old, lag), seq.shape[0]):
+            s += seq[kk] * seq[kk - lag]
+        out[lag - 1] += s
 
 
 # The calibrator (streaming state) ------------------------------------------------------------
@@ -774,16 +747,22 @@ class _Calibrator:
             x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
             Qd=np.zeros((N, N)), T=np.zeros((N, N)), y=np.zeros(N), Ph=np.zeros(N),
             k=np.zeros(N), Fm=np.zeros((N, N)), Em=np.zeros((N, N)), Am=np.zeros((N, N)))
-        self.stats = _Stats(
-            used=np.zeros(M, dtype=np.int64), missing=np.zeros(M, dtype=np.int64),
-            rejected=np.zeros(M, dtype=np.int64), rows_ur=np.zeros(2, dtype=np.int64),
-            nis_sum=np.zeros(M), log_s_sum=np.zeros(M), ring=np.zeros((M, lags)),
-            ring_pos=np.zeros(M, dtype=np.int64), ring_n=np.zeros(M, dtype=np.int64),
-            acf_sum=np.zeros((M, lags)), acf_sq=np.zeros(M),
-            rej_t=np.zeros(MAX_LISTED_REJECTIONS),
-            rej_q=np.zeros(MAX_LISTED_REJECTIONS, dtype=np.int64),
-            rej_nis=np.zeros(MAX_LISTED_REJECTIONS), n_rej=np.zeros(1, dtype=np.int64),
-            win_sum=np.zeros(M), win_cnt=np.zeros(M, dtype=np.int64))
+        self.rejections = _Rejections(
+            t=np.zeros(MAX_LISTED_REJECTIONS), q=np.zeros(MAX_LISTED_REJECTIONS, np.int64),
+            nis=np.zeros(MAX_LISTED_REJECTIONS), n=np.zeros(1, dtype=np.int64))
+        # diagnostics, per sensor (3,) unless said (see _diagnostics)
+        self.lags = lags
+        self.used = np.zeros(M, dtype=np.int64)
+        self.missing = np.zeros(M, dtype=np.int64)
+        self.rejected = np.zeros(M, dtype=np.int64)
+        self.rows_used = 0
+        self.rows_rejected = 0
+        self.nis_sum = np.zeros(M)
+        self.log_s_sum = np.zeros(M)
+        self.acf_sum = np.zeros((M, lags))
+        self.last_e = [np.zeros(0) for _ in range(M)]   # the last `lags` used e of a sensor
+        self.win_sum = np.zeros(M)                      # NIS since the last stored row
+        self.win_cnt = np.zeros(M, dtype=np.int64)
         self.rows = 0
         self.stored: list[tuple[np.ndarray, ...]] = []
         self.gaps = 0
@@ -849,40 +828,81 @@ class _Calibrator:
         n_store = t.size // self.store_every + 1
         store = _Store(every=self.store_every, row0=self.rows, t=np.zeros(n_store),
                        x=np.zeros((n_store, N)), s=np.zeros((n_store, N)),
-                       nis=np.zeros((n_store, M)), cnt=np.zeros((n_store, M), dtype=np.int64),
-                       n=np.zeros(1, dtype=np.int64))
-        _filter_chunk(self.model, chunk, self.state, self.stats, store)
+                       n=np.zeros(1, dtype=np.int64), flag=np.zeros((t.size, M), np.int8),
+                       e=np.zeros((t.size, M)), S=np.ones((t.size, M)))
+        _filter_chunk(self.model, chunk, self.state, self.rejections, store)
         k = int(store.n[0])
+        nis_win, cnt_win = self._diagnostics(store)
         self.stored.append((store.t[:k].copy(), store.x[:k].copy(), store.s[:k].copy(),
-                            store.nis[:k].copy(), store.cnt[:k].copy()))
+                            nis_win, cnt_win))
         self.rows += t.size
+
+    def _diagnostics(self, store: _Store) -> tuple[np.ndarray, np.ndarray]:
+        """Add a chunk's innovations to the diagnostics (counts, NIS and ln S sums, the
+        lag products of the normalized innovations e, continued across chunks); return the
+        mean NIS and count of each stored row's window (the rows since the previous one)."""
+        flag, e = store.flag, store.e
+        used = flag == 1
+        rej = flag == 2
+        self.used += used.sum(axis=0)
+        self.rejected += rej.sum(axis=0)
+        self.missing += (flag == 0).sum(axis=0)
+        self.rows_used += int(np.count_nonzero(used.any(axis=1)))
+        self.rows_rejected += int(np.count_nonzero(rej.any(axis=1)))
+        nis = e * e                    # 0 where not used
+        self.nis_sum += nis.sum(axis=0)
+        self.log_s_sum += np.log(store.S).sum(axis=0)     # S = 1 where not used
+        for q in range(M):
+            seq = np.concatenate([self.last_e[q], e[used[:, q], q]])
+            _lag_products(seq, self.last_e[q].size, self.acf_sum[q])
+            self.last_e[q] = seq[-self.lags:].copy()
+        # windows of the stored rows
+        rows = flag.shape[0]
+        ends = np.nonzero((store.row0 + np.arange(1, rows + 1)) % store.every == 0)[0] + 1
+        if ends.size:
+            starts = np.concatenate([[0], ends[:-1]]).astype(np.int64)
+            wsum = np.add.reduceat(nis[:ends[-1]], starts, axis=0)
+            wcnt = np.add.reduceat(used[:ends[-1]].astype(np.int64), starts, axis=0)
+            wsum[0] += self.win_sum
+            wcnt[0] += self.win_cnt
+            self.win_sum = nis[ends[-1]:].sum(axis=0)
+            self.win_cnt = used[ends[-1]:].sum(axis=0)
+        else:
+            wsum, wcnt = np.zeros((0, M)), np.zeros((0, M), dtype=np.int64)
+            self.win_sum = self.win_sum + nis.sum(axis=0)
+            self.win_cnt = self.win_cnt + used.sum(axis=0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(wcnt > 0, wsum / np.maximum(wcnt, 1), np.nan), wcnt
 
     def result(self, max_rejected: float, nis_range: tuple[float, float]
                ) -> CalibrationResult:
         if self.rows == 0:
             raise ValueError("record must hold at least one row")
-        st, ss = self.state, self.stats
+        st, rj = self.state, self.rejections
         parts = list(self.stored)
         if self.rows % self.store_every:   # the last row is not a store point: add it
             with np.errstate(invalid="ignore", divide="ignore"):
-                win = np.where(ss.win_cnt > 0, ss.win_sum / np.maximum(ss.win_cnt, 1), np.nan)
+                win = np.where(self.win_cnt > 0,
+                               self.win_sum / np.maximum(self.win_cnt, 1), np.nan)
             parts.append((np.array([st.tcur[0]]), st.x[None, :].copy(),
                           np.sqrt(np.clip(np.diag(st.P), 0.0, None))[None, :], win[None, :],
-                          ss.win_cnt[None, :].copy()))
+                          self.win_cnt[None, :].copy()))
         cat = [np.concatenate([part[k] for part in parts]) for k in range(5)]
+        # the autocorrelation of e: lag products over Σ e² (the NIS sum)
         with np.errstate(invalid="ignore", divide="ignore"):
-            acf = np.where(ss.acf_sq[:, None] > 0,
-                           ss.acf_sum / np.where(ss.acf_sq > 0, ss.acf_sq, 1.0)[:, None], 0.0)
-        nr = min(int(ss.n_rej[0]), MAX_LISTED_REJECTIONS)
+            acf = np.where(self.nis_sum[:, None] > 0,
+                           self.acf_sum / np.where(self.nis_sum > 0, self.nis_sum,
+                                                   1.0)[:, None], 0.0)
+        nr = min(int(rj.n[0]), MAX_LISTED_REJECTIONS)
         return CalibrationResult(
             params=self.p, t=cat[0], x=cat[1], std=cat[2], nis_window=cat[3],
             nis_window_count=cat[4], x_final=st.x.copy(), P_final=st.P.copy(),
-            t_final=float(st.tcur[0]), rows=self.rows, used=ss.used.copy(),
-            missing=ss.missing.copy(), rejected=ss.rejected.copy(),
-            rows_used=int(ss.rows_ur[0]), rows_rejected=int(ss.rows_ur[1]),
-            rejected_t=ss.rej_t[:nr].copy(), rejected_sensor=ss.rej_q[:nr].copy(),
-            rejected_nis=ss.rej_nis[:nr].copy(), nis_sum=ss.nis_sum.copy(),
-            log_s_sum=ss.log_s_sum.copy(), acf=acf, gaps=self.gaps, gap_time=self.gap_time,
+            t_final=float(st.tcur[0]), rows=self.rows, used=self.used.copy(),
+            missing=self.missing.copy(), rejected=self.rejected.copy(),
+            rows_used=self.rows_used, rows_rejected=self.rows_rejected,
+            rejected_t=rj.t[:nr].copy(), rejected_sensor=rj.q[:nr].copy(),
+            rejected_nis=rj.nis[:nr].copy(), nis_sum=self.nis_sum.copy(),
+            log_s_sum=self.log_s_sum.copy(), acf=acf, gaps=self.gaps, gap_time=self.gap_time,
             irregular_steps=self.irregular, jittered_steps=self.shifted, gate=self.gate_prob,
             store_every=self.store_every, max_rejected=max_rejected,
             nis_range=(float(nis_range[0]), float(nis_range[1])))
@@ -1065,8 +1085,7 @@ def innovation_log_likelihood(record: GCRecord, params: GyrocompassParams | None
     cal = _Calibrator(p, store_every=record.n + 1, gate=1.0, lags=1, time_tolerance=1e-6)
     for chunk in _chunks(record, chunk_size):
         cal.feed(chunk)
-    ss = cal.stats
-    return _log_likelihood(ss.used, ss.log_s_sum, ss.nis_sum)
+    return _log_likelihood(cal.used, cal.log_s_sum, cal.nis_sum)
 
 
 # Simulated records --------------------------------------------------------------------------
