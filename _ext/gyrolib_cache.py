@@ -2,7 +2,8 @@
 
 jupyter-cache keys a notebook on its own code cells only.  Every chapter imports
 ``gyrolib``, so a change in the library (or in the pinned environment) must re-execute all
-chapters.  On ``config-inited`` this extension hashes ``gyrolib/**/*.py`` and
+chapters.  On ``config-inited`` this extension hashes ``gyrolib/**/*.py``, the
+committed ``data/`` the chapters read (records, the sensitivity studies) and
 ``requirements.txt``; when the hash differs from the one stored beside the cache, the cache is
 deleted before myst-nb opens it, and every document is marked outdated, so that Sphinx
 re-reads (and myst-nb re-executes) chapters whose own source did not change.
@@ -38,6 +39,7 @@ def library_fingerprint(root: Path) -> str:
     """SHA-256 over the library sources and the pinned requirements, in a fixed order."""
     h = hashlib.sha256()
     files = sorted((root / "gyrolib").rglob("*.py"))
+    files += sorted(p for p in (root / "data").rglob("*") if p.is_file())  # read by chapters
     files += [root / "requirements.txt"]
     for path in files:
         if path.is_file():

@@ -176,8 +176,9 @@ def test_speed_claims_have_their_own_builders_and_both_cite_the_race(base):
     analysis' t_c of time_to_sigma_c."""
     r = race(P)
     speed = gc.speed_evidence(gc.baseline(P))
-    assert gc._time_to_sigma_c(speed, r) == base["gc.time_to_sigma_c"]
-    assert gc._faster_percent(r, r.conditions()) == base["gc.faster_percent"]
+    study = gc.study_evidence(P)
+    assert gc._time_to_sigma_c(speed, r, study) == base["gc.time_to_sigma_c"]
+    assert gc._faster_percent(r, r.conditions(), study) == base["gc.faster_percent"]
     assert "not its method rerun under the same disturbances" in \
         base["gc.time_to_sigma_c"].conditions
     for key in ("gc.time_to_sigma_c", "gc.faster_percent"):
@@ -198,7 +199,7 @@ def test_the_race_verdict_follows_its_conditions():
     cond = r.conditions()
     assert r.faster_percent < 50.0 and not cond.holds_classical
     assert gc.race_status(cond) == "holds under conditions"
-    item = gc._faster_percent(r, cond)
+    item = gc._faster_percent(r, cond, gc.study_evidence(P))
     assert "fails against the classical and the optimal estimator" in item.conditions
     never = replace(cond, holds_classical=False, holds_optimal=False,
                     overhead_classical=math.inf, overhead_optimal=math.inf,
@@ -210,3 +211,26 @@ def test_the_float_rotation_is_quoted_as_printed(base):
     """GC prints 'на угол 0,5°' with no 'about': the item quotes it so."""
     it = base["gc.float_rotation_100s"]
     assert "about" not in it.note + it.evidence and "'0,5°'" in it.note
+
+
+def test_sigma_and_speed_items_quote_the_committed_sensitivity_study(base):
+    """Issue 19: gc.sigma_gc_100s and both speed claims cite the global sensitivity study in
+    their evidence, with the output's range over the study read here straight from the JSON
+    (not through gyrolib.gsa) and rounded as printed; at other parameters the study is not
+    quoted (it was run around the paper's values)."""
+    import json
+
+    data = json.loads(gc.STUDY_FILE.read_text(encoding="utf-8"))
+    sig = [row[0] / ARCSEC_PAPER for row in data["values"]]
+    t_c = [row[1] for row in data["values"]]
+    ev = base["gc.sigma_gc_100s"].evidence
+    assert "gc.sensitivity" in ev and f"N = {data['n']}" in ev
+    assert f"[{min(sig):.5f}, {max(sig):.5f}]" in ev
+    top = max(data["total"]["sigma_gc_100s"].items(), key=lambda kv: kv[1]["value"])
+    assert f"{top[1]['value']:.2f} ± {top[1]['conf']:.2f}" in ev
+    for key in ("gc.time_to_sigma_c", "gc.faster_percent"):
+        assert f"t_c stays in [{min(t_c):.0f}, {max(t_c):.0f}] s" in base[key].evidence
+    other = gc.study_evidence(replace(P, alpha1=2 * P.alpha1))
+    assert "not these" in other.sigma_gc_100s and "[" not in other.t_c
+    missing = gc.study_evidence(P, gc.STUDY_FILE.with_name("no_such_study.json"))
+    assert "not in this installation" in missing.t_c

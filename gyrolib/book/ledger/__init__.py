@@ -58,7 +58,8 @@ MEMO_ENV = "GYROLIB_LEDGER_MEMO"
 
 
 def _memo_file() -> Path | None:
-    """``$GYROLIB_LEDGER_MEMO/ledger-<hash of gyrolib's sources>.json``, or ``None``."""
+    """``$GYROLIB_LEDGER_MEMO/ledger-<hash of gyrolib's sources and the study file it
+    quotes>.json``, or ``None``."""
     folder = os.environ.get(MEMO_ENV)
     if not folder:
         return None
@@ -66,6 +67,8 @@ def _memo_file() -> Path | None:
     package = Path(gyrolib.__file__).resolve().parent
     for path in sorted(package.rglob("*.py")):
         h.update(path.relative_to(package).as_posix().encode() + b"\0" + path.read_bytes())
+    if gc.STUDY_FILE.is_file():  # a data file the ledger quotes
+        h.update(b"study\0" + gc.STUDY_FILE.read_bytes())
     return Path(folder) / f"ledger-{h.hexdigest()[:32]}.json"
 
 
