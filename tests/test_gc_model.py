@@ -269,12 +269,12 @@ def test_shaping_p0_scale_multiplies_the_stationary_covariance():
     P1 = initial_covariance(p)
     Pk = initial_covariance(dataclasses.replace(p, shaping_p0_scale=0.3))
     np.testing.assert_allclose(Pk[6:, 6:], 0.3 * P1[6:, 6:], rtol=1e-15, atol=0)
-    np.testing.assert_array_equal(Pk[:6, :6], P1[:6, :6])
+    np.testing.assert_allclose(Pk[:6, :6], P1[:6, :6], rtol=1e-15, atol=0)
     np.testing.assert_allclose(P1[6:8, 6:8],
                                p.vibration_filter().stationary_covariance(), rtol=1e-15)
     P0 = initial_covariance(dataclasses.replace(p, shaping_p0_scale=0.0))
-    np.testing.assert_array_equal(P0, initial_covariance(dataclasses.replace(
-        p, shaping_p0="zero")))
+    np.testing.assert_allclose(P0, initial_covariance(dataclasses.replace(
+        p, shaping_p0="zero")), rtol=1e-15, atol=0)
 
 
 # Discretization options and sweeps -------------------------------------------------------------

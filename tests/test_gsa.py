@@ -87,9 +87,9 @@ def test_unit_sample_is_saltelli_layout_and_prefix_stable():
     assert u.shape == (64, 3)
     block = u[:8]
     a, b = block[0], block[-1]
-    np.testing.assert_array_equal(block[1], [b[0], a[1], a[2]])   # AB_0
-    np.testing.assert_array_equal(block[4], [a[0], b[1], b[2]])   # BA_0
-    np.testing.assert_array_equal(gsa.unit_sample(3, 16, seed=1)[:64], u)
+    np.testing.assert_allclose(block[1], [b[0], a[1], a[2]], rtol=1e-15, atol=0)   # AB_0
+    np.testing.assert_allclose(block[4], [a[0], b[1], b[2]], rtol=1e-15, atol=0)   # BA_0
+    np.testing.assert_allclose(gsa.unit_sample(3, 16, seed=1)[:64], u, rtol=1e-15, atol=0)
 
 
 def test_sobol_input_ranges():

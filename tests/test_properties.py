@@ -41,7 +41,7 @@ def test_stationary_covariance_is_symmetric_positive_definite(alpha, xi, s2):
     """The stationary covariance of either shaping filter is symmetric positive definite."""
     for make in (vibration_filter, random_drift_filter):
         P = make(alpha, xi, s2).stationary_covariance()
-        assert np.array_equal(P, P.T)
+        np.testing.assert_allclose(P, P.T, rtol=1e-15, atol=0)
         assert np.all(np.linalg.eigvalsh(P / np.max(np.abs(P))) > 0.0)
 
 
@@ -109,4 +109,4 @@ def test_constant_states_lose_uncertainty_monotonically_for_any_shaping_filter(
         s = res.std(name)
         assert np.all(np.diff(s) <= 1e-9 * s[:-1]), name
     for P in res.P_stored:
-        assert np.array_equal(P, P.T)
+        np.testing.assert_allclose(P, P.T, rtol=1e-15, atol=0)
