@@ -1,9 +1,14 @@
 """Running independent pieces of work on a caller's ``concurrent.futures.Executor``.
 
-The library never starts a pool of its own: a parallel function takes ``executor=`` (any
-:class:`concurrent.futures.Executor`: a ``ProcessPoolExecutor``, or the executor of a Dask
-cluster, ``dask.distributed.Client(...).get_executor()``), and ``None`` runs the same
-pieces in this process, one after another.  The pieces are put back in their order, so a
+The library never starts a pool of processes or a cluster of its own: a parallel function
+takes ``executor=`` (any :class:`concurrent.futures.Executor`: a ``ProcessPoolExecutor``, or
+the executor of a Dask cluster, ``dask.distributed.Client(...).get_executor()``), and
+``None`` runs the same pieces in this process, one after another.  One exception, stated
+where it applies: a numba kernel that releases the GIL may run its independent blocks on
+this process's own threads (a standard ``concurrent.futures.ThreadPoolExecutor`` sized to
+the CPUs the process may use, opened and closed inside the call), as
+:func:`gyrolib.gc.monte_carlo` does with ``executor=None``; its numbers are the same as with
+any executor or one thread.  The pieces are put back in their order, so a
 result never depends on the executor, on the number of workers or on which piece finished
 first.
 """
