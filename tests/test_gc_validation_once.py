@@ -29,7 +29,7 @@ def counted(monkeypatch):
             if args and isinstance(args[0], str) and depth[0] == 0:   # entries, not nested
                 calls[args[0]] += 1
                 frame = sys._getframe(1)
-                while frame.f_code.co_name == "_check_params":   # the shared helper
+                while frame.f_code.co_name == "check_params":   # the shared helper
                     frame = frame.f_back
                 callers[args[0]].append(f"{frame.f_code.co_filename.split('gyrolib/')[-1]}:"
                                         f"{frame.f_code.co_name}")

@@ -134,14 +134,14 @@ class AffineDiscreteModel:
 
     def sparsity(self) -> tuple[np.ndarray, np.ndarray]:
         """CSR row pointers and column indices of the union of the nonzeros of ``Φ``."""
-        return _csr(np.any((self.Phi0 != 0) | (self.PhiA != 0) | (self.PhiB != 0), axis=0))
+        return csr_pattern(np.any((self.Phi0 != 0) | (self.PhiA != 0) | (self.PhiB != 0), axis=0))
 
     def measurement_sparsity(self) -> tuple[np.ndarray, np.ndarray]:
         """CSR row pointers and column indices of the nonzeros of ``H``."""
-        return _csr(self.H != 0)
+        return csr_pattern(self.H != 0)
 
 
-def _csr(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def csr_pattern(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rowptr = np.zeros(mask.shape[0] + 1, dtype=np.int64)
     rowptr[1:] = np.cumsum(mask.sum(axis=1))
     return rowptr, np.nonzero(mask)[1].astype(np.int64)

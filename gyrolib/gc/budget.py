@@ -12,12 +12,12 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, propagate_fixed_gains
-from gyrolib.gc.covariance import _default_store_every
-from gyrolib.gc.discretization import _affine_qd, _check_params, _discretize, _n_steps
-from gyrolib.gc.params import GyrocompassParams, state_index
+from gyrolib.gc.covariance import default_store_every
+from gyrolib.gc.discretization import affine_qd, discretize_steps, steps_in
+from gyrolib.gc.params import GyrocompassParams, check_params, state_index
 from gyrolib.gc.state_space import (
-    _initial_covariance,
-    _process_noise_intensity,
+    build_initial_covariance,
+    build_process_noise_intensity,
 )
 
 __all__ = [
@@ -50,7 +50,7 @@ class ErrorBudget:
     total: np.ndarray
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
+        check_params(self.params)
         nt = v.check_ndarray("t", self.t, ndim=1).size
         if not isinstance(self.sources, tuple) or not all(isinstance(s, str)
                                                           for s in self.sources):
@@ -103,17 +103,17 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
     >>> bool(np.isclose(bud.var[:, -1].sum(), bud.total[-1], rtol=1e-8))
     True
     """
-    p = _check_params(params)
+    p = check_params(params)
     ix = state_index(name)
-    disc = _discretize(p, _n_steps(p, t_end), "van_loan")
-    se = _default_store_every(disc.n_steps) if store_every is None else store_every
+    disc = discretize_steps(p, steps_in(p, t_end), "van_loan")
+    se = default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     mdl = disc.model
-    P0 = _initial_covariance(p)
+    P0 = build_initial_covariance(p)
     full = covariance_fast(mdl, P0, 1, keep_gains=True)
     zeros_q = tuple(np.zeros_like(mdl.Qd0) for _ in range(3))
     zero_r = np.zeros_like(mdl.r)
-    Qc = _process_noise_intensity(p)
+    Qc = build_process_noise_intensity(p)
     out = []
     for src in BUDGET_SOURCES:
         P0s = np.zeros_like(P0)
@@ -128,7 +128,7 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
             q = np.zeros_like(Qc)
             i = 0 if src.endswith("w1") else 1
             q[i, i] = Qc[i, i]
-            parts = _affine_qd(p, disc.betas, q)
+            parts = affine_qd(p, disc.betas, q)
             Qd = parts[3:]
         else:
             q = ("angle sensor noise", "inclinometer y noise", "inclinometer z noise").index(src)

@@ -40,9 +40,9 @@ from numpy.typing import ArrayLike, NDArray
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast
 from gyrolib.gc.covariance import covariance_analysis
-from gyrolib.gc.discretization import _discretize, _n_steps
-from gyrolib.gc.params import GyrocompassParams, _check_params, state_index
-from gyrolib.gc.state_space import _initial_covariance
+from gyrolib.gc.discretization import discretize_steps, steps_in
+from gyrolib.gc.params import GyrocompassParams, check_params, state_index
+from gyrolib.gc.state_space import build_initial_covariance
 
 __all__ = [
     "SHAPING_FIELDS",
@@ -96,17 +96,17 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
     p = ps[0]
     dt = p.dt
     i = state_index("omega_gc")
-    n_max = _n_steps(p, t_max)
-    n_first = n_max if level is None else min(_n_steps(p, t_first), n_max)
+    n_max = steps_in(p, t_max)
+    n_first = n_max if level is None else min(steps_in(p, t_first), n_max)
     models: dict[int, object] = {}
 
     def model(n: int):
         if n not in models:
-            models[n] = _discretize(p, n, "van_loan").model
+            models[n] = discretize_steps(p, n, "van_loan").model
         return models[n]
 
     def run(q: GyrocompassParams) -> tuple[float, float]:
-        P = _initial_covariance(q)
+        P = build_initial_covariance(q)
         if level is not None and np.sqrt(max(P[i, i], 0.0)) <= level:
             return 0.0, float("nan")
         m = model(n_first)
@@ -179,10 +179,10 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     >>> f"{t:.0f} s"
     '24 s'
     """
-    p = _check_params(params)
+    p = check_params(params)
     level = v.check_positive("level", level)
     t_max = v.check_positive("t_max", t_max)
-    _n_steps(p, t_max)
+    steps_in(p, t_max)
     return _run_omega_gc((p,), _FIRST_HORIZON, t_max, level)[0][0]
 
 
@@ -265,7 +265,7 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
     >>> [f"{t:.0f}" for t in m.t_c[:, 0, 0]]   # stationary and zero P0 of N1…N4
     ['24', '15']
     """
-    p = _check_params(params)
+    p = check_params(params)
     level = v.check_positive("level", level)
     bound = v.check_positive("bound", bound)
     xf = _check_field("x_field", x_field)
@@ -280,7 +280,7 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
     for r in readings:
         v.check_choice("readings", r, ("stationary", "zero"))
     t_max = float(round(1.25 * bound)) if t_max is None else v.check_positive("t_max", t_max)
-    _n_steps(p, t_max)
+    steps_in(p, t_max)
     executor = _check_executor(executor)
     # one task per grid point, for every reading (they share the discretization)
     tasks = [(tuple(_scaled(_scaled(replace(p, shaping_p0=r), yf, fy), xf, fx) for r in readings),
@@ -343,14 +343,14 @@ def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
     >>> f"{b.factor:.2g}"   # σ1² × this reaches σ_c in exactly 60 s
     '1.9'
     """
-    p = _check_params(params)
+    p = check_params(params)
     level = v.check_positive("level", level)
     bound = v.check_positive("bound", bound)
     field = _check_field("field", field)
     fs = v.check_array("factors", factors, ndim=1, min_size=2)
     if np.any(fs <= 0.0) or np.any(np.diff(fs) <= 0.0):
         raise ValueError("factors must be > 0 and increasing")
-    _n_steps(p, bound)
+    steps_in(p, bound)
     executor = _check_executor(executor)
     sigma = np.array([s for (_, s), in _map(executor, _run_omega_gc,
                                             [((_scaled(p, field, f),), bound, bound, None)
@@ -430,7 +430,7 @@ def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
     >>> f"{sw.drop.max():.2f}"   # σ(2 s)/σ(0) at the worst of σ1² × (0.1, 1, 10)
     '0.19'
     """
-    p = _check_params(params)
+    p = check_params(params)
     t_end = v.check_positive("t_end", t_end)
     t_drop = v.check_in_range("t_drop", t_drop, 0.0, t_end, low_open=True)
     if isinstance(fields, str) or not isinstance(fields, tuple) or not fields:
@@ -440,7 +440,7 @@ def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
     fs = v.check_array("factors", factors, ndim=1, min_size=1)
     if np.any(fs <= 0.0):
         raise ValueError("factors must be > 0")
-    _n_steps(p, t_end)
+    steps_in(p, t_end)
     executor = _check_executor(executor)
     cases = _map(executor, _sweep_case, [(_scaled(p, field, f), field, t_end, t_drop)
                                          for field in fields for f in fs])

@@ -12,10 +12,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
-from gyrolib.gc.discretization import DISCRETIZATIONS, N, _check_params, _discretize, _n_steps
-from gyrolib.gc.params import GyrocompassParams, state_index
+from gyrolib.gc.discretization import DISCRETIZATIONS, N, discretize_steps, steps_in
+from gyrolib.gc.params import GyrocompassParams, check_params, state_index
 from gyrolib.gc.state_space import (
-    _initial_covariance,
+    build_initial_covariance,
 )
 
 __all__ = [
@@ -42,7 +42,7 @@ class CovarianceAnalysis:
     P_stored: np.ndarray
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
+        check_params(self.params)
         nt = v.check_ndarray("t", self.t, ndim=1).size
         v.check_ndarray("var", self.var, shape=(nt, N))
         ns = v.check_ndarray("t_stored", self.t_stored, ndim=1).size
@@ -102,7 +102,7 @@ def _check_covariance_matrix(name: str, P: np.ndarray) -> None:
             raise ValueError(f"{name} must be positive semi-definite (a covariance)")
 
 
-def _default_store_every(n_steps: int) -> int:
+def default_store_every(n_steps: int) -> int:
     return max(1, n_steps // 1000)
 
 
@@ -150,14 +150,14 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     van_loan 0.0281
     euler 0.0281
     """
-    p = _check_params(params)
+    p = check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("discretization", discretization, DISCRETIZATIONS)
-    disc = _discretize(p, _n_steps(p, t_end), discretization)
-    se = _default_store_every(disc.n_steps) if store_every is None else store_every
+    disc = discretize_steps(p, steps_in(p, t_end), discretization)
+    se = default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     if P0 is None:
-        P0 = _initial_covariance(p)
+        P0 = build_initial_covariance(p)
     else:
         P0 = v.check_array("P0", P0, shape=(N, N))
         if not np.allclose(P0, P0.T, rtol=1e-12, atol=0.0) or np.any(np.diag(P0) < 0):
@@ -243,7 +243,7 @@ def sweep_sigma_gc(params: GyrocompassParams, field: str, values: ArrayLike,
     >>> [f"{from_si(x, 'arcsec_paper/s'):.4f}" for x in s]
     ['0.0281', '0.0281']
     """
-    p = _check_params(params)
+    p = check_params(params)
     v.check_str("field", field)
     if field not in GyrocompassParams.__dataclass_fields__:
         raise ValueError(f"field must be a GyrocompassParams field; got {field!r}")
@@ -280,7 +280,7 @@ class CovarianceSweep:
     analyses: tuple[CovarianceAnalysis, ...]
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
+        check_params(self.params)
         if len(self.cases) != len(self.analyses):
             raise ValueError(f"analyses must hold one CovarianceAnalysis per case "
                              f"({len(self.cases)}); got {len(self.analyses)}")
@@ -326,7 +326,7 @@ def sweep_covariance(params: GyrocompassParams, cases: object,
     >>> [f"{from_si(s, 'arcsec_paper/s'):.5f}" for s in sw.final_std()]
     ['0.00345', '0.00306']
     """
-    p = _check_params(params)
+    p = check_params(params)
     if isinstance(cases, dict) or not all(isinstance(c, dict) for c in cases):
         raise TypeError("cases must be a sequence of {field: value} dicts")
     for c in cases:

@@ -31,13 +31,13 @@ from numpy.typing import NDArray
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
-from gyrolib.gc.params import STATE_NAMES, GyrocompassParams
+from gyrolib.gc.params import STATE_NAMES, GyrocompassParams, check_params
 from gyrolib.gc.state_space import (
-    _measurement_matrix,
-    _measurement_noise_covariance,
-    _noise_input_matrix,
-    _process_noise_intensity,
-    _system_matrix,
+    build_measurement_matrix,
+    build_measurement_noise_covariance,
+    build_noise_input_matrix,
+    build_process_noise_intensity,
+    build_system_matrix,
 )
 
 __all__ = [
@@ -62,11 +62,7 @@ N: Final[int] = len(STATE_NAMES)
 DISCRETIZATIONS: Final[tuple[str, ...]] = ("van_loan", "euler")
 
 
-def _check_params(params: object) -> GyrocompassParams:
-    return v.check_instance("params", params, GyrocompassParams)
-
-
-def _n_steps(params: GyrocompassParams, t_end: object) -> int:
+def steps_in(params: GyrocompassParams, t_end: object) -> int:
     t_end = v.check_positive("t_end", t_end)
     n = round(t_end / params.dt)
     if n < 1 or abs(n * params.dt - t_end) > 1e-9 * max(t_end, 1.0):
@@ -136,7 +132,7 @@ def nominal_half_steps(params: GyrocompassParams, n_steps: int) -> NDArray[np.fl
     >>> b.shape, f"{b[-1]:.3g}"
     ((2001,), '8.59e-05')
     """
-    return _nominal_half_steps(_check_params(params), v.check_int("n_steps", n_steps, 1))
+    return _nominal_half_steps(check_params(params), v.check_int("n_steps", n_steps, 1))
 
 
 def _nominal_half_steps(p: GyrocompassParams, n_steps: int) -> NDArray[np.float64]:
@@ -168,7 +164,7 @@ class NominalIntegrator:
     """
 
     def __init__(self, params: GyrocompassParams) -> None:
-        p = _check_params(params)
+        p = check_params(params)
         self.half_step = 0.5 * p.dt
         self._coef = _etd2_coefficients(p)
         self._y = np.zeros(2)
@@ -214,12 +210,12 @@ def system_matrix_parts(params: GyrocompassParams
     >>> bool(np.allclose(Fc + np.sin(0.3) * Es + np.cos(0.3) * Ec, gc.system_matrix(p, 0.3)))
     True
     """
-    return _affine_parts(_check_params(params))
+    return _affine_parts(check_params(params))
 
 
 def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``F(β) = F_0 + sin β · E_s + cos β · E_c`` (exact: F is affine in sin and cos)."""
-    F0, F90, F180 = (_system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))
+    F0, F90, F180 = (build_system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))
     Ec = 0.5 * (F0 - F180)
     Fc = 0.5 * (F0 + F180)
     Es = F90 - Fc
@@ -229,9 +225,9 @@ def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndar
     return Fc, Es, Ec
 
 
-def _affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
+def affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
     Fc, Es, Ec = _affine_parts(p)
-    G = _noise_input_matrix(p)
+    G = build_noise_input_matrix(p)
     J = betas.size
     out = [np.zeros((J, N, N)) for _ in range(6)]
     for j, b in enumerate(betas):
@@ -245,7 +241,7 @@ def _affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple
 def _affine_euler(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
     """Euler steps: ``Φ = I + F Δt`` is affine in (sin, cos) exactly; ``Qd = G Q Gᵀ Δt``."""
     Fc, Es, Ec = _affine_parts(p)
-    G = _noise_input_matrix(p)
+    G = build_noise_input_matrix(p)
     J = betas.size
     Phi0 = np.eye(N) + (Fc + np.sin(betas)[:, None, None] * Es
                         + np.cos(betas)[:, None, None] * Ec) * p.dt
@@ -276,7 +272,7 @@ class GCDiscretization:
     method: str = "van_loan"
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
+        check_params(self.params)
         n = v.check_int("n_steps", self.n_steps, 1)
         v.check_ndarray("beta_half", self.beta_half, shape=(2 * n + 1,))
         J = v.check_ndarray("betas", self.betas, ndim=1).size
@@ -301,8 +297,8 @@ class GCDiscretization:
         if k >= self.n_steps:
             raise ValueError(f"k must be a step index in [0, {self.n_steps}); got {k}")
         p = self.params
-        F = _system_matrix(p, float(self.beta_mid[k]))
-        G, Qc = _noise_input_matrix(p), _process_noise_intensity(p)
+        F = build_system_matrix(p, float(self.beta_mid[k]))
+        G, Qc = build_noise_input_matrix(p), build_process_noise_intensity(p)
         if self.method == "euler":
             return np.eye(N) + F * p.dt, G @ Qc @ G.T * p.dt
         return van_loan(F, G, Qc, p.dt)
@@ -334,26 +330,26 @@ def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
     >>> d.n_steps, f"{d.beta_half[-1] * 1e3:.3f} mrad"
     (1000, '0.086 mrad')
     """
-    p = _check_params(params)
-    n_steps = _n_steps(p, t_end)
+    p = check_params(params)
+    n_steps = steps_in(p, t_end)
     v.check_choice("method", method, DISCRETIZATIONS)
-    return _discretize(p, n_steps, method)
+    return discretize_steps(p, n_steps, method)
 
 
-def _discretize(p: GyrocompassParams, n_steps: int, method: str) -> GCDiscretization:
+def discretize_steps(p: GyrocompassParams, n_steps: int, method: str) -> GCDiscretization:
     """:func:`discretize` on arguments already checked by the public entry point."""
     beta_half = _nominal_half_steps(p, n_steps)
     bm = beta_half[1::2]
     idx = np.rint(bm / SEGMENT).astype(np.int64)
     uniq, seg = np.unique(idx, return_inverse=True)
     betas = uniq * SEGMENT
-    affine = _affine_euler if method == "euler" else _affine_qd
-    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, _process_noise_intensity(p))
-    R = _measurement_noise_covariance(p)
+    affine = _affine_euler if method == "euler" else affine_qd
+    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, build_process_noise_intensity(p))
+    R = build_measurement_noise_covariance(p)
     model = AffineDiscreteModel(
         seg=seg.astype(np.int64).ravel(), a=np.sin(bm) - np.sin(betas)[seg].ravel(),
         b=np.cos(bm) - np.cos(betas)[seg].ravel(), Phi0=Phi0, PhiA=PhiA, PhiB=PhiB,
-        Qd0=Qd0, QdA=QdA, QdB=QdB, H=_measurement_matrix(p), r=np.diag(R).copy())
+        Qd0=Qd0, QdA=QdA, QdB=QdB, H=build_measurement_matrix(p), r=np.diag(R).copy())
     Fc, Es, Ec = _affine_parts(p)
     Gamma = np.zeros((betas.size, N))
     factors = []

@@ -28,9 +28,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.consistency import nees_bounds
-from gyrolib.gc.discretization import _check_params, nominal_half_steps
+from gyrolib.gc.discretization import nominal_half_steps
 from gyrolib.gc.montecarlo import MonteCarloResult
-from gyrolib.gc.params import GyrocompassParams, state_index
+from gyrolib.gc.params import GyrocompassParams, check_params, state_index
 
 __all__ = [
     "LinearizationEffect",
@@ -72,7 +72,7 @@ def remainder_drift(params: GyrocompassParams, psi: ArrayLike, beta_n: ArrayLike
     >>> f"{gc.remainder_drift(p, 180 * ARCSEC_PAPER):.3g}"   # ψ at its prior σ: −Ω_h ψ²/2
     '-1.64e-11'
     """
-    p = _check_params(params)
+    p = check_params(params)
     x = v.check_array("dbeta", dbeta) - v.check_array("psi", psi)
     b = v.check_array("beta_n", beta_n)
     cm1 = -2.0 * np.sin(0.5 * x) ** 2
@@ -91,7 +91,7 @@ def psi_for_drift(params: GyrocompassParams, drift: float) -> float:
     >>> f"{-gc.remainder_drift(p, psi) / 1e-9:.4f}"
     '1.0000'
     """
-    p = _check_params(params)
+    p = check_params(params)
     d = v.check_real("drift", drift)
     return float(np.sqrt(2.0 * abs(d) / p.Omega_h))
 

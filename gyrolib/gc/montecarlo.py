@@ -64,11 +64,11 @@ from numpy.typing import ArrayLike, NDArray
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor
 from gyrolib.filtering.consistency import nees_bounds
-from gyrolib.filtering.covariance import _csr, covariance_fast, covariance_reference
+from gyrolib.filtering.covariance import covariance_fast, covariance_reference, csr_pattern
 from gyrolib.filtering.discretization import covariance_factor
-from gyrolib.gc.covariance import _default_store_every
-from gyrolib.gc.discretization import N, _check_params, _n_steps, discretize
-from gyrolib.gc.params import STATE_NAMES, GyrocompassParams, state_index
+from gyrolib.gc.covariance import default_store_every
+from gyrolib.gc.discretization import N, discretize, steps_in
+from gyrolib.gc.params import STATE_NAMES, GyrocompassParams, check_params, state_index
 from gyrolib.gc.state_space import initial_covariance
 
 __all__ = [
@@ -230,7 +230,7 @@ def _nominal_fine(h, E, p1, kh, n_fine, substeps, beta_mid, b_out, bd_out):
             bd_out[(i + 1) // substeps] = bd
 
 
-def _zoh(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+def zoh_discretize(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
     """``(e^{Ah}, ∫₀ʰ e^{As} ds B)``: exact step of ``x' = A x + B u`` with ``u`` held."""
     n = A.shape[0]
     M = np.zeros((n + 1, n + 1))
@@ -291,7 +291,7 @@ def truth_prior_factor(params: GyrocompassParams) -> NDArray[np.float64]:
     >>> f"{from_si(L[3, 3], 'arcsec_paper/s'):.2f}"   # σ of ω_gc, ″/s
     '0.15'
     """
-    p = _check_params(params)
+    p = check_params(params)
     L = np.zeros((N, N))
     for i, sd in enumerate((p.sigma_dbeta0, p.sigma_dbeta_dot0, p.sigma_psi0, p.sigma_gc0,
                             p.sigma_delta0, p.sigma_gamma0)):
@@ -330,11 +330,11 @@ def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
     h = truth.dt / substeps
     n_fine = n_steps * substeps
     Ab = np.array([[0.0, 1.0], [0.0, -truth.f / truth.I]])
-    E, p1 = _zoh(Ab, np.array([0.0, 1.0]), h)
+    E, p1 = zoh_discretize(Ab, np.array([0.0, 1.0]), h)
 
     def nominal(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         Ap = np.array([[0.0, 1.0], [0.0, -p.f / p.I]])
-        Ep, pp = _zoh(Ap, np.array([0.0, 1.0]), h)
+        Ep, pp = zoh_discretize(Ap, np.array([0.0, 1.0]), h)
         bm = np.empty(n_fine)
         b = np.empty(n_steps + 1)
         bd = np.empty(n_steps + 1)
@@ -347,8 +347,8 @@ def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
     else:
         _, b_f, bd_f = nominal(filt)
     (A1, g1, Q1), (A2, g2, Q2) = _truth_shaping(truth)
-    phi1, gam1 = _zoh(A1, g1, h)
-    phi2, gam2 = _zoh(A2, g2, h)
+    phi1, gam1 = zoh_discretize(A1, g1, h)
+    phi2, gam2 = zoh_discretize(A2, g2, h)
     return TruthModel(
         h=h, E=E, p1=p1, beta_mid=beta_mid, sin_mid=np.sin(beta_mid), cos_mid=np.cos(beta_mid),
         phi1=phi1, gam1=gam1 * math.sqrt(Q1 / h), phi2=phi2,
@@ -887,7 +887,7 @@ def _prepare(r: _Recipe) -> tuple[_Prepared, np.ndarray]:
     """The filter's gains and model, the truth's arrays; and the filter's stored P."""
     p = r.params
     disc = discretize(p, r.t_end)
-    se = _default_store_every(disc.n_steps) if r.store_every is None else r.store_every
+    se = default_store_every(disc.n_steps) if r.store_every is None else r.store_every
     mdl = disc.model
     P0 = initial_covariance(p)
     if r.method == "fast":
@@ -896,7 +896,7 @@ def _prepare(r: _Recipe) -> tuple[_Prepared, np.ndarray]:
         run = covariance_reference(mdl, P0, se)
     tm = truth_model(r.truth_params, p, disc.n_steps, r.substeps, r.linear)
     rowptr, colidx = mdl.sparsity()
-    hptr, hidx = _csr(mdl.H != 0)
+    hptr, hidx = csr_pattern(mdl.H != 0)
     phis = np.empty((mdl.n_steps, colidx.size))
     if r.method == "fast":
         _step_phi(mdl.seg, mdl.a, mdl.b, mdl.Phi0, mdl.PhiA, mdl.PhiB, rowptr, colidx, phis)
@@ -1038,7 +1038,7 @@ class MonteCarloResult:
     truth_mode: str = "nonlinear"
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
+        check_params(self.params)
         if self.truth_params is not None:
             v.check_instance("truth_params", self.truth_params, GyrocompassParams)
         v.check_choice("truth_mode", self.truth_mode, tuple(LINEARIZE))
@@ -1200,7 +1200,7 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     >>> bool(0.7 < ratio < 1.3)   # 64 runs: the RMS error is the filter's σ within sampling
     True
     """
-    p = _check_params(params)
+    p = check_params(params)
     tp = p if truth_params is None else v.check_instance("truth_params", truth_params,
                                                          GyrocompassParams)
     if tp.dt != p.dt:
@@ -1211,7 +1211,7 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     v.check_choice("truth", truth, tuple(LINEARIZE))
     substeps = v.check_int("substeps", substeps, 1)
     executor = check_executor(executor)
-    n_steps = _n_steps(p, t_end)
+    n_steps = steps_in(p, t_end)
     if store_every is not None:
         store_every = v.check_int("store_every", store_every, 1)
     recipe = _Recipe(p, tp, float(t_end), store_every, method, LINEARIZE[truth], substeps)
@@ -1278,12 +1278,12 @@ def simulate_truth(params: GyrocompassParams, t_end: float, x0: ArrayLike, *,
     >>> f"{X[-1, 0]:.4g}"   # Δβ ≈ (H/f) ω_gc (t − I/f) after the float's time constant
     '1.997e-06'
     """
-    p = _check_params(params)
+    p = check_params(params)
     x0 = v.check_array("x0", x0, shape=(N,))
     store_every = v.check_int("store_every", store_every, 1)
     seed = None if seed is None else v.check_int("seed", seed, 0)
     substeps = v.check_int("substeps", substeps, 1)
-    n_steps = _n_steps(p, t_end)
+    n_steps = steps_in(p, t_end)
     tm = truth_model(p, p, n_steps, substeps)
     rng = None if seed is None else np.random.default_rng(seed)
     _, tru = _run_batch(tm, n_steps, x0[None, :], rng, None, store_every, "fast")

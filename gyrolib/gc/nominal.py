@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import GyrocompassParams, _check_params
+from gyrolib.gc.params import GyrocompassParams, check_params
 
 __all__ = [
     "NominalMotion",
@@ -83,7 +83,7 @@ def nominal_motion(params: GyrocompassParams, t: ArrayLike, *,
     >>> f"{from_si(nom.beta[-1], 'deg'):.4f}"   # paper GC: "about 0.5°"
     '0.4927'
     """
-    _check_params(params)
+    check_params(params)
     t = _check_times(t)
     v.check_in_range("rtol", rtol, 1e-14, 1e-3)
     k_dd = params.H * params.Omega_h / params.I
@@ -141,7 +141,7 @@ def nominal_motion_reference(params: GyrocompassParams, t: ArrayLike, *,
     >>> bool(np.max(np.abs(diff)) < 1e-12)
     True
     """
-    _check_params(params)
+    check_params(params)
     t = _check_times(t)
     v.check_in_range("rtol", rtol, 2.3e-14, 1e-3)
     k = params.H * params.Omega_h / params.f
@@ -196,7 +196,7 @@ def nominal_motion_aperiodic(params: GyrocompassParams, t: ArrayLike) -> Nominal
     >>> f"{from_si(ap.beta[0], 'deg'):.4f}"
     '0.4927'
     """
-    _check_params(params)
+    check_params(params)
     t = _check_times(t)
     k = params.H * params.Omega_h / params.f
     beta = 2.0 * np.arctan(np.tanh(0.5 * k * t))

@@ -13,9 +13,9 @@ from numba import njit
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import van_loan
-from gyrolib.gc.covariance import _default_store_every
-from gyrolib.gc.discretization import _check_params, discretize
-from gyrolib.gc.params import GyrocompassParams, state_index
+from gyrolib.gc.covariance import default_store_every
+from gyrolib.gc.discretization import discretize
+from gyrolib.gc.params import GyrocompassParams, check_params, state_index
 from gyrolib.gc.state_space import (
     noise_input_matrix,
     process_noise_intensity,
@@ -124,9 +124,9 @@ def information_psi_omega(params: GyrocompassParams, t_end: float = 100.0, *,
     >>> f"{abs(info.correlation()[-1]):.3f}"
     '0.968'
     """
-    p = _check_params(params)
+    p = check_params(params)
     disc = discretize(p, t_end)
-    se = _default_store_every(disc.n_steps) if store_every is None else store_every
+    se = default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     mdl = disc.model
     if frozen_beta is not None:

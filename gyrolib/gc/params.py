@@ -259,5 +259,5 @@ def normal_gravity(latitude: float) -> float:
     return 9.780318 * (1 + 5.3024e-3 * math.sin(lat) ** 2 - 5.9e-6 * math.sin(2 * lat) ** 2)
 
 
-def _check_params(params: object) -> GyrocompassParams:
+def check_params(params: object) -> GyrocompassParams:
     return v.check_instance("params", params, GyrocompassParams)

@@ -24,11 +24,11 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib.gc.covariance import covariance_analysis, time_to_sigma
-from gyrolib.gc.params import GyrocompassParams, _check_params
+from gyrolib.gc.params import GyrocompassParams, check_params
 from gyrolib.gc.ratesensor import (
     RateSensorModel,
     RateSensorProcedure,
-    _check_procedure,
+    check_procedure,
     rate_sensor_model,
 )
 
@@ -226,8 +226,8 @@ class RaceResult:
     phases: tuple[tuple[str, float, float], ...]
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
-        _check_procedure(self.procedure)
+        check_params(self.params)
+        check_procedure(self.procedure)
         for a, b in (("t_gc", "sigma_gc"), ("t_classical", "sigma_classical"),
                      ("t_optimal", "sigma_optimal")):
             n = v.check_ndarray(a, getattr(self, a), ndim=1).size
@@ -386,8 +386,8 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
     >>> f"{gc.procedure_for_time(None, None, 'overhead', 60.0):.1f} s"
     '44.8 s'
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
-    proc = RateSensorProcedure() if procedure is None else _check_procedure(procedure)
+    p = GyrocompassParams() if params is None else check_params(params)
+    proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
     v.check_choice("field", field, PROCEDURE_TARGETS)
     v.check_choice("estimator", estimator, _ESTIMATORS)
     target = v.check_positive("target", target)
@@ -484,8 +484,8 @@ def race(params: GyrocompassParams | None = None,
     >>> [f"{t:.1f} s" for t in (r.t_c_gc, r.t_c_rate_sensor, r.t_c_rate_sensor_optimal)]
     ['24.1 s', '34.0 s', '33.3 s']
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
-    proc = RateSensorProcedure() if procedure is None else _check_procedure(procedure)
+    p = GyrocompassParams() if params is None else check_params(params)
+    proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
     return _race(p, proc, _gc_part(p, proc.sigma_c, proc.t_max))
 
 
@@ -503,8 +503,8 @@ class RaceSweep:
     t_c_rate_sensor_optimal: NDArray[np.float64]
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
-        _check_procedure(self.procedure)
+        check_params(self.params)
+        check_procedure(self.procedure)
         if not isinstance(self.cases, tuple):
             raise TypeError("cases must be a tuple of {field: value} dicts")
         for name in ("t_c_gc", "t_c_rate_sensor", "t_c_rate_sensor_optimal"):
@@ -555,8 +555,8 @@ def race_sweep(params: GyrocompassParams | None = None,
     >>> [f"{t:.1f}" for t in sw.t_c_rate_sensor]
     ['34.0', '101.6']
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
-    proc = RateSensorProcedure() if procedure is None else _check_procedure(procedure)
+    p = GyrocompassParams() if params is None else check_params(params)
+    proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
     if isinstance(cases, dict) or not all(isinstance(c, dict) for c in cases):
         raise TypeError("cases must be a sequence of {field: value} dicts")
     cases = tuple(dict(c) for c in cases)

@@ -64,8 +64,8 @@ from gyrolib import _validation as v
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
 from gyrolib.filtering.discretization import covariance_factor, van_loan
-from gyrolib.gc.montecarlo import TRUTH_SUBSTEPS, _zoh
-from gyrolib.gc.params import GyrocompassParams, _check_params
+from gyrolib.gc.montecarlo import TRUTH_SUBSTEPS, zoh_discretize
+from gyrolib.gc.params import GyrocompassParams, check_params
 from gyrolib.units import ARCMIN, ARCSEC_PAPER
 
 __all__ = [
@@ -178,7 +178,7 @@ class RateSensorProcedure:
         return self.T_rot + self.T_settle
 
 
-def _check_procedure(procedure: object) -> RateSensorProcedure:
+def check_procedure(procedure: object) -> RateSensorProcedure:
     return v.check_instance("procedure", procedure, RateSensorProcedure)
 
 
@@ -262,8 +262,8 @@ class RateSensorModel:
     r: np.ndarray
 
     def __post_init__(self) -> None:
-        _check_params(self.params)
-        _check_procedure(self.procedure)
+        check_params(self.params)
+        check_procedure(self.procedure)
         for name in ("F", "Phi", "Qd", "P0"):
             v.check_ndarray(name, getattr(self, name), shape=(_N, _N))
         v.check_ndarray("G", self.G, shape=(_N, 2))
@@ -535,8 +535,8 @@ def rate_sensor_model(params: GyrocompassParams | None = None,
     >>> m.H1[0, :5].tolist(), m.H2[0, :5].tolist()   # ω_gc, e, d, δ, γ in the rate reading
     ([1.0, 1.0, 0.0, 0.0, 5.9e-05], [1.0, -1.0, 1.0, 0.0, 5.9e-05])
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
-    proc = RateSensorProcedure() if procedure is None else _check_procedure(procedure)
+    p = GyrocompassParams() if params is None else check_params(params)
+    proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
     vib, drift = p.vibration_filter(), p.random_drift_filter()
     F = np.zeros((_N, _N))
     F[_N1:_N2 + 1, _N1:_N2 + 1] = vib.A
@@ -604,7 +604,7 @@ def turn_accuracy_limit(params: GyrocompassParams | None = None,
     >>> f"{from_si(gc.turn_accuracy_limit(), 'deg'):.2f} deg"
     '1.31 deg'
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
+    p = GyrocompassParams() if params is None else check_params(params)
     level = v.check_positive("level", level)
     a, b, c = 0.75, p.sigma_psi0**2, -4.0 * level**2 / p.Omega_h**2
     x = (-b + math.sqrt(b * b - 4.0 * a * c)) / (2.0 * a)
@@ -703,8 +703,8 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
     >>> mc.inside, f"{mc.ratio:.2f}"
     (True, '1.04')
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
-    proc = RateSensorProcedure() if procedure is None else _check_procedure(procedure)
+    p = GyrocompassParams() if params is None else check_params(params)
+    proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
     tp = p if truth_params is None else v.check_instance("truth_params", truth_params,
                                                          GyrocompassParams)
     n_runs = v.check_int("n_runs", n_runs, 2)
@@ -747,8 +747,8 @@ class _Truth:
         self.L = covariance_factor(P) if np.any(P) else np.zeros((4, 1))
 
     def _steps(self, h: float) -> tuple[np.ndarray, ...]:
-        phi1, gam1 = _zoh(self.vib.A, self.vib.B[:, 0], h)
-        phi2, gam2 = _zoh(self.drift.A, self.drift.B[:, 0], h)
+        phi1, gam1 = zoh_discretize(self.vib.A, self.vib.B[:, 0], h)
+        phi2, gam2 = zoh_discretize(self.drift.A, self.drift.B[:, 0], h)
         return (phi1, gam1 * math.sqrt(self.tp.Q1 / h), phi2,
                 gam2 * math.sqrt(self.tp.Q2 / h))
 

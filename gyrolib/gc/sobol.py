@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from gyrolib import _validation as v
 from gyrolib.gc.claims import time_to_level
 from gyrolib.gc.covariance import covariance_analysis, time_to_sigma
-from gyrolib.gc.params import GyrocompassParams, _check_params
+from gyrolib.gc.params import GyrocompassParams, check_params
 from gyrolib.gsa import Recheck, SensitivityResult, SobolInput, recheck, run_study
 from gyrolib.units import to_si
 
@@ -90,7 +90,7 @@ def sensitivity_inputs(params: GyrocompassParams | None = None) -> tuple[SobolIn
     >>> c.name, c.distribution, f"{c.high / c.nominal:.0f}"
     ('C_as', 'loguniform', '3')
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
+    p = GyrocompassParams() if params is None else check_params(params)
     pr, un = SobolInput.printed, SobolInput.unstated
     eq6, eq7 = "printed after Eq. (6)", "printed after Eq. (7)"
     table = "printed (parameter table)"
@@ -157,7 +157,7 @@ def sensitivity_outputs(params: GyrocompassParams, *, t_end: float = 100.0,
     >>> f"{from_si(s, 'arcsec_paper/s'):.5f} ″/s, {t:.0f} s"
     '0.00137 ″/s, 24 s'
     """
-    p = _check_params(params)
+    p = check_params(params)
     t_end = v.check_positive("t_end", t_end)
     level = v.check_positive("level", level)
     t_max = v.check_positive("t_max", t_max)
@@ -240,7 +240,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     >>> r.values.shape, r.outputs
     ((52, 2), ('sigma_gc_100s', 't_c'))
     """
-    p = GyrocompassParams() if params is None else _check_params(params)
+    p = GyrocompassParams() if params is None else check_params(params)
     inputs = sensitivity_inputs(p)
     names = tuple(x.name for x in inputs)
     t_end = v.check_positive("t_end", t_end)

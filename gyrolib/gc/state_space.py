@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import N_STATES, GyrocompassParams, _check_params, state_index
+from gyrolib.gc.params import N_STATES, GyrocompassParams, check_params, state_index
 
 __all__ = [
     "initial_covariance",
@@ -56,10 +56,10 @@ def system_matrix(params: GyrocompassParams, beta_n: float) -> NDArray[np.float6
     >>> f"{F[1, 1]:.0f} {F[7, 6]:.3g}"   # F(2,2) = -f/I, F(8,7) = -alpha1**2
     '-625 -0.000177'
     """
-    return _system_matrix(_check_params(params), v.check_real("beta_n", beta_n))
+    return build_system_matrix(check_params(params), v.check_real("beta_n", beta_n))
 
 
-def _system_matrix(p: GyrocompassParams, b: float) -> NDArray[np.float64]:
+def build_system_matrix(p: GyrocompassParams, b: float) -> NDArray[np.float64]:
     s, c = np.sin(b), np.cos(b)
     F = np.zeros((N_STATES, N_STATES))
     F[0, 1] = 1.0
@@ -102,10 +102,10 @@ def noise_input_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
     >>> f"{G[6, 0]:g} {G[7, 0]:.3g} {G[9, 1]:g}"
     '1 -0.00532 1'
     """
-    return _noise_input_matrix(_check_params(params))
+    return build_noise_input_matrix(check_params(params))
 
 
-def _noise_input_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
+def build_noise_input_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
     G = np.zeros((N_STATES, 2))
     G[6:8, 0] = params.vibration_filter().B[:, 0]
     G[8:10, 1] = params.random_drift_filter().B[:, 0]
@@ -132,10 +132,10 @@ def measurement_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
     >>> [f"{x:g}" for x in D[1, 4:7]]   # inclinometer y: g δ + N1
     ['9.80665', '0', '1']
     """
-    return _measurement_matrix(_check_params(params))
+    return build_measurement_matrix(check_params(params))
 
 
-def _measurement_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
+def build_measurement_matrix(params: GyrocompassParams) -> NDArray[np.float64]:
     D = np.zeros((3, N_STATES))
     D[0, 0] = 1.0
     D[1, 4] = params.g
@@ -165,10 +165,10 @@ def process_noise_intensity(params: GyrocompassParams) -> NDArray[np.float64]:
     >>> [f"{q:.3g}" for q in np.diag(gc.process_noise_intensity(gc.GyrocompassParams()))]
     ['3.46e-08', '9.31e-13']
     """
-    return _process_noise_intensity(_check_params(params))
+    return build_process_noise_intensity(check_params(params))
 
 
-def _process_noise_intensity(p: GyrocompassParams) -> NDArray[np.float64]:
+def build_process_noise_intensity(p: GyrocompassParams) -> NDArray[np.float64]:
     return np.diag([p.Q1, p.Q2])
 
 
@@ -191,7 +191,7 @@ def measurement_noise_intensity(params: GyrocompassParams) -> NDArray[np.float64
     >>> [f"{c:g}" for c in np.diag(gc.measurement_noise_intensity(gc.GyrocompassParams()))]
     ['2e-13', '5e-15', '5e-15']
     """
-    p = _check_params(params)
+    p = check_params(params)
     return np.diag([p.C_as, p.C_incl_y, p.C_incl_z])
 
 
@@ -218,10 +218,10 @@ def measurement_noise_covariance(params: GyrocompassParams) -> NDArray[np.float6
     >>> [f"{r:g}" for r in np.diag(gc.measurement_noise_covariance(gc.GyrocompassParams()))]
     ['2e-10', '5e-12', '5e-12']
     """
-    return _measurement_noise_covariance(_check_params(params))
+    return build_measurement_noise_covariance(check_params(params))
 
 
-def _measurement_noise_covariance(p: GyrocompassParams) -> NDArray[np.float64]:
+def build_measurement_noise_covariance(p: GyrocompassParams) -> NDArray[np.float64]:
     C = np.diag([p.C_as, p.C_incl_y, p.C_incl_z])
     return C / p.dt if p.measurement_noise == "intensity_over_dt" else C
 
@@ -251,10 +251,10 @@ def initial_covariance(params: GyrocompassParams) -> NDArray[np.float64]:
     >>> f"{from_si(np.sqrt(P0[3, 3]), 'arcsec_paper/s'):.2f}"   # σ of ω_gc, ″/s
     '0.15'
     """
-    return _initial_covariance(_check_params(params))
+    return build_initial_covariance(check_params(params))
 
 
-def _initial_covariance(p: GyrocompassParams) -> NDArray[np.float64]:
+def build_initial_covariance(p: GyrocompassParams) -> NDArray[np.float64]:
     P = np.zeros((N_STATES, N_STATES))
     for name, sigma in (("dbeta", p.sigma_dbeta0), ("dbeta_dot", p.sigma_dbeta_dot0),
                         ("psi", p.sigma_psi0), ("omega_gc", p.sigma_gc0),

@@ -39,7 +39,7 @@ import numpy as np
 import sympy as sp
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import GyrocompassParams
+from gyrolib.gc.params import check_params
 
 __all__ = [
     "COUPLINGS",
@@ -175,10 +175,6 @@ def _make_symbols() -> ModelSymbols:
 
 #: The one set of symbols every function of this module uses.
 SYMBOLS: Final[ModelSymbols] = _make_symbols()
-
-
-def _check_params(params: object) -> GyrocompassParams:
-    return v.check_instance("params", params, GyrocompassParams)
 
 
 def _check_coupling(coupling: str) -> str:
@@ -977,7 +973,7 @@ def parameter_values(params: object) -> dict[sp.Symbol, float]:
     >>> symbolic.parameter_values(GyrocompassParams())[symbolic.SYMBOLS.H]
     0.05
     """
-    _check_params(params)
+    check_params(params)
     S = SYMBOLS
     names = ("I", "H", "f", "Omega_h", "Omega_v", "g", "omega_ub", "alpha1", "xi1",
              "sigma1_sq", "alpha2", "xi2", "sigma2_sq")
@@ -1020,7 +1016,7 @@ def numeric_matrices(params: object, beta_n: float,
     >>> f"{F[1, 1]:.0f}"
     '-625'
     """
-    _check_params(params)
+    check_params(params)
     coupling = _check_coupling(params.vertical_coupling if coupling is None else coupling)
     b = v.check_real("beta_n", beta_n)
     vals = [float(getattr(params, n)) for n in _PARAM_ORDER]

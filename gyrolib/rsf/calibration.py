@@ -32,8 +32,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from gyrolib import _validation as v
-from gyrolib.rsf._inputs import _sf
-from gyrolib.rsf.correction import DeltaKPrediction, _correct_spans
+from gyrolib.rsf._inputs import check_sf
+from gyrolib.rsf.correction import DeltaKPrediction, correct_spans
 from gyrolib.rsf.equations import K_FORMS, relative_k_error
 from gyrolib.rsf.record import RSFRecord
 from gyrolib.rsf.simulation import SensorRecord, encoder_counts, gs_angle
@@ -112,7 +112,7 @@ class CalibrationResult:
     def delta_k(self, eps1: float) -> np.ndarray:
         """δK_i = K_i (1 + ε1) − 1 for a known true scale-factor error ``eps1``
         (:func:`gyrolib.rsf.relative_k_error`); ``eps1`` is checked here, at the door."""
-        return np.asarray(relative_k_error(self.k, _sf("eps1", eps1)))
+        return np.asarray(relative_k_error(self.k, check_sf("eps1", eps1)))
 
     def delta_k_std(self, prediction: DeltaKPrediction) -> np.ndarray:
         """Per interval, the σ of δK that ``prediction`` (for a whole interval,
@@ -246,7 +246,7 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     row_interval = np.floor((t - t[0] - 0.5 * dt) / period).astype(np.int64)
     row_interval[0] = -1
     sidx = row_interval[j1]
-    est = _correct_spans(sins_span[None], gs_span[None], sidx, n_int, period, k_form)
+    est = correct_spans(sins_span[None], gs_span[None], sidx, n_int, period, k_form)
     keep = np.flatnonzero(~np.isnan(est.eps1_hat[0]))
     corrected = est.corrected_angle(inc0[None], row_interval)[0]
     # bookkeeping of the spans: samples used and contiguous runs per interval

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
-from gyrolib.rsf._inputs import _times
+from gyrolib.rsf._inputs import check_times
 from gyrolib.rsf.correction import run_correction
 from gyrolib.rsf.equations import (
     delta_k,
@@ -270,7 +270,7 @@ def gs_vs_sins(times: ArrayLike = (10.0, 60.0, 120.0), *,
     (['59', '243', '352'], ['18', '23', '24'])
     """
     _specs(roll_gyro, gs_gyro, encoder)
-    t = _times(times)
+    t = check_times(times)
     omega = v.check_positive("omega", omega)
     omega_unc = v.check_nonnegative("omega_unc", omega_unc)
     sins = np.asarray(sins_roll_error(roll_gyro.sf_error, omega, t), dtype=float)

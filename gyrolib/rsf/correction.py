@@ -1,6 +1,6 @@
 """Paper RSF, the scale-factor correction of Eqs. (1)–(3) and the δK it leaves.
 
-One routine does the correction for every input, :func:`_correct_spans`: it takes the SINS
+One routine does the correction for every input, :func:`correct_spans`: it takes the SINS
 turn and the GS change over *spans* (stretches of samples over which both sides cover the
 same turn), the correction interval each span counts in, and returns Eq. (1) accumulated
 per interval, ε̂1 of Eq. (2), K of Eq. (3) and the K in force during each interval (the K
@@ -78,7 +78,7 @@ def _per_interval(x: np.ndarray, interval: np.ndarray, n_int: int) -> np.ndarray
     return out
 
 
-def _correct_spans(sins_turn: np.ndarray, gs_turn: np.ndarray, interval: np.ndarray,
+def correct_spans(sins_turn: np.ndarray, gs_turn: np.ndarray, interval: np.ndarray,
                    n_int: int, period: float, k_form: str) -> _Intervals:
     """Paper RSF, Eqs. (1)–(3), from the SINS turn and the GS change over spans.
 
@@ -185,7 +185,7 @@ class _Simulated(NamedTuple):
     intervals: _Intervals
 
 
-def _interval_estimates(record: SensorRecord, period: float, k_form: str,
+def interval_estimates(record: SensorRecord, period: float, k_form: str,
                         gs: np.ndarray | None = None) -> _Simulated:
     """Eqs. (1)–(3) for every complete interval of a simulated ensemble: nothing is missing
     in a simulation, so each interval is one span (``gs``: the GS angle if already known)."""
@@ -195,7 +195,7 @@ def _interval_estimates(record: SensorRecord, period: float, k_form: str,
     sins_angle = np.concatenate([np.zeros((record.sins_inc.shape[0], 1)),
                                  np.cumsum(record.sins_inc, axis=1)], axis=1)
     gs = gs_angle(record) if gs is None else gs
-    est = _correct_spans(np.diff(sins_angle[:, idx], axis=1), np.diff(gs[:, idx], axis=1),
+    est = correct_spans(np.diff(sins_angle[:, idx], axis=1), np.diff(gs[:, idx], axis=1),
                          np.arange(n_int), n_int, period, k_form)
     dk = relative_k_error(est.k, record.eps1_sins[:, None])
     return _Simulated(k=est.k, eps1_hat=est.eps1_hat, delta_k=dk, idx=idx,
@@ -242,7 +242,7 @@ def run_correction(record: SensorRecord, period: float, *, k_form: str = "linear
     k_form = v.check_choice("k_form", k_form, K_FORMS)
     v.check_bool("reset_angle", reset_angle)
     g = v.check_positive("g", g)
-    sim = _interval_estimates(record, period, k_form)
+    sim = interval_estimates(record, period, k_form)
     idx, gs = sim.idx, sim.gs
     n = record.sins_inc.shape[1]
     row_interval = (np.arange(n + 1) - 1) // int(idx[1])    # row 0 (t = 0) before interval 0

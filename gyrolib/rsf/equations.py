@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
-from gyrolib.rsf._inputs import _nonzero, _sf, _value
+from gyrolib.rsf._inputs import check_nonzero, check_sf, check_value
 from gyrolib.units import G0
 
 __all__ = [
@@ -151,7 +151,7 @@ def sf_error_estimate(dgamma: ArrayLike, omega_x: ArrayLike,
     >>> f"{sf_error_estimate(0.01, 10.0, 5.0):.3g}"
     '0.0002'
     """
-    dg, w = _value("dgamma", dgamma), _nonzero("omega_x", omega_x)
+    dg, w = check_value("dgamma", dgamma), check_nonzero("omega_x", omega_x)
     v.check_broadcast(dgamma=dg, omega_x=w)
     return dg / (w * v.check_positive("dt", dt))
 
@@ -184,7 +184,7 @@ def correction_coefficient(eps1_hat: ArrayLike,
     ('0.9998', '0.99980004')
     """
     form = v.check_choice("form", form, K_FORMS)
-    e = _sf("eps1_hat", eps1_hat)
+    e = check_sf("eps1_hat", eps1_hat)
     return 1.0 - e if form == "linear" else 1.0 / (1.0 + e)
 
 
@@ -501,11 +501,11 @@ def delta_k(eps0_gs: float, dgamma_enc: float, omega_x: float, dt: float, eps1_g
     >>> f"{delta_k(r(3.3e-3), r(0.33), r(900.0), 5.0, 280e-6, r(300.0)):.4g}"
     '0.0001703'
     """
-    w = abs(float(_nonzero("omega_x", v.check_real("omega_x", omega_x))))
+    w = abs(float(check_nonzero("omega_x", v.check_real("omega_x", omega_x))))
     dt = v.check_positive("dt", dt)
     e0 = v.check_nonnegative("eps0_gs", eps0_gs)
     enc = v.check_nonnegative("dgamma_enc", dgamma_enc)
-    e1 = _sf("eps1_gs", eps1_gs)
+    e1 = check_sf("eps1_gs", eps1_gs)
     wu = v.check_real("omega_unc", omega_unc)
     return difference_error(e0, dt, enc, e1, wu) / (w * dt)
 
@@ -611,8 +611,8 @@ def lateral_deviation_exact(eps1: float, omega: float, t: ArrayLike,
     Equal to the cubic g a t³/6 for a t ≪ 1; much smaller once the roll error a t reaches
     tens of degrees, because sin saturates and then changes sign.
     """
-    a = _sf("eps1", eps1) * v.check_real("omega", omega)
-    t = _value("t", t, nonnegative=True)
+    a = check_sf("eps1", eps1) * v.check_real("omega", omega)
+    t = check_value("t", t, nonnegative=True)
     g = v.check_positive("g", g)
     if a == 0.0:
         return 0.0 * np.asarray(t) if isinstance(t, np.ndarray) else 0.0
@@ -668,8 +668,8 @@ def vertical_deviation_exact(eps1: float, omega: float, t: ArrayLike,
     >>> f"{lat:.3g} m lateral, {ver:.3g} m vertical"
     '3.8e+04 m lateral, 6.24e+04 m vertical'
     """
-    a = _sf("eps1", eps1) * v.check_real("omega", omega)
-    t = _value("t", t, nonnegative=True)
+    a = check_sf("eps1", eps1) * v.check_real("omega", omega)
+    t = check_value("t", t, nonnegative=True)
     g = v.check_positive("g", g)
     if a == 0.0:
         return 0.0 * np.asarray(t) if isinstance(t, np.ndarray) else 0.0

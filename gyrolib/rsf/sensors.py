@@ -19,7 +19,7 @@ import math
 from dataclasses import dataclass
 
 from gyrolib import _validation as v
-from gyrolib.rsf._inputs import _SF_LIMIT, _optional_positive
+from gyrolib.rsf._inputs import SF_LIMIT, check_optional_positive
 from gyrolib.rsf.equations import gs_bias_total
 from gyrolib.units import to_si
 
@@ -54,10 +54,10 @@ class RollGyroSpec:
         object.__setattr__(self, "bias_instability",
                            v.check_nonnegative("bias_instability", self.bias_instability))
         object.__setattr__(self, "sf_error",
-                           v.check_in_range("sf_error", self.sf_error, 0.0, _SF_LIMIT,
+                           v.check_in_range("sf_error", self.sf_error, 0.0, SF_LIMIT,
                                             high_open=True))
         object.__setattr__(self, "dynamic_range",
-                           _optional_positive("dynamic_range", self.dynamic_range))
+                           check_optional_positive("dynamic_range", self.dynamic_range))
 
 
 
@@ -84,10 +84,10 @@ class MemsGyroSpec:
         for field in ("bias_repeatability", "bias_stability"):
             object.__setattr__(self, field, v.check_nonnegative(field, getattr(self, field)))
         object.__setattr__(self, "sf_error",
-                           v.check_in_range("sf_error", self.sf_error, 0.0, _SF_LIMIT,
+                           v.check_in_range("sf_error", self.sf_error, 0.0, SF_LIMIT,
                                             high_open=True))
         object.__setattr__(self, "dynamic_range",
-                           _optional_positive("dynamic_range", self.dynamic_range))
+                           check_optional_positive("dynamic_range", self.dynamic_range))
 
     @property
     def bias_total(self) -> float:

@@ -511,7 +511,7 @@ def with_encoder(record: SensorRecord, encoder: EncoderModel) -> SensorRecord:
     return dataclasses.replace(record, config=cfg)
 
 
-def _gyro_angle(record: SensorRecord) -> np.ndarray:
+def gs_gyro_angle_of(record: SensorRecord) -> np.ndarray:
     """∫ (MEMS gyro reading) dt, (M, N+1), zero at t = 0."""
     out = np.zeros((record.gs_gyro_inc.shape[0], record.gs_gyro_inc.shape[1] + 1))
     np.cumsum(record.gs_gyro_inc, axis=1, out=out[:, 1:])
@@ -550,7 +550,7 @@ def gs_angle(record: SensorRecord, *, gyro_angle: np.ndarray | None = None) -> n
     wrapped = encoder_counts(record.theta_rel, enc, record.encoder_phase)
     counts = unwrap_counts(wrapped, enc.counts_per_rev)
     enc_angle = (counts - counts[:, :1]) * enc.resolution
-    return enc_angle + (_gyro_angle(record) if gyro_angle is None else gyro_angle)
+    return enc_angle + (gs_gyro_angle_of(record) if gyro_angle is None else gyro_angle)
 
 
 def lateral_error(t: np.ndarray, roll_error: np.ndarray, g: float = G0) -> np.ndarray:

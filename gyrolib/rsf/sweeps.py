@@ -18,15 +18,15 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
-from gyrolib.rsf.correction import _interval_estimates, predict_delta_k
+from gyrolib.rsf.correction import interval_estimates, predict_delta_k
 from gyrolib.rsf.equations import K_FORMS
 from gyrolib.rsf.simulation import (
     EncoderModel,
     RollProfile,
     SensorRecord,
     SimulationConfig,
-    _gyro_angle,
     gs_angle,
+    gs_gyro_angle_of,
     simulate_flight,
     with_encoder,
 )
@@ -74,7 +74,7 @@ def _same_length(record: object, first: str, *others: str) -> None:
 def _period_row(record: SensorRecord, period: float, k_form: str,
                 gs: np.ndarray) -> tuple[float, ...]:
     """δK statistics at one correction period (one task of :func:`sweep_correction_period`)."""
-    dk = _interval_estimates(record, period, k_form, gs)[2].ravel()
+    dk = interval_estimates(record, period, k_form, gs)[2].ravel()
     pred = predict_delta_k(record.config, period)
     return (dk.mean(), math.sqrt(np.mean(dk**2)), np.abs(dk).max(),
             math.hypot(pred.mean, pred.std), pred.eq7, float(pred.mean))
@@ -150,7 +150,7 @@ def _encoder_row(record: SensorRecord, enc: EncoderModel, period: float, k_form:
                  gyro: np.ndarray) -> tuple[float, ...]:
     """δK statistics with one encoder (one task of :func:`sweep_encoder`)."""
     rec = with_encoder(record, enc)
-    dk = _interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2].ravel()
+    dk = interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2].ravel()
     pred = predict_delta_k(rec.config, period)
     return (enc.counts_per_rev, enc.position_error, dk.mean(), math.sqrt(np.mean(dk**2)),
             np.abs(dk).max(), math.hypot(pred.mean, pred.std), pred.eq7)
@@ -197,7 +197,7 @@ def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period
     period = v.check_positive("period", period)
     k_form = v.check_choice("k_form", k_form, K_FORMS)
     executor = check_executor(executor)
-    gyro = _gyro_angle(record)    # the same for every encoder
+    gyro = gs_gyro_angle_of(record)    # the same for every encoder
     rows = map_ordered(_encoder_row, [(record, enc, period, k_form, gyro) for enc in encoders],
                        executor)
     cols = [np.array(c) for c in zip(*rows, strict=True)]
@@ -234,7 +234,7 @@ def _rate_row(base: SimulationConfig, rate: float, omega_unc: float, n_runs: int
         base, roll=RollProfile(rate), n_runs=n_runs, duration=duration,
         gs=dataclasses.replace(base.gs, motor_rate_max=rate - omega_unc))
     rec = simulate_flight(cfg, seed=seed)
-    dk = _interval_estimates(rec, period, k_form)[2].ravel()
+    dk = interval_estimates(rec, period, k_form)[2].ravel()
     pred = predict_delta_k(cfg, period)
     return (dk.mean(), math.sqrt(np.mean(dk**2)), np.abs(dk).max(),
             math.hypot(pred.mean, pred.std), pred.eq7)

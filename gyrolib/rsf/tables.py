@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
-from gyrolib.rsf._inputs import _same_shape, _times
+from gyrolib.rsf._inputs import check_same_shape, check_times
 from gyrolib.rsf.equations import (
     delta_k,
     gs_roll_error_ideal,
@@ -76,7 +76,7 @@ class Table2:
     dr_y_exact: np.ndarray
 
     def __post_init__(self) -> None:
-        _same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact", "dr_y_exact")
+        check_same_shape(self, "t", "dgamma_sins", "dr_z_cubic", "dr_z_exact", "dr_y_exact")
 
 
 def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = TABLE2_OMEGA,
@@ -107,7 +107,7 @@ def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = TABLE2_OMEGA,
     """
     if not isinstance(gyro, RollGyroSpec):
         raise TypeError(f"gyro must be a RollGyroSpec; got {type(gyro).__name__}")
-    t = _times(times)
+    t = check_times(times)
     omega_true = v.check_real("omega_true", omega_true)
     g = v.check_positive("g", g)
     e1 = gyro.sf_error
@@ -129,7 +129,7 @@ class Table3:
     dgamma_gs: np.ndarray
 
     def __post_init__(self) -> None:
-        _same_shape(self, "t", "eps0_t", "dgamma_gs")
+        check_same_shape(self, "t", "eps0_t", "dgamma_gs")
 
 
 def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
@@ -164,7 +164,7 @@ def table3(gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
         raise TypeError(f"gyro must be a MemsGyroSpec; got {type(gyro).__name__}")
     if not isinstance(encoder, EncoderSpec):
         raise TypeError(f"encoder must be an EncoderSpec; got {type(encoder).__name__}")
-    t = _times(times)
+    t = check_times(times)
     e0 = gyro.bias_total if eps0_gs is None else v.check_nonnegative("eps0_gs", eps0_gs)
     return Table3(
         t=t,
