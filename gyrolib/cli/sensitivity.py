@@ -22,6 +22,7 @@ import platform
 import sys
 import time
 import types
+from collections.abc import Callable
 from contextlib import ExitStack
 from datetime import UTC, datetime
 from pathlib import Path
@@ -42,24 +43,18 @@ def _power_of_two(text: str) -> int:
     return n
 
 
-def _positive_int(text: str) -> int:
-    try:
-        k = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1; got {text!r}") from None
-    if k < 1:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1; got {k}")
-    return k
-
-
-def _seed(text: str) -> int:
-    try:
-        s = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 0; got {text!r}") from None
-    if s < 0:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 0; got {s}")
-    return s
+def _int_at_least(minimum: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``minimum``, else one line saying so."""
+    def parse(text: str) -> int:
+        try:
+            k = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}; got "
+                                             f"{text!r}") from None
+        if k < minimum:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}; got {k}")
+        return k
+    return parse
 
 
 def _timeout(text: str) -> float:
@@ -133,13 +128,13 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
         p.add_argument("--n", type=_power_of_two, required=True, metavar="N",
                        help="base sample size, a power of 2 (N (2D + 2) model runs)")
         where = p.add_mutually_exclusive_group()
-        where.add_argument("--workers", type=_positive_int, metavar="K",
+        where.add_argument("--workers", type=_int_at_least(1), metavar="K",
                            help="run on K local Dask worker processes")
         where.add_argument("--scheduler", type=_scheduler, metavar="tcp://HOST:PORT",
                            help="run on the Dask cluster of this scheduler")
         p.add_argument("--no-second-order", dest="second_order", action="store_false",
                        help="first-order and total indices only (N (D + 2) model runs)")
-        p.add_argument("--seed", type=_seed, default=0, help="seed (default 0)")
+        p.add_argument("--seed", type=_int_at_least(0), default=0, help="seed (default 0)")
         p.add_argument("--timeout", type=_timeout, default=10.0, metavar="S",
                        help="seconds to wait for the scheduler and a worker (default 10)")
         p.add_argument("--out", type=_out, required=True, metavar="FILE.json",
