@@ -21,8 +21,7 @@ It also sets the environment the chapters' kernels inherit (:func:`_kernel_env`)
 And it makes a lost output fail the build (:func:`_no_lost_outputs`).  nbclient waits only
 ``iopub_timeout`` = 4 s, after a cell's reply, for the cell's last outputs; on a loaded machine
 a print at the end of a long cell can arrive later, and nbclient then only logs a warning and
-the page silently misses that output (seen once in CI: the last line of a calibrate cell).
-Here the wait is 120 s and a timeout is an error.
+the page silently misses that output.  Here the wait is 120 s and a timeout is an error.
 """
 
 from __future__ import annotations

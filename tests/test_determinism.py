@@ -112,6 +112,38 @@ def differences(name: str, first: list[list[str]], second: list[list[str]]) -> l
     return found
 
 
+def test_stream_merging_leaves_the_executed_notebook_as_the_kernel_sent_it():
+    """myst-nb's coalesce_streams merges a cell's stream outputs in place, so the notebook
+    written to jupyter_execute got a second print twice (seen in CI); _ext/stream_outputs.py
+    makes it merge a copy.  Power: the unpatched function changes its input."""
+    import nbformat
+    from myst_nb.core import render
+
+    def outputs():
+        return [nbformat.v4.new_output("stream", name="stdout", text="first\n"),
+                nbformat.v4.new_output("stream", name="stdout", text="second\n")]
+
+    before = render.coalesce_streams
+    raw = outputs()
+    before(raw)
+    assert raw[0]["text"] == "first\nsecond\n"          # the upstream function mutates
+    spec = importlib.util.spec_from_file_location("stream_outputs",
+                                                  ROOT / "_ext" / "stream_outputs.py")
+    ext = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ext)
+    try:
+        ext._merge_on_a_copy(None, None)
+        kept = outputs()
+        for _ in range(2):                                  # rendered twice: same page text
+            merged = render.coalesce_streams(kept)
+            assert [o["text"] for o in merged] == ["first\nsecond\n"]
+        assert [o["text"] for o in kept] == ["first\n", "second\n"]
+        assert output_texts(nbformat.v4.new_notebook(cells=[
+            nbformat.v4.new_code_cell("", outputs=kept)])) == [["stdout: first\nsecond"]]
+    finally:
+        render.coalesce_streams = before
+
+
 def test_the_comparison_has_power():
     """A changed digit, a changed count, a changed word and a missing output are all
     flagged; a decimal value that printed one unit apart in its last digit is not."""
