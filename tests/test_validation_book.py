@@ -62,6 +62,8 @@ case("ledger.citation", lambda: ledger.citation("gc.x"), TypeError, "item", "Led
 case("ledger.anchor", lambda: ledger.anchor(3), TypeError, "item_id", "str")
 case("ledger.kinds_markdown", lambda: ledger.kinds_markdown([1]), TypeError, "items")
 case("ledger.gc.items", lambda: lgc.items("x"), TypeError, "params", "GyrocompassParams")
+case("ledger.gc.study_evidence", lambda: lgc.study_evidence("x"), TypeError, "params",
+     "GyrocompassParams")
 case("ledger.rsf.items", lambda: lrsf.items(roll_gyro=None), TypeError, "roll_gyro",
      "RollGyroSpec")
 case("ledger.rsf.items", lambda: lrsf.items(gs_gyro="x"), TypeError, "gs_gyro", "MemsGyroSpec")

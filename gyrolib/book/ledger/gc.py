@@ -356,14 +356,17 @@ def _top(study: SensitivityResult, output: str, k: int = 2) -> str:
                      for name, idx in study.ranked(output)[:k])
 
 
-def study_evidence(p: GyrocompassParams, path: Path = STUDY_FILE) -> StudyEvidence:
+def study_evidence(params: GyrocompassParams, path: Path = STUDY_FILE) -> StudyEvidence:
     """The sentences the ledger quotes from the global sensitivity study in ``path``.
 
     The study varies twelve inputs around the paper's parameters, so it is quoted only for
     those (``p == GyrocompassParams()``); otherwise, or when the file is not there (an
     installed package without the repository's ``data/``), the sentence says so.
     """
-    if p != GyrocompassParams():
+    if not isinstance(params, GyrocompassParams):
+        raise TypeError("params must be a GyrocompassParams")
+    path = Path(path)
+    if params != GyrocompassParams():
         none = "the global sensitivity study (gc.sensitivity) is at the paper's parameters, " \
                "not these"
         return StudyEvidence(none, none)
