@@ -42,11 +42,11 @@ from dataclasses import dataclass
 from typing import Final, NamedTuple
 
 import numpy as np
-import scipy.stats
 from numba import njit
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
+from gyrolib.filtering.consistency import chi2_ppf
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.filtering.kernels import kalman_kernels
 from gyrolib.gc.discretization import (
@@ -197,8 +197,8 @@ class CalibrationResult:
         c = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
                              high_open=True)
         n = np.maximum(self.used, 1).astype(float)
-        lo = scipy.stats.chi2.ppf(0.5 * (1.0 - c), n) / n
-        hi = scipy.stats.chi2.ppf(0.5 * (1.0 + c), n) / n
+        lo = chi2_ppf(0.5 * (1.0 - c), n) / n
+        hi = chi2_ppf(0.5 * (1.0 + c), n) / n
         return np.column_stack([lo, hi])
 
     @property
@@ -211,7 +211,7 @@ class CalibrationResult:
         """The χ²(lags) quantile the :attr:`whiteness` statistic stays below when white."""
         c = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
                              high_open=True)
-        return float(scipy.stats.chi2.ppf(c, self.acf.shape[1]))
+        return float(chi2_ppf(c, self.acf.shape[1]))
 
     def fits(self, confidence: float = 0.99) -> np.ndarray:
         """(3,) bool: each sensor's mean NIS is in its band and its innovations are white."""
@@ -742,7 +742,7 @@ class _Calibrator:
         self.nominal = _Nominal(p)
         self.filter_model = _filter_model(p)
         self.model = self.filter_model.model._replace(
-            gate=float(scipy.stats.chi2.ppf(gate, 1)))
+            gate=float(chi2_ppf(gate, 1)))
         self.state = _State(
             x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
             Qd=np.zeros((N, N)), T=np.zeros((N, N)), y=np.zeros(N), Ph=np.zeros(N),
@@ -1181,8 +1181,8 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
         bx.plot(result.t, result.nis_window[:, q], lw=0.8, color=f"C{q + 1}", label=name)
     n = np.maximum(np.median(result.nis_window_count, axis=0), 1.0)
     nn = float(np.max(n))
-    bx.axhspan(scipy.stats.chi2.ppf(0.5 * (1 - conf), nn) / nn,
-               scipy.stats.chi2.ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
+    bx.axhspan(chi2_ppf(0.5 * (1 - conf), nn) / nn,
+               chi2_ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
                label=f"{conf:.0%} band, {nn:.0f} samples")
     bx.axhline(1.0, color="k", lw=0.6)
     bx.set_ylabel("mean NIS per window")
