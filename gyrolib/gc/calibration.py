@@ -645,15 +645,64 @@ def _filter_chunk(md, ch, st, rj, so):
     st.tcur[0] = tcur
 
 
-@njit(cache=True)
-def _lag_products(seq, old, out):
-    """``out[l − 1] += Σ_k seq[k] seq[k − l]`` over the new values ``k >= old`` (the first
-    ``old`` continue the previous chunk), lags ``l = 1 … len(out)``."""
-    for lag in range(1, out.shape[0] + 1):
-        s = 0.0
-        for kk in range(max(old, lag), seq.shape[0]):
-            s += seq[kk] * seq[kk - lag]
-        out[lag - 1] += s
+@njit(cache=True, nogil=True)
+def _chunk_diagnostics(flag, e, S, row0, every, counts, row_counts, nis_sum, log_s_sum, ring,
+                       ring_n, acf_sum, win_sum, win_cnt, wsum, wcnt):
+    """One pass over a chunk's measurement fates ``flag`` (0 missing, 1 used, 2 rejected),
+    normalized innovations ``e`` and variances ``S`` (see :class:`_Store`), adding to the
+    run's diagnostics in place: ``counts`` (3, M) used / rejected / missing,
+    ``row_counts`` (2,) rows with one used / one rejected, the sums of the NIS ``e²`` and of
+    ``ln S``, the lag products ``Σ e_k e_{k−l}`` of each sensor's used ``e`` (``acf_sum``,
+    continued across chunks through the last ``lags`` values kept in ``ring``, ``ring_n``
+    of them so far).  The NIS sum and count since the previous stored row (``win_sum``,
+    ``win_cnt``, carried across chunks) are written to ``wsum``, ``wcnt`` at every stored
+    row (run row ``row0 + i + 1`` a multiple of ``every``); returns how many."""
+    n, m = flag.shape
+    lags = ring.shape[1]
+    loc_nis = np.zeros(m)
+    loc_log = np.zeros(m)
+    loc_acf = np.zeros((m, lags))
+    k = 0
+    for i in range(n):
+        any_used = False
+        any_rejected = False
+        for q in range(m):
+            f = flag[i, q]
+            if f == 1:
+                any_used = True
+                counts[0, q] += 1
+                ev = e[i, q]
+                loc_nis[q] += ev * ev
+                loc_log[q] += math.log(S[i, q])
+                win_sum[q] += ev * ev
+                win_cnt[q] += 1
+                seen = ring_n[q]
+                for lag in range(1, min(lags, seen) + 1):
+                    loc_acf[q, lag - 1] += ev * ring[q, (seen - lag) % lags]
+                ring[q, seen % lags] = ev
+                ring_n[q] = seen + 1
+            elif f == 2:
+                any_rejected = True
+                counts[1, q] += 1
+            else:
+                counts[2, q] += 1
+        if any_used:
+            row_counts[0] += 1
+        if any_rejected:
+            row_counts[1] += 1
+        if (row0 + i + 1) % every == 0:
+            for q in range(m):
+                wsum[k, q] = win_sum[q]
+                wcnt[k, q] = win_cnt[q]
+                win_sum[q] = 0.0
+                win_cnt[q] = 0
+            k += 1
+    for q in range(m):
+        nis_sum[q] += loc_nis[q]
+        log_s_sum[q] += loc_log[q]
+        for lag in range(lags):
+            acf_sum[q, lag] += loc_acf[q, lag]
+    return k
 
 
 # The calibrator (streaming state) ------------------------------------------------------------
@@ -752,15 +801,13 @@ class _Calibrator:
             nis=np.zeros(MAX_LISTED_REJECTIONS), n=np.zeros(1, dtype=np.int64))
         # diagnostics, per sensor (3,) unless said (see _diagnostics)
         self.lags = lags
-        self.used = np.zeros(M, dtype=np.int64)
-        self.missing = np.zeros(M, dtype=np.int64)
-        self.rejected = np.zeros(M, dtype=np.int64)
-        self.rows_used = 0
-        self.rows_rejected = 0
+        self.counts = np.zeros((3, M), dtype=np.int64)  # used, rejected, missing
+        self.row_counts = np.zeros(2, dtype=np.int64)   # rows with one used, one rejected
         self.nis_sum = np.zeros(M)
         self.log_s_sum = np.zeros(M)
         self.acf_sum = np.zeros((M, lags))
-        self.last_e = [np.zeros(0) for _ in range(M)]   # the last `lags` used e of a sensor
+        self.ring = np.zeros((M, lags))                 # the last `lags` used e of a sensor
+        self.ring_n = np.zeros(M, dtype=np.int64)
         self.win_sum = np.zeros(M)                      # NIS since the last stored row
         self.win_cnt = np.zeros(M, dtype=np.int64)
         self.rows = 0
@@ -838,39 +885,17 @@ class _Calibrator:
         self.rows += t.size
 
     def _diagnostics(self, store: _Store) -> tuple[np.ndarray, np.ndarray]:
-        """Add a chunk's innovations to the diagnostics (counts, NIS and ln S sums, the
-        lag products of the normalized innovations e, continued across chunks); return the
-        mean NIS and count of each stored row's window (the rows since the previous one)."""
-        flag, e = store.flag, store.e
-        used = flag == 1
-        rej = flag == 2
-        self.used += used.sum(axis=0)
-        self.rejected += rej.sum(axis=0)
-        self.missing += (flag == 0).sum(axis=0)
-        self.rows_used += int(np.count_nonzero(used.any(axis=1)))
-        self.rows_rejected += int(np.count_nonzero(rej.any(axis=1)))
-        nis = e * e                    # 0 where not used
-        self.nis_sum += nis.sum(axis=0)
-        self.log_s_sum += np.log(store.S).sum(axis=0)     # S = 1 where not used
-        for q in range(M):
-            seq = np.concatenate([self.last_e[q], e[used[:, q], q]])
-            _lag_products(seq, self.last_e[q].size, self.acf_sum[q])
-            self.last_e[q] = seq[-self.lags:].copy()
-        # windows of the stored rows
-        rows = flag.shape[0]
-        ends = np.nonzero((store.row0 + np.arange(1, rows + 1)) % store.every == 0)[0] + 1
-        if ends.size:
-            starts = np.concatenate([[0], ends[:-1]]).astype(np.int64)
-            wsum = np.add.reduceat(nis[:ends[-1]], starts, axis=0)
-            wcnt = np.add.reduceat(used[:ends[-1]].astype(np.int64), starts, axis=0)
-            wsum[0] += self.win_sum
-            wcnt[0] += self.win_cnt
-            self.win_sum = nis[ends[-1]:].sum(axis=0)
-            self.win_cnt = used[ends[-1]:].sum(axis=0)
-        else:
-            wsum, wcnt = np.zeros((0, M)), np.zeros((0, M), dtype=np.int64)
-            self.win_sum = self.win_sum + nis.sum(axis=0)
-            self.win_cnt = self.win_cnt + used.sum(axis=0)
+        """Add a chunk's innovations to the diagnostics (:func:`_chunk_diagnostics`); return
+        the mean NIS and count of each stored row's window (the rows since the previous
+        one)."""
+        n_store = store.t.shape[0]
+        wsum = np.zeros((n_store, M))
+        wcnt = np.zeros((n_store, M), dtype=np.int64)
+        k = _chunk_diagnostics(store.flag, store.e, store.S, store.row0, store.every,
+                               self.counts, self.row_counts, self.nis_sum, self.log_s_sum,
+                               self.ring, self.ring_n, self.acf_sum, self.win_sum,
+                               self.win_cnt, wsum, wcnt)
+        wsum, wcnt = wsum[:k], wcnt[:k]
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(wcnt > 0, wsum / np.maximum(wcnt, 1), np.nan), wcnt
 
@@ -897,9 +922,9 @@ class _Calibrator:
         return CalibrationResult(
             params=self.p, t=cat[0], x=cat[1], std=cat[2], nis_window=cat[3],
             nis_window_count=cat[4], x_final=st.x.copy(), P_final=st.P.copy(),
-            t_final=float(st.tcur[0]), rows=self.rows, used=self.used.copy(),
-            missing=self.missing.copy(), rejected=self.rejected.copy(),
-            rows_used=self.rows_used, rows_rejected=self.rows_rejected,
+            t_final=float(st.tcur[0]), rows=self.rows, used=self.counts[0].copy(),
+            missing=self.counts[2].copy(), rejected=self.counts[1].copy(),
+            rows_used=int(self.row_counts[0]), rows_rejected=int(self.row_counts[1]),
             rejected_t=rj.t[:nr].copy(), rejected_sensor=rj.q[:nr].copy(),
             rejected_nis=rj.nis[:nr].copy(), nis_sum=self.nis_sum.copy(),
             log_s_sum=self.log_s_sum.copy(), acf=acf, gaps=self.gaps, gap_time=self.gap_time,
