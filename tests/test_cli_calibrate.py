@@ -258,6 +258,45 @@ def test_file_streamed_in_chunks_equals_whole_file(gc_file):
     assert streamed.rows == whole.rows and (streamed.rejected == whole.rejected).all()
 
 
+def test_next_chunk_read_in_a_thread_with_two_chunks_in_flight(gc_file, monkeypatch,
+                                                                capsys):
+    """gc.calibrate(executor=) reads chunk k+1 in the executor's thread while chunk k is
+    filtered: the same result, never more than two chunks read and not yet filtered; the
+    command line streams a file that way (a ThreadPoolExecutor of one worker)."""
+    import threading
+    from concurrent.futures import ThreadPoolExecutor
+
+    path, _, _ = gc_file
+    whole = gc.calibrate(records.read_gc(path), P)
+    produced, finished, peak, threads = [0], [0], [0], set()
+
+    def counted():
+        for chunk in records.GCChunks(path, chunk_rows=7000):
+            produced[0] += 1
+            peak[0] = max(peak[0], produced[0] - finished[0])
+            threads.add(threading.current_thread().name)
+            yield chunk
+
+    def progress(_rows):
+        finished[0] += 1
+
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="reader") as ex:
+        res = gc.calibrate(counted(), P, executor=ex, progress=progress)
+    np.testing.assert_allclose(res.x_final, whole.x_final, rtol=1e-12, atol=1e-30)
+    assert res.rows == whole.rows and produced[0] == finished[0] == 14   # 98 000 rows
+    assert 1 <= peak[0] <= 2 and all(t.startswith("reader") for t in threads)
+    seen = []
+    real = gc.calibrate
+
+    def spy(record, params, **kw):
+        seen.append(kw.get("executor"))
+        return real(record, params, **kw)
+
+    monkeypatch.setattr(gc, "calibrate", spy)
+    code, _, _ = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    assert code == 0 and len(seen) == 1 and isinstance(seen[0], ThreadPoolExecutor)
+
+
 class _Tty:
     """A stand-in for stderr: a terminal or a pipe, collecting what is written."""
 
