@@ -327,3 +327,22 @@ def test_progress_bar_only_on_a_terminal_without_json(tty, as_json, shown, monke
     assert ("calibrate gc" in err.text and "%" in err.text) is shown
     if not shown:
         assert err.text == ""
+
+
+def test_command_line_uses_one_blas_thread_unless_told():
+    """A process the command line starts runs BLAS on one thread (its matrices are small;
+    benchmarks/bench_calibrate.py), unless the user set the thread count; a program that
+    imported numpy first keeps its own setting."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS",
+                                                            "MKL_NUM_THREADS")}
+    code = "import os, gyrolib.cli; print(os.environ.get('OPENBLAS_NUM_THREADS'))"
+
+    def run(prefix: str = "", **extra: str) -> str:
+        return subprocess.run([sys.executable, "-c", prefix + code], capture_output=True,
+                              text=True, check=True, env={**env, **extra}).stdout.strip()
+
+    assert run() == "1"
+    assert run(OPENBLAS_NUM_THREADS="2") == "2"
+    assert run("import numpy; ") == "None"
