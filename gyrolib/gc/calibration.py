@@ -810,7 +810,9 @@ class _Calibrator:
         self.ring_n = np.zeros(M, dtype=np.int64)
         self.win_sum = np.zeros(M)                      # NIS since the last stored row
         self.win_cnt = np.zeros(M, dtype=np.int64)
-        self.rows = 0
+        self.rows = 0                # rows filtered
+        self.prepared_rows = 0       # rows prepared (prepare runs ahead of run by a chunk)
+        self.t_last = 0.0            # the time of the last row prepared
         self.stored: list[tuple[np.ndarray, ...]] = []
         self.gaps = 0
         self.gap_time = 0.0
@@ -819,7 +821,7 @@ class _Calibrator:
 
     def _steps(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
         """How each row's step from the previous row is taken (see :class:`_Chunk`)."""
-        prev = np.concatenate([[self.state.tcur[0]], t[:-1]])
+        prev = np.concatenate([[self.t_last], t[:-1]])
         h = t - prev
         # a step near a whole number of dt (jitter, |d| <= SMALL_SHIFT dt): the regular
         # steps and a short shift; anything else: whole steps and an exact remainder step
@@ -831,7 +833,7 @@ class _Calibrator:
         rem = h - n_whole * self.dt
         irregular = ~small & (rem > self.tol)
         shift = np.where(small, d, 0.0)
-        if self.rows == 0 and t[0] == 0.0:   # a row at t = 0: update only
+        if self.prepared_rows == 0 and t[0] == 0.0:   # a row at t = 0: update only
             n_whole[0] = 0
             irregular[0] = False
             shift[0] = 0.0
@@ -842,10 +844,19 @@ class _Calibrator:
         return prev, n_whole, shift, irregular, rem
 
     def feed(self, rec: GCRecord) -> None:
+        """Filter the rows of ``rec``."""
+        self.run(self.prepare(rec))
+
+    def prepare(self, rec: GCRecord) -> tuple[_Chunk, _Store]:
+        """What the kernel needs for the rows of ``rec`` (the steps, the nominal motion, the
+        step tables) and where it writes: independent of the filter's state, so that the
+        next chunk is prepared while the kernel runs on this one (chunks in time order)."""
+        if not isinstance(rec, GCRecord):
+            raise TypeError(f"record chunks must be GCRecord; got {type(rec).__name__}")
         t = rec.t
-        if t[0] <= self.state.tcur[0] and self.rows > 0:
+        if t[0] <= self.t_last and self.prepared_rows > 0:
             raise ValueError(f"record chunks must continue in time: t = {t[0]} follows "
-                             f"{self.state.tcur[0]}")
+                             f"{self.t_last}")
         prev, n_whole, shift, irregular, rem = self._steps(t)
         grid, g0 = self.nominal.window(float(prev[0]), float(t[-1]))
         jlo = round(float(np.min(grid)) / SEGMENT)
@@ -873,16 +884,23 @@ class _Calibrator:
                        g0=float(g0), inv_hh=1.0 / self.nominal.hh, n_whole=n_whole,
                        shift=shift, irr_idx=irr_idx, irr_phi=irr_phi, irr_qd=irr_qd)
         n_store = t.size // self.store_every + 1
-        store = _Store(every=self.store_every, row0=self.rows, t=np.zeros(n_store),
+        store = _Store(every=self.store_every, row0=self.prepared_rows, t=np.zeros(n_store),
                        x=np.zeros((n_store, N)), s=np.zeros((n_store, N)),
                        n=np.zeros(1, dtype=np.int64), flag=np.zeros((t.size, M), np.int8),
                        e=np.zeros((t.size, M)), S=np.ones((t.size, M)))
+        self.t_last = float(t[-1])
+        self.prepared_rows += t.size
+        return chunk, store
+
+    def run(self, prepared: tuple[_Chunk, _Store]) -> None:
+        """Filter a prepared chunk (the next in time) and add up its diagnostics."""
+        chunk, store = prepared
         _filter_chunk(self.model, chunk, self.state, self.rejections, store)
         k = int(store.n[0])
         nis_win, cnt_win = self._diagnostics(store)
         self.stored.append((store.t[:k].copy(), store.x[:k].copy(), store.s[:k].copy(),
                             nis_win, cnt_win))
-        self.rows += t.size
+        self.rows += chunk.t.size
 
     def _diagnostics(self, store: _Store) -> tuple[np.ndarray, np.ndarray]:
         """Add a chunk's innovations to the diagnostics (:func:`_chunk_diagnostics`); return
@@ -952,9 +970,10 @@ def _check_nis_range(nis_range: object) -> tuple[float, float]:
     return lo, hi
 
 
-def _prefetched(chunks: Iterable[GCRecord], executor: Executor | None):
-    """The chunks, the next one read through ``executor`` while the current one is filtered
-    (the kernel releases the GIL)."""
+def _prefetched(chunks: Iterable, executor: Executor | None):
+    """The items of ``chunks``, the next one made through ``executor`` (read, checked,
+    prepared) while the current one is filtered (the kernel releases the GIL): two in
+    flight."""
     it = iter(chunks)
     if executor is None:
         yield from it
@@ -1010,8 +1029,9 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         The run is invalid when a sensor's mean NIS is outside this range (far outside its
         χ² band, which is within a few % of 1 on a long record).
     executor : concurrent.futures.Executor, optional
-        Reads the next chunk of an iterable ``record`` through it while the current one is
-        filtered (a file read in chunks: reading and filtering overlap on two cores).
+        Prepares the next chunk through it (reads it, for an iterable ``record`` such as a
+        file read in chunks; its steps, nominal motion and step tables) while the current
+        one is filtered: the two overlap on two cores, with two chunks in flight.
 
     Returns
     -------
@@ -1053,16 +1073,14 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         chunks: Iterable[GCRecord] = _chunks(record, chunk_size)
     elif isinstance(record, Iterable) and not isinstance(record,
                                                           str | bytes | dict | np.ndarray):
-        chunks = _prefetched(record, executor)
+        chunks = record
     else:
         raise TypeError(f"record must be a GCRecord or an iterable of GCRecord chunks; got "
                         f"{type(record).__name__}")
     cal = _Calibrator(p, store_every=store_every, gate=gate, lags=lags,
                       time_tolerance=time_tolerance)
-    for chunk in chunks:
-        if not isinstance(chunk, GCRecord):
-            raise TypeError(f"record chunks must be GCRecord; got {type(chunk).__name__}")
-        cal.feed(chunk)
+    for prepared in _prefetched(map(cal.prepare, chunks), executor):
+        cal.run(prepared)
         if progress is not None:
             progress(cal.rows)
     return cal.result(max_rejected, nis_range)
@@ -1110,7 +1128,7 @@ def innovation_log_likelihood(record: GCRecord, params: GyrocompassParams | None
     cal = _Calibrator(p, store_every=record.n + 1, gate=1.0, lags=1, time_tolerance=1e-6)
     for chunk in _chunks(record, chunk_size):
         cal.feed(chunk)
-    return _log_likelihood(cal.used, cal.log_s_sum, cal.nis_sum)
+    return _log_likelihood(cal.counts[0], cal.log_s_sum, cal.nis_sum)
 
 
 # Simulated records --------------------------------------------------------------------------
