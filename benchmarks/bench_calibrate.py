@@ -10,8 +10,8 @@ single-threaded run is its CPU time stretched by the contention).
 1. GC, 100 s at 1 kHz, ``gc.calibrate`` on an in-memory record after the JIT warm-up (target
    <= 1 s); the same with every time stamp jittered (no target).
 2. GC, one hour at 1 kHz (3.6·10⁶ rows), ``gc.calibrate`` on an in-memory record, in a fresh
-   process each (target <= 5 s on 2 cores; peak resident memory recorded, the record alone
-   holds 115 MB).
+   process each, with one BLAS thread as the command line sets (target <= 5 s on 2 cores;
+   peak resident memory recorded, the record alone holds 115 MB).
 3. GC, the same hour end to end through the command line: ``python -m gyrolib calibrate gc
    FILE --json`` on a 3.6·10⁶-row CSV (target <= 5 s, peak memory <= 300 MB).  Peer: the
    same command of the previous command line (commit ``PREVIOUS_CLI``, before issue 18's
@@ -168,12 +168,14 @@ def import_child() -> None:
                       "gyrolib": str(Path(gyrolib.cli.__file__).parents[1])}))
 
 
-def _child(*args: str, tree: Path | None = None) -> dict:
+def _child(*args: str, tree: Path | None = None, blas_threads: str | None = None) -> dict:
     """Run this script with ``args`` in a fresh process; ``tree``: with the gyrolib exported
-    there instead of this worktree's."""
+    there instead of this worktree's; ``blas_threads``: OPENBLAS_NUM_THREADS."""
     env = dict(os.environ)
     if tree is not None:
         env["PYTHONPATH"] = str(tree)
+    if blas_threads is not None:
+        env["OPENBLAS_NUM_THREADS"] = blas_threads
     out = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True,
                          check=True, env=env, cwd=tree or ROOT)
     return json.loads(out.stdout.strip().splitlines()[-1])
@@ -343,12 +345,15 @@ def main() -> None:
 
     # 2., 3. one hour
     if not args.no_hour:
-        h = _child("--hour-child", "ours", "3600")
-        hp = _child("--hour-child", "previous", "3600")
+        # one BLAS thread for both, as the command line sets (OpenBLAS's threads make the
+        # 60 x 60 exponentials of the step tables 60 times slower here, and then spin)
+        h = _child("--hour-child", "ours", "3600", blas_threads="1")
+        hp = _child("--hour-child", "previous", "3600", blas_threads="1")
         rec_.case("gc: 1 h at 1 kHz (3.6e6 rows), in memory, fresh process", h["wall"],
                   peer=f"previous gc.calibrate (commit {PREVIOUS}), fresh process",
                   peer_s=hp["wall"], target_s=5.0,
-                  note=(f"CPU {h['cpu']:.2f} s vs {hp['cpu']:.2f} s; "
+                  note=(f"one BLAS thread for both (as the command line sets); "
+                        f"CPU {h['cpu']:.2f} s vs {hp['cpu']:.2f} s; "
                         f"{1e6 * h['cpu'] / h['rows']:.2f} vs "
                         f"{1e6 * hp['cpu'] / hp['rows']:.2f} CPU us/row; peak RSS "
                         f"{h['peak_mb']:.0f} MB vs {hp['peak_mb']:.0f} MB (the record "
