@@ -214,12 +214,13 @@ def test_random_lines_read_alike(tmp_path):
 
 
 def test_lines_split_as_a_text_stream():
-    """Lines end at \\n, \\r\\n or a lone \\r, as in ``open(newline="")``, whatever the block
-    boundaries (blocks of 1 to 4 bytes)."""
+    """Lines end at \n, \r\n or a lone \r, as in ``open(newline="")``, whatever the block
+    boundaries (blocks of 1 to 4 bytes), one at a time (the header) or a block at a time
+    (the exact path), also with the characters ``str.splitlines`` would end a line at."""
     rng = random.Random(5)
-    for _ in range(2000):
-        s = "".join(rng.choice(["a", "b", "\r", "\n", "\r\n", "é"])
-                    for _ in range(rng.randint(0, 30)))
+    for _ in range(3000):
+        s = "".join(rng.choice(["a", "b", "\r", "\n", "\r\n", "é", "\x0b", "\x1c", "\x85",
+                                "\u2028"]) for _ in range(rng.randint(0, 30)))
         ref = [ln.rstrip("\r\n") for ln in
                io.TextIOWrapper(io.BytesIO(s.encode()), encoding="utf-8", newline="")]
         lines = _Lines(io.BytesIO(s.encode()), rng.randint(1, 4))
@@ -227,3 +228,9 @@ def test_lines_split_as_a_text_stream():
         while (ln := lines.next_line()) is not None:
             got.append(ln.rstrip("\r\n"))
         assert got == ref, repr(s)
+        lines = _Lines(io.BytesIO(s.encode()), rng.randint(1, 4))
+        end = lines.fill(10**6, 8.0)
+        text, block = lines.split(end)
+        got = [(b if text else b.decode()).rstrip("\r\n") for b in block]
+        assert got == ref, repr(s)
+        assert sum(map(len, block)) == end    # str lines of an ASCII block: bytes

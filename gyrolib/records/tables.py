@@ -71,9 +71,17 @@ def _open_binary(path: Path) -> tuple[object, object, int]:
     return stream, raw, size
 
 
+def _decode(line: bytes) -> str:
+    return line.decode("utf-8")
+
+
 def _is_comment(line: str) -> bool:
     s = line.strip()
     return not s or s.startswith("#")
+
+
+#: ASCII characters that ``str.splitlines`` ends a line at, besides ``\n`` and ``\r``.
+_OTHER_LINE_ENDS: Final[tuple[bytes, ...]] = (b"\x0b", b"\x0c", b"\x1c", b"\x1d", b"\x1e")
 
 
 class _Lines:
@@ -107,6 +115,17 @@ class _Lines:
         if self.eof:
             return len(self.buf)
         return self.buf.rindex(b"\n", self.pos) + 1
+
+    def split(self, end: int) -> tuple[bool, list]:
+        """The whole lines from :attr:`pos` to ``end`` (a line end): ``(True, str lines)``
+        for an ASCII block without the other characters ``str.splitlines`` ends a line at,
+        else ``(False, bytes lines)`` to decode one by one (``bytes.splitlines`` ends lines
+        exactly at ``\n``, ``\r\n`` and ``\r``, as a text stream with ``newline=""``).
+        A str line's length is its length in bytes; the caller moves :attr:`pos`."""
+        block = self.buf[self.pos:end]
+        if block.isascii() and not any(c in block for c in _OTHER_LINE_ENDS):
+            return True, block.decode("ascii").splitlines(keepends=True)
+        return False, block.splitlines(keepends=True)
 
     def next_line(self) -> str | None:
         """The next line with its line end, decoded (None at the end of the file)."""
@@ -232,24 +251,30 @@ class _Reader:
             raise self._error("expected a finite number (or empty / nan for a missing "
                               "value); got inf", row=int(line_nos[r]), column=use[c + 1])
 
-    def _exact(self, lines: _Lines, line_no: int, use: list[str], idx: list[int]
-               ) -> tuple[np.ndarray | None, np.ndarray, int]:
+    def _exact(self, lines: _Lines, line_no: int, use: list[str], idx: list[int],
+               line_bytes: float) -> tuple[np.ndarray | None, np.ndarray, int]:
         """The next chunk line by line (comments and blank lines skipped, every cell checked
         with its line number): ``(data or None at the end, line numbers, last line)``."""
         chunk: list[str] = []
         nos: list[int] = []
         while len(chunk) < self.chunk_rows:
-            line = lines.next_line()
-            if line is None:
+            end = lines.fill(self.chunk_rows - len(chunk), line_bytes)
+            if lines.pos >= end:
                 break
-            line_no += 1
-            if _is_comment(line):
-                continue
-            chunk.append(line)
-            nos.append(line_no)
+            text, block = lines.split(end)
+            first = line_no
+            for line in block if text else map(_decode, block):
+                line_no += 1
+                if _is_comment(line):
+                    continue
+                chunk.append(line)
+                nos.append(line_no)
+                if len(chunk) >= self.chunk_rows:
+                    break
+            lines.pos += sum(map(len, block[:line_no - first]))
         if not chunk:
             return None, np.zeros(0, dtype=np.int64), line_no
-        if any("\x00" in ln for ln in chunk):
+        if "\x00" in "".join(chunk):
             raise self._error("not a text CSV file (it holds NUL bytes)", row=nos[0])
         try:
             data = np.loadtxt(chunk, delimiter=",", usecols=idx, dtype=float, ndmin=2,
@@ -295,7 +320,8 @@ class _Reader:
                 start = lines.pos
                 got = self._fast(lines, slot, line_no, line_bytes) if self.fast else None
                 if got is None:
-                    data, line_arr, line_no = self._exact(lines, line_no, use, idx)
+                    data, line_arr, line_no = self._exact(lines, line_no, use, idx,
+                                                          line_bytes)
                     if data is None:
                         break
                 else:
