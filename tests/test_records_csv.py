@@ -91,7 +91,12 @@ def test_plain_numbers_take_the_fast_path(plain, monkeypatch):
     monkeypatch.setattr(_Reader, "_exact", spy)
     _read(files["g9"], fast=True)
     assert calls == []
-    _read(files["g17"], fast=True)    # 17 digits: more than the fast path takes exactly
+    _read(files["g17"], fast=True)    # 17 digits: the Eisel-Lemire conversion
+    assert calls == []
+    many = files["g9"].with_name("g25.csv")    # 25 digits: more than the fast path takes
+    records.write_csv(many, {c: _read(files["g9"], fast=True)[1][:, k]
+                             for k, c in enumerate(GC_COLUMNS)}, fmt="%.25g")
+    _read(many, fast=True)
     assert calls
     calls.clear()
     text = files["g9"].read_text().splitlines(keepends=True)
@@ -151,6 +156,41 @@ def test_awkward_but_valid_files_read_alike(tmp_path):
                     [0.003, np.nan, 4.25, 0.5], [0.004, 5.0, 100.0, 7e-3]])
     _same(fast, ref)
     assert np.signbit(fast[0, 3])
+
+
+def test_numbers_convert_as_python_float():
+    """The fast path's conversion (Clinger's exact path, else Eisel-Lemire) against Python's
+    float on random decimal text: 1 to 19 digits, exponents from -330 to 308, repr and
+    %.18e output, exact decimal midpoints between doubles; within one unit in the last
+    place (both round correctly), and the common formats never left to the exact path."""
+    from decimal import Decimal
+
+    from gyrolib.records._fastcsv import _number
+
+    rng = random.Random(22)
+    texts, common = [], []
+    for _ in range(20000):
+        digits = "".join(rng.choice("0123456789") for _ in range(rng.randint(1, 19)))
+        k = rng.randint(0, len(digits))
+        texts.append(f"{digits[:k]}.{digits[k:]}e{rng.randint(-330, 308)}")
+        x = rng.uniform(-1.0, 1.0) * 10.0 ** rng.randint(-300, 300)
+        common += [repr(x), f"{x:.18e}", f"{x:.9g}", f"{x:.17g}", f"{x % 1e6:.6f}"]
+        a = Decimal(x)
+        texts.append(f"{(a + Decimal(float(np.nextafter(x, np.inf)))) / 2:.18e}")
+    got, ref, doubts = [], [], {"random": 0, "common": 0}
+    for kind, batch in (("random", texts), ("common", common)):
+        for text in batch:
+            b = np.frombuffer((text + ",").encode(), dtype=np.uint8)
+            ok, value, pos = _number(b, 0, b.size)
+            if not ok:
+                doubts[kind] += 1
+                continue
+            assert pos == b.size - 1
+            got.append(value)
+            ref.append(float(text))
+    np.testing.assert_array_max_ulp(np.array(got), np.array(ref), maxulp=1)
+    assert doubts["common"] == 0 and doubts["random"] < 0.2 * len(texts)
+    assert len(got) > 100000
 
 
 _TOKENS = ["1.5", "-2", "+3.25", ".5", "5.", "1e5", "1E-5", "-1.5e+05", "0", "-0", "0.000123",
