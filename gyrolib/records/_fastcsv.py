@@ -12,7 +12,7 @@ that are both exact doubles by one IEEE multiplication or division (Clinger's fa
 else by the Eisel–Lemire algorithm (a 128-bit product with a table of the powers of ten),
 else, for an exact binary fraction it leaves undecided, by the whole quotient
 ``digits / 5**k``.  Anything else — a comment or blank line, a quote, a short row, more
-digits, a subnormal number, ``inf``, a lone ``\r`` — is a *doubt*: the caller reads the
+digits, a subnormal number, ``inf``, a lone ``\\r`` — is a *doubt*: the caller reads the
 block again by the exact path, which also says which line and column is wrong.
 """
 
