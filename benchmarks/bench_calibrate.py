@@ -155,7 +155,7 @@ def read_child(path: str) -> None:
     rows = sum(chunk.n for chunk in records.GCChunks(path))
     print(json.dumps({"wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
                       "rows": rows, "peak_mb": _peak_mb(),
-                      "gyrolib": str(Path(records.__file__).parents[1])}))
+                      "gyrolib": str(Path(records.__file__).parents[2])}))
 
 
 def import_child() -> None:
@@ -165,7 +165,7 @@ def import_child() -> None:
 
     print(json.dumps({"wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
                       "peak_mb": _peak_mb(), "modules": len(sys.modules),
-                      "gyrolib": str(Path(gyrolib.cli.__file__).parents[1])}))
+                      "gyrolib": str(Path(gyrolib.cli.__file__).parents[2])}))
 
 
 def _child(*args: str, tree: Path | None = None, blas_threads: str | None = None) -> dict:

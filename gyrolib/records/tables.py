@@ -8,6 +8,11 @@ calibration skips that one measurement).  Time ``t`` (s) must be finite and stri
 increasing.  Anything else raises :class:`~gyrolib.records.RecordError` naming the file, the
 line and the column.
 
+A file is read in chunks of :data:`CHUNK_ROWS` rows; a chunk of plain numbers is parsed in one
+compiled pass over its bytes (:mod:`gyrolib.records._fastcsv`, the same values as Python's
+``float``), any other chunk (comments, quotes, a bad cell, …) line by line, which names the
+line and column of what is wrong.
+
 * GC record (paper GC): ``t``, ``angle_sensor`` (rad), ``inclinometer_y``,
   ``inclinometer_z`` (m/s²) — :data:`GC_COLUMNS`, :class:`GCRecord`;
 * RSF record (paper RSF): ``t``, ``sins_increment`` (rad) and ``gs_angle`` (rad, unwrapped)
