@@ -10,16 +10,22 @@ single-threaded run is its CPU time stretched by the contention).
 1. GC, 100 s at 1 kHz, ``gc.calibrate`` on an in-memory record after the JIT warm-up (target
    <= 1 s); the same with every time stamp jittered (no target).
 2. GC, one hour at 1 kHz (3.6·10⁶ rows), ``gc.calibrate`` on an in-memory record, in a fresh
-   process each (target <= 5 s on 2 cores; peak resident memory recorded, the record alone
-   holds 115 MB).
+   process each, with one BLAS thread as the command line sets (target <= 5 s on 2 cores;
+   peak resident memory recorded, the record alone holds 115 MB).
 3. GC, the same hour end to end through the command line: ``python -m gyrolib calibrate gc
-   FILE --json`` on a 3.6·10⁶-row CSV (target <= 5 s, peak memory <= 300 MB).  Peer: reading
-   the file alone (``records.GCChunks``), in a fresh process: where the time goes.
+   FILE --json`` on a 3.6·10⁶-row CSV (target <= 5 s, peak memory <= 300 MB).  Peer: the
+   same command of the previous command line (commit ``PREVIOUS_CLI``, before issue 18's
+   speed work: CSV read line by line, every module imported, no overlap of reading and
+   filtering), exported from git into a temporary folder and run from there, alternating
+   with ours, best of ``--repeat-hour`` each; peak memory and CPU time of both (GNU time).
+   Then where the time goes, ours against the previous tree, each in a fresh process:
+   ``import gyrolib.cli`` (best of 3) and reading the file alone (``records.GCChunks``).
 4. ``gc.fit_noise`` on the 100 s sample record with another vibration spectrum (target
    <= 60 s).  Peer: one ``gc.calibrate`` of the same record (the unit of its cost).
 5. GC sample file read + calibrate; RSF, 60 s at 1 kHz against ``rsf.run_correction``.
 
-    .venv/bin/python benchmarks/bench_calibrate.py [--repeat 3] [--no-hour] [--write]
+    .venv/bin/python benchmarks/bench_calibrate.py [--repeat 3] [--repeat-hour 2] [--no-hour]
+        [--write]
 """
 
 from __future__ import annotations
@@ -44,6 +50,21 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: The commit whose gc.calibrate is the peer (before issues 18 and 22).
 PREVIOUS = "6712084"
+
+#: The commit whose command line is the end-to-end peer (before issue 18's speed work).
+PREVIOUS_CLI = "f8a3322"
+
+
+def previous_tree(dest: Path) -> Path | None:
+    """``gyrolib/`` at :data:`PREVIOUS_CLI` exported into ``dest`` (run with ``PYTHONPATH``
+    and ``cwd`` there, so that its modules, not this tree's, are imported), or None."""
+    try:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", PREVIOUS_CLI, "gyrolib"],
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return dest
 
 
 def previous_calibrate():
@@ -133,12 +154,30 @@ def read_child(path: str) -> None:
     t0, c0 = time.perf_counter(), time.process_time()
     rows = sum(chunk.n for chunk in records.GCChunks(path))
     print(json.dumps({"wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
-                      "rows": rows, "peak_mb": _peak_mb()}))
+                      "rows": rows, "peak_mb": _peak_mb(),
+                      "gyrolib": str(Path(records.__file__).parents[2])}))
 
 
-def _child(*args: str) -> dict:
+def import_child() -> None:
+    """Fresh process: ``import gyrolib.cli``; print JSON (wall, CPU, peak memory)."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    import gyrolib.cli
+
+    print(json.dumps({"wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
+                      "peak_mb": _peak_mb(), "modules": len(sys.modules),
+                      "gyrolib": str(Path(gyrolib.cli.__file__).parents[2])}))
+
+
+def _child(*args: str, tree: Path | None = None, blas_threads: str | None = None) -> dict:
+    """Run this script with ``args`` in a fresh process; ``tree``: with the gyrolib exported
+    there instead of this worktree's; ``blas_threads``: OPENBLAS_NUM_THREADS."""
+    env = dict(os.environ)
+    if tree is not None:
+        env["PYTHONPATH"] = str(tree)
+    if blas_threads is not None:
+        env["OPENBLAS_NUM_THREADS"] = blas_threads
     out = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True,
-                         check=True)
+                         check=True, env=env, cwd=tree or ROOT)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -154,41 +193,111 @@ def csv_child(path: str, t_end: float) -> None:
     print(json.dumps({"path": path}))
 
 
-def _cli(path: Path) -> dict:
-    """``python -m gyrolib calibrate gc FILE --json``: wall time and peak memory (GNU time's
-    maximum resident set size, the CLI's own: time is a small parent)."""
+def _cli(path: Path, tree: Path | None = None) -> dict:
+    """``python -m gyrolib calibrate gc FILE --json`` (``tree``: the gyrolib exported there):
+    wall time, peak memory and CPU time (GNU time's maximum resident set size and user +
+    system time, the CLI's own: time is a small parent), the estimate, the load average."""
     cmd = [sys.executable, "-m", "gyrolib", "calibrate", "gc", str(path), "--json"]
     timer = Path("/usr/bin/time")
     if timer.is_file():
-        cmd = [str(timer), "-f", "MAXRSS_KB %M", *cmd]
+        cmd = [str(timer), "-f", "MAXRSS_KB %M %U %S", *cmd]
+    env = dict(os.environ)
+    if tree is not None:
+        env["PYTHONPATH"] = str(tree)
+    load = os.getloadavg()[0]
     t0 = time.perf_counter()
-    out = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+    out = subprocess.run(cmd, capture_output=True, text=True, cwd=tree or ROOT, env=env)
     wall = time.perf_counter() - t0
-    peak = None
+    peak = cpu = None
     for line in out.stderr.splitlines():
         if line.startswith("MAXRSS_KB "):
-            peak = int(line.split()[1]) / 1024
+            kb, user, system = line.split()[1:4]
+            peak, cpu = int(kb) / 1024, float(user) + float(system)
     summary = {}
     if out.returncode in (0, 3):
         try:
             summary = json.loads(out.stdout)
         except json.JSONDecodeError:
             summary = {}
-    return {"wall": wall, "status": out.returncode, "peak_mb": peak,
-            "valid": summary.get("valid"),
+    return {"wall": wall, "status": out.returncode, "peak_mb": peak, "cpu": cpu,
+            "load": load, "valid": summary.get("valid"), "omega_gc": summary.get("omega_gc"),
+            "omega_gc_std": summary.get("omega_gc_std"),
             "stderr": "\n".join(ln for ln in out.stderr.splitlines()
                                 if not ln.startswith("MAXRSS_KB "))[-300:]}
+
+
+def _best_run(runs: list[dict]) -> dict:
+    ok = [r for r in runs if r["status"] in (0, 3)] or runs
+    return min(ok, key=lambda r: r["wall"])
+
+
+def _hour_end_to_end(rec_, path: Path, repeat: int, h: dict) -> None:
+    """Case 3: the command line on the hour CSV, ours against the previous command line."""
+    mb = path.stat().st_size / 2**20
+    with tempfile.TemporaryDirectory() as prev_dir:
+        tree = previous_tree(Path(prev_dir))
+        if tree is None:
+            sys.exit(f"the previous command line (commit {PREVIOUS_CLI}) cannot be exported")
+        # both trees' numba caches filled (a kernel compiled here would be timed otherwise)
+        small = Path(prev_dir) / "small.csv"
+        with open(path) as src, open(small, "w") as dst:
+            dst.writelines(line for _, line in zip(range(2001), src))
+        _cli(small)
+        _cli(small, tree)
+        ours, peer = [], []
+        for _ in range(repeat):    # alternating: the same load for both, on average
+            ours.append(_cli(path))
+            peer.append(_cli(path, tree))
+        imp = min((_child("--import-child") for _ in range(3)), key=lambda r: r["wall"])
+        imp_p = min((_child("--import-child", tree=tree) for _ in range(3)),
+                    key=lambda r: r["wall"])
+        rd = _child("--read-child", str(path))
+        rd_p = _child("--read-child", str(path), tree=tree)
+        assert imp_p["gyrolib"] == rd_p["gyrolib"] == str(tree), "the peer's gyrolib"
+    o, q = _best_run(ours), _best_run(peer)
+    same = (o["omega_gc"] is not None and q["omega_gc"] is not None
+            and abs(o["omega_gc"] - q["omega_gc"]) <= 1e-9 * abs(q["omega_gc"])
+            and abs(o["omega_gc_std"] - q["omega_gc_std"]) <= 1e-9 * q["omega_gc_std"])
+
+    def fmt(r: dict) -> str:
+        return (f"{r['wall']:.2f} s wall, {r['cpu']:.2f} s CPU, {r['peak_mb']:.0f} MB, load "
+                f"{r['load']:.1f}" if r["cpu"] is not None else f"{r['wall']:.2f} s wall")
+
+    rec_.case("gc: 1 h at 1 kHz end to end, python -m gyrolib calibrate gc FILE "
+              f"--json ({mb:.0f} MB CSV)", o["wall"],
+              peer=f"the previous command line (commit {PREVIOUS_CLI}), same file",
+              peer_s=q["wall"], target_s=5.0,
+              note=(f"best of {repeat}, alternating; ours {fmt(o)} (target 300 MB); "
+                    f"previous {fmt(q)}; exit {o['status']} / {q['status']}, valid "
+                    f"{o['valid']}; omega_gc and its sigma "
+                    + ("agree to 1e-9 relative" if same else "DIFFER") + "; all runs ours "
+                    + ", ".join(f"{r['wall']:.2f}" for r in ours) + " s, previous "
+                    + ", ".join(f"{r['wall']:.2f}" for r in peer) + " s"
+                    + (f"; stderr: {o['stderr']}" if o["status"] not in (0, 3) else "")))
+    rec_.case("gc: import gyrolib.cli (the command line's start), fresh process",
+              imp["wall"], peer=f"the same at commit {PREVIOUS_CLI}", peer_s=imp_p["wall"],
+              note=(f"best of 3; CPU {imp['cpu']:.2f} s vs {imp_p['cpu']:.2f} s; peak RSS "
+                    f"{imp['peak_mb']:.0f} MB vs {imp_p['peak_mb']:.0f} MB; "
+                    f"{imp['modules']} vs {imp_p['modules']} modules"))
+    rec_.case(f"gc: reading the hour CSV alone (records.GCChunks, {mb:.0f} MB), fresh process",
+              rd["wall"], peer=f"the same at commit {PREVIOUS_CLI}", peer_s=rd_p["wall"],
+              note=(f"CPU {rd['cpu']:.2f} s vs {rd_p['cpu']:.2f} s (checks at the door "
+                    f"included); peak RSS {rd['peak_mb']:.0f} MB vs {rd_p['peak_mb']:.0f} MB; "
+                    f"filtering the in-memory hour {h['cpu']:.2f} s CPU"))
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--repeat-hour", type=int, default=2,
+                    help="runs of each command line on the hour CSV (default 2)")
     ap.add_argument("--no-hour", action="store_true", help="skip the one-hour cases")
     ap.add_argument("--write", action="store_true",
                     help="write benchmarks/results/calibrate.json")
     ap.add_argument("--hour-child", nargs=2, metavar=("WHICH", "T_END"),
                     help=argparse.SUPPRESS)
     ap.add_argument("--read-child", help=argparse.SUPPRESS)
+    ap.add_argument("--import-child", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--csv-child", nargs=2, metavar=("PATH", "T_END"), help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.csv_child:
@@ -199,6 +308,9 @@ def main() -> None:
         return
     if args.read_child:
         read_child(args.read_child)
+        return
+    if args.import_child:
+        import_child()
         return
     from gyrolib import gc, records, rsf
 
@@ -233,12 +345,15 @@ def main() -> None:
 
     # 2., 3. one hour
     if not args.no_hour:
-        h = _child("--hour-child", "ours", "3600")
-        hp = _child("--hour-child", "previous", "3600")
+        # one BLAS thread for both, as the command line sets (OpenBLAS's threads make the
+        # 60 x 60 exponentials of the step tables 60 times slower here, and then spin)
+        h = _child("--hour-child", "ours", "3600", blas_threads="1")
+        hp = _child("--hour-child", "previous", "3600", blas_threads="1")
         rec_.case("gc: 1 h at 1 kHz (3.6e6 rows), in memory, fresh process", h["wall"],
                   peer=f"previous gc.calibrate (commit {PREVIOUS}), fresh process",
                   peer_s=hp["wall"], target_s=5.0,
-                  note=(f"CPU {h['cpu']:.2f} s vs {hp['cpu']:.2f} s; "
+                  note=(f"one BLAS thread for both (as the command line sets); "
+                        f"CPU {h['cpu']:.2f} s vs {hp['cpu']:.2f} s; "
                         f"{1e6 * h['cpu'] / h['rows']:.2f} vs "
                         f"{1e6 * hp['cpu'] / hp['rows']:.2f} CPU us/row; peak RSS "
                         f"{h['peak_mb']:.0f} MB vs {hp['peak_mb']:.0f} MB (the record "
@@ -247,20 +362,7 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as tmp:
             path = Path(tmp) / "gc_hour.csv"
             _child("--csv-child", str(path), "3600")
-            mb = path.stat().st_size / 2**20
-            cli = _cli(path)
-            rd = _child("--read-child", str(path))
-            peak = "?" if cli["peak_mb"] is None else f"{cli['peak_mb']:.0f}"
-            rec_.case("gc: 1 h at 1 kHz end to end, python -m gyrolib calibrate gc FILE "
-                      f"--json ({mb:.0f} MB CSV)", cli["wall"],
-                      peer="reading the file alone (records.GCChunks), fresh process",
-                      peer_s=rd["wall"], target_s=5.0,
-                      note=(f"exit {cli['status']}, valid {cli['valid']}; peak RSS {peak} MB "
-                            f"(target 300 MB); reading alone {rd['wall']:.2f} s wall, "
-                            f"{rd['cpu']:.2f} s CPU, {rd['peak_mb']:.0f} MB; filtering the "
-                            f"in-memory hour {h['cpu']:.2f} s CPU"
-                            + (f"; stderr: {cli['stderr']}" if cli["status"] not in (0, 3)
-                               else "")))
+            _hour_end_to_end(rec_, path, args.repeat_hour, h)
 
     # 4. the noise fit on 100 s
     wrong = records.read_gc(ROOT / "data" / "gc_record_wrong_spectrum.csv.gz")

@@ -258,6 +258,45 @@ def test_file_streamed_in_chunks_equals_whole_file(gc_file):
     assert streamed.rows == whole.rows and (streamed.rejected == whole.rejected).all()
 
 
+def test_next_chunk_read_in_a_thread_with_two_chunks_in_flight(gc_file, monkeypatch,
+                                                                capsys):
+    """gc.calibrate(executor=) reads chunk k+1 in the executor's thread while chunk k is
+    filtered: the same result, never more than two chunks read and not yet filtered; the
+    command line streams a file that way (a ThreadPoolExecutor of one worker)."""
+    import threading
+    from concurrent.futures import ThreadPoolExecutor
+
+    path, _, _ = gc_file
+    whole = gc.calibrate(records.read_gc(path), P)
+    produced, finished, peak, threads = [0], [0], [0], set()
+
+    def counted():
+        for chunk in records.GCChunks(path, chunk_rows=7000):
+            produced[0] += 1
+            peak[0] = max(peak[0], produced[0] - finished[0])
+            threads.add(threading.current_thread().name)
+            yield chunk
+
+    def progress(_rows):
+        finished[0] += 1
+
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="reader") as ex:
+        res = gc.calibrate(counted(), P, executor=ex, progress=progress)
+    np.testing.assert_allclose(res.x_final, whole.x_final, rtol=1e-12, atol=1e-30)
+    assert res.rows == whole.rows and produced[0] == finished[0] == 14   # 98 000 rows
+    assert 1 <= peak[0] <= 2 and all(t.startswith("reader") for t in threads)
+    seen = []
+    real = gc.calibrate
+
+    def spy(record, params, **kw):
+        seen.append(kw.get("executor"))
+        return real(record, params, **kw)
+
+    monkeypatch.setattr(gc, "calibrate", spy)
+    code, _, _ = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    assert code == 0 and len(seen) == 1 and isinstance(seen[0], ThreadPoolExecutor)
+
+
 class _Tty:
     """A stand-in for stderr: a terminal or a pipe, collecting what is written."""
 
@@ -288,3 +327,22 @@ def test_progress_bar_only_on_a_terminal_without_json(tty, as_json, shown, monke
     assert ("calibrate gc" in err.text and "%" in err.text) is shown
     if not shown:
         assert err.text == ""
+
+
+def test_command_line_uses_one_blas_thread_unless_told():
+    """A process the command line starts runs BLAS on one thread (its matrices are small;
+    benchmarks/bench_calibrate.py), unless the user set the thread count; a program that
+    imported numpy first keeps its own setting."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS",
+                                                            "MKL_NUM_THREADS")}
+    code = "import os, gyrolib.cli; print(os.environ.get('OPENBLAS_NUM_THREADS'))"
+
+    def run(prefix: str = "", **extra: str) -> str:
+        return subprocess.run([sys.executable, "-c", prefix + code], capture_output=True,
+                              text=True, check=True, env={**env, **extra}).stdout.strip()
+
+    assert run() == "1"
+    assert run(OPENBLAS_NUM_THREADS="2") == "2"
+    assert run("import numpy; ") == "None"

@@ -189,3 +189,18 @@ def test_updates_validate_shapes():
     with pytest.raises(ValueError, match="R must be diagonal"):
         filtering.sequential_update(np.zeros(2), np.eye(2), np.zeros(2), np.eye(2),
                                  np.ones((2, 2)))
+
+
+def test_chi2_quantile_without_scipy_stats_matches_it():
+    """filtering.consistency.chi2_ppf (scipy.special, so that the command line need not
+    import scipy.stats) against scipy.stats.chi2.ppf, at the gate and band probabilities and
+    the degrees of freedom of a calibration (1 to 3.6e6)."""
+    import scipy.stats
+
+    from gyrolib.filtering.consistency import chi2_ppf
+
+    for q in (0.005, 0.025, 0.5, 0.975, 0.995, 0.9999, 1 - 1e-9):
+        for dof in (1, 3, 10, 99000, 3.6e6, np.array([1.0, 97995.0, 3599632.0])):
+            np.testing.assert_allclose(chi2_ppf(q, dof), scipy.stats.chi2.ppf(q, dof),
+                                       rtol=1e-13)
+    assert abs(chi2_ppf(0.9999, 1) - 3.8906**2) < 1e-3   # the 99.99 % gate: |nu| < 3.89 sigma

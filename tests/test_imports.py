@@ -114,3 +114,57 @@ def test_no_dynamic_imports():
                 if name in ("__import__", "import_module"):
                     found.append(f"{path.relative_to(ROOT.parent)}:{node.lineno}")
     assert found == []
+
+
+# Lazy heavy imports (issue 18, item 6: the command line's start) ---------------------------
+HEAVY = ("matplotlib", "sympy", "control", "scipy.stats")
+
+
+def _fresh(code: str) -> list[str]:
+    """The heavy modules loaded after running ``code`` in a fresh interpreter."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", code + "\nimport sys\nprint(' '.join(m for m in "
+                          f"{HEAVY!r} if m in sys.modules))"], capture_output=True, text=True,
+                         check=True)
+    return out.stdout.split()
+
+
+def test_command_line_does_not_import_plotting_or_sympy(tmp_path):
+    """Importing the command line, and calibrating a file with --json, loads neither
+    matplotlib, sympy, python-control nor scipy.stats; importing gc.plots does (the check
+    has power)."""
+    assert _fresh("import gyrolib.cli.calibrate") == []
+    assert _fresh("import gyrolib.cli") == []
+    path = tmp_path / "r.csv"
+    t = [0.001 * k for k in range(1, 201)]
+    path.write_text("t,angle_sensor,inclinometer_y,inclinometer_z\n"
+                    + "".join(f"{x:.3f},0,0,0\n" for x in t))
+    run = (f"from gyrolib.cli import main\nimport contextlib, io\n"
+           f"with contextlib.redirect_stdout(io.StringIO()):\n"
+           f"    main(['calibrate', 'gc', {str(path)!r}, '--json'])")
+    assert _fresh(run) == []
+    assert set(_fresh("from gyrolib import gc\ngc.plot_figure1\ngc.symbolic")) >= {
+        "matplotlib", "sympy"}
+
+
+@pytest.mark.parametrize("package", ["gyrolib.gc", "gyrolib.rsf"])
+def test_lazy_names_still_resolve(package):
+    """Every name of ``__all__`` resolves (the plots and gc.symbolic on first access), is
+    listed by dir(), and is the object of the module that defines it."""
+    import importlib
+
+    pkg = importlib.import_module(package)
+    for name in pkg.__all__:
+        assert getattr(pkg, name) is not None, name
+    assert set(pkg.__all__) <= set(dir(pkg))
+    plots = pkg.plots
+    lazy = sorted(n for n in pkg.__all__ if n.startswith("plot_") and hasattr(plots, n))
+    assert lazy and all(getattr(pkg, n) is getattr(plots, n) for n in lazy)
+    with pytest.raises(AttributeError, match="no attribute 'plot_nothing'"):
+        pkg.plot_nothing  # noqa: B018
+    if package == "gyrolib.gc":
+        from gyrolib.gc import plot_figure1, symbolic
+
+        assert plot_figure1 is plots.plot_figure1 and symbolic.__name__ == "gyrolib.gc.symbolic"

@@ -16,9 +16,24 @@ status).  Usage errors exit with status 2 and one line on stderr.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
-from gyrolib.cli import calibrate, ledger, sensitivity
+#: Environment variables the command line sets to "1" unless already set, before numpy loads.
+BLAS_THREADS: tuple[str, ...] = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+# One BLAS thread for the command line, unless the user chose otherwise.  Its numerics are
+# small matrices (10 states; the 60 x 60 block exponentials of calibrate's step tables), which
+# BLAS threads only slow down: on the 2-core development machine scipy's expm of such a
+# matrix takes 8 ms on OpenBLAS's threads against 0.13 ms on one, and the threads then spin
+# on the core the CSV reader needs (a calibration of 1 h: 1.5 s more wall and CPU time;
+# benchmarks/bench_calibrate.py).  Only when numpy is not loaded yet, i.e. in a process the
+# command line starts; a program that imported numpy first keeps its own setting.
+if "numpy" not in sys.modules:
+    for _name in BLAS_THREADS:
+        os.environ.setdefault(_name, "1")
+
+from gyrolib.cli import calibrate, ledger, sensitivity  # noqa: E402
 
 __all__ = ["COMMANDS", "main"]
 

@@ -327,9 +327,9 @@ def _with_step(params: gc.GyrocompassParams, t: np.ndarray, notes: list[str],
     return params
 
 
-def _calibrate(record, params, o: dict, progress=None):
+def _calibrate(record, params, o: dict, progress=None, executor=None):
     return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
-                        max_rejected=o["max_rejected"], progress=progress)
+                        max_rejected=o["max_rejected"], progress=progress, executor=executor)
 
 
 def _fit_noise(record, params, o: dict, bar_ok: bool):
@@ -376,10 +376,14 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
                 yield mapping.apply(chunk)
 
         from tqdm import tqdm
-        with tqdm(total=100.0, desc=f"calibrate gc {file}", unit="%", file=sys.stderr,
-                  leave=False, disable=not o["bar"],
-                  bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}") as bar:
-            res = _calibrate(mapped(), params, o,
+
+        # the next chunk is read (parsed, checked at the door) in one thread while the
+        # filter, which releases the GIL, runs on the current one: two chunks in flight
+        with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
+                tqdm(total=100.0, desc=f"calibrate gc {file}", unit="%", file=sys.stderr,
+                     leave=False, disable=not o["bar"],
+                     bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}") as bar:
+            res = _calibrate(mapped(), params, o, executor=reader,
                              progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
     valid, reason = bool(res.valid), str(res.reason)
     artifacts = []

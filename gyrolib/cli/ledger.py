@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-from gyrolib.book.ledger import collect, to_json, to_table
-
 __all__ = ["add_parser", "run"]
 
 
@@ -18,6 +16,8 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the ledger as a table or as JSON; status 0."""
+    from gyrolib.book.ledger import collect, to_json, to_table  # not at every command's start
+
     items = collect()
     sys.stdout.write(to_json(items) if args.json else to_table(items))
     return 0

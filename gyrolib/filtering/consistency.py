@@ -4,11 +4,23 @@
 
 from __future__ import annotations
 
-import scipy.stats
+import numpy as np
+from scipy.special import gammaincinv
 
 from gyrolib import _validation as v
 
 __all__ = ["nees_bounds"]
+
+
+def chi2_ppf(q, dof):
+    """``scipy.stats.chi2.ppf(q, dof)`` for ``0 < q < 1``, ``dof > 0``, by the formula it uses
+    itself, ``2 P⁻¹(dof/2, q)`` (the inverse regularized lower incomplete gamma function),
+    without importing :mod:`scipy.stats` (a third of a second at the command line's start).
+
+    >>> f"{chi2_ppf(0.9999, 1):.6f}"
+    '15.136705'
+    """
+    return 2.0 * gammaincinv(0.5 * np.asarray(dof, dtype=float), q)
 
 
 def nees_bounds(dof: int, n_runs: int, confidence: float = 0.95) -> tuple[float, float]:
@@ -41,6 +53,6 @@ def nees_bounds(dof: int, n_runs: int, confidence: float = 0.95) -> tuple[float,
     n_runs = v.check_int("n_runs", n_runs, 1)
     confidence = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
                                   high_open=True)
-    lo = scipy.stats.chi2.ppf(0.5 * (1 - confidence), dof * n_runs) / n_runs
-    hi = scipy.stats.chi2.ppf(0.5 * (1 + confidence), dof * n_runs) / n_runs
+    lo = chi2_ppf(0.5 * (1 - confidence), dof * n_runs) / n_runs
+    hi = chi2_ppf(0.5 * (1 + confidence), dof * n_runs) / n_runs
     return float(lo), float(hi)

@@ -34,7 +34,6 @@ module                  paper GC
 Use as ``from gyrolib import gc`` then ``gc.covariance_analysis(gc.GyrocompassParams())``.
 """
 
-from gyrolib.gc import symbolic
 from gyrolib.gc.allan import (
     AllanDeviation,
     AllanSeries,
@@ -93,18 +92,6 @@ from gyrolib.gc.params import (
     GyrocompassParams,
     normal_gravity,
     state_index,
-)
-from gyrolib.gc.plots import (
-    plot_consistency,
-    plot_error_budget,
-    plot_estimates,
-    plot_figure1,
-    plot_information,
-    plot_nominal_motion,
-    plot_p0_scale,
-    plot_shaping_psd,
-    plot_sigma_history,
-    plot_sweep,
 )
 from gyrolib.gc.shaping_filters import (
     F87_READINGS,
@@ -223,8 +210,7 @@ from gyrolib.gc.claims import (
 )
 from gyrolib.gc.noisefit import NOISE_FIT_NAMES, NoiseFit, fit_noise
 
-# The race against the rate-sensor method of ref. [3] (issue 17), with the claims plots
-from gyrolib.gc.plots import plot_mismatch, plot_race, plot_race_sweep, plot_speed_claim
+# The race against the rate-sensor method of ref. [3] (issue 17)
 from gyrolib.gc.racing import (
     PROCEDURE_TARGETS,
     RaceConditions,
@@ -310,9 +296,41 @@ from gyrolib.gc.linearization import (  # noqa: E402
     remainder_drift,
 )
 from gyrolib.gc.montecarlo import run_streams, truth_prior_factor  # noqa: E402
-from gyrolib.gc.plots import plot_linearization  # noqa: E402
 
 __all__ += ["LinearizationEffect", "linearization_effect", "plot_linearization",
             "psi_for_drift", "remainder_drift", "run_streams", "truth_prior_factor"]
 __all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensitivity_inputs",
             "sensitivity_outputs"]
+
+
+# Loaded on first use (PEP 562): the figures (matplotlib) and the sympy derivation are about
+# 1.5 s and 100 MB that the command line and the numerical functions never need.
+#: The names of ``gc.plots`` re-exported here.
+_PLOTS = frozenset({
+    "plot_consistency", "plot_error_budget", "plot_estimates", "plot_figure1",
+    "plot_information", "plot_linearization", "plot_mismatch", "plot_nominal_motion",
+    "plot_p0_scale", "plot_race", "plot_race_sweep", "plot_shaping_psd",
+    "plot_sigma_history", "plot_speed_claim", "plot_sweep"})
+
+
+def __getattr__(name: str):
+    """``gc.symbolic``, ``gc.plots`` and its ``gc.plot_*``, imported on first access (an
+    ``import`` statement: ``from gyrolib.gc import plots`` would look the name up here
+    first, and recurse)."""
+    if name == "symbolic":
+        import gyrolib.gc.symbolic as symbolic
+
+        return symbolic
+    if name == "plots" or name in _PLOTS:
+        import gyrolib.gc.plots as plots
+
+        if name == "plots":
+            return plots
+        value = getattr(plots, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -42,11 +42,11 @@ from dataclasses import dataclass
 from typing import Final, NamedTuple
 
 import numpy as np
-import scipy.stats
 from numba import njit
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
+from gyrolib.filtering.consistency import chi2_ppf
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.filtering.kernels import kalman_kernels
 from gyrolib.gc.discretization import (
@@ -197,8 +197,8 @@ class CalibrationResult:
         c = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
                              high_open=True)
         n = np.maximum(self.used, 1).astype(float)
-        lo = scipy.stats.chi2.ppf(0.5 * (1.0 - c), n) / n
-        hi = scipy.stats.chi2.ppf(0.5 * (1.0 + c), n) / n
+        lo = chi2_ppf(0.5 * (1.0 - c), n) / n
+        hi = chi2_ppf(0.5 * (1.0 + c), n) / n
         return np.column_stack([lo, hi])
 
     @property
@@ -211,7 +211,7 @@ class CalibrationResult:
         """The χ²(lags) quantile the :attr:`whiteness` statistic stays below when white."""
         c = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
                              high_open=True)
-        return float(scipy.stats.chi2.ppf(c, self.acf.shape[1]))
+        return float(chi2_ppf(c, self.acf.shape[1]))
 
     def fits(self, confidence: float = 0.99) -> np.ndarray:
         """(3,) bool: each sensor's mean NIS is in its band and its innovations are white."""
@@ -645,15 +645,64 @@ def _filter_chunk(md, ch, st, rj, so):
     st.tcur[0] = tcur
 
 
-@njit(cache=True)
-def _lag_products(seq, old, out):
-    """``out[l − 1] += Σ_k seq[k] seq[k − l]`` over the new values ``k >= old`` (the first
-    ``old`` continue the previous chunk), lags ``l = 1 … len(out)``."""
-    for lag in range(1, out.shape[0] + 1):
-        s = 0.0
-        for kk in range(max(old, lag), seq.shape[0]):
-            s += seq[kk] * seq[kk - lag]
-        out[lag - 1] += s
+@njit(cache=True, nogil=True)
+def _chunk_diagnostics(flag, e, S, row0, every, counts, row_counts, nis_sum, log_s_sum, ring,
+                       ring_n, acf_sum, win_sum, win_cnt, wsum, wcnt):
+    """One pass over a chunk's measurement fates ``flag`` (0 missing, 1 used, 2 rejected),
+    normalized innovations ``e`` and variances ``S`` (see :class:`_Store`), adding to the
+    run's diagnostics in place: ``counts`` (3, M) used / rejected / missing,
+    ``row_counts`` (2,) rows with one used / one rejected, the sums of the NIS ``e²`` and of
+    ``ln S``, the lag products ``Σ e_k e_{k−l}`` of each sensor's used ``e`` (``acf_sum``,
+    continued across chunks through the last ``lags`` values kept in ``ring``, ``ring_n``
+    of them so far).  The NIS sum and count since the previous stored row (``win_sum``,
+    ``win_cnt``, carried across chunks) are written to ``wsum``, ``wcnt`` at every stored
+    row (run row ``row0 + i + 1`` a multiple of ``every``); returns how many."""
+    n, m = flag.shape
+    lags = ring.shape[1]
+    loc_nis = np.zeros(m)
+    loc_log = np.zeros(m)
+    loc_acf = np.zeros((m, lags))
+    k = 0
+    for i in range(n):
+        any_used = False
+        any_rejected = False
+        for q in range(m):
+            f = flag[i, q]
+            if f == 1:
+                any_used = True
+                counts[0, q] += 1
+                ev = e[i, q]
+                loc_nis[q] += ev * ev
+                loc_log[q] += math.log(S[i, q])
+                win_sum[q] += ev * ev
+                win_cnt[q] += 1
+                seen = ring_n[q]
+                for lag in range(1, min(lags, seen) + 1):
+                    loc_acf[q, lag - 1] += ev * ring[q, (seen - lag) % lags]
+                ring[q, seen % lags] = ev
+                ring_n[q] = seen + 1
+            elif f == 2:
+                any_rejected = True
+                counts[1, q] += 1
+            else:
+                counts[2, q] += 1
+        if any_used:
+            row_counts[0] += 1
+        if any_rejected:
+            row_counts[1] += 1
+        if (row0 + i + 1) % every == 0:
+            for q in range(m):
+                wsum[k, q] = win_sum[q]
+                wcnt[k, q] = win_cnt[q]
+                win_sum[q] = 0.0
+                win_cnt[q] = 0
+            k += 1
+    for q in range(m):
+        nis_sum[q] += loc_nis[q]
+        log_s_sum[q] += loc_log[q]
+        for lag in range(lags):
+            acf_sum[q, lag] += loc_acf[q, lag]
+    return k
 
 
 # The calibrator (streaming state) ------------------------------------------------------------
@@ -742,7 +791,7 @@ class _Calibrator:
         self.nominal = _Nominal(p)
         self.filter_model = _filter_model(p)
         self.model = self.filter_model.model._replace(
-            gate=float(scipy.stats.chi2.ppf(gate, 1)))
+            gate=float(chi2_ppf(gate, 1)))
         self.state = _State(
             x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
             Qd=np.zeros((N, N)), T=np.zeros((N, N)), y=np.zeros(N), Ph=np.zeros(N),
@@ -752,18 +801,18 @@ class _Calibrator:
             nis=np.zeros(MAX_LISTED_REJECTIONS), n=np.zeros(1, dtype=np.int64))
         # diagnostics, per sensor (3,) unless said (see _diagnostics)
         self.lags = lags
-        self.used = np.zeros(M, dtype=np.int64)
-        self.missing = np.zeros(M, dtype=np.int64)
-        self.rejected = np.zeros(M, dtype=np.int64)
-        self.rows_used = 0
-        self.rows_rejected = 0
+        self.counts = np.zeros((3, M), dtype=np.int64)  # used, rejected, missing
+        self.row_counts = np.zeros(2, dtype=np.int64)   # rows with one used, one rejected
         self.nis_sum = np.zeros(M)
         self.log_s_sum = np.zeros(M)
         self.acf_sum = np.zeros((M, lags))
-        self.last_e = [np.zeros(0) for _ in range(M)]   # the last `lags` used e of a sensor
+        self.ring = np.zeros((M, lags))                 # the last `lags` used e of a sensor
+        self.ring_n = np.zeros(M, dtype=np.int64)
         self.win_sum = np.zeros(M)                      # NIS since the last stored row
         self.win_cnt = np.zeros(M, dtype=np.int64)
-        self.rows = 0
+        self.rows = 0                # rows filtered
+        self.prepared_rows = 0       # rows prepared (prepare runs ahead of run by a chunk)
+        self.t_last = 0.0            # the time of the last row prepared
         self.stored: list[tuple[np.ndarray, ...]] = []
         self.gaps = 0
         self.gap_time = 0.0
@@ -772,7 +821,7 @@ class _Calibrator:
 
     def _steps(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
         """How each row's step from the previous row is taken (see :class:`_Chunk`)."""
-        prev = np.concatenate([[self.state.tcur[0]], t[:-1]])
+        prev = np.concatenate([[self.t_last], t[:-1]])
         h = t - prev
         # a step near a whole number of dt (jitter, |d| <= SMALL_SHIFT dt): the regular
         # steps and a short shift; anything else: whole steps and an exact remainder step
@@ -784,7 +833,7 @@ class _Calibrator:
         rem = h - n_whole * self.dt
         irregular = ~small & (rem > self.tol)
         shift = np.where(small, d, 0.0)
-        if self.rows == 0 and t[0] == 0.0:   # a row at t = 0: update only
+        if self.prepared_rows == 0 and t[0] == 0.0:   # a row at t = 0: update only
             n_whole[0] = 0
             irregular[0] = False
             shift[0] = 0.0
@@ -795,10 +844,19 @@ class _Calibrator:
         return prev, n_whole, shift, irregular, rem
 
     def feed(self, rec: GCRecord) -> None:
+        """Filter the rows of ``rec``."""
+        self.run(self.prepare(rec))
+
+    def prepare(self, rec: GCRecord) -> tuple[_Chunk, _Store]:
+        """What the kernel needs for the rows of ``rec`` (the steps, the nominal motion, the
+        step tables) and where it writes: independent of the filter's state, so that the
+        next chunk is prepared while the kernel runs on this one (chunks in time order)."""
+        if not isinstance(rec, GCRecord):
+            raise TypeError(f"record chunks must be GCRecord; got {type(rec).__name__}")
         t = rec.t
-        if t[0] <= self.state.tcur[0] and self.rows > 0:
+        if t[0] <= self.t_last and self.prepared_rows > 0:
             raise ValueError(f"record chunks must continue in time: t = {t[0]} follows "
-                             f"{self.state.tcur[0]}")
+                             f"{self.t_last}")
         prev, n_whole, shift, irregular, rem = self._steps(t)
         grid, g0 = self.nominal.window(float(prev[0]), float(t[-1]))
         jlo = round(float(np.min(grid)) / SEGMENT)
@@ -826,51 +884,36 @@ class _Calibrator:
                        g0=float(g0), inv_hh=1.0 / self.nominal.hh, n_whole=n_whole,
                        shift=shift, irr_idx=irr_idx, irr_phi=irr_phi, irr_qd=irr_qd)
         n_store = t.size // self.store_every + 1
-        store = _Store(every=self.store_every, row0=self.rows, t=np.zeros(n_store),
+        store = _Store(every=self.store_every, row0=self.prepared_rows, t=np.zeros(n_store),
                        x=np.zeros((n_store, N)), s=np.zeros((n_store, N)),
                        n=np.zeros(1, dtype=np.int64), flag=np.zeros((t.size, M), np.int8),
                        e=np.zeros((t.size, M)), S=np.ones((t.size, M)))
+        self.t_last = float(t[-1])
+        self.prepared_rows += t.size
+        return chunk, store
+
+    def run(self, prepared: tuple[_Chunk, _Store]) -> None:
+        """Filter a prepared chunk (the next in time) and add up its diagnostics."""
+        chunk, store = prepared
         _filter_chunk(self.model, chunk, self.state, self.rejections, store)
         k = int(store.n[0])
         nis_win, cnt_win = self._diagnostics(store)
         self.stored.append((store.t[:k].copy(), store.x[:k].copy(), store.s[:k].copy(),
                             nis_win, cnt_win))
-        self.rows += t.size
+        self.rows += chunk.t.size
 
     def _diagnostics(self, store: _Store) -> tuple[np.ndarray, np.ndarray]:
-        """Add a chunk's innovations to the diagnostics (counts, NIS and ln S sums, the
-        lag products of the normalized innovations e, continued across chunks); return the
-        mean NIS and count of each stored row's window (the rows since the previous one)."""
-        flag, e = store.flag, store.e
-        used = flag == 1
-        rej = flag == 2
-        self.used += used.sum(axis=0)
-        self.rejected += rej.sum(axis=0)
-        self.missing += (flag == 0).sum(axis=0)
-        self.rows_used += int(np.count_nonzero(used.any(axis=1)))
-        self.rows_rejected += int(np.count_nonzero(rej.any(axis=1)))
-        nis = e * e                    # 0 where not used
-        self.nis_sum += nis.sum(axis=0)
-        self.log_s_sum += np.log(store.S).sum(axis=0)     # S = 1 where not used
-        for q in range(M):
-            seq = np.concatenate([self.last_e[q], e[used[:, q], q]])
-            _lag_products(seq, self.last_e[q].size, self.acf_sum[q])
-            self.last_e[q] = seq[-self.lags:].copy()
-        # windows of the stored rows
-        rows = flag.shape[0]
-        ends = np.nonzero((store.row0 + np.arange(1, rows + 1)) % store.every == 0)[0] + 1
-        if ends.size:
-            starts = np.concatenate([[0], ends[:-1]]).astype(np.int64)
-            wsum = np.add.reduceat(nis[:ends[-1]], starts, axis=0)
-            wcnt = np.add.reduceat(used[:ends[-1]].astype(np.int64), starts, axis=0)
-            wsum[0] += self.win_sum
-            wcnt[0] += self.win_cnt
-            self.win_sum = nis[ends[-1]:].sum(axis=0)
-            self.win_cnt = used[ends[-1]:].sum(axis=0)
-        else:
-            wsum, wcnt = np.zeros((0, M)), np.zeros((0, M), dtype=np.int64)
-            self.win_sum = self.win_sum + nis.sum(axis=0)
-            self.win_cnt = self.win_cnt + used.sum(axis=0)
+        """Add a chunk's innovations to the diagnostics (:func:`_chunk_diagnostics`); return
+        the mean NIS and count of each stored row's window (the rows since the previous
+        one)."""
+        n_store = store.t.shape[0]
+        wsum = np.zeros((n_store, M))
+        wcnt = np.zeros((n_store, M), dtype=np.int64)
+        k = _chunk_diagnostics(store.flag, store.e, store.S, store.row0, store.every,
+                               self.counts, self.row_counts, self.nis_sum, self.log_s_sum,
+                               self.ring, self.ring_n, self.acf_sum, self.win_sum,
+                               self.win_cnt, wsum, wcnt)
+        wsum, wcnt = wsum[:k], wcnt[:k]
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(wcnt > 0, wsum / np.maximum(wcnt, 1), np.nan), wcnt
 
@@ -897,9 +940,9 @@ class _Calibrator:
         return CalibrationResult(
             params=self.p, t=cat[0], x=cat[1], std=cat[2], nis_window=cat[3],
             nis_window_count=cat[4], x_final=st.x.copy(), P_final=st.P.copy(),
-            t_final=float(st.tcur[0]), rows=self.rows, used=self.used.copy(),
-            missing=self.missing.copy(), rejected=self.rejected.copy(),
-            rows_used=self.rows_used, rows_rejected=self.rows_rejected,
+            t_final=float(st.tcur[0]), rows=self.rows, used=self.counts[0].copy(),
+            missing=self.counts[2].copy(), rejected=self.counts[1].copy(),
+            rows_used=int(self.row_counts[0]), rows_rejected=int(self.row_counts[1]),
             rejected_t=rj.t[:nr].copy(), rejected_sensor=rj.q[:nr].copy(),
             rejected_nis=rj.nis[:nr].copy(), nis_sum=self.nis_sum.copy(),
             log_s_sum=self.log_s_sum.copy(), acf=acf, gaps=self.gaps, gap_time=self.gap_time,
@@ -927,9 +970,10 @@ def _check_nis_range(nis_range: object) -> tuple[float, float]:
     return lo, hi
 
 
-def _prefetched(chunks: Iterable[GCRecord], executor: Executor | None):
-    """The chunks, the next one read through ``executor`` while the current one is filtered
-    (the kernel releases the GIL)."""
+def _prefetched(chunks: Iterable, executor: Executor | None):
+    """The items of ``chunks``, the next one made through ``executor`` (read, checked,
+    prepared) while the current one is filtered (the kernel releases the GIL): two in
+    flight."""
     it = iter(chunks)
     if executor is None:
         yield from it
@@ -985,8 +1029,9 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         The run is invalid when a sensor's mean NIS is outside this range (far outside its
         χ² band, which is within a few % of 1 on a long record).
     executor : concurrent.futures.Executor, optional
-        Reads the next chunk of an iterable ``record`` through it while the current one is
-        filtered (a file read in chunks: reading and filtering overlap on two cores).
+        Prepares the next chunk through it (reads it, for an iterable ``record`` such as a
+        file read in chunks; its steps, nominal motion and step tables) while the current
+        one is filtered: the two overlap on two cores, with two chunks in flight.
 
     Returns
     -------
@@ -1028,16 +1073,14 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         chunks: Iterable[GCRecord] = _chunks(record, chunk_size)
     elif isinstance(record, Iterable) and not isinstance(record,
                                                           str | bytes | dict | np.ndarray):
-        chunks = _prefetched(record, executor)
+        chunks = record
     else:
         raise TypeError(f"record must be a GCRecord or an iterable of GCRecord chunks; got "
                         f"{type(record).__name__}")
     cal = _Calibrator(p, store_every=store_every, gate=gate, lags=lags,
                       time_tolerance=time_tolerance)
-    for chunk in chunks:
-        if not isinstance(chunk, GCRecord):
-            raise TypeError(f"record chunks must be GCRecord; got {type(chunk).__name__}")
-        cal.feed(chunk)
+    for prepared in _prefetched(map(cal.prepare, chunks), executor):
+        cal.run(prepared)
         if progress is not None:
             progress(cal.rows)
     return cal.result(max_rejected, nis_range)
@@ -1085,7 +1128,7 @@ def innovation_log_likelihood(record: GCRecord, params: GyrocompassParams | None
     cal = _Calibrator(p, store_every=record.n + 1, gate=1.0, lags=1, time_tolerance=1e-6)
     for chunk in _chunks(record, chunk_size):
         cal.feed(chunk)
-    return _log_likelihood(cal.used, cal.log_s_sum, cal.nis_sum)
+    return _log_likelihood(cal.counts[0], cal.log_s_sum, cal.nis_sum)
 
 
 # Simulated records --------------------------------------------------------------------------
@@ -1181,8 +1224,8 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
         bx.plot(result.t, result.nis_window[:, q], lw=0.8, color=f"C{q + 1}", label=name)
     n = np.maximum(np.median(result.nis_window_count, axis=0), 1.0)
     nn = float(np.max(n))
-    bx.axhspan(scipy.stats.chi2.ppf(0.5 * (1 - conf), nn) / nn,
-               scipy.stats.chi2.ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
+    bx.axhspan(chi2_ppf(0.5 * (1 - conf), nn) / nn,
+               chi2_ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
                label=f"{conf:.0%} band, {nn:.0f} samples")
     bx.axhline(1.0, color="k", lw=0.6)
     bx.set_ylabel("mean NIS per window")

@@ -24,7 +24,6 @@ from typing import Final
 
 import numpy as np
 import scipy.linalg
-import scipy.stats
 from numba import njit
 from numpy.typing import NDArray
 

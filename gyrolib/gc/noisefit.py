@@ -37,7 +37,6 @@ from dataclasses import dataclass
 from typing import Final
 
 import numpy as np
-import scipy.optimize
 from numba import njit
 from numpy.typing import NDArray
 
@@ -392,6 +391,8 @@ def _maximize(objective: _Objective | _Sub, phi0: np.ndarray, tol: float
 
     if close_enough(phi0):
         return np.asarray(phi0, dtype=float), True, "at the optimum already"
+    import scipy.optimize  # here, not at the command line's start
+
     try:
         res = scipy.optimize.minimize(
             fun, phi0, method="trust-exact", jac=lambda ph: objective.stencil(ph)[0],

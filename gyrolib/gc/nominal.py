@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate import solve_ivp
 
 from gyrolib import _validation as v
 from gyrolib.gc.params import GyrocompassParams, check_params
@@ -98,6 +97,8 @@ def nominal_motion(params: GyrocompassParams, t: ArrayLike, *,
     if t[-1] == 0.0:
         zeros = np.zeros_like(t)
         return NominalMotion(t=t, beta=zeros, beta_dot=zeros.copy())
+    from scipy.integrate import solve_ivp  # here: 0.2 s of the command line's start
+
     sol = solve_ivp(rhs, (0.0, float(t[-1])), [0.0, 0.0], method="Radau", t_eval=t,
                     rtol=rtol, atol=1e-16, jac=jac)
     if not sol.success:  # pragma: no cover - Radau does not fail on this smooth problem
@@ -162,6 +163,8 @@ def nominal_motion_reference(params: GyrocompassParams, t: ArrayLike, *,
     if t[-1] == 0.0:
         zeros = np.zeros_like(t)
         return NominalMotion(t=t, beta=zeros, beta_dot=zeros.copy())
+    from scipy.integrate import solve_ivp
+
     sol = solve_ivp(rhs, (0.0, float(t[-1])), [0.0, -k], method="DOP853", t_eval=t,
                     rtol=rtol, atol=1e-22, first_step=1e-7)
     if not sol.success:  # pragma: no cover

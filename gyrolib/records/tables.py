@@ -8,6 +8,11 @@ calibration skips that one measurement).  Time ``t`` (s) must be finite and stri
 increasing.  Anything else raises :class:`~gyrolib.records.RecordError` naming the file, the
 line and the column.
 
+A file is read in chunks of :data:`CHUNK_ROWS` rows; a chunk of plain numbers is parsed in one
+compiled pass over its bytes (:mod:`gyrolib.records._fastcsv`, the same values as Python's
+``float``), any other chunk (comments, quotes, a bad cell, …) line by line, which names the
+line and column of what is wrong.
+
 * GC record (paper GC): ``t``, ``angle_sensor`` (rad), ``inclinometer_y``,
   ``inclinometer_z`` (m/s²) — :data:`GC_COLUMNS`, :class:`GCRecord`;
 * RSF record (paper RSF): ``t``, ``sins_increment`` (rad) and ``gs_angle`` (rad, unwrapped)
@@ -30,6 +35,7 @@ import numpy as np
 from gyrolib import _validation as v
 from gyrolib.gc.params import GyrocompassParams
 from gyrolib.gc.record import GCRecord
+from gyrolib.records._fastcsv import parse_rows
 from gyrolib.records.errors import RecordError
 from gyrolib.records.plausibility import check_gc, check_rsf
 from gyrolib.rsf.record import RSFRecord
@@ -55,19 +61,23 @@ RSF_COLUMNS: Final[tuple[str, ...]] = ("t", "sins_increment", "gs_angle")
 #: Rows parsed at a time: a chunk of 65 536 rows of four columns is 2 MB.
 CHUNK_ROWS: Final[int] = 65536
 
+#: Bytes read at a time at least (the header, the comment lines before it).
+BLOCK_BYTES: Final[int] = 1 << 20
+
 _MISSING: Final[frozenset[str]] = frozenset({"", "nan", "+nan", "-nan"})
 
 
 # CSV reading ------------------------------------------------------------------------------
-def _open_text(path: Path) -> tuple[io.TextIOWrapper, object, int]:
-    """Text stream, the raw binary file (for progress) and the file size in bytes."""
+def _open_binary(path: Path) -> tuple[object, object, int]:
+    """Byte stream (decompressed for ``.gz``), the raw file (for progress) and its size."""
     raw = open(path, "rb")
     size = os.fstat(raw.fileno()).st_size
-    if path.name.endswith(".gz"):
-        stream = gzip.GzipFile(fileobj=raw, mode="rb")
-    else:
-        stream = raw
-    return io.TextIOWrapper(stream, encoding="utf-8", newline=""), raw, size
+    stream = gzip.GzipFile(fileobj=raw, mode="rb") if path.name.endswith(".gz") else raw
+    return stream, raw, size
+
+
+def _decode(line: bytes) -> str:
+    return line.decode("utf-8")
 
 
 def _is_comment(line: str) -> bool:
@@ -75,11 +85,81 @@ def _is_comment(line: str) -> bool:
     return not s or s.startswith("#")
 
 
+#: ASCII characters that ``str.splitlines`` ends a line at, besides ``\n`` and ``\r``.
+_OTHER_LINE_ENDS: Final[tuple[bytes, ...]] = (b"\x0b", b"\x0c", b"\x1c", b"\x1d", b"\x1e")
+
+
+class _Lines:
+    """The bytes of a file as lines, read in blocks: whole lines for the fast path
+    (:func:`gyrolib.records._fastcsv.parse_rows` on :attr:`buf` from :attr:`pos`) and one
+    decoded line at a time for the exact path.  A line ends at ``\n``, ``\r\n`` or a lone
+    ``\r``, as in a text stream opened with ``newline=""``."""
+
+    def __init__(self, stream, block: int) -> None:
+        self.stream = stream
+        self.block = block
+        self.buf = b""
+        self.pos = 0
+        self.eof = False
+
+    def _read(self, want: int) -> None:
+        data = self.stream.read(max(want, self.block))
+        self.buf = self.buf[self.pos:] + data
+        self.pos = 0
+        if not data:
+            self.eof = True
+            if self.buf and not self.buf.endswith(b"\n"):
+                # the last line's end (a lone \r stays a line end: \r\n)
+                self.buf += b"\n"
+
+    def fill(self, lines: int, line_bytes: float) -> int:
+        """Read until the buffer holds ``lines`` line ends after :attr:`pos` (or the file
+        ends); return the end of its last whole line (``len(buf)`` at the end of file)."""
+        while not self.eof and self.buf.count(b"\n", self.pos) < lines:
+            self._read(int(lines * line_bytes * 1.1) + 4096)
+        if self.eof:
+            return len(self.buf)
+        return self.buf.rindex(b"\n", self.pos) + 1
+
+    def split(self, end: int) -> tuple[bool, list]:
+        """The whole lines from :attr:`pos` to ``end`` (a line end): ``(True, str lines)``
+        for an ASCII block without the other characters ``str.splitlines`` ends a line at,
+        else ``(False, bytes lines)`` to decode one by one (``bytes.splitlines`` ends lines
+        exactly at ``\n``, ``\r\n`` and ``\r``, as a text stream with ``newline=""``).
+        A str line's length is its length in bytes; the caller moves :attr:`pos`."""
+        block = self.buf[self.pos:end]
+        if block.isascii() and not any(c in block for c in _OTHER_LINE_ENDS):
+            return True, block.decode("ascii").splitlines(keepends=True)
+        return False, block.splitlines(keepends=True)
+
+    def next_line(self) -> str | None:
+        """The next line with its line end, decoded (None at the end of the file)."""
+        while True:
+            i = self.buf.find(b"\n", self.pos)
+            j = self.buf.find(b"\r", self.pos, i if i >= 0 else len(self.buf))
+            if j >= 0 and (j + 1 < len(self.buf) or self.eof):
+                end = j + 2 if j + 1 < len(self.buf) and self.buf[j + 1] == 10 else j + 1
+                break
+            if i >= 0 and j < 0:
+                end = i + 1
+                break
+            if self.eof:
+                if self.pos >= len(self.buf):
+                    return None
+                end = len(self.buf)
+                break
+            self._read(self.block)
+        line = self.buf[self.pos:end]
+        self.pos = end
+        return line.decode("utf-8")
+
+
 class _Reader:
     """Iterates over a CSV record in chunks of rows, checking as it goes."""
 
     def __init__(self, path: object, required: Sequence[str], one_of: Sequence[str] = (),
-                 chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = ()) -> None:
+                 chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = (),
+                 fast: bool = True) -> None:
         if not isinstance(path, str | os.PathLike):
             raise TypeError(f"path must be a str or path; got {type(path).__name__}")
         self.path = Path(path)
@@ -88,14 +168,15 @@ class _Reader:
         self.one_of = tuple(one_of)
         self.optional = tuple(optional)
         self.chunk_rows = v.check_int("chunk_rows", chunk_rows, 1)
+        self.fast = v.check_bool("fast", fast)
         self.fraction = 0.0
 
     def _error(self, message: str, **kw) -> RecordError:
         return RecordError(self.label, message, **kw)
 
-    def _header(self, text: io.TextIOWrapper) -> tuple[list[str], int]:
+    def _header(self, lines: _Lines) -> tuple[list[str], int]:
         line_no = 0
-        for line in text:
+        while (line := lines.next_line()) is not None:
             line_no += 1
             if "\x00" in line:
                 raise self._error("not a text CSV file (it holds NUL bytes)")
@@ -175,9 +256,55 @@ class _Reader:
             raise self._error("expected a finite number (or empty / nan for a missing "
                               "value); got inf", row=int(line_nos[r]), column=use[c + 1])
 
+    def _exact(self, lines: _Lines, line_no: int, use: list[str], idx: list[int],
+               line_bytes: float) -> tuple[np.ndarray | None, np.ndarray, int]:
+        """The next chunk line by line (comments and blank lines skipped, every cell checked
+        with its line number): ``(data or None at the end, line numbers, last line)``."""
+        chunk: list[str] = []
+        nos: list[int] = []
+        while len(chunk) < self.chunk_rows:
+            end = lines.fill(self.chunk_rows - len(chunk), line_bytes)
+            if lines.pos >= end:
+                break
+            text, block = lines.split(end)
+            first = line_no
+            for line in block if text else map(_decode, block):
+                line_no += 1
+                if _is_comment(line):
+                    continue
+                chunk.append(line)
+                nos.append(line_no)
+                if len(chunk) >= self.chunk_rows:
+                    break
+            lines.pos += sum(map(len, block[:line_no - first]))
+        if not chunk:
+            return None, np.zeros(0, dtype=np.int64), line_no
+        if "\x00" in "".join(chunk):
+            raise self._error("not a text CSV file (it holds NUL bytes)", row=nos[0])
+        try:
+            data = np.loadtxt(chunk, delimiter=",", usecols=idx, dtype=float, ndmin=2,
+                              comments=None, quotechar='"')
+        except ValueError:
+            data = self._parse_slow(chunk, nos, use, idx)
+        return data, np.asarray(nos), line_no
+
+    def _fast(self, lines: _Lines, slot: np.ndarray, line_no: int, line_bytes: float
+              ) -> tuple[np.ndarray, np.ndarray, int] | None:
+        """The next chunk in one compiled pass (:func:`parse_rows`), or None when a line in
+        it is not plain numbers (the caller then reads the chunk by :meth:`_exact`)."""
+        end = lines.fill(self.chunk_rows, line_bytes)
+        out = np.empty((self.chunk_rows, int(slot.max()) + 1))
+        rows, pos, ok = parse_rows(np.frombuffer(lines.buf, dtype=np.uint8), lines.pos, end,
+                                   slot, out)
+        if not ok:
+            return None
+        lines.pos = pos
+        data = out[:rows] if rows > self.chunk_rows // 2 else out[:rows].copy()
+        return data, np.arange(line_no + 1, line_no + rows + 1), line_no + rows
+
     def __iter__(self) -> Iterator[tuple[list[str], np.ndarray]]:
         try:
-            text, raw, size = _open_text(self.path)
+            stream, raw, size = _open_binary(self.path)
         except FileNotFoundError:
             raise self._error("no such file") from None
         except IsADirectoryError:
@@ -185,31 +312,28 @@ class _Reader:
         except PermissionError:
             raise self._error("cannot be read (permission denied)") from None
         try:
-            names, line_no = self._header(text)
+            lines = _Lines(stream, BLOCK_BYTES)
+            names, line_no = self._header(lines)
             use, idx = self._columns(names, line_no)
+            # field f of a line goes to column slot[f] of a chunk (-1: not used)
+            slot = np.full(max(idx) + 1, -1, dtype=np.int64)
+            slot[idx] = np.arange(len(idx))
+            line_bytes = 64.0       # bytes per line, an estimate for the block reads
             t_prev = -math.inf
             n_rows = 0
             while True:
-                lines: list[str] = []
-                nos: list[int] = []
-                for line in text:
-                    line_no += 1
-                    if _is_comment(line):
-                        continue
-                    lines.append(line)
-                    nos.append(line_no)
-                    if len(lines) >= self.chunk_rows:
+                start = lines.pos
+                got = self._fast(lines, slot, line_no, line_bytes) if self.fast else None
+                if got is None:
+                    data, line_arr, line_no = self._exact(lines, line_no, use, idx,
+                                                          line_bytes)
+                    if data is None:
                         break
-                if not lines:
-                    break
-                if any("\x00" in ln for ln in lines):
-                    raise self._error("not a text CSV file (it holds NUL bytes)", row=nos[0])
-                try:
-                    data = np.loadtxt(lines, delimiter=",", usecols=idx, dtype=float, ndmin=2,
-                                      comments=None, quotechar='"')
-                except ValueError:
-                    data = self._parse_slow(lines, nos, use, idx)
-                line_arr = np.asarray(nos)
+                else:
+                    data, line_arr, line_no = got
+                    if data.shape[0] == 0:
+                        break
+                    line_bytes = max((lines.pos - start) / data.shape[0], 8.0)
                 self._check(data, line_arr, use, t_prev)
                 t_prev = float(data[-1, 0])
                 n_rows += data.shape[0]
@@ -224,7 +348,7 @@ class _Reader:
                 raise
             raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
         finally:
-            text.close()
+            stream.close()
             raw.close()
 
 

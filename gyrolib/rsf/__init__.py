@@ -61,18 +61,6 @@ from gyrolib.rsf.equations import (
     sins_roll_error,
     vertical_deviation_exact,
 )
-from gyrolib.rsf.plots import (
-    plot_compensation_share,
-    plot_delta_k_distribution,
-    plot_encoder_sweep,
-    plot_figure3,
-    plot_flight,
-    plot_gs_scheme,
-    plot_method_scheme,
-    plot_period_sweep,
-    plot_rate_sweep,
-    plot_spin_up,
-)
 from gyrolib.rsf.sensors import (
     AEDB9340,
     GYPRO4300,
@@ -224,3 +212,30 @@ __all__ += ["CalibrationResult", "RSFRecord", "calibrate", "plot_correction",
             "record_from_simulation"]
 __all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensitivity_inputs",
             "sensitivity_outputs"]
+
+
+# Loaded on first use (PEP 562): the figures import matplotlib, which the command line and
+# the numerical functions never need.
+#: The names of ``rsf.plots`` re-exported here.
+_PLOTS = frozenset({
+    "plot_compensation_share", "plot_delta_k_distribution", "plot_encoder_sweep",
+    "plot_figure3", "plot_flight", "plot_gs_scheme", "plot_method_scheme", "plot_period_sweep",
+    "plot_rate_sweep", "plot_spin_up"})
+
+
+def __getattr__(name: str):
+    """``rsf.plots`` and its ``rsf.plot_*``, imported on first access (an ``import``
+    statement: ``from gyrolib.rsf import plots`` would look the name up here first)."""
+    if name == "plots" or name in _PLOTS:
+        import gyrolib.rsf.plots as plots
+
+        if name == "plots":
+            return plots
+        value = getattr(plots, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

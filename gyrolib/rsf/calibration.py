@@ -27,15 +27,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from gyrolib import _validation as v
 from gyrolib.rsf._inputs import check_sf
 from gyrolib.rsf.correction import DeltaKPrediction, correct_spans
 from gyrolib.rsf.equations import K_FORMS, relative_k_error
 from gyrolib.rsf.record import RSFRecord
+
+if TYPE_CHECKING:   # matplotlib is imported where a figure is drawn (not at the CLI's start)
+    from matplotlib.figure import Figure
 from gyrolib.rsf.simulation import SensorRecord, encoder_counts, gs_angle
 from gyrolib.units import from_si
 
@@ -303,6 +306,8 @@ def plot_correction(result: CalibrationResult, prediction: DeltaKPrediction | No
     v.check_instance("result", result, CalibrationResult)
     if prediction is not None:
         v.check_instance("prediction", prediction, DeltaKPrediction)
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(7.5, 5.4), layout="tight")
     ax, bx = fig.subplots(2, 1)
     mid = 0.5 * (result.t_start + result.t_end)
