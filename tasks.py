@@ -218,8 +218,12 @@ def chapter(name: str) -> None:
     out.mkdir(parents=True, exist_ok=True)
     ipynb = out / f"{src.stem}.ipynb"
     run(BIN / "jupytext", "--to", "ipynb", "--output", ipynb, src)
+    # the kernel's environment as in the book build (_ext/gyrolib_cache.py): OpenBLAS on one
+    # thread, since its threads only spin on the chapters' small matrices
+    env = dict(os.environ, MPLBACKEND="Agg")
+    env.setdefault("OPENBLAS_NUM_THREADS", "1")
     run(BIN / "jupyter", "nbconvert", "--to", "notebook", "--execute", "--inplace",
-        "--ExecutePreprocessor.timeout=600", ipynb, env=dict(os.environ, MPLBACKEND="Agg"))
+        "--ExecutePreprocessor.timeout=600", ipynb, env=env)
     print(f"executed {ipynb}")
 
 

@@ -148,6 +148,36 @@ def test_fast_and_reference_covariance_paths_agree_to_1e_9():
     assert np.allclose(fast.P_stored, ref.P_stored, rtol=1e-8, atol=0.0)
 
 
+def test_sized_and_general_covariance_kernels_agree():
+    """covariance_fast runs a kernel compiled for the model's state size (its loops unroll);
+    the kernel that reads the size from the arrays (states beyond 32) gives the same variances
+    and gains over 2 s of paper GC to 1e-12 relative, with and without fixed gains."""
+    from gyrolib.filtering import covariance as fcov
+
+    p = GyrocompassParams()
+    m = discretize(p, 2.0).model
+    P0 = initial_covariance(p)
+    sized = filtering.covariance_fast(m, P0, 100, keep_gains=True)
+    rowptr, colidx = m.sparsity()
+    hptr, hidx = m.measurement_sparsity()
+    var = np.empty((m.n_steps + 1, m.n))
+    P_st = np.empty((m.n_steps // 100 + 1, m.n, m.n))
+    gains = np.empty((m.n_steps, m.H.shape[0], m.n))
+    fcov._predict_joseph_kernel(m.seg, m.a, m.b, m.Phi0, m.PhiA, m.PhiB, m.Qd0, m.QdA, m.QdB,
+                                rowptr, colidx, hptr, hidx, m.H, m.r, P0, 100, var, P_st,
+                                gains, False)
+    nz = var > 0
+    assert np.max(np.abs(sized.var[nz] / var[nz] - 1.0)) < 1e-12
+    np.testing.assert_allclose(sized.gains, gains, rtol=1e-12, atol=1e-300)
+    np.testing.assert_allclose(sized.P_stored, P_st, rtol=1e-12, atol=1e-300)
+    # power: sensor noise larger by 1e-9 relative moves the variances beyond the tolerance
+    var2 = np.empty_like(var)
+    fcov._predict_joseph_kernel(m.seg, m.a, m.b, m.Phi0, m.PhiA, m.PhiB, m.Qd0, m.QdA, m.QdB,
+                                rowptr, colidx, hptr, hidx, m.H, m.r * (1.0 + 1e-9), P0, 100,
+                                var2, P_st.copy(), gains.copy(), False)
+    assert np.max(np.abs(sized.var[nz] / var2[nz] - 1.0)) > 1e-12
+
+
 def test_psd_factor_reproduces_gc_process_noise():
     """The covariance factor of paper GC's Qd (entries decades apart) gives L Lᵀ = Qd."""
     p = GyrocompassParams()

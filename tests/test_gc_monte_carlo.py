@@ -158,6 +158,50 @@ def test_kernel_normals_are_numpys():
     assert np.array_equal(state, after)
 
 
+def test_stream_lanes_are_numpys():
+    """simulate_truth's draw (:func:`gyrolib.gc.montecarlo._fill_stream_lanes`): the first
+    lanes of what numpy's Generator(SFC64).standard_normal((steps, width, 32)) draws from one
+    stream, to 1e-12 relative (tails included), and the stream's state after it is numpy's
+    after the whole array; keeping one lane or three gives the same numbers."""
+    ref_gen = np.random.Generator(np.random.SFC64(2024))
+    state = ref_gen.bit_generator.state["state"]["state"].reshape(4, 1).copy()
+    ref = ref_gen.standard_normal((3000, 23, mcm._RUN_BLOCK))
+    assert np.count_nonzero(np.abs(ref[..., :3]) > 3.6541528853610088) > 10
+    out = np.empty((3000, 23, 3))
+    mcm._fill_stream_lanes(state, out, mcm._RUN_BLOCK, mcm._ZKI, mcm._ZWI, mcm._ZFI)
+    np.testing.assert_allclose(out, ref[..., :3], rtol=1e-12, atol=0)
+    assert np.array_equal(state[:, 0], ref_gen.bit_generator.state["state"]["state"])
+    one = np.empty((3000, 23, 1))
+    state1 = np.random.Generator(np.random.SFC64(2024)).bit_generator.state["state"]["state"]
+    mcm._fill_stream_lanes(state1.reshape(4, 1).copy(), one, mcm._RUN_BLOCK, mcm._ZKI,
+                           mcm._ZWI, mcm._ZFI)
+    np.testing.assert_allclose(one[..., 0], ref[..., 0], rtol=1e-12, atol=0)
+    # power: the same draw taken as 31 lanes a step is out of step with numpy's at once
+    short = np.empty((3000, 23, 1))
+    state2 = np.random.Generator(np.random.SFC64(2024)).bit_generator.state["state"]["state"]
+    mcm._fill_stream_lanes(state2.reshape(4, 1).copy(), short, mcm._RUN_BLOCK - 1, mcm._ZKI,
+                           mcm._ZWI, mcm._ZFI)
+    assert not np.allclose(short[1:, :, 0], ref[1:, :, 0], rtol=1e-6)
+
+
+def test_simulate_truth_draws_numpys_block_stream():
+    """gc.simulate_truth (the kernel's draw of lane 0) against the same model run on numpy's
+    draw of the whole block of 32 lanes (the path the sample records of data/ were made with):
+    the same truth to 1e-12 of each state's scale."""
+    x0 = np.zeros(10)
+    x0[3], x0[4], x0[5] = 1e-6, 3e-4, -2e-4
+    _, X = gc.simulate_truth(P, 2.0, x0, seed=11)
+    n_steps = mcm._n_steps(P, 2.0)
+    tm = mcm.truth_model(P, P, n_steps, mcm.TRUTH_SUBSTEPS)
+    _, ref = mcm._run_batch(tm, n_steps, x0[None, :], np.random.default_rng(11), None, 1,
+                            "fast")
+    scale = np.abs(ref[0]).max(axis=0) + 1e-300
+    assert np.max(np.abs(X - ref[0]) / scale) < 1e-12
+    _, other = mcm._run_batch(tm, n_steps, x0[None, :], np.random.default_rng(12), None, 1,
+                              "fast")
+    assert np.max(np.abs(other[0] - ref[0]) / scale) > 1e-3     # a different seed differs
+
+
 def _assert_same_runs(a: gc.MonteCarloResult, b: gc.MonteCarloResult) -> None:
     """Estimates and truth of the runs of ``a`` equal the first runs of ``b`` to 1e-12 of
     each state's prior scale (never bitwise: SIMD rounding may differ)."""

@@ -48,6 +48,62 @@ def _sparse_times(Phi, rowptr, colidx, A, out, n):
                 out[i, col] += f * A[c, col]
 
 
+# The bodies of the kernels below, inlined into their callers with the state size ``n`` as an
+# argument: where ``n`` is a compile-time constant (a kernel made for one size, or a caller's
+# own sized kernel, e.g. gyrolib.filtering.covariance's), the loops unroll.
+@njit(cache=True, inline="always")
+def predict_covariance_inline(P, Phi, rowptr, colidx, Qd, T, n):
+    """The body of :func:`predict_covariance` for ``n`` states (inlined into the caller)."""
+    _sparse_times(Phi, rowptr, colidx, P, T, n)      # T = Φ P
+    # P ← Φ Tᵀ = Φ P Φᵀ: Tᵀ written into P (free now), then Φ times it
+    for i in range(n):
+        for col in range(n):
+            P[col, i] = T[i, col]
+    _sparse_times(Phi, rowptr, colidx, P, T, n)
+    # symmetric to the bit (the two halves differ in rounding), plus Qd
+    for i in range(n):
+        for jj in range(i, n):
+            s = 0.5 * (T[i, jj] + T[jj, i]) + Qd[i, jj]
+            P[i, jj] = s
+            P[jj, i] = s
+
+
+@njit(cache=True, inline="always")
+def measurement_projection_inline(P, H, q, hptr, hidx, Ph, n):
+    """The body of :func:`measurement_projection` for ``n`` states (inlined into the
+    caller)."""
+    lo = hptr[q]
+    hi = hptr[q + 1]
+    # P h as a sum of rows of P (P symmetric: contiguous, vectorized)
+    for i in range(n):
+        Ph[i] = 0.0
+    for p in range(lo, hi):
+        c = hidx[p]
+        f = H[q, c]
+        for i in range(n):
+            Ph[i] += f * P[c, i]
+    hph = 0.0
+    for p in range(lo, hi):
+        c = hidx[p]
+        hph += H[q, c] * Ph[c]
+    return hph
+
+
+@njit(cache=True, inline="always")
+def joseph_scalar_update_inline(P, Ph, k, S, n):
+    """The body of :func:`joseph_scalar_update` for ``n`` states (inlined into the caller)."""
+    half = 0.5 * S
+    for i in range(n):
+        Ph[i] = half * k[i] - Ph[i]
+    for i in range(n):
+        ki = k[i]
+        vi = Ph[i]
+        for j in range(i, n):     # the upper triangle, mirrored
+            val = P[i, j] + (ki * Ph[j] + vi * k[j])
+            P[i, j] = val
+            P[j, i] = val
+
+
 def _predict_state(size: int | None):
     """:func:`predict_state` for a state size (``None``: read from ``x``)."""
 
@@ -103,19 +159,8 @@ def _predict_covariance(size: int | None):
         >>> bool(np.allclose(P, Phi @ Phi.T + Qd))
         True
         """
-        n = P.shape[0] if size is None else size
-        _sparse_times(Phi, rowptr, colidx, P, T, n)      # T = Φ P
-        # P ← Φ Tᵀ = Φ P Φᵀ: Tᵀ written into P (free now), then Φ times it
-        for i in range(n):
-            for col in range(n):
-                P[col, i] = T[i, col]
-        _sparse_times(Phi, rowptr, colidx, P, T, n)
-        # symmetric to the bit (the two halves differ in rounding), plus Qd
-        for i in range(n):
-            for jj in range(i, n):
-                s = 0.5 * (T[i, jj] + T[jj, i]) + Qd[i, jj]
-                P[i, jj] = s
-                P[jj, i] = s
+        predict_covariance_inline(P, Phi, rowptr, colidx, Qd, T,
+                                  P.shape[0] if size is None else size)
 
     return predict_covariance
 
@@ -145,22 +190,8 @@ def _measurement_projection(size: int | None):
         >>> float(hph), Ph.tolist()
         (3.0, [1.0, 3.0])
         """
-        n = P.shape[0] if size is None else size
-        lo = hptr[q]
-        hi = hptr[q + 1]
-        # P h as a sum of rows of P (P symmetric: contiguous, vectorized)
-        for i in range(n):
-            Ph[i] = 0.0
-        for p in range(lo, hi):
-            c = hidx[p]
-            f = H[q, c]
-            for i in range(n):
-                Ph[i] += f * P[c, i]
-        hph = 0.0
-        for p in range(lo, hi):
-            c = hidx[p]
-            hph += H[q, c] * Ph[c]
-        return hph
+        return measurement_projection_inline(P, H, q, hptr, hidx, Ph,
+                                             P.shape[0] if size is None else size)
 
     return measurement_projection
 
@@ -197,17 +228,7 @@ def _joseph_scalar_update(size: int | None):
         >>> float(P[0, 0])
         0.5
         """
-        n = P.shape[0] if size is None else size
-        half = 0.5 * S
-        for i in range(n):
-            Ph[i] = half * k[i] - Ph[i]
-        for i in range(n):
-            ki = k[i]
-            vi = Ph[i]
-            for j in range(i, n):     # the upper triangle, mirrored
-                val = P[i, j] + (ki * Ph[j] + vi * k[j])
-                P[i, j] = val
-                P[j, i] = val
+        joseph_scalar_update_inline(P, Ph, k, S, P.shape[0] if size is None else size)
 
     return joseph_scalar_update
 

@@ -110,7 +110,9 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
     se = v.check_int("store_every", se, 1)
     mdl = disc.model
     P0 = build_initial_covariance(p)
-    full = covariance_fast(mdl, P0, 1, keep_gains=True)
+    # the variances of every step and the gains; no P stored but the last (every step's P
+    # would be n_steps × n² floats, 80 MB over 100 s)
+    full = covariance_fast(mdl, P0, disc.n_steps, keep_gains=True)
     zeros_q = tuple(np.zeros_like(mdl.Qd0) for _ in range(3))
     zero_r = np.zeros_like(mdl.r)
     Qc = build_process_noise_intensity(p)

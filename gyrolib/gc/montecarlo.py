@@ -664,6 +664,31 @@ def _standard_normals(state: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
+def _fill_stream_lanes(s, out, lanes, ki, wi, fi):
+    """What numpy's ``Generator(SFC64).standard_normal((steps, width, lanes))`` draws from the
+    one SFC64 state ``s`` (4 × 1, ``uint64``, advanced in place), of which only the first
+    ``out.shape[2]`` lanes are kept in ``out`` ``(steps, width, kept)``.  Every number is
+    drawn (the stream must pass the lanes not kept), with numpy's algorithm as
+    :func:`_fill_normals` draws it; a block with one run in it (:func:`simulate_truth`) is
+    spared numpy's array of all of them, about three times faster."""
+    kept = out.shape[2]
+    for k in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            for r in range(lanes):
+                u = _sfc64_lane(s, 0)
+                idx = int64(u & uint64(0xff))
+                u >>= uint64(8)
+                rabs = (u >> uint64(1)) & uint64(0x000fffffffffffff)
+                x = float(rabs) * wi[idx]
+                if u & uint64(1):
+                    x = -x
+                if rabs >= ki[idx]:
+                    x = _ziggurat_rest(s, 0, idx, rabs, x, ki, wi, fi)
+                if r < kept:
+                    out[k, j, r] = x
+
+
+@njit(cache=True, nogil=True)
 def _mc_block_run(n_steps, state, noise, ubuf, tm, fm, x, xh, y, u, store_every, est, tru,
                   run0, run_filter, ki, ki_signed, wi, fi):
     """The whole run of one block of lanes: draw ``len(noise)`` steps of noise from the
@@ -739,13 +764,16 @@ def _n_threads() -> int:
 
 def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Generator | None,
                fm: FilterModel | None, store_every: int, method: str,
-               phi_of_step: callable | None = None) -> tuple[np.ndarray, np.ndarray]:
+               phi_of_step: callable | None = None, kernel_normals: bool = False
+               ) -> tuple[np.ndarray, np.ndarray]:
     """Propagate truth (and the filter when ``fm`` is given) for all runs.
 
     Block ``b`` of ``_RUN_BLOCK`` runs draws its standard normals ``(steps, 2 M + 3, B)``
     (per fine step the two shaping-filter noises, then the three sensor noises) chunk after
     chunk from its own generator, so both methods and any number of threads consume the
-    same numbers.
+    same numbers.  ``kernel_normals``: drawn by :func:`_fill_stream_lanes` (numpy's numbers,
+    to the ziggurat tables' 1e-14), which keeps only the lanes that hold runs (the others
+    get zeros); else by numpy.
     """
     n_runs = X0.shape[0]
     B = _RUN_BLOCK
@@ -760,10 +788,19 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
     rngs = None if rng is None else _block_rngs(rng, n_runs)
 
     def noise_chunks(b: int):
+        if rngs is not None and kernel_normals:
+            kept = min(B, n_runs - b * B)
+            state = rngs[b].bit_generator.state["state"]["state"].reshape(4, 1).copy()
+            kept_buf = np.empty((_CHUNK, width, kept))
+            noise = np.zeros((_CHUNK, width, B))   # the empty lanes' noise stays zero
         for k0 in range(0, n_steps, _CHUNK):
             steps = min(_CHUNK, n_steps - k0)
             if rngs is None:
                 yield k0, np.zeros((steps, width, B))
+            elif kernel_normals:
+                _fill_stream_lanes(state, kept_buf[:steps], B, _ZKI, _ZWI, _ZFI)
+                noise[:steps, :, :kept] = kept_buf[:steps]
+                yield k0, noise[:steps]
             else:
                 yield k0, rngs[b].standard_normal((steps, width, B))
 
@@ -1244,7 +1281,9 @@ def simulate_truth(params: GyrocompassParams, t_end: float, x0: ArrayLike, *,
 
     Its noise comes from the seed's generator as the previous Monte Carlo path drew it (one
     SFC64 stream per block of 32 lanes, this run in lane 0), so the sample records of
-    ``data/`` made with it stay as they are; the model integrated is the same.
+    ``data/`` made with it stay as they are; the model integrated is the same.  The stream
+    is drawn in the kernel with numpy's algorithm (its numbers to the ziggurat tables'
+    1e-14, as :func:`monte_carlo`'s), keeping lane 0 only.
 
     Parameters
     ----------
@@ -1286,5 +1325,6 @@ def simulate_truth(params: GyrocompassParams, t_end: float, x0: ArrayLike, *,
     n_steps = steps_in(p, t_end)
     tm = truth_model(p, p, n_steps, substeps)
     rng = None if seed is None else np.random.default_rng(seed)
-    _, tru = _run_batch(tm, n_steps, x0[None, :], rng, None, store_every, "fast")
+    _, tru = _run_batch(tm, n_steps, x0[None, :], rng, None, store_every, "fast",
+                        kernel_normals=True)
     return np.arange(0, n_steps + 1, store_every) * p.dt, tru[0]

@@ -42,7 +42,11 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.discretization import van_loan
-from gyrolib.filtering.kernels import kalman_kernels
+from gyrolib.filtering.kernels import (
+    joseph_scalar_update_inline,
+    measurement_projection_inline,
+    predict_covariance_inline,
+)
 from gyrolib.gc.calibration import calibrate, innovation_log_likelihood
 from gyrolib.gc.params import GyrocompassParams, state_index
 from gyrolib.gc.record import GCRecord
@@ -225,50 +229,50 @@ def _log_values(p: GyrocompassParams, names: tuple[str, ...]) -> np.ndarray:
 _INCL_STATES: Final[tuple[int, ...]] = tuple(state_index(nm)
                                              for nm in ("delta", "gamma", "N1", "N2"))
 
-# the shared kernels (gyrolib.filtering.kernels) compiled for these 4 states
-_kernels4 = kalman_kernels(len(_INCL_STATES))
-predict_state = _kernels4.predict_state
-predict_covariance = _kernels4.predict_covariance
-measurement_projection = _kernels4.measurement_projection
-joseph_scalar_update = _kernels4.joseph_scalar_update
+#: The inclinometer filter's state size, a compile-time constant of its kernel (the shared
+#: kernels' bodies, gyrolib.filtering.kernels, inlined with it: their loops unroll).
+_N_INCL: Final[int] = len(_INCL_STATES)
 
 
 @njit(cache=True)
-def _inclinometer_kernel(steps, z, Phi, Qd, H, hptr, hidx, r, P0):
+def _inclinometer_kernel(steps, z, Phi, rowptr, colidx, Qd, H, hptr, hidx, r, P0):
     """Σ (ln S + ν²/S) and the number of measurements of the 4-state inclinometer filter;
-    ``steps[i]`` whole steps of ``Phi``, ``Qd`` before row ``i``, ``z`` (rows × 2)."""
-    n = P0.shape[0]
+    ``steps[i]`` whole steps of ``Phi`` (its nonzeros in CSR form: ``rowptr``, ``colidx``),
+    ``Qd`` before row ``i``, ``z`` (rows × 2)."""
+    n = _N_INCL
     P = P0.copy()
     x = np.zeros(n)
     y = np.zeros(n)
     T = np.zeros((n, n))
     Ph = np.zeros(n)
     k = np.zeros(n)
-    rowptr = np.arange(0, n * n + 1, n)
-    colidx = np.zeros(n * n, dtype=np.int64)
-    for i in range(n * n):
-        colidx[i] = i % n
     total = 0.0
     count = 0
     for i in range(z.shape[0]):
         for _ in range(steps[i]):
-            predict_state(x, Phi, rowptr, colidx, y)
-            predict_covariance(P, Phi, rowptr, colidx, Qd, T)
+            for a in range(n):            # x ← Φ x
+                s = 0.0
+                for p in range(rowptr[a], rowptr[a + 1]):
+                    s += Phi[a, colidx[p]] * x[colidx[p]]
+                y[a] = s
+            for a in range(n):
+                x[a] = y[a]
+            predict_covariance_inline(P, Phi, rowptr, colidx, Qd, T, n)
         for q in range(z.shape[1]):
             zq = z[i, q]
             if math.isnan(zq):
                 continue
-            S = measurement_projection(P, H, q, hptr, hidx, Ph) + r[q]
+            S = measurement_projection_inline(P, H, q, hptr, hidx, Ph, n) + r[q]
             hx = 0.0
-            for c in range(n):
-                hx += H[q, c] * x[c]
+            for p in range(hptr[q], hptr[q + 1]):
+                hx += H[q, hidx[p]] * x[hidx[p]]
             nu = zq - hx
             total += math.log(S) + nu * nu / S
             count += 1
             for a in range(n):
                 k[a] = Ph[a] / S
                 x[a] += k[a] * nu
-            joseph_scalar_update(P, Ph, k, S)
+            joseph_scalar_update_inline(P, Ph, k, S, n)
     return total, count
 
 
@@ -278,12 +282,16 @@ def _inclinometer_loglik(p: GyrocompassParams, steps: np.ndarray, z: np.ndarray)
     G = noise_input_matrix(p)[idx, :1]
     Phi, Qd = van_loan(F, G, np.array([[p.Q1]]), p.dt)
     H = np.ascontiguousarray(measurement_matrix(p)[1:, idx])
+    pmask = Phi != 0
+    rowptr = np.concatenate([[0], np.cumsum(pmask.sum(axis=1))]).astype(np.int64)
+    colidx = np.nonzero(pmask)[1].astype(np.int64)
     hmask = H != 0
     hptr = np.concatenate([[0], np.cumsum(hmask.sum(axis=1))]).astype(np.int64)
     hidx = np.nonzero(hmask)[1].astype(np.int64)
     r = np.diag(measurement_noise_covariance(p))[1:].copy()
     P0 = initial_covariance(p)[np.ix_(idx, idx)]
-    total, count = _inclinometer_kernel(steps, z, Phi, Qd, H, hptr, hidx, r, P0)
+    total, count = _inclinometer_kernel(steps, z, Phi, rowptr, colidx, Qd, H, hptr, hidx, r,
+                                        P0)
     return -0.5 * (count * math.log(2.0 * math.pi) + total)
 
 
