@@ -191,7 +191,7 @@ def test_simulate_truth_draws_numpys_block_stream():
     x0 = np.zeros(10)
     x0[3], x0[4], x0[5] = 1e-6, 3e-4, -2e-4
     _, X = gc.simulate_truth(P, 2.0, x0, seed=11)
-    n_steps = mcm._n_steps(P, 2.0)
+    n_steps = mcm.steps_in(P, 2.0)
     tm = mcm.truth_model(P, P, n_steps, mcm.TRUTH_SUBSTEPS)
     _, ref = mcm._run_batch(tm, n_steps, x0[None, :], np.random.default_rng(11), None, 1,
                             "fast")
