@@ -762,6 +762,23 @@ def _n_threads() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+def _row_store(rows: slice, store_every: int, est: np.ndarray, tru: np.ndarray,
+               tm: TruthModel) -> callable:
+    """The reference paths' ``store(k, X, Xh)``: after fine step ``k``, every
+    ``store_every``-th sample of the runs ``rows`` (the first ``nv`` lanes of the block) goes
+    into ``est`` and ``tru`` (the truth's Δβ, Δβ' plus the nominal offsets)."""
+    nv = rows.stop - rows.start
+
+    def store(k: int, X: np.ndarray, Xh: np.ndarray) -> None:
+        if (k + 1) % store_every == 0:
+            ii = (k + 1) // store_every
+            est[rows, ii] = Xh[:nv]
+            tru[rows, ii] = X[:nv]
+            tru[rows, ii, 0] += tm.off_b[k + 1]
+            tru[rows, ii, 1] += tm.off_bd[k + 1]
+    return store
+
+
 def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Generator | None,
                fm: FilterModel | None, store_every: int, method: str,
                phi_of_step: callable | None = None, kernel_normals: bool = False
@@ -836,16 +853,8 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
         X = Xp[b * B:(b + 1) * B].copy()
         Xh = np.zeros_like(X)
         rows = slice(b * B, min((b + 1) * B, n_runs))
-        nv = rows.stop - rows.start
 
-        def store(k: int, X: np.ndarray, Xh: np.ndarray, rows: slice = rows,
-                  nv: int = nv) -> None:
-            if (k + 1) % store_every == 0:
-                ii = (k + 1) // store_every
-                est[rows, ii] = Xh[:nv]
-                tru[rows, ii] = X[:nv]
-                tru[rows, ii, 0] += tm.off_b[k + 1]
-                tru[rows, ii, 1] += tm.off_bd[k + 1]
+        store = _row_store(rows, store_every, est, tru, tm)
 
         for k0, noise in noise_chunks(b):
             _reference_block(k0, noise, tm, phi_of_step, None if fm is None else fm.H,
@@ -985,14 +994,7 @@ def _run_chunk(prep: _Prepared, X0: np.ndarray, states: np.ndarray) -> tuple[np.
         X[:nv] = X0[lanes]
         Xh = np.zeros_like(X)
 
-        def store(k: int, X: np.ndarray, Xh: np.ndarray, lanes: slice = lanes,
-                  nv: int = nv) -> None:
-            if (k + 1) % se == 0:
-                ii = (k + 1) // se
-                est[lanes, ii] = Xh[:nv]
-                tru[lanes, ii] = X[:nv]
-                tru[lanes, ii, 0] += tm.off_b[k + 1]
-                tru[lanes, ii, 1] += tm.off_bd[k + 1]
+        store = _row_store(lanes, se, est, tru, tm)
 
         for k0 in range(0, n_steps, _CHUNK):
             steps = min(_CHUNK, n_steps - k0)
