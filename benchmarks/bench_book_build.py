@@ -3,8 +3,9 @@
 Measures the wall time of ``jupyter-book build`` (the command ``python3 tasks.py book`` runs)
 in one run on this machine:
 
-1. a full clean build (every chapter executed)        target ≤ 90 s, peak memory ≤ 600 MB
-2. each chapter's execution in that build              myst-nb's own timing, no target
+1. a full clean build (every chapter executed)        target ≤ 90 s, peak memory ≤ 600 MB;
+   peer: the same build one chapter at a time (``GYROLIB_BUILD_JOBS=1``), before it
+2. each chapter's execution in that build              as logged, no target
 3. a rebuild with nothing changed                      target ≤ 20 s; peer: the clean build
 4. a rebuild after touching one chapter's code         only that chapter re-executes
 5. a rebuild after touching gyrolib                    every chapter re-executes (never stale)
@@ -65,9 +66,9 @@ def _tree_memory(proc: psutil.Process) -> tuple[int, int]:
     return rss, pss
 
 
-def build(builder: str = "html") -> tuple[float, tuple[int, int], str]:
+def build(builder: str = "html", **extra_env: str) -> tuple[float, tuple[int, int], str]:
     """Run one build; return (seconds, peak (RSS, PSS) of the process tree in bytes, log)."""
-    env = dict(os.environ, MPLBACKEND="Agg")
+    env = dict(os.environ, MPLBACKEND="Agg", **extra_env)
     t0 = time.perf_counter()
     popen = subprocess.Popen(cmd(builder), cwd=ROOT, env=env, stdout=subprocess.PIPE,
                              stderr=subprocess.STDOUT, text=True)
@@ -102,8 +103,9 @@ def chapter_seconds(log: str) -> dict[str, float]:
 
 
 def executed(log: str) -> list[str]:
-    """Documents myst-nb executed in this build (from its log lines)."""
-    found = re.findall(r"(\S+)\.md: Executing notebook", log)
+    """Documents executed in this build (from the log lines of ``_ext/parallel_execute.py``,
+    or of myst-nb when it executes a document itself)."""
+    found = re.findall(r"(\S+)\.md: Execut(?:ing notebook|ed notebook in)", log)
     return sorted({Path(p).relative_to(ROOT).as_posix() for p in found})
 
 
@@ -130,17 +132,29 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="gyrolib-bench-build-") as tmp:
         ROOT = Path(tmp) / "book"
         shutil.copytree(SOURCE, ROOT, ignore=IGNORE)
+        # the peer first: one chapter at a time (GYROLIB_BUILD_JOBS=1), then the default
+        t_serial, peak_serial, _ = build(GYROLIB_BUILD_JOBS="1")
+        shutil.rmtree(ROOT / "_build")
         t_clean, peak, log = build()
         n_exec = len(executed(log))
         per_chapter = chapter_seconds(log)
+        jobs = os.environ.get("GYROLIB_BUILD_JOBS") or str(len(os.sched_getaffinity(0)))
         rec.case("full clean build, every chapter executed", t_clean, target_s=90.0,
-                 note=f"ratio = ours/target; {n_exec} chapters executed in "
-                      f"{sum(per_chapter.values()):.0f} s; peak memory of the build's process "
-                      f"tree {peak[1] / 1e6:.0f} MB PSS, {peak[0] / 1e6:.0f} MB RSS "
-                      "(target 600 MB)")
+                 note=f"ratio = ours/target; {jobs} chapters at a time "
+                      f"(_ext/parallel_execute.py); {n_exec} chapters executed in "
+                      f"{sum(per_chapter.values()):.0f} s of kernel time; peak memory of the "
+                      f"build's process tree {peak[1] / 1e6:.0f} MB PSS, "
+                      f"{peak[0] / 1e6:.0f} MB RSS (target 600 MB)")
+        rec.case(f"full clean build: {jobs} chapters at a time vs one at a time", t_clean,
+                 peer="GYROLIB_BUILD_JOBS=1", peer_s=t_serial,
+                 note=f"ratio = peer/ours; peak memory {peak[1] / 1e6:.0f} MB PSS vs "
+                      f"{peak_serial[1] / 1e6:.0f} MB PSS one at a time (RSS "
+                      f"{peak[0] / 1e6:.0f} vs {peak_serial[0] / 1e6:.0f} MB)")
         for doc, seconds in sorted(per_chapter.items(), key=lambda kv: -kv[1]):
             rec.case(f"execution of {doc} in the clean build", seconds,
-                     note="myst-nb's timing (kernel start-up and imports included)")
+                     note="execution time in the clean build, chapters running concurrently "
+                          "(kernel start-up and imports included); _ext/parallel_execute.py "
+                          "starts the longest first by these")
         if args.clean_only:
             rec.write()
             return

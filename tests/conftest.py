@@ -11,8 +11,10 @@ executed and every warning shown (``-W -n --keep-going``, as ``python3 tasks.py 
    step 1 (nothing executed again) and links the PDF from every page's footer.
 
 The build starts in the background as soon as the tests are collected (when a collected test
-module uses the book), so that the other tests run on the second core meanwhile; the first
-test that needs the book waits for it.  The project's own ``_build/`` is never touched.
+module uses the book), and the tests that need it are moved to the end of the run
+(:func:`pytest_collection_modifyitems`), so that all the other tests run meanwhile; the
+first test that needs the book waits for what is left of the build.  The project's own
+``_build/`` is never touched.
 
 ``GYROLIB_REUSE_BOOK=1`` skips the build and uses the project's ``_build/`` as
 ``python3 tasks.py pdf`` left it (``GYROLIB_REUSE_BOOK=/path/to/_build``: another build
@@ -23,6 +25,7 @@ temporary build and prints where it is.
 
 from __future__ import annotations
 
+import inspect
 import os
 import re
 import shutil
@@ -146,13 +149,28 @@ class _BookBuild:
         return None
 
     def _kill(self) -> None:
-        """End the running step's process group (jupyter-book and its kernels)."""
+        """End the running step: jupyter-book and every process under it (the kernels run in
+        sessions of their own, so the process group alone would leave them running, and
+        holding the step's output pipe open)."""
         proc = self._proc
-        if proc is not None and proc.poll() is None:
+        if proc is None or proc.poll() is not None:
+            return
+        import psutil
+
+        try:
+            tree = psutil.Process(proc.pid).children(recursive=True)
+        except psutil.Error:
+            tree = []
+        try:
+            os.killpg(proc.pid, signal.SIGTERM)
+        except ProcessLookupError:
+            pass
+        for child in tree:
             try:
-                os.killpg(proc.pid, signal.SIGTERM)
-            except ProcessLookupError:
+                child.terminate()
+            except psutil.Error:
                 pass
+        psutil.wait_procs(tree, timeout=10)
 
     def _run(self) -> None:
         reuse = os.environ.get("GYROLIB_REUSE_BOOK", "")
@@ -233,6 +251,54 @@ def _uses_the_book(item: pytest.Item) -> bool:
     module = getattr(item, "module", None)
     names = vars(module) if module is not None else {}
     return "session_book" in names or "require_built_book" in names
+
+
+def _book_callers(module) -> set[str]:
+    """Names of the module's functions that call :func:`session_book` or
+    :func:`require_built_book`, directly or through one another (read from the source)."""
+    sources = {}
+    for name, obj in vars(module).items():
+        if inspect.isfunction(obj) and obj.__module__ == module.__name__:
+            try:
+                sources[name] = inspect.getsource(obj)
+            except (OSError, TypeError):
+                pass
+    callers = {"session_book", "require_built_book"}
+    while True:
+        more = {name for name, src in sources.items() if name not in callers
+                and any(f"{c}(" in src for c in callers)}
+        if not more:
+            return callers
+        callers |= more
+
+
+def _needs_the_book(item: pytest.Item) -> bool:
+    """Whether the test, or one of its fixtures, calls :func:`session_book` or
+    :func:`require_built_book`, directly or through its module's helpers."""
+    module = getattr(item, "module", None)
+    if module is None:
+        return False
+    callers = _book_callers(module)
+    funcs = [getattr(item, "function", None)]
+    info = getattr(item, "_fixtureinfo", None)
+    if info is not None:
+        funcs += [fd.func for name in info.names_closure
+                  for fd in info.name2fixturedefs.get(name, ())]
+    for func in funcs:
+        try:
+            source = inspect.getsource(func)
+        except (OSError, TypeError):
+            continue
+        if any(f"{c}(" in source for c in callers):
+            return True
+    return False
+
+
+def pytest_collection_modifyitems(session: pytest.Session, config, items: list) -> None:
+    """The tests of the built book run last, in their collected order: the build runs in
+    the background while all the other tests run, instead of the first browser test
+    waiting for it while the second core idles."""
+    items.sort(key=lambda item: _uses_the_book(item) and _needs_the_book(item))
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:

@@ -201,6 +201,41 @@ def test_every_item_links_to_a_page_and_anchor_of_the_built_book(items):
     assert not problems, "\n".join(problems)
 
 
+def test_concurrent_collects_compute_the_items_once(tmp_path, monkeypatch):
+    """Chapters executed at the same time (the build runs two kernels) share one computation:
+    while the first collect() computes, a second one waits for the memo instead of computing
+    too.  The computation is replaced by a slow counting stub that returns the real items; the
+    two calls overlap (the stub sleeps 0.5 s), so without the lock the count would be 2."""
+    import threading
+    import time
+
+    import gyrolib.book.ledger as ledger_module
+
+    items = collect()
+    calls = []
+
+    def slow():
+        calls.append(1)
+        time.sleep(0.5)
+        return items
+
+    monkeypatch.setattr(ledger_module, "_collect", slow)
+    monkeypatch.setenv("GYROLIB_LEDGER_MEMO", str(tmp_path))
+    out = [None, None]
+
+    def worker(i):
+        out[i] = collect()
+
+    threads = [threading.Thread(target=worker, args=(i,)) for i in range(2)]
+    for th in threads:
+        th.start()
+        time.sleep(0.05)
+    for th in threads:
+        th.join()
+    assert len(calls) == 1, f"computed {len(calls)} times"
+    assert out[0] == items and out[1] == items
+
+
 def test_collect_is_computed_once_per_state_of_the_sources_with_a_memo(tmp_path, monkeypatch):
     """With GYROLIB_LEDGER_MEMO (set by the book build) the first collect() writes its items
     to one file named by the hash of gyrolib's sources, equal to a computation without the

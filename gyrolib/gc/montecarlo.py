@@ -52,7 +52,7 @@ import dataclasses
 import functools
 import math
 import os
-from concurrent.futures import Executor, ThreadPoolExecutor
+from concurrent.futures import Executor, ThreadPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Final, NamedTuple
 
@@ -1050,10 +1050,14 @@ def _run_all(task: _ChunkTask, X0: np.ndarray, states: np.ndarray, n_store: int,
     else:
         pool = executor
     try:
-        futures = [(lo, hi, pool.submit(task, X0[lo:hi], states[:, lo:hi]))
-                   for lo, hi in bounds]
-        for lo, hi, fut in futures:
+        # each chunk's arrays are copied in and released as soon as it is done: the chunks
+        # never all live beside est and tru (which would double the memory of the result)
+        pending = {pool.submit(task, X0[lo:hi], states[:, lo:hi]): (lo, hi)
+                   for lo, hi in bounds}
+        for fut in as_completed(pending):
+            lo, hi = pending.pop(fut)
             put(lo, hi, fut.result())
+            del fut
     finally:
         if executor is None:
             pool.shutdown()

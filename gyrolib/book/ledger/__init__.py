@@ -18,6 +18,7 @@ import hashlib
 import io
 import json
 import os
+from contextlib import contextmanager
 from dataclasses import asdict, fields
 from pathlib import Path
 
@@ -79,15 +80,41 @@ def collect() -> list[LedgerItem]:
     a given state of gyrolib's sources and read back from that folder afterwards.
     """
     memo = _memo_file()
-    if memo is not None and memo.is_file():
-        return [LedgerItem(**d) for d in json.loads(memo.read_text(encoding="utf-8"))]
-    items = _collect()
-    if memo is not None:
-        memo.parent.mkdir(parents=True, exist_ok=True)
+    if memo is None:
+        return _collect()
+    if memo.is_file():
+        return _read_memo(memo)
+    memo.parent.mkdir(parents=True, exist_ok=True)
+    # chapters executed at the same time wait for the first one's computation, not redo it
+    with _exclusive(memo.with_suffix(".lock")):
+        if memo.is_file():
+            return _read_memo(memo)
+        items = _collect()
         tmp = memo.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_text(json.dumps([asdict(it) for it in items]), encoding="utf-8")
         tmp.replace(memo)  # atomic: a concurrent reader sees the whole file or none
     return items
+
+
+def _read_memo(memo: Path) -> list[LedgerItem]:
+    return [LedgerItem(**d) for d in json.loads(memo.read_text(encoding="utf-8"))]
+
+
+@contextmanager
+def _exclusive(lock: Path):
+    """An exclusive lock on the file ``lock`` between processes (``fcntl.flock``; where
+    there is no ``fcntl``, no lock: two processes may then both compute the same items)."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX
+        yield
+        return
+    with open(lock, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 def _collect() -> list[LedgerItem]:
