@@ -115,7 +115,12 @@ def ensure_browser() -> None:
 
 
 def book(clean: bool = False) -> None:
-    """Build the book into _build/html; warnings, cell errors and broken refs fail it."""
+    """Build the book into _build/html; warnings, cell errors and broken refs fail it.
+
+    The chapters the cache lacks execute as many at a time as there are cores
+    (``_ext/parallel_execute.py``); ``GYROLIB_BUILD_JOBS=1`` runs one at a time, with the
+    memory of one kernel.
+    """
     setup()
     if clean and BUILD.exists():
         shutil.rmtree(BUILD)
