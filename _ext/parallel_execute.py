@@ -86,8 +86,8 @@ def _pending(env, docnames):
     """The documents to read whose notebook is not in the cache, as
     ``(docname, path, notebook, read_fmt, nb_config)``."""
     from jupyter_cache import get_cache
-    from myst_nb.core.read import create_nb_reader
     from myst_nb.core.nb_to_tokens import nb_node_to_dict
+    from myst_nb.core.read import create_nb_reader
 
     nb_config = env.mystnb_config
     cache = get_cache(nb_config.execution_cache_path or ".jupyter_cache")
@@ -118,7 +118,7 @@ def _pending(env, docnames):
             overrides.pop("output_folder", None)
             try:
                 config = nb_config.copy(**overrides)
-            except Exception:  # noqa: BLE001 - myst-nb warns about it when it reads the file
+            except Exception:  # myst-nb warns about it when it reads the file
                 continue
         try:
             cache.match_cache_notebook(nb)
@@ -147,7 +147,7 @@ def _run(nb, path: Path, config):
                                          allow_errors=config.execution_allow_errors,
                                          meta_override=True)
         return result, None
-    except Exception as exc:  # noqa: BLE001 - myst-nb executes it again and reports it
+    except Exception as exc:  # myst-nb executes it again and reports it
         return None, exc
 
 
