@@ -20,6 +20,12 @@ myst-nb then finds every chapter in the cache.  A chapter that fails is not stor
 executes it again as it reads it and reports the error with its traceback, exactly as without
 this extension, so a failing cell still fails the build loudly.
 
+One fix of myst-nb comes with it, since with this extension every chapter is a cache hit:
+myst-nb 1.x writes the downloadable executed notebook (``_build/jupyter_execute/*.ipynb``)
+from the notebook object it read, and on a cache hit it merges the cached outputs into a
+*copy* (``NotebookClientCache.start_client``), so the download had no outputs at all.
+:func:`_merge_into_the_read_notebook` makes the merge land in the object that is written.
+
 ``jobs`` is the environment variable ``GYROLIB_BUILD_JOBS`` (a whole number at least 1), by
 default the number of cores this process may use.  ``GYROLIB_BUILD_JOBS=1`` executes one
 chapter at a time (the least memory: one kernel).  "Longest first" uses the execution times of
@@ -197,8 +203,30 @@ def execute_pending(app, env, docnames) -> None:
                 f"{time.perf_counter() - t0:.1f} s of wall time")
 
 
+def _merge_into_the_read_notebook(app, config) -> None:
+    """On a cache hit, put the cached outputs into the notebook object myst-nb's parser
+    writes to ``jupyter_execute`` (see the module docstring)."""
+    from myst_nb.core.execute.cache import NotebookClientCache
+
+    inner = NotebookClientCache.start_client
+    if getattr(inner, "gyrolib_merge_in_place", False):
+        return
+
+    def start_client(self):
+        read = self._notebook
+        inner(self)
+        if self._notebook is not read:  # the cache's outputs, merged into a copy
+            read.clear()
+            read.update(self._notebook)
+            self._notebook = read
+
+    start_client.gyrolib_merge_in_place = True
+    NotebookClientCache.start_client = start_client
+
+
 def setup(app):
     # validate the variable at once, not after minutes of reading
     app.connect("config-inited", lambda app, config: build_jobs())
+    app.connect("config-inited", _merge_into_the_read_notebook)
     app.connect("env-before-read-docs", execute_pending)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1"}

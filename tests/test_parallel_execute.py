@@ -132,6 +132,19 @@ def test_two_jobs_execute_two_chapters_at_once(builds):
     assert _overlap(spans) > 1.0, spans  # each sleeps 3 s: together, they overlap by ~3 s
 
 
+def test_the_downloadable_notebooks_hold_the_outputs(builds):
+    """Every chapter is a cache hit after the parallel execution; the executed notebooks
+    written for download must still hold their outputs (myst-nb alone writes them empty on a
+    cache hit: this assertion failed before ``_merge_into_the_read_notebook``)."""
+    folder, _ = builds["two"]
+    for name in ("a", "b"):
+        nb = json.loads((folder / "_build" / "jupyter_execute" / f"{name}.ipynb")
+                        .read_text(encoding="utf-8"))
+        outputs = [o for c in nb["cells"] if c["cell_type"] == "code" for o in c["outputs"]]
+        text = "".join("".join(o.get("text", "")) for o in outputs)
+        assert re.search(r"SPAN [\d.]+ [\d.]+", text), (name, outputs)
+
+
 def test_one_job_executes_one_chapter_at_a_time(builds):
     folder, run = builds["one"]
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
