@@ -199,9 +199,10 @@ def test() -> None:
     """Lint, the pinned JupyterLab environment (a test runs a chapter's notebook with its
     kernel), then the whole suite.
 
-    The suite builds the book once, from clean, into a temporary folder (every chapter
-    executed, warnings as errors, the PDF printed; ``tests/conftest.py``), in the background
-    while the other tests run; the HTML, browser, PDF and determinism tests share that build.
+    The suite runs on every core (pytest-xdist workers).  It builds the book once, from
+    clean, into a temporary folder (every chapter executed, warnings as errors, the PDF
+    printed; ``tests/conftest.py``), in the background while the other tests run; the HTML,
+    browser, PDF and determinism tests run last and share that build.
     ``_build/`` is left as it is: after ``python3 tasks.py book`` its jupyter cache is the
     second, independent execution the determinism test compares the chapters' outputs with.
     """
@@ -210,7 +211,8 @@ def test() -> None:
     lint()
     lab_setup()
     env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_TEST_COMMAND="1")
-    run(PY, "-m", "pytest", "--durations=10", env=env)
+    # pytest-xdist: the tests on every core (the book is built once, by one worker, for all)
+    run(PY, "-m", "pytest", "-n", "auto", "--durations=10", env=env)
 
 
 def chapter(name: str) -> None:

@@ -16,6 +16,11 @@ module uses the book), and the tests that need it are moved to the end of the ru
 first test that needs the book waits for what is left of the build.  The project's own
 ``_build/`` is never touched.
 
+Under pytest-xdist (``python3 tasks.py test`` runs ``pytest -n auto``) the workers share one
+build: the controlling process makes its folder (``$GYROLIB_SESSION_BOOK_DIR``, removed at the
+end), every worker starts its background build under that folder's file lock, and the first
+to get the lock builds while the others wait and then read its record (``book.json``).
+
 ``GYROLIB_REUSE_BOOK=1`` skips the build and uses the project's ``_build/`` as
 ``python3 tasks.py pdf`` left it (``GYROLIB_REUSE_BOOK=/path/to/_build``: another build
 folder, e.g. one kept by ``GYROLIB_KEEP_BOOK=1``), for quick local reruns; the determinism
@@ -26,6 +31,7 @@ temporary build and prints where it is.
 from __future__ import annotations
 
 import inspect
+import json
 import os
 import re
 import shutil
@@ -187,10 +193,36 @@ class _BookBuild:
         if not JUPYTER_BOOK.is_file():
             self.error = f"no {JUPYTER_BOOK}: run the tests with the project's .venv python"
             return
+        shared = os.environ.get(SHARED_ENV, "")
+        if shared:
+            self._run_shared(Path(shared))
+            return
         self.tmp = Path(tempfile.mkdtemp(prefix="gyrolib-test-book-"))
-        config = _config(self.tmp)
-        build = self.tmp / "_build"
-        base = [JUPYTER_BOOK, "build", ROOT, "--config", config, "--path-output", self.tmp,
+        self._build_into(self.tmp)
+
+    def _run_shared(self, folder: Path) -> None:
+        """Under pytest-xdist: the first worker to get the folder's lock builds the book into
+        it and records the result in ``book.json``; a worker that gets the lock later reads
+        that record instead of building again."""
+        import fcntl
+
+        with open(folder / "build.lock", "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            try:
+                record = folder / "book.json"
+                if record.is_file():
+                    self.book, self.error = _read_record(record)
+                    return
+                self._build_into(folder)
+                _write_record(record, self.book, self.error)
+            finally:
+                fcntl.flock(lock, fcntl.LOCK_UN)
+
+    def _build_into(self, tmp: Path) -> None:
+        """The three build steps into ``tmp`` (sets ``book`` or ``error``)."""
+        config = _config(tmp)
+        build = tmp / "_build"
+        base = [JUPYTER_BOOK, "build", ROOT, "--config", config, "--path-output", tmp,
                 *BUILD_FLAGS, "--builder"]
         seconds: list[tuple[str, float]] = []
         error = self._step("single-page build (executes every chapter)",
@@ -221,7 +253,7 @@ class _BookBuild:
         that turned out not to need it); the temporary folder is removed."""
         if self._thread is None:
             return
-        if not self.waited:
+        if not self.waited and not os.environ.get(SHARED_ENV):  # another worker may need it
             with self._lock:
                 self._cancelled = True
             self._kill()
@@ -232,6 +264,29 @@ class _BookBuild:
             else:
                 shutil.rmtree(self.tmp, ignore_errors=True)
 
+
+def _write_record(path: Path, book: Book | None, error: str) -> None:
+    data = {"error": error, "book": None if book is None else {
+        "build": str(book.build), "fresh": book.fresh, "pdf_error": book.pdf_error,
+        "seconds": book.seconds, "chapters": book.chapters}}
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(data), encoding="utf-8")
+    tmp.replace(path)
+
+
+def _read_record(path: Path) -> tuple[Book | None, str]:
+    data = json.loads(path.read_text(encoding="utf-8"))
+    b = data["book"]
+    book = None if b is None else Book(
+        build=Path(b["build"]), fresh=b["fresh"], pdf_error=b["pdf_error"],
+        seconds=tuple(tuple(x) for x in b["seconds"]),
+        chapters=tuple(tuple(x) for x in b["chapters"]))
+    return book, data["error"]
+
+
+#: Under pytest-xdist, the folder (made by the controlling process) into which one worker
+#: builds the session's book for all of them.
+SHARED_ENV = "GYROLIB_SESSION_BOOK_DIR"
 
 _BUILD = _BookBuild()
 
@@ -306,8 +361,38 @@ def pytest_collection_finish(session: pytest.Session) -> None:
         _BUILD.start()  # in the background while the other tests run
 
 
+def _xdist_controller(config) -> bool:
+    """Whether this process hands the tests to pytest-xdist workers (and runs none)."""
+    return (not hasattr(config, "workerinput")
+            and getattr(config.option, "dist", "no") != "no"
+            and bool(getattr(config.option, "numprocesses", 0)))
+
+
+def pytest_configure(config) -> None:
+    """Under pytest-xdist the workers share one build: its folder is made here, before the
+    workers start (they inherit the environment variable), and removed at the end."""
+    if _xdist_controller(config) and not os.environ.get("GYROLIB_REUSE_BOOK"):
+        folder = tempfile.mkdtemp(prefix="gyrolib-test-book-")
+        os.environ[SHARED_ENV] = folder
+        config.gyrolib_book_folder = Path(folder)
+
+
+def pytest_unconfigure(config) -> None:
+    folder = getattr(config, "gyrolib_book_folder", None)
+    if folder is None:
+        return
+    os.environ.pop(SHARED_ENV, None)
+    if os.environ.get("GYROLIB_KEEP_BOOK") == "1" and (folder / "book.json").is_file():
+        print(f"\nthe test session's book is kept in {folder}")
+    else:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 def pytest_terminal_summary(terminalreporter, exitstatus: int, config) -> None:
     book = _BUILD.book
+    folder = getattr(config, "gyrolib_book_folder", None)
+    if book is None and folder is not None and (folder / "book.json").is_file():
+        book, _ = _read_record(folder / "book.json")  # built by a worker
     if book is not None and book.seconds:
         steps = ", ".join(f"{name} {s:.0f} s" for name, s in book.seconds)
         terminalreporter.write_line(f"the session's book: {steps}")
