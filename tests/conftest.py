@@ -18,8 +18,12 @@ first test that needs the book waits for what is left of the build.  The project
 
 Under pytest-xdist (``python3 tasks.py test`` runs ``pytest -n auto``) the workers share one
 build: the controlling process makes its folder (``$GYROLIB_SESSION_BOOK_DIR``, removed at the
-end), every worker starts its background build under that folder's file lock, and the first
-to get the lock builds while the others wait and then read its record (``book.json``).
+end) and, as soon as a worker reports a collected module that uses the book, builds it there
+in the background, at normal priority, while the workers run the other tests at a lower one
+(niceness ``WORKER_NICENESS``) so that the build, the longest chain of the run, is not slowed
+by them.  The build holds the folder's file lock; a worker that needs the book takes the lock
+after it and reads the build's record (``book.json``), or builds the book itself if it got
+the lock first.
 
 ``GYROLIB_REUSE_BOOK=1`` skips the build and uses the project's ``_build/`` as
 ``python3 tasks.py pdf`` left it (``GYROLIB_REUSE_BOOK=/path/to/_build``: another build
@@ -284,9 +288,11 @@ def _read_record(path: Path) -> tuple[Book | None, str]:
     return book, data["error"]
 
 
-#: Under pytest-xdist, the folder (made by the controlling process) into which one worker
-#: builds the session's book for all of them.
+#: Under pytest-xdist, the folder (made by the controlling process) into which the session's
+#: book is built once for all the workers.
 SHARED_ENV = "GYROLIB_SESSION_BOOK_DIR"
+#: Niceness of the xdist workers: the book build keeps the processor first.
+WORKER_NICENESS = 10
 
 _BUILD = _BookBuild()
 
@@ -357,8 +363,28 @@ def pytest_collection_modifyitems(session: pytest.Session, config, items: list) 
 
 
 def pytest_collection_finish(session: pytest.Session) -> None:
+    if os.environ.get(SHARED_ENV) and hasattr(session.config, "workerinput"):
+        return  # an xdist worker: the controlling process builds (_XdistController)
     if any(_uses_the_book(item) for item in session.items):
         _BUILD.start()  # in the background while the other tests run
+
+
+class _XdistController:
+    """pytest-xdist hooks of the controlling process: it builds the book itself, in the
+    background, as soon as a worker reports a collected test module that uses the book; the
+    workers wait for its record (or, if they get the lock first, build it themselves)."""
+
+    def pytest_xdist_node_collection_finished(self, node, ids) -> None:
+        if _BUILD._thread is not None:
+            return
+        files = {nodeid.split("::")[0] for nodeid in ids}
+        for name in sorted(files):
+            path = ROOT / name
+            if path.suffix == ".py" and path.is_file() and re.search(
+                    r"\b(session_book|require_built_book)\b",
+                    path.read_text(encoding="utf-8")) and path.name != "conftest.py":
+                _BUILD.start()
+                return
 
 
 def _xdist_controller(config) -> bool:
@@ -375,12 +401,19 @@ def pytest_configure(config) -> None:
         folder = tempfile.mkdtemp(prefix="gyrolib-test-book-")
         os.environ[SHARED_ENV] = folder
         config.gyrolib_book_folder = Path(folder)
+        config.pluginmanager.register(_XdistController(), "gyrolib-xdist-controller")
+    elif hasattr(config, "workerinput") and os.environ.get(SHARED_ENV) and hasattr(os, "nice"):
+        # the workers yield the processor to the book build (the longest chain of the run,
+        # started by the controlling process at normal priority) and use what it leaves
+        os.nice(WORKER_NICENESS)
 
 
 def pytest_unconfigure(config) -> None:
     folder = getattr(config, "gyrolib_book_folder", None)
     if folder is None:
         return
+    if _BUILD._thread is not None:
+        _BUILD._thread.join()  # the controller's build: the workers have all ended
     os.environ.pop(SHARED_ENV, None)
     if os.environ.get("GYROLIB_KEEP_BOOK") == "1" and (folder / "book.json").is_file():
         print(f"\nthe test session's book is kept in {folder}")
