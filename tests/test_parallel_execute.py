@@ -30,20 +30,7 @@ JUPYTER_BOOK = Path(sys.executable).with_name("jupyter-book")
 sys.path.insert(0, str(ROOT / "_ext"))
 
 import parallel_execute  # noqa: E402
-
-FRONT = """\
----
-jupytext:
-  text_representation:
-    extension: .md
-    format_name: myst
-    format_version: 0.13
-kernelspec:
-  display_name: Python 3
-  language: python
-  name: python3
----
-"""
+from test_book_fails_loudly import FRONT_MATTER as FRONT  # noqa: E402
 
 SLEEPER = FRONT + """
 # Chapter {name}
