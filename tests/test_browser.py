@@ -276,11 +276,17 @@ def axe_violations(page) -> list[str]:
 # ----------------------------------------------------------------------------- tests
 
 
-def test_every_page_is_clean_in_a_real_browser(site, browser):
+#: The pages are checked in this many shares (every SHARES-th page each), so that pytest-xdist
+#: workers can check them side by side; together the shares cover every page.
+SHARES = 2
+
+
+@pytest.mark.parametrize("share", range(SHARES))
+def test_every_page_is_clean_in_a_real_browser(site, browser, share):
     pages = book_pages(require_built_book())
     assert "search.html" in pages and "chapters/intro.html" in pages, pages
     problems: list[str] = []
-    for rel in pages:
+    for rel in pages[share::SHARES]:
         url = site + rel
         browser.offsite.clear()
         page = _visit(browser, url)
@@ -299,7 +305,7 @@ def test_every_page_is_clean_in_a_real_browser(site, browser):
         finally:
             page.close()
         problems += [f"{rel}: {p}" for p in dict.fromkeys(found)]
-    assert not problems, (f"{len(problems)} problems over {len(pages)} pages:\n  "
+    assert not problems, (f"{len(problems)} problems over {len(pages[share::SHARES])} pages:\n  "
                           + "\n  ".join(problems))
 
 
