@@ -588,6 +588,20 @@ def _uniform_lane(s, r):
     return float(_sfc64_lane(s, r) >> uint64(11)) * (1.0 / 9007199254740992.0)
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _ziggurat_try(u, wi):
+    """numpy's first try of the ziggurat from one 64-bit output ``u``: the layer (8 bits),
+    the mantissa (52 bits, after the sign bit) and the signed candidate ``x``; accepted when
+    the mantissa is below the layer's ``ki``."""
+    idx = int64(u & uint64(0xff))
+    u >>= uint64(8)
+    rabs = (u >> uint64(1)) & uint64(0x000fffffffffffff)
+    x = float(rabs) * wi[idx]
+    if u & uint64(1):
+        x = -x
+    return idx, rabs, x
+
+
 @njit(cache=True, nogil=True)
 def _ziggurat_rest(s, r, idx, rabs, x, ki, wi, fi):
     """numpy's ``random_standard_normal`` for lane ``r`` after its first test failed (the
@@ -601,13 +615,7 @@ def _ziggurat_rest(s, r, idx, rabs, x, ki, wi, fi):
                     return -(_ZIG_R + xx) if (rabs >> uint64(8)) & uint64(1) else _ZIG_R + xx
         elif (fi[idx - 1] - fi[idx]) * _uniform_lane(s, r) + fi[idx] < math.exp(-0.5 * x * x):
             return x
-        u = _sfc64_lane(s, r)
-        idx = int64(u & uint64(0xff))
-        u >>= uint64(8)
-        rabs = (u >> uint64(1)) & uint64(0x000fffffffffffff)
-        x = float(rabs) * wi[idx]
-        if u & uint64(1):
-            x = -x
+        idx, rabs, x = _ziggurat_try(_sfc64_lane(s, r), wi)
         if rabs < ki[idx]:
             return x
 
@@ -675,13 +683,7 @@ def _fill_stream_lanes(s, out, lanes, ki, wi, fi):
     for k in range(out.shape[0]):
         for j in range(out.shape[1]):
             for r in range(lanes):
-                u = _sfc64_lane(s, 0)
-                idx = int64(u & uint64(0xff))
-                u >>= uint64(8)
-                rabs = (u >> uint64(1)) & uint64(0x000fffffffffffff)
-                x = float(rabs) * wi[idx]
-                if u & uint64(1):
-                    x = -x
+                idx, rabs, x = _ziggurat_try(_sfc64_lane(s, 0), wi)
                 if rabs >= ki[idx]:
                     x = _ziggurat_rest(s, 0, idx, rabs, x, ki, wi, fi)
                 if r < kept:
