@@ -10,7 +10,7 @@ threads, one per core) against peers run in the same process on the same runs:
 * the same call on one thread (``executor=ThreadPoolExecutor(1)``): what the second core buys;
 * the previous path, kept in the library for ``gc.simulate_truth``: normals drawn by numpy
   (SFC64) per block of 32 runs in Python, the same kernels otherwise
-  (``gyrolib.gc.montecarlo._run_batch``);
+  (``gyrolib.gc.analysis.montecarlo._run_batch``);
 * the same call on a ``ProcessPoolExecutor`` of 2 workers (workers started and warmed
   before timing): the cost of handing chunks to an executor (target: within 5 % of the
   in-process threads, plus the workers' one-time model build);
@@ -35,9 +35,9 @@ import numpy as np
 from _results import Recorder
 
 from gyrolib import filtering, gc
-from gyrolib.gc import montecarlo as mcm
-from gyrolib.gc.discretization import discretize
-from gyrolib.gc.params import GyrocompassParams
+from gyrolib.gc.analysis import montecarlo as mcm
+from gyrolib.gc.model.discretization import discretize
+from gyrolib.gc.model.params import GyrocompassParams
 
 
 def timed(fn, *args, **kw) -> tuple[object, float, float]:

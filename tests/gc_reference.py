@@ -138,7 +138,7 @@ READINGS = ("zero", "stationary")
 def reference_sigma_gc(wrong=None, t_end=100.0):
     """σ of ω_gc (rad/s) at the :data:`TIMES` up to ``t_end``, both :data:`READINGS`,
     for the default ``GyrocompassParams`` (computed once per process: ~30–60 s for 100 s)."""
-    from gyrolib.gc.params import GyrocompassParams  # the paper's numbers only
+    from gyrolib.gc.model.params import GyrocompassParams  # the paper's numbers only
 
     times = tuple(t for t in TIMES if t <= t_end)
     return times, sigma_gc_reference(GyrocompassParams(), times, READINGS, wrong=wrong)

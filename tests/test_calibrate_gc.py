@@ -14,7 +14,7 @@ import pytest
 import scipy.stats
 
 from gyrolib import filtering, gc
-from gyrolib.gc.calibration import _Nominal
+from gyrolib.gc.logs.calibration import _Nominal
 
 P = gc.GyrocompassParams()
 

@@ -16,7 +16,7 @@ import pytest
 
 from gyrolib import gc, records, rsf
 from gyrolib.cli import main
-from gyrolib.gc.params import state_index
+from gyrolib.gc.model.params import state_index
 
 P = gc.GyrocompassParams()
 G = P.g

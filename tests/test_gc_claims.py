@@ -1,5 +1,6 @@
-"""gyrolib.gc.claims: the speed-claim map and the shaping sweep, against hand values (the
-scaled parameters, the 510-s bound) and a direct reading of the σ curve at the crossing."""
+"""gyrolib.gc.analysis.speed_claim: the speed-claim map and the shaping sweep, against hand
+values (the scaled parameters, the 510-s bound) and a direct reading of the σ curve at the
+crossing."""
 
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from dataclasses import replace

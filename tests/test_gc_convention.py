@@ -1,4 +1,4 @@
-"""The inclinometer convention (:mod:`gyrolib.gc.convention`): the mapping's algebra, and the
+"""The inclinometer convention (:mod:`gyrolib.gc.logs.convention`): the mapping's algebra, and the
 Monte Carlo of a wrongly wired pair against the shift Eq. (5) predicts from the true tilts."""
 
 from __future__ import annotations

@@ -4,11 +4,13 @@ second-integrator solutions of Eq. (4), and the validation contract of Gyrocompa
 
 import dataclasses
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 import sympy as sp
 
+from gyrolib import gc
 from gyrolib.gc import (
     STATE_NAMES,
     GyrocompassParams,
@@ -320,3 +322,61 @@ def test_sweep_covariance_equals_single_runs_in_grid_order():
     for case, got in zip(cases, sw.final_std()):
         want = covariance_analysis(dataclasses.replace(p, **case), 0.5).final_std()
         assert got == pytest.approx(want, rel=1e-12)
+
+
+# Eqs. (1)-(3), (5) as named functions (gc.model.equations) ------------------------------------
+def test_eq5_is_row_two_of_the_state_matrix():
+    """Eq. (5) solved for Δβ'' equals row 2 of F(β_n) of Eq. (8) times the state (with the
+    vibration and random-drift states zero, which Eq. (5) carries as ω_rnd only), at several
+    β_n and a random state; and the check has power: the printed F listing's coupling of δ
+    and γ differs."""
+    from gyrolib.gc.model.equations import linearized_acceleration
+
+    p = gc.GyrocompassParams()
+    rng = np.random.default_rng(5)
+    for b in (0.0, 0.4, 1.1, 1.5):
+        x = rng.normal(size=10) * np.array([1e-4, 1e-4, 1e-3, 1e-6, 1e-3, 1e-3, 0, 0, 1e-7, 0])
+        want = gc.system_matrix(p, b)[1] @ x
+        got = linearized_acceleration(p, b, x[0], x[1], psi=x[2], omega_gc=x[3], delta=x[4],
+                                      gamma=x[5], omega_rnd=x[8])
+        assert got == pytest.approx(want, rel=1e-12, abs=1e-18)
+    printed = replace(p, vertical_coupling="printed_F")
+    x = np.zeros(10)
+    x[4] = 1e-3
+    assert gc.system_matrix(printed, 0.4)[1] @ x != pytest.approx(
+        float(linearized_acceleration(p, 0.4, 0.0, 0.0, delta=1e-3)), rel=1e-3)
+
+
+def test_eq5_is_the_derivative_of_eq3():
+    """Eq. (5) is Eq. (3) linearized about β_n: a central difference of Eq. (3) in β, ψ, δ,
+    γ (with Eq. (4)'s motion subtracted) gives Eq. (5)'s coefficients."""
+    from gyrolib.gc.model.equations import float_acceleration, linearized_acceleration
+
+    p = gc.GyrocompassParams()
+    b, h = 0.7, 1e-6
+    for name in ("beta", "psi", "delta", "gamma"):
+        def eq3(e, name=name):
+            kw = {"psi": 0.0, "delta": 0.0, "gamma": 0.0}
+            beta = b + e if name == "beta" else b
+            if name != "beta":
+                kw[name] = e
+            return float(float_acceleration(p, beta, 0.0, **kw))
+        slope = (eq3(h) - eq3(-h)) / (2 * h)
+        kw = {"d_beta": 1.0 if name == "beta" else 0.0}
+        lin = float(linearized_acceleration(p, b, kw["d_beta"], 0.0,
+                                            **({} if name == "beta" else {name: 1.0})))
+        assert slope == pytest.approx(lin, rel=1e-6), name
+
+
+def test_eq1_and_eq2_are_what_eq3_adds_up():
+    """Eq. (3)'s right side is Eq. (1)'s torque plus H times the vertical rate of Eq. (2)
+    projected on the input axis, plus H ω_gc."""
+    from gyrolib.gc.model.equations import float_acceleration, gyroscopic_torque, vertical_rate
+
+    p = gc.GyrocompassParams()
+    b, psi, d, g, w = 0.3, 2e-3, 1e-3, -2e-3, 1e-7
+    wy, wz = vertical_rate(p, d, g)
+    torque = (gyroscopic_torque(p, b, psi) + p.H * (wz * np.cos(b) + wy * np.sin(b))
+              + p.H * w)
+    assert float(float_acceleration(p, b, 0.0, psi=psi, delta=d, gamma=g, omega_gc=w)) == \
+        pytest.approx(float(torque) / p.I, rel=1e-13)

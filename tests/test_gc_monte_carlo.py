@@ -23,7 +23,7 @@ import scipy.stats
 
 from gyrolib import filtering, gc
 from gyrolib.gc import GyrocompassParams
-from gyrolib.gc import montecarlo as mcm
+from gyrolib.gc.analysis import montecarlo as mcm
 from gyrolib.units import ARCSEC_PAPER
 
 P = GyrocompassParams()
@@ -159,7 +159,7 @@ def test_kernel_normals_are_numpys():
 
 
 def test_stream_lanes_are_numpys():
-    """simulate_truth's draw (:func:`gyrolib.gc.montecarlo._fill_stream_lanes`): the first
+    """simulate_truth's draw (:func:`gyrolib.gc.analysis.montecarlo._fill_stream_lanes`): the first
     lanes of what numpy's Generator(SFC64).standard_normal((steps, width, 32)) draws from one
     stream, to 1e-12 relative (tails included), and the stream's state after it is numpy's
     after the whole array; keeping one lane or three gives the same numbers."""

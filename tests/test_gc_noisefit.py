@@ -119,7 +119,7 @@ def test_inclinometer_likelihood_against_plain_numpy():
 
     import scipy.linalg
 
-    from gyrolib.gc import noisefit
+    from gyrolib.gc.logs import noise_fit as noisefit
 
     p = gc.GyrocompassParams()
     rec = gc.simulate_record(p, 3.0, seed=21).record

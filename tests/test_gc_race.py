@@ -1,5 +1,5 @@
 """The race of paper GC's method against the rate-sensor method it replaces (issue 17):
-``gc.ratesensor`` and ``gc.racing``.
+``gc.racing.rate_sensor`` and ``gc.racing.comparison``.
 
 Independent references: the ledger's time of GC's filter (itself tested against the
 plain-numpy filter of ``tests/gc_reference.py``); closed forms of the classical estimator's
@@ -20,7 +20,7 @@ import pytest
 from gyrolib import gc
 from gyrolib.book.ledger.gc import SIGMA_C
 from gyrolib.book.ledger.gc import items as ledger_items
-from gyrolib.gc.ratesensor import RS_STATE_NAMES
+from gyrolib.gc.racing.rate_sensor import RS_STATE_NAMES
 
 BASE = gc.GyrocompassParams()
 PROC = gc.RateSensorProcedure()

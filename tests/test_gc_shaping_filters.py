@@ -1,4 +1,4 @@
-"""gyrolib.gc.shaping_filters against closed forms (sympy), a second algorithm (PSD quadrature
+"""gyrolib.gc.model.shaping_filters against closed forms (sympy), a second algorithm (PSD quadrature
 vs Lyapunov) and statistical bounds (seeded exact simulation), paper GC Eqs. (6), (7)."""
 
 import math

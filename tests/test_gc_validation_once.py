@@ -64,7 +64,7 @@ def test_covariance_analysis_walk_enters_validation_once_at_the_door(counted):
     callers.clear()
     gc.covariance_analysis(p, 0.01)
     doors = [c for c in callers["params"] if not c.endswith("__post_init__")]
-    assert doors == ["gc/covariance.py:covariance_analysis"], callers["params"]
+    assert doors == ["gc/analysis/covariance.py:covariance_analysis"], callers["params"]
     records = sorted(c for c in callers["params"] if c.endswith("__post_init__"))
     assert len(records) == 2, callers["params"]
     refields = {name: [c for c in callers[name] if c.startswith("gc/")] for name in FIELDS}

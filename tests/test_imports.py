@@ -4,7 +4,7 @@ above both; datasheet specs never import the simulation that models them.
 
 The graph is read from the source (every ``import``, also inside functions), so a lazy import
 that runs back up is caught too.  An edge goes from a module to the module it names
-(``from gyrolib.gc.params import X`` -> ``gyrolib.gc.params``); a package's ``__init__``
+(``from gyrolib.gc.model.params import X`` -> ``gyrolib.gc.model.params``); a package's ``__init__``
 re-exports its modules and is left out as a target, as Python resolves the named module.
 """
 
@@ -69,8 +69,8 @@ GRAPH = import_graph()
 
 def test_the_graph_sees_known_edges():
     """The parser finds imports at module level, inside functions and relative ones."""
-    assert "gyrolib.gc.params" in GRAPH["gyrolib.gc.covariance"]
-    assert "gyrolib.records.tables" in GRAPH["gyrolib.cli.calibrate"]
+    assert "gyrolib.gc.model.params" in GRAPH["gyrolib.gc.analysis.covariance"]
+    assert "gyrolib.records.reader" in GRAPH["gyrolib.cli.calibrate"]
     assert "gyrolib.rsf.sensors" in GRAPH["gyrolib.rsf.simulation"]
 
 
@@ -167,4 +167,82 @@ def test_lazy_names_still_resolve(package):
     if package == "gyrolib.gc":
         from gyrolib.gc import plot_figure1, symbolic
 
-        assert plot_figure1 is plots.plot_figure1 and symbolic.__name__ == "gyrolib.gc.symbolic"
+        assert plot_figure1 is plots.plot_figure1 and symbolic.__name__ == "gyrolib.gc.model.symbolic"
+
+
+# Rooms by role (issue 29, item 1) -------------------------------------------------------------
+#: The named-tuple API, whose leading underscore is not a privacy mark.
+_NAMEDTUPLE_API = frozenset({"_replace", "_asdict", "_fields", "_make",
+                             # the type argparse's add_subparsers returns, which has no
+                             # public name: used in annotations only
+                             "_SubParsersAction"})
+
+
+def private_reaches(root: Path = ROOT) -> list[str]:
+    """``module:line name`` for every place a gyrolib module uses another object's private
+    name: ``from gyrolib.x import _y``, or an attribute ``obj._y`` of anything but ``self``
+    and ``cls`` (a package's private helper modules, ``gyrolib._validation`` and the like,
+    are imported whole and their public names used)."""
+    found = []
+    for path in root.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text("utf-8"))):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("gyrolib"):
+                found += [f"{path.relative_to(root.parent)}:{node.lineno} {a.name}"
+                          for a in node.names if a.name.startswith("_")
+                          and not a.name.startswith("__")
+                          and f"{node.module}.{a.name}" not in _PRIVATE_MODULES]
+            elif (isinstance(node, ast.Attribute) and node.attr.startswith("_")
+                  and not node.attr.startswith("__") and node.attr not in _NAMEDTUPLE_API
+                  and not (isinstance(node.value, ast.Name)
+                           and node.value.id in ("self", "cls"))):
+                found.append(f"{path.relative_to(root.parent)}:{node.lineno} {node.attr}")
+    return sorted(found)
+
+
+_PRIVATE_MODULES = frozenset(_module_name(p) for p in ROOT.rglob("_*.py")
+                             if not p.name.startswith("__"))
+
+
+def test_no_module_reaches_into_another_modules_private_names():
+    assert private_reaches() == []
+
+
+def test_private_reach_finder_has_power(tmp_path):
+    """A module that calls another object's private method, or imports a private name, is
+    reported; one that uses its own ``self._x`` and a named tuple's ``_replace`` is not."""
+    pkg = tmp_path / "gyrolib"
+    pkg.mkdir()
+    (pkg / "a.py").write_text("from gyrolib.b import _helper\n\ndef f(m):\n"
+                              "    return m._optimal_run_n(1), m._replace(x=1)\n")
+    (pkg / "b.py").write_text("class B:\n    def g(self):\n        return self._h()\n")
+    assert private_reaches(pkg) == ["gyrolib/a.py:1 _helper", "gyrolib/a.py:4 _optimal_run_n"]
+
+
+def test_figures_live_in_plots_modules():
+    """Every ``plot_*`` function is defined in a ``plots`` module, none in a compute module."""
+    outside = [f"{p.relative_to(ROOT.parent)}:{n.name}" for p in ROOT.rglob("*.py")
+               if p.stem != "plots"
+               for n in ast.parse(p.read_text("utf-8")).body
+               if isinstance(n, ast.FunctionDef) and n.name.startswith("plot_")]
+    assert outside == []
+
+
+def test_gc_is_divided_into_rooms_by_role():
+    """``gyrolib.gc`` holds its four rooms and the figures, no loose compute modules; the
+    docstring table maps every numbered equation and figure of paper GC to a module that
+    exists."""
+    import re
+
+    import gyrolib.gc as gc
+
+    loose = sorted(p.name for p in (ROOT / "gc").glob("*.py"))
+    assert loose == ["__init__.py", "plots.py"]
+    rooms = sorted(p.name for p in (ROOT / "gc").iterdir() if (p / "__init__.py").exists())
+    assert rooms == ["analysis", "logs", "model", "racing"]
+    doc = gc.__doc__
+    for k in range(1, 9):
+        assert f"Eq. ({k})" in doc, k
+    for k in range(1, 5):
+        assert f"Figure {k}" in doc, k
+    for module in set(re.findall(r"``gc\.(\w+\.\w+)``", doc)):
+        assert (ROOT / "gc" / (module.replace(".", "/") + ".py")).exists(), module

@@ -216,7 +216,7 @@ def test_the_float_rotation_is_quoted_as_printed(base):
 def test_sigma_and_speed_items_quote_the_committed_sensitivity_study(base):
     """Issue 19: gc.sigma_gc_100s and both speed claims cite the global sensitivity study in
     their evidence, with the output's range over the study read here straight from the JSON
-    (not through gyrolib.gsa) and rounded as printed; at other parameters the study is not
+    (not through gyrolib.sensitivity) and rounded as printed; at other parameters the study is not
     quoted (it was run around the paper's values)."""
     import json
 

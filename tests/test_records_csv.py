@@ -16,7 +16,7 @@ import pytest
 
 from gyrolib import records
 from gyrolib.records import RecordError
-from gyrolib.records.tables import GC_COLUMNS, _Lines, _Reader
+from gyrolib.records.reader import GC_COLUMNS, _Lines, _Reader
 
 HEADER = ",".join(GC_COLUMNS)
 

@@ -535,7 +535,18 @@ case("gc.system_matrix_parts", lambda: gc.system_matrix_parts("paper"), TypeErro
      "params", "GyrocompassParams")
 
 
-# the race against the rate-sensor method (gc.ratesensor, gc.racing); the race computed once
+# Eqs. (1)-(3), (5) as named functions (gc.model.equations)
+case("gc.gyroscopic_torque", lambda: gc.gyroscopic_torque("paper", 0.0), TypeError, "params",
+     "GyrocompassParams")
+case("gc.vertical_rate", lambda: gc.vertical_rate(None, 0.0, 0.0), TypeError, "params",
+     "GyrocompassParams")
+case("gc.float_acceleration", lambda: gc.float_acceleration({}, 0.0, 0.0), TypeError,
+     "params", "GyrocompassParams")
+case("gc.linearized_acceleration", lambda: gc.linearized_acceleration(1.0, 0.0, 0.0, 0.0),
+     TypeError, "params", "GyrocompassParams")
+
+
+# the race against the rate-sensor method (gc.racing); the race computed once
 @functools.cache
 def _race():
     return gc.race()
@@ -555,6 +566,14 @@ case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(vibration_frame="x
      ValueError, "vibration_frame", "one of")
 case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(sample_dt="0.1"), TypeError,
      "sample_dt")
+case("gc.RateSensorModel.window_samples", lambda: _RMODEL.window_samples("t1", -1.0),
+     ValueError, "t1", POS)
+case("gc.RateSensorModel.window_samples", lambda: _RMODEL.window_samples("t2", 1e-9),
+     ValueError, "t2", "at least one sample")
+case("gc.RateSensorModel.classical_sigma_samples",
+     lambda: _RMODEL.classical_sigma_samples(0, 10), ValueError, "n1", ">= 1")
+case("gc.RateSensorModel.optimal_run_samples", lambda: _RMODEL.optimal_run_samples(10, 2.5),
+     TypeError, "n2", "integer")
 case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(procedure=P), TypeError,
      "procedure", "RateSensorProcedure")
 case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(_RPROC), TypeError, "params",
@@ -662,7 +681,7 @@ def test_bad_input_is_rejected_by_name(call, exc, pattern):
 
 
 #: Public callables without a bad-input case, and why.
-# global sensitivity (gc.sobol)
+# global sensitivity (gc.analysis.sensitivity_study)
 case("gc.sensitivity", lambda: gc.sensitivity(6), ValueError, "n", "power of 2")
 case("gc.sensitivity", lambda: gc.sensitivity(4, seed=-1), ValueError, "seed", ">= 0")
 case("gc.sensitivity", lambda: gc.sensitivity(4, executor="dask"), TypeError, "executor")

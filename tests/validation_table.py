@@ -38,7 +38,7 @@ from gyrolib import (  # noqa: F401
 from gyrolib.book import ledger, report  # noqa: F401
 from gyrolib.book.ledger import gc as lgc  # noqa: F401
 from gyrolib.book.ledger import rsf as lrsf  # noqa: F401
-from gyrolib.gc import symbolic  # noqa: F401
+from gyrolib.gc.model import symbolic  # noqa: F401
 
 NAN, INF = math.nan, math.inf
 P = gc.GyrocompassParams()

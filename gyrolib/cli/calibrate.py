@@ -35,10 +35,10 @@ from typing import Final
 import numpy as np
 
 from gyrolib import gc, rsf, units
-from gyrolib.gc.params import MEASUREMENT_NAMES
+from gyrolib.gc.model.params import MEASUREMENT_NAMES
 from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
-from gyrolib.records.tables import GCChunks, read_gc, read_rsf
+from gyrolib.records.reader import GCChunks, read_gc, read_rsf
 
 __all__ = ["EXIT_BAD_INPUT", "EXIT_INVALID", "SUMMARY_COLUMNS", "add_parser", "run"]
 

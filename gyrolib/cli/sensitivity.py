@@ -96,7 +96,7 @@ def _previous(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
     """The study to extend and its run record, or (None, {}); ValueError if unusable."""
     if args.extend is None:
         return None, {}
-    from gyrolib.gsa import result_from_dict
+    from gyrolib.sensitivity import result_from_dict
 
     try:
         data = json.loads(args.extend.read_text(encoding="utf-8"))
@@ -188,8 +188,8 @@ def run(args: argparse.Namespace) -> int:
     """Run the study and write ``args.out``; status 0, or 1 if the cluster is unreachable."""
     from tqdm import tqdm
 
-    from gyrolib.gc.sobol import sensitivity as gc_sensitivity
-    from gyrolib.rsf.sobol import sensitivity as rsf_sensitivity
+    from gyrolib.gc.analysis.sensitivity_study import sensitivity as gc_sensitivity
+    from gyrolib.rsf.sensitivity_study import sensitivity as rsf_sensitivity
 
     study = {"gc": (gc_sensitivity, 12), "rsf": (rsf_sensitivity, 5)}[args.model]
     total = args.n * ((2 if args.second_order else 1) * study[1] + 2)

@@ -15,8 +15,9 @@ Estimator:
 * :func:`plot_p0_scale` — σ(100 s) against the scale of the initial N1…N4 covariance;
 * :func:`plot_error_budget` — σ(100 s) by source, and the variance shares over time;
 
-Claims (each takes the result object of :mod:`gyrolib.gc.montecarlo`,
-:mod:`gyrolib.gc.claims` or :mod:`gyrolib.gc.observability`; no validation by design):
+Claims (each takes the result object of :mod:`gyrolib.gc.analysis.montecarlo`,
+:mod:`gyrolib.gc.analysis.speed_claim` or :mod:`gyrolib.gc.analysis.observability`; no
+validation by design):
 
 * :func:`plot_estimates` — paper GC, Figure 4 (estimates of ω_gc in runs against truth);
 * :func:`plot_consistency` — ensemble RMS error against σ, and NEES with chi-square bands;
@@ -27,7 +28,14 @@ Claims (each takes the result object of :mod:`gyrolib.gc.montecarlo`,
 * :func:`plot_linearization` — the nonlinear truth against the linearized one: NEES excess
   and its cause.
 
-Race (each takes a result of :mod:`gyrolib.gc.racing`):
+Use on logs:
+
+* :func:`plot_calibration` — the ω_gc estimate of :func:`gyrolib.gc.calibrate` on a record, with
+  its σ band and the mean NIS per window;
+* :func:`plot_allan` — the Allan deviation of a record's sensors with paper GC's model;
+* :func:`plot_convention_study` — what a wrongly wired inclinometer pair does.
+
+Race (each takes a result of :mod:`gyrolib.gc.racing.comparison`):
 
 * :func:`plot_race` — σ of ω_gc against elapsed time, GC's method and the rate-sensor method
   it replaces (classical and optimal estimators), the procedure's phases shaded;
@@ -46,15 +54,22 @@ from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
-from gyrolib.filtering.consistency import nees_bounds
-from gyrolib.gc.budget import ErrorBudget
-from gyrolib.gc.covariance import CovarianceAnalysis, CovarianceSweep
-from gyrolib.gc.nominal import NominalMotion
-from gyrolib.gc.racing import RaceResult, RaceSweep
+from gyrolib.filtering.consistency import chi2_ppf, nees_bounds
+from gyrolib.gc.analysis.budget import ErrorBudget
+from gyrolib.gc.analysis.covariance import CovarianceAnalysis, CovarianceSweep
+from gyrolib.gc.logs.allan import AllanDeviation
+from gyrolib.gc.logs.calibration import CalibrationResult
+from gyrolib.gc.logs.convention import ConventionStudy
+from gyrolib.gc.model.nominal import NominalMotion
+from gyrolib.gc.model.params import MEASUREMENT_NAMES
+from gyrolib.gc.racing.comparison import RaceResult, RaceSweep
 from gyrolib.units import ARCSEC, from_si
 
 __all__ = [
+    "plot_allan",
+    "plot_calibration",
     "plot_consistency",
+    "plot_convention_study",
     "plot_error_budget",
     "plot_estimates",
     "plot_figure1",
@@ -930,7 +945,7 @@ def plot_linearization(effect) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    from gyrolib.gc.params import STATE_NAMES
+    from gyrolib.gc.model.params import STATE_NAMES
 
     t = effect.t
     fig = Figure(figsize=(12.0, 4.0), layout="constrained")
@@ -966,4 +981,127 @@ def plot_linearization(effect) -> Figure:
     ax_w.set_ylabel(f"shift of the ω_gc estimate at {t[-1]:g} s (σ)")
     ax_w.grid(True, alpha=0.3)
     ax_w.legend(fontsize=7)
+    return fig
+
+
+def plot_allan(result: AllanDeviation, *, title: str | None = None):
+    """Left: the Allan deviation of the angle-sensor rate (rad/s); right: of the two
+    inclinometers (m/s²); each with its error bars and, dashed, paper GC's model.  Returns a
+    :class:`matplotlib.figure.Figure`."""
+    import matplotlib.pyplot as plt
+
+    if not isinstance(result, AllanDeviation):
+        raise TypeError(f"result must be an AllanDeviation; got {type(result).__name__}")
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8))
+    s = result.series[0]
+    ax.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3, lw=1,
+                color="C0",
+                label="angle-sensor rate")
+    ax.plot(s.tau, s.model, "--", color="k", lw=1, label="model: white angle noise √(3R)/τ")
+    ax.set_ylabel("Allan deviation (rad/s)")
+    for q, s in enumerate(result.series[1:], start=1):
+        bx.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3,
+                    lw=1, color=f"C{q}",
+                    label=s.name)
+    s = result.series[1]
+    bx.plot(s.tau, s.model, "--", color="k", lw=1,
+            label="model: sensor noise + vibration N1")
+    bx.set_ylabel("Allan deviation (m/s²)")
+    for a in (ax, bx):
+        a.set_xscale("log")
+        a.set_yscale("log")
+        a.set_xlabel("τ (s)")
+        a.grid(True, which="both", lw=0.3, alpha=0.5)
+        a.legend(fontsize=7)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def plot_convention_study(study: ConventionStudy):
+    """Left: the error of ω̂_gc in σ per run, as logged and wrongly wired, marked by whether
+    the diagnostics pass.  Right: the shift of the estimate the wiring causes against the
+    shift Eq. (5) predicts from the true tilts.  Returns a :class:`matplotlib.figure.Figure`."""
+    import matplotlib.pyplot as plt
+
+    from gyrolib.units import from_si
+
+    if not isinstance(study, ConventionStudy):
+        raise TypeError(f"study must be a ConventionStudy; got {type(study).__name__}")
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8))
+    k = np.arange(study.seeds.size)
+    for z, fits, x0, color, label in ((study.z_right, study.fits_right, -0.15, "C0",
+                                       "columns as logged"),
+                                      (study.z_wrong, study.fits_wrong, 0.15, "C3",
+                                       f"wired {study.wiring}")):
+        ax.scatter(k[fits] + x0, z[fits], color=color, s=22, label=f"{label}: model fits")
+        if np.any(~fits):
+            ax.scatter(k[~fits] + x0, z[~fits], facecolor="none", edgecolor=color, s=22,
+                       label=f"{label}: does not fit")
+    ax.axhspan(-3, 3, color="0.9", zorder=0, label="±3σ")
+    ax.axhline(0, color="k", lw=0.6)
+    ax.set_xlabel("run (seed)")
+    ax.set_xticks(k, [str(s) for s in study.seeds], fontsize=7)
+    ax.set_ylabel("(ω̂_gc − ω_gc) / σ")
+    ax.legend(fontsize=7, loc="best")
+    pred = np.asarray(from_si(study.predicted_shift, "arcsec_paper/s"))
+    got = np.asarray(from_si(study.shift, "arcsec_paper/s"))
+    lim = 1.1 * float(max(np.max(np.abs(pred)), np.max(np.abs(got)), 1e-12))
+    bx.plot([-lim, lim], [-lim, lim], color="k", lw=0.8, label="equal")
+    bx.scatter(pred, got, color="C3", s=22)
+    bx.set_xlabel("predicted shift Ω_v(γ − γ′) (″/s)")
+    bx.set_ylabel("shift of ω̂_gc, wired − logged (″/s)")
+    bx.set_xlim(-lim, lim)
+    bx.set_ylim(-lim, lim)
+    bx.legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    return fig
+
+
+# Figure -----------------------------------------------------------------------------------
+def plot_calibration(result: CalibrationResult, truth: float | None = None,
+                     confidence: float = 0.99):
+    """The ω_gc estimate with its ±σ band over time (paper's ″/s) and, below, the mean NIS
+    of each sensor per stored window against its χ² band; ``truth`` (rad/s) draws the true
+    drift when known.  Returns a :class:`matplotlib.figure.Figure`."""
+    import matplotlib.pyplot as plt
+
+    from gyrolib.units import from_si
+
+    if not isinstance(result, CalibrationResult):
+        raise TypeError(f"result must be a CalibrationResult; got {type(result).__name__}")
+    conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True, high_open=True)
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 5.6), sharex=True,
+                                 gridspec_kw={"height_ratios": [3, 2]})
+    est = np.asarray(from_si(result.estimate("omega_gc"), "arcsec_paper/s"))
+    sig = np.asarray(from_si(result.sigma("omega_gc"), "arcsec_paper/s"))
+    ax.fill_between(result.t, est - sig, est + sig, color="C0", alpha=0.25, lw=0,
+                    label="±σ (filter)")
+    ax.plot(result.t, est, color="C0", lw=1.2, label="estimate")
+    if truth is not None:
+        ax.axhline(float(from_si(v.check_real("truth", truth), "arcsec_paper/s")), color="k",
+                   ls="--", lw=1, label="truth")
+    ax.set_ylabel("ω_gc (″/s, paper's arcsec)")
+    lo = float(np.min(est[-max(1, est.size // 2):] - 4 * sig[-max(1, est.size // 2):]))
+    hi = float(np.max(est[-max(1, est.size // 2):] + 4 * sig[-max(1, est.size // 2):]))
+    if truth is not None:
+        tr = float(from_si(truth, "arcsec_paper/s"))
+        lo, hi = min(lo, tr - (hi - lo) * 0.1), max(hi, tr + (hi - lo) * 0.1)
+    ax.set_ylim(lo, hi)
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(f"ω_gc = {from_si(result.omega_gc, 'arcsec_paper/s'):.4g} ± "
+                 f"{from_si(result.omega_gc_std, 'arcsec_paper/s'):.2g} ″/s", fontsize=10)
+    for q, name in enumerate(MEASUREMENT_NAMES):
+        bx.plot(result.t, result.nis_window[:, q], lw=0.8, color=f"C{q + 1}", label=name)
+    n = np.maximum(np.median(result.nis_window_count, axis=0), 1.0)
+    nn = float(np.max(n))
+    bx.axhspan(chi2_ppf(0.5 * (1 - conf), nn) / nn,
+               chi2_ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
+               label=f"{conf:.0%} band, {nn:.0f} samples")
+    bx.axhline(1.0, color="k", lw=0.6)
+    bx.set_ylabel("mean NIS per window")
+    bx.set_xlabel("t (s)")
+    bx.legend(loc="upper right", fontsize=7, ncol=2)
+    fig.tight_layout()
     return fig

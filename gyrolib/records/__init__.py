@@ -5,7 +5,7 @@ accept (records imports them; they never import records).
 ==================  ===============================================================
 module              what it holds
 ==================  ===============================================================
-``tables``          :func:`read_csv`, :func:`iter_csv` (CSV or ``.csv.gz``, ``#`` comments,
+``reader``          :func:`read_csv`, :func:`iter_csv` (CSV or ``.csv.gz``, ``#`` comments,
                     chunked), :func:`read_gc`, :class:`GCChunks` (a long record in chunks),
                     :func:`read_rsf`, :func:`write_csv`
 ``params``          :func:`load_toml`, :func:`gc_params_from_toml`,
@@ -33,7 +33,7 @@ from gyrolib.records.plausibility import (
     check_rsf,
     noise_ratio,
 )
-from gyrolib.records.tables import (
+from gyrolib.records.reader import (
     GC_COLUMNS,
     RSF_COLUMNS,
     GCChunks,

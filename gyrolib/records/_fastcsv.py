@@ -3,7 +3,7 @@ over the bytes of a block (:func:`parse_rows`), the used columns written straigh
 float array.
 
 It takes only what it can read exactly as the line-by-line path does
-(:class:`gyrolib.records.tables._Reader`): ASCII lines ending in ``\\n`` or ``\\r\\n``, cells
+(:class:`gyrolib.records.reader._Reader`): ASCII lines ending in ``\\n`` or ``\\r\\n``, cells
 separated by commas, blanks around a cell, a used cell a decimal number (``[+-]digits[.digits]
 [e[+-]digits]``), ``nan`` in any case with an optional sign, or empty (both a missing value);
 an unused cell anything but a quote, ``#`` or a non-ASCII byte.  A number is converted as

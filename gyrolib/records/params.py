@@ -18,7 +18,7 @@ import os
 import tomllib
 from pathlib import Path
 
-from gyrolib.gc.params import GyrocompassParams
+from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 from gyrolib.rsf.simulation import SimulationConfig
 

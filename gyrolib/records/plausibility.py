@@ -44,9 +44,9 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib.gc.nominal import nominal_motion_aperiodic
-from gyrolib.gc.params import GyrocompassParams
-from gyrolib.gc.record import GCRecord
+from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model.nominal import nominal_motion_aperiodic
+from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 from gyrolib.rsf.record import RSFRecord
 from gyrolib.units import ARCSEC, ARCSEC_PAPER, DEG

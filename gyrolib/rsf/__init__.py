@@ -1,21 +1,21 @@
 """Paper RSF: in-flight correction of a roll gyro's scale factor by a MEMS indicator
 gyrostabilizer (GS).
 
-================  ====================================================================
-module            paper RSF
-================  ====================================================================
-``sensors``       the sensors' data (Table 1, GS gyro, encoder): :class:`RollGyroSpec`, …
-``equations``     Eqs. (1)–(9): :func:`sf_error_estimate`, :func:`delta_k`, …
-``tables``        Tables 2 and 3: :func:`table2`, :func:`table3`
-``simulation``    a seeded flight simulation: :func:`simulate_flight`
-``correction``    Eqs. (1)–(3), shared: :func:`run_correction` (simulation), :func:`predict_delta_k`
-``sweeps``        the correction against its period, the encoder and the roll rate
-``claims``        the paper's verbal claims with their conditions: :func:`compensation_share`, …
-``sobol``         Sobol' indices of δK and the share removed: :func:`sensitivity`
-``record``        :class:`RSFRecord`, a recorded log the correction reads (SI)
-``calibration``   the correction on a recorded log: :func:`calibrate`
-``plots``         the figures: ``plot_*``
-================  ====================================================================
+=====================  ===================================================================
+module                 paper RSF
+=====================  ===================================================================
+``sensors``            the sensors' data (Table 1, GS gyro, encoder): :class:`RollGyroSpec`, …
+``equations``          Eqs. (1)–(9): :func:`sf_error_estimate`, :func:`delta_k`, …
+``tables``             the paper's Tables 2 and 3: :func:`table2`, :func:`table3`
+``simulation``         a seeded flight simulation: :func:`simulate_flight`
+``correction``         Eqs. (1)–(3): :func:`run_correction` (simulation), :func:`predict_delta_k`
+``sweeps``             the correction against its period, the encoder and the roll rate
+``claims``             the paper's verbal claims and their conditions: :func:`compensation_share`
+``sensitivity_study``  Sobol' indices of δK and the share removed: :func:`sensitivity`
+``record``             :class:`RSFRecord`, a recorded log the correction reads (SI)
+``calibration``        the correction on a recorded log: :func:`calibrate`
+``plots``              the figures: ``plot_*`` (matplotlib, loaded on first use)
+=====================  ===================================================================
 
 Use as ``from gyrolib import rsf`` then ``rsf.table2()``.
 """
@@ -194,13 +194,12 @@ __all__ = [
 from gyrolib.rsf.calibration import (
     CalibrationResult,
     calibrate,
-    plot_correction,
     record_from_simulation,
 )
 from gyrolib.rsf.record import RSFRecord
 
 # Global sensitivity of delta K and the share removed (issue 19)
-from gyrolib.rsf.sobol import (
+from gyrolib.rsf.sensitivity_study import (
     SENSITIVITY_OUTPUTS,
     recheck_sensitivity,
     sensitivity,
@@ -218,9 +217,9 @@ __all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensit
 # the numerical functions never need.
 #: The names of ``rsf.plots`` re-exported here.
 _PLOTS = frozenset({
-    "plot_compensation_share", "plot_delta_k_distribution", "plot_encoder_sweep",
-    "plot_figure3", "plot_flight", "plot_gs_scheme", "plot_method_scheme", "plot_period_sweep",
-    "plot_rate_sweep", "plot_spin_up"})
+    "plot_compensation_share", "plot_correction", "plot_delta_k_distribution",
+    "plot_encoder_sweep", "plot_figure3", "plot_flight", "plot_gs_scheme", "plot_method_scheme",
+    "plot_period_sweep", "plot_rate_sweep", "plot_spin_up"})
 
 
 def __getattr__(name: str):

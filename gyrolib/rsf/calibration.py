@@ -38,14 +38,12 @@ from gyrolib.rsf.equations import K_FORMS, relative_k_error
 from gyrolib.rsf.record import RSFRecord
 
 if TYPE_CHECKING:   # matplotlib is imported where a figure is drawn (not at the CLI's start)
-    from matplotlib.figure import Figure
+    pass
 from gyrolib.rsf.simulation import SensorRecord, encoder_counts, gs_angle
-from gyrolib.units import from_si
 
 __all__ = [
     "CalibrationResult",
     "calibrate",
-    "plot_correction",
     "record_from_simulation",
 ]
 
@@ -294,44 +292,3 @@ def record_from_simulation(sim: SensorRecord, run: int = 0, *,
     gyro = np.concatenate([[0.0], np.cumsum(sim.gs_gyro_inc[run])])
     return RSFRecord(t=sim.t, sins_increment=inc, encoder_counts=c,
                      counts_per_rev=enc.counts_per_rev, gs_gyro_angle=gyro)
-
-
-def plot_correction(result: CalibrationResult, prediction: DeltaKPrediction | None = None,
-                    eps1: float | None = None) -> Figure:
-    """ε̂1 per interval (ppm) with, when given, the ±2σ band of δK the error model predicts
-    (``prediction`` from :func:`gyrolib.rsf.predict_delta_k` at the record's
-    :attr:`~CalibrationResult.mean_rate`) about ``(ε1 − mean δK)/(1 + ε1)`` (``eps1`` the
-    true error if known; else about the mean estimate), and below the roll angle against the
-    GS with and without correction.  Returns a :class:`matplotlib.figure.Figure`."""
-    v.check_instance("result", result, CalibrationResult)
-    if prediction is not None:
-        v.check_instance("prediction", prediction, DeltaKPrediction)
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(7.5, 5.4), layout="tight")
-    ax, bx = fig.subplots(2, 1)
-    mid = 0.5 * (result.t_start + result.t_end)
-    e = np.asarray(from_si(result.eps1_hat, "ppm"))
-    ax.plot(mid, e, "o", ms=3.5, color="C0", label="ε̂1 per interval (Eq. (2))")
-    if prediction is not None:
-        # δK = K(1+ε1) − 1 with K = 1 − ε̂1, so ε̂1 = (ε1 − δK)/(1 + ε1)
-        if eps1 is None:
-            c = float(np.mean(result.eps1_hat))
-        else:
-            e1 = float(v.check_real("eps1", eps1))
-            c = (e1 - prediction.mean) / (1.0 + e1)
-        s = prediction.std
-        ax.axhspan(float(from_si(c - 2 * s, "ppm")), float(from_si(c + 2 * s, "ppm")),
-                   color="0.88", label="error model: ±2σ of δK")
-        ax.axhline(float(from_si(c, "ppm")), color="k", lw=0.8, ls="--")
-    ax.set_ylabel("ε̂1 (ppm)")
-    ax.set_xlabel("t (s), middle of the interval")
-    ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
-    bx.plot(result.t, from_si(result.residual_raw, "deg"), color="C3", lw=1,
-            label="uncorrected SINS − GS")
-    bx.plot(result.t, from_si(result.residual, "deg"), color="C0", lw=1,
-            label="corrected SINS − GS")
-    bx.set_ylabel("roll angle difference (°)")
-    bx.set_xlabel("t (s)")
-    bx.legend(loc="upper left", fontsize=8)
-    return fig

@@ -22,13 +22,13 @@ import numpy as np
 
 import gyrolib
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict
-from gyrolib.gc.claims import claim_boundary, shaping_sweep, time_to_level
-from gyrolib.gc.covariance import CovarianceAnalysis, covariance_analysis, time_to_sigma
-from gyrolib.gc.discretization import nominal_half_steps
-from gyrolib.gc.observability import information_psi_omega
-from gyrolib.gc.params import GyrocompassParams
-from gyrolib.gc.racing import RaceConditions, RaceResult, race
-from gyrolib.gsa import SensitivityResult, result_from_dict
+from gyrolib.gc.analysis.covariance import CovarianceAnalysis, covariance_analysis, time_to_sigma
+from gyrolib.gc.analysis.observability import information_psi_omega
+from gyrolib.gc.analysis.speed_claim import claim_boundary, shaping_sweep, time_to_level
+from gyrolib.gc.model.discretization import nominal_half_steps
+from gyrolib.gc.model.params import GyrocompassParams
+from gyrolib.gc.racing.comparison import RaceConditions, RaceResult, race
+from gyrolib.sensitivity import SensitivityResult, result_from_dict
 from gyrolib.units import ARCSEC_PAPER, from_si
 
 __all__ = ["BETA_FROZEN", "PRINTED", "SIGMA_C", "STUDY_FILE", "TREND_FACTORS", "T_BOUND",

@@ -40,7 +40,6 @@ __all__ = [
     "SobolIndex",
     "SobolInput",
     "analyze",
-    "plot_indices",
     "recheck",
     "result_from_dict",
     "run_study",
@@ -76,7 +75,7 @@ class SobolInput:
 
     Examples
     --------
-    >>> from gyrolib.gsa import SobolInput
+    >>> from gyrolib.sensitivity import SobolInput
     >>> x = SobolInput.printed("alpha1", "α1", 2.0)
     >>> x.low, x.high, x.distribution
     (1.8, 2.2, 'uniform')
@@ -189,7 +188,7 @@ def unit_sample(d: int, n: int, seed: int, second_order: bool = True) -> NDArray
 
     Examples
     --------
-    >>> from gyrolib.gsa import unit_sample
+    >>> from gyrolib.sensitivity import unit_sample
     >>> unit_sample(3, 4, seed=0).shape
     (32, 3)
     """
@@ -246,7 +245,7 @@ def analyze(names: Sequence[str], values: NDArray[np.float64], seed: int,
     --------
     The additive function ``x0 + 2 x1`` of two uniform inputs has S1 = ST = (1/5, 4/5):
 
-    >>> from gyrolib.gsa import analyze, unit_sample
+    >>> from gyrolib.sensitivity import analyze, unit_sample
     >>> u = unit_sample(2, 1024, seed=0)
     >>> s = analyze(["x0", "x1"], u[:, 0] + 2 * u[:, 1], seed=0)
     >>> f"{s['S1']['x0'].value:.2f} {s['ST']['x1'].value:.2f}"
@@ -375,7 +374,7 @@ def result_from_dict(data: Mapping[str, Any]) -> SensitivityResult:
     --------
     >>> import json
     >>> from gyrolib import rsf
-    >>> from gyrolib.gsa import result_from_dict
+    >>> from gyrolib.sensitivity import result_from_dict
     >>> r = rsf.sensitivity(8, seed=0)
     >>> back = result_from_dict(json.loads(json.dumps(r.to_dict())))
     >>> back.total["delta_k"]["encoder_error"] == r.total["delta_k"]["encoder_error"]
@@ -570,41 +569,3 @@ def recheck(result: SensitivityResult, evaluate: Evaluate, context: object, k: i
                                                       replace=False))
     again = np.asarray(evaluate(pts[rows], context), dtype=float).reshape(len(rows), -1)
     return Recheck(rows=rows, stored=result.values[rows], recomputed=again)
-
-
-def plot_indices(result: SensitivityResult, output: str, ax: Any = None) -> Any:
-    """Bar chart of the first-order and total indices of ``output`` with their confidence
-    intervals (error bars); returns the Figure.
-
-    Examples
-    --------
-    >>> from gyrolib import rsf
-    >>> from gyrolib.gsa import plot_indices
-    >>> fig = plot_indices(rsf.sensitivity(8, seed=0), "delta_k")
-    >>> len(fig.axes)
-    1
-    """
-    import matplotlib.pyplot as plt
-
-    v.check_instance("result", result, SensitivityResult)
-    v.check_choice("output", output, result.outputs)
-    fig = None
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(7.0, 3.2))
-    else:
-        fig = ax.figure
-    x = np.arange(len(result.inputs))
-    s1 = [result.first_order[output][n] for n in result.input_names]
-    st = [result.total[output][n] for n in result.input_names]
-    w = 0.38
-    ax.bar(x - w / 2, [i.value for i in s1], w, yerr=[i.conf for i in s1], capsize=2,
-           label="first order $S_i$", color="tab:blue")
-    ax.bar(x + w / 2, [i.value for i in st], w, yerr=[i.conf for i in st], capsize=2,
-           label="total $S_{Ti}$", color="tab:orange")
-    ax.set_xticks(x, [i.symbol for i in result.inputs], rotation=45, ha="right")
-    ax.axhline(0.0, color="0.5", lw=0.6)
-    ax.set_ylabel("Sobol' index")
-    ax.set_ylim(min(-0.05, ax.get_ylim()[0]), max(1.0, ax.get_ylim()[1]))
-    ax.legend(frameon=False, fontsize="small")
-    fig.tight_layout()
-    return fig

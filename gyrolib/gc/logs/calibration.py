@@ -49,16 +49,16 @@ from gyrolib import _validation as v
 from gyrolib.filtering.consistency import chi2_ppf
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.filtering.kernels import kalman_kernels
-from gyrolib.gc.discretization import (
+from gyrolib.gc.analysis.montecarlo import simulate_truth
+from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model.discretization import (
     SEGMENT,
     NominalIntegrator,
     nominal_half_steps,
     system_matrix_parts,
 )
-from gyrolib.gc.montecarlo import simulate_truth
-from gyrolib.gc.params import MEASUREMENT_NAMES, STATE_NAMES, GyrocompassParams, state_index
-from gyrolib.gc.record import GCRecord
-from gyrolib.gc.state_space import (
+from gyrolib.gc.model.params import MEASUREMENT_NAMES, STATE_NAMES, GyrocompassParams, state_index
+from gyrolib.gc.model.state_space import (
     initial_covariance,
     measurement_matrix,
     measurement_noise_covariance,
@@ -71,7 +71,6 @@ __all__ = [
     "SimulatedRecord",
     "calibrate",
     "innovation_log_likelihood",
-    "plot_calibration",
     "simulate_record",
 ]
 
@@ -1185,51 +1184,3 @@ def simulate_record(params: GyrocompassParams, t_end: float, seed: int) -> Simul
     rec = GCRecord(t=t[1:], angle_sensor=Z[1:, 0], inclinometer_y=Z[1:, 1],
                    inclinometer_z=Z[1:, 2])
     return SimulatedRecord(record=rec, truth=X, params=p, seed=seed)
-
-
-# Figure -----------------------------------------------------------------------------------
-def plot_calibration(result: CalibrationResult, truth: float | None = None,
-                     confidence: float = 0.99):
-    """The ω_gc estimate with its ±σ band over time (paper's ″/s) and, below, the mean NIS
-    of each sensor per stored window against its χ² band; ``truth`` (rad/s) draws the true
-    drift when known.  Returns a :class:`matplotlib.figure.Figure`."""
-    import matplotlib.pyplot as plt
-
-    from gyrolib.units import from_si
-
-    if not isinstance(result, CalibrationResult):
-        raise TypeError(f"result must be a CalibrationResult; got {type(result).__name__}")
-    conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True, high_open=True)
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 5.6), sharex=True,
-                                 gridspec_kw={"height_ratios": [3, 2]})
-    est = np.asarray(from_si(result.estimate("omega_gc"), "arcsec_paper/s"))
-    sig = np.asarray(from_si(result.sigma("omega_gc"), "arcsec_paper/s"))
-    ax.fill_between(result.t, est - sig, est + sig, color="C0", alpha=0.25, lw=0,
-                    label="±σ (filter)")
-    ax.plot(result.t, est, color="C0", lw=1.2, label="estimate")
-    if truth is not None:
-        ax.axhline(float(from_si(v.check_real("truth", truth), "arcsec_paper/s")), color="k",
-                   ls="--", lw=1, label="truth")
-    ax.set_ylabel("ω_gc (″/s, paper's arcsec)")
-    lo = float(np.min(est[-max(1, est.size // 2):] - 4 * sig[-max(1, est.size // 2):]))
-    hi = float(np.max(est[-max(1, est.size // 2):] + 4 * sig[-max(1, est.size // 2):]))
-    if truth is not None:
-        tr = float(from_si(truth, "arcsec_paper/s"))
-        lo, hi = min(lo, tr - (hi - lo) * 0.1), max(hi, tr + (hi - lo) * 0.1)
-    ax.set_ylim(lo, hi)
-    ax.legend(loc="upper right", fontsize=8)
-    ax.set_title(f"ω_gc = {from_si(result.omega_gc, 'arcsec_paper/s'):.4g} ± "
-                 f"{from_si(result.omega_gc_std, 'arcsec_paper/s'):.2g} ″/s", fontsize=10)
-    for q, name in enumerate(MEASUREMENT_NAMES):
-        bx.plot(result.t, result.nis_window[:, q], lw=0.8, color=f"C{q + 1}", label=name)
-    n = np.maximum(np.median(result.nis_window_count, axis=0), 1.0)
-    nn = float(np.max(n))
-    bx.axhspan(chi2_ppf(0.5 * (1 - conf), nn) / nn,
-               chi2_ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
-               label=f"{conf:.0%} band, {nn:.0f} samples")
-    bx.axhline(1.0, color="k", lw=0.6)
-    bx.set_ylabel("mean NIS per window")
-    bx.set_xlabel("t (s)")
-    bx.legend(loc="upper right", fontsize=7, ncol=2)
-    fig.tight_layout()
-    return fig

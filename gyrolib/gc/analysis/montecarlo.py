@@ -23,11 +23,11 @@ The truth builds its arrays from the parameters itself (:func:`truth_model`,
 :func:`truth_prior_factor`): the shaping filters' matrices and white-noise intensities from
 α, ξ, σ² as the text after Eqs. (6), (7) defines them, their stationary covariance in closed
 form, the sensors' noise from ``C`` and ``Δt``, the prior from the parameters' standard
-deviations.  It calls nothing of :mod:`gyrolib.gc.shaping_filters`,
-:mod:`gyrolib.gc.state_space` or :mod:`gyrolib.gc.discretization` (the tests check that the
-two constructions agree).  What it shares with the filter is the parameter object, the
-order of the state vector (:data:`gyrolib.gc.STATE_NAMES`, to compare estimates with the
-truth) and the sampling grid.
+deviations.  It calls nothing of :mod:`gyrolib.gc.model.shaping_filters`,
+:mod:`gyrolib.gc.model.state_space` or :mod:`gyrolib.gc.model.discretization` (the
+tests check that the two constructions agree).  What it shares with the filter is the
+parameter object, the order of the state vector (:data:`gyrolib.gc.STATE_NAMES`, to compare
+estimates with the truth) and the sampling grid.
 
 With ``eq1_sign="-"`` (the literal sign of Eq. (1)) the float turns the other way; like the
 filter's model, the truth is written in the mirrored angle, where the tilt term that carries
@@ -66,10 +66,10 @@ from gyrolib._executor import check_executor
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference, csr_pattern
 from gyrolib.filtering.discretization import covariance_factor
-from gyrolib.gc.covariance import default_store_every
-from gyrolib.gc.discretization import N, discretize, steps_in
-from gyrolib.gc.params import STATE_NAMES, GyrocompassParams, check_params, state_index
-from gyrolib.gc.state_space import initial_covariance
+from gyrolib.gc.analysis.covariance import default_store_every
+from gyrolib.gc.model.discretization import N, discretize, steps_in
+from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params, state_index
+from gyrolib.gc.model.state_space import initial_covariance
 
 __all__ = [
     "MonteCarloResult",
@@ -243,7 +243,8 @@ def zoh_discretize(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, 
 def _truth_shaping(p: GyrocompassParams) -> tuple[tuple[np.ndarray, np.ndarray, float], ...]:
     """The truth's own shaping filters ``(A, b, Q)``: ``x' = A x + b w`` with white ``w`` of
     intensity ``Q``, written out from paper GC's Eqs. (6), (7) and the text after them
-    (``Q1 = 2 ξ1 α1 σ1²``, ``Q2 = 4 ξ2 α2³ σ2²``); not from :mod:`gyrolib.gc.shaping_filters`."""
+    (``Q1 = 2 ξ1 α1 σ1²``, ``Q2 = 4 ξ2 α2³ σ2²``); not from
+    :mod:`gyrolib.gc.model.shaping_filters`."""
     a1, x1, a2, x2 = p.alpha1, p.xi1, p.alpha2, p.xi2
     vib = (np.array([[0.0, 1.0], [-(a1**2), -2.0 * x1 * a1]]),
            np.array([1.0, a1 - 2.0 * x1 * a1]), 2.0 * x1 * a1 * p.sigma1_sq)

@@ -12,9 +12,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
-from gyrolib.gc.discretization import DISCRETIZATIONS, N, discretize_steps, steps_in
-from gyrolib.gc.params import GyrocompassParams, check_params, state_index
-from gyrolib.gc.state_space import (
+from gyrolib.gc.model.discretization import DISCRETIZATIONS, N, discretize_steps, steps_in
+from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
+from gyrolib.gc.model.state_space import (
     build_initial_covariance,
 )
 

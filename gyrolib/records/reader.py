@@ -33,8 +33,8 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import GyrocompassParams
-from gyrolib.gc.record import GCRecord
+from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records._fastcsv import parse_rows
 from gyrolib.records.errors import RecordError
 from gyrolib.records.plausibility import check_gc, check_rsf

@@ -47,10 +47,10 @@ from gyrolib.filtering.kernels import (
     measurement_projection_inline,
     predict_covariance_inline,
 )
-from gyrolib.gc.calibration import calibrate, innovation_log_likelihood
-from gyrolib.gc.params import GyrocompassParams, state_index
-from gyrolib.gc.record import GCRecord
-from gyrolib.gc.state_space import (
+from gyrolib.gc.logs.calibration import calibrate, innovation_log_likelihood
+from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model.params import GyrocompassParams, state_index
+from gyrolib.gc.model.state_space import (
     initial_covariance,
     measurement_matrix,
     measurement_noise_covariance,

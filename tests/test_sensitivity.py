@@ -1,4 +1,5 @@
-"""Global sensitivity analysis (:mod:`gyrolib.gsa`, ``gc.sensitivity``, ``rsf.sensitivity``).
+"""Global sensitivity analysis (:mod:`gyrolib.sensitivity`, ``gc.sensitivity``,
+``rsf.sensitivity``).
 
 References independent of the code under test: the closed-form Sobol' indices of the Ishigami
 function (Ishigami & Homma 1990; Sobol' & Levitan 1999), with a deliberately wrong estimator
@@ -17,8 +18,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from gyrolib import gc, gsa, rsf
+from gyrolib import gc, rsf, sensitivity
 from gyrolib.book.ledger import gc as lgc
+from gyrolib.gc.analysis import sensitivity_study
 from gyrolib.units import to_si
 
 A_ISH, B_ISH = 7.0, 0.1
@@ -46,16 +48,16 @@ def ishigami_exact() -> tuple[dict[str, float], dict[str, float]]:
             {"x1": (v1 + v13) / var, "x2": v2 / var, "x3": v13 / var})
 
 
-ISH_INPUTS = tuple(gsa.SobolInput(f"x{i}", f"x{i}", 0.0, -math.pi, math.pi)
+ISH_INPUTS = tuple(sensitivity.SobolInput(f"x{i}", f"x{i}", 0.0, -math.pi, math.pi)
                    for i in (1, 2, 3))
 
 
-def ishigami_study(evaluate) -> gsa.SensitivityResult:
-    return gsa.run_study("ishigami", ISH_INPUTS, ("y",), ("1",), evaluate, None, 4096, seed=3,
-                         chunk_size=4096, second_order=False)
+def ishigami_study(evaluate) -> sensitivity.SensitivityResult:
+    return sensitivity.run_study("ishigami", ISH_INPUTS, ("y",), ("1",), evaluate, None, 4096,
+                                 seed=3, chunk_size=4096, second_order=False)
 
 
-def misses(result: gsa.SensitivityResult) -> list[str]:
+def misses(result: sensitivity.SensitivityResult) -> list[str]:
     """The indices whose confidence interval does not hold the exact value."""
     s1, st = ishigami_exact()
     out = []
@@ -83,37 +85,38 @@ def test_a_wrong_estimator_fails_the_ishigami_check():
 def test_unit_sample_is_saltelli_layout_and_prefix_stable():
     """n (2d + 2) rows; each block is A, AB_j (column j from B), BA_j (column j from A), B;
     a larger n extends the same sequence."""
-    u = gsa.unit_sample(3, 8, seed=1)
+    u = sensitivity.unit_sample(3, 8, seed=1)
     assert u.shape == (64, 3)
     block = u[:8]
     a, b = block[0], block[-1]
     np.testing.assert_allclose(block[1], [b[0], a[1], a[2]], rtol=1e-15, atol=0)   # AB_0
     np.testing.assert_allclose(block[4], [a[0], b[1], b[2]], rtol=1e-15, atol=0)   # BA_0
-    np.testing.assert_allclose(gsa.unit_sample(3, 16, seed=1)[:64], u, rtol=1e-15, atol=0)
+    np.testing.assert_allclose(sensitivity.unit_sample(3, 16, seed=1)[:64], u, rtol=1e-15, atol=0)
 
 
 def test_sobol_input_ranges():
     """±10 % uniform for a printed value; a factor of 3 either way, log-uniform (median at the
     nominal) for an unstated one."""
-    p = gsa.SobolInput.printed("a", "a", 2.0)
+    p = sensitivity.SobolInput.printed("a", "a", 2.0)
     assert (p.low, p.high) == pytest.approx((1.8, 2.2))
     assert p.value(0.5) == pytest.approx(2.0)
-    q = gsa.SobolInput.unstated("b", "b", 5.0)
+    q = sensitivity.SobolInput.unstated("b", "b", 5.0)
     assert (q.low, q.high) == pytest.approx((5 / 3, 15.0))
     assert q.value(0.5) == pytest.approx(5.0)
     assert q.value(0.25) == pytest.approx(5.0 / math.sqrt(3.0))
 
 
 @pytest.mark.parametrize("call, exc, name", [
-    (lambda: gsa.unit_sample(3, 6, 0), ValueError, "n must be a power of 2"),
-    (lambda: gsa.SobolInput("a", "a", 1.0, 2.0, 1.0), ValueError, "low must be < high"),
-    (lambda: gsa.SobolInput("a", "a", 1.0, -1.0, 1.0, "loguniform"), ValueError, "low must"),
-    (lambda: gsa.SobolInput.unstated("a", "a", 1.0, 0.5), ValueError, "factor must be > 1"),
-    (lambda: gsa.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
+    (lambda: sensitivity.unit_sample(3, 6, 0), ValueError, "n must be a power of 2"),
+    (lambda: sensitivity.SobolInput("a", "a", 1.0, 2.0, 1.0), ValueError, "low must be < high"),
+    (lambda: sensitivity.SobolInput("a", "a", 1.0, -1.0, 1.0, "loguniform"), ValueError,
+     "low must"),
+    (lambda: sensitivity.SobolInput.unstated("a", "a", 1.0, 0.5), ValueError, "factor must be > 1"),
+    (lambda: sensitivity.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
                            executor="dask"), TypeError, "executor must be"),
-    (lambda: gsa.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
+    (lambda: sensitivity.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
                            chunk_size=0), ValueError, "chunk_size must be"),
-    (lambda: gsa.result_from_dict({"model": "x"}), ValueError, "data lacks"),
+    (lambda: sensitivity.result_from_dict({"model": "x"}), ValueError, "data lacks"),
 ])
 def test_bad_input_is_rejected_by_name(call, exc, name):
     with pytest.raises(exc, match="^" + name):
@@ -121,14 +124,14 @@ def test_bad_input_is_rejected_by_name(call, exc, name):
 
 
 # GC and RSF studies ------------------------------------------------------------------------
-def small_gc(executor=None, chunk_size=5) -> gsa.SensitivityResult:
+def small_gc(executor=None, chunk_size=5) -> sensitivity.SensitivityResult:
     """A small GC study: 4 base points (104 runs) of 2-s analyses, t_c to a level reached
     within them (so that both outputs vary)."""
     return gc.sensitivity(4, seed=2, executor=executor, t_end=2.0, t_max=4.0,
                           level=float(to_si(0.05, "arcsec_paper/s")), chunk_size=chunk_size)
 
 
-def assert_same_indices(a: gsa.SensitivityResult, b: gsa.SensitivityResult) -> None:
+def assert_same_indices(a: sensitivity.SensitivityResult, b: sensitivity.SensitivityResult) -> None:
     np.testing.assert_allclose(a.values, b.values, rtol=1e-12, atol=0.0)
     for table in ("first_order", "total", "second_order"):
         ta, tb = getattr(a, table), getattr(b, table)
@@ -169,8 +172,8 @@ def test_progress_counts_every_point():
 def test_gc_outputs_are_the_ledgers_quantities():
     """σ_gc(100 s) and t_c at the paper's values are what the ledger computes: the same level
     and bound, and the covariance analysis read the ledger's way."""
-    assert gc.sobol._LEVEL == lgc.SIGMA_C
-    assert gc.sobol._T_MAX == lgc.T_BOUND
+    assert sensitivity_study._LEVEL == lgc.SIGMA_C
+    assert sensitivity_study._T_MAX == lgc.T_BOUND
     p = gc.GyrocompassParams()
     s, t = gc.sensitivity_outputs(p)
     cov = gc.covariance_analysis(p, 100.0, store_every=100_000)
@@ -224,7 +227,7 @@ def test_results_file_round_trip_and_recheck_has_power():
     """JSON round trip; the recheck finds a stored value 1e-6 off (the chapter's check at
     1e-9 would fail the build) and none on the true file."""
     r = rsf.sensitivity(32, seed=5)
-    back = gsa.result_from_dict(json.loads(json.dumps(r.to_dict())))
+    back = sensitivity.result_from_dict(json.loads(json.dumps(r.to_dict())))
     assert_same_indices(r, back)
     assert rsf.recheck_sensitivity(back, k=6, seed=1).max_rel_diff < 1e-12
     stale = back.values.copy()

@@ -13,10 +13,10 @@ from numba import njit
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import van_loan
-from gyrolib.gc.covariance import default_store_every
-from gyrolib.gc.discretization import discretize
-from gyrolib.gc.params import GyrocompassParams, check_params, state_index
-from gyrolib.gc.state_space import (
+from gyrolib.gc.analysis.covariance import default_store_every
+from gyrolib.gc.model.discretization import discretize
+from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
+from gyrolib.gc.model.state_space import (
     noise_input_matrix,
     process_noise_intensity,
     system_matrix,

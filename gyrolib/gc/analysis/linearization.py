@@ -28,9 +28,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.consistency import nees_bounds
-from gyrolib.gc.discretization import nominal_half_steps
-from gyrolib.gc.montecarlo import MonteCarloResult
-from gyrolib.gc.params import GyrocompassParams, check_params, state_index
+from gyrolib.gc.analysis.montecarlo import MonteCarloResult
+from gyrolib.gc.model.discretization import nominal_half_steps
+from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
 
 __all__ = [
     "LinearizationEffect",

@@ -12,10 +12,10 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast, propagate_fixed_gains
-from gyrolib.gc.covariance import default_store_every
-from gyrolib.gc.discretization import affine_qd, discretize_steps, steps_in
-from gyrolib.gc.params import GyrocompassParams, check_params, state_index
-from gyrolib.gc.state_space import (
+from gyrolib.gc.analysis.covariance import default_store_every
+from gyrolib.gc.model.discretization import affine_qd, discretize_steps, steps_in
+from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
+from gyrolib.gc.model.state_space import (
     build_initial_covariance,
     build_process_noise_intensity,
 )

@@ -1,5 +1,5 @@
 """Paper GC's central claim as a race: its method against the rate-sensor method it replaces
-(ref. [3], :mod:`gyrolib.gc.ratesensor`), under the same disturbances, sensors and accuracy
+(ref. [3], :mod:`gyrolib.gc.racing.rate_sensor`), under the same disturbances, sensors and accuracy
 target.
 
 * :func:`race` → :class:`RaceResult` — the time to σ_c of GC's method (its covariance
@@ -23,9 +23,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.gc.covariance import covariance_analysis, time_to_sigma
-from gyrolib.gc.params import GyrocompassParams, check_params
-from gyrolib.gc.ratesensor import (
+from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
+from gyrolib.gc.model.params import GyrocompassParams, check_params
+from gyrolib.gc.racing.rate_sensor import (
     RateSensorModel,
     RateSensorProcedure,
     check_procedure,
@@ -95,7 +95,7 @@ def _classical_samples(model: RateSensorModel) -> tuple[int, int] | None:
         return None
 
     def ok(n: int) -> bool:
-        return model._classical_sigma_n(*_split(proc, n)) <= proc.sigma_c
+        return model.classical_sigma_samples(*_split(proc, n)) <= proc.sigma_c
 
     lo, hi = 1, 2
     while not ok(hi):
@@ -126,11 +126,11 @@ def _rate_part(model: RateSensorModel) -> _RatePart:
         if n < 2:
             return _RatePart(math.nan, math.nan, 0, 0)
         n1, n2 = _split(proc, n)
-        run = model._optimal_run_n(n1, n2)
+        run = model.optimal_run_samples(n1, n2)
         return _RatePart(math.nan, run.time_to(proc.sigma_c), 0, 0)
     n1, n2 = found
     t_c = (n1 + n2) * proc.sample_dt + proc.overhead
-    run = model._optimal_run_n(n1, n2)
+    run = model.optimal_run_samples(n1, n2)
     return _RatePart(t_c, run.time_to(proc.sigma_c), n1, n2)
 
 
@@ -435,13 +435,13 @@ def _race(p: GyrocompassParams, proc: RateSensorProcedure,
         # the curves run half as long again as the classical procedure's position 2
         n2_plot = part.n2 + max(1, part.n2 // 2)
         t_cl, s_cl = model.classical_curve(part.n1 * proc.sample_dt, n2_plot * proc.sample_dt)
-        run = model._optimal_run_n(part.n1, n2_plot)
+        run = model.optimal_run_samples(part.n1, n2_plot)
         t1, t2 = part.n1 * proc.sample_dt, part.n2 * proc.sample_dt
     else:
         t_cl = s_cl = np.zeros(0)
         n = math.floor((proc.t_max - proc.overhead) / proc.sample_dt + 1e-9)
         n1, n2 = _split(proc, max(n, 2))
-        run = model._optimal_run_n(n1, n2)
+        run = model.optimal_run_samples(n1, n2)
         t1 = t2 = math.nan
     phases = tuple((name, a, min(b, part.t_c) if name == "position 2" and part.n1 else b)
                    for name, a, b in run.phases)
@@ -460,7 +460,7 @@ def race(params: GyrocompassParams | None = None,
     GC's time is the first time its filter's σ of ω_gc falls to σ_c (the covariance analysis
     of :func:`gyrolib.gc.covariance_analysis` over 100 s, the one the reproduction ledger
     uses; longer only if σ_c is not reached).  The rate-sensor method's (see
-    :mod:`gyrolib.gc.ratesensor`) is ``T1 + T_rot + T_settle + T2`` with the classical
+    :mod:`gyrolib.gc.racing.rate_sensor`) is ``T1 + T_rot + T_settle + T2`` with the classical
     estimator (half-sum of the position means corrected by the inclinometer means), the
     measurement time ``T1 + T2`` (split by ``procedure.split``) the shortest that reaches σ_c;
     and with the optimal (Kalman) estimator on the same procedure, position 2 ended as soon as

@@ -39,10 +39,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import covariance_fast
-from gyrolib.gc.covariance import covariance_analysis
-from gyrolib.gc.discretization import discretize_steps, steps_in
-from gyrolib.gc.params import GyrocompassParams, check_params, state_index
-from gyrolib.gc.state_space import build_initial_covariance
+from gyrolib.gc.analysis.covariance import covariance_analysis
+from gyrolib.gc.model.discretization import discretize_steps, steps_in
+from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
+from gyrolib.gc.model.state_space import build_initial_covariance
 
 __all__ = [
     "SHAPING_FIELDS",

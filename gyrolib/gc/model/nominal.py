@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import GyrocompassParams, check_params
+from gyrolib.gc.model.params import GyrocompassParams, check_params
 
 __all__ = [
     "NominalMotion",

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import N_STATES, GyrocompassParams, check_params, state_index
+from gyrolib.gc.model.params import N_STATES, GyrocompassParams, check_params, state_index
 
 __all__ = [
     "initial_covariance",

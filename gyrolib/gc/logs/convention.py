@@ -30,14 +30,13 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import GyrocompassParams, state_index
-from gyrolib.gc.record import GCRecord
+from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model.params import GyrocompassParams, state_index
 
 __all__ = [
     "ConventionStudy",
     "InclinometerMapping",
     "convention_study",
-    "plot_convention_study",
 ]
 
 _AXES: Final[dict[str, str]] = {"y": "inclinometer_y", "z": "inclinometer_z"}
@@ -245,8 +244,8 @@ class ConventionStudy:
 
 def _one_run(params: GyrocompassParams, t_end: float, seed: int,
              wiring: InclinometerMapping) -> tuple[float, ...]:
-    from gyrolib.gc.calibration import calibrate, simulate_record
-    from gyrolib.gc.nominal import nominal_motion_aperiodic
+    from gyrolib.gc.logs.calibration import calibrate, simulate_record
+    from gyrolib.gc.model.nominal import nominal_motion_aperiodic
 
     sim = simulate_record(params, t_end, seed)
     rec = sim.record
@@ -322,43 +321,3 @@ def convention_study(params: GyrocompassParams | None = None, *,
         gamma=f[2], est_right=f[3], std_right=f[4], est_wrong=f[5], std_wrong=f[6],
         fits_right=b[7], fits_wrong=b[8], valid_right=b[9], valid_wrong=b[10],
         predicted_shift=f[11])
-
-
-def plot_convention_study(study: ConventionStudy):
-    """Left: the error of ω̂_gc in σ per run, as logged and wrongly wired, marked by whether
-    the diagnostics pass.  Right: the shift of the estimate the wiring causes against the
-    shift Eq. (5) predicts from the true tilts.  Returns a :class:`matplotlib.figure.Figure`."""
-    import matplotlib.pyplot as plt
-
-    from gyrolib.units import from_si
-
-    if not isinstance(study, ConventionStudy):
-        raise TypeError(f"study must be a ConventionStudy; got {type(study).__name__}")
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8))
-    k = np.arange(study.seeds.size)
-    for z, fits, x0, color, label in ((study.z_right, study.fits_right, -0.15, "C0",
-                                       "columns as logged"),
-                                      (study.z_wrong, study.fits_wrong, 0.15, "C3",
-                                       f"wired {study.wiring}")):
-        ax.scatter(k[fits] + x0, z[fits], color=color, s=22, label=f"{label}: model fits")
-        if np.any(~fits):
-            ax.scatter(k[~fits] + x0, z[~fits], facecolor="none", edgecolor=color, s=22,
-                       label=f"{label}: does not fit")
-    ax.axhspan(-3, 3, color="0.9", zorder=0, label="±3σ")
-    ax.axhline(0, color="k", lw=0.6)
-    ax.set_xlabel("run (seed)")
-    ax.set_xticks(k, [str(s) for s in study.seeds], fontsize=7)
-    ax.set_ylabel("(ω̂_gc − ω_gc) / σ")
-    ax.legend(fontsize=7, loc="best")
-    pred = np.asarray(from_si(study.predicted_shift, "arcsec_paper/s"))
-    got = np.asarray(from_si(study.shift, "arcsec_paper/s"))
-    lim = 1.1 * float(max(np.max(np.abs(pred)), np.max(np.abs(got)), 1e-12))
-    bx.plot([-lim, lim], [-lim, lim], color="k", lw=0.8, label="equal")
-    bx.scatter(pred, got, color="C3", s=22)
-    bx.set_xlabel("predicted shift Ω_v(γ − γ′) (″/s)")
-    bx.set_ylabel("shift of ω̂_gc, wired − logged (″/s)")
-    bx.set_xlim(-lim, lim)
-    bx.set_ylim(-lim, lim)
-    bx.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
-    return fig

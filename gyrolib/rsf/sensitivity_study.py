@@ -1,5 +1,5 @@
 """Paper RSF: which input the correction's error δK and the "90 %" claim are sensitive to
-(Sobol' indices, :mod:`gyrolib.gsa`).
+(Sobol' indices, :mod:`gyrolib.sensitivity`).
 
 Outputs, from Eq. (7) of paper RSF (:func:`gyrolib.rsf.delta_k`) as
 :func:`gyrolib.rsf.compensation_share` computes them:
@@ -22,7 +22,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.gsa import Recheck, SensitivityResult, SobolInput, recheck, run_study
 from gyrolib.rsf.equations import delta_k
 from gyrolib.rsf.sensors import (
     AEDB9340,
@@ -32,6 +31,7 @@ from gyrolib.rsf.sensors import (
     MemsGyroSpec,
     RollGyroSpec,
 )
+from gyrolib.sensitivity import Recheck, SensitivityResult, SobolInput, recheck, run_study
 from gyrolib.units import to_si
 
 __all__ = [
@@ -144,7 +144,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
         ``n (2D + 2)`` points).
     previous : SensitivityResult, optional
         The same study with a smaller ``n``, whose points are reused (see
-        :func:`gyrolib.gsa.run_study`).
+        :func:`gyrolib.sensitivity.run_study`).
 
     Returns
     -------

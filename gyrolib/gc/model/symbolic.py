@@ -39,7 +39,7 @@ import numpy as np
 import sympy as sp
 
 from gyrolib import _validation as v
-from gyrolib.gc.params import check_params
+from gyrolib.gc.model.params import check_params
 
 __all__ = [
     "COUPLINGS",
@@ -222,7 +222,7 @@ def display_form(expr: object) -> object:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> S = symbolic.SYMBOLS
     >>> symbolic.display_form(S.beta(S.t).diff(S.t))
     \\dot\\beta
@@ -250,7 +250,7 @@ def to_latex(expr: object, lhs: str | None = None) -> str:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> S = symbolic.SYMBOLS
     >>> print(symbolic.to_latex(S.beta(S.t).diff(S.t), r"\omega"))
     \omega = \dot\beta
@@ -266,7 +266,7 @@ def to_latex_aligned(lhs: object, rhs: object, per_line: int = 3) -> str:
     Examples
     --------
     >>> import sympy as sp
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> a, b, c = sp.symbols("a b c")
     >>> print(symbolic.to_latex_aligned("y", a + b - c, per_line=2))
     \begin{aligned} & y \\ &= a + b \\ &\quad - c\end{aligned}
@@ -302,7 +302,7 @@ def cauchy_form_latex(model: StateSpaceSym, per_line: int = 4) -> str:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.cauchy_form_latex(symbolic.state_space()).startswith(r"\\begin{aligned}")
     True
     """
@@ -339,7 +339,7 @@ def float_input_axis(beta: sp.Expr) -> sp.Matrix:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> S = symbolic.SYMBOLS
     >>> symbolic.float_input_axis(S.beta(S.t)).T
     Matrix([[sin(beta(t)), cos(beta(t)), 0]])
@@ -378,7 +378,7 @@ def earth_rate_in_base(coupling: str = "eq5") -> tuple[sp.Matrix, sp.Matrix]:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> omega_h, omega_v = symbolic.earth_rate_in_base("eq5")
     >>> omega_v.T
     Matrix([[-Omega_v*delta, Omega_v*gamma, Omega_v]])
@@ -413,7 +413,7 @@ def gyroscopic_torque(beta: sp.Expr, sign: int = 1) -> sp.Expr:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> S = symbolic.SYMBOLS
     >>> symbolic.gyroscopic_torque(S.beta(S.t))
     H*Omega_h*cos(psi - beta(t))
@@ -441,7 +441,7 @@ def vertical_rate_torque(beta: sp.Expr, coupling: str = "eq5") -> sp.Expr:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> S = symbolic.SYMBOLS
     >>> symbolic.vertical_rate_torque(S.beta(S.t), "eq5")
     -H*Omega_v*delta*sin(beta(t)) + H*Omega_v*gamma*cos(beta(t))
@@ -476,7 +476,7 @@ def gyrocompass_equation(*, sign: int = 1, coupling: str = "eq5",
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> eq = symbolic.gyrocompass_equation(unbalance=False)
     >>> len(eq.rhs.args)   # Eq. (3): five torques
     5
@@ -508,7 +508,7 @@ def nominal_equation(sign: int = 1) -> sp.Eq:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.nominal_equation().rhs
     H*Omega_h*cos(beta_n(t))
     """
@@ -570,7 +570,7 @@ def taylor_linearization(*, sign: int = 1, coupling: str = "eq5",
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.taylor_linearization().nominal().rhs
     H*Omega_h*cos(beta_n(t))
     """
@@ -641,7 +641,7 @@ def shaping_filter(which: str, reading: str = "paper") -> ShapingFilterSym:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.shaping_filter("drift").output_variance()
     sigma_2^2
     """
@@ -682,7 +682,7 @@ def lyapunov_variance(A: sp.Matrix, B: sp.Matrix, C: sp.Matrix, Q: sp.Expr) -> s
     Examples
     --------
     >>> import sympy as sp
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> a, q = sp.symbols("a q", positive=True)
     >>> symbolic.lyapunov_variance(sp.Matrix([[-a]]), sp.Matrix([[1]]), sp.Matrix([[1]]), q)
     q/(2*a)
@@ -746,7 +746,7 @@ def measurement_equations() -> sp.Matrix:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.measurement_equations()[1]
     N_1 + delta*g
     """
@@ -779,7 +779,7 @@ def state_space(coupling: str = "eq5", state_order: str = "corrected",
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.state_space().F[1, 3]   # F(2,4)
     H/I
     """
@@ -833,7 +833,7 @@ def paper_listing() -> dict[tuple[str, int, int], sp.Expr]:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.paper_listing()[("F", 8, 7)]   # printed without its minus sign
     alpha_1**2
     """
@@ -893,7 +893,7 @@ def compare_with_paper(model: StateSpaceSym) -> list[EntryComparison]:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> rows = symbolic.compare_with_paper(symbolic.state_space("printed_F"))
     >>> [(r.matrix, r.i, r.j) for r in rows if not r.equal]
     [('F', 8, 7)]
@@ -941,7 +941,7 @@ def relabelling() -> Relabelling:
 
     Examples
     --------
-    >>> from gyrolib.gc import symbolic
+    >>> from gyrolib.gc.model import symbolic
     >>> symbolic.relabelling().T.shape
     (10, 10)
     """

@@ -64,8 +64,8 @@ from gyrolib import _validation as v
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
 from gyrolib.filtering.discretization import covariance_factor, van_loan
-from gyrolib.gc.montecarlo import TRUTH_SUBSTEPS, zoh_discretize
-from gyrolib.gc.params import GyrocompassParams, check_params
+from gyrolib.gc.analysis.montecarlo import TRUTH_SUBSTEPS, zoh_discretize
+from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.units import ARCMIN, ARCSEC_PAPER
 
 __all__ = [
@@ -273,7 +273,9 @@ class RateSensorModel:
         v.check_ndarray("r", self.r, shape=(3,))
 
     # -- helpers -------------------------------------------------------------------------------
-    def _samples(self, name: str, t: object) -> int:
+    def window_samples(self, name: str, t: object) -> int:
+        """The number of sample intervals ``sample_dt`` in a window of ``t`` seconds (at
+        least one); ``name`` names the window in the error."""
         t = v.check_positive(name, t)
         n = round(t / self.procedure.sample_dt)
         if n < 1:
@@ -369,10 +371,12 @@ class RateSensorModel:
         >>> f"{from_si(m.classical_sigma(10.0, 10.0), 'arcsec_paper/s'):.5f}"
         '0.00170'
         """
-        n1, n2 = self._samples("t1", t1), self._samples("t2", t2)
-        return self._classical_sigma_n(n1, n2)
+        n1, n2 = self.window_samples("t1", t1), self.window_samples("t2", t2)
+        return self.classical_sigma_samples(n1, n2)
 
-    def _classical_sigma_n(self, n1: int, n2: int) -> float:
+    def classical_sigma_samples(self, n1: int, n2: int) -> float:
+        """:meth:`classical_sigma` with windows of ``n1`` and ``n2`` samples."""
+        n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
         na = _N + 4
         P = self._classical_after_w1(n1)
         M, Qa = self._window_step(self.H2, (_N + 2, _N + 3), na)
@@ -406,7 +410,7 @@ class RateSensorModel:
         >>> f"{t[-1]:.1f} s", bool(s[-1] == m.classical_sigma(10.0, 10.0))
         ('40.0 s', True)
         """
-        n1, n2 = self._samples("t1", t1), self._samples("t2", t2)
+        n1, n2 = self.window_samples("t1", t1), self.window_samples("t2", t2)
         dt = self.procedure.sample_dt
         na = _N + 4
         P = self._classical_after_w1(n1)
@@ -418,7 +422,7 @@ class RateSensorModel:
             sigma[k] = math.sqrt(max(c @ P @ c, 0.0))
         if n2:
             # the last point exactly as classical_sigma computes it (doubling)
-            sigma[-1] = self._classical_sigma_n(n1, n2)
+            sigma[-1] = self.classical_sigma_samples(n1, n2)
         t = n1 * dt + self.procedure.overhead + dt * np.arange(1, n2 + 1)
         return t, sigma
 
@@ -461,10 +465,12 @@ class RateSensorModel:
         >>> f"{from_si(run.sigma[-1], 'arcsec_paper/s'):.5f}"   # classical: 0.00170
         '0.00164'
         """
-        n1, n2 = self._samples("t1", t1), self._samples("t2", t2)
-        return self._optimal_run_n(n1, n2)
+        n1, n2 = self.window_samples("t1", t1), self.window_samples("t2", t2)
+        return self.optimal_run_samples(n1, n2)
 
-    def _optimal_run_n(self, n1: int, n2: int) -> OptimalRun:
+    def optimal_run_samples(self, n1: int, n2: int) -> OptimalRun:
+        """:meth:`optimal_run` with windows of ``n1`` and ``n2`` samples."""
+        n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
         proc = self.procedure
         dt = proc.sample_dt
         run = self._kalman(self.H1, self.r, self.P0, n1)
@@ -668,7 +674,7 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
     ω_gc, δ, γ, the scale-factor error ``k``, the turning error ε and the shaping-filter
     states from the truth's priors; integrates the shaping filters (6), (7) on its own grid of
     ``substeps`` steps per sample, white noise held over each fine step (the zero-order-hold
-    steps of :mod:`gyrolib.gc.montecarlo`); evaluates the output of Eq. (3) at the float's
+    steps of :mod:`gyrolib.gc.analysis.montecarlo`); evaluates the output of Eq. (3) at the float's
     null in full, ``(1 + k)[Ω_h cos(θ − ψ) + Ω_v γ + ω_gc + s ω_ub N1/g + N3]`` with the base's
     azimuth ``θ = 0`` in position 1 and ``π + ε`` after the turn, the turned sensors seeing
     the vibration with the sign ``s`` of ``vibration_frame``; and adds the sensors' white
@@ -711,8 +717,8 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
     seed = v.check_int("seed", seed, 0)
     substeps = v.check_int("substeps", substeps, 1)
     model = rate_sensor_model(p, proc)
-    n1, n2 = model._samples("t1", t1), model._samples("t2", t2)
-    sigma = model._classical_sigma_n(n1, n2)
+    n1, n2 = model.window_samples("t1", t1), model.window_samples("t2", t2)
+    sigma = model.classical_sigma_samples(n1, n2)
     errors = _truth_classical_errors(tp, proc, n1, n2, n_runs, seed, substeps)
     return RateSensorMonteCarlo(errors=errors, sigma=sigma, band=nees_bounds(1, n_runs),
                                 t1=n1 * proc.sample_dt, t2=n2 * proc.sample_dt, seed=seed,

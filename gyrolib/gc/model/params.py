@@ -28,7 +28,7 @@ from dataclasses import dataclass, fields
 from typing import Final
 
 from gyrolib import _validation as v
-from gyrolib.gc.shaping_filters import ShapingFilter, random_drift_filter, vibration_filter
+from gyrolib.gc.model.shaping_filters import ShapingFilter, random_drift_filter, vibration_filter
 from gyrolib.units import ARCSEC_PAPER, G0
 
 __all__ = [

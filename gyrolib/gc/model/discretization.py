@@ -6,7 +6,7 @@ order in ``(sin β_n, cos β_n)`` about expansion points ``SEGMENT`` rad apart
 (:class:`gyrolib.filtering.AffineDiscreteModel`; error ≈ 10⁻¹³, tested against a per-step
 matrix exponential).  The nominal motion Eq. (4) is integrated on the half-step grid by a
 second-order exponential integrator (:func:`nominal_half_steps`, tested against
-:func:`gyrolib.gc.nominal`).
+:func:`gyrolib.gc.model.nominal`).
 
 ``method="euler"`` replaces the exact step by Euler's first-order one, ``Φ = I + F Δt``,
 ``Qd = G Q Gᵀ Δt`` (exactly affine in ``(sin β_n, cos β_n)``), to measure what the exact
@@ -30,8 +30,8 @@ from numpy.typing import NDArray
 from gyrolib import _validation as v
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
-from gyrolib.gc.params import STATE_NAMES, GyrocompassParams, check_params
-from gyrolib.gc.state_space import (
+from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
+from gyrolib.gc.model.state_space import (
     build_measurement_matrix,
     build_measurement_noise_covariance,
     build_noise_input_matrix,

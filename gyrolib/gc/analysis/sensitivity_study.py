@@ -1,5 +1,5 @@
 """Paper GC: which input the verdicts on σ_gc(100 s) and on the speed claim are sensitive to
-(Sobol' indices, :mod:`gyrolib.gsa`).
+(Sobol' indices, :mod:`gyrolib.sensitivity`).
 
 Outputs, both from :func:`gyrolib.gc.covariance_analysis` as the ledger computes them:
 
@@ -29,10 +29,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib.gc.claims import time_to_level
-from gyrolib.gc.covariance import covariance_analysis, time_to_sigma
-from gyrolib.gc.params import GyrocompassParams, check_params
-from gyrolib.gsa import Recheck, SensitivityResult, SobolInput, recheck, run_study
+from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
+from gyrolib.gc.analysis.speed_claim import time_to_level
+from gyrolib.gc.model.params import GyrocompassParams, check_params
+from gyrolib.sensitivity import Recheck, SensitivityResult, SobolInput, recheck, run_study
 from gyrolib.units import to_si
 
 __all__ = [
@@ -223,7 +223,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
         ``n (2D + 2)`` points).
     previous : SensitivityResult, optional
         The same study with a smaller ``n``, whose points are reused (see
-        :func:`gyrolib.gsa.run_study`).
+        :func:`gyrolib.sensitivity.run_study`).
 
     Returns
     -------

@@ -34,12 +34,11 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib.gc.nominal import nominal_motion_aperiodic
-from gyrolib.gc.params import GyrocompassParams
-from gyrolib.gc.record import GCRecord
+from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model.nominal import nominal_motion_aperiodic
+from gyrolib.gc.model.params import GyrocompassParams
 
-__all__ = ["AllanDeviation", "AllanSeries", "allan_deviation", "allan_model_vibration",
-           "plot_allan"]
+__all__ = ["AllanDeviation", "AllanSeries", "allan_deviation", "allan_model_vibration",]
 
 #: The series of :class:`AllanDeviation`, in order.
 SERIES: Final[tuple[str, ...]] = ("angle_sensor", "inclinometer_y", "inclinometer_z")
@@ -241,38 +240,3 @@ def allan_deviation(record: GCRecord, params: GyrocompassParams | None = None, *
                                   edf=edf, model=model, n=n))
     return AllanDeviation(series=tuple(series), params=p, dt=dt, t_start=float(t[0]),
                           t_end=float(t[-1]), rows=int(t.size), filled=filled)
-
-
-def plot_allan(result: AllanDeviation, *, title: str | None = None):
-    """Left: the Allan deviation of the angle-sensor rate (rad/s); right: of the two
-    inclinometers (m/s²); each with its error bars and, dashed, paper GC's model.  Returns a
-    :class:`matplotlib.figure.Figure`."""
-    import matplotlib.pyplot as plt
-
-    if not isinstance(result, AllanDeviation):
-        raise TypeError(f"result must be an AllanDeviation; got {type(result).__name__}")
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8))
-    s = result.series[0]
-    ax.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3, lw=1,
-                color="C0",
-                label="angle-sensor rate")
-    ax.plot(s.tau, s.model, "--", color="k", lw=1, label="model: white angle noise √(3R)/τ")
-    ax.set_ylabel("Allan deviation (rad/s)")
-    for q, s in enumerate(result.series[1:], start=1):
-        bx.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3,
-                    lw=1, color=f"C{q}",
-                    label=s.name)
-    s = result.series[1]
-    bx.plot(s.tau, s.model, "--", color="k", lw=1,
-            label="model: sensor noise + vibration N1")
-    bx.set_ylabel("Allan deviation (m/s²)")
-    for a in (ax, bx):
-        a.set_xscale("log")
-        a.set_yscale("log")
-        a.set_xlabel("τ (s)")
-        a.grid(True, which="both", lw=0.3, alpha=0.5)
-        a.legend(fontsize=7)
-    if title:
-        fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    return fig

@@ -1,0 +1,53 @@
+"""Paper GC's method used on recorded logs: the record, the calibration, the noise fit, the
+inclinometer convention and the Allan deviation.
+
+Every name is re-exported by :mod:`gyrolib.gc`; the table there maps the paper's equations
+and figures to these modules.
+"""
+from gyrolib.gc.logs.allan import (
+    AllanDeviation,
+    AllanSeries,
+    allan_deviation,
+    allan_model_vibration,
+)
+from gyrolib.gc.logs.calibration import (
+    CalibrationResult,
+    SimulatedRecord,
+    calibrate,
+    innovation_log_likelihood,
+    simulate_record,
+)
+from gyrolib.gc.logs.convention import (
+    ConventionStudy,
+    InclinometerMapping,
+    convention_study,
+)
+from gyrolib.gc.logs.noise_fit import (
+    NOISE_FIT_NAMES,
+    NoiseFit,
+    fit_noise,
+)
+from gyrolib.gc.logs.record import (
+    MEASUREMENT_COLUMNS,
+    GCRecord,
+)
+
+__all__ = [
+    "MEASUREMENT_COLUMNS",
+    "NOISE_FIT_NAMES",
+    "AllanDeviation",
+    "AllanSeries",
+    "CalibrationResult",
+    "ConventionStudy",
+    "GCRecord",
+    "InclinometerMapping",
+    "NoiseFit",
+    "SimulatedRecord",
+    "allan_deviation",
+    "allan_model_vibration",
+    "calibrate",
+    "convention_study",
+    "fit_noise",
+    "innovation_log_likelihood",
+    "simulate_record",
+]
