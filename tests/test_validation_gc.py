@@ -535,6 +535,14 @@ case("gc.system_matrix_parts", lambda: gc.system_matrix_parts("paper"), TypeErro
      "params", "GyrocompassParams")
 
 
+case("gc.GyrocompassParams.at_latitude", lambda: gc.GyrocompassParams.at_latitude(0.0),
+     ValueError, "latitude", r"\(0.0, ")
+case("gc.GyrocompassParams.at_latitude", lambda: gc.GyrocompassParams.at_latitude(45.0),
+     ValueError, "latitude")
+case("gc.GyrocompassParams.at_latitude",
+     lambda: gc.GyrocompassParams.at_latitude(0.5, H=-1.0), ValueError, "H", POS)
+
+
 # Eqs. (1)-(3), (5) as named functions (gc.model.equations)
 case("gc.gyroscopic_torque", lambda: gc.gyroscopic_torque("paper", 0.0), TypeError, "params",
      "GyrocompassParams")

@@ -7,6 +7,7 @@ it directly.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +25,9 @@ class GCRecord:
     """A paper-GC measurement record (SI): time ``t`` (s, strictly increasing, >= 0; the
     feedback is switched off at t = 0 with the float at β = 0), the float angle
     ``angle_sensor`` (rad) and the specific forces ``inclinometer_y``, ``inclinometer_z``
-    (m/s², Eq. (8)'s measurement model).  NaN marks a missing measurement.
+    (m/s², Eq. (8)'s measurement model).  NaN marks a missing measurement.  ``latitude``
+    (rad, optional) is where the record was made, when the file states it; the calibration
+    then takes the Earth-rate components from it (:meth:`GyrocompassParams.at_latitude`).
 
     Examples
     --------
@@ -38,8 +41,12 @@ class GCRecord:
     angle_sensor: np.ndarray
     inclinometer_y: np.ndarray
     inclinometer_z: np.ndarray
+    latitude: float | None = None
 
     def __post_init__(self) -> None:
+        if self.latitude is not None:
+            object.__setattr__(self, "latitude", v.check_in_range(
+                "latitude", self.latitude, -math.pi / 2, math.pi / 2))
         t = v.check_times(self.t)
         if t[0] < 0.0:
             raise ValueError(f"t must be >= 0 (time since the feedback was switched off); "

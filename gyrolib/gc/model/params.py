@@ -31,6 +31,14 @@ from gyrolib import _validation as v
 from gyrolib.gc.model.shaping_filters import ShapingFilter, random_drift_filter, vibration_filter
 from gyrolib.units import ARCSEC_PAPER, G0
 
+#: The Earth's rotation rate relative to the stars (rad/s), WGS 84.
+EARTH_RATE: Final[float] = 7.292115e-5
+
+#: The latitude (rad) at which :data:`EARTH_RATE` has paper GC's components
+#: ``Omega_h = 4.3·10⁻⁵`` and ``Omega_v = 5.9·10⁻⁵`` rad/s (their ratio; their norm is
+#: 7.30·10⁻⁵ rad/s, the Earth's rate within 0.1 %).
+PAPER_LATITUDE: Final[float] = math.atan2(5.9e-5, 4.3e-5)
+
 __all__ = [
     "MEASUREMENT_NAMES",
     "NOISE_NAMES",
@@ -87,7 +95,7 @@ _REAL = ("omega_ub",)
 
 
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
-                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale")
+                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale")
 
 
 _DAMPING = ("xi1", "xi2")
@@ -137,6 +145,17 @@ class GyrocompassParams:
     * the sign of ``omega_ub``: the paper gives the magnitude of the unbalance drift; a
       negative value reverses the unbalance torque.
 
+    Errors of a real instrument that the paper leaves out (0 by default, so that every
+    reproduced number is the paper's model):
+
+    * ``sigma_hf_scale``: the relative standard uncertainty κ of the scale common to ``H/f`` and
+      the angle sensor's gain (dimensionless; 10⁻⁴ to 10⁻² for real instruments).  GC reads
+      the drift through the float's steady rate ``(H/f)(Ω_h cos β + ω_gc)``, so a relative
+      error κ reads as a drift of about κ·Ω_h, which 100 s of data cannot tell from ω_gc
+      (issues 26 and 28).
+
+    The Earth-rate components at a given latitude: :meth:`at_latitude`.
+
     Examples
     --------
     >>> from dataclasses import replace
@@ -180,6 +199,7 @@ class GyrocompassParams:
     measurement_noise: str = "intensity_over_dt"
     vertical_coupling: str = "eq5"
     eq1_sign: str = "+"
+    sigma_hf_scale: float = 0.0
 
     def __post_init__(self) -> None:
         for f_ in fields(self):
@@ -210,7 +230,48 @@ class GyrocompassParams:
         object.__setattr__(self, "_vibration", vib)
         object.__setattr__(self, "_random_drift", drift)
 
+    # Alternative constructors -------------------------------------------------------------
+    @classmethod
+    def at_latitude(cls, latitude: float, **overrides: object) -> GyrocompassParams:
+        """The parameters with ``Omega_h = Ω_E cos φ`` and ``Omega_v = Ω_E sin φ`` at the
+        geodetic latitude ``φ`` (rad, in (0, π/2): paper GC's model needs both components
+        positive), ``Ω_E`` = :data:`EARTH_RATE`; other fields from ``overrides``.
+
+        The paper's ``Omega_h = 4.3·10⁻⁵``, ``Omega_v = 5.9·10⁻⁵`` rad/s correspond to
+        :data:`PAPER_LATITUDE`, about 53.9° N.
+
+        Examples
+        --------
+        >>> import math
+        >>> from gyrolib.gc import GyrocompassParams
+        >>> p = GyrocompassParams.at_latitude(math.radians(45.0))
+        >>> f"{p.Omega_h:.4e} {p.Omega_v:.4e}"
+        '5.1563e-05 5.1563e-05'
+        >>> f"{math.degrees(PAPER_LATITUDE):.1f}"
+        '53.9'
+        """
+        lat = v.check_in_range("latitude", latitude, 0.0, math.pi / 2, low_open=True,
+                               high_open=True)
+        return cls(**{"Omega_h": EARTH_RATE * math.cos(lat),
+                      "Omega_v": EARTH_RATE * math.sin(lat), **overrides})
+
     # Derived quantities -------------------------------------------------------------------
+    @property
+    def scale_drift_sigma(self) -> float:
+        """The drift (rad/s) that the scale uncertainty ``sigma_hf_scale`` reads as, to first
+        order: ``sigma_hf_scale · Ω_h`` (a relative error κ of ``H/f`` or of the angle sensor's
+        gain scales the float's steady rate ``(H/f) Ω_h``; issues 26 and 28).
+
+        Examples
+        --------
+        >>> from gyrolib.gc import GyrocompassParams
+        >>> from gyrolib.units import from_si
+        >>> p = GyrocompassParams(sigma_hf_scale=1e-3)
+        >>> f"{from_si(p.scale_drift_sigma, 'arcsec_paper/s'):.4f}"
+        '0.0089'
+        """
+        return self.sigma_hf_scale * self.Omega_h
+
     @property
     def time_constant(self) -> float:
         """Float time constant ``I/f`` (s)."""
