@@ -1,0 +1,123 @@
+"""Verdicts in view (issue 29, item 3): how much of the chapters' code the pages hide.
+
+The chapters are read as notebooks by jupytext (the reader the build itself uses), so a cell's
+tags are the ones myst-nb sees.  A code line is a non-blank line of a code cell's source; it is
+*removed* from the page when its cell is tagged ``remove-cell`` or ``remove-input``
+(``hide-input`` cells stay on the page, collapsed, and count as shown).  The share is computed
+over whatever chapters exist, so a chapter added or rewritten by anyone is counted.
+
+Each check is also run on a small notebook built to break it, so that it can fail.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import jupytext
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+CHAPTERS = sorted((ROOT / "chapters").glob("*.md"))
+
+#: The issue's limit for the share of chapter code lines removed from the pages.
+MAX_REMOVED_SHARE = 0.35
+REMOVING_TAGS = {"remove-cell", "remove-input"}
+GLUE_CALLS = {"gl", "glue"}
+
+
+def code_lines(nb) -> tuple[int, int]:
+    """(code lines, removed code lines) of a notebook."""
+    total = removed = 0
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        n = sum(1 for line in cell.source.splitlines() if line.strip())
+        total += n
+        if REMOVING_TAGS & set(cell.metadata.get("tags", [])):
+            removed += n
+    return total, removed
+
+
+def _is_glue_call(stmt: ast.stmt) -> bool:
+    if not (isinstance(stmt, ast.Expr) and isinstance(stmt.value, ast.Call)):
+        return False
+    func = stmt.value.func
+    name = func.id if isinstance(func, ast.Name) else getattr(func, "attr", None)
+    return name in GLUE_CALLS
+
+
+def bare_glue_cells(nb) -> list[str]:
+    """The first line of every shown code cell that consists only of glue calls
+    (``gl(...)`` / ``glue(...)``): a cell the reader sees that only feeds the prose."""
+    found = []
+    for cell in nb.cells:
+        if cell.cell_type != "code" or REMOVING_TAGS & set(cell.metadata.get("tags", [])):
+            continue
+        try:
+            body = ast.parse(cell.source).body
+        except SyntaxError:  # IPython magics: not a plain glue cell
+            continue
+        if body and all(_is_glue_call(s) for s in body):
+            found.append(cell.source.splitlines()[0])
+    return found
+
+
+def _read(path: Path):
+    return jupytext.read(path)
+
+
+def _notebook(cells: list[tuple[str, list[str]]]):
+    """A notebook of code cells (source, tags), as jupytext reads one from MyST."""
+    text = ["---", "jupytext:", "  text_representation:", "    extension: .md",
+            "    format_name: myst", "---", ""]
+    for source, tags in cells:
+        text.append("```{code-cell} ipython3")
+        if tags:
+            text.append(f":tags: [{', '.join(tags)}]")
+        text += [source, "```", ""]
+    return jupytext.reads("\n".join(text), fmt="md:myst")
+
+
+def test_the_share_of_removed_chapter_code_is_at_most_35_percent():
+    assert CHAPTERS, "no chapters found"
+    per_chapter = {p.stem: code_lines(_read(p)) for p in CHAPTERS}
+    total = sum(t for t, _ in per_chapter.values())
+    removed = sum(r for _, r in per_chapter.values())
+    share = removed / total
+    detail = ", ".join(f"{name} {r}/{t}" for name, (t, r) in per_chapter.items() if t)
+    print(f"\nremoved chapter code: {removed} of {total} lines ({100 * share:.1f} %): {detail}")
+    assert share <= MAX_REMOVED_SHARE, (
+        f"{removed} of {total} chapter code lines ({100 * share:.1f} %) are removed from the "
+        f"pages (remove-cell / remove-input); at most {100 * MAX_REMOVED_SHARE:.0f} % may be. "
+        f"Per chapter (removed/total): {detail}")
+
+
+def test_code_lines_counts_removed_cells_and_ignores_blank_lines():
+    nb = _notebook([("x = 1\n\ny = 2", []), ("z = 3", ["remove-cell"]),
+                    ("w = 4\nv = 5", ["remove-input"]), ("u = 6", ["hide-input"])])
+    assert code_lines(nb) == (6, 3)
+
+
+def test_the_share_check_fails_on_a_chapter_that_hides_most_of_its_code():
+    nb = _notebook([("a = 1", []), ("b = 2\nc = 3", ["remove-input"])])
+    total, removed = code_lines(nb)
+    assert removed / total == pytest.approx(2 / 3, abs=1e-12)
+    assert removed / total > MAX_REMOVED_SHARE
+
+
+@pytest.mark.parametrize("path", CHAPTERS, ids=[p.stem for p in CHAPTERS])
+def test_no_chapter_shows_a_bare_glue_cell(path):
+    assert not bare_glue_cells(_read(path)), (
+        f"{path.name} shows cells that only glue numbers for the prose (hide them, or put the "
+        f"glue next to the computation it reports): {bare_glue_cells(_read(path))}")
+
+
+def test_the_bare_glue_check_finds_one_and_only_one():
+    nb = _notebook([
+        ('gl("a", 1.0)\nglue("b", "2", display=False)', []),  # bare: found
+        ('gl("c", 1.0)', ["remove-cell"]),                    # hidden: fine
+        ('x = f(2)\ngl("d", x)', []),                          # a computation: fine
+        ("%time gl('e', 1)", []),                              # a magic: not plain Python
+    ])
+    assert bare_glue_cells(nb) == ['gl("a", 1.0)']
