@@ -12,7 +12,8 @@ from collections.abc import Callable, Iterable, Sequence
 
 from gyrolib import _validation as v
 
-__all__ = ["MarkdownText", "format_number", "gluer", "grouped", "markdown_table", "sci"]
+__all__ = ["MarkdownText", "format_number", "gluer", "grouped", "hidpi_figures", "markdown_table",
+           "sci"]
 
 _SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
@@ -77,11 +78,41 @@ def markdown_table(header: Sequence[object], rows: Iterable[Sequence[object]]) -
     return MarkdownText("\n".join(lines))
 
 
+def hidpi_figures() -> bool:
+    """Make the notebook output (and glue) matplotlib figures as 2x "retina" PNGs: twice the
+    figure's pixels, with a width attribute of half of them, so that a figure is shown at
+    two image pixels per CSS pixel or more (sharp on high-density screens and in the PDF).
+    Returns whether it could (``False`` outside an IPython kernel, where it does nothing).
+
+    The setting goes to the inline backend's configuration, so a later ``%matplotlib inline``
+    keeps it.  :func:`gluer` calls it: every chapter that glues figures makes a gluer.
+
+    >>> hidpi_figures()  # not in a kernel: nothing to set
+    False
+    """
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - the book's environment has IPython
+        return False
+    shell = get_ipython()
+    if shell is None or not hasattr(shell, "display_formatter"):
+        return False
+    from IPython.core.pylabtools import select_figure_formats
+    from matplotlib_inline.config import InlineBackend
+
+    config = InlineBackend.instance()
+    config.figure_formats = {"retina"}
+    select_figure_formats(shell, {"retina"}, **config.print_figure_kwargs)
+    return True
+
+
 def gluer(prefix: str, default_fmt: Formatter = ".4g") -> Callable[..., None]:
     """A function ``gl(key, value, fmt=default_fmt)`` that glues ``value``, formatted by
     :func:`format_number`, under ``prefix + key`` for the prose (``{glue:text}`prefix_key```).
-    Chapters prefix their keys because glue keys are global across the book."""
+    Chapters prefix their keys because glue keys are global across the book.  Making a gluer
+    also sets the notebook's figures to 2x PNGs (:func:`hidpi_figures`)."""
     v.check_str("prefix", prefix)
+    hidpi_figures()
 
     def gl(key: str, value: float, fmt: Formatter = default_fmt) -> None:
         from myst_nb import glue  # only the chapters need myst-nb

@@ -54,6 +54,7 @@ from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
+from gyrolib._page_figures import page_figure
 from gyrolib.filtering.consistency import chi2_ppf, nees_bounds
 from gyrolib.gc.analysis.budget import ErrorBudget
 from gyrolib.gc.analysis.covariance import CovarianceAnalysis, CovarianceSweep
@@ -86,6 +87,7 @@ __all__ = [
 ]
 
 
+@page_figure
 def plot_shaping_psd(omega: ArrayLike, psd_n1: ArrayLike, psd_n3: ArrayLike, *,
                      alpha1: float, alpha2: float, var_n1: float, var_n3: float) -> Figure:
     """Paper GC, Figure 2: one-sided PSDs (per rad/s) of the vibration acceleration ``N1``
@@ -153,6 +155,7 @@ def plot_shaping_psd(omega: ArrayLike, psd_n1: ArrayLike, psd_n3: ArrayLike, *,
     return fig
 
 
+@page_figure
 def plot_nominal_motion(nominal: NominalMotion, aperiodic: NominalMotion,
                         nominal_start: NominalMotion, aperiodic_start: NominalMotion, *,
                         tau: float, lag: float) -> Figure:
@@ -245,6 +248,7 @@ def _dir(angle_from_y_deg: float) -> tuple[float, float]:
     return math.sin(a), math.cos(a)
 
 
+@page_figure
 def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
                  tilt_deg: float = 14.0) -> Figure:
     """Paper GC, Figure 1, redrawn: the base frame ``Oxyz``, the float frame ``Oξηζ``, the
@@ -346,6 +350,7 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
     return fig
 
 
+@page_figure
 def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: float,
                        paper_time: float = 100.0, unit: str = "arcsec_paper/s",
                        unit_label: str = "″/s", drop_time: float = 2.0,
@@ -401,6 +406,7 @@ def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: f
     return fig
 
 
+@page_figure
 def plot_p0_scale(sweep: CovarianceSweep, *, paper_value: float,
                   field: str = "shaping_p0_scale", unit: str = "arcsec_paper/s",
                   unit_label: str = "″/s") -> Figure:
@@ -445,6 +451,7 @@ def plot_p0_scale(sweep: CovarianceSweep, *, paper_value: float,
     return fig
 
 
+@page_figure
 def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
                       unit_label: str = "″/s") -> Figure:
     """Error budget of the ω_gc estimate (:func:`gyrolib.gc.error_budget`).
@@ -511,6 +518,7 @@ def _unit_label(unit: str) -> str:
     return _UNIT_LABELS.get(unit, unit)
 
 
+@page_figure
 def plot_estimates(mc, *, runs: tuple[int, ...] = (0, 1), state: str = "omega_gc",
                    unit: str = "arcsec_paper/s", t_zoom: float | None = 10.0) -> Figure:
     """Paper GC, Figure 4: the estimate of ``state`` in the ``runs`` of a Monte Carlo result
@@ -556,6 +564,7 @@ def plot_estimates(mc, *, runs: tuple[int, ...] = (0, 1), state: str = "omega_gc
     return fig
 
 
+@page_figure
 def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s",
                      confidence: float = 0.95) -> Figure:
     """Left: ensemble RMS error of ``state`` and the filter's σ, with the band of an RMS of
@@ -608,6 +617,7 @@ def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s
     return fig
 
 
+@page_figure
 def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_paper/s",
                decimal_ticks: bool = True) -> Figure:
     """σ of ω_gc at the end of the analysis when one shaping-filter parameter varies
@@ -660,6 +670,7 @@ def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_p
     return fig
 
 
+@page_figure
 def plot_information(info, frozen=None, *, unit: str = "arcsec_paper/s",
                      beta_frozen: float | None = None,
                      rounding_floor: float | None = 1e-12) -> Figure:
@@ -716,6 +727,7 @@ def plot_information(info, frozen=None, *, unit: str = "arcsec_paper/s",
     return fig
 
 
+@page_figure
 def plot_speed_claim(claim_map) -> Figure:
     """Time for σ of ω_gc to reach σ_c over a grid of two parameters
     (:func:`gyrolib.gc.speed_claim_map`): one panel per reading of the initial covariance of
@@ -765,6 +777,7 @@ def plot_speed_claim(claim_map) -> Figure:
     return fig
 
 
+@page_figure
 def plot_mismatch(results: Mapping[str, object], *, state: str = "omega_gc",
                   unit: str = "arcsec_paper/s") -> Figure:
     """What the filter claims against what it gets: for each labelled Monte Carlo result
@@ -805,6 +818,7 @@ _PHASE_COLORS: dict[str, str] = {"position 1": "#dbe9f6", "turn": "#f6d8d8",
                                  "settling": "#f6ecd2", "position 2": "#dbf0dc"}
 
 
+@page_figure
 def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = None) -> Figure:
     """σ of ω_gc against elapsed time for GC's method and the rate-sensor method with the
     classical and the optimal estimator (:func:`gyrolib.gc.race`), the procedure's phases
@@ -871,6 +885,7 @@ def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = Non
     return fig
 
 
+@page_figure
 def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
                     label: str | None = None) -> Figure:
     """Times to σ_c of the three contenders of a :func:`gyrolib.gc.race_sweep` over one
@@ -926,6 +941,7 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     return fig
 
 
+@page_figure
 def plot_linearization(effect) -> Figure:
     """Where the full-state NEES of the nonlinear truth goes out of its band, and why
     (:func:`gyrolib.gc.linearization_effect`).  Left: the full-state NEES with the nonlinear
@@ -984,6 +1000,7 @@ def plot_linearization(effect) -> Figure:
     return fig
 
 
+@page_figure
 def plot_allan(result: AllanDeviation, *, title: str | None = None):
     """Left: the Allan deviation of the angle-sensor rate (rad/s); right: of the two
     inclinometers (m/s²); each with its error bars and, dashed, paper GC's model.  Returns a
@@ -999,10 +1016,12 @@ def plot_allan(result: AllanDeviation, *, title: str | None = None):
                 label="angle-sensor rate")
     ax.plot(s.tau, s.model, "--", color="k", lw=1, label="model: white angle noise √(3R)/τ")
     ax.set_ylabel("Allan deviation (rad/s)")
+    # the two inclinometers often agree closely: a filled dot on a solid line against an open
+    # square on a dotted one, so that each stays visible where they overlap
+    styles = [dict(fmt="o-", ms=3.5), dict(fmt="s:", ms=7, mfc="none", mew=1.2)]
     for q, s in enumerate(result.series[1:], start=1):
-        bx.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3,
-                    lw=1, color=f"C{q}",
-                    label=s.name)
+        bx.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], lw=1,
+                    color=f"C{q}", zorder=3 - q, label=s.name, **styles[(q - 1) % 2])
     s = result.series[1]
     bx.plot(s.tau, s.model, "--", color="k", lw=1,
             label="model: sensor noise + vibration N1")
@@ -1019,6 +1038,7 @@ def plot_allan(result: AllanDeviation, *, title: str | None = None):
     return fig
 
 
+@page_figure
 def plot_convention_study(study: ConventionStudy):
     """Left: the error of ω̂_gc in σ per run, as logged and wrongly wired, marked by whether
     the diagnostics pass.  Right: the shift of the estimate the wiring causes against the
@@ -1060,6 +1080,7 @@ def plot_convention_study(study: ConventionStudy):
 
 
 # Figure -----------------------------------------------------------------------------------
+@page_figure
 def plot_calibration(result: CalibrationResult, truth: float | None = None,
                      confidence: float = 0.99):
     """The ω_gc estimate with its ±σ band over time (paper's ″/s) and, below, the mean NIS

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Polygon
 
 from gyrolib import _validation as v
+from gyrolib._page_figures import page_figure
 from gyrolib.rsf.calibration import CalibrationResult
 from gyrolib.rsf.claims import CompensationShare
 from gyrolib.rsf.correction import CorrectionRun, DeltaKPrediction
@@ -92,6 +93,7 @@ class _Diagram:
         self.ax.plot([x], [y], "o", color="#1f3b63", ms=4)
 
 
+@page_figure
 def plot_method_scheme() -> Figure:
     """Paper RSF, Figure 1: functional scheme of the correction method."""
     d = _Diagram(12.0, 6.2, (10.0, 5.2))
@@ -132,6 +134,7 @@ def plot_method_scheme() -> Figure:
     return d.fig
 
 
+@page_figure
 def plot_gs_scheme() -> Figure:
     """Paper RSF, Figure 2: functional scheme of the indicator gyrostabilizer (GS)."""
     d = _Diagram(12.6, 5.0, (10.0, 4.0))
@@ -169,6 +172,7 @@ def plot_gs_scheme() -> Figure:
 
 
 # Figure 3 ----------------------------------------------------------------------------------------
+@page_figure
 def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
                  acc_exact: np.ndarray, acc_small: np.ndarray, dr_exact: np.ndarray,
                  dr_cubic: np.ndarray, table_t: Sequence[float] = (),
@@ -235,6 +239,7 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
 
 
 # Simulation figures ---------------------------------------------------------------------------
+@page_figure
 def plot_flight(run: CorrectionRun, reset: CorrectionRun | None = None, *,
                 index: int = 0) -> Figure:
     """Roll-angle error (°) and lateral error (m) of one simulated flight (run ``index``),
@@ -285,6 +290,7 @@ def plot_flight(run: CorrectionRun, reset: CorrectionRun | None = None, *,
     return fig
 
 
+@page_figure
 def plot_delta_k_distribution(run: CorrectionRun, prediction: DeltaKPrediction) -> Figure:
     """Histogram of simulated δK (one value per run and interval) against the predicted
     mean ± std and Eq. (7) of paper RSF.
@@ -315,6 +321,7 @@ def plot_delta_k_distribution(run: CorrectionRun, prediction: DeltaKPrediction) 
     return fig
 
 
+@page_figure
 def plot_period_sweep(sweep: PeriodSweep, *, net_floor: bool = True) -> Figure:
     """rms δK against the correction period, with the prediction, Eq. (7) of paper RSF, the
     systematic floor, the uncorrected scale-factor error and (``net_floor``) the floor net of
@@ -351,6 +358,7 @@ def plot_period_sweep(sweep: PeriodSweep, *, net_floor: bool = True) -> Figure:
     return fig
 
 
+@page_figure
 def plot_encoder_sweep(with_error: ResolutionSweep, without_error: ResolutionSweep) -> Figure:
     """rms δK against the encoder's counts per revolution, with and without its position
     error (paper RSF: "an encoder of higher resolution").
@@ -382,6 +390,7 @@ def plot_encoder_sweep(with_error: ResolutionSweep, without_error: ResolutionSwe
     return fig
 
 
+@page_figure
 def plot_rate_sweep(sweep: RateSweep) -> Figure:
     """rms δK against the vehicle roll rate (°/s), with the prediction and Eq. (7) of paper
     RSF.
@@ -409,6 +418,7 @@ def plot_rate_sweep(sweep: RateSweep) -> Figure:
     return fig
 
 
+@page_figure
 def plot_spin_up(limited: SensorRecord, unlimited: SensorRecord, *, index: int = 0) -> Figure:
     """Vehicle roll rate and the GS's uncompensated rate during a spin-up (°/s), with the
     motor's speed limit and without (paper RSF, Figure 2's loop as simulated).
@@ -441,6 +451,7 @@ def plot_spin_up(limited: SensorRecord, unlimited: SensorRecord, *, index: int =
     return fig
 
 
+@page_figure
 def plot_compensation_share(result: CompensationShare) -> Figure:
     """The share of the SF error removed against the roll rate (paper RSF, Eq. (7) and the
     conclusion's "90 %"), with the simulation if the result carries one.
@@ -474,6 +485,7 @@ def plot_compensation_share(result: CompensationShare) -> Figure:
     return fig
 
 
+@page_figure
 def plot_correction(result: CalibrationResult, prediction: DeltaKPrediction | None = None,
                     eps1: float | None = None) -> Figure:
     """ε̂1 per interval (ppm) with, when given, the ±2σ band of δK the error model predicts

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._page_figures import for_the_page
 from gyrolib.sensitivity.study import SensitivityResult
 
 __all__ = ["plot_indices"]
@@ -29,8 +30,8 @@ def plot_indices(result: SensitivityResult, output: str, ax: Any = None) -> Any:
 
     v.check_instance("result", result, SensitivityResult)
     v.check_choice("output", output, result.outputs)
-    fig = None
-    if ax is None:
+    own = ax is None  # a figure of its own is made for the page; a caller's axes are not
+    if own:
         fig, ax = plt.subplots(figsize=(7.0, 3.2))
     else:
         fig = ax.figure
@@ -48,4 +49,4 @@ def plot_indices(result: SensitivityResult, output: str, ax: Any = None) -> Any:
     ax.set_ylim(min(-0.05, ax.get_ylim()[0]), max(1.0, ax.get_ylim()[1]))
     ax.legend(frameon=False, fontsize="small")
     fig.tight_layout()
-    return fig
+    return for_the_page(fig) if own else fig

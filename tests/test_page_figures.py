@@ -1,0 +1,119 @@
+"""Figures sized for the page (issue 29, item 4): the book's figures are 2x PNGs with legends
+of at least 9 pt at display size, and curves that overlap stay distinguishable.
+
+The display size is computed here from first principles (a figure of ``w`` inches drawn at
+96 px/in is shown at ``min(w·96, 672)`` CSS px, 672 px being the output column the browser
+test measured at a 1280-px window), not by the helper under test.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from gyrolib import gc
+from gyrolib._page_figures import MIN_LEGEND_PT, for_the_page
+
+COLUMN_PX = 672.0
+
+
+def shown_pt(fig, size_pt: float) -> float:
+    """Points at display size of text of ``size_pt`` points in ``fig``."""
+    width_px = fig.get_figwidth() * fig.dpi
+    return size_pt * min(1.0, COLUMN_PX / width_px) * fig.dpi / 96.0
+
+
+def legend_sizes(fig) -> list[float]:
+    legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
+    return [t.get_fontsize() for leg in legends for t in leg.get_texts()]
+
+
+def _figure(width: float, legend_pt: float) -> Figure:
+    fig = Figure(figsize=(width, 3.0), layout="constrained")
+    ax = fig.subplots()
+    ax.plot([0, 1], [0, 1], label="one")
+    ax.plot([0, 1], [1, 0], label="two")
+    ax.legend(fontsize=legend_pt)
+    return fig
+
+
+@pytest.mark.parametrize("width", [5.0, 7.0, 8.0, 10.0, 12.0])
+def test_legends_are_at_least_9_pt_at_display_size(width):
+    before = _figure(width, 7.0)
+    if width > COLUMN_PX / 96.0:  # without the helper, a 7-pt legend shows smaller still
+        assert shown_pt(before, 7.0) < 7.0
+    fig = for_the_page(before)
+    assert fig.dpi == pytest.approx(96.0, abs=1e-9)
+    assert fig.get_figwidth() <= 8.0 + 1e-9
+    sizes = legend_sizes(fig)
+    assert len(sizes) == 2
+    assert min(shown_pt(fig, s) for s in sizes) >= MIN_LEGEND_PT - 1e-9, sizes
+    # a large legend is left as it is
+    big = for_the_page(_figure(width, 20.0))
+    assert legend_sizes(big) == [20.0, 20.0]
+
+
+def test_the_check_fails_on_a_figure_not_made_for_the_page():
+    fig = _figure(10.0, 7.0)
+    fig.set_dpi(100.0)
+    assert min(shown_pt(fig, s) for s in legend_sizes(fig)) < MIN_LEGEND_PT
+
+
+def test_plot_functions_return_figures_made_for_the_page():
+    P = gc.GyrocompassParams()
+    t, t_fast = np.linspace(0.0, 100.0, 200), np.linspace(0.0, 0.01, 100)
+    fig = gc.plot_nominal_motion(gc.nominal_motion(P, t), gc.nominal_motion_aperiodic(P, t),
+                                 gc.nominal_motion(P, t_fast),
+                                 gc.nominal_motion_aperiodic(P, t_fast),
+                                 tau=P.time_constant, lag=0.0)
+    assert fig.get_figwidth() == pytest.approx(8.0, abs=1e-9)  # drawn at 11 in, capped
+    assert fig.dpi == pytest.approx(96.0, abs=1e-9)
+    sizes = legend_sizes(fig)
+    assert sizes and min(shown_pt(fig, s) for s in sizes) >= MIN_LEGEND_PT - 1e-9, sizes
+
+
+def test_the_inclinometer_curves_of_the_allan_figure_are_distinguishable():
+    """Two inclinometers with the same noise give nearly the same curve: they must differ in
+    marker and line style, not in color only, so that the one drawn first stays visible."""
+    P = gc.GyrocompassParams()
+    rng = np.random.default_rng(7)
+    n = 20000
+    t = np.arange(1, n + 1) * P.dt
+    beta_n = gc.nominal_motion_aperiodic(P, t).beta
+    noise = np.sqrt(5e-15 / P.dt)
+    rec = gc.GCRecord(t=t, angle_sensor=beta_n + 1e-5 * rng.standard_normal(n),
+                      inclinometer_y=noise * rng.standard_normal(n),
+                      inclinometer_z=noise * rng.standard_normal(n))
+    fig = gc.plot_allan(gc.allan_deviation(rec, P))
+    lines = {c.get_label(): c.lines[0] for c in fig.axes[1].containers
+             if c.get_label() in ("inclinometer_y", "inclinometer_z")}
+    y, z = lines["inclinometer_y"], lines["inclinometer_z"]
+    assert y.get_marker() != z.get_marker()
+    assert y.get_linestyle() != z.get_linestyle()
+    # the open marker of one lets the filled marker of the other show through
+    assert "none" in (str(y.get_markerfacecolor()), str(z.get_markerfacecolor()))
+
+
+def test_notebook_figures_are_2x_pngs_shown_at_half_their_pixels():
+    """In an IPython shell, after :func:`gyrolib.book.report.hidpi_figures`, a figure's PNG
+    has twice the pixels of its width attribute (what the browser test measures as 2 image
+    pixels per CSS pixel)."""
+    IPython = pytest.importorskip("IPython")
+    from IPython.core.interactiveshell import InteractiveShell
+
+    from gyrolib.book.report import hidpi_figures
+
+    shell = InteractiveShell.instance()
+    try:
+        assert hidpi_figures()
+        fig = for_the_page(_figure(6.0, 9.0))
+        data, meta = shell.display_formatter.format(fig)
+        png = __import__("base64").b64decode(data["image/png"])
+        width = int.from_bytes(png[16:20], "big")
+        assert meta["image/png"]["width"] == width // 2
+        # bbox_inches="tight" trims a little white: about 6 in at 96 px/in, doubled
+        assert width == pytest.approx(2 * 6.0 * 96.0, rel=0.1)
+    finally:
+        InteractiveShell.clear_instance()
+    assert IPython.get_ipython() is None
