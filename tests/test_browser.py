@@ -611,8 +611,14 @@ def test_ledger_page_shows_its_table(site, browser):
             rows += n
             if n == 0:
                 problems.append(f"table {i + 1} (section {section!r}) has a header but no rows")
-            if not table.is_visible():
+            collapsed = table.evaluate("t => !!t.closest('details.gyrolib-collapsed')")
+            if not table.is_visible() and not collapsed:
                 problems.append(f"table {i + 1} (section {section!r}) is not visible")
+            if i == 0 and (collapsed or "results" not in section):
+                problems.append(f"the page opens with {section!r}, not the papers' results")
+            if collapsed and "input" not in section:
+                problems.append(f"table {i + 1} (section {section!r}) is collapsed: only the "
+                                f"inputs may be")
         expected = _ledger_items()
         if expected is not None and rows != expected:
             problems.append(f"the page shows {rows} ledger rows but gyrolib.book.ledger.collect() "

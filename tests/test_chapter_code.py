@@ -121,3 +121,37 @@ def test_the_bare_glue_check_finds_one_and_only_one():
         ("%time gl('e', 1)", []),                              # a magic: not plain Python
     ])
     assert bare_glue_cells(nb) == ['gl("a", 1.0)']
+
+
+# ----------------------------------------------------------------------------- benchmarks
+
+#: The Performance page: the only chapter that shows benchmark results (issue 29, item 4).
+PERFORMANCE_PAGE = "benchmarks"
+#: Chapters known to break the rule, each with the reason; the mark is strict, so the test
+#: fails as soon as the chapter is fixed, and the entry must then go.
+KNOWN_BENCHMARK_TABLES = {
+    "calibrate": "calibrate.md (another developer's chapter) still ends with the table of "
+                 "benchmarks/results/calibrate.json; it belongs on the Performance page",
+}
+
+
+def reads_benchmark_results(nb) -> bool:
+    """Whether a notebook's code reads the benchmark scripts' results files."""
+    return any(cell.cell_type == "code" and "benchmarks" in cell.source
+               and "results" in cell.source for cell in nb.cells)
+
+
+@pytest.mark.parametrize("path", [
+    pytest.param(p, marks=pytest.mark.xfail(strict=True, reason=KNOWN_BENCHMARK_TABLES[p.stem]))
+    if p.stem in KNOWN_BENCHMARK_TABLES else p
+    for p in CHAPTERS if p.stem != PERFORMANCE_PAGE], ids=lambda p: p.stem)
+def test_benchmark_results_are_shown_only_on_the_performance_page(path):
+    assert not reads_benchmark_results(_read(path)), (
+        f"{path.name} shows benchmark results: they belong on the Performance page "
+        f"(chapters/{PERFORMANCE_PAGE}.md), which shows every results file")
+
+
+def test_the_benchmark_check_finds_a_chapter_that_reads_results():
+    nb = _notebook([('bench = json.loads(Path("benchmarks/results/x.json").read_text())', [])])
+    assert reads_benchmark_results(nb)
+    assert not reads_benchmark_results(_notebook([("x = 1", [])]))

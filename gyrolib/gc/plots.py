@@ -202,7 +202,7 @@ def plot_nominal_motion(nominal: NominalMotion, aperiodic: NominalMotion,
     ax1.set_xlabel("t, s")
     ax1.set_ylabel("float angle, deg")
     ax1.set_title("(a) nominal float angle")
-    ax1.legend(loc="upper left", fontsize=8)
+    ax1.legend(loc="lower right", fontsize=8)  # below the rising line
     ax2.plot(tf * 1e3, bd / arcsec, color="C0", label=r"$\dot\beta_n$")
     ax2.plot(tf * 1e3, bdap / arcsec, color="C1", ls="--", label="aperiodic")
     ax2.axvline(tau * 1e3, color="0.5", ls=":", lw=1)
@@ -402,7 +402,9 @@ def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: f
     ax_lin.axvspan(0.0, drop_time, color="0.85", zorder=0)
     ax_lin.set_title("linear time")
     ax_log.set_title("log time")
-    ax_log.legend(fontsize=8, loc="lower left")
+    # below the panels: at display size the legend would cover the curves near 100 s
+    fig.legend(*ax_log.get_legend_handles_labels(), loc="outside lower center", ncols=2,
+               fontsize=9)
     return fig
 
 
@@ -976,7 +978,9 @@ def plot_linearization(effect) -> Figure:
     ax_n.set_xlabel("time (s)")
     ax_n.set_ylabel(f"full-state NEES, average of {effect.n_runs} runs")
     ax_n.grid(True, which="both", alpha=0.3)
-    ax_n.legend(fontsize=7, loc="upper right")
+    # below the panels: at display size the legend would cover the NEES curves
+    fig.legend(*ax_n.get_legend_handles_labels(), loc="outside lower left", ncols=2,
+               fontsize=9)
     shift = np.maximum(effect.state_shift[-1], 1e-12)
     ax_s.barh(np.arange(shift.size), shift, color="C1")
     ax_s.set_yticks(np.arange(shift.size), STATE_NAMES, fontsize=8)

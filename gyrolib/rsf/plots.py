@@ -232,7 +232,7 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
                    label="Table 2 as printed (unit lost)")
     ax2.set_xlabel("t (s)")
     ax2.set_ylabel(r"$\Delta r_z$ (m)")
-    ax2.legend(fontsize=8, loc="upper left")
+    ax2.legend(fontsize=8, loc="lower right")  # below the rising curves, clear of the print
     ax2.grid(True, which="both", alpha=0.3)
     ax2.set_title("(c) lateral deviation", fontsize=10)
     return fig
