@@ -202,7 +202,9 @@ def plot_nominal_motion(nominal: NominalMotion, aperiodic: NominalMotion,
     ax1.set_xlabel("t, s")
     ax1.set_ylabel("float angle, deg")
     ax1.set_title("(a) nominal float angle")
-    ax1.legend(loc="lower right", fontsize=8)  # below the rising line
+    # below the panels: at display size the legend is as wide as panel (a)
+    fig.legend(*ax1.get_legend_handles_labels(), loc="outside lower left", ncols=2,
+               fontsize=9)
     ax2.plot(tf * 1e3, bd / arcsec, color="C0", label=r"$\dot\beta_n$")
     ax2.plot(tf * 1e3, bdap / arcsec, color="C1", ls="--", label="aperiodic")
     ax2.axvline(tau * 1e3, color="0.5", ls=":", lw=1)
