@@ -358,3 +358,62 @@ def test_no_page_has_the_markup_axe_core_flagged(html_dir):
         if not soup.select('link[rel~="stylesheet"][href*="gyrolib-a11y.css"]'):
             problems.append(f"{rel}: no _static/gyrolib-a11y.css (the badge palette)")
     assert not problems, _report("pages with markup axe-core flags", problems)
+
+
+def png_width(path: Path) -> int:
+    """A PNG's pixel width, read from its IHDR chunk (no imaging library needed)."""
+    head = path.read_bytes()[:24]
+    if head[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError(f"{path} is not a PNG")
+    return int.from_bytes(head[16:20], "big")
+
+
+#: Image pixels per CSS pixel of a figure's width attribute (issue 29, item 4).
+MIN_FIGURE_DENSITY = 1.5
+
+
+def figure_density_problems(html_dir: Path) -> list[str]:
+    """Every raster figure of the book is a 2x image: a width attribute (the CSS width it is
+    shown at, at most) and at least MIN_FIGURE_DENSITY image pixels per CSS pixel of it.
+    The layout stylesheet, which keeps figures within the column, is linked on every page."""
+    problems = []
+    for page in book_pages(html_dir):
+        soup = soup_of(page)
+        if is_redirect(soup):
+            continue
+        rel = page.relative_to(html_dir).as_posix()
+        if not soup.select('link[rel~="stylesheet"][href*="gyrolib-layout.css"]'):
+            problems.append(f"{rel}: no _static/gyrolib-layout.css (outputs wrap, print)")
+        for img in soup.select("article img"):
+            src = unquote(urlsplit(img.get("src", "")).path)
+            if not src.lower().endswith(".png"):
+                continue  # vector figures and icons
+            natural = png_width((page.parent / src).resolve())
+            width = img.get("width")
+            if not width or not str(width).rstrip("px").isdigit():
+                problems.append(f"{rel}: {src} ({natural} px) has no width attribute: shown "
+                                f"pixel for pixel, or stretched")
+            elif natural / int(str(width).rstrip("px")) < MIN_FIGURE_DENSITY:
+                problems.append(f"{rel}: {src} has {natural} px for a width of {width}")
+    return problems
+
+
+def test_figures_are_2x_images(html_dir):
+    problems = figure_density_problems(html_dir)
+    assert not problems, _report("figures below 2x", problems)
+
+
+def test_the_figure_check_finds_a_72_dpi_figure(tmp_path):
+    """A tiny book folder with one 2x figure and one drawn at 72 dpi without a width: only
+    the second is reported."""
+    from matplotlib.figure import Figure
+
+    (tmp_path / "_images").mkdir()
+    for name, dpi in (("two_x.png", 192), ("dpi72.png", 72)):
+        Figure(figsize=(4.0, 2.0), dpi=dpi).savefig(tmp_path / "_images" / name, dpi=dpi)
+    style = '<link rel="stylesheet" href="_static/gyrolib-layout.css">'
+    (tmp_path / "page.html").write_text(
+        f"<html><head>{style}</head><body><article><img src='_images/two_x.png' width='384'>"
+        f"<img src='_images/dpi72.png'></article></body></html>", encoding="utf-8")
+    problems = figure_density_problems(tmp_path)
+    assert len(problems) == 1 and "dpi72.png (288 px) has no width" in problems[0], problems
