@@ -286,8 +286,10 @@ JS_FIGURE_DENSITY = """async () => {
     if (/\\.svg($|\\?)/i.test(src) || src.startsWith('data:image/svg')) continue;  /* vector */
     const shown = img.getBoundingClientRect().width;
     if (shown === 0 || img.naturalWidth === 0) continue;
+    const box = img.getBoundingClientRect();
     out.push({src: src.split('/').pop().slice(0, 40), natural: img.naturalWidth,
-              shown: Math.round(shown * 10) / 10});
+              shown: Math.round(shown * 10) / 10,
+              aspect: box.width / box.height, naturalAspect: img.naturalWidth / img.naturalHeight});
   }
   return out;
 }"""
@@ -313,11 +315,18 @@ def overflow_problems(page) -> list[str]:
 
 
 def density_problems(page) -> list[str]:
-    """Raster figures shown at more than 1/MIN_FIGURE_DENSITY of their pixel width."""
-    return [f"figure {f['src']} has {f['natural']} px shown at {f['shown']} CSS px "
-            f"({f['natural'] / f['shown']:.2f} px per CSS px; at least {MIN_FIGURE_DENSITY})"
-            for f in page.evaluate(JS_FIGURE_DENSITY)
-            if f["natural"] / f["shown"] < MIN_FIGURE_DENSITY - 1e-6]
+    """Raster figures shown at more than 1/MIN_FIGURE_DENSITY of their pixel width, or
+    distorted (shown with an aspect ratio more than 2 % off their own)."""
+    found = []
+    for f in page.evaluate(JS_FIGURE_DENSITY):
+        if f["natural"] / f["shown"] < MIN_FIGURE_DENSITY - 1e-6:
+            found.append(f"figure {f['src']} has {f['natural']} px shown at {f['shown']} CSS "
+                         f"px ({f['natural'] / f['shown']:.2f} px per CSS px; at least "
+                         f"{MIN_FIGURE_DENSITY})")
+        if abs(f["aspect"] / f["naturalAspect"] - 1) > 0.02:
+            found.append(f"figure {f['src']} is distorted: shown at an aspect ratio of "
+                         f"{f['aspect']:.3f}, drawn at {f['naturalAspect']:.3f}")
+    return found
 
 
 META_REFRESH = re.compile(r"<meta[^>]+http-equiv=[\"']?refresh", re.IGNORECASE)
@@ -534,6 +543,23 @@ def test_the_density_check_finds_a_72_dpi_figure_and_passes_a_2x_one(small_pages
     assert [m["natural"] for m in measured] == [width72, 2 * width2x], measured
     assert [m["shown"] for m in measured] == pytest.approx([width72, width2x], abs=0.5)
     assert len(found) == 1 and f"has {width72} px shown at" in found[0], found
+
+
+def test_a_figure_shrunk_to_the_column_keeps_its_proportions(small_pages):
+    """Sphinx gives a notebook image its size inline (width and height); shrunk to the column
+    by max-width, it would be squashed unless the book's CSS lets its height follow."""
+    png2x, width2x = _figure_png(192.0, retina=True)  # 1152 CSS px wide: more than 700
+    img = (f"<img alt='wide' style='width: {width2x}px; height: {width2x // 2}px; "
+           f"max-width: 100%' src='data:image/png;base64,{png2x}'>")
+    found = {}
+    for css in (False, True):
+        page = _small_page(small_pages, img, css=css)
+        try:
+            found[css] = density_problems(page)
+        finally:
+            page.close()
+    assert len(found[False]) == 1 and "is distorted" in found[False][0], found
+    assert found[True] == [], found
 
 
 def test_print_shows_no_toggle_and_no_empty_frame(small_pages):

@@ -368,6 +368,16 @@ def png_width(path: Path) -> int:
     return int.from_bytes(head[16:20], "big")
 
 
+def shown_width(img) -> float | None:
+    """The CSS width in px an ``<img>`` is given: its ``width`` attribute, or the width of its
+    ``style`` (Sphinx writes a notebook image's size as ``style="width: 773px; ..."``)."""
+    match = re.search(r"(?:^|;)\s*width:\s*([\d.]+)px", img.get("style", ""))
+    if match:
+        return float(match.group(1))
+    width = str(img.get("width", "")).removesuffix("px")
+    return float(width) if width.replace(".", "", 1).isdigit() else None
+
+
 #: Image pixels per CSS pixel of a figure's width attribute (issue 29, item 4).
 MIN_FIGURE_DENSITY = 1.5
 
@@ -389,12 +399,12 @@ def figure_density_problems(html_dir: Path) -> list[str]:
             if not src.lower().endswith(".png"):
                 continue  # vector figures and icons
             natural = png_width((page.parent / src).resolve())
-            width = img.get("width")
-            if not width or not str(width).rstrip("px").isdigit():
-                problems.append(f"{rel}: {src} ({natural} px) has no width attribute: shown "
-                                f"pixel for pixel, or stretched")
-            elif natural / int(str(width).rstrip("px")) < MIN_FIGURE_DENSITY:
-                problems.append(f"{rel}: {src} has {natural} px for a width of {width}")
+            width = shown_width(img)
+            if width is None:
+                problems.append(f"{rel}: {src} ({natural} px) has no width: shown pixel for "
+                                f"pixel, or stretched")
+            elif natural / width < MIN_FIGURE_DENSITY:
+                problems.append(f"{rel}: {src} has {natural} px for a width of {width:g} px")
     return problems
 
 
@@ -414,6 +424,10 @@ def test_the_figure_check_finds_a_72_dpi_figure(tmp_path):
     style = '<link rel="stylesheet" href="_static/gyrolib-layout.css">'
     (tmp_path / "page.html").write_text(
         f"<html><head>{style}</head><body><article><img src='_images/two_x.png' width='384'>"
-        f"<img src='_images/dpi72.png'></article></body></html>", encoding="utf-8")
+        f"<img src='_images/two_x.png' style='width: 384px; height: 192px;'>"
+        f"<img src='_images/dpi72.png'><img src='_images/dpi72.png' style='width: 288px'>"
+        f"</article></body></html>", encoding="utf-8")
     problems = figure_density_problems(tmp_path)
-    assert len(problems) == 1 and "dpi72.png (288 px) has no width" in problems[0], problems
+    assert len(problems) == 2, problems
+    assert "dpi72.png (288 px) has no width" in problems[0], problems
+    assert "dpi72.png has 288 px for a width of 288 px" in problems[1], problems
