@@ -6,7 +6,10 @@ tags are the ones myst-nb sees.  A code line is a non-blank line of a code cell'
 (``hide-input`` cells stay on the page, collapsed, and count as shown).  The share is computed
 over whatever chapters exist, so a chapter added or rewritten by anyone is counted.
 
-Each check is also run on a small notebook built to break it, so that it can fail.
+Further checks of the pages: no shown cell only glues numbers for the prose; no removed cell
+chooses a sentence of the prose by a condition (the call that decides a verdict is in view);
+benchmark results appear only on the Performance page.  Each check is also run on a small
+notebook built to break it, so that it can fail.
 """
 
 from __future__ import annotations
@@ -121,6 +124,58 @@ def test_the_bare_glue_check_finds_one_and_only_one():
         ("%time gl('e', 1)", []),                              # a magic: not plain Python
     ])
     assert bare_glue_cells(nb) == ['gl("a", 1.0)']
+
+
+# ----------------------------------------------------------------------------- verdicts
+
+#: Chapters of other developers that still pick sentences in hidden cells (issue 29, item 3
+#: is theirs to apply there); not strict, since they change while this test exists.
+PENDING_HIDDEN_VERDICTS = {
+    "calibrate": "calibrate.md picks 'fits' / 'does NOT fit' in hidden cells",
+    "gc_race": "gc_race.md picks its verdict sentences in remove-input cells",
+    "sensitivity": "sensitivity.md picks its conclusions in hidden cells",
+}
+
+
+def hidden_choices(nb) -> list[str]:
+    """Conditional expressions or statements in removed cells that choose between phrases
+    (string constants with a space): a sentence of the prose decided out of the reader's
+    sight.  A choice of number format is not one."""
+    found = []
+    for cell in nb.cells:
+        if cell.cell_type != "code" or not REMOVING_TAGS & set(cell.metadata.get("tags", [])):
+            continue
+        try:
+            tree = ast.parse(cell.source)
+        except SyntaxError:
+            continue
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.IfExp | ast.If):
+                continue
+            branches = ([node.body, node.orelse] if isinstance(node, ast.IfExp)
+                        else [ast.Module(body=node.body + node.orelse, type_ignores=[])])
+            if any(isinstance(n, ast.Constant) and isinstance(n.value, str) and " " in n.value
+                   for b in branches for n in ast.walk(b)):
+                found.append(" ".join(ast.get_source_segment(cell.source, node).split())[:100])
+    return found
+
+
+@pytest.mark.parametrize("path", [
+    pytest.param(p, marks=pytest.mark.xfail(strict=False, reason=PENDING_HIDDEN_VERDICTS[p.stem]))
+    if p.stem in PENDING_HIDDEN_VERDICTS else p for p in CHAPTERS], ids=lambda p: p.stem)
+def test_no_hidden_cell_picks_a_sentence(path):
+    found = hidden_choices(_read(path))
+    assert not found, (f"{path.name} decides sentences of its prose in hidden cells (show the "
+                       f"cell, or read the verdict from the ledger): {found}")
+
+
+def test_the_hidden_choice_check_finds_one_and_only_one():
+    nb = _notebook([
+        ('glue("v", "holds" if x < 1 else "fails badly")', ["remove-cell"]),  # found
+        ('glue("w", "holds" if x < 1 else "fails badly")', []),               # shown: fine
+        ('gl("n", x, ".2f" if x > 1 else ".3f")', ["remove-cell"]),           # a format: fine
+    ])
+    assert hidden_choices(nb) == ['"holds" if x < 1 else "fails badly"']
 
 
 # ----------------------------------------------------------------------------- benchmarks
