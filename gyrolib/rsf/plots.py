@@ -317,7 +317,8 @@ def plot_delta_k_distribution(run: CorrectionRun, prediction: DeltaKPrediction) 
     ax.axvline(from_si(prediction.eq7, "ppm"), color="#c0392b", lw=2, label="Eq. (7), 280 ppm")
     ax.set_xlabel("δK (ppm)")
     ax.set_ylabel("count")
-    ax.legend(fontsize=8, loc="upper left")
+    # below the axes: the histogram fills the whole width of its panel
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=9)
     return fig
 
 
