@@ -117,3 +117,39 @@ def test_notebook_figures_are_2x_pngs_shown_at_half_their_pixels():
     finally:
         InteractiveShell.clear_instance()
     assert IPython.get_ipython() is None
+
+
+def not_made_for_the_page(*modules) -> list[str]:
+    """The ``plot_*`` functions of ``modules`` whose figure does not go through
+    :func:`for_the_page` (neither decorated by ``page_figure`` nor calling it)."""
+    import inspect
+
+    missing = []
+    for module in modules:
+        for name, func in inspect.getmembers(module, inspect.isfunction):
+            if not name.startswith("plot_") or func.__module__ != module.__name__:
+                continue
+            wrapped = getattr(func, "__wrapped__", None) is not None
+            if not (wrapped or "for_the_page(" in inspect.getsource(func)):
+                missing.append(f"{module.__name__}.{name}")
+    return missing
+
+
+def test_every_plot_function_returns_its_figure_made_for_the_page(tmp_path, monkeypatch):
+    """Every ``plot_*`` of the plots modules goes through :func:`for_the_page` (decorated by
+    ``page_figure``); sensitivity's ``plot_indices`` calls it on a figure of its own.  A
+    module with an undecorated plot function is reported."""
+    import importlib
+
+    from gyrolib.gc import plots as gc_plots
+    from gyrolib.rsf import plots as rsf_plots
+    from gyrolib.sensitivity import plots as sens_plots
+
+    assert not_made_for_the_page(gc_plots, rsf_plots, sens_plots) == []
+    (tmp_path / "bare_plots.py").write_text(
+        "from gyrolib._page_figures import page_figure\n\n\n"
+        "@page_figure\ndef plot_ok():\n    pass\n\n\n"
+        "def plot_bare():\n    pass\n", encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert not_made_for_the_page(importlib.import_module("bare_plots")) == [
+        "bare_plots.plot_bare"]
