@@ -15,7 +15,13 @@ Every page of the book is opened, and the test asserts, collecting all problems 
   (the experimental ones too, such as label-content-name-mismatch) on the settled page.
   axe-core comes inside the pinned ``axe-playwright-python`` wheel (``axe.min.js``) and is
   injected into the page by Playwright: nothing is fetched.  A page with an injected
-  low-contrast paragraph shows that the check can fail.
+  low-contrast paragraph shows that the check can fail;
+* the layout at 1280 px (issue 29): the page does not scroll sideways, no output block runs
+  past its box (outputs wrap), no other text spills out of a box that does not scroll; every
+  raster figure has at least 1.5 image pixels per CSS pixel it is shown at, and is not
+  distorted.  Small pages written by the tests (no book needed), and a book page with an
+  injected long output line and 72-dpi figure, show that each check can fail; the print
+  stylesheet is checked the same way (no "Show code cell source" toggle, no empty box).
 
 Further tests: the ledger page shows its table; the search page finds "gyrocompass";
 screenshots of the landing page and one chapter are saved in ``_build/screenshots/``.
