@@ -568,6 +568,29 @@ def test_a_figure_shrunk_to_the_column_keeps_its_proportions(small_pages):
     assert found[True] == [], found
 
 
+def test_a_wide_equation_scrolls_in_its_box_and_can_be_reached_by_keyboard(small_pages):
+    """A display equation wider than the column scrolls inside its box (layout CSS) instead of
+    spilling, and _static/gyrolib-scroll.js gives exactly that box a tab stop (axe-core's
+    scrollable-region-focusable); without the CSS it spills and the check finds it."""
+    wide = "<div class='math'><span style='display: inline-block; width: 900px'>x</span></div>"
+    narrow = "<div class='math'><span>y = 1</span></div>"
+    page = _small_page(small_pages, wide + narrow, css=False)
+    try:
+        assert [f.split(" runs")[0] for f in overflow_problems(page)] == ["<div.math>"]
+    finally:
+        page.close()
+    page = _small_page(small_pages, wide + narrow)
+    try:
+        page.add_script_tag(path=str(ROOT / "_static" / "gyrolib-scroll.js"))
+        page.evaluate(JS_SETTLED)
+        assert overflow_problems(page) == []
+        stops = page.evaluate("() => Array.from(document.querySelectorAll('div.math'))"
+                              ".map(e => e.getAttribute('tabindex'))")
+    finally:
+        page.close()
+    assert stops == ["0", None], stops
+
+
 def test_print_shows_no_toggle_and_no_empty_frame(small_pages):
     """In print (the PDF), a collapsed code cell's "Show code cell source" toggle and an
     empty output box are not drawn, and a collapsed section of the ledger prints open."""
