@@ -249,7 +249,8 @@ JS_SETTLED = """async () => {
 # The page itself must not scroll sideways at all.
 JS_OVERFLOW = """() => {
   const root = document.documentElement;
-  const article = document.querySelector('article.bd-article') || document.body;
+  const article = document.querySelector('article.bd-article') || document.querySelector('main')
+    || document.body;
   const scrolls = new Set(['auto', 'scroll']);
   const visible = el => el.clientWidth > 0 && (!el.checkVisibility || el.checkVisibility());
   const wide = el => el.scrollWidth > el.clientWidth + 1;
@@ -283,7 +284,8 @@ JS_OVERFLOW = """() => {
 # shown at.  A ratio of 2 is a 2x ("retina") image; 1 is an image shown pixel for pixel (e.g.
 # a 72-dpi figure at its own size), which looks blurred on a high-density screen and in print.
 JS_FIGURE_DENSITY = """async () => {
-  const article = document.querySelector('article.bd-article') || document.body;
+  const article = document.querySelector('article.bd-article') || document.querySelector('main')
+    || document.body;
   const out = [];
   for (const img of Array.from(article.querySelectorAll('img'))) {
     img.loading = 'eager';
