@@ -167,7 +167,8 @@ def test_lazy_names_still_resolve(package):
     if package == "gyrolib.gc":
         from gyrolib.gc import plot_figure1, symbolic
 
-        assert plot_figure1 is plots.plot_figure1 and symbolic.__name__ == "gyrolib.gc.model.symbolic"
+        assert plot_figure1 is plots.plot_figure1
+        assert symbolic.__name__ == "gyrolib.gc.model.symbolic"
 
 
 # Rooms by role (issue 29, item 1) -------------------------------------------------------------
