@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
+from gyrolib._repr import compact_repr
 
 __all__ = [
     "DISTRIBUTIONS",
@@ -277,6 +278,7 @@ def analyze(names: Sequence[str], values: NDArray[np.float64], seed: int,
     return out
 
 
+@compact_repr
 @dataclass(frozen=True)
 class SensitivityResult:
     """A Sobol' study: the inputs and their ranges, the outputs, the model's values on the
@@ -524,6 +526,7 @@ def _reusable(previous: object, model: str, inputs: tuple[SobolInput, ...],
     return prev.values
 
 
+@compact_repr
 @dataclass(frozen=True)
 class Recheck:
     """A few sample points of a stored study computed again: their ``rows`` in the
