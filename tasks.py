@@ -42,6 +42,24 @@ def run(*cmd: str | os.PathLike, **kw) -> None:
     subprocess.run([str(c) for c in cmd], check=True, cwd=ROOT, **kw)
 
 
+def run_interactive(*cmd: str | os.PathLike, **kw) -> int:
+    """Run a program that handles Ctrl-C itself (JupyterLab: it asks, or shuts down) and
+    return its exit status.
+
+    Ctrl-C at the terminal reaches the whole process group: this process ignores its
+    ``KeyboardInterrupt`` and keeps waiting while the program shuts down in its own way, so
+    the command ends with the program's one-line goodbye instead of a traceback of ours
+    (``subprocess.run`` would also kill the program 0.25 s later, mid-shutdown).
+    """
+    print("+", " ".join(str(c) for c in cmd), flush=True)
+    proc = subprocess.Popen([str(c) for c in cmd], cwd=ROOT, **kw)
+    while True:
+        try:
+            return proc.wait()
+        except KeyboardInterrupt:
+            continue
+
+
 def _setup_fingerprint(names: tuple[str, ...] = ("requirements.txt", "pyproject.toml")) -> str:
     h = hashlib.sha256()
     for name in names:
@@ -185,9 +203,11 @@ def lab(*args: str) -> None:
     # root in a container or CI: JupyterLab refuses to start unless told it may
     root = ["--allow-root"] if os.name == "posix" and os.geteuid() == 0 else []
     # the extension manager stays read-only: nothing unpinned installed from the UI either
-    run(BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT / 'chapters'}",
-        "--LabApp.extension_manager=readonly", *root, *args,
-        env=dict(os.environ, MPLBACKEND="Agg"))
+    status = run_interactive(BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT / 'chapters'}",
+                             "--LabApp.extension_manager=readonly", *root, *args,
+                             env=dict(os.environ, MPLBACKEND="Agg"))
+    if status:  # a signal's exit (-2 for SIGINT) as the shell reports it: 128 + signal
+        sys.exit(128 - status if status < 0 else status)
 
 
 def lint() -> None:
@@ -257,3 +277,6 @@ if __name__ == "__main__":
         main(sys.argv[1:])
     except subprocess.CalledProcessError as exc:
         sys.exit(exc.returncode or 1)
+    except KeyboardInterrupt:  # Ctrl-C during set-up, a build or the tests: no traceback
+        print("interrupted", file=sys.stderr)
+        sys.exit(130)
