@@ -65,6 +65,7 @@ import scipy.linalg
 from numba import int64, njit, uint64
 from numpy.typing import ArrayLike, NDArray
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor
 from gyrolib._repr import compact_repr

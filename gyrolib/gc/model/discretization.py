@@ -27,6 +27,7 @@ import scipy.linalg
 from numba import njit
 from numpy.typing import NDArray
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import AffineDiscreteModel
