@@ -7,42 +7,45 @@ reference (allantools) are extras of ``pyproject.toml``.
 
 from __future__ import annotations
 
-import importlib
 import importlib.util
-from types import ModuleType
+from collections.abc import Iterator
+from contextlib import contextmanager
 
-__all__ = ["require"]
+__all__ = ["optional"]
 
 
-def _installed(top: str) -> bool:
+def _installed(package: str) -> bool:
     try:
-        return importlib.util.find_spec(top) is not None
+        return importlib.util.find_spec(package) is not None
     except (ImportError, ValueError):
         return False
 
 
-def require(module: str, extra: str, what: str) -> ModuleType:
-    """Import ``module``, or raise :class:`ModuleNotFoundError` saying that ``what`` needs
-    it and which extra of gyrolib installs it.
+@contextmanager
+def optional(package: str, extra: str, what: str) -> Iterator[None]:
+    """The imports inside the block: if ``package`` is not installed, a
+    :class:`ModuleNotFoundError` saying that ``what`` needs it and which extra of gyrolib
+    installs it.
 
     Anything else missing (pandas under SALib, a submodule of an installed package) is
-    raised as it is: only the package asked for is an extra of gyrolib.
+    raised as it is: only ``package`` is an extra of gyrolib.
 
     Examples
     --------
-    >>> require("math", "none", "this example").sqrt(4.0)
-    2.0
+    >>> with optional("math", "none", "this example"):
+    ...     import math
     >>> try:
-    ...     require("no_such_package_xyz.sub", "demo", "gyrolib.demo")
+    ...     with optional("no_such_package_xyz", "demo", "gyrolib.demo"):
+    ...         import no_such_package_xyz.sub
     ... except ModuleNotFoundError as exc:
     ...     print(exc)
     gyrolib.demo needs no_such_package_xyz, an optional dependency: pip install 'gyrolib[demo]'
     """
     try:
-        return importlib.import_module(module)
+        yield
     except ModuleNotFoundError as exc:
-        top = module.split(".")[0]
-        if exc.name is None or exc.name.split(".")[0] != top or _installed(top):
+        if (exc.name is None or exc.name.split(".")[0] != package
+                or _installed(package)):
             raise
-        raise ModuleNotFoundError(f"{what} needs {top}, an optional dependency: "
+        raise ModuleNotFoundError(f"{what} needs {package}, an optional dependency: "
                                   f"pip install 'gyrolib[{extra}]'", name=exc.name) from None

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
-from gyrolib._optional import require
+from gyrolib._optional import optional
 from gyrolib._repr import compact_repr
 
 __all__ = [
@@ -194,7 +194,8 @@ def unit_sample(d: int, n: int, seed: int, second_order: bool = True) -> NDArray
     >>> unit_sample(3, 4, seed=0).shape
     (32, 3)
     """
-    salib_sample = require("SALib.sample.sobol", "sensitivity", "gyrolib.sensitivity")
+    with optional("SALib", "sensitivity", "gyrolib.sensitivity"):
+        from SALib.sample import sobol as salib_sample
 
     d = v.check_int("d", d, 2)
     n = _check_n(n)
@@ -253,7 +254,8 @@ def analyze(names: Sequence[str], values: NDArray[np.float64], seed: int,
     >>> f"{s['S1']['x0'].value:.2f} {s['ST']['x1'].value:.2f}"
     '0.20 0.80'
     """
-    salib_analyze = require("SALib.analyze.sobol", "sensitivity", "gyrolib.sensitivity")
+    with optional("SALib", "sensitivity", "gyrolib.sensitivity"):
+        from SALib.analyze import sobol as salib_analyze
 
     names = [v.check_str("names[i]", x) for x in names]
     y = v.check_array("values", values, ndim=1)
