@@ -230,7 +230,7 @@ def lint() -> None:
 
 
 # numba's kernels compiled once, into their on-disk cache, before the test session: else the
-# first test workers and chapter kernels compile the same kernels at the same time (about 20 s
+# first test workers and chapter kernels compile the same kernels at the same time (about 25 s
 # of CPU each on a fresh clone).  Short calls of every compiled path; a failure is left to the
 # tests to report (GYROLIB_WARM_STRICT=1 raises it instead: tests/test_tasks.py).
 WARM_NUMBA = """

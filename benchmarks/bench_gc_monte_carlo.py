@@ -43,7 +43,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
-from _results import Recorder
+from _results import Recorder, load
 
 from gyrolib import filtering, gc
 from gyrolib.filtering.discretization import covariance_factor
@@ -211,6 +211,10 @@ def main() -> None:
              peer=f"plain-numpy reference path (method='reference'), timed over "
                   f"{args.peer_t_end:g} s and scaled to {args.t_end:g} s",
              peer_s=peer, target_s=30.0, note="ratio = peer/ours")
+    # the machine is shared: the load at the end too (the file's "load" is at the start)
+    end = load()
+    for case in rec.doc["results"]:
+        case["note"] += f"; 1-minute load {rec.doc['load']} at the start, {end} at the end"
     rec.write()
 
 
