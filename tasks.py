@@ -42,6 +42,34 @@ def run(*cmd: str | os.PathLike, **kw) -> None:
     subprocess.run([str(c) for c in cmd], check=True, cwd=ROOT, **kw)
 
 
+def python_env(**extra: str) -> dict[str, str]:
+    """The environment of the commands that run the venv's Python: this one, with
+    ``extra``, and with bytecode writing on (``PYTHONDONTWRITEBYTECODE`` dropped): the set-up
+    installs without byte-compiling, so the modules are compiled once, on first import, and
+    not again in every process."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env.update(extra)
+    return env
+
+
+def run_interactive(*cmd: str | os.PathLike, **kw) -> int:
+    """Run a program that handles Ctrl-C itself (JupyterLab: it asks, or shuts down) and
+    return its exit status.
+
+    Ctrl-C at the terminal reaches the whole process group: this process ignores its
+    ``KeyboardInterrupt`` and keeps waiting while the program shuts down in its own way, so
+    the command ends with the program's one-line goodbye instead of a traceback of ours
+    (``subprocess.run`` would also kill the program 0.25 s later, mid-shutdown).
+    """
+    print("+", " ".join(str(c) for c in cmd), flush=True)
+    proc = subprocess.Popen([str(c) for c in cmd], cwd=ROOT, **kw)
+    while True:
+        try:
+            return proc.wait()
+        except KeyboardInterrupt:
+            continue
+
+
 def _setup_fingerprint(names: tuple[str, ...] = ("requirements.txt", "pyproject.toml")) -> str:
     h = hashlib.sha256()
     for name in names:
@@ -61,7 +89,10 @@ def setup() -> None:
         print(f"creating virtual environment {VENV}", flush=True)
         venv.EnvBuilder(with_pip=True, clear=True).create(VENV)
     run(PY, "-m", "pip", "install", "--quiet", "pip==26.3")  # the installer, pinned too
-    run(PY, "-m", "pip", "install", "--quiet", "-r", "requirements.txt")
+    # --no-compile: pip byte-compiles every module of every package, most never imported (a
+    # fresh set-up 118-172 s with it, 41-63 s without, measured on a busy 2-core machine);
+    # the modules used are compiled on first import instead (python_env keeps that on)
+    run(PY, "-m", "pip", "install", "--quiet", "--no-compile", "-r", "requirements.txt")
     run(PY, "-m", "pip", "install", "--quiet", "--no-deps", "-e", ".")
     STAMP.write_text(fingerprint + "\n")
 
@@ -124,7 +155,7 @@ def book(clean: bool = False) -> None:
     setup()
     if clean and BUILD.exists():
         shutil.rmtree(BUILD)
-    env = dict(os.environ, MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1")
+    env = python_env(MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1")
     run(BIN / "jupyter-book", "build", ".", "--builder", "html",
         "-W", "-n", "--keep-going", env=env)
     index = BUILD / "html" / "index.html"
@@ -144,7 +175,7 @@ def pdf() -> None:
     """
     book()
     ensure_browser()
-    env = dict(os.environ, MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1")
+    env = python_env(MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1")
     run(BIN / "jupyter-book", "build", ".", "--builder", "singlehtml",
         "-W", "-n", "--keep-going", env=env)
     run(PY, ROOT / "_ext" / "print_pdf.py", BUILD / "singlehtml", PDF)
@@ -170,7 +201,8 @@ def lab_setup() -> None:
     fingerprint = _setup_fingerprint(("requirements.txt", "requirements-lab.txt",
                                       "pyproject.toml"))
     if not (LAB_STAMP.exists() and LAB_STAMP.read_text().strip() == fingerprint):
-        run(PY, "-m", "pip", "install", "--quiet", "--no-deps", "-r", "requirements-lab.txt")
+        run(PY, "-m", "pip", "install", "--quiet", "--no-compile", "--no-deps", "-r",
+            "requirements-lab.txt")
         run(PY, "-m", "pip", "check")
         LAB_STAMP.write_text(fingerprint + "\n")
     settings = VENV / "share" / "jupyter" / "lab" / "settings" / "overrides.json"
@@ -185,14 +217,55 @@ def lab(*args: str) -> None:
     # root in a container or CI: JupyterLab refuses to start unless told it may
     root = ["--allow-root"] if os.name == "posix" and os.geteuid() == 0 else []
     # the extension manager stays read-only: nothing unpinned installed from the UI either
-    run(BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT / 'chapters'}",
-        "--LabApp.extension_manager=readonly", *root, *args,
-        env=dict(os.environ, MPLBACKEND="Agg"))
+    status = run_interactive(BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT / 'chapters'}",
+                             "--LabApp.extension_manager=readonly", *root, *args,
+                             env=python_env(MPLBACKEND="Agg"))
+    if status:  # a signal's exit (-2 for SIGINT) as the shell reports it: 128 + signal
+        sys.exit(128 - status if status < 0 else status)
 
 
 def lint() -> None:
     setup()
     run(BIN / "ruff", "check", ".")
+
+
+# numba's kernels compiled once, into their on-disk cache, before the test session: else the
+# first test workers and chapter kernels compile the same kernels at the same time (about 25 s
+# of CPU each on a fresh clone).  Short calls of every compiled path; a failure is left to the
+# tests to report (GYROLIB_WARM_STRICT=1 raises it instead: tests/test_tasks.py).
+WARM_NUMBA = """
+import os
+import numpy as np
+from gyrolib import filtering, gc, records
+strict = os.environ.get("GYROLIB_WARM_STRICT") == "1"
+P = gc.GyrocompassParams()
+calls = [
+    lambda: gc.covariance_analysis(P, 0.05),
+    lambda: filtering.covariance_square_root(gc.discretize(P, 0.05).model,
+                                             gc.initial_covariance(P)),
+    lambda: gc.information_psi_omega(P, 0.05),
+    lambda: gc.monte_carlo(P, 2, 0.05, seed=1),
+    lambda: gc.simulate_truth(P, 0.05, np.zeros(10), seed=1),
+    lambda: gc.calibrate(records.read_gc("data/gc_record.csv.gz"), P),
+    lambda: gc.fit_noise(gc.GCRecord(*(np.asarray(getattr(rec, k))[:2000] for k in (
+        "t", "angle_sensor", "inclinometer_y", "inclinometer_z"))), P, max_evaluations=40),
+]
+rec = records.read_gc("data/gc_record.csv.gz")
+for call in calls:
+    try:
+        call()
+    except Exception:
+        if strict:
+            raise
+"""
+
+
+def warm_numba() -> subprocess.Popen:
+    """Start compiling numba's kernels into their cache (:data:`WARM_NUMBA`) in the
+    background; the caller waits for it before the test session."""
+    env = python_env(MPLBACKEND="Agg", OPENBLAS_NUM_THREADS="1")
+    return subprocess.Popen([str(PY), "-c", WARM_NUMBA], cwd=ROOT, env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
 def test() -> None:
@@ -207,10 +280,14 @@ def test() -> None:
     second, independent execution the determinism test compares the chapters' outputs with.
     """
     setup()
-    ensure_browser()
-    lint()
-    lab_setup()
-    env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_TEST_COMMAND="1")
+    warm = warm_numba()  # on one core while the browser, lint and JupyterLab set-up run
+    try:
+        ensure_browser()
+        lint()
+        lab_setup()
+    finally:
+        warm.wait()
+    env = python_env(MPLBACKEND="Agg", GYROLIB_TEST_COMMAND="1")
     # pytest-xdist: the tests on every core (the book is built once, by one worker, for all)
     run(PY, "-m", "pytest", "-n", "auto", "--durations=10", env=env)
 
@@ -227,7 +304,7 @@ def chapter(name: str) -> None:
     run(BIN / "jupytext", "--to", "ipynb", "--output", ipynb, src)
     # the kernel's environment as in the book build (_ext/gyrolib_cache.py): OpenBLAS on one
     # thread, since its threads only spin on the chapters' small matrices
-    env = dict(os.environ, MPLBACKEND="Agg")
+    env = python_env(MPLBACKEND="Agg")
     env.setdefault("OPENBLAS_NUM_THREADS", "1")
     run(BIN / "jupyter", "nbconvert", "--to", "notebook", "--execute", "--inplace",
         "--ExecutePreprocessor.timeout=600", ipynb, env=env)
@@ -257,3 +334,6 @@ if __name__ == "__main__":
         main(sys.argv[1:])
     except subprocess.CalledProcessError as exc:
         sys.exit(exc.returncode or 1)
+    except KeyboardInterrupt:  # Ctrl-C during set-up, a build or the tests: no traceback
+        print("interrupted", file=sys.stderr)
+        sys.exit(130)

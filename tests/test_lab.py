@@ -206,3 +206,57 @@ def test_tasks_lab_serves_the_chapters_as_notebooks(tmp_path):
     source = (ROOT / "chapters" / "status.md").read_text(encoding="utf-8")
     code = [c["source"] for c in model["content"]["cells"] if c["cell_type"] == "code"]
     assert code and all(c.strip() in source for c in code), code
+
+
+# A stand-in for JupyterLab: on SIGINT it says goodbye after a short clean-up and exits 0.
+_SERVER = """
+import signal, sys, time
+def stop(*_):
+    time.sleep(0.5)          # longer than subprocess.run's 0.25 s grace before it kills
+    print("server:", "shut down cleanly", flush=True)
+    sys.exit(0)
+signal.signal(signal.SIGINT, stop)
+print("server:", "ready", flush=True)   # not the text of this source, which is echoed
+time.sleep(60)
+sys.exit(3)
+"""
+
+
+def _ctrl_c(runner: str, tmp_path: Path) -> subprocess.CompletedProcess:
+    """Run the stand-in server through ``tasks.<runner>`` in its own process group, then
+    send SIGINT to the group, as Ctrl-C at a terminal does."""
+    import signal
+    import time
+
+    script = (f"import sys; sys.path.insert(0, {str(ROOT)!r}); import tasks\n"
+              f"status = tasks.{runner}(sys.executable, '-c', {_SERVER!r})\n"
+              "print('status', status)\n")
+    out = (tmp_path / f"{runner}.out").open("w+")
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=out, stderr=subprocess.STDOUT,
+                            text=True, start_new_session=True)
+    deadline = time.monotonic() + 30
+    while "server: ready" not in (tmp_path / f"{runner}.out").read_text():
+        assert time.monotonic() < deadline and proc.poll() is None, "stand-in did not start"
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)
+    proc.wait(timeout=30)
+    out.close()
+    return subprocess.CompletedProcess(proc.args, proc.returncode,
+                                       (tmp_path / f"{runner}.out").read_text(), "")
+
+
+def test_ctrl_c_in_lab_ends_cleanly(tmp_path):
+    """``tasks.py lab`` runs JupyterLab through ``run_interactive``: Ctrl-C lets the server
+    finish its own shutdown and the command exits with its status, no traceback.  The same
+    Ctrl-C through ``tasks.run`` (subprocess.run, as ``lab`` did) prints a
+    KeyboardInterrupt traceback and cuts the server's shutdown short: the check has power."""
+    ok = _ctrl_c("run_interactive", tmp_path)
+    assert ok.returncode == 0, ok.stdout
+    assert "Traceback" not in ok.stdout and "KeyboardInterrupt" not in ok.stdout
+    assert "server: shut down cleanly" in ok.stdout and "status 0" in ok.stdout
+    bad = _ctrl_c("run", tmp_path)
+    assert "KeyboardInterrupt" in bad.stdout and "Traceback" in bad.stdout
+    assert "server: shut down cleanly" not in bad.stdout
+    # tasks.lab passes the server's status on, as the shell reports a signal's exit
+    source = (ROOT / "tasks.py").read_text(encoding="utf-8")
+    assert "status = run_interactive(BIN / \"jupyter\", \"lab\"" in source

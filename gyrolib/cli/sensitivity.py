@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from gyrolib import __version__
+from gyrolib._optional import optional
 
 __all__ = ["add_parser", "run", "write_results"]
 
@@ -153,7 +154,8 @@ def _connect(args: argparse.Namespace, stack: ExitStack) -> tuple[Any, int, str]
     """The executor, the number of workers and a description of where the study runs."""
     if args.workers is None and args.scheduler is None:
         return None, 1, "in-process"
-    from dask.distributed import Client, LocalCluster
+    with optional("dask", "dask", "--workers and --scheduler"):
+        from dask.distributed import Client, LocalCluster
 
     if args.workers is not None:
         cluster = stack.enter_context(LocalCluster(
@@ -194,8 +196,13 @@ def run(args: argparse.Namespace) -> int:
     study = {"gc": (gc_sensitivity, 12), "rsf": (rsf_sensitivity, 5)}[args.model]
     total = args.n * ((2 if args.second_order else 1) * study[1] + 2)
     try:
+        with optional("SALib", "sensitivity", "python -m gyrolib sensitivity"):
+            import SALib  # noqa: F401  (before any work: the study needs it)
+        if args.workers is not None or args.scheduler is not None:
+            with optional("dask", "dask", "--workers and --scheduler"):
+                import dask.distributed  # noqa: F401
         previous, prev_run = _previous(args)
-    except ValueError as exc:
+    except (ValueError, ModuleNotFoundError) as exc:
         return _fail(str(exc), 2)
     reused = 0 if previous is None else len(previous.values)
     with ExitStack() as stack:

@@ -24,7 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.kernels import (
     joseph_scalar_update_inline,
     measurement_projection_inline,
@@ -42,6 +44,7 @@ __all__ = [
 
 
 # Covariance recursion over a run -----------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class AffineDiscreteModel:
     """A discrete LTV model whose step matrices are affine in two scalars per step.
@@ -148,6 +151,7 @@ def csr_pattern(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return rowptr, np.nonzero(mask)[1].astype(np.int64)
 
 
+@compact_repr
 @dataclass(frozen=True)
 class CovarianceRun:
     """Result of a covariance recursion.

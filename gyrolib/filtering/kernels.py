@@ -22,6 +22,7 @@ from typing import NamedTuple
 
 from numba import njit
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
 
 __all__ = [

@@ -24,6 +24,8 @@ from typing import Final
 import numpy as np
 from numba import njit
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
+
 __all__ = ["parse_rows"]
 
 #: 10**k, k = 0 … 22: every one an exact double.

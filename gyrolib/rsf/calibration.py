@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.rsf._inputs import check_sf
 from gyrolib.rsf.correction import DeltaKPrediction, correct_spans
 from gyrolib.rsf.equations import K_FORMS, relative_k_error
@@ -48,6 +49,7 @@ __all__ = [
 ]
 
 
+@compact_repr
 @dataclass(frozen=True)
 class CalibrationResult:
     """The correction of paper RSF computed on a recorded log (SI), by :func:`calibrate`:

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.rsf._inputs import check_times
 from gyrolib.rsf.correction import run_correction
 from gyrolib.rsf.equations import (
@@ -73,6 +74,7 @@ def _specs(roll_gyro: object, gs_gyro: object, encoder: object) -> None:
 
 
 # "Compensates 90 %" ----------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class CompensationShare:
     """The share of the roll gyro's SF error removed, 1 − δK/ε1, against the roll rate.
@@ -158,6 +160,7 @@ def compensation_share(rates: ArrayLike, *, roll_gyro: RollGyroSpec = SIIMU02_RO
                              simulated=simulated)
 
 
+@compact_repr
 @dataclass(frozen=True)
 class FlightShares:
     """The share 1 − |δK|_rms/|ε1| of each simulated flight's own SF error that the correction
@@ -226,6 +229,7 @@ def flight_shares(seed: int, *, config: SimulationConfig | None = None, period: 
 
 
 # "Hundreds of times smaller" -------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class GsVsSins:
     """Roll errors (rad) of the SINS (Eq. (4)), of the ideal GS (Eq. (9), Table 3) and of the

@@ -28,6 +28,7 @@ from typing import NamedTuple
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.rsf.equations import (
     K_FORMS,
     correction_coefficient,
@@ -108,6 +109,7 @@ def correct_spans(sins_turn: np.ndarray, gs_turn: np.ndarray, interval: np.ndarr
 
 
 # On a simulated ensemble ------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class CorrectionRun:
     """The correction loop applied to a simulated ensemble (:class:`SensorRecord`), judged

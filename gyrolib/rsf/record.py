@@ -11,10 +11,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 
 __all__ = ["RSFRecord"]
 
 
+@compact_repr
 @dataclass(frozen=True)
 class RSFRecord:
     """A paper-RSF record (SI): time ``t`` (s, strictly increasing), the SINS roll-angle

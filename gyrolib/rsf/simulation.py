@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.rsf.sensors import (
     AEDB9340,
     GYPRO4300,
@@ -340,6 +341,7 @@ def unwrap_counts(wrapped: np.ndarray, counts_per_rev: int) -> np.ndarray:
 
 
 # Simulation ------------------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class SensorRecord:
     """Everything measured in one simulation (arrays: runs × samples).

@@ -18,6 +18,7 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
+from gyrolib._repr import compact_repr
 from gyrolib.rsf.correction import interval_estimates, predict_delta_k
 from gyrolib.rsf.equations import K_FORMS
 from gyrolib.rsf.simulation import (
@@ -43,6 +44,7 @@ __all__ = [
 
 
 # Sweeps ------------------------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class PeriodSweep:
     """δK against the correction period: ``mean``, ``rms`` and ``max_abs`` over all runs and
@@ -128,6 +130,7 @@ def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
                        net_floor=float(rows[-1, 5]), eps1=cfg.sins.eps1)
 
 
+@compact_repr
 @dataclass(frozen=True)
 class ResolutionSweep:
     """δK against the encoder: ``counts_per_rev`` and ``position_error`` of each encoder,
@@ -205,6 +208,7 @@ def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period
                            rms=cols[3], max_abs=cols[4], predicted_rms=cols[5], eq7=cols[6])
 
 
+@compact_repr
 @dataclass(frozen=True)
 class RateSweep:
     """δK against the vehicle roll rate (one seeded ensemble per rate, constant ω_unc).

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.rsf._inputs import check_same_shape, check_times
 from gyrolib.rsf.equations import (
     delta_k,
@@ -60,6 +61,7 @@ WORKED_EXAMPLE_OMEGA_UNC: float = float(to_si(300.0, "deg/s"))
 WORKED_EXAMPLE_OMEGA_X: float = float(to_si(900.0, "deg/s"))
 
 
+@compact_repr
 @dataclass(frozen=True)
 class Table2:
     """Paper RSF, Table 2: SINS roll error (rad) and lateral deviation (m) at times ``t``.
@@ -120,6 +122,7 @@ def table2(gyro: RollGyroSpec = SIIMU02_ROLL, omega_true: float = TABLE2_OMEGA,
     )
 
 
+@compact_repr
 @dataclass(frozen=True)
 class Table3:
     """Paper RSF, Table 3: GS roll error (rad) at times ``t`` for an ideal GS, Eq. (9)."""

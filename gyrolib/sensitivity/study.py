@@ -32,6 +32,8 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
+from gyrolib._optional import optional
+from gyrolib._repr import compact_repr
 
 __all__ = [
     "DISTRIBUTIONS",
@@ -192,7 +194,8 @@ def unit_sample(d: int, n: int, seed: int, second_order: bool = True) -> NDArray
     >>> unit_sample(3, 4, seed=0).shape
     (32, 3)
     """
-    from SALib.sample import sobol as salib_sample
+    with optional("SALib", "sensitivity", "gyrolib.sensitivity"):
+        from SALib.sample import sobol as salib_sample
 
     d = v.check_int("d", d, 2)
     n = _check_n(n)
@@ -251,7 +254,8 @@ def analyze(names: Sequence[str], values: NDArray[np.float64], seed: int,
     >>> f"{s['S1']['x0'].value:.2f} {s['ST']['x1'].value:.2f}"
     '0.20 0.80'
     """
-    from SALib.analyze import sobol as salib_analyze
+    with optional("SALib", "sensitivity", "gyrolib.sensitivity"):
+        from SALib.analyze import sobol as salib_analyze
 
     names = [v.check_str("names[i]", x) for x in names]
     y = v.check_array("values", values, ndim=1)
@@ -277,6 +281,7 @@ def analyze(names: Sequence[str], values: NDArray[np.float64], seed: int,
     return out
 
 
+@compact_repr
 @dataclass(frozen=True)
 class SensitivityResult:
     """A Sobol' study: the inputs and their ranges, the outputs, the model's values on the
@@ -524,6 +529,7 @@ def _reusable(previous: object, model: str, inputs: tuple[SobolInput, ...],
     return prev.values
 
 
+@compact_repr
 @dataclass(frozen=True)
 class Recheck:
     """A few sample points of a stored study computed again: their ``rows`` in the

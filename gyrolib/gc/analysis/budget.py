@@ -11,6 +11,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast, propagate_fixed_gains
 from gyrolib.gc.analysis.covariance import default_store_every
 from gyrolib.gc.model.discretization import affine_qd, discretize_steps, steps_in
@@ -37,6 +38,7 @@ BUDGET_SOURCES: Final[tuple[str, ...]] = (
 )
 
 
+@compact_repr
 @dataclass(frozen=True)
 class ErrorBudget:
     """Variance of the ω_gc estimation error split by source: ``var[s, i]`` at ``t[i]``

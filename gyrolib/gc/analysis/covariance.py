@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
 from gyrolib.gc.model.discretization import DISCRETIZATIONS, N, discretize_steps, steps_in
 from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
@@ -30,6 +31,7 @@ __all__ = [
 
 
 # Covariance analysis (Figure 3) ------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class CovarianceAnalysis:
     """Posterior covariance of the filter: variances at every step, full ``P`` at
@@ -271,6 +273,7 @@ def parameter_grid(**values: ArrayLike) -> list[dict[str, object]]:
             for combo in itertools.product(*(tuple(values[n]) for n in names))]
 
 
+@compact_repr
 @dataclass(frozen=True)
 class CovarianceSweep:
     """One :class:`CovarianceAnalysis` per case (``{field: value}`` changes to ``params``)."""

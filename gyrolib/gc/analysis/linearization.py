@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.gc.analysis.montecarlo import MonteCarloResult
 from gyrolib.gc.model.discretization import nominal_half_steps
@@ -96,6 +97,7 @@ def psi_for_drift(params: GyrocompassParams, drift: float) -> float:
     return float(np.sqrt(2.0 * abs(d) / p.Omega_h))
 
 
+@compact_repr
 @dataclass(frozen=True)
 class LinearizationEffect:
     """The nonlinear truth against the linearized one, with the same seeds (paired).

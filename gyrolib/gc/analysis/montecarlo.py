@@ -43,7 +43,11 @@ and then, sample after sample, the truth's white noises.  The fast path draws th
 numba kernel with numpy's own algorithm (SFC64 and the 256-layer ziggurat of
 ``Generator.standard_normal``; the tests compare it with numpy), so a run's numbers do not
 depend on how many runs there are, how they are grouped, or on how many threads or processes
-share the work (``executor``).
+share the work (``executor``).  Why a copy rather than numpy's generators themselves: with
+23 normals per run and step the normals are most of the work, and numpy's
+``standard_normal`` (per run, blocks filled on threads) gives the same runs at about twice
+the CPU time, past the 10 s that 1000 runs of 100 s may take on 2 cores
+(``benchmarks/bench_gc_monte_carlo.py`` measures both).
 """
 
 from __future__ import annotations
@@ -61,11 +65,12 @@ import scipy.linalg
 from numba import int64, njit, uint64
 from numpy.typing import ArrayLike, NDArray
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference, csr_pattern
-from gyrolib.filtering.discretization import covariance_factor
 from gyrolib.gc.analysis.covariance import default_store_every
 from gyrolib.gc.model.discretization import N, discretize, steps_in
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params, state_index
@@ -162,31 +167,6 @@ def _sin(x):
         return x + x * x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0
                                                                       + x2 / 362880.0)))
     return math.sin(x)
-
-
-#: Below this |x| (rad) the longer branch-free series of :func:`_cm1_poly`, :func:`_sin_poly`
-#: are exact to rounding (first neglected term < 1e-20 relative).  The kernel now uses the
-#: shorter :func:`_cm1_short`, :func:`_sin_short` below :data:`_SHORT_MAX`; these stay for
-#: callers of the building blocks.
-_POLY_MAX: Final[float] = 0.25
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _cm1_poly(x):
-    """``cos x − 1`` by its Taylor series to ``x¹⁴`` (no branch: the run loop vectorizes)."""
-    x2 = x * x
-    return x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (
-        1.0 / 40320.0 + x2 * (-1.0 / 3628800.0 + x2 * (1.0 / 479001600.0
-                                                       - x2 / 87178291200.0))))))
-
-
-@njit(cache=True, fastmath=True, inline="always")
-def _sin_poly(x):
-    """``sin x`` by its Taylor series to ``x¹⁵`` (no branch)."""
-    x2 = x * x
-    return x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (
-        1.0 / 362880.0 + x2 * (-1.0 / 39916800.0 + x2 * (1.0 / 6227020800.0
-                                                          - x2 / 1307674368000.0)))))))
 
 
 #: Below this |x| (rad) the short series of :func:`_cm1_short`, :func:`_sin_short` are exact
@@ -1067,6 +1047,7 @@ def _run_all(task: _ChunkTask, X0: np.ndarray, states: np.ndarray, n_store: int,
     return est, tru
 
 
+@compact_repr
 @dataclass(frozen=True)
 class MonteCarloResult:
     """Monte Carlo runs (paper GC, Figure 4): estimates and truth at ``t`` (every
@@ -1184,13 +1165,6 @@ class MonteCarloResult:
         dof = N if names is None else len(names)
         lo, hi = nees_bounds(dof, self.n_runs, conf)
         return float(np.mean((x > lo) & (x < hi)))
-
-
-def _initial_states(p: GyrocompassParams, n_runs: int, rng: np.random.Generator) -> np.ndarray:
-    """The previous path's initial states, from the filter's P(0) (kept for the benchmark's
-    previous-path peer; :func:`monte_carlo` draws from :func:`truth_prior_factor`)."""
-    L0 = covariance_factor(initial_covariance(p))
-    return rng.standard_normal((n_runs, N)) @ L0.T
 
 
 def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,

@@ -10,7 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import van_loan
 from gyrolib.gc.analysis.covariance import default_store_every
@@ -61,6 +63,7 @@ def _gramian_kernel(seg, a, b, Phi0, PhiA, PhiB, r0, store_every, S, T, W_out):
                     W_out[ii, c1, c2] = W[c1, c2]
 
 
+@compact_repr
 @dataclass(frozen=True)
 class InformationPsiOmega:
     """Observability Gramian (Fisher information) of ``(ψ, ω_gc)`` from the angle sensor

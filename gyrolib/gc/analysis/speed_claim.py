@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast
 from gyrolib.gc.analysis.covariance import covariance_analysis
 from gyrolib.gc.model.discretization import discretize_steps, steps_in
@@ -186,6 +187,7 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     return _run_omega_gc((p,), _FIRST_HORIZON, t_max, level)[0][0]
 
 
+@compact_repr
 @dataclass(frozen=True)
 class SpeedClaimMap:
     """Time for σ of ω_gc to reach ``level`` over a grid of two parameters, for each reading
@@ -293,6 +295,7 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
                          t_max=t_max)
 
 
+@compact_repr
 @dataclass(frozen=True)
 class ClaimBoundary:
     """Where σ of ω_gc at ``bound`` equals ``level`` as ``field`` is scaled: ``factor``
@@ -365,6 +368,7 @@ def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
                          factor=factor)
 
 
+@compact_repr
 @dataclass(frozen=True)
 class ShapingSweep:
     """One shaping-filter parameter at a time scaled: for ``fields[f]`` and ``factors[i]``,

@@ -34,6 +34,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.nominal import nominal_motion_aperiodic
 from gyrolib.gc.model.params import GyrocompassParams
@@ -44,6 +45,7 @@ __all__ = ["AllanDeviation", "AllanSeries", "allan_deviation", "allan_model_vibr
 SERIES: Final[tuple[str, ...]] = ("angle_sensor", "inclinometer_y", "inclinometer_z")
 
 
+@compact_repr
 @dataclass(frozen=True)
 class AllanSeries:
     """One sensor's Allan deviation: ``tau`` (s), ``adev`` (in ``unit``) with its 68 %
@@ -62,6 +64,7 @@ class AllanSeries:
     n: np.ndarray
 
 
+@compact_repr
 @dataclass(frozen=True)
 class AllanDeviation:
     """Allan deviations of a paper-GC record: ``series`` (angle-sensor rate, inclinometer y,

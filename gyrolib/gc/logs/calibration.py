@@ -45,7 +45,9 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.consistency import chi2_ppf
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.filtering.kernels import kalman_kernels
@@ -93,6 +95,7 @@ joseph_scalar_update = _kernels.joseph_scalar_update
 
 
 # Result ---------------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class CalibrationResult:
     """The filter of paper GC run on a record (SI throughout).
@@ -1131,6 +1134,7 @@ def innovation_log_likelihood(record: GCRecord, params: GyrocompassParams | None
 
 
 # Simulated records --------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class SimulatedRecord:
     """A record made by the truth model (:func:`gyrolib.gc.simulate_truth`) with its truth:

@@ -30,6 +30,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.params import GyrocompassParams, state_index
 
@@ -174,6 +175,7 @@ def _as_mapping(mapping: InclinometerMapping | str) -> InclinometerMapping:
 
 
 # The Monte Carlo study -----------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class ConventionStudy:
     """Records of paper GC's model calibrated as logged (``right``) and with the inclinometer

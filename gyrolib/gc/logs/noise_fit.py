@@ -40,7 +40,9 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.discretization import van_loan
 from gyrolib.filtering.kernels import (
     joseph_scalar_update_inline,
@@ -81,6 +83,7 @@ _MAX_ROUNDS: Final[int] = 3
 
 
 # Result ---------------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class NoiseFit:
     """The noise parameters fitted from a record (:func:`fit_noise`), SI.

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 
 __all__ = ["MEASUREMENT_COLUMNS", "GCRecord"]
 
@@ -20,6 +21,7 @@ __all__ = ["MEASUREMENT_COLUMNS", "GCRecord"]
 MEASUREMENT_COLUMNS: tuple[str, ...] = ("angle_sensor", "inclinometer_y", "inclinometer_z")
 
 
+@compact_repr
 @dataclass(frozen=True)
 class GCRecord:
     """A paper-GC measurement record (SI): time ``t`` (s, strictly increasing, >= 0; the

@@ -27,7 +27,9 @@ import scipy.linalg
 from numba import njit
 from numpy.typing import NDArray
 
+from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
@@ -250,6 +252,7 @@ def _affine_euler(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tu
             np.broadcast_to(Ec * p.dt, (J, N, N)).copy(), Qd0, zeros, zeros.copy())
 
 
+@compact_repr
 @dataclass(frozen=True)
 class GCDiscretization:
     """Paper GC discretized over ``n_steps`` steps of ``params.dt``.

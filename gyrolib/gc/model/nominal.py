@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 
 __all__ = [
@@ -27,6 +28,7 @@ __all__ = [
 
 
 # Nominal motion, Eq. (4) ----------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class NominalMotion:
     """Nominal float angle ``beta`` (rad) and rate ``beta_dot`` (rad/s) at times ``t`` (s)."""

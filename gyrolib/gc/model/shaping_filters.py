@@ -45,6 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:  # python-control and scipy.signal are imported where used: together they
     import control  # are 1 s and 80 MB of every chapter's start-up otherwise
 
+from gyrolib._repr import compact_repr
 from gyrolib._validation import (
     check_array,
     check_choice,
@@ -69,6 +70,7 @@ __all__ = [
 ]
 
 
+@compact_repr
 @dataclass(frozen=True)
 class ShapingFilter:
     """A linear shaping filter ``x' = A x + B w``, ``y = C x``, driven by white noise of

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.gc.racing.rate_sensor import (
@@ -196,6 +197,7 @@ class RaceConditions:
                        self.rate_noise_optimal))
 
 
+@compact_repr
 @dataclass(frozen=True)
 class RaceResult:
     """The race (:func:`race`): times to σ_c (s of elapsed time) and σ of ω_gc against time.
@@ -490,6 +492,7 @@ def race(params: GyrocompassParams | None = None,
 
 
 # Sweeps ---------------------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class RaceSweep:
     """Times to σ_c (s) for each case of changes (:func:`race_sweep`): ``t_c_gc``,

@@ -61,6 +61,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
 from gyrolib.filtering.discretization import covariance_factor, van_loan
@@ -199,6 +200,7 @@ def _power_sum(M: np.ndarray, Q: np.ndarray, k: int) -> tuple[np.ndarray, np.nda
     return Mk, Sk
 
 
+@compact_repr
 @dataclass(frozen=True)
 class OptimalRun:
     """The optimal estimator's σ of ω_gc over a procedure (:meth:`RateSensorModel.optimal_run`):
@@ -239,6 +241,7 @@ class OptimalRun:
         return float(t0 + (s0 - level) / (s0 - s1) * (t1 - t0))
 
 
+@compact_repr
 @dataclass(frozen=True)
 class RateSensorModel:
     """The rate-sensor method's discrete model (:func:`rate_sensor_model`).
@@ -618,6 +621,7 @@ def turn_accuracy_limit(params: GyrocompassParams | None = None,
 
 
 # Monte Carlo check of the classical estimator on an independent truth -----------------------
+@compact_repr
 @dataclass(frozen=True)
 class RateSensorMonteCarlo:
     """Runs of the classical estimator on a simulated truth (:func:`rate_sensor_monte_carlo`):
