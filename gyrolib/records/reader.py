@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import decimal
 import gzip
 import io
 import math
@@ -85,6 +86,10 @@ BLOCK_BYTES: Final[int] = 1 << 22
 #: start of the run: times are then taken relative to the first row.
 ABSOLUTE_TIME: Final[float] = 1000.0
 
+#: Decimals of an absolute time stamp read exactly (1 ns): the column is read as a decimal,
+#: the offset subtracted exactly, then converted to a double.
+TIME_DECIMALS: Final[int] = 9
+
 #: Column separators accepted, in the order tried.
 DELIMITERS: Final[tuple[str, ...]] = (",", "\t", ";")
 
@@ -107,7 +112,8 @@ class RecordInfo:
     ``latitude`` (rad) from a leading ``# latitude_deg:`` comment, else None; ``t_offset``
     (s) subtracted from every time stamp, with ``t_offset_source`` ``"none"``, ``"first
     row"`` (an absolute clock, see :data:`ABSOLUTE_TIME`) or ``"t0"`` (given);
-    ``t_resolution`` (s) the spacing of doubles at the raw time stamps' magnitude."""
+    ``t_offset_text`` the offset exactly as subtracted (decimal: the time stamps of an offset
+    clock are read as decimals to 1 ns, the offset subtracted exactly, then rounded once)."""
 
     path: str
     delimiter: str
@@ -116,7 +122,8 @@ class RecordInfo:
     latitude: float | None
     t_offset: float
     t_offset_source: str
-    t_resolution: float
+    t_offset_text: str = "0"
+    t_exact: bool = False
 
     @property
     def time_note(self) -> str | None:
@@ -126,15 +133,15 @@ class RecordInfo:
             return None
         why = ("an absolute clock (first time stamp >= "
                f"{ABSOLUTE_TIME:g} s)" if self.t_offset_source == "first row" else "t0 given")
-        return (f"times taken relative to t0 = {self.t_offset:.17g} s ({why}; the "
-                f"{'first row' if self.t_offset_source == 'first row' else 'given t0'} is "
-                f"t = 0; stamps resolved to {self.t_resolution:.2g} s at that magnitude)")
+        return (f"times taken relative to t0 = {self.t_offset_text} s ({why}"
+                + ("; read as decimals, differences exact to 1 ns)" if self.t_exact else ")"))
 
     def summary(self) -> dict:
         """JSON-ready dict (SI, with units)."""
         return {"delimiter": self.delimiter, "header_line": self.header_line,
                 "columns": dict(self.columns), "latitude_rad": self.latitude,
-                "t_offset_s": self.t_offset, "t_offset_source": self.t_offset_source}
+                "t_offset_s": self.t_offset, "t_offset_exact": self.t_offset_text,
+                "t_offset_source": self.t_offset_source}
 
 
 def parse_columns(text: str) -> dict[str, str]:
@@ -192,6 +199,13 @@ def _decode(raw: bytes, label: str, line_no: int) -> str:
 
 def _fields(line: str, delimiter: str) -> list[str]:
     return next(csv.reader([line], delimiter=delimiter, quotechar='"'), [])
+
+
+def _decimal_time_ok(value: decimal.Decimal) -> bool:
+    """Whether an absolute time stamp fits the exact reading: finite, at most
+    :data:`TIME_DECIMALS` decimals, below 10^(30 - TIME_DECIMALS) s."""
+    return (value.is_finite() and value.as_tuple().exponent >= -TIME_DECIMALS
+            and abs(value) < decimal.Decimal(10) ** (30 - TIME_DECIMALS))
 
 
 def _is_number(cell: str) -> bool:
@@ -262,6 +276,9 @@ class _Reader:
             t0 = v.check_real("t0", t0)
         self.t0 = t0
         self.fraction = 0.0
+        self.first_line: str | None = None
+        self._decimal_t = False
+        self._offset: decimal.Decimal | None = None
         self.info: RecordInfo | None = None
         self.latitude: float | None = None
 
@@ -327,6 +344,7 @@ class _Reader:
         first_data = self._first_data_line(rest, stream, eof)
         delim = self._delimiter(header, first_data, line_no)
         names = [c.strip().strip('"').strip() for c in _fields(header, delim)]
+        self.first_line = first_data[0] if first_data else None
         return names, line_no, delim, rest + (first_data[1] if first_data else b"")
 
     def _latitude(self, text: str, line_no: int) -> float:
@@ -448,6 +466,12 @@ class _Reader:
             values = []
             for name, i in zip(use, idx):
                 cell = cells[i].strip()
+                if name == use[0] and self._decimal_t and _is_number(cell):
+                    if not _decimal_time_ok(decimal.Decimal(cell)):
+                        raise self._error(
+                            f"expected a time stamp with at most {TIME_DECIMALS} decimals "
+                            f"below 1e{30 - TIME_DECIMALS} s (an offset clock is read exactly "
+                            f"to 1 ns); got {cell[:40]!r}", row=line_no, column=name)
                 if cell in NULL_VALUES or cell.lower() in NULL_VALUES:
                     values.append(math.nan)
                     continue
@@ -460,6 +484,10 @@ class _Reader:
                                   f"missing value); got {cell[:40]!r}{hint}", row=line_no,
                                   column=name)
             # the checks of _check, in file order (the fast reader may stop further on)
+            if self._decimal_t and math.isfinite(values[0]):
+                values[0] = float(decimal.Decimal(cells[idx[0]].strip()) - self._offset)
+            elif self._offset is not None:
+                values[0] -= float(self._offset)
             self._check(np.array([values]), 0, None, t_prev, line=line_no)
             t_prev = values[0]
         return None
@@ -497,12 +525,18 @@ class _Reader:
             raise self._error("expected a finite number (or empty / nan for a missing "
                               "value); got inf", row=where(r), column=self.use[c + 1])
 
-    def _batches(self, rest: _Rest, delim: str, n_fields: int, idx: list[int]):
+    def _batches(self, rest: _Rest, delim: str, n_fields: int, idx: list[int],
+                 offset: decimal.Decimal | None):
         import pyarrow as pa
+        import pyarrow.compute as pc
         from pyarrow import csv as pacsv
 
         names = [f"c{i}" for i in range(n_fields)]
         keep = [names[i] for i in idx]
+        dec = pa.decimal128(30, TIME_DECIMALS)
+        types = {c: pa.float64() for c in keep}
+        if offset is not None:
+            types[keep[0]] = dec
 
         def invalid(row) -> str:       # a comment or blank line inside the data
             s = row.text.strip()
@@ -515,19 +549,38 @@ class _Reader:
                                              ignore_empty_lines=True,
                                              invalid_row_handler=invalid),
             convert_options=pacsv.ConvertOptions(
-                column_types={c: pa.float64() for c in keep}, include_columns=keep,
+                column_types=types, include_columns=keep,
                 null_values=list(NULL_VALUES), quoted_strings_can_be_null=True))
         for batch in reader:
             if batch.num_rows:
-                yield np.column_stack([batch.column(c).to_numpy(zero_copy_only=False)
-                                       for c in keep]).astype(float, copy=False)
+                cols = [batch.column(c) for c in keep]
+                if offset is not None:      # exact decimal difference, then one rounding
+                    cols[0] = pc.cast(pc.subtract(cols[0], pa.scalar(offset, dec)),
+                                      pa.float64())
+                yield np.column_stack([c.to_numpy(zero_copy_only=False)
+                                       for c in cols]).astype(float, copy=False)
 
-    def _offset(self, t_first: float) -> tuple[float, str]:
+    def _time_base(self, delim: str, i_t: int) -> tuple[decimal.Decimal | None, str, bool]:
+        """The offset subtracted from the time stamps and why (``t0`` when given, else the
+        first row's time when it is an absolute clock), and whether the time column is read
+        as decimals (an absolute clock: the offset is then subtracted exactly)."""
+        first = None
+        if self.first_line is not None:
+            cells = _fields(self.first_line, delim)
+            try:
+                first = decimal.Decimal(cells[i_t].strip() if i_t < len(cells) else "")
+            except decimal.InvalidOperation:
+                first = None
+        absolute = (first is not None and first.is_finite() and abs(first) >= ABSOLUTE_TIME
+                    and math.isfinite(float(first)))
+        exact = absolute and _decimal_time_ok(first)
         if self.t0 is not None:
-            return self.t0, "t0"
-        if abs(t_first) >= ABSOLUTE_TIME:
-            return t_first, "first row"
-        return 0.0, "none"
+            t0 = decimal.Decimal(repr(self.t0))
+            return (t0.quantize(decimal.Decimal(1).scaleb(-TIME_DECIMALS)) if exact else t0,
+                    "t0", exact)
+        if absolute:        # beyond the decimal reading: subtracted as doubles
+            return first, "first row", exact
+        return None, "none", False
 
     def __iter__(self) -> Iterator[tuple[list[str], np.ndarray]]:
         import pyarrow as pa
@@ -548,8 +601,12 @@ class _Reader:
             n_rows = 0
             pending: list[np.ndarray] = []
             held = 0
-            offset = None
-            batches = self._batches(_Rest(after, stream), delim, len(names), idx)
+            offset, source, exact = self._time_base(delim, idx[0])
+            self._decimal_t = exact
+            self._offset = offset
+            batches = self._batches(_Rest(after, stream), delim, len(names), idx,
+                                    offset if exact else None)
+            info = None
             while True:
                 try:
                     data = next(batches, None)
@@ -563,17 +620,16 @@ class _Reader:
                 except (gzip.BadGzipFile, EOFError, OSError) as exc:
                     raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
                 if data is not None:
+                    if offset is not None and not exact:
+                        data[:, 0] -= float(offset)
                     self._check(data, n_rows, ctx, t_prev)
                     t_prev = float(data[-1, 0])
-                    if offset is None:
-                        offset, source = self._offset(float(data[0, 0]))
-                        self.info = RecordInfo(
+                    if info is None:
+                        info = self.info = RecordInfo(
                             path=self.label, delimiter=delim, header_line=header_line,
                             columns={c: self.files[c] for c in use}, latitude=self.latitude,
-                            t_offset=offset, t_offset_source=source,
-                            t_resolution=float(np.spacing(abs(float(data[0, 0])))))
-                    if offset:
-                        data[:, 0] -= offset
+                            t_offset=float(offset or 0.0), t_offset_source=source,
+                            t_offset_text=str(offset or 0), t_exact=exact)
                     n_rows += data.shape[0]
                     pending.append(data)
                     held += data.shape[0]
