@@ -86,6 +86,10 @@ BLOCK_BYTES: Final[int] = 1 << 22
 #: start of the run: times are then taken relative to the first row.
 ABSOLUTE_TIME: Final[float] = 1000.0
 
+#: Largest time (s) a record may reach from its start (relative to t0 when one is taken):
+#: 116 days; a stamp beyond is corrupt, and would make a calibration's step tables huge.
+MAX_TIME: Final[float] = 1e7
+
 #: Decimals of an absolute time stamp read exactly (1 ns): the column is read as a decimal,
 #: the offset subtracted exactly, then converted to a double.
 TIME_DECIMALS: Final[int] = 9
@@ -512,6 +516,12 @@ class _Reader:
             r = int(np.nonzero(bad)[0][0])
             what = "an empty cell" if np.isnan(t[r]) else repr(float(t[r]))
             raise self._error(f"expected a finite time (s); got {what}",
+                              row=where(r), column="t")
+        far = np.abs(t) > MAX_TIME
+        if np.any(far):
+            r = int(np.nonzero(far)[0][0])
+            raise self._error(f"a time of {float(t[r]):.6g} s from the record's start: "
+                              f"expected at most {MAX_TIME:g} s (a corrupted time stamp?)",
                               row=where(r), column="t")
         prev = np.concatenate([[t_prev], t[:-1]])
         bad = t <= prev
