@@ -712,7 +712,10 @@ def _run_rsf_file(file: str, o: dict) -> _Outcome:
                     "delta_k_predicted": "1"}
     spread = (f"; per-interval spread (SD) {units.from_si(st['spread'], 'ppm'):.4g} ppm, "
               f"standard error of the mean {units.from_si(st['sem'], 'ppm'):.3g} ppm "
-              f"(SD/sqrt({st['n']}))" if st["n"] > 1 else "")
+              f"(SD/sqrt({st['n']}), independent intervals"
+              + (f"; an upper bound here: lag-1 autocorrelation {st['lag1']:.2f}, the GS "
+                 "end-point errors cancel in the mean)" if st["lag1"] < -0.25 else ")")
+              if st["n"] > 1 else "")
     lines = [
         f"paper RSF correction of {file}: {res.rows} rows, period {res.period:g} s, "
         f"{res.n_intervals} complete interval(s), mean |roll rate| {rate:.5g} deg/s",

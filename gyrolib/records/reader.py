@@ -136,7 +136,8 @@ class RecordInfo:
         if self.t_offset_source == "none":
             return None
         why = ("an absolute clock (first time stamp >= "
-               f"{ABSOLUTE_TIME:g} s)" if self.t_offset_source == "first row" else "t0 given")
+               f"{ABSOLUTE_TIME:g} s): the first row is t = 0, the start of the run (give "
+               "t0 otherwise)" if self.t_offset_source == "first row" else "t0 given")
         return (f"times taken relative to t0 = {self.t_offset_text} s ({why}"
                 + ("; read as decimals, differences exact to 1 ns)" if self.t_exact else ")"))
 

@@ -154,16 +154,23 @@ class CalibrationResult:
     def eps1_stats(self) -> dict:
         """ε̂1 over the intervals without a reversal inside: ``mean``, ``spread`` (the
         per-interval standard deviation: how much one interval's ε̂1 scatters), ``sem``
-        (the standard error of the mean, spread/√n, treating the intervals as
-        independent: neighbouring intervals share an end-point error of the GS angle,
-        which cancels in the mean, so this is on the safe side), ``n`` and ``left_out``
-        (intervals with a reversal).  NaN where undefined (n < 2 for the spread)."""
+        (the standard error of the mean, spread/√n: exact when the intervals' errors are
+        independent, an upper bound when they are the GS angle's end-point errors, which
+        neighbouring intervals share with opposite signs and which cancel in the mean),
+        ``lag1`` (the lag-1 autocorrelation of ε̂1: about 0 for independent errors, −½ for
+        pure end-point errors, when ``sem`` is far too large), ``n`` and ``left_out``
+        (intervals with a reversal).  NaN where undefined (n < 2 for the spread, n < 3
+        for lag1)."""
         keep = ~np.asarray(self.reversal, bool)
         e = np.asarray(self.eps1_hat, float)[keep]
         n = int(e.size)
         spread = float(np.std(e, ddof=1)) if n > 1 else math.nan
+        lag1 = math.nan
+        if n > 2 and spread > 0:
+            d = e - e.mean()
+            lag1 = float(np.sum(d[1:] * d[:-1]) / np.sum(d * d))
         return {"mean": float(np.mean(e)) if n else math.nan, "spread": spread,
-                "sem": spread / math.sqrt(n) if n > 1 else math.nan, "n": n,
+                "sem": spread / math.sqrt(n) if n > 1 else math.nan, "lag1": lag1, "n": n,
                 "left_out": int(np.count_nonzero(~keep))}
 
     def delta_k(self, eps1: float) -> np.ndarray:
@@ -195,6 +202,7 @@ class CalibrationResult:
             "eps1_hat_mean": _none(self.eps1_stats()["mean"]) if self.n_intervals else None,
             "eps1_hat_spread": _none(self.eps1_stats()["spread"]) if self.n_intervals else None,
             "eps1_hat_sem": _none(self.eps1_stats()["sem"]) if self.n_intervals else None,
+            "eps1_hat_lag1": _none(self.eps1_stats()["lag1"]) if self.n_intervals else None,
             "eps1_hat_std": (float(np.std(self.eps1_hat, ddof=1)) if self.n_intervals > 1
                              else None),
             "abs_rate": [float(x) for x in self.abs_rate],
