@@ -490,6 +490,34 @@ def _time_notes(info, record, params, notes: list[str]) -> dict:
     return out
 
 
+#: Display units of the Allan noise terms: (SI factor, unit) per series and slope.
+_ALLAN_UNITS: Final[dict[str, tuple[tuple[float, str], ...]]] = {
+    "angle_sensor": ((units.UNITS["deg/sqrt_h"], "deg/sqrt(h)"),
+                     (units.DEG_PER_HOUR, "deg/h"),
+                     (units.DEG_PER_HOUR / 60.0, "deg/h/sqrt(h)")),
+    "inclinometer": ((1.0 / 60.0, "m/s/sqrt(h)"), (units.G0 * 1e-6, "ug"),
+                     (1.0 / 3600.0 / 60.0, "m/s^2/h/sqrt(h)")),
+}
+
+
+def _allan_report(allan) -> tuple[list[str], dict]:
+    """Lines and JSON of the noise terms of each Allan deviation (IEEE Std 952)."""
+    terms = gc.allan_noise_terms(allan)
+    lines = [f"  Allan deviation over {allan.rows} rows ({allan.t_start:.6g} to "
+             f"{allan.t_end:.6g} s), noise terms (IEEE Std 952, fit of the Allan variance, "
+             "1 sigma; '<=' an upper bound):"]
+    data: dict = {}
+    for name, ts in terms.items():
+        shown = _ALLAN_UNITS["angle_sensor" if name == "angle_sensor" else "inclinometer"]
+        what = "angle-sensor rate" if name == "angle_sensor" else name
+        lines.append(f"    {what}: " + "; ".join(
+            t.describe(scale, unit) for t, (scale, unit) in zip(ts, shown)))
+        data[name] = [{"name": t.name, "value": t.value, "sigma": t.sigma, "lo": t.lo,
+                       "hi": t.hi, "unit": t.unit.replace("·", "*").replace("√", "sqrt"),
+                       "identified": t.identified, "tau_s": t.tau} for t in ts]
+    return lines, data
+
+
 def _calibrate(record, params, o: dict, progress=None, executor=None):
     return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
                         max_rejected=o["max_rejected"], progress=progress, executor=executor)
@@ -556,13 +584,17 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
     artifacts = []
     if o["plot"]:
         artifacts.append((o["plot"], "plot", res))
+    allan_lines: list[str] = []
     if o["allan"]:
-        artifacts.append((o["allan"], "allan", (raw, params)))
+        allan = gc.allan_deviation(raw, params)
+        artifacts.append((o["allan"], "allan", allan))
+        allan_lines, extra["allan_noise_terms"] = _allan_report(allan)
     if fit is not None and o["fit_noise"]:
         artifacts.append((o["fit_noise"], "text", fit.to_toml()))
     data = _gc_json(file, res, params, mapping, notes, fit, valid, reason)
     data.update(extra)
-    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o)
+    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o) + "".join(
+        f"{ln}\n" for ln in allan_lines)
     row = {"file": file, "method": "gc", "quantity": "omega_gc", "notes": "; ".join(notes),
            "estimate": res.omega_gc if valid else "",
            "sigma": res.omega_gc_std if valid else "", "unit": "rad/s", "valid": valid,
@@ -763,9 +795,7 @@ def _write_artifacts(outcome: _Outcome) -> None:
         elif kind == "rsf_plot":
             _save(rsf.plot_correction(*payload), path)
         elif kind == "allan":
-            raw, params = payload
-            result = gc.allan_deviation(raw, params)
-            _save(gc.plot_allan(result, title=f"Allan deviation of {outcome.file}"), path)
+            _save(gc.plot_allan(payload, title=f"Allan deviation of {outcome.file}"), path)
         else:
             _write_text(path, payload)
 
