@@ -116,7 +116,9 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                           f"{_FIT_DEFAULT}; also xi1, C_incl_y, C_incl_z)")
     gcp.add_argument("--allan", metavar="OUT.png",
                      help="write the Allan deviation of the angle-sensor rate and of the "
-                          "inclinometers, with paper GC's model curves")
+                          "inclinometers, with paper GC's model curves, and print the angle "
+                          "random walk, bias instability and rate random walk read off it "
+                          "(IEEE Std 952), each with its uncertainty")
     gcp.add_argument("--max-rejected", type=float, default=0.01, metavar="SHARE",
                      help="largest share of a sensor's samples the gate may reject before "
                           "the run counts as lost lock (default 0.01)")
@@ -166,7 +168,8 @@ def _signed_values(parser_class: type) -> type:
 
 def _batch_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--summary", metavar="OUT.csv",
-                   help="write one row per file: file, estimate, sigma, valid, reason")
+                   help="write one row per file: file, method, quantity, estimate, sigma, "
+                        "unit, valid, status (ok, invalid, error), reason, notes")
     p.add_argument("--workers", type=int, default=1, metavar="K",
                    help="calibrate K files at a time in separate processes (default 1)")
     p.add_argument("--columns", metavar="MAP",
