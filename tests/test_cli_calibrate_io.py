@@ -355,7 +355,17 @@ def rsf_dir(tmp_path_factory):
     slip[k:] += 2 * math.pi
     quarter = rec.gs_angle.copy()
     quarter[k:] += math.pi / 2
-    return {"good": write("good.csv", rec.gs_angle),
+    keep = (rec.t < 8.0) | (rec.t >= 10.0)           # a 2 s gap
+    gap = records.write_csv(d / "gap.csv", {"t": rec.t[keep],
+                                            "sins_increment": rec.sins_increment[keep],
+                                            "gs_angle": rec.gs_angle[keep]}, fmt="%.17g")
+    sign = np.where((rec.t // 2.5) % 2 == 0, 1.0, -1.0)   # the roll reverses every 2.5 s
+    gs_inc = np.diff(rec.gs_angle, prepend=rec.gs_angle[0])
+    rev = records.write_csv(d / "reverse.csv", {"t": rec.t,
+                                                "sins_increment": rec.sins_increment * sign,
+                                                "gs_angle": np.cumsum(gs_inc * sign)},
+                            fmt="%.17g")
+    return {"good": write("good.csv", rec.gs_angle), "gap": gap, "reverse": rev,
             "wrapped": write("wrapped.csv", np.mod(rec.gs_angle, 2 * math.pi)),
             "slip": write("slip.csv", slip), "quarter": write("quarter.csv", quarter),
             "t_slip": float(rec.t[k]), "eps1": cfg.sins.eps1}
@@ -388,3 +398,24 @@ def test_rsf_wrapped_and_2pi_slip_through_the_command_line(rsf_dir, capsys):
     code, out, _ = _run(["calibrate", "rsf", rsf_dir["good"], "--period", "1"], capsys)
     assert "per-interval spread (SD)" in out and "standard error of the mean" in out
     assert "mean |roll rate|" in out
+
+
+def test_rsf_gap_named_and_reversal_reported_with_abs_rate(rsf_dir, capsys):
+    """A 2 s gap: exit 0, named as a gap with its length and time (not blamed on units);
+    a roll that reverses every 2.5 s: exit 0, mean |roll rate| the flight's 900 deg/s (not
+    its signed mean), a note that the rate reverses, the reversing intervals left out."""
+    code, out, err = _run(["calibrate", "rsf", rsf_dir["gap"], "--period", "1"], capsys)
+    assert code == 0 and err == ""
+    assert "note: 1 gap(s) in the time stamps (2.001 s after t = 7.999 s" in out
+    assert "degrees" not in out and "units" not in out
+    code, out, err = _run(["calibrate", "rsf", rsf_dir["reverse"], "--period", "1",
+                           "--json"], capsys)
+    data = json.loads(out)
+    assert code == 0 and err == ""
+    assert math.degrees(data["mean_abs_rate"]) == pytest.approx(900.0, rel=0.01)
+    assert abs(math.degrees(float(np.mean(data["rate"])))) < 200.0
+    assert any("the roll rate reverses" in n for n in data["notes"])
+    assert sum(data["reversal"]) == 4                   # t = 2.5, 7.5, 12.5, 17.5 s
+    code, out, _ = _run(["calibrate", "rsf", rsf_dir["reverse"], "--period", "1"], capsys)
+    assert f"mean |roll rate| {math.degrees(data['mean_abs_rate']):.5g} deg/s" in out
+    assert "note: the roll rate reverses" in out
