@@ -24,8 +24,16 @@ single-threaded run is its CPU time stretched by the contention).
    <= 60 s).  Peer: one ``gc.calibrate`` of the same record (the unit of its cost).
 5. GC sample file read + calibrate; RSF, 60 s at 1 kHz against ``rsf.run_correction``.
 
+``--reader`` (issue 27) runs instead, in one run, the CSV reader on the hour's CSV (3.6·10⁶
+rows, 175 MB): ours (pyarrow's streaming CSV reader) against the old reader (the
+hand-written line parser with its compiled decimal-to-float converter, commit
+``PREVIOUS_READER``, exported from git), alternating, each in a fresh process, best of
+``--repeat-hour``: reading alone (``records.GCChunks``; target 5 s, aim 3 s), with a hash of
+the doubles read (the same values, or the case says they differ), then the command line end
+to end on the same file.  Results in ``benchmarks/results/calibrate_reader.json``.
+
     .venv/bin/python benchmarks/bench_calibrate.py [--repeat 3] [--repeat-hour 2] [--no-hour]
-        [--write]
+        [--reader] [--write]
 """
 
 from __future__ import annotations
@@ -54,12 +62,16 @@ PREVIOUS = "6712084"
 #: The commit whose command line is the end-to-end peer (before issue 18's speed work).
 PREVIOUS_CLI = "f8a3322"
 
+#: The commit of the old CSV reader (hand-written parser and records/_fastcsv.py), the
+#: peer of ``--reader`` (issue 27).
+PREVIOUS_READER = "dac8896"
 
-def previous_tree(dest: Path) -> Path | None:
-    """``gyrolib/`` at :data:`PREVIOUS_CLI` exported into ``dest`` (run with ``PYTHONPATH``
-    and ``cwd`` there, so that its modules, not this tree's, are imported), or None."""
+
+def previous_tree(dest: Path, commit: str = PREVIOUS_CLI) -> Path | None:
+    """``gyrolib/`` at ``commit`` exported into ``dest`` (run with ``PYTHONPATH`` and ``cwd``
+    there, so that its modules, not this tree's, are imported), or None."""
     try:
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", PREVIOUS_CLI, "gyrolib"],
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit, "gyrolib"],
                                  capture_output=True, check=True).stdout
         subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
     except (OSError, subprocess.CalledProcessError):
@@ -149,12 +161,19 @@ def hour_child(which: str, t_end: float) -> None:
 
 def read_child(path: str) -> None:
     """Fresh process: read a GC CSV file through records.GCChunks; print JSON."""
+    import hashlib
+
     from gyrolib import records
 
+    digest = hashlib.sha256()
     t0, c0 = time.perf_counter(), time.process_time()
-    rows = sum(chunk.n for chunk in records.GCChunks(path))
+    rows = 0
+    for chunk in records.GCChunks(path):
+        rows += chunk.n
+        for col in (chunk.t, chunk.angle_sensor, chunk.inclinometer_y, chunk.inclinometer_z):
+            digest.update(np.ascontiguousarray(col, dtype=np.float64).tobytes())
     print(json.dumps({"wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
-                      "rows": rows, "peak_mb": _peak_mb(),
+                      "rows": rows, "peak_mb": _peak_mb(), "sha256": digest.hexdigest(),
                       "gyrolib": str(Path(records.__file__).parents[2])}))
 
 
@@ -286,6 +305,61 @@ def _hour_end_to_end(rec_, path: Path, repeat: int, h: dict) -> None:
                     f"filtering the in-memory hour {h['cpu']:.2f} s CPU"))
 
 
+def reader_cases(repeat: int, write: bool) -> None:
+    """``--reader``: the hour's CSV through ours and the old reader, in one run."""
+    rec_ = Recorder("calibrate_reader")
+    with tempfile.TemporaryDirectory() as tmp:
+        (Path(tmp) / "old").mkdir()
+        tree = previous_tree(Path(tmp) / "old", PREVIOUS_READER)
+        if tree is None:
+            sys.exit(f"the old reader (commit {PREVIOUS_READER}) cannot be exported")
+        path = Path(tmp) / "gc_hour.csv"
+        _child("--csv-child", str(path), "3600")
+        mb = path.stat().st_size / 2**20
+        ours, peer = [], []
+        for _ in range(repeat):    # alternating: the same load for both, on average
+            ours.append(_child("--read-child", str(path)))
+            peer.append(_child("--read-child", str(path), tree=tree))
+        assert peer[0]["gyrolib"] == str(tree) and ours[0]["gyrolib"] == str(ROOT)
+        o, q = min(ours, key=lambda r: r["wall"]), min(peer, key=lambda r: r["wall"])
+        same = o["sha256"] == q["sha256"] and o["rows"] == q["rows"]
+        rec_.case(f"gc: reading the hour CSV ({o['rows']} rows, {mb:.0f} MB), records.GCChunks,"
+                  " fresh process", o["wall"],
+                  peer=f"the old reader (hand-written parser + compiled converter, commit "
+                       f"{PREVIOUS_READER})", peer_s=q["wall"], target_s=5.0,
+                  note=(f"best of {repeat}, alternating; CPU {o['cpu']:.2f} s vs "
+                        f"{q['cpu']:.2f} s (checks at the door included); peak RSS "
+                        f"{o['peak_mb']:.0f} MB vs {q['peak_mb']:.0f} MB; the doubles read "
+                        + ("are identical (same SHA-256)" if same else "DIFFER")
+                        + "; all runs ours " + ", ".join(f"{r['wall']:.2f}" for r in ours)
+                        + " s, old " + ", ".join(f"{r['wall']:.2f}" for r in peer)
+                        + " s; aim 3 s"))
+        small = Path(tmp) / "small.csv"
+        with open(path) as src, open(small, "w") as dst:
+            dst.writelines(line for _, line in zip(range(2001), src))
+        _cli(small)
+        _cli(small, tree)
+        c_ours, c_peer = [], []
+        for _ in range(repeat):
+            c_ours.append(_cli(path))
+            c_peer.append(_cli(path, tree))
+        co, cq = _best_run(c_ours), _best_run(c_peer)
+        agree = (co["omega_gc"] is not None and cq["omega_gc"] is not None
+                 and abs(co["omega_gc"] - cq["omega_gc"]) <= 1e-12 * abs(cq["omega_gc"]))
+        rec_.case(f"gc: 1 h at 1 kHz end to end, python -m gyrolib calibrate gc FILE --json "
+                  f"({mb:.0f} MB CSV)", co["wall"],
+                  peer=f"the command line at commit {PREVIOUS_READER} (old reader)",
+                  peer_s=cq["wall"], target_s=5.0,
+                  note=(f"best of {repeat}, alternating; ours {co['wall']:.2f} s wall, "
+                        f"{co['cpu']:.2f} s CPU, {co['peak_mb']:.0f} MB; old "
+                        f"{cq['wall']:.2f} s wall, {cq['cpu']:.2f} s CPU, "
+                        f"{cq['peak_mb']:.0f} MB; exit {co['status']} / {cq['status']}; "
+                        "omega_gc " + ("identical to 1e-12" if agree else "DIFFERS")
+                        + f"; load {co['load']:.1f}"))
+    if write:
+        rec_.write()
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
@@ -294,6 +368,9 @@ def main() -> None:
     ap.add_argument("--no-hour", action="store_true", help="skip the one-hour cases")
     ap.add_argument("--write", action="store_true",
                     help="write benchmarks/results/calibrate.json")
+    ap.add_argument("--reader", action="store_true",
+                    help="only the CSV reader against the old one on the hour's CSV "
+                         "(benchmarks/results/calibrate_reader.json)")
     ap.add_argument("--hour-child", nargs=2, metavar=("WHICH", "T_END"),
                     help=argparse.SUPPRESS)
     ap.add_argument("--read-child", help=argparse.SUPPRESS)
@@ -311,6 +388,9 @@ def main() -> None:
         return
     if args.import_child:
         import_child()
+        return
+    if args.reader:
+        reader_cases(args.repeat_hour, args.write)
         return
     from gyrolib import gc, records, rsf
 

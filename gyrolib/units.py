@@ -5,8 +5,11 @@ arcseconds, arcseconds per second, degrees per hour, degrees per second, ppm and
 module is the only place where those units are turned into SI and back.
 
 Paper GC converts arcseconds with the rounded factor 1″ = 0.485·10⁻⁵ rad (its parameter
-table); the exact factor is π/648000 rad = 4.8481·10⁻⁶ rad.  Both are offered: the unit
-``"arcsec"`` is exact, ``"arcsec_paper"`` is the paper's rounded factor (0.04 % larger).
+table); the standard arc second is π/648000 rad = 4.8481·10⁻⁶ rad.  Both are offered: the
+unit ``"arcsec"`` is the standard one, ``"arcsec_paper"`` the paper's rounded factor (0.04 %
+larger: a drift of 1 paper ″/s is 1.00038 standard ″/s = 1.00038 °/h).  Gyro drift in the
+field's unit is ``"deg/h"`` (1 °/h = 1″/s standard exactly, = 4.8481·10⁻⁶ rad/s);
+:data:`DRIFT_UNITS` lists the three side by side and :func:`drift_conversion` states them.
 """
 
 from __future__ import annotations
@@ -24,9 +27,12 @@ __all__ = [
     "DEG",
     "DEG_PER_HOUR",
     "DEG_PER_S",
+    "DRIFT_UNITS",
     "G0",
     "PPM",
     "UNITS",
+    "drift_conversion",
+    "drift_in_units",
     "from_si",
     "to_si",
 ]
@@ -119,3 +125,31 @@ def from_si(value: ArrayLike, unit: str) -> float | np.ndarray:
     1.0
     """
     return _as_number(value) / _factor(unit)
+
+
+#: The drift units a calibration reports, with their printed symbols: the field's °/h, the
+#: standard arc second per second, the paper's arc second per second, and SI.
+DRIFT_UNITS: Final[tuple[tuple[str, str], ...]] = (
+    ("deg/h", "°/h"), ("arcsec/s", "″/s (standard)"), ("arcsec_paper/s", "″/s (paper's)"),
+    ("rad/s", "rad/s"))
+
+
+def drift_in_units(value: float) -> dict[str, float]:
+    """An SI drift rate (rad/s) in each of :data:`DRIFT_UNITS`.
+
+    >>> {k: round(x, 6) for k, x in drift_in_units(to_si(1.0, "deg/h")).items()}
+    {'deg/h': 1.0, 'arcsec/s': 1.0, 'arcsec_paper/s': 0.999616, 'rad/s': 5e-06}
+    """
+    x = float(_as_number(value))
+    return {u: float(from_si(x, u)) for u, _ in DRIFT_UNITS}
+
+
+def drift_conversion() -> str:
+    """One sentence stating the conversions between the drift units.
+
+    >>> drift_conversion()[-45:]
+    'aper ″/s = 1.00038 ″/s standard = 1.00038 °/h'
+    """
+    return (f"1 °/h = 1 ″/s (standard arc second, π/648000 rad) = {DEG_PER_HOUR:.5g} rad/s; "
+            f"paper GC's arc second is {ARCSEC_PAPER:.3g} rad, so 1 paper ″/s = "
+            f"{ARCSEC_PAPER / ARCSEC:.5f} ″/s standard = {ARCSEC_PAPER / DEG_PER_HOUR:.5f} °/h")

@@ -184,3 +184,108 @@ def test_jittered_time_stamps_are_not_gaps():
     res = rsf.calibrate(rsf.RSFRecord(t=tj[keep], sins_increment=inc[keep],
                                       gs_angle=gs[keep]), 2.0)
     assert res.gaps == 1 and res.samples_used == t.size - 3
+
+
+# Wraps, slips, gaps, reversals (issue 27) -------------------------------------------------
+def _with_gs(rec: rsf.RSFRecord, gs: np.ndarray, inc=None, t=None) -> rsf.RSFRecord:
+    return rsf.RSFRecord(t=rec.t if t is None else t,
+                         sins_increment=rec.sins_increment if inc is None else inc,
+                         gs_angle=gs)
+
+
+def test_wrapped_gs_angle_is_unwrapped_with_a_note(flight):
+    """gs_angle wrapped into [0, 2π) or (−π, π]: the unwrapped record's ε̂1 (to 1e-9 of a
+    radian's rounding), with a note saying "wrapped"; a wrong unwrapping (the wraps left in)
+    would give ε̂1 far from it (power: the raw spans' ε̂1)."""
+    rec = rsf.record_from_simulation(flight)
+    ref = rsf.calibrate(rec, 1.0)
+    for wrapped, band in ((np.mod(rec.gs_angle, 2 * math.pi), "[0, 2π)"),
+                          (np.angle(np.exp(1j * rec.gs_angle)), "(−π, π]")):
+        res = rsf.calibrate(_with_gs(rec, wrapped), 1.0)
+        np.testing.assert_allclose(res.eps1_hat, ref.eps1_hat, rtol=0, atol=1e-9)
+        assert len(res.notes) == 1 and f"wrapped into {band}" in res.notes[0]
+        assert res.slips_repaired == 0
+        raw = np.diff(wrapped[::1000]) - np.add.reduceat(rec.sins_increment[1:],
+                                                         np.arange(0, 60000, 1000))
+        assert np.max(np.abs(raw)) > 1.0           # the wraps are really there
+
+
+def test_whole_turn_slip_repaired_or_refused_quarter_turn_refused(flight):
+    """A 2π slip at t = 23.4567 s: repaired (ε̂1 as without it, note with its time) or,
+    slips="refuse", refused naming it; a π/2 slip refused naming "quarter turn"; without
+    the repair the slipped interval's ε̂1 is off by about 2π/turn (the issue's −6150 ppm)."""
+    rec = rsf.record_from_simulation(flight)
+    ref = rsf.calibrate(rec, 1.0)
+    k = int(np.searchsorted(rec.t, 23.4567))
+    gs = rec.gs_angle.copy()
+    gs[k:] += 2 * math.pi
+    res = rsf.calibrate(_with_gs(rec, gs), 1.0)
+    np.testing.assert_allclose(res.eps1_hat, ref.eps1_hat, rtol=0, atol=1e-9)
+    assert res.slips_repaired == 1
+    assert "slips a whole turn" in res.notes[0] and f"t = {rec.t[k]:.6g} s" in res.notes[0]
+    turn = float(np.sum(rec.sins_increment[1:1001]))
+    assert abs(2 * math.pi / turn) > 0.3            # what an unrepaired slip would add
+    with pytest.raises(ValueError, match=r"slips a whole turn .*refused"):
+        rsf.calibrate(_with_gs(rec, gs), 1.0, slips="refuse")
+    gs = rec.gs_angle.copy()
+    gs[k:] -= math.pi / 2
+    with pytest.raises(ValueError, match=rf"quarter turn \(-1 π/2\).*t = {rec.t[k - 1]:.6g} s"):
+        rsf.calibrate(_with_gs(rec, gs), 1.0)
+
+
+def test_gap_is_named_and_reversal_reported_with_abs_rate(flight):
+    """A 2 s gap: a note naming the gap, ε̂1 within 4 standard errors of ε1/(1+ε1); a roll
+    rate that reverses every 2.5 s: mean |ω| is the flight's 900 °/s (the signed mean
+    is near 0), the intervals with a reversal inside are flagged and left out of the mean."""
+    rec = rsf.record_from_simulation(flight)
+    keep = (rec.t < 30.0) | (rec.t >= 32.0)
+    res = rsf.calibrate(rsf.RSFRecord(t=rec.t[keep], sins_increment=rec.sins_increment[keep],
+                                      gs_angle=rec.gs_angle[keep]), 1.0)
+    assert res.gaps == 1 and res.gap_time == pytest.approx(2.0, abs=2e-3)
+    assert "1 gap(s) in the time stamps" in res.notes[0]
+    st = res.eps1_stats()
+    eps1 = CFG.sins.eps1
+    assert abs(st["mean"] - eps1 / (1 + eps1)) < 4 * st["sem"]
+    sign = np.where((rec.t // 2.5) % 2 == 0, 1.0, -1.0)
+    gs_inc = np.diff(rec.gs_angle, prepend=rec.gs_angle[0])
+    rev = rsf.calibrate(rsf.RSFRecord(t=rec.t, sins_increment=rec.sins_increment * sign,
+                                      gs_angle=np.cumsum(gs_inc * sign)), 1.0)
+    assert math.degrees(rev.mean_rate) == pytest.approx(900.0, rel=0.01)
+    assert abs(math.degrees(float(np.mean(rev.rate)))) < 100.0
+    assert rev.reverses and rev.reversal.sum() == 12      # t = 2.5, 7.5, ... 57.5 s
+    st = rev.eps1_stats()
+    assert st["left_out"] == 12 and abs(st["mean"] - eps1 / (1 + eps1)) < 4 * st["sem"]
+
+
+def test_spread_and_standard_error_of_the_mean(flight):
+    """sem = spread/√n.  With independent interval errors (a synthetic record whose scale
+    factor is drawn afresh for every interval) the mean's scatter over 40 records is the
+    sem within a factor 1.5, and lag1 ≈ 0; on the simulated flights, whose interval errors
+    are the GS angle's end-point errors (lag1 ≈ −½, closed form of a telescoping error),
+    the sem is an upper bound of the mean's scatter (while the spread is 7.7 times the
+    sem: reading it as the mean's error would be far off)."""
+    rng = np.random.default_rng(9)
+    t = np.arange(60001) * 1e-3
+    inc = np.concatenate([[0.0], np.full(60000, math.radians(900.0) * 1e-3)])
+    means, sems, lags = [], [], []
+    for _ in range(40):
+        eps = np.repeat(rng.normal(600e-6, 100e-6, 60), 1000)   # one per interval
+        gs = np.concatenate([[0.0], np.cumsum(inc[1:] * (1.0 - eps))])
+        st = rsf.calibrate(rsf.RSFRecord(t=t, sins_increment=inc, gs_angle=gs),
+                           1.0).eps1_stats()
+        means.append(st["mean"])
+        sems.append(st["sem"])
+        lags.append(st["lag1"])
+    assert 1 / 1.5 < float(np.std(means, ddof=1) / np.mean(sems)) < 1.5
+    assert abs(float(np.mean(lags))) < 0.1
+    cfg = rsf.SimulationConfig(duration=60.0, sample_rate=1000.0, n_runs=40)
+    sim = rsf.simulate_flight(cfg, seed=5)
+    means, sems, lags = [], [], []
+    for m in range(40):
+        st = rsf.calibrate(rsf.record_from_simulation(sim, m), 1.0).eps1_stats()
+        means.append(st["mean"])
+        sems.append(st["sem"])
+        lags.append(st["lag1"])
+        assert st["sem"] == pytest.approx(st["spread"] / math.sqrt(st["n"]), rel=1e-12)
+    assert float(np.std(means, ddof=1)) < float(np.mean(sems))
+    assert float(np.mean(lags)) == pytest.approx(-0.5, abs=0.1)

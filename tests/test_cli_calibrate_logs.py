@@ -245,7 +245,7 @@ def test_batch_summary_bad_and_invalid(logs, capsys, tmp_path):
     assert code == 2
     rows = _rows(summary)
     assert [r["file"] for r in rows] == [str(files[k]) for k in ("good", "degrees", "negated")]
-    assert [r["status"] for r in rows] == ["ok", "bad", "invalid"]
+    assert [r["status"] for r in rows] == ["ok", "error", "invalid"]
     assert [r["valid"] for r in rows] == ["true", "false", "false"]
     assert "degrees" in rows[1]["reason"] and "rejected" in rows[2]["reason"]
     assert rows[1]["estimate"] == rows[2]["estimate"] == ""
@@ -264,7 +264,7 @@ def test_batch_json_lines_and_workers(logs, capsys, tmp_path):
     argv = ["calibrate", "gc", files["good"], files["swapped"], files["degrees"], "--json"]
     code, out, err = _run([*argv, "--summary", tmp_path / "one.csv"], capsys)
     lines = [json.loads(x) for x in out.splitlines()]
-    assert code == 2 and len(lines) == 3 and lines[2]["status"] == "bad"
+    assert code == 2 and len(lines) == 3 and lines[2]["status"] == "error"
     assert err.count("\n") == 1
     code2, _, _ = _run([*argv, "--summary", tmp_path / "two.csv", "--workers", "2"], capsys)
     assert code2 == 2
@@ -371,10 +371,15 @@ def test_rsf_good_and_batch_summary(rsf_logs, capsys, tmp_path):
     code, out, err = _run(["calibrate", "rsf", rsf_logs["good"], rsf_logs["sign"],
                            "--period", "1", "--summary", summary], capsys)
     rows = _rows(summary)
-    assert code == 2 and [r["status"] for r in rows] == ["ok", "bad"]
+    assert code == 2 and [r["status"] for r in rows] == ["ok", "error"]
     assert out.count("paper RSF correction of") == 1 and err.count("\n") == 1
     single = json.loads(_run(["calibrate", "rsf", rsf_logs["good"], "--period", "1",
                               "--json"], capsys)[1])
     assert float(rows[0]["estimate"]) == pytest.approx(np.mean(single["eps1_hat"]), rel=1e-9)
-    assert float(rows[0]["sigma"]) == pytest.approx(np.std(single["eps1_hat"], ddof=1),
-                                                    rel=1e-9)
+    # sigma: the standard error of the mean, not the per-interval spread (issue 27)
+    n = len(single["eps1_hat"])
+    assert float(rows[0]["sigma"]) == pytest.approx(
+        np.std(single["eps1_hat"], ddof=1) / np.sqrt(n), rel=1e-9)
+    assert single["eps1_hat_spread"] == pytest.approx(np.std(single["eps1_hat"], ddof=1),
+                                                      rel=1e-9)
+    assert "standard error of the mean" in rows[0]["notes"]

@@ -674,6 +674,8 @@ case("gc.allan_deviation", lambda: gc.allan_deviation(_GREC), ValueError, "recor
 case("gc.allan_deviation",
      lambda: gc.allan_deviation(gc.simulate_record(gc.GyrocompassParams(), 0.02, 1).record,
                                 taus=[-1.0]), ValueError, "taus", "positive")
+case("gc.allan_noise_terms", lambda: gc.allan_noise_terms(None), TypeError, "result",
+     "AllanDeviation")
 case("gc.allan_model_vibration", lambda: gc.allan_model_vibration(None, [1.0]), TypeError,
      "params")
 case("gc.allan_model_vibration",

@@ -209,6 +209,12 @@ case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, k_form="square"), ValueE
 case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, dt=-1.0), ValueError, "dt", POS)
 case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, time_tolerance=0.0), ValueError,
      "time_tolerance")
+case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.5, slips="ignore"), ValueError,
+     "slips", "one of")
+case("rsf.CalibrationResult", lambda: replace(_RRES, reversal=np.zeros(3, bool)), ValueError,
+     "reversal", "shape")
+case("rsf.CalibrationResult", lambda: replace(_RRES, slips_repaired=-1), ValueError,
+     "slips_repaired", ">= 0")
 case("rsf.CalibrationResult", lambda: replace(_RRES, k=np.zeros(7)), ValueError, "k",
      "shape")
 case("rsf.CalibrationResult", lambda: replace(_RRES, period=0.0), ValueError, "period", POS)

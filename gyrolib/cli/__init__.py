@@ -41,6 +41,12 @@ __all__ = ["COMMANDS", "main"]
 COMMANDS = {"ledger": ledger, "calibrate": calibrate, "sensitivity": sensitivity}
 
 
+def _version() -> str:
+    import gyrolib
+
+    return gyrolib.__version__
+
+
 class OneLineParser(argparse.ArgumentParser):
     """Usage errors as one line on stderr, exit status 2."""
 
@@ -57,6 +63,7 @@ def main(argv: list[str] | None = None) -> int:
                              or not all(isinstance(a, str) for a in argv)):
         raise TypeError(f"argv must be a list of str or None; got {argv!r:.80}")
     parser = argparse.ArgumentParser(prog="python -m gyrolib")
+    parser.add_argument("--version", action="version", version=f"gyrolib {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
     for module in COMMANDS.values():
         module.add_parser(sub, OneLineParser)

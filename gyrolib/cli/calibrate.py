@@ -9,11 +9,24 @@ prints one line on stderr naming the file, the row or column and what was expect
 lock prints "no valid estimate" and why (and one line on stderr).  In either case nothing is
 written (no plot, no Allan plot, no TOML) — except ``--summary``, the report of a batch.
 
+Outputs never destroy data: every output (``--summary``, ``--plot``, ``--allan``,
+``--fit-noise`` TOML) is written to a temporary file in its own folder, then renamed onto its
+path, so it is either complete or absent; an output path that is also an input (or another
+output) is refused with status 2 before anything runs; an existing output is replaced only
+by a complete new file, and never with ``--no-clobber`` (status 2).  Ctrl-C stops the run
+with status 130 and one line, and leaves no partial file (outputs finished before are kept).
+A file listed twice is calibrated once, with a note on stderr.
+
+Time stamps of an absolute clock (Unix time, any first time of at least
+:data:`gyrolib.records.ABSOLUTE_TIME` s) are taken relative to the first row, or to
+``--t0``; the report says so.  ``--columns t=time,...`` maps other header names.
+
 Several files (or ``--summary OUT.csv``) make a batch: each file is calibrated on its own
 (``--workers K``: in a :class:`concurrent.futures.ProcessPoolExecutor` whose workers are
 forked from this process, gyrolib already imported), a bad or invalid file is reported in
-its row and on stderr while the others proceed, and the exit status is 2 if any file was
-bad, else 3 if any was invalid.  A progress bar (tqdm) goes to stderr on a
+its row (status ``error``, with the one-line reason, whatever the failure — also one that
+happens inside a worker process) and on stderr while the others proceed, and the exit status
+is 2 if any file failed, else 3 if any was invalid.  A progress bar (tqdm) goes to stderr on a
 terminal, never with ``--json`` or when stderr is piped.
 """
 
@@ -21,35 +34,44 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures
+import contextlib
 import csv
 import dataclasses
+import io
 import json
 import math
 import multiprocessing
 import os
+import signal
 import sys
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Final
 
 import numpy as np
 
+import gyrolib
 from gyrolib import gc, rsf, units
 from gyrolib.gc.model.params import MEASUREMENT_NAMES
 from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
-from gyrolib.records.reader import GCChunks, read_gc, read_rsf
+from gyrolib.records.reader import GCChunks, parse_columns, read_gc, read_rsf
 
-__all__ = ["EXIT_BAD_INPUT", "EXIT_INVALID", "SUMMARY_COLUMNS", "add_parser", "run"]
+__all__ = ["EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_INVALID", "SUMMARY_COLUMNS",
+           "add_parser", "run"]
 
 #: Exit status of bad input (unreadable, implausible or a bad option).
 EXIT_BAD_INPUT: Final[int] = 2
 #: Exit status of a run without a valid estimate (paper GC's filter lost lock).
 EXIT_INVALID: Final[int] = 3
+#: Exit status of a run stopped by Ctrl-C (128 + SIGINT, the shell's convention).
+EXIT_INTERRUPTED: Final[int] = 130
 
 #: Columns of ``--summary OUT.csv``, one row per file.
 SUMMARY_COLUMNS: Final[tuple[str, ...]] = (
-    "file", "method", "quantity", "estimate", "sigma", "unit", "valid", "status", "reason")
+    "file", "method", "quantity", "estimate", "sigma", "unit", "valid", "status", "reason",
+    "notes")
 
 _PLOT_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg")
 
@@ -94,7 +116,9 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                           f"{_FIT_DEFAULT}; also xi1, C_incl_y, C_incl_z)")
     gcp.add_argument("--allan", metavar="OUT.png",
                      help="write the Allan deviation of the angle-sensor rate and of the "
-                          "inclinometers, with paper GC's model curves")
+                          "inclinometers, with paper GC's model curves, and print the angle "
+                          "random walk, bias instability and rate random walk read off it "
+                          "(IEEE Std 952), each with its uncertainty")
     gcp.add_argument("--max-rejected", type=float, default=0.01, metavar="SHARE",
                      help="largest share of a sensor's samples the gate may reject before "
                           "the run counts as lost lock (default 0.01)")
@@ -117,6 +141,10 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                            "(for the predicted δK)")
     rsfp.add_argument("--json", action="store_true", help="print one JSON object per file (SI)")
     rsfp.add_argument("--plot", metavar="OUT.png", help="write ε̂1 per interval")
+    rsfp.add_argument("--slips", choices=("repair", "refuse"), default="repair",
+                      help="a whole-turn jump of the GS angle against the SINS turn: remove it "
+                           "with a note (default) or refuse the file; a wrapped gs_angle is "
+                           "always unwrapped, a quarter-turn jump always refused")
     _batch_options(rsfp)
 
 
@@ -140,9 +168,21 @@ def _signed_values(parser_class: type) -> type:
 
 def _batch_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--summary", metavar="OUT.csv",
-                   help="write one row per file: file, estimate, sigma, valid, reason")
+                   help="write one row per file: file, method, quantity, estimate, sigma, "
+                        "unit, valid, status (ok, invalid, error), reason, notes")
     p.add_argument("--workers", type=int, default=1, metavar="K",
                    help="calibrate K files at a time in separate processes (default 1)")
+    p.add_argument("--columns", metavar="MAP",
+                   help="the file's header names of the record's columns, e.g. "
+                        "t=time,angle_sensor=gyro (default: the names themselves)")
+    p.add_argument("--t0", type=float, metavar="S",
+                   help="subtract S seconds from every time stamp (default: the first row's "
+                        "time when it is an absolute clock, >= 1000 s; else none)")
+    p.add_argument("--no-clobber", action="store_true",
+                   help="refuse (status 2) to replace an existing output file; by default an "
+                        "existing output is replaced, atomically, once its replacement is "
+                        "complete")
+    p.add_argument("--version", action="version", version=f"gyrolib {gyrolib.__version__}")
 
 
 # Small helpers ----------------------------------------------------------------------------
@@ -165,11 +205,42 @@ def _check_out_path(path: str | None, suffixes: tuple[str, ...], what: str) -> N
                           "writable")
 
 
+@contextlib.contextmanager
+def _atomic(path: str):
+    """Yield a temporary path in ``path``'s folder; on success it is renamed onto ``path``
+    (atomic on POSIX: readers see the old file or the complete new one), on any failure or
+    Ctrl-C it is removed.  The new file gets the mode of the one it replaces, else 0666
+    less the umask."""
+    p = Path(path)
+    parent = p.parent if str(p.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(dir=parent, prefix=f".{p.name}.", suffix=".part" + p.suffix)
+    os.close(fd)
+    try:
+        try:
+            mode = os.stat(p).st_mode & 0o777
+        except OSError:
+            mode = 0o666 & ~_umask()
+        os.chmod(tmp, mode)
+        yield tmp
+        os.replace(tmp, p)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def _save(fig, path: str) -> None:
     import matplotlib.pyplot as plt
 
     try:
-        fig.savefig(path, dpi=110, bbox_inches="tight")
+        with _atomic(path) as tmp:
+            fig.savefig(tmp, dpi=110, bbox_inches="tight", format=Path(path).suffix[1:])
     except OSError as exc:
         raise RecordError(path, f"cannot write the plot: {exc.strerror or exc}") from None
     finally:
@@ -178,9 +249,47 @@ def _save(fig, path: str) -> None:
 
 def _write_text(path: str, text: str) -> None:
     try:
-        Path(path).write_text(text)
+        with _atomic(path) as tmp:
+            Path(tmp).write_text(text)
     except OSError as exc:
         raise RecordError(path, f"cannot write the file: {exc.strerror or exc}") from None
+
+
+def _same_file(a: str, b: str) -> bool:
+    """Whether two paths name one file (the same inode, or the same absolute path)."""
+    with contextlib.suppress(OSError):
+        return os.path.samefile(a, b)
+    return os.path.abspath(a) == os.path.abspath(b)
+
+
+def _check_outputs(args: argparse.Namespace, outputs: list[tuple[str, str]]) -> None:
+    """Refuse an output that is an input or another output, or (``--no-clobber``) exists."""
+    for k, (opt, path) in enumerate(outputs):
+        for f in args.files:
+            if _same_file(path, f):
+                raise UsageError(f"{opt} {path} is also an input file: refusing to write over "
+                                 "a record (give another output path)")
+        for opt2, path2 in outputs[:k]:
+            if _same_file(path, path2):
+                raise UsageError(f"{opt} and {opt2} name the same file {path}")
+        if args.no_clobber and os.path.lexists(path):
+            raise UsageError(f"{opt} {path} exists and --no-clobber is given: nothing "
+                             "written")
+
+
+def _unique_files(files: list[str]) -> tuple[list[str], list[str]]:
+    """The files in order with duplicates (the same file under any name) removed, and a
+    note for each duplicate."""
+    out: list[str] = []
+    notes: list[str] = []
+    for f in files:
+        first = next((g for g in out if _same_file(f, g)), None)
+        if first is None:
+            out.append(f)
+            continue
+        same = "" if f == first else f" (as {f})"
+        notes.append(f"{first} is listed more than once{same}: calibrated once")
+    return out, notes
 
 
 def _clean(o):
@@ -224,6 +333,11 @@ def _failure_message(label: str, exc: BaseException) -> str:
     numpy's or scipy's."""
     if isinstance(exc, RecordError):
         return str(exc)
+    if isinstance(exc, MemoryError):
+        return (f"{label}: the calibration ran out of memory on this record (MemoryError): "
+                "check the time column (t in s from the start, strictly increasing)")
+    if not isinstance(exc, ValueError | TypeError | ArithmeticError):
+        return f"{label}: the calibration failed ({type(exc).__name__}: {_one_line(exc)})"
     if _from_library(exc):
         return f"{label}: {_one_line(exc)}"
     return (f"{label}: the calibration failed on this record ({type(exc).__name__} inside "
@@ -233,8 +347,8 @@ def _failure_message(label: str, exc: BaseException) -> str:
 
 @dataclasses.dataclass
 class _Outcome:
-    """What one file gave: ``status`` "ok", "invalid" or "bad"; ``message`` the one line for
-    stderr (bad: the error; invalid: the reason); ``text``/``data`` the report; ``row`` its
+    """What one file gave: ``status`` "ok", "invalid" or "error"; ``message`` the one line for
+    stderr (error: the error; invalid: the reason); ``text``/``data`` the report; ``row`` its
     summary row; ``artifacts`` files to write when the run is valid (path → figure or text)."""
 
     file: str
@@ -247,17 +361,17 @@ class _Outcome:
 
     @property
     def code(self) -> int:
-        return {"ok": 0, "invalid": EXIT_INVALID, "bad": EXIT_BAD_INPUT}[self.status]
+        return {"ok": 0, "invalid": EXIT_INVALID, "error": EXIT_BAD_INPUT}[self.status]
 
 
 def _bad(method: str, file: str, message: str) -> _Outcome:
     quantity = "omega_gc" if method == "gc" else "eps1_hat_mean"
     unit = "rad/s" if method == "gc" else "1"
-    return _Outcome(file=file, status="bad", message=message,
-                    data={"file": file, "valid": False, "status": "bad", "error": message},
+    return _Outcome(file=file, status="error", message=message,
+                    data={"file": file, "valid": False, "status": "error", "error": message},
                     row={"file": file, "method": method, "quantity": quantity, "estimate": "",
-                         "sigma": "", "unit": unit, "valid": False, "status": "bad",
-                         "reason": message})
+                         "sigma": "", "unit": unit, "valid": False, "status": "error",
+                         "reason": message, "notes": ""})
 
 
 # Progress -----------------------------------------------------------------------------------
@@ -327,6 +441,86 @@ def _with_step(params: gc.GyrocompassParams, t: np.ndarray, notes: list[str],
     return params
 
 
+#: Spread of the steps around the median step (relative) above which jitter is reported.
+_JITTER_NOTED: Final[float] = 1e-3
+
+
+def _jitter(t: np.ndarray) -> tuple[float, float, float] | None:
+    """(median step, largest and standard deviation of the steps' departure from it) over
+    the regular steps (gaps, longer than 1.5 median steps, left out), or None when the
+    steps depart by less than :data:`_JITTER_NOTED` of the median step."""
+    if t.size < 3:
+        return None
+    h = np.diff(t)
+    m = float(np.median(h))
+    dev = h[h < 1.5 * m] - m
+    if dev.size < 2 or float(np.max(np.abs(dev))) <= _JITTER_NOTED * m:
+        return None
+    return m, float(np.max(np.abs(dev))), float(np.std(dev))
+
+
+def _time_notes(info, record, params, notes: list[str]) -> dict:
+    """Notes on the time base (an absolute clock taken relative) and on time-stamp jitter,
+    with what jitter does to paper GC's fit test; returns their JSON fields."""
+    out: dict = {"time_base": info.summary() if info is not None else None}
+    if info is not None and info.time_note:
+        notes.append(info.time_note)
+    jit = _jitter(record.t)
+    if jit is None:
+        return out
+    step, dev_max, dev_sd = jit
+    # a stamp off by δt makes the model compare the angle reading with β(t + δt): an error
+    # of β' δt; β' read off the record over blocks of 100 rows (the sensor noise averaged)
+    a, t = record.angle_sensor[::100], record.t[::100]
+    ok = ~np.isnan(a)
+    rate = (float(np.median(np.abs(np.diff(a[ok]) / np.diff(t[ok])))) if ok.sum() > 2
+            else 0.0)
+    stamp_sd = dev_sd / math.sqrt(2.0)    # a step's departure holds two stamps' errors
+    sigma_as = math.sqrt(float(gc.measurement_noise_covariance(params)[0, 0]))
+    ratio = rate * stamp_sd / sigma_as
+    notes.append(
+        f"time-stamp jitter: steps depart from the median step {step:.6g} s by up to "
+        f"±{dev_max:.3g} s (σ {dev_sd:.3g} s, {100 * dev_sd / step:.2g} % of the step).  The "
+        f"filter steps by each row's own interval: right when the samples were taken at "
+        f"their stamps; if the samples were regular and only the stamps jitter, each angle "
+        f"reading is compared with the model {stamp_sd:.2g} s off, an error β'δt ≈ "
+        f"{rate * stamp_sd:.2g} rad = {ratio:.2g} × the angle sensor's noise σ, which raises "
+        f"its mean NIS by up to about {ratio ** 2:.2g} and can fail the fit test on its own")
+    out["timestamp_jitter"] = {"median_step_s": step, "step_departure_max_s": dev_max,
+                               "step_departure_std_s": dev_sd,
+                               "angle_error_if_stamps_only_rad": rate * stamp_sd,
+                               "ratio_to_angle_noise": ratio}
+    return out
+
+
+#: Display units of the Allan noise terms: (SI factor, unit) per series and slope.
+_ALLAN_UNITS: Final[dict[str, tuple[tuple[float, str], ...]]] = {
+    "angle_sensor": ((units.UNITS["deg/sqrt_h"], "deg/sqrt(h)"),
+                     (units.DEG_PER_HOUR, "deg/h"),
+                     (units.DEG_PER_HOUR / 60.0, "deg/h/sqrt(h)")),
+    "inclinometer": ((1.0 / 60.0, "m/s/sqrt(h)"), (units.G0 * 1e-6, "ug"),
+                     (1.0 / 3600.0 / 60.0, "m/s^2/h/sqrt(h)")),
+}
+
+
+def _allan_report(allan) -> tuple[list[str], dict]:
+    """Lines and JSON of the noise terms of each Allan deviation (IEEE Std 952)."""
+    terms = gc.allan_noise_terms(allan)
+    lines = [f"  Allan deviation over {allan.rows} rows ({allan.t_start:.6g} to "
+             f"{allan.t_end:.6g} s), noise terms (IEEE Std 952, fit of the Allan variance, "
+             "1 sigma; '<=' an upper bound):"]
+    data: dict = {}
+    for name, ts in terms.items():
+        shown = _ALLAN_UNITS["angle_sensor" if name == "angle_sensor" else "inclinometer"]
+        what = "angle-sensor rate" if name == "angle_sensor" else name
+        lines.append(f"    {what}: " + "; ".join(
+            t.describe(scale, unit) for t, (scale, unit) in zip(ts, shown)))
+        data[name] = [{"name": t.name, "value": t.value, "sigma": t.sigma, "lo": t.lo,
+                       "hi": t.hi, "unit": t.unit.replace("·", "*").replace("√", "sqrt"),
+                       "identified": t.identified, "tau_s": t.tau} for t in ts]
+    return lines, data
+
+
 def _calibrate(record, params, o: dict, progress=None, executor=None):
     return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
                         max_rejected=o["max_rejected"], progress=progress, executor=executor)
@@ -353,7 +547,9 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
     fit = None
     whole = o["fit_noise"] is not None or o["allan"] is not None
     if whole:   # the fit and the Allan deviation read the record many times: in memory
-        raw = read_gc(file, params=params)
+        raw, info = read_gc(file, params=params, columns=o["columns"], t0=o["t0"],
+                            return_info=True)
+        extra = _time_notes(info, raw, params, notes)
         params = _with_step(params, raw.t, notes, o["dt_given"])
         record = mapping.apply(raw)
         if o["fit_noise"] is not None:
@@ -365,9 +561,11 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
             res = _calibrate(record, params, o,
                              progress=lambda rows: bar.update(rows - bar.n))
     else:       # stream the file in chunks, each checked at the door
-        chunks = GCChunks(file, params=params)
+        chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"])
         it = iter(chunks)
         first = next(it)
+        info = chunks.info
+        extra = _time_notes(info, first, params, notes)
         params = _with_step(params, first.t, notes, o["dt_given"])
 
         def mapped():
@@ -389,13 +587,18 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
     artifacts = []
     if o["plot"]:
         artifacts.append((o["plot"], "plot", res))
+    allan_lines: list[str] = []
     if o["allan"]:
-        artifacts.append((o["allan"], "allan", (raw, params)))
+        allan = gc.allan_deviation(raw, params)
+        artifacts.append((o["allan"], "allan", allan))
+        allan_lines, extra["allan_noise_terms"] = _allan_report(allan)
     if fit is not None and o["fit_noise"]:
         artifacts.append((o["fit_noise"], "text", fit.to_toml()))
     data = _gc_json(file, res, params, mapping, notes, fit, valid, reason)
-    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o)
-    row = {"file": file, "method": "gc", "quantity": "omega_gc",
+    data.update(extra)
+    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o) + "".join(
+        f"{ln}\n" for ln in allan_lines)
+    row = {"file": file, "method": "gc", "quantity": "omega_gc", "notes": "; ".join(notes),
            "estimate": res.omega_gc if valid else "",
            "sigma": res.omega_gc_std if valid else "", "unit": "rad/s", "valid": valid,
            "status": "ok" if valid else "invalid", "reason": reason}
@@ -420,7 +623,22 @@ def _gc_json(file, res, params, mapping, notes, fit, valid, reason) -> dict:
         out["omega_gc"] = None
         out["omega_gc_std"] = None
         out.pop("states", None)
+    else:               # the drift in the field's units beside SI
+        out["omega_gc_in"] = {u: {"estimate": units.drift_in_units(res.omega_gc)[u],
+                                  "std": units.drift_in_units(res.omega_gc_std)[u]}
+                              for u, _ in units.DRIFT_UNITS}
+    out["units"] = _GC_UNITS
+    out["unit_conversion"] = units.drift_conversion()
     return out
+
+
+#: Units of the GC JSON's numeric fields (SI; the ``omega_gc_in`` table is keyed by unit).
+_GC_UNITS: Final[dict[str, str]] = {
+    "omega_gc": "rad/s", "omega_gc_std": "rad/s", "t_end": "s", "dt": "s", "gap_time": "s",
+    "rejected_t": "s", "nis": "1", "gate": "1 (probability)", "max_rejected": "1 (share)",
+    "rejected_share": "1 (share)", "log_likelihood": "1 (natural log)",
+    "states": "SI per state (rad, rad/s, m/s^2)", "time_base.t_offset_s": "s",
+    "timestamp_jitter": "s, rad, 1"}
 
 
 def _signed(sign: float, column: str) -> str:
@@ -444,10 +662,13 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")
                      + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else ""))
     if valid:
-        a = units.from_si(res.omega_gc, "arcsec_paper/s")
-        s = units.from_si(res.omega_gc_std, "arcsec_paper/s")
-        lines.append(f"  omega_gc = {_fmt(a)} ± {_fmt(s, 2)} arcsec/s (paper's arcsec, 1 "
-                     f"sigma)  = {res.omega_gc:.4e} ± {res.omega_gc_std:.2e} rad/s")
+        a = units.drift_in_units(res.omega_gc)
+        s = units.drift_in_units(res.omega_gc_std)
+        lines.append(f"  omega_gc = {_fmt(a['deg/h'])} ± {_fmt(s['deg/h'], 2)} deg/h (1 sigma)"
+                     f"  = {_fmt(a['arcsec/s'])} ± {_fmt(s['arcsec/s'], 2)} arcsec/s (standard)"
+                     f"  = {_fmt(a['arcsec_paper/s'])} ± {_fmt(s['arcsec_paper/s'], 2)} "
+                     f"arcsec/s (paper's arcsec, 1\" = 0.485e-5 rad)  = {res.omega_gc:.4e} ± "
+                     f"{res.omega_gc_std:.2e} rad/s")
     else:
         lines.append(f"  no valid estimate: {reason}")
     lines += [
@@ -475,7 +696,8 @@ def _rsf_options(args: argparse.Namespace) -> dict:
                          "(--summary OUT.csv reports a batch)")
     _check_out_path(args.plot, _PLOT_SUFFIXES, "a plot")
     return {"config": rsf_config_from_toml(args.params), "period": args.period,
-            "counts_per_rev": args.counts_per_rev, "k_form": args.k_form, "plot": args.plot}
+            "counts_per_rev": args.counts_per_rev, "k_form": args.k_form, "plot": args.plot,
+            "slips": args.slips}
 
 
 def _rsf_prediction(res, config):
@@ -484,7 +706,8 @@ def _rsf_prediction(res, config):
 
 
 def _run_rsf_file(file: str, o: dict) -> _Outcome:
-    record = read_rsf(file, counts_per_rev=o["counts_per_rev"])
+    record, info = read_rsf(file, counts_per_rev=o["counts_per_rev"], columns=o["columns"],
+                            t0=o["t0"], return_info=True)
     if record.n < 2:
         raise RecordError(file, "expected at least two data rows")
     span = float(record.t[-1] - record.t[0])
@@ -492,7 +715,7 @@ def _run_rsf_file(file: str, o: dict) -> _Outcome:
         raise RecordError(file, f"--period {o['period']} s is longer than the record "
                           f"({span:.6g} s): no complete correction interval")
     try:
-        res = rsf.calibrate(record, o["period"], k_form=o["k_form"])
+        res = rsf.calibrate(record, o["period"], k_form=o["k_form"], slips=o["slips"])
     except ValueError as exc:
         raise RecordError(file, _one_line(exc)) from None
     if res.n_intervals == 0:
@@ -506,27 +729,50 @@ def _run_rsf_file(file: str, o: dict) -> _Outcome:
     out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
                                 "std_per_interval": [float(x) for x in res.delta_k_std(pred)]}
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
-    rate = units.from_si(float(np.mean(res.rate)), "deg/s")
-    spread = f", spread {np.std(e, ddof=1):.4g} ppm" if e.size > 1 else ""
+    st = res.eps1_stats()
+    rate = units.from_si(res.mean_rate, "deg/s")
+    notes = ([info.time_note] if info.time_note else []) + list(res.notes)
+    if res.reverses:
+        notes.append(f"the roll rate reverses ({int(np.sum(res.rate > 0))} interval(s) turn "
+                     f"one way, {int(np.sum(res.rate < 0))} the other, "
+                     f"{int(np.sum(res.reversal))} reverse inside and are left out of the "
+                     "mean: their net turn is small, their eps1_hat ill-conditioned); the rate "
+                     "is reported as mean |omega|")
+    out["notes"] = notes
+    out["time_base"] = info.summary()
+    out["units"] = {"eps1_hat": "1", "eps1_hat_mean": "1", "eps1_hat_spread": "1",
+                    "eps1_hat_sem": "1", "K": "1", "rate": "rad/s", "abs_rate": "rad/s",
+                    "mean_abs_rate": "rad/s", "t_start": "s", "period": "s", "dt": "s",
+                    "gap_time": "s", "residual_end": "rad", "residual_raw_end": "rad",
+                    "delta_k_predicted": "1"}
+    spread = (f"; per-interval spread (SD) {units.from_si(st['spread'], 'ppm'):.4g} ppm, "
+              f"standard error of the mean {units.from_si(st['sem'], 'ppm'):.3g} ppm "
+              f"(SD/sqrt({st['n']}), independent intervals"
+              + (f"; an upper bound here: lag-1 autocorrelation {st['lag1']:.2f}, the GS "
+                 "end-point errors cancel in the mean)" if st["lag1"] < -0.25 else ")")
+              if st["n"] > 1 else "")
     lines = [
         f"paper RSF correction of {file}: {res.rows} rows, period {res.period:g} s, "
-        f"{res.n_intervals} complete interval(s), mean roll rate {rate:.5g} deg/s",
-        f"  eps1_hat: mean {np.mean(e):.4g} ppm{spread} (per interval: "
+        f"{res.n_intervals} complete interval(s), mean |roll rate| {rate:.5g} deg/s",
+        f"  eps1_hat: mean {units.from_si(st['mean'], 'ppm'):.4g} ppm over {st['n']} "
+        f"interval(s){spread} (per interval: "
         + ", ".join(f"{x:.4g}" for x in e[:6]) + (", ..." if e.size > 6 else "") + ")",
         f"  K (k_form {res.k_form}): mean {np.mean(res.k):.8f}",
         f"  error model at this rate: delta K = {units.from_si(pred.mean, 'ppm'):.3g} ± "
         f"{units.from_si(pred.std, 'ppm'):.3g} ppm per interval",
-        f"  samples used {res.samples_used}, skipped {res.samples_skipped} (missing), "
-        f"gaps {res.gaps}",
+        f"  samples used {res.samples_used}, skipped {res.samples_skipped} (missing values "
+        f"or across gaps), gaps {res.gaps} ({res.gap_time:.4g} s without rows)",
         f"  roll angle vs GS at the end: corrected "
         f"{units.from_si(res.residual[-1], 'deg'):.4g} deg, uncorrected "
         f"{units.from_si(res.residual_raw[-1], 'deg'):.4g} deg",
     ]
-    eps = np.asarray(res.eps1_hat, float)
+    lines += [f"  note: {n}" for n in notes]
     row = {"file": file, "method": "rsf", "quantity": "eps1_hat_mean",
-           "estimate": float(np.mean(eps)),
-           "sigma": float(np.std(eps, ddof=1)) if eps.size > 1 else "", "unit": "1",
-           "valid": True, "status": "ok", "reason": ""}
+           "estimate": st["mean"], "sigma": st["sem"] if st["n"] > 1 else "", "unit": "1",
+           "valid": True, "status": "ok", "reason": "",
+           "notes": "; ".join(notes + ([f"sigma is the standard error of the mean; the "
+                                        f"per-interval spread is {st['spread']:.4g}"]
+                                       if st["n"] > 1 else []))}
     artifacts = [(o["plot"], "rsf_plot", (res, pred))] if o["plot"] else []
     return _Outcome(file=file, status="ok", text="\n".join(lines) + "\n", data=out, row=row,
                     artifacts=artifacts)
@@ -541,7 +787,7 @@ def _process(method: str, file: str, o: dict) -> _Outcome:
         return _run_rsf_file(file, o)
     except (UsageError, RecordError) as exc:
         return _bad(method, file, str(exc))
-    except (ValueError, TypeError, ArithmeticError) as exc:
+    except Exception as exc:       # any failure is this file's row, not the batch's
         return _bad(method, file, _failure_message(file, exc))
 
 
@@ -552,9 +798,7 @@ def _write_artifacts(outcome: _Outcome) -> None:
         elif kind == "rsf_plot":
             _save(rsf.plot_correction(*payload), path)
         elif kind == "allan":
-            raw, params = payload
-            result = gc.allan_deviation(raw, params)
-            _save(gc.plot_allan(result, title=f"Allan deviation of {outcome.file}"), path)
+            _save(gc.plot_allan(payload, title=f"Allan deviation of {outcome.file}"), path)
         else:
             _write_text(path, payload)
 
@@ -567,12 +811,14 @@ def _summary_csv(path: str, outcomes: list[_Outcome]) -> None:
             return f"{x:.10g}"
         return str(x)
 
+    buf = io.StringIO(newline="")
+    w = csv.writer(buf)
+    w.writerow(SUMMARY_COLUMNS)
+    for o in outcomes:
+        w.writerow([cell(o.row.get(c, "")) for c in SUMMARY_COLUMNS])
     try:
-        with open(path, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(SUMMARY_COLUMNS)
-            for o in outcomes:
-                w.writerow([cell(o.row.get(c, "")) for c in SUMMARY_COLUMNS])
+        with _atomic(path) as tmp, open(tmp, "w", newline="") as fh:
+            fh.write(buf.getvalue())
     except OSError as exc:
         raise RecordError(path, f"cannot write the summary: {exc.strerror or exc}") from None
 
@@ -585,13 +831,27 @@ def _executor(workers: int) -> concurrent.futures.Executor | None:
     if workers <= 1:
         return None
     return concurrent.futures.ProcessPoolExecutor(
-        max_workers=workers, mp_context=multiprocessing.get_context("fork"))
+        max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+        initializer=_worker_init)
+
+
+def _worker_init() -> None:
+    """Workers leave Ctrl-C to this process (which stops them): no traceback from each."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _stop(ex: concurrent.futures.ProcessPoolExecutor) -> None:
+    """Stop the worker processes this command started, by their own handles (on Ctrl-C:
+    a worker's file may take minutes)."""
+    for proc in list(getattr(ex, "_processes", {}).values()):
+        with contextlib.suppress(Exception):
+            proc.terminate()
 
 
 def _run_files(method: str, args: argparse.Namespace, o: dict,
                emit: Callable[[_Outcome], None]) -> list[_Outcome]:
     """Every file, in parallel when --workers > 1; ``emit`` each outcome in input order."""
-    files = list(args.files)
+    files = list(args.unique_files)
     results: list[_Outcome | None] = [None] * len(files)
     done = 0
 
@@ -617,9 +877,20 @@ def _run_files(method: str, args: argparse.Namespace, o: dict,
                     flush()
             else:
                 for fut in concurrent.futures.as_completed(futures):
-                    results[futures[fut]] = fut.result()
+                    i = futures[fut]
+                    try:
+                        results[i] = fut.result()
+                    except Exception as exc:   # e.g. a worker killed (out of memory)
+                        results[i] = _bad(method, files[i], _failure_message(files[i], exc))
                     bar.update(1)
                     flush()
+    except KeyboardInterrupt:
+        if ex is not None:
+            _stop(ex)
+            ex.shutdown(wait=False, cancel_futures=True)
+            ex = None
+        args.done = done
+        raise
     finally:
         if ex is not None:
             ex.shutdown(cancel_futures=True)
@@ -629,12 +900,38 @@ def _run_files(method: str, args: argparse.Namespace, o: dict,
 def run(args: argparse.Namespace) -> int:
     """Run ``calibrate gc`` or ``calibrate rsf``: exit status 0, 2 (bad input) or 3 (no valid
     estimate); see the module docstring."""
+    try:
+        return _run(args)
+    except KeyboardInterrupt:
+        done = getattr(args, "done", 0)
+        total = len(getattr(args, "unique_files", args.files))
+        sys.stdout.flush()
+        sys.stderr.write(f"interrupted (Ctrl-C): {done} of {total} file(s) calibrated; no "
+                         "partial file left (outputs are written only when complete)\n")
+        return EXIT_INTERRUPTED
+
+
+def _run(args: argparse.Namespace) -> int:
     label = args.files[0] if len(args.files) == 1 else f"calibrate {args.method}"
+    args.unique_files, dup_notes = _unique_files(list(args.files))
+    args.done = 0
     try:
         if args.workers < 1:
             raise UsageError(f"--workers must be an integer >= 1; got {args.workers}")
         _check_out_path(args.summary, (".csv",), "a summary CSV")
+        try:
+            columns = parse_columns(args.columns) if args.columns is not None else None
+        except ValueError as exc:
+            raise UsageError(f"--columns: {_one_line(exc)}") from None
+        if args.t0 is not None and not math.isfinite(args.t0):
+            raise UsageError(f"--t0 must be a finite number of seconds; got {args.t0}")
         o = _gc_options(args) if args.method == "gc" else _rsf_options(args)
+        o["columns"], o["t0"] = columns, args.t0
+        outputs = [(opt, val) for opt, val in (
+            ("--summary", args.summary), ("--plot", getattr(args, "plot", None)),
+            ("--allan", getattr(args, "allan", None)),
+            ("--fit-noise", getattr(args, "fit_noise", None) or None)) if val]
+        _check_outputs(args, outputs)
     except UsageError as exc:
         sys.stderr.write(f"error: {_one_line(exc)}\n")
         return EXIT_BAD_INPUT
@@ -654,7 +951,10 @@ def run(args: argparse.Namespace) -> int:
             sys.stderr.write(f"error: {_one_line(out.message)}\n")
         sys.stdout.flush()
 
+    for note in dup_notes:
+        sys.stderr.write(f"note: {_one_line(note)}\n")
     outcomes = _run_files(args.method, args, o, emit)
+    args.done = len(outcomes)
     for out in outcomes:
         if out.status == "ok":
             try:
@@ -669,4 +969,4 @@ def run(args: argparse.Namespace) -> int:
             sys.stderr.write(f"error: {_one_line(exc)}\n")
             return EXIT_BAD_INPUT
     return max(out.code for out in outcomes) if all(
-        out.status != "bad" for out in outcomes) else EXIT_BAD_INPUT
+        out.status != "error" for out in outcomes) else EXIT_BAD_INPUT

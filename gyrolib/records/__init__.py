@@ -5,9 +5,10 @@ accept (records imports them; they never import records).
 ==================  ===============================================================
 module              what it holds
 ==================  ===============================================================
-``reader``          :func:`read_csv`, :func:`iter_csv` (CSV or ``.csv.gz``, ``#`` comments,
-                    chunked), :func:`read_gc`, :class:`GCChunks` (a long record in chunks),
-                    :func:`read_rsf`, :func:`write_csv`
+``reader``          :func:`read_csv`, :func:`iter_csv` (CSV or ``.csv.gz`` through pyarrow's
+                    CSV reader, streamed in chunks), :func:`read_gc`, :class:`GCChunks` (a
+                    long record in chunks), :func:`read_rsf`, :class:`RecordInfo`,
+                    :func:`parse_columns`, :func:`write_csv`
 ``params``          :func:`load_toml`, :func:`gc_params_from_toml`,
                     :func:`rsf_config_from_toml`
 ``plausibility``    units and conventions at the door: :func:`check_gc`,
@@ -34,12 +35,15 @@ from gyrolib.records.plausibility import (
     noise_ratio,
 )
 from gyrolib.records.reader import (
+    ABSOLUTE_TIME,
     GC_COLUMNS,
     RSF_COLUMNS,
     GCChunks,
     GCRecord,
+    RecordInfo,
     RSFRecord,
     iter_csv,
+    parse_columns,
     read_csv,
     read_gc,
     read_rsf,
@@ -47,12 +51,14 @@ from gyrolib.records.reader import (
 )
 
 __all__ = [
+    "ABSOLUTE_TIME",
     "GC_COLUMNS",
     "RSF_COLUMNS",
     "GCChunks",
     "GCRecord",
     "RSFRecord",
     "RecordError",
+    "RecordInfo",
     "angle_bound",
     "check_gc",
     "check_rsf",
@@ -60,6 +66,7 @@ __all__ = [
     "iter_csv",
     "load_toml",
     "noise_ratio",
+    "parse_columns",
     "read_csv",
     "read_gc",
     "read_rsf",

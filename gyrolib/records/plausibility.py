@@ -68,6 +68,10 @@ _MAX_STEP_TIME_CONSTANTS: Final[float] = 100.0
 #: Largest tilt (rad) the small-angle model of Eq. (5) is read with at the door.
 _MAX_TILT: Final[float] = 0.1
 
+#: Largest share of an RSF record's steps whose GS and SINS turns differ by more than π/4
+#: that are read as wraps or slips (left to rsf.calibrate) rather than a unit mistake.
+_JUMP_SHARE: Final[float] = 0.01
+
 #: Agreement of the SINS and GS turns (relative) below which an RSF record passes.
 _TURN_AGREEMENT: Final[float] = 0.01
 
@@ -325,6 +329,14 @@ def check_rsf(record: RSFRecord, *, label: str) -> None:
     inc = record.sins_increment
     ok = np.isfinite(gs) & np.isfinite(inc)
     ok[0] = False
+    # steps across a gap (rows missing: the GS turned through it, the SINS increment is one
+    # sample's) and a few jumps of the GS angle (wraps, slips: rsf.calibrate unwraps or
+    # refuses them, naming them) are not a unit mistake: left out of the comparison
+    if math.isfinite(step):
+        ok[1:] &= np.diff(t) <= 1.5 * step
+    jump = ok & (np.abs(gs - inc) > math.pi / 4)
+    if np.count_nonzero(jump) <= _JUMP_SHARE * np.count_nonzero(ok):
+        ok &= ~jump
     turn_gs = float(np.sum(gs[ok]))
     if np.count_nonzero(ok) < 2 or abs(turn_gs) < 2.0 * math.pi:
         return   # less than a revolution: too little turn to compare

@@ -1,32 +1,47 @@
-"""Measurement records as CSV files: reading (plain or ``.csv.gz``, in chunks), checking and
-writing.
+"""Measurement records as CSV files: reading (plain or ``.csv.gz``, streamed in chunks with
+bounded memory, through `pyarrow's CSV reader
+<https://arrow.apache.org/docs/python/csv.html>`_), checking and writing.
 
 A record file has one header line naming its columns, optionally preceded by ``#`` comment
-lines (comment and blank lines are skipped anywhere); columns are separated by commas; extra
-columns are ignored.  Cells are numbers; an empty cell or ``nan`` is a missing value (the
-calibration skips that one measurement).  Time ``t`` (s) must be finite and strictly
-increasing.  Anything else raises :class:`~gyrolib.records.RecordError` naming the file, the
-line and the column.
+lines and blank lines; a UTF-8 byte-order mark before the first line is dropped.  Columns are
+separated by commas, tabs or semicolons: the separator is the one that splits the header into
+the expected columns (a header that two separators split alike, and whose first data line
+does not decide, is refused as ambiguous).  Cells may be quoted (``"1.5"``, a quoted field
+may hold the separator); line ends are ``\\n``, ``\\r\\n`` or ``\\r``.  Extra columns are
+ignored and never parsed.  Other header names are mapped with ``columns={"t": "time", ...}``
+(the command line's ``--columns t=time,...``).  Inside the data, blank lines and lines that
+start with ``#`` are skipped.
 
-A file is read in chunks of :data:`CHUNK_ROWS` rows; a chunk of plain numbers is parsed in one
-compiled pass over its bytes (:mod:`gyrolib.records._fastcsv`, the same values as Python's
-``float``), any other chunk (comments, quotes, a bad cell, …) line by line, which names the
-line and column of what is wrong.
+Cells are numbers, converted correctly rounded (the same double as Python's ``float``); an
+empty cell, ``nan``, ``NA`` or ``null`` is a missing value (the calibration skips that one
+measurement).  Time ``t`` (s) must be finite and strictly increasing.  Anything else raises
+:class:`~gyrolib.records.RecordError` naming the file, the line and the column (and, for a
+byte that is not UTF-8, its line): the fast reader stops at the first fault, and the file is
+then scanned line by line to say where it is.
+
+**Absolute time stamps.**  A logger's clock (Unix time, ≈1.7·10⁹ s, or any offset of at
+least :data:`ABSOLUTE_TIME` s) is taken relative to the first row, or to ``t0`` when given;
+:attr:`RecordInfo.time_note` says so, and the command line prints it.  The leading comment
+``# latitude_deg: 53.9`` sets :attr:`GCRecord.latitude <gyrolib.gc.GCRecord>` (radians).
 
 * GC record (paper GC): ``t``, ``angle_sensor`` (rad), ``inclinometer_y``,
   ``inclinometer_z`` (m/s²) — :data:`GC_COLUMNS`, :class:`GCRecord`;
-* RSF record (paper RSF): ``t``, ``sins_increment`` (rad) and ``gs_angle`` (rad, unwrapped)
-  or ``encoder_counts`` (wrapped counts, optionally with ``gs_gyro_angle``) —
+* RSF record (paper RSF): ``t``, ``sins_increment`` (rad) and ``gs_angle`` (rad) or
+  ``encoder_counts`` (wrapped counts, optionally with ``gs_gyro_angle``) —
   :data:`RSF_COLUMNS`, :class:`RSFRecord`.
 """
 
 from __future__ import annotations
 
+import csv
+import dataclasses
+import decimal
 import gzip
 import io
 import math
 import os
-from collections.abc import Iterator, Sequence
+import re
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Final
 
@@ -35,17 +50,20 @@ import numpy as np
 from gyrolib import _validation as v
 from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.params import GyrocompassParams
-from gyrolib.records._fastcsv import parse_rows
 from gyrolib.records.errors import RecordError
 from gyrolib.records.plausibility import check_gc, check_rsf
 from gyrolib.rsf.record import RSFRecord
 
 __all__ = [
+    "ABSOLUTE_TIME",
     "GC_COLUMNS",
     "RSF_COLUMNS",
+    "GCChunks",
     "GCRecord",
     "RSFRecord",
+    "RecordInfo",
     "iter_csv",
+    "parse_columns",
     "read_csv",
     "read_gc",
     "read_rsf",
@@ -58,108 +76,194 @@ GC_COLUMNS: Final[tuple[str, ...]] = ("t", "angle_sensor", "inclinometer_y", "in
 #: Columns of a paper-RSF record (``gs_angle`` may be replaced by ``encoder_counts``).
 RSF_COLUMNS: Final[tuple[str, ...]] = ("t", "sins_increment", "gs_angle")
 
-#: Rows parsed at a time: a chunk of 65 536 rows of four columns is 2 MB.
+#: Rows per chunk: a chunk of 65 536 rows of four columns is 2 MB.
 CHUNK_ROWS: Final[int] = 65536
 
-#: Bytes read at a time at least (the header, the comment lines before it).
+#: Bytes pyarrow parses at a time (a block per thread, a few read ahead): 1 MB keeps the
+#: peak memory of reading an hour at 1 kHz about 100 MB above the start, whatever the
+#: file's size (4 MB: 220 MB, and no faster).
 BLOCK_BYTES: Final[int] = 1 << 20
 
-_MISSING: Final[frozenset[str]] = frozenset({"", "nan", "+nan", "-nan"})
+#: A first time stamp at least this large (s) is a logger's clock, not the time since the
+#: start of the run: times are then taken relative to the first row.
+ABSOLUTE_TIME: Final[float] = 1000.0
+
+#: Largest time (s) a record may reach from its start (relative to t0 when one is taken):
+#: 116 days; a stamp beyond is corrupt, and would make a calibration's step tables huge.
+MAX_TIME: Final[float] = 1e7
+
+#: Decimals of an absolute time stamp read exactly (1 ns): the column is read as a decimal,
+#: the offset subtracted exactly, then converted to a double.
+TIME_DECIMALS: Final[int] = 9
+
+#: Column separators accepted, in the order tried.
+DELIMITERS: Final[tuple[str, ...]] = (",", "\t", ";")
+
+#: Cells read as a missing value (NaN).
+NULL_VALUES: Final[tuple[str, ...]] = (
+    "", "nan", "NaN", "NAN", "-nan", "+nan", "-NaN", "+NaN", "NA", "N/A", "n/a", "null",
+    "NULL")
+
+_BOM: Final[bytes] = b"\xef\xbb\xbf"
+_LATITUDE: Final[re.Pattern] = re.compile(r"#\s*latitude_deg\s*[:=]\s*(.*?)\s*$")
+_DELIM_NAMES: Final[dict[str, str]] = {",": "commas", "\t": "tabs", ";": "semicolons"}
 
 
-# CSV reading ------------------------------------------------------------------------------
-def _open_binary(path: Path) -> tuple[object, object, int]:
-    """Byte stream (decompressed for ``.gz``), the raw file (for progress) and its size."""
-    raw = open(path, "rb")
-    size = os.fstat(raw.fileno()).st_size
-    stream = gzip.GzipFile(fileobj=raw, mode="rb") if path.name.endswith(".gz") else raw
-    return stream, raw, size
+@dataclasses.dataclass(frozen=True)
+class RecordInfo:
+    """What the reader found in a record file besides the numbers.
+
+    ``delimiter`` the column separator; ``header_line`` the header's line number;
+    ``columns`` the file's header name of each column read (after ``columns=`` mapping);
+    ``latitude`` (rad) from a leading ``# latitude_deg:`` comment, else None; ``t_offset``
+    (s) subtracted from every time stamp, with ``t_offset_source`` ``"none"``, ``"first
+    row"`` (an absolute clock, see :data:`ABSOLUTE_TIME`) or ``"t0"`` (given);
+    ``t_offset_text`` the offset exactly as subtracted (decimal: the time stamps of an offset
+    clock are read as decimals to 1 ns, the offset subtracted exactly, then rounded once)."""
+
+    path: str
+    delimiter: str
+    header_line: int
+    columns: dict
+    latitude: float | None
+    t_offset: float
+    t_offset_source: str
+    t_offset_text: str = "0"
+    t_exact: bool = False
+
+    @property
+    def time_note(self) -> str | None:
+        """One sentence on the time base, or None when the file's times were used as
+        they are."""
+        if self.t_offset_source == "none":
+            return None
+        why = ("an absolute clock (first time stamp >= "
+               f"{ABSOLUTE_TIME:g} s): the first row is t = 0, the start of the run (give "
+               "t0 otherwise)" if self.t_offset_source == "first row" else "t0 given")
+        return (f"times taken relative to t0 = {self.t_offset_text} s ({why}"
+                + ("; read as decimals, differences exact to 1 ns)" if self.t_exact else ")"))
+
+    def summary(self) -> dict:
+        """JSON-ready dict (SI, with units)."""
+        return {"delimiter": self.delimiter, "header_line": self.header_line,
+                "columns": dict(self.columns), "latitude_rad": self.latitude,
+                "t_offset_s": self.t_offset, "t_offset_exact": self.t_offset_text,
+                "t_offset_source": self.t_offset_source}
 
 
-def _decode(line: bytes) -> str:
-    return line.decode("utf-8")
+def parse_columns(text: str) -> dict[str, str]:
+    """``"t=time,angle_sensor=gyro"`` → ``{"t": "time", "angle_sensor": "gyro"}`` (the
+    command line's ``--columns``): the record's column name, ``=``, the file's header name.
+
+    Examples
+    --------
+    >>> parse_columns("t=time, angle_sensor = gyro")
+    {'t': 'time', 'angle_sensor': 'gyro'}
+    """
+    if not isinstance(text, str):
+        raise TypeError(f"columns must be a str like 't=time,angle_sensor=gyro'; got "
+                        f"{type(text).__name__}")
+    out: dict[str, str] = {}
+    for part in text.split(","):
+        if not part.strip():
+            continue
+        name, eq, header = part.partition("=")
+        name, header = name.strip(), header.strip()
+        if not eq or not name or not header:
+            raise ValueError(f"columns expects NAME=HEADER pairs separated by commas (e.g. "
+                             f"t=time,angle_sensor=gyro); got {part.strip()!r}")
+        if name in out:
+            raise ValueError(f"columns maps {name!r} twice")
+        out[name] = header
+    if not out:
+        raise ValueError("columns expects at least one NAME=HEADER pair (e.g. t=time)")
+    return out
 
 
-def _is_comment(line: str) -> bool:
-    s = line.strip()
-    return not s or s.startswith("#")
+# Reading the lines before the data --------------------------------------------------------
+def _line_end(buf: bytes, pos: int) -> tuple[int, int] | None:
+    """(end of the line's text, start of the next line) from ``pos``, or None when the
+    buffer holds no line end yet."""
+    i = buf.find(b"\n", pos)
+    j = buf.find(b"\r", pos, i if i >= 0 else len(buf))
+    if j >= 0:
+        if j + 1 >= len(buf):
+            return None         # \r at the end of the buffer: \r\n or a lone \r
+        return j, j + 2 if buf[j + 1] == 10 else j + 1
+    if i >= 0:
+        return i, i + 1
+    return None
 
 
-#: ASCII characters that ``str.splitlines`` ends a line at, besides ``\n`` and ``\r``.
-_OTHER_LINE_ENDS: Final[tuple[bytes, ...]] = (b"\x0b", b"\x0c", b"\x1c", b"\x1d", b"\x1e")
+def _decode(raw: bytes, label: str, line_no: int) -> str:
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise RecordError(label, f"not UTF-8 text: byte 0x{raw[exc.start]:02x} at character "
+                          f"{exc.start + 1} of the line (save the file as UTF-8)",
+                          row=line_no) from None
 
 
-class _Lines:
-    """The bytes of a file as lines, read in blocks: whole lines for the fast path
-    (:func:`gyrolib.records._fastcsv.parse_rows` on :attr:`buf` from :attr:`pos`) and one
-    decoded line at a time for the exact path.  A line ends at ``\n``, ``\r\n`` or a lone
-    ``\r``, as in a text stream opened with ``newline=""``."""
+def _fields(line: str, delimiter: str) -> list[str]:
+    return next(csv.reader([line], delimiter=delimiter, quotechar='"'), [])
 
-    def __init__(self, stream, block: int) -> None:
+
+def _decimal_time_ok(value: decimal.Decimal) -> bool:
+    """Whether an absolute time stamp fits the exact reading: finite, at most
+    :data:`TIME_DECIMALS` decimals, below 10^(30 - TIME_DECIMALS) s."""
+    return (value.is_finite() and value.as_tuple().exponent >= -TIME_DECIMALS
+            and abs(value) < decimal.Decimal(10) ** (30 - TIME_DECIMALS))
+
+
+def _is_number(cell: str) -> bool:
+    """Whether pyarrow's float conversion accepts ``cell`` (Python's ``float`` less the
+    digit separators)."""
+    if "_" in cell:
+        return False
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
+class _Rest:
+    """The bytes after the header: what is left of the buffer, then the stream (a file-like
+    object pyarrow reads from)."""
+
+    def __init__(self, head: bytes, stream) -> None:
+        self.head = head
         self.stream = stream
-        self.block = block
-        self.buf = b""
-        self.pos = 0
-        self.eof = False
+        self.closed = False
 
-    def _read(self, want: int) -> None:
-        data = self.stream.read(max(want, self.block))
-        self.buf = self.buf[self.pos:] + data
-        self.pos = 0
-        if not data:
-            self.eof = True
-            if self.buf and not self.buf.endswith(b"\n"):
-                # the last line's end (a lone \r stays a line end: \r\n)
-                self.buf += b"\n"
+    def read(self, n: int = -1) -> bytes:
+        if self.head:
+            if n is None or n < 0:
+                out, self.head = self.head + self.stream.read(), b""
+                return out
+            out, self.head = self.head[:n], self.head[n:]
+            return out
+        return self.stream.read() if n is None or n < 0 else self.stream.read(n)
 
-    def fill(self, lines: int, line_bytes: float) -> int:
-        """Read until the buffer holds ``lines`` line ends after :attr:`pos` (or the file
-        ends); return the end of its last whole line (``len(buf)`` at the end of file)."""
-        while not self.eof and self.buf.count(b"\n", self.pos) < lines:
-            self._read(int(lines * line_bytes * 1.1) + 4096)
-        if self.eof:
-            return len(self.buf)
-        return self.buf.rindex(b"\n", self.pos) + 1
+    def readable(self) -> bool:
+        return True
 
-    def split(self, end: int) -> tuple[bool, list]:
-        """The whole lines from :attr:`pos` to ``end`` (a line end): ``(True, str lines)``
-        for an ASCII block without the other characters ``str.splitlines`` ends a line at,
-        else ``(False, bytes lines)`` to decode one by one (``bytes.splitlines`` ends lines
-        exactly at ``\n``, ``\r\n`` and ``\r``, as a text stream with ``newline=""``).
-        A str line's length is its length in bytes; the caller moves :attr:`pos`."""
-        block = self.buf[self.pos:end]
-        if block.isascii() and not any(c in block for c in _OTHER_LINE_ENDS):
-            return True, block.decode("ascii").splitlines(keepends=True)
-        return False, block.splitlines(keepends=True)
+    def seekable(self) -> bool:
+        return False
 
-    def next_line(self) -> str | None:
-        """The next line with its line end, decoded (None at the end of the file)."""
-        while True:
-            i = self.buf.find(b"\n", self.pos)
-            j = self.buf.find(b"\r", self.pos, i if i >= 0 else len(self.buf))
-            if j >= 0 and (j + 1 < len(self.buf) or self.eof):
-                end = j + 2 if j + 1 < len(self.buf) and self.buf[j + 1] == 10 else j + 1
-                break
-            if i >= 0 and j < 0:
-                end = i + 1
-                break
-            if self.eof:
-                if self.pos >= len(self.buf):
-                    return None
-                end = len(self.buf)
-                break
-            self._read(self.block)
-        line = self.buf[self.pos:end]
-        self.pos = end
-        return line.decode("utf-8")
+    def close(self) -> None:
+        self.closed = True
 
 
+# The reader -------------------------------------------------------------------------------
 class _Reader:
-    """Iterates over a CSV record in chunks of rows, checking as it goes."""
+    """Iterates over a CSV record in chunks of rows ``(columns, data)``, checking as it
+    goes; :attr:`info` is set once the first chunk is read."""
 
     def __init__(self, path: object, required: Sequence[str], one_of: Sequence[str] = (),
-                 chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = (),
-                 fast: bool = True) -> None:
+                 chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = (), *,
+                 columns: Mapping[str, str] | None = None, t0: float | None = None,
+                 block_bytes: int = BLOCK_BYTES) -> None:
         if not isinstance(path, str | os.PathLike):
             raise TypeError(f"path must be a str or path; got {type(path).__name__}")
         self.path = Path(path)
@@ -168,185 +272,390 @@ class _Reader:
         self.one_of = tuple(one_of)
         self.optional = tuple(optional)
         self.chunk_rows = v.check_int("chunk_rows", chunk_rows, 1)
-        self.fast = v.check_bool("fast", fast)
+        self.block_bytes = v.check_int("block_bytes", block_bytes, 1024)
+        known = (*self.required, *self.one_of, *self.optional)
+        self.mapping = dict(columns or {})
+        for k, val in self.mapping.items():
+            if k not in known or not isinstance(val, str) or not val:
+                raise ValueError(f"columns maps {k!r}: expected a column among "
+                                 f"{', '.join(known)} mapped to a non-empty header name")
+        if t0 is not None:
+            t0 = v.check_real("t0", t0)
+        self.t0 = t0
         self.fraction = 0.0
+        self.first_line: str | None = None
+        self._decimal_t = False
+        self._offset: decimal.Decimal | None = None
+        self.info: RecordInfo | None = None
+        self.latitude: float | None = None
 
     def _error(self, message: str, **kw) -> RecordError:
         return RecordError(self.label, message, **kw)
 
-    def _header(self, lines: _Lines) -> tuple[list[str], int]:
-        line_no = 0
-        while (line := lines.next_line()) is not None:
-            line_no += 1
-            if "\x00" in line:
-                raise self._error("not a text CSV file (it holds NUL bytes)")
-            if _is_comment(line):
-                continue
-            names = [c.strip().strip('"').strip("'") for c in line.rstrip("\r\n").split(",")]
-            return names, line_no
-        want = ", ".join(self.required)
-        raise self._error(f"is empty: expected a header line naming the columns {want}")
-
-    def _columns(self, names: list[str], line_no: int) -> tuple[list[str], list[int]]:
-        seen = set()
-        for nm in names:
-            if nm in seen and nm in (*self.required, *self.one_of):
-                raise self._error(f"column {nm!r} appears twice in the header", row=line_no)
-            seen.add(nm)
-        missing = [c for c in self.required if c not in names]
-        shown = (", ".join(repr(n[:30]) for n in names[:8])
-                 + (" ..." if len(names) > 8 else ""))
-        if missing:
-            raise self._error(f"not in the header: expected the columns "
-                              f"{', '.join(self.required)}; found {shown}",
-                              row=line_no, column=missing[0])
-        use = list(self.required)
-        if self.one_of:
-            present = [c for c in self.one_of if c in names]
-            if len(present) != 1:
-                what = "neither" if not present else "both"
-                raise self._error(f"expected exactly one of the columns "
-                                  f"{' or '.join(self.one_of)}; found {what} (header: {shown})",
-                                  row=line_no, column=self.one_of[0])
-            use.append(present[0])
-        use += [c for c in self.optional if c in names]
-        return use, [names.index(c) for c in use]
-
-    def _parse_slow(self, lines: list[str], line_nos: list[int], use: list[str],
-                    idx: list[int]) -> np.ndarray:
-        """Cell by cell, to say exactly which cell is wrong (the fast path failed)."""
-        out = np.empty((len(lines), len(idx)))
-        need = max(idx) + 1
-        for r, (line, ln) in enumerate(zip(lines, line_nos)):
-            cells = line.rstrip("\r\n").split(",")
-            if len(cells) < need:
-                raise self._error(f"expected at least {need} comma-separated fields (the "
-                                  f"header's columns up to {use[idx.index(max(idx))]!r}); got "
-                                  f"{len(cells)}", row=ln)
-            for c, (name, i) in enumerate(zip(use, idx)):
-                cell = cells[i].strip().strip('"')
-                if cell.lower() in _MISSING:
-                    out[r, c] = math.nan
-                    continue
-                try:
-                    out[r, c] = float(cell)
-                except ValueError:
-                    raise self._error(f"expected a number (or an empty cell / nan for a "
-                                      f"missing value); got {cell[:40]!r}", row=ln,
-                                      column=name) from None
-        return out
-
-    def _check(self, data: np.ndarray, line_nos: np.ndarray, use: list[str],
-               t_prev: float) -> None:
-        t = data[:, 0]
-        bad = ~np.isfinite(t)
-        if np.any(bad):
-            r = int(np.nonzero(bad)[0][0])
-            raise self._error(f"expected a finite time (s); got {t[r]}", row=int(line_nos[r]),
-                              column="t")
-        prev = np.concatenate([[t_prev], t[:-1]])
-        bad = t <= prev
-        if np.any(bad):
-            r = int(np.nonzero(bad)[0][0])
-            raise self._error(f"time must be strictly increasing; got {float(t[r])!r} after "
-                              f"{float(prev[r])!r}", row=int(line_nos[r]), column="t")
-        inf = np.isinf(data[:, 1:])
-        if np.any(inf):
-            r, c = (int(x[0]) for x in np.nonzero(inf))
-            raise self._error("expected a finite number (or empty / nan for a missing "
-                              "value); got inf", row=int(line_nos[r]), column=use[c + 1])
-
-    def _exact(self, lines: _Lines, line_no: int, use: list[str], idx: list[int],
-               line_bytes: float) -> tuple[np.ndarray | None, np.ndarray, int]:
-        """The next chunk line by line (comments and blank lines skipped, every cell checked
-        with its line number): ``(data or None at the end, line numbers, last line)``."""
-        chunk: list[str] = []
-        nos: list[int] = []
-        while len(chunk) < self.chunk_rows:
-            end = lines.fill(self.chunk_rows - len(chunk), line_bytes)
-            if lines.pos >= end:
-                break
-            text, block = lines.split(end)
-            first = line_no
-            for line in block if text else map(_decode, block):
-                line_no += 1
-                if _is_comment(line):
-                    continue
-                chunk.append(line)
-                nos.append(line_no)
-                if len(chunk) >= self.chunk_rows:
-                    break
-            lines.pos += sum(map(len, block[:line_no - first]))
-        if not chunk:
-            return None, np.zeros(0, dtype=np.int64), line_no
-        if "\x00" in "".join(chunk):
-            raise self._error("not a text CSV file (it holds NUL bytes)", row=nos[0])
+    # opening, the lines before the data
+    def _open(self):
         try:
-            data = np.loadtxt(chunk, delimiter=",", usecols=idx, dtype=float, ndmin=2,
-                              comments=None, quotechar='"')
-        except ValueError:
-            data = self._parse_slow(chunk, nos, use, idx)
-        return data, np.asarray(nos), line_no
-
-    def _fast(self, lines: _Lines, slot: np.ndarray, line_no: int, line_bytes: float
-              ) -> tuple[np.ndarray, np.ndarray, int] | None:
-        """The next chunk in one compiled pass (:func:`parse_rows`), or None when a line in
-        it is not plain numbers (the caller then reads the chunk by :meth:`_exact`)."""
-        end = lines.fill(self.chunk_rows, line_bytes)
-        out = np.empty((self.chunk_rows, int(slot.max()) + 1))
-        rows, pos, ok = parse_rows(np.frombuffer(lines.buf, dtype=np.uint8), lines.pos, end,
-                                   slot, out)
-        if not ok:
-            return None
-        lines.pos = pos
-        data = out[:rows] if rows > self.chunk_rows // 2 else out[:rows].copy()
-        return data, np.arange(line_no + 1, line_no + rows + 1), line_no + rows
-
-    def __iter__(self) -> Iterator[tuple[list[str], np.ndarray]]:
-        try:
-            stream, raw, size = _open_binary(self.path)
+            raw = open(self.path, "rb")
         except FileNotFoundError:
             raise self._error("no such file") from None
         except IsADirectoryError:
             raise self._error("is a directory, not a CSV file") from None
         except PermissionError:
             raise self._error("cannot be read (permission denied)") from None
+        size = os.fstat(raw.fileno()).st_size
+        stream = (gzip.GzipFile(fileobj=raw, mode="rb") if self.path.name.endswith(".gz")
+                  else raw)
+        return stream, raw, size
+
+    def _preamble(self, stream) -> tuple[list[str], int, str, bytes]:
+        """Leading comments (``# latitude_deg:`` read), the header: its fields, its line
+        number, the delimiter, and the bytes after it."""
+        buf = stream.read(1 << 16)
+        eof = len(buf) < (1 << 16)
+        if buf.startswith(_BOM):
+            buf = buf[len(_BOM):]
+        elif buf[:2] in (b"\xff\xfe", b"\xfe\xff"):
+            raise self._error("is UTF-16 text: save it as UTF-8")
+        pos, line_no, header = 0, 0, None
+        while header is None:
+            le = _line_end(buf, pos)
+            if le is None and not eof:
+                more = stream.read(1 << 16)
+                eof = len(more) < (1 << 16)
+                buf = buf[pos:] + more
+                pos = 0
+                continue
+            if le is None:           # the last line, without its line end
+                if pos >= len(buf):
+                    want = ", ".join(self.required)
+                    raise self._error(f"is empty: expected a header line naming the "
+                                      f"columns {want}")
+                le = (len(buf), len(buf))
+            end, nxt = le
+            line_no += 1
+            raw_line = buf[pos:end]
+            if b"\x00" in raw_line:
+                raise self._error("not a text CSV file (it holds NUL bytes)", row=line_no)
+            text = _decode(raw_line, self.label, line_no)
+            pos = nxt
+            s = text.strip()
+            if not s:
+                continue
+            if s.startswith("#"):
+                m = _LATITUDE.match(s)
+                if m:
+                    self.latitude = self._latitude(m.group(1), line_no)
+                continue
+            header = text
+        rest = buf[pos:]
+        first_data = self._first_data_line(rest, stream, eof)
+        delim = self._delimiter(header, first_data, line_no)
+        names = [c.strip().strip('"').strip() for c in _fields(header, delim)]
+        self.first_line = first_data[0] if first_data else None
+        return names, line_no, delim, rest + (first_data[1] if first_data else b"")
+
+    def _latitude(self, text: str, line_no: int) -> float:
         try:
-            lines = _Lines(stream, BLOCK_BYTES)
-            names, line_no = self._header(lines)
-            use, idx = self._columns(names, line_no)
-            # field f of a line goes to column slot[f] of a chunk (-1: not used)
-            slot = np.full(max(idx) + 1, -1, dtype=np.int64)
-            slot[idx] = np.arange(len(idx))
-            line_bytes = 64.0       # bytes per line, an estimate for the block reads
+            deg = float(text)
+        except ValueError:
+            deg = math.nan
+        if not (math.isfinite(deg) and -90.0 <= deg <= 90.0):
+            raise self._error(f"'# latitude_deg:' expects degrees in [-90, 90]; got "
+                              f"{text[:40]!r}", row=line_no)
+        return math.radians(deg)
+
+    def _first_data_line(self, rest: bytes, stream, eof: bool):
+        """(first data line as text or None, bytes read beyond ``rest`` to find it)."""
+        extra = b""
+        buf = rest
+        pos = 0
+        while True:
+            le = _line_end(buf, pos)
+            if le is None and not eof and len(buf) < (1 << 20):
+                more = stream.read(1 << 16)
+                eof = len(more) < (1 << 16)
+                extra += more
+                buf = rest + extra
+                continue
+            if le is None:
+                le = (len(buf), len(buf))
+            end, nxt = le
+            if pos >= len(buf):
+                return None, extra
+            line = buf[pos:end].decode("utf-8", errors="replace").strip()
+            pos = nxt
+            if line and not line.startswith("#"):
+                return line, extra
+
+    def _wanted(self) -> list[str]:
+        return [self.mapping.get(c, c) for c in self.required]
+
+    def _delimiter(self, header: str, first_data, line_no: int) -> str:
+        line = first_data[0] if first_data else None
+        cands = [d for d in DELIMITERS if len(_fields(header, d)) > 1]
+        if len(cands) <= 1:
+            return cands[0] if cands else ","
+        want = set(self._wanted())
+        good = [d for d in cands
+                if want <= {c.strip().strip('"').strip() for c in _fields(header, d)}] or cands
+        if len(good) > 1 and line is not None:
+            agree = [d for d in good if len(_fields(line, d)) == len(_fields(header, d))]
+            good = agree or good
+        if len(good) > 1:
+            raise self._error("ambiguous column separator: the header splits at "
+                              + " and at ".join(_DELIM_NAMES[d] for d in good)
+                              + " alike; use one separator", row=line_no)
+        return good[0]
+
+    def _columns(self, names: list[str], line_no: int, delim: str
+                 ) -> tuple[list[str], list[int]]:
+        seen = set()
+        files = {c: self.mapping.get(c, c) for c in (*self.required, *self.one_of,
+                                                    *self.optional)}
+        for nm in names:
+            if nm in seen and nm in files.values():
+                raise self._error(f"column {nm!r} appears twice in the header", row=line_no)
+            seen.add(nm)
+        shown = (", ".join(repr(n[:30]) for n in names[:8])
+                 + (" ..." if len(names) > 8 else ""))
+        sep = _DELIM_NAMES[delim]
+        missing = [c for c in self.required if files[c] not in names]
+        if missing:
+            c = missing[0]
+            mapped = f" (mapped to {files[c]!r} by columns)" if c in self.mapping else ""
+            raise self._error(f"not in the header{mapped}: expected the columns "
+                              f"{', '.join(self.required)} (or map other names, "
+                              f"--columns {c}=NAME); found {shown}, separated by {sep}",
+                              row=line_no, column=c)
+        use = list(self.required)
+        if self.one_of:
+            present = [c for c in self.one_of if files[c] in names]
+            if len(present) != 1:
+                what = "neither" if not present else "both"
+                raise self._error(f"expected exactly one of the columns "
+                                  f"{' or '.join(self.one_of)}; found {what} (header: {shown})",
+                                  row=line_no, column=self.one_of[0])
+            use.append(present[0])
+        use += [c for c in self.optional if files[c] in names]
+        self.files = files
+        return use, [names.index(files[c]) for c in use]
+
+    # locating a fault the fast reader stopped at (the slow path: errors only)
+    def _scan(self, header_line: int, delim: str, n_fields: int, use: list[str],
+              idx: list[int], stop_row: int | None = None):
+        """Walk the data lines in Python: raise the first fault with its line and column,
+        or, with ``stop_row``, return the line number of data row ``stop_row`` (0-based)."""
+        stream, raw, _ = self._open()
+        try:
+            data = stream.read()
+        finally:
+            stream.close()
+            raw.close()
+        if data.startswith(_BOM):
+            data = data[len(_BOM):]
+        row = -1
+        t_prev = -math.inf
+        for line_no, raw_line in enumerate(data.splitlines(), start=1):
+            if line_no <= header_line:
+                continue
+            text = _decode(raw_line, self.label, line_no)
+            s = text.strip()
+            if not s or s.startswith("#"):
+                continue
+            row += 1
+            if stop_row is not None and row == stop_row:
+                return line_no
+            cells = _fields(text, delim)
+            if len(cells) != n_fields:
+                raise self._error(f"expected {n_fields} fields separated by "
+                                  f"{_DELIM_NAMES[delim]}, as in the header; got "
+                                  f"{len(cells)}", row=line_no)
+            values = []
+            for name, i in zip(use, idx):
+                cell = cells[i].strip()
+                if name == use[0] and self._decimal_t and _is_number(cell):
+                    if not _decimal_time_ok(decimal.Decimal(cell)):
+                        raise self._error(
+                            f"expected a time stamp with at most {TIME_DECIMALS} decimals "
+                            f"below 1e{30 - TIME_DECIMALS} s (an offset clock is read exactly "
+                            f"to 1 ns); got {cell[:40]!r}", row=line_no, column=name)
+                if cell in NULL_VALUES or cell.lower() in NULL_VALUES:
+                    values.append(math.nan)
+                    continue
+                if _is_number(cell):
+                    values.append(float(cell))
+                    continue
+                hint = (" (a decimal comma? write 0.5, not 0,5)"
+                        if delim != "," and re.fullmatch(r"[-+]?\d*,\d+", cell) else "")
+                raise self._error(f"expected a number (or an empty cell / nan for a "
+                                  f"missing value); got {cell[:40]!r}{hint}", row=line_no,
+                                  column=name)
+            # the checks of _check, in file order (the fast reader may stop further on)
+            if self._decimal_t and math.isfinite(values[0]):
+                values[0] = float(decimal.Decimal(cells[idx[0]].strip()) - self._offset)
+            elif self._offset is not None:
+                values[0] -= float(self._offset)
+            self._check(np.array([values]), 0, None, t_prev, line=line_no)
+            t_prev = values[0]
+        return None
+
+    def _line_of(self, ctx: dict, row: int) -> int | None:
+        return self._scan(ctx["header_line"], ctx["delim"], ctx["n_fields"], ctx["use"],
+                          ctx["idx"], stop_row=row)
+
+    def _check(self, data: np.ndarray, first_row: int, ctx: dict | None, t_prev: float,
+               line: int | None = None) -> None:
+        """Finite, increasing time and no infinite value; the fault's line is ``line`` (one
+        row) or found by a scan of the file."""
+        if line is None:
+            def where(r: int) -> int | None:
+                return self._line_of(ctx, first_row + r)
+        else:
+            def where(r: int) -> int | None:
+                return line
+        t = data[:, 0]
+        bad = ~np.isfinite(t)
+        if np.any(bad):
+            r = int(np.nonzero(bad)[0][0])
+            what = "an empty cell" if np.isnan(t[r]) else repr(float(t[r]))
+            raise self._error(f"expected a finite time (s); got {what}",
+                              row=where(r), column="t")
+        far = np.abs(t) > MAX_TIME
+        if np.any(far):
+            r = int(np.nonzero(far)[0][0])
+            raise self._error(f"a time of {float(t[r]):.6g} s from the record's start: "
+                              f"expected at most {MAX_TIME:g} s (a corrupted time stamp?)",
+                              row=where(r), column="t")
+        prev = np.concatenate([[t_prev], t[:-1]])
+        bad = t <= prev
+        if np.any(bad):
+            r = int(np.nonzero(bad)[0][0])
+            raise self._error(f"time must be strictly increasing; got {float(t[r])!r} after "
+                              f"{float(prev[r])!r}", row=where(r), column="t")
+        inf = np.isinf(data[:, 1:])
+        if np.any(inf):
+            r, c = (int(x[0]) for x in np.nonzero(inf))
+            raise self._error("expected a finite number (or empty / nan for a missing "
+                              "value); got inf", row=where(r), column=self.use[c + 1])
+
+    def _batches(self, rest: _Rest, delim: str, n_fields: int, idx: list[int],
+                 offset: decimal.Decimal | None):
+        import pyarrow as pa
+        import pyarrow.compute as pc
+        from pyarrow import csv as pacsv
+
+        names = [f"c{i}" for i in range(n_fields)]
+        keep = [names[i] for i in idx]
+        dec = pa.decimal128(30, TIME_DECIMALS)
+        types = {c: pa.float64() for c in keep}
+        if offset is not None:
+            types[keep[0]] = dec
+
+        def invalid(row) -> str:       # a comment or blank line inside the data
+            s = row.text.strip()
+            return "skip" if not s or s.startswith("#") else "error"
+
+        reader = pacsv.open_csv(
+            rest,
+            read_options=pacsv.ReadOptions(column_names=names, block_size=self.block_bytes),
+            parse_options=pacsv.ParseOptions(delimiter=delim, quote_char='"',
+                                             ignore_empty_lines=True,
+                                             invalid_row_handler=invalid),
+            convert_options=pacsv.ConvertOptions(
+                column_types=types, include_columns=keep,
+                null_values=list(NULL_VALUES), quoted_strings_can_be_null=True))
+        for batch in reader:
+            if batch.num_rows:
+                cols = [batch.column(c) for c in keep]
+                if offset is not None:      # exact decimal difference, then one rounding
+                    cols[0] = pc.cast(pc.subtract(cols[0], pa.scalar(offset, dec)),
+                                      pa.float64())
+                yield np.column_stack([c.to_numpy(zero_copy_only=False)
+                                       for c in cols]).astype(float, copy=False)
+
+    def _time_base(self, delim: str, i_t: int) -> tuple[decimal.Decimal | None, str, bool]:
+        """The offset subtracted from the time stamps and why (``t0`` when given, else the
+        first row's time when it is an absolute clock), and whether the time column is read
+        as decimals (an absolute clock: the offset is then subtracted exactly)."""
+        first = None
+        if self.first_line is not None:
+            cells = _fields(self.first_line, delim)
+            try:
+                first = decimal.Decimal(cells[i_t].strip() if i_t < len(cells) else "")
+            except decimal.InvalidOperation:
+                first = None
+        absolute = (first is not None and first.is_finite() and abs(first) >= ABSOLUTE_TIME
+                    and math.isfinite(float(first)))
+        exact = absolute and _decimal_time_ok(first)
+        if self.t0 is not None:
+            t0 = decimal.Decimal(repr(self.t0))
+            return (t0.quantize(decimal.Decimal(1).scaleb(-TIME_DECIMALS)) if exact else t0,
+                    "t0", exact)
+        if absolute:        # beyond the decimal reading: subtracted as doubles
+            return first, "first row", exact
+        return None, "none", False
+
+    def __iter__(self) -> Iterator[tuple[list[str], np.ndarray]]:
+        import pyarrow as pa
+
+        stream, raw, size = self._open()
+        try:
+            try:
+                names, header_line, delim, after = self._preamble(stream)
+            except (gzip.BadGzipFile, EOFError, OSError) as exc:
+                if isinstance(exc, RecordError):
+                    raise
+                raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
+            use, idx = self._columns(names, header_line, delim)
+            self.use = use
+            ctx = {"header_line": header_line, "delim": delim, "n_fields": len(names),
+                   "use": use, "idx": idx}
             t_prev = -math.inf
             n_rows = 0
+            pending: list[np.ndarray] = []
+            held = 0
+            offset, source, exact = self._time_base(delim, idx[0])
+            self._decimal_t = exact
+            self._offset = offset
+            batches = self._batches(_Rest(after, stream), delim, len(names), idx,
+                                    offset if exact else None)
+            info = None
             while True:
-                start = lines.pos
-                got = self._fast(lines, slot, line_no, line_bytes) if self.fast else None
-                if got is None:
-                    data, line_arr, line_no = self._exact(lines, line_no, use, idx,
-                                                          line_bytes)
-                    if data is None:
-                        break
-                else:
-                    data, line_arr, line_no = got
-                    if data.shape[0] == 0:
-                        break
-                    line_bytes = max((lines.pos - start) / data.shape[0], 8.0)
-                self._check(data, line_arr, use, t_prev)
-                t_prev = float(data[-1, 0])
-                n_rows += data.shape[0]
-                self.fraction = min(1.0, raw.tell() / size) if size else 1.0
-                yield use, data
+                try:
+                    data = next(batches, None)
+                except (pa.ArrowInvalid, pa.ArrowException) as exc:
+                    if str(exc).startswith("Empty CSV file"):
+                        data = None         # nothing after the header: said below
+                    else:
+                        self._scan(header_line, delim, len(names), use, idx)
+                        raise self._error("cannot be read as CSV: "
+                                          + " ".join(str(exc).split())) from None
+                except (gzip.BadGzipFile, EOFError, OSError) as exc:
+                    raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
+                if data is not None:
+                    if offset is not None and not exact:
+                        data[:, 0] -= float(offset)
+                    self._check(data, n_rows, ctx, t_prev)
+                    t_prev = float(data[-1, 0])
+                    if info is None:
+                        info = self.info = RecordInfo(
+                            path=self.label, delimiter=delim, header_line=header_line,
+                            columns={c: self.files[c] for c in use}, latitude=self.latitude,
+                            t_offset=float(offset or 0.0), t_offset_source=source,
+                            t_offset_text=str(offset or 0), t_exact=exact)
+                    n_rows += data.shape[0]
+                    pending.append(data)
+                    held += data.shape[0]
+                    self.fraction = min(1.0, raw.tell() / size) if size else 1.0
+                while held >= self.chunk_rows or (data is None and held):
+                    block = pending[0] if len(pending) == 1 else np.concatenate(pending)
+                    out, rest = block[:self.chunk_rows], block[self.chunk_rows:]
+                    pending, held = ([rest] if rest.shape[0] else []), rest.shape[0]
+                    yield use, out
+                if data is None:
+                    break
             if n_rows == 0:
-                raise self._error("has a header but no data rows", row=line_no)
-        except UnicodeDecodeError:
-            raise self._error("not a text CSV file (cannot decode it as UTF-8)") from None
-        except (gzip.BadGzipFile, EOFError, OSError) as exc:
-            if isinstance(exc, RecordError):
-                raise
-            raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
+                raise self._error("has a header but no data rows", row=header_line)
         finally:
             stream.close()
             raw.close()
@@ -354,40 +663,50 @@ class _Reader:
 
 def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
              optional: Sequence[str] = (), chunk_rows: int = CHUNK_ROWS,
+             columns: Mapping[str, str] | None = None, t0: float | None = None,
              ) -> Iterator[tuple[list[str], np.ndarray]]:
     """Chunks ``(columns, data)`` of a CSV record: ``data`` is ``(rows, len(columns))`` float,
     the ``required`` columns in that order, then the one column of ``one_of`` present, then
-    those of ``optional`` present.
+    those of ``optional`` present.  ``columns`` maps a column to the file's header name;
+    ``t0`` (s) is subtracted from every time (default: the first row's time when it is an
+    absolute clock, see :data:`ABSOLUTE_TIME`).
 
     Raises :class:`RecordError` (one line naming the file, line and column) for a missing
-    file, an empty or non-text file, a missing column, a short row, a non-numeric cell, a
-    non-finite or non-increasing time.
+    file, an empty or non-text file, a byte that is not UTF-8, a missing column, a row with
+    another number of fields than the header, a non-numeric cell, a non-finite or
+    non-increasing time.
 
     Examples
     --------
     >>> import tempfile, pathlib
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "r.csv"
-    >>> _ = p.write_text("# comment\\nt,x,extra\\n0.1,1.5,a\\n0.2,,b\\n")
+    >>> _ = p.write_bytes(b'\\xef\\xbb\\xbf# comment\\r\\nt;x;extra\\r\\n'
+    ...                   b'0.1;"1.5";a\\r\\n0.2;;b\\r\\n')
     >>> [(cols, d.tolist()) for cols, d in iter_csv(p, ["t", "x"])]
     [(['t', 'x'], [[0.1, 1.5], [0.2, nan]])]
     """
-    return iter(_Reader(path, required, one_of, chunk_rows, optional))
+    return iter(_Reader(path, required, one_of, chunk_rows, optional, columns=columns,
+                        t0=t0))
 
 
 def read_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
-             optional: Sequence[str] = ()) -> tuple[list[str], np.ndarray]:
-    """The whole record at once: ``(columns, data)`` as :func:`iter_csv`."""
+             optional: Sequence[str] = (), columns: Mapping[str, str] | None = None,
+             t0: float | None = None, return_info: bool = False):
+    """The whole record at once: ``(columns, data)`` as :func:`iter_csv` (and the
+    :class:`RecordInfo` as a third item with ``return_info=True``)."""
+    reader = _Reader(path, required, one_of, CHUNK_ROWS, optional, columns=columns, t0=t0)
     cols: list[str] = []
     parts = []
-    for names, data in iter_csv(path, required, one_of=one_of, optional=optional):
+    for names, data in reader:
         cols = names
         parts.append(data)
-    return cols, np.concatenate(parts)
+    out = (cols, np.concatenate(parts))
+    return (*out, reader.info) if v.check_bool("return_info", return_info) else out
 
 
-def _gc_from(data: np.ndarray) -> GCRecord:
+def _gc_from(data: np.ndarray, latitude: float | None) -> GCRecord:
     return GCRecord(t=data[:, 0], angle_sensor=data[:, 1], inclinometer_y=data[:, 2],
-                    inclinometer_z=data[:, 3])
+                    inclinometer_z=data[:, 3], latitude=latitude)
 
 
 def _check_gc_start(label: str, t0: float) -> None:
@@ -398,19 +717,25 @@ def _check_gc_start(label: str, t0: float) -> None:
 
 class GCChunks:
     """Iterable of :class:`GCRecord` chunks of a file; ``fraction`` is the part of the file
-    read so far (for a progress bar).  Each chunk is checked at the door
-    (:func:`gyrolib.records.check_gc` with ``params``, default the paper's) unless
-    ``check=False``."""
+    read so far (for a progress bar), ``info`` the :class:`RecordInfo` once the first chunk
+    is read.  Each chunk is checked at the door (:func:`gyrolib.records.check_gc` with
+    ``params``, default the paper's) unless ``check=False``; ``columns`` and ``t0`` as in
+    :func:`iter_csv`."""
 
     def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS,
-                 params: GyrocompassParams | None = None, check: bool = True) -> None:
-        self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows)
+                 params: GyrocompassParams | None = None, check: bool = True,
+                 columns: Mapping[str, str] | None = None, t0: float | None = None) -> None:
+        self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows, columns=columns, t0=t0)
         self._params = params
         self._check = v.check_bool("check", check)
 
     @property
     def fraction(self) -> float:
         return self._reader.fraction
+
+    @property
+    def info(self) -> RecordInfo | None:
+        return self._reader.info
 
     def __iter__(self) -> Iterator[GCRecord]:
         first = True
@@ -419,7 +744,7 @@ class GCChunks:
             if first:
                 _check_gc_start(self._reader.label, float(data[0, 0]))
                 first = False
-            rec = _gc_from(data)
+            rec = _gc_from(data, self._reader.latitude)
             if self._check:
                 check_gc(rec, self._params, label=self._reader.label,
                          rows=(row + 1, row + rec.n))
@@ -427,27 +752,44 @@ class GCChunks:
             yield rec
 
 
-def read_gc(path: object, *, params: GyrocompassParams | None = None,
-            check: bool = True) -> GCRecord:
+def read_gc(path: object, *, params: GyrocompassParams | None = None, check: bool = True,
+            columns: Mapping[str, str] | None = None, t0: float | None = None,
+            return_info: bool = False):
     """A whole paper-GC record file (see the module docstring for the format), checked at
-    the door (:func:`gyrolib.records.check_gc` with ``params``) unless ``check=False``."""
-    _, data = read_csv(path, GC_COLUMNS)
+    the door (:func:`gyrolib.records.check_gc` with ``params``) unless ``check=False``;
+    ``(record, info)`` with ``return_info=True``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "gc.csv"
+    >>> _ = p.write_text("# latitude_deg: 53.9\\nt,angle_sensor,inclinometer_y,"
+    ...                  "inclinometer_z\\n0.01,0,0,0\\n0.02,0,0,0\\n")
+    >>> rec = read_gc(p, check=False)
+    >>> f"{math.degrees(rec.latitude):.1f}", rec.n
+    ('53.9', 2)
+    """
+    _, data, info = read_csv(path, GC_COLUMNS, columns=columns, t0=t0, return_info=True)
     _check_gc_start(str(path), float(data[0, 0]))
-    rec = _gc_from(data)
+    rec = _gc_from(data, info.latitude)
     if v.check_bool("check", check):
         check_gc(rec, params, label=str(path))
-    return rec
+    return (rec, info) if v.check_bool("return_info", return_info) else rec
 
 
-def read_rsf(path: object, *, counts_per_rev: int | None = None,
-             check: bool = True) -> RSFRecord:
+def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = True,
+             columns: Mapping[str, str] | None = None, t0: float | None = None,
+             return_info: bool = False):
     """A whole paper-RSF record file: ``t``, ``sins_increment`` and ``gs_angle`` or
     ``encoder_counts`` (then ``counts_per_rev`` is required), checked at the door
-    (:func:`gyrolib.records.check_rsf`) unless ``check=False``."""
+    (:func:`gyrolib.records.check_rsf`) unless ``check=False``; ``(record, info)`` with
+    ``return_info=True``."""
     label = str(path)
     check = v.check_bool("check", check)
-    cols, data = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
-                          optional=("gs_gyro_angle",))
+    return_info = v.check_bool("return_info", return_info)
+    cols, data, info = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
+                                optional=("gs_gyro_angle",), columns=columns, t0=t0,
+                                return_info=True)
     if cols[2] == "gs_angle":
         if counts_per_rev is not None:
             raise RecordError(label, "counts_per_rev given but the record has a gs_angle "
@@ -459,7 +801,7 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None,
         rec = RSFRecord(t=data[:, 0], sins_increment=data[:, 1], gs_angle=data[:, 2])
         if check:
             check_rsf(rec, label=label)
-        return rec
+        return (rec, info) if return_info else rec
     if counts_per_rev is None:
         raise RecordError(label, "the record has encoder_counts: give the counts per "
                           "revolution (--counts-per-rev N)", column="encoder_counts")
@@ -476,7 +818,7 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None,
                     counts_per_rev=counts_per_rev, gs_gyro_angle=gyro)
     if check:
         check_rsf(rec, label=label)
-    return rec
+    return (rec, info) if return_info else rec
 
 
 # CSV writing ------------------------------------------------------------------------------

@@ -21,13 +21,27 @@ sides always cover the same turn.  A
 missing GS angle merely joins two spans.  Wrapped encoder counts are unwrapped per sample
 (the step modulo one revolution, as :func:`gyrolib.rsf.unwrap_counts`), so there a missing
 count removes the two samples it touches.
+
+**Wraps and slips.**  Over a usable span the GS change and the SINS turn agree to the
+scale-factor errors (ppm to ‰ of a turn of a few degrees).  A span where they differ by a
+whole number of turns (2πk, within π/8) is a wrap (a ``gs_angle`` kept in [0, 2π) or
+(−π, π]) or a whole-turn slip (a lost encoder revolution): with ``slips="repair"`` (default)
+the 2πk is removed and :attr:`CalibrationResult.notes` says where and how many, with
+``slips="refuse"`` a :class:`ValueError` names it.  A quarter-turn slip (π/2 k: a
+quadrature decoder's fault) or any other jump of more than π/4 is refused with its time: a
+repair would be a guess.
+
+**Reversals.**  The roll rate may change sign: the mean rate is reported as the mean of
+|ω| per interval (:attr:`CalibrationResult.mean_rate`), and an interval whose net turn is less
+than half its absolute turn is flagged in :attr:`CalibrationResult.reversal` (its ε̂1 divides
+by a small net turn: ill-conditioned).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 import numpy as np
 
@@ -64,7 +78,12 @@ class CalibrationResult:
     accumulated over the usable samples only), ``residual_raw`` (the same without
     correction).  ``period``, ``k_form``, ``rows``, ``samples_used``, ``samples_skipped``
     (rows not in a usable span: missing values, steps across gaps), ``gaps`` (steps longer
-    than 1.5 nominal intervals), ``dt`` (nominal interval, the median step).
+    than 1.5 nominal intervals), ``gap_time`` (s without rows in them), ``dt`` (nominal
+    interval, the median step).  Per interval also ``abs_rate`` (mean |ω|, rad/s: the
+    absolute SINS turn over the time used) and ``reversal`` (its net turn is less than half
+    its absolute turn: the roll rate reverses inside).  ``slips_repaired`` (whole-turn jumps
+    of the GS angle removed; a wrapped angle's wraps not counted) and ``notes`` (one
+    sentence per wrap, slip or gap).
     """
 
     period: float
@@ -85,6 +104,11 @@ class CalibrationResult:
     samples_skipped: int
     gaps: int
     dt: float
+    abs_rate: np.ndarray | None = None
+    reversal: np.ndarray | None = None
+    gap_time: float = 0.0
+    slips_repaired: int = 0
+    notes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         n_int = v.check_ndarray("eps1_hat", self.eps1_hat, ndim=1).size
@@ -96,8 +120,18 @@ class CalibrationResult:
         v.check_positive("period", self.period)
         v.check_choice("k_form", self.k_form, K_FORMS)
         v.check_positive("dt", self.dt)
-        for name in ("rows", "samples_used", "samples_skipped", "gaps"):
+        for name in ("rows", "samples_used", "samples_skipped", "gaps", "slips_repaired"):
             v.check_int(name, getattr(self, name), 0)
+        if self.abs_rate is None:
+            object.__setattr__(self, "abs_rate", np.abs(np.asarray(self.rate, float)))
+        if self.reversal is None:
+            object.__setattr__(self, "reversal", np.zeros(n_int, dtype=bool))
+        v.check_ndarray("abs_rate", self.abs_rate, shape=(n_int,))
+        if np.shape(self.reversal) != (n_int,):
+            raise ValueError(f"reversal must have shape ({n_int},); got "
+                             f"{np.shape(self.reversal)}")
+        object.__setattr__(self, "reversal", np.asarray(self.reversal, dtype=bool))
+        object.__setattr__(self, "notes", tuple(str(x) for x in self.notes))
 
     @property
     def n_intervals(self) -> int:
@@ -105,12 +139,41 @@ class CalibrationResult:
 
     @property
     def mean_rate(self) -> float:
-        """|mean measured roll rate| over the intervals, rad/s: the ``rate`` at which
-        :func:`gyrolib.rsf.predict_delta_k` predicts δK for this record."""
+        """Mean of |ω| over the intervals, rad/s (a roll that reverses turns at this rate,
+        not at its net mean): the ``rate`` at which :func:`gyrolib.rsf.predict_delta_k`
+        predicts δK for this record."""
         if self.n_intervals == 0:
             raise ValueError("mean_rate needs at least one complete interval; the result "
                              "has none")
-        return float(abs(np.mean(self.rate)))
+        return float(np.mean(self.abs_rate))
+
+    @property
+    def reverses(self) -> bool:
+        """Whether the roll rate changes sign (between or inside intervals)."""
+        r = np.asarray(self.rate)
+        return bool(np.any(self.reversal) or (np.any(r > 0) and np.any(r < 0)))
+
+    def eps1_stats(self) -> dict:
+        """ε̂1 over the intervals without a reversal inside: ``mean``, ``spread`` (the
+        per-interval standard deviation: how much one interval's ε̂1 scatters), ``sem``
+        (the standard error of the mean, spread/√n: exact when the intervals' errors are
+        independent, an upper bound when they are the GS angle's end-point errors, which
+        neighbouring intervals share with opposite signs and which cancel in the mean),
+        ``lag1`` (the lag-1 autocorrelation of ε̂1: about 0 for independent errors, −½ for
+        pure end-point errors, when ``sem`` is far too large), ``n`` and ``left_out``
+        (intervals with a reversal).  NaN where undefined (n < 2 for the spread, n < 3
+        for lag1)."""
+        keep = ~np.asarray(self.reversal, bool)
+        e = np.asarray(self.eps1_hat, float)[keep]
+        n = int(e.size)
+        spread = float(np.std(e, ddof=1)) if n > 1 else math.nan
+        lag1 = math.nan
+        if n > 2 and spread > 0:
+            d = e - e.mean()
+            lag1 = float(np.sum(d[1:] * d[:-1]) / np.sum(d * d))
+        return {"mean": float(np.mean(e)) if n else math.nan, "spread": spread,
+                "sem": spread / math.sqrt(n) if n > 1 else math.nan, "lag1": lag1, "n": n,
+                "left_out": int(np.count_nonzero(~keep))}
 
     def delta_k(self, eps1: float) -> np.ndarray:
         """δK_i = K_i (1 + ε1) − 1 for a known true scale-factor error ``eps1``
@@ -138,9 +201,18 @@ class CalibrationResult:
             "samples": [int(x) for x in self.samples],
             "segments": [int(x) for x in self.segments],
             "rate": [float(x) for x in self.rate],
-            "eps1_hat_mean": float(np.mean(self.eps1_hat)) if self.n_intervals else None,
+            "eps1_hat_mean": _none(self.eps1_stats()["mean"]) if self.n_intervals else None,
+            "eps1_hat_spread": _none(self.eps1_stats()["spread"]) if self.n_intervals else None,
+            "eps1_hat_sem": _none(self.eps1_stats()["sem"]) if self.n_intervals else None,
+            "eps1_hat_lag1": _none(self.eps1_stats()["lag1"]) if self.n_intervals else None,
             "eps1_hat_std": (float(np.std(self.eps1_hat, ddof=1)) if self.n_intervals > 1
                              else None),
+            "abs_rate": [float(x) for x in self.abs_rate],
+            "mean_abs_rate": float(np.mean(self.abs_rate)) if self.n_intervals else None,
+            "reversal": [bool(x) for x in self.reversal],
+            "gap_time": self.gap_time,
+            "slips_repaired": self.slips_repaired,
+            "notes": list(self.notes),
             "rows": self.rows,
             "samples_used": self.samples_used,
             "samples_skipped": self.samples_skipped,
@@ -149,6 +221,63 @@ class CalibrationResult:
             "residual_end": float(self.residual[-1]),
             "residual_raw_end": float(self.residual_raw[-1]),
         }
+
+
+def _none(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+#: A span whose GS change and SINS turn differ by more than this (rad) has jumped.
+_JUMP: Final[float] = math.pi / 4
+
+
+def _jumps(gs_span: np.ndarray, sins_span: np.ndarray, t0: np.ndarray, t1: np.ndarray,
+           record: RSFRecord, slips: str) -> tuple[np.ndarray, int, list[str]]:
+    """The GS changes with whole-turn wraps and slips removed (or refused), the number of
+    slips removed (wraps of a wrapped angle not counted) and the notes; a quarter-turn or
+    other jump raises ValueError."""
+    r = gs_span - sins_span
+    big = np.abs(r) > _JUMP
+    if not np.any(big):
+        return gs_span, 0, []
+    k = np.round(r / (2.0 * math.pi))
+    whole = big & (k != 0) & (np.abs(r - 2.0 * math.pi * k) < math.pi / 8)
+    q = np.round(r / (0.5 * math.pi))
+    quarter = big & ~whole & (np.abs(r - 0.5 * math.pi * q) < math.pi / 16)
+    other = big & ~whole & ~quarter
+    col = "gs_angle" if record.gs_angle is not None else "the GS angle (encoder_counts)"
+    for mask, what in ((quarter, "a quarter turn"), (other, "a jump")):
+        if np.any(mask):
+            i = int(np.flatnonzero(mask)[0])
+            n = int(np.count_nonzero(mask))
+            size = (f"{q[i]:+.0f} π/2" if what == "a quarter turn" else f"{r[i]:+.4g} rad")
+            raise ValueError(
+                f"{col} slips {what} ({size}) against the SINS increments between t = "
+                f"{t0[i]:.6g} s and {t1[i]:.6g} s ({n} such step(s)): refused, a repair would "
+                "be a guess (check the encoder's decoding, or the record's rows there)")
+    gs = record.gs_angle
+    wrapped = False
+    if gs is not None:
+        lo, hi = float(np.nanmin(gs)), float(np.nanmax(gs))
+        wrapped = (lo >= -math.pi - 1e-9 and hi <= 2.0 * math.pi + 1e-9
+                   and abs(float(np.sum(sins_span))) > 2.0 * math.pi)
+    n = int(np.count_nonzero(whole))
+    i = int(np.flatnonzero(whole)[0])
+    if wrapped:
+        band = "[0, 2π)" if lo >= -1e-9 else "(−π, π]"
+        note = (f"gs_angle is wrapped into {band}: unwrapped with the SINS increments ({n} "
+                f"wrap(s), the first between t = {t0[i]:.6g} s and {t1[i]:.6g} s)")
+        n_slips = 0
+    else:
+        turns = ", ".join(f"{k[j]:+.0f}×2π at t = {t1[j]:.6g} s"
+                          for j in np.flatnonzero(whole)[:3]) + (", ..." if n > 3 else "")
+        note = f"{col} slips a whole turn against the SINS increments {n} time(s) ({turns})"
+        if slips == "refuse":
+            raise ValueError(note + ": refused (slips='refuse')")
+        note += ": repaired (the whole turns removed; check the encoder)"
+        n_slips = n
+    fixed = gs_span - 2.0 * math.pi * np.where(whole, k, 0.0)
+    return fixed, n_slips, [note]
 
 
 def _gs_increments(record: RSFRecord) -> np.ndarray:
@@ -180,7 +309,8 @@ def _gs_spans(record: RSFRecord) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
-              dt: float | None = None, time_tolerance: float = 0.5) -> CalibrationResult:
+              dt: float | None = None, time_tolerance: float = 0.5,
+              slips: str = "repair") -> CalibrationResult:
     """Apply paper RSF's scale-factor correction (Eqs. (1)–(3)) to a record.
 
     The spans between known GS angles that hold no gap and no missing SINS increment go to
@@ -201,6 +331,10 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
         A step longer than ``(1 + time_tolerance) dt`` is a gap: rows are missing, so its
         sample is not used.  Shorter steps (time-stamp jitter) are used as they are: the SINS
         increment and the GS change of a sample cover the same time whatever its length.
+    slips : {"repair", "refuse"}
+        What to do with a whole-turn jump of the GS angle against the SINS turn (a wrapped
+        ``gs_angle`` is always unwrapped): remove it with a note, or raise ValueError.
+        Quarter-turn and other jumps are always refused.
 
     Returns
     -------
@@ -224,6 +358,7 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     k_form = v.check_choice("k_form", k_form, K_FORMS)
     time_tolerance = v.check_in_range("time_tolerance", time_tolerance, 0.0, 10.0,
                                       low_open=True)
+    slips = v.check_choice("slips", slips, ("repair", "refuse"))
     t = record.t
     if t.size < 2:
         raise ValueError("record must hold at least two rows")
@@ -243,6 +378,15 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     inc0[0] = 0.0
     cum_inc = np.cumsum(inc0)
     sins_span = cum_inc[j1] - cum_inc[j0]
+    gs_span, n_slips, notes = _jumps(gs_span, sins_span, t[j0], t[j1], record, slips)
+    long_ = h > (1.0 + time_tolerance) * dt
+    gap_time = float(np.sum(h[long_] - dt))
+    if np.any(long_):
+        g = np.flatnonzero(long_)
+        where = ", ".join(f"{h[i]:.4g} s after t = {t[i]:.6g} s" for i in g[:3])
+        notes.append(f"{g.size} gap(s) in the time stamps ({where}"
+                     + (", ..." if g.size > 3 else "") + f"; {gap_time:.4g} s without rows): "
+                     "the samples across a gap are left out of both sums")
     # interval of each row: the sample ending at t[k] lies in ((k-1) dt, k dt] from t[0];
     # a span counts in the interval of its last row
     n_int = math.floor((t[-1] - t[0]) / period * (1.0 + 1e-12))
@@ -254,6 +398,7 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     corrected = est.corrected_angle(inc0[None], row_interval)[0]
     # bookkeeping of the spans: samples used and contiguous runs per interval
     cnt = np.bincount(sidx, weights=j1 - j0, minlength=n_int + 1)[:n_int]
+    abs_turn = np.bincount(sidx, weights=np.abs(sins_span), minlength=n_int + 1)[:n_int]
     starts = np.ones(j1.size, dtype=bool)
     starts[1:] = (j0[1:] != j1[:-1]) | (sidx[1:] != sidx[:-1])
     seg = np.bincount(sidx[starts], minlength=n_int + 1)[:n_int]
@@ -273,7 +418,10 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
         rate=est.turn[0, keep] / (cnt[keep] * dt), t=t, corrected_angle=corrected,
         residual=np.cumsum(res_inc), residual_raw=np.cumsum(raw_inc), rows=int(t.size),
         samples_used=used, samples_skipped=int(t.size - 1 - used),
-        gaps=int(np.count_nonzero(h > 1.5 * dt)), dt=dt)
+        gaps=int(np.count_nonzero(h > 1.5 * dt)), dt=dt,
+        abs_rate=abs_turn[keep] / (cnt[keep] * dt),
+        reversal=np.abs(est.turn[0, keep]) < 0.5 * abs_turn[keep], gap_time=gap_time,
+        slips_repaired=n_slips, notes=tuple(notes))
 
 
 def record_from_simulation(sim: SensorRecord, run: int = 0, *,

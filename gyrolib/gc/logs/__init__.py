@@ -9,6 +9,7 @@ from gyrolib.gc.logs.allan import (
     AllanSeries,
     allan_deviation,
     allan_model_vibration,
+    allan_noise_terms,
 )
 from gyrolib.gc.logs.calibration import (
     CalibrationResult,
@@ -45,6 +46,7 @@ __all__ = [
     "SimulatedRecord",
     "allan_deviation",
     "allan_model_vibration",
+    "allan_noise_terms",
     "calibrate",
     "convention_study",
     "fit_noise",
