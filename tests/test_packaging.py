@@ -115,11 +115,13 @@ EXTRA_ONLY = ("jupyter-book", "myst-nb", "salib", "pandas", "dask", "distributed
               "allantools", "sphinx", "pytest", "numpydoc")
 
 #: Bound on the core install's site-packages (MB, the wheels' files without byte-compiled
-#: ``.pyc``; with them 641 MB, against 821 MB with the extras as dependencies before issue
-#: 29).  The issue's aim was 500 MB byte-compiled; what stays is what the library computes
-#: with: llvmlite's shared library (numba's compiler, 173 MB unstripped), scipy, sympy, numpy,
-#: matplotlib with fonttools and pillow (listed in the failure message).
-MAX_INSTALLED_MB = 520
+#: ``.pyc``).  Measured: 501 MB with the extras moved out (issue 29), then 672 MB once the CSV
+#: reader moved to pyarrow (issue 27: 171 MB, the field's standard reader, which the project's
+#: guide names), against 821 MB byte-compiled with the extras as dependencies before.  The
+#: issue's aim of 500 MB is not met: llvmlite's shared library (numba's compiler, 179 MB
+#: unstripped) and pyarrow are two thirds of it; the rest is what the library computes with
+#: (scipy, numpy, sympy, matplotlib with fonttools and pillow; listed in the failure message).
+MAX_INSTALLED_MB = 700
 
 
 def pinned_versions() -> dict[str, str]:
