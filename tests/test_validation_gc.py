@@ -568,6 +568,12 @@ case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(T_settle=NAN), Val
      "T_settle", FINITE)
 case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(rate_noise=0.0), ValueError,
      "rate_noise", POS)
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(loop_bandwidth=0.0), ValueError,
+     "loop_bandwidth", "> 0")
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(quantization=-1.0), ValueError,
+     "quantization", ">= 0")
+case("gc.RateSensorProcedure.loop_gain", lambda: _RPROC.loop_gain(_RPROC), TypeError, "params",
+     "GyrocompassParams")
 case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(split=1.0), ValueError,
      "split", r"\(0.0, 1.0\)")
 case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(vibration_frame="x"),

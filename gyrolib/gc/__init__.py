@@ -152,6 +152,7 @@ from gyrolib.gc.model import (
 )
 from gyrolib.gc.racing import (
     PROCEDURE_TARGETS,
+    RACE_RANGES,
     RS_STATE_NAMES,
     VIBRATION_FRAMES,
     OptimalRun,
@@ -201,6 +202,7 @@ __all__ = [
     "NOISE_FIT_NAMES",
     "NOISE_NAMES",
     "PROCEDURE_TARGETS",
+    "RACE_RANGES",
     "RS_STATE_NAMES",
     "SEGMENT",
     "SENSITIVITY_OUTPUTS",
