@@ -291,7 +291,7 @@ class RaceConditions:
         --------
         >>> from gyrolib import gc
         >>> print(gc.race().conditions().text())   # doctest: +ELLIPSIS
-        At the book's defaults ... GC reaches σ_c in 24.1 s, so ...
+        At the reference point ... GC reaches σ_c in 24.1 s, so ...
         """
         def val(x: float, fmt: str, unit: str, none: str) -> str:
             if x == 0.0:
@@ -304,9 +304,11 @@ class RaceConditions:
         if not np.isfinite(self.t_needed):
             return (f"GC's method does not reach σ_c within its horizon, so it is not more than "
                     f"{self.percent:g} % faster anywhere.")
-        ref = (f"At the book's defaults (loop bandwidth {self.loop_bandwidth:g} rad/s, turn and "
+        scale = ("GC's scale exact" if self.kappa == 0.0 else
+                 f"GC's scale known to κ = {_fmt_sci(self.kappa)}")
+        ref = (f"At the reference point (loop bandwidth {self.loop_bandwidth:g} rad/s, turn and "
                f"settling {self.overhead:g} s, torquer noise {_fmt_sci(self.rate_noise)} rad²/s, "
-               f"GC's scale exact) GC reaches σ_c in {self.t_c_gc:.1f} s, so the claim needs "
+               f"{scale}) GC reaches σ_c in {self.t_c_gc:.1f} s, so the claim needs "
                f"the rival to take more than {self.t_needed:.1f} s; it "
                + ("does with both estimators." if self.holds_at_reference else
                   "does not with " + " and ".join(
@@ -321,7 +323,8 @@ class RaceConditions:
                     else "forever (it never reaches σ_c)")
                  + f" against {self.worst_t_optimal:.1f} s for the rival's optimal estimator, "
                  f"and the claim {'holds' if self.holds_over_ranges else 'fails'} there.")
-        one = (" One quantity at a time, the others at the defaults, the claim holds against "
+        one = (" One quantity at a time, the others at the reference point, the claim holds "
+               "against "
                "the optimal estimator for a loop bandwidth "
                + val(self.loop_bandwidth_min, ".3g", "rad/s", "nowhere up to 100 rad/s")
                + ", a turn and settling "
