@@ -22,13 +22,13 @@ import numpy as np
 
 import gyrolib
 from gyrolib.book.ledger.item import Candidate, LedgerItem, judge_claim, printed_verdict
+from gyrolib.book.report import sci as _sci
 from gyrolib.gc.analysis.covariance import CovarianceAnalysis, covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.observability import information_psi_omega
 from gyrolib.gc.analysis.speed_claim import claim_boundary, shaping_sweep, time_to_level
 from gyrolib.gc.model.discretization import nominal_half_steps
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.gc.racing.comparison import RACE_RANGES, RaceConditions, RaceResult, race
-from gyrolib.gc.racing.comparison import _fmt_sci as sci
 from gyrolib.sensitivity import SensitivityResult, result_from_dict
 from gyrolib.units import ARCSEC_PAPER, from_si
 
@@ -103,6 +103,11 @@ def _item(key: str, location: str, quantity: str, unit: str, value: float | None
         reproduced_value=None if value is None else float(value), status=status, note=note,
         chapter=chapter, anchor=anchor, kind=kind, evidence=evidence, conditions=conditions,
         precision=precision)
+
+
+def sci(x: float) -> str:
+    """``x`` as ``m·10ⁿ`` with two significant digits (as the race's conditions print)."""
+    return _sci(x, 2)
 
 
 def _arcsec_s(x: float) -> float:
