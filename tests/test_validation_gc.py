@@ -702,6 +702,9 @@ case("gc.sensitivity", lambda: gc.sensitivity(4, executor="dask"), TypeError, "e
 case("gc.sensitivity", lambda: gc.sensitivity(4, params=1), TypeError, "params")
 case("gc.sensitivity", lambda: gc.sensitivity(4, t_end=0.0), ValueError, "t_end", POS)
 case("gc.sensitivity_inputs", lambda: gc.sensitivity_inputs(1), TypeError, "params")
+case("gc.sensitivity_elasticities", lambda: gc.sensitivity_elasticities(1), TypeError, "params")
+case("gc.sensitivity_elasticities", lambda: gc.sensitivity_elasticities(fixed="yes"), TypeError,
+     "fixed")
 case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(P, level=-1.0), ValueError,
      "level", POS)
 case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(None), TypeError, "params")
