@@ -132,9 +132,11 @@ def test_item_rejects_a_status_that_does_not_fit_its_kind(kw, match):
         _item(**kw)
 
 
-def test_a_failed_claim_may_state_the_assumptions_it_was_tested_under():
-    it = _item(kind="claim", status="fails", conditions="at 900 °/s, 1σ terms added")
-    assert it.conditions.startswith("at 900")
+def test_a_failed_claim_states_where_it_would_hold():
+    it = _item(kind="claim", status="fails", conditions="it would hold from 2557 °/s up")
+    assert it.conditions.startswith("it would hold")
+    with pytest.raises(ValueError, match="conditions"):
+        _item(kind="claim", status="fails")
 
 
 def test_every_kind_but_inferred_has_an_item_and_the_review_cases_are_classified(items):

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from gyrolib.book.ledger import collect
-from gyrolib.book.ledger.item import Candidate, agrees, half_unit, printed_verdict
+from gyrolib.book.ledger.item import Candidate, agrees, half_unit, judge_claim, printed_verdict
 
 ROOT = Path(__file__).resolve().parents[1]
 LEDGER = ROOT / "gyrolib" / "book" / "ledger"
@@ -175,3 +175,80 @@ def test_a_missing_paper_module_is_an_error():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=ROOT, check=True).stdout
     assert out.strip() == "refused True"
+
+
+# the one rule for every claim -----------------------------------------------------------------
+@pytest.mark.parametrize(("at_ref", "over", "status"), [
+    (True, True, "holds"),
+    (True, False, "holds under conditions"),
+    (False, False, "fails"),
+])
+def test_judge_claim_table(at_ref, over, status):
+    got, cond = judge_claim(at_ref, over, "where it stops or would hold")
+    assert got == status
+    assert (cond == "") == (status == "holds")
+
+
+def test_judge_claim_with_power_on_a_claim_built_to_fail():
+    """A claim that fails at its reference point but holds elsewhere in its ranges (the old
+    race rule's blind spot: some overhead always makes it hold) is "fails", with the
+    conditions saying where it would hold; a "holds under conditions" needs its conditions,
+    and holding over ranges that contain a failing reference point is refused."""
+    status, cond = judge_claim(False, False, "it would hold from 35 s of overhead up")
+    assert status == "fails" and "would hold" in cond
+    with pytest.raises(ValueError, match="conditions"):
+        judge_claim(False, False, "")
+    with pytest.raises(ValueError, match="conditions"):
+        judge_claim(True, False, " ")
+    with pytest.raises(ValueError, match="holds_over_ranges"):
+        judge_claim(False, True, "x")
+    with pytest.raises(TypeError, match="holds_at_reference"):
+        judge_claim(1, True)
+    with pytest.raises(TypeError, match="conditions"):
+        judge_claim(True, False, None)
+
+
+def test_the_race_claim_fails_where_the_rival_is_fast():
+    """The race's own verdict, with power: a rival with a quiet, slow loop, no turn and no
+    settling reaches σ_c in less than twice GC's time, so "more than 50 % faster" fails at
+    that reference point, and the item built on it says so (conditions: where it would
+    hold)."""
+    from dataclasses import replace as _replace
+
+    from gyrolib import gc as gcm
+    from gyrolib.book.ledger import gc as lgc
+    proc = _replace(gcm.RateSensorProcedure(), loop_bandwidth=1.0, T_rot=2.0, T_settle=3.0,
+                    rate_noise=6e-17)
+    r = gcm.race(None, proc)
+    cond = r.conditions()
+    assert r.faster_percent_optimal < 50.0 and not cond.holds_at_reference
+    status, text = lgc.race_status(cond)
+    assert status == "fails" and "does not with" in text and "from" in text
+    item = lgc._faster_percent(r, cond, lgc.study_evidence(gcm.GyrocompassParams()))
+    assert item.status == "fails" and item.conditions == text
+
+
+def test_every_claim_of_the_ledger_goes_through_the_one_rule():
+    """Each claim builder of both paper modules calls judge_claim (directly or through the
+    race's race_status), and no claim builder writes a status literal of its own."""
+    for name in ("gc.py", "rsf.py"):
+        tree = ast.parse((LEDGER / name).read_text(encoding="utf-8"))
+        funcs = {n.name: n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)}
+
+        def called(node):
+            return {c.func.id for c in ast.walk(node) if isinstance(c, ast.Call)
+                    and isinstance(c.func, ast.Name)}
+        rule = {"judge_claim"} | {f for f, n in funcs.items() if "judge_claim" in called(n)}
+        for fname, node in funcs.items():
+            src = ast.get_source_segment((LEDGER / name).read_text(encoding="utf-8"), node)
+            if 'kind="claim"' not in src:
+                continue
+            # the status comes from the rule: a call of it, or the speed evidence it judged
+            assert called(node) & rule or ("speed.status" in src
+                                           and "speed_evidence" in rule), f"{name}: {fname}"
+            for lit in ("\"holds under conditions\"", "\"fails\"", "\"holds\""):
+                assert lit not in src, f"{name}: {fname} sets {lit} itself"
+    claims = [it for it in collect() if it.kind == "claim"]
+    assert len(claims) >= 10
+    for it in claims:
+        assert (it.conditions == "") == (it.status == "holds"), it.id

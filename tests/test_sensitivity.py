@@ -166,7 +166,7 @@ def test_process_pool_and_chunk_size_do_not_change_the_result():
 def test_progress_counts_every_point():
     seen = []
     r = rsf.sensitivity(16, seed=0, chunk_size=50, progress=seen.append)
-    assert sum(seen) == len(r.values) == 16 * 12
+    assert sum(seen) == len(r.values) == 16 * (2 * len(r.inputs) + 2)
 
 
 def test_gc_outputs_are_the_ledgers_quantities():
@@ -209,19 +209,85 @@ def test_gc_inputs_follow_the_transcription():
 
 
 def test_rsf_outputs_are_eq7_and_the_claims_share():
-    """δK of Eq. (7) and the share as rsf.compensation_share computes it; the share's indices
-    equal δK's (an affine function of it at fixed ε1)."""
+    """δK of Eq. (7) and the share as rsf.compensation_share computes it; with ε1 sampled
+    too (printed, ±10 %), the share's indices differ from δK's only through ε1."""
     w = float(to_si(900.0, "deg/s"))
     x = {i.name: i.nominal for i in rsf.sensitivity_inputs()}
     dk, share = rsf.sensitivity_outputs(**x)
     assert share == pytest.approx(float(rsf.compensation_share([w]).share[0]), rel=1e-12)
     assert dk == pytest.approx(rsf.delta_k(x["eps0_gs"], x["encoder_error"], w, 5.0,
-                                           rsf.GYPRO4300.sf_error, x["omega_unc"]))
+                                           x["eps1_gs"], x["omega_unc"]))
     r = rsf.sensitivity(256, seed=1)
-    for name in r.input_names:
-        assert r.total["share"][name].value == pytest.approx(r.total["delta_k"][name].value,
-                                                             abs=1e-9)
+    assert r.total["delta_k"]["eps1"].value == pytest.approx(0.0, abs=1e-9)
+    assert r.total["share"]["eps1"].value > 0.2
 
+
+def test_rsf_ranges_follow_the_one_rule():
+    """Every RSF input is printed (Δγ_enc in the worked example's Eq. (7)), so every range is
+    ±10 % uniform; ε1,GS and ε1 are sampled, not fixed."""
+    inputs = rsf.sensitivity_inputs()
+    assert {x.name for x in inputs} >= {"encoder_error", "eps1_gs", "eps1"}
+    for x in inputs:
+        assert x.distribution == "uniform", x.name
+        assert (x.low, x.high) == pytest.approx((0.9 * x.nominal, 1.1 * x.nominal))
+
+
+def test_rsf_elasticities_closed_form():
+    """δK = [(ε0 + ε1,GS ω_unc) Δt + Δγ_enc]/(ω_x Δt): ∂ln δK/∂ln ω_x = −1, and the shares of
+    the numerator N give the other elasticities: ε0 Δt/N, ε1,GS ω_unc Δt/N (for ε1,GS and
+    ω_unc alike), Δγ_enc/N (and −Δγ_enc/N for Δt); the share 1 − δK/ε1 moves by
+    −(δK/(ε1 − δK)) times δK's elasticity, and +δK/(ε1 − δK) with ε1."""
+    x = {i.name: i.nominal for i in rsf.sensitivity_inputs()}
+    e = rsf.sensitivity_elasticities()
+    n = (x["eps0_gs"] + x["eps1_gs"] * x["omega_unc"]) * x["period"] + x["encoder_error"]
+    want = {"omega_x": -1.0, "eps0_gs": x["eps0_gs"] * x["period"] / n,
+            "eps1_gs": x["eps1_gs"] * x["omega_unc"] * x["period"] / n,
+            "omega_unc": x["eps1_gs"] * x["omega_unc"] * x["period"] / n,
+            "encoder_error": x["encoder_error"] / n, "period": -x["encoder_error"] / n,
+            "eps1": 0.0}
+    dk = n / (x["omega_x"] * x["period"])
+    k = dk / (x["eps1"] - dk)
+    for name, el in want.items():
+        assert e.of("delta_k", name) == pytest.approx(el, abs=2e-4), name
+        share_el = k if name == "eps1" else -k * el
+        assert e.of("share", name) == pytest.approx(share_el, abs=2e-4), name
+    # the issue's finding: the GS gyro's scale error times ω_unc carries 55 % of δK at the
+    # worked example, the encoder 43 %
+    assert want["eps1_gs"] == pytest.approx(0.55, abs=0.005)
+    assert want["encoder_error"] == pytest.approx(0.43, abs=0.005)
+
+
+def test_gc_elasticities_fixed_inputs_and_ranking():
+    """The elasticities of t_c at the paper's values: per relative change σ1² moves t_c about
+    four times as much as C_as (the total indices rank them the other way round because C_as
+    ranges ×9 and σ1² ±10 %); the fixed inputs are included, H and f through H/f nearly
+    opposite; a second, independent estimate from ±10 % secants agrees."""
+    e = gc.sensitivity_elasticities()
+    assert set(sensitivity_study.FIXED_INPUTS) <= set(e.inputs)
+    ratio = e.of("t_c", "sigma1_sq") / e.of("t_c", "C_as")
+    assert 3.0 < ratio < 6.0
+    assert e.of("t_c", "H") == pytest.approx(-e.of("t_c", "f"), rel=0.05)
+    p = gc.GyrocompassParams()
+    for name in ("C_as", "sigma1_sq"):
+        hi = gc.sensitivity_outputs(replace(p, **{name: 1.1 * getattr(p, name)}))[1]
+        lo = gc.sensitivity_outputs(replace(p, **{name: 0.9 * getattr(p, name)}))[1]
+        secant = (math.log(hi) - math.log(lo)) / (math.log(1.1) - math.log(0.9))
+        assert e.of("t_c", name) == pytest.approx(secant, abs=0.03), name
+
+
+def test_elasticities_bad_input_and_power():
+    from gyrolib.sensitivity import elasticities
+    e = elasticities({"a": 2.0}, lambda a: (a**3,), ("y",))
+    assert e.of("y", "a") == pytest.approx(3.0, rel=1e-4)
+    assert e.of("y", "a") != pytest.approx(2.0, rel=1e-2)     # a wrong exponent is seen
+    with pytest.raises(ValueError, match="nominal"):
+        elasticities({"a": -1.0}, lambda a: (a,), ("y",))
+    with pytest.raises(ValueError, match="outputs"):
+        elasticities({"a": 1.0}, lambda a: (a, a), ("y",))
+    with pytest.raises(ValueError, match="rel_step"):
+        elasticities({"a": 1.0}, lambda a: (a,), ("y",), rel_step=0.7)
+    with pytest.raises(ValueError, match="name"):
+        e.of("y", "b")
 
 def test_results_file_round_trip_and_recheck_has_power():
     """JSON round trip; the recheck finds a stored value 1e-6 off (the chapter's check at

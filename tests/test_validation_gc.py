@@ -568,6 +568,12 @@ case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(T_settle=NAN), Val
      "T_settle", FINITE)
 case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(rate_noise=0.0), ValueError,
      "rate_noise", POS)
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(loop_bandwidth=0.0), ValueError,
+     "loop_bandwidth", "> 0")
+case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(quantization=-1.0), ValueError,
+     "quantization", ">= 0")
+case("gc.RateSensorProcedure.loop_gain", lambda: _RPROC.loop_gain(_RPROC), TypeError, "params",
+     "GyrocompassParams")
 case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(split=1.0), ValueError,
      "split", r"\(0.0, 1.0\)")
 case("gc.RateSensorProcedure", lambda: gc.RateSensorProcedure(vibration_frame="x"),
@@ -698,6 +704,9 @@ case("gc.sensitivity", lambda: gc.sensitivity(4, executor="dask"), TypeError, "e
 case("gc.sensitivity", lambda: gc.sensitivity(4, params=1), TypeError, "params")
 case("gc.sensitivity", lambda: gc.sensitivity(4, t_end=0.0), ValueError, "t_end", POS)
 case("gc.sensitivity_inputs", lambda: gc.sensitivity_inputs(1), TypeError, "params")
+case("gc.sensitivity_elasticities", lambda: gc.sensitivity_elasticities(1), TypeError, "params")
+case("gc.sensitivity_elasticities", lambda: gc.sensitivity_elasticities(fixed="yes"), TypeError,
+     "fixed")
 case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(P, level=-1.0), ValueError,
      "level", POS)
 case("gc.sensitivity_outputs", lambda: gc.sensitivity_outputs(None), TypeError, "params")

@@ -310,6 +310,10 @@ case("rsf.encoder_counts", lambda: rsf.encoder_counts(np.zeros(3), ENC, wrap=1),
 case("rsf.sensitivity", lambda: rsf.sensitivity(3), ValueError, "n", "power of 2")
 case("rsf.sensitivity", lambda: rsf.sensitivity(4, chunk_size=0), ValueError, "chunk_size")
 case("rsf.sensitivity", lambda: rsf.sensitivity(4, roll_gyro=1), TypeError, "roll_gyro")
+case("rsf.sensitivity_elasticities", lambda: rsf.sensitivity_elasticities(roll_gyro=1),
+     TypeError, "roll_gyro")
+case("rsf.sensitivity_elasticities", lambda: rsf.sensitivity_elasticities(encoder=1),
+     TypeError, "encoder")
 case("rsf.sensitivity_inputs", lambda: rsf.sensitivity_inputs(period=0.0), ValueError,
      "period", POS)
 case("rsf.sensitivity_inputs", lambda: rsf.sensitivity_inputs(encoder=ENC), TypeError,

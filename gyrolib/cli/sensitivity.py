@@ -191,9 +191,13 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from gyrolib.gc.analysis.sensitivity_study import sensitivity as gc_sensitivity
+    from gyrolib.gc.analysis.sensitivity_study import sensitivity_inputs as gc_inputs
     from gyrolib.rsf.sensitivity_study import sensitivity as rsf_sensitivity
+    from gyrolib.rsf.sensitivity_study import sensitivity_inputs as rsf_inputs
 
-    study = {"gc": (gc_sensitivity, 12), "rsf": (rsf_sensitivity, 5)}[args.model]
+    # the number of sampled inputs, from the studies themselves
+    study = {"gc": (gc_sensitivity, len(gc_inputs())),
+             "rsf": (rsf_sensitivity, len(rsf_inputs()))}[args.model]
     total = args.n * ((2 if args.second_order else 1) * study[1] + 2)
     try:
         with optional("SALib", "sensitivity", "python -m gyrolib sensitivity"):

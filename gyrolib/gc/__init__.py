@@ -80,6 +80,7 @@ from gyrolib.gc.analysis import (
     remainder_drift,
     run_streams,
     sensitivity,
+    sensitivity_elasticities,
     sensitivity_inputs,
     sensitivity_outputs,
     shaping_sweep,
@@ -153,6 +154,7 @@ from gyrolib.gc.model import (
 )
 from gyrolib.gc.racing import (
     PROCEDURE_TARGETS,
+    RACE_RANGES,
     RS_STATE_NAMES,
     VIBRATION_FRAMES,
     OptimalRun,
@@ -202,6 +204,7 @@ __all__ = [
     "NOISE_FIT_NAMES",
     "NOISE_NAMES",
     "PROCEDURE_TARGETS",
+    "RACE_RANGES",
     "RS_STATE_NAMES",
     "SEGMENT",
     "SENSITIVITY_OUTPUTS",
@@ -299,6 +302,7 @@ __all__ = [
     "remainder_drift",
     "run_streams",
     "sensitivity",
+    "sensitivity_elasticities",
     "sensitivity_inputs",
     "sensitivity_outputs",
     "shaping_sweep",

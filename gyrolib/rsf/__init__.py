@@ -203,14 +203,15 @@ from gyrolib.rsf.sensitivity_study import (
     SENSITIVITY_OUTPUTS,
     recheck_sensitivity,
     sensitivity,
+    sensitivity_elasticities,
     sensitivity_inputs,
     sensitivity_outputs,
 )
 
 __all__ += ["CalibrationResult", "RSFRecord", "calibrate", "plot_correction",
             "record_from_simulation"]
-__all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity", "sensitivity_inputs",
-            "sensitivity_outputs"]
+__all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity",
+            "sensitivity_elasticities", "sensitivity_inputs", "sensitivity_outputs"]
 
 
 # Loaded on first use (PEP 562): the figures import matplotlib, which the command line and

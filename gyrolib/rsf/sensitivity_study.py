@@ -7,10 +7,12 @@ Outputs, from Eq. (7) of paper RSF (:func:`gyrolib.rsf.delta_k`) as
 * ``delta_k``: δK = [(ε0,GS + ε1,GS ω_unc) Δt + Δγ_enc] / (ω_x Δt);
 * ``share``: the share of the roll gyro's SF error removed, 1 − δK/ε1.
 
-Inputs (:func:`sensitivity_inputs`): ε0,GS, the encoder's position error Δγ_enc, the
-correction period Δt, the roll rate ω_x and the uncompensated rate ω_unc.  The GS gyro's
-ε1,GS and the roll gyro's ε1 stay at their printed values, so the share is an affine function
-of δK and has the same indices.
+Inputs (:func:`sensitivity_inputs`), all printed, so all by the one rule ±10 % uniform:
+ε0,GS, the encoder's position error Δγ_enc (printed in the worked example's Eq. (7)), the
+correction period Δt, the roll rate ω_x, the uncompensated rate ω_unc, the GS gyro's scale
+error ε1,GS and the roll gyro's ε1 (which only the share depends on).
+:func:`sensitivity_elasticities` gives ∂ ln y/∂ ln x of both outputs at the worked example,
+to read beside the indices.
 """
 
 from __future__ import annotations
@@ -31,13 +33,22 @@ from gyrolib.rsf.sensors import (
     MemsGyroSpec,
     RollGyroSpec,
 )
-from gyrolib.sensitivity import Recheck, SensitivityResult, SobolInput, recheck, run_study
+from gyrolib.sensitivity import (
+    Elasticities,
+    Recheck,
+    SensitivityResult,
+    SobolInput,
+    elasticities,
+    recheck,
+    run_study,
+)
 from gyrolib.units import to_si
 
 __all__ = [
     "SENSITIVITY_OUTPUTS",
     "recheck_sensitivity",
     "sensitivity",
+    "sensitivity_elasticities",
     "sensitivity_inputs",
     "sensitivity_outputs",
 ]
@@ -59,33 +70,42 @@ _CHUNK: Final[int] = 8192
 
 def sensitivity_inputs(gs_gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
                        period: float = _PERIOD, omega_x: float = _OMEGA_X,
-                       omega_unc: float = _OMEGA_UNC) -> tuple[SobolInput, ...]:
+                       omega_unc: float = _OMEGA_UNC,
+                       roll_gyro: RollGyroSpec = SIIMU02_ROLL) -> tuple[SobolInput, ...]:
     """The study's uncertain inputs with their ranges, centred on the paper's values.
 
-    Printed (±10 %, uniform): ε0,GS = √(σ_rep² + σ_stab²) from the GS gyro's table, and the
-    worked example's Δt = 5 s, ω_x = 900 °/s and ω_unc = 300 °/s.  Unstated (a factor of 3
-    either way, log-uniform): the encoder's position error, whose value the extraction lost
-    (0.33° is the book's reading of Table 3).
+    The book's one range rule: a printed value varies ±10 % (uniform), an unstated one over
+    a defended wide range.  Every input here is printed: ε0,GS = √(σ_rep² + σ_stab²) and
+    ε1,GS from the GS gyro's table, ε1 from Table 1, and the worked example's Δγ_enc = 0.33°
+    (its Eq. (7); lost only in the encoder's data line), Δt = 5 s, ω_x = 900 °/s and
+    ω_unc = 300 °/s.
 
     Examples
     --------
     >>> from gyrolib import rsf
     >>> [(x.name, x.distribution) for x in rsf.sensitivity_inputs()][:2]
-    [('eps0_gs', 'uniform'), ('encoder_error', 'loguniform')]
+    [('eps0_gs', 'uniform'), ('encoder_error', 'uniform')]
+    >>> len(rsf.sensitivity_inputs())
+    7
     """
     v.check_instance("gs_gyro", gs_gyro, MemsGyroSpec)
     v.check_instance("encoder", encoder, EncoderSpec)
+    v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
     pr = SobolInput.printed
     example = "printed (the worked example after Eq. (7))"
     return (
         pr("eps0_gs", "ε0,GS", gs_gyro.bias_total,
            reading="printed: √(σ_rep² + σ_stab²) from the GS gyro's table"),
-        SobolInput.unstated("encoder_error", "Δγ_enc", encoder.position_error,
-                            reading="unstated: the value is lost in the extraction; 0.33° "
-                            "read from Table 3"),
+        pr("encoder_error", "Δγ_enc", encoder.position_error,
+           reading="printed in the worked example's Eq. (7) (0.33°; lost only in the "
+           "encoder's data line)"),
         pr("period", "Δt", v.check_positive("period", period), reading=example),
         pr("omega_x", "ω_x", v.check_positive("omega_x", omega_x), reading=example),
         pr("omega_unc", "ω_unc", v.check_positive("omega_unc", omega_unc), reading=example),
+        pr("eps1_gs", "ε1,GS", gs_gyro.sf_error,
+           reading="printed: the GS gyro's scale-factor error (280 ppm)"),
+        pr("eps1", "ε1", roll_gyro.sf_error,
+           reading="printed: the roll gyro's scale-factor error (Table 1, 600 ppm)"),
     )
 
 
@@ -109,11 +129,36 @@ def sensitivity_outputs(eps0_gs: float, encoder_error: float, period: float, ome
 
 
 def _evaluate(points: NDArray[np.float64], context: tuple) -> NDArray[np.float64]:
-    """The outputs at each row of ``points`` (a chunk; module level: it is pickled)."""
+    """The outputs at each row of ``points`` (a chunk; module level: it is pickled); ε1,GS
+    and ε1 from the context unless sampled."""
     names, eps1_gs, eps1 = context
+    fixed = {k: x for k, x in (("eps1_gs", eps1_gs), ("eps1", eps1)) if k not in names}
     return np.array([sensitivity_outputs(**dict(zip(names, map(float, row), strict=True)),
-                                         eps1_gs=eps1_gs, eps1=eps1)
+                                         **fixed)
                      for row in points]).reshape(-1, 2)
+
+
+def sensitivity_elasticities(roll_gyro: RollGyroSpec = SIIMU02_ROLL,
+                             gs_gyro: MemsGyroSpec = GYPRO4300,
+                             encoder: EncoderSpec = AEDB9340) -> Elasticities:
+    """∂ ln y/∂ ln x of δK and of the share at the worked example, for every input of
+    :func:`sensitivity_inputs` (central differences of ±1 %).
+
+    Returns
+    -------
+    gyrolib.sensitivity.Elasticities
+
+    Examples
+    --------
+    >>> from gyrolib import rsf
+    >>> e = rsf.sensitivity_elasticities()
+    >>> f"{e.of('delta_k', 'omega_x'):.3f}", f"{e.of('delta_k', 'encoder_error'):.2f}"
+    ('-1.000', '0.43')
+    """
+    v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
+    inputs = sensitivity_inputs(gs_gyro, encoder, roll_gyro=roll_gyro)
+    return elasticities({x.name: x.nominal for x in inputs}, sensitivity_outputs,
+                        SENSITIVITY_OUTPUTS)
 
 
 def sensitivity(n: int, seed: int = 0, executor: object = None, *,
@@ -134,7 +179,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     executor : concurrent.futures.Executor, optional
         Where the chunks run (``None``: in this process).
     roll_gyro, gs_gyro, encoder : sensor records, optional
-        The paper's sensors by default (ε1 and ε1,GS are held at their values).
+        The paper's sensors by default (the centres of the ranges).
     chunk_size : int, default 8192
         Sample points per chunk.
     progress : callable, optional
@@ -157,10 +202,10 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     >>> r = rsf.sensitivity(1024, seed=0)
     >>> top = r.ranked("delta_k")[0]
     >>> top[0], f"{top[1].value:.2f}"
-    ('encoder_error', '0.95')
+    ('omega_x', '0.51')
     """
     v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
-    inputs = sensitivity_inputs(gs_gyro, encoder)
+    inputs = sensitivity_inputs(gs_gyro, encoder, roll_gyro=roll_gyro)
     names = tuple(x.name for x in inputs)
     return run_study("rsf", inputs, SENSITIVITY_OUTPUTS, _UNITS, _evaluate,
                      (names, gs_gyro.sf_error, roll_gyro.sf_error), n, seed,

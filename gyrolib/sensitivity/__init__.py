@@ -11,7 +11,8 @@ module        what
 ============  ====================================================================
 ``study``     the sample, the runs on an executor, the indices (SALib):
               :class:`SobolInput`, :func:`run_study`, :func:`analyze`,
-              :class:`SensitivityResult`, :func:`recheck`
+              :class:`SensitivityResult`, :func:`recheck`; :func:`elasticities`
+              (∂ ln y/∂ ln x at the defaults, beside the indices)
 ``plots``     :func:`plot_indices` (loaded on first use: matplotlib)
 ============  ====================================================================
 """
@@ -20,11 +21,13 @@ from gyrolib.sensitivity.study import (
     CONF_LEVEL,
     DISTRIBUTIONS,
     NUM_RESAMPLES,
+    Elasticities,
     Recheck,
     SensitivityResult,
     SobolIndex,
     SobolInput,
     analyze,
+    elasticities,
     recheck,
     result_from_dict,
     run_study,
@@ -35,11 +38,13 @@ __all__ = [
     "CONF_LEVEL",
     "DISTRIBUTIONS",
     "NUM_RESAMPLES",
+    "Elasticities",
     "Recheck",
     "SensitivityResult",
     "SobolIndex",
     "SobolInput",
     "analyze",
+    "elasticities",
     "plot_indices",
     "recheck",
     "result_from_dict",

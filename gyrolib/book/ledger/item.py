@@ -11,6 +11,13 @@ A print stored as a float is read at its shortest representation (``4590.0`` is 
 verdict does not depend on the CPU.  A tolerance that differs from the rule is never implicit:
 :func:`agrees` refuses one without a reason, and the item's evidence quotes it.
 
+**The one rule for every claim** (:func:`judge_claim`).  A claim is judged at its *reference
+point* — the paper's own example where it gives one, else the book's defended defaults — and
+over the *plausible ranges* the item states: "holds" when it holds there and everywhere in the
+ranges; "holds under conditions" when it holds there but not everywhere (the conditions say
+where it stops); "fails" when it fails there (the conditions say where, if anywhere, it
+would hold).  No claim's status is set any other way.
+
 **Verdicts of a printed number from its candidates** (:func:`printed_verdict`).  The book's
 consistent computation is compared first; where it does not agree, every *candidate cause*
 the book can name (a truncation, a unit slip, an unstated reading of the paper) is computed
@@ -29,8 +36,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, fields
 from decimal import Decimal, InvalidOperation
 
+import numpy as np
+
 __all__ = ["KINDS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "Candidate", "LedgerItem",
-           "agrees", "half_unit", "printed_verdict"]
+           "agrees", "half_unit", "judge_claim", "printed_verdict"]
 
 #: What an item is, and the statuses that fit each kind (the verdict vocabulary):
 #:
@@ -68,8 +77,8 @@ STATUS_MARKS: dict[str, str] = {
     "holds under conditions": "{bdg-warning}`holds under conditions`",
     "fails": "{bdg-danger}`fails`",
 }
-#: Claim statuses that carry conditions: required for "holds under conditions" (where it
-#: holds), allowed for "fails" (the assumptions under which it was tested and fails).
+#: Claim statuses that carry conditions (:func:`judge_claim`): required for "holds under
+#: conditions" (where it stops holding) and for "fails" (where, if anywhere, it would hold).
 _WITH_CONDITIONS = ("holds under conditions", "fails")
 
 
@@ -84,11 +93,12 @@ class LedgerItem:
     ``chapter`` is the Sphinx document name of the chapter that shows it (e.g.
     ``"chapters/rsf_method"``) and ``anchor`` an optional label inside it, so the ledger page
     and tests can link to it.  ``kind`` and ``status`` follow :data:`STATUSES_BY_KIND`;
-    ``conditions`` says where a claim holds (required for "holds under conditions") or under
-    which assumptions it was found to fail (allowed for "fails"; empty for every other
-    status), ``evidence`` in one line what computation decides the status, and ``precision``
-    the significant digits to which ``reproduced_value`` is reported and cited (the same on
-    every CPU: see :func:`gyrolib.book.ledger.rounded`).
+    ``conditions`` says where a claim stops holding (required for "holds under conditions")
+    or where it would hold (required for "fails"; empty for every other status; both set by
+    :func:`judge_claim`, the one rule for claims), ``evidence`` in one line what computation
+    decides the status, and ``precision`` the significant digits to which
+    ``reproduced_value`` is reported and cited (the same on every CPU: see
+    :func:`gyrolib.book.ledger.rounded`).
 
     Examples
     --------
@@ -134,11 +144,11 @@ class LedgerItem:
             raise ValueError(f"status of {self.id} (kind {self.kind!r}) must be one of "
                              f"{allowed}; got {self.status!r}")
         has_conditions = bool(self.conditions.strip())
-        if ((self.status == "holds under conditions" and not has_conditions)
+        if ((self.status in _WITH_CONDITIONS and not has_conditions)
                 or (self.status not in _WITH_CONDITIONS and has_conditions)):
             raise ValueError(f"conditions of {self.id} must be non-empty for 'holds under "
-                             "conditions', may state the assumptions of 'fails', and must be "
-                             f"empty otherwise; got {self.conditions!r}")
+                             "conditions' (where it stops holding) and for 'fails' (where it "
+                             f"would hold), and empty otherwise; got {self.conditions!r}")
         if not self.evidence.strip() or "\n" in self.evidence:
             raise ValueError(f"evidence of {self.id} must be one non-empty line")
         if (not isinstance(self.precision, int) or isinstance(self.precision, bool)
@@ -340,3 +350,63 @@ def printed_verdict(consistent: float, printed: float | str,
     if values and min(values) <= p <= max(values):
         return "differs: bracketed"
     return "not reproducible"
+
+
+# The one rule for every claim ------------------------------------------------------------------
+def judge_claim(holds_at_reference: bool, holds_over_ranges: bool,
+                conditions: str = "") -> tuple[str, str]:
+    """The status of a claim by the ledger's one rule, and the conditions the item carries.
+
+    * ``"holds"``: it holds at the reference point and over the plausible ranges;
+    * ``"holds under conditions"``: it holds at the reference point but not everywhere in the
+      ranges; ``conditions`` says where it stops (required);
+    * ``"fails"``: it fails at the reference point; ``conditions`` says where, if anywhere, it
+      would hold (required).
+
+    The reference point is the paper's own example where it gives one, else the book's
+    defended defaults; the ranges are the item's stated plausible ranges, which contain the
+    reference point (so a claim cannot hold over them and fail at it).
+
+    Parameters
+    ----------
+    holds_at_reference : bool
+        Whether the claim holds at its reference point.
+    holds_over_ranges : bool
+        Whether it holds everywhere in its plausible ranges.
+    conditions : str
+        Where it stops holding, or where it would hold; ignored for ``"holds"``.
+
+    Returns
+    -------
+    (str, str)
+        The status and the conditions the item carries (empty for ``"holds"``).
+
+    Examples
+    --------
+    >>> judge_claim(True, True)
+    ('holds', '')
+    >>> judge_claim(True, False, "below 12 s of overhead it fails")[0]
+    'holds under conditions'
+    >>> judge_claim(False, False, "it would hold above 2557 °/s")[0]
+    'fails'
+    >>> judge_claim(False, True)   # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: holds_over_ranges cannot be True when holds_at_reference is False...
+    """
+    for name, value in (("holds_at_reference", holds_at_reference),
+                        ("holds_over_ranges", holds_over_ranges)):
+        if not isinstance(value, bool | np.bool_):
+            raise TypeError(f"{name} must be a bool; got {type(value).__name__}")
+    if not isinstance(conditions, str):
+        raise TypeError(f"conditions must be a str; got {type(conditions).__name__}")
+    if holds_over_ranges and not holds_at_reference:
+        raise ValueError("holds_over_ranges cannot be True when holds_at_reference is False: "
+                         "the ranges contain the reference point")
+    if holds_at_reference and holds_over_ranges:
+        return "holds", ""
+    status = "holds under conditions" if holds_at_reference else "fails"
+    if not conditions.strip():
+        raise ValueError(f"conditions must say where the claim stops holding or where it "
+                         f"would hold (status {status!r}); got none")
+    return status, conditions

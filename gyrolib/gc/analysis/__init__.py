@@ -39,6 +39,7 @@ from gyrolib.gc.analysis.sensitivity_study import (
     SENSITIVITY_OUTPUTS,
     recheck_sensitivity,
     sensitivity,
+    sensitivity_elasticities,
     sensitivity_inputs,
     sensitivity_outputs,
 )
@@ -78,6 +79,7 @@ __all__ = [
     "remainder_drift",
     "run_streams",
     "sensitivity",
+    "sensitivity_elasticities",
     "sensitivity_inputs",
     "sensitivity_outputs",
     "shaping_sweep",

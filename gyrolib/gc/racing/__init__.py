@@ -6,6 +6,7 @@ and figures to these modules.
 """
 from gyrolib.gc.racing.comparison import (
     PROCEDURE_TARGETS,
+    RACE_RANGES,
     RaceConditions,
     RaceResult,
     RaceSweep,
@@ -27,6 +28,7 @@ from gyrolib.gc.racing.rate_sensor import (
 
 __all__ = [
     "PROCEDURE_TARGETS",
+    "RACE_RANGES",
     "RS_STATE_NAMES",
     "VIBRATION_FRAMES",
     "OptimalRun",

@@ -35,6 +35,7 @@ from gyrolib.gc.racing.rate_sensor import (
 
 __all__ = [
     "PROCEDURE_TARGETS",
+    "RACE_RANGES",
     "RaceConditions",
     "RaceResult",
     "RaceSweep",
@@ -49,7 +50,8 @@ assert not _PARAM_FIELDS & _PROC_FIELDS, "a sweep case names its fields without 
 
 #: What :func:`procedure_for_time` can solve for: a procedure field, or ``"overhead"``
 #: (``T_rot`` and ``T_settle`` scaled together).
-PROCEDURE_TARGETS: Final[tuple[str, ...]] = ("overhead", "T_rot", "T_settle", "rate_noise")
+PROCEDURE_TARGETS: Final[tuple[str, ...]] = ("overhead", "T_rot", "T_settle", "rate_noise",
+                                             "loop_bandwidth")
 
 #: Horizons (s) of the covariance analyses of GC's method: the first is the ledger's 100 s;
 #: GC's time is searched up to the last (the analysis keeps σ at every 1-ms step).
@@ -68,17 +70,24 @@ def _gc_part(p: GyrocompassParams, level: float, t_max: float) -> tuple[float, n
                                                                          np.ndarray]:
     """GC's time to ``level`` and its σ curve: the covariance analysis over 100 s (the
     ledger's), a longer one only when σ has not crossed (``nan``: not within
-    ``min(t_max, 1000 s)``)."""
+    ``min(t_max, 1000 s)``).  The drift the scale uncertainty reads as,
+    ``params.scale_drift_sigma``, adds in quadrature to the filter's σ (0 by default, the
+    paper's model): the filter must then reach ``sqrt(level² − scale_drift_sigma²)``."""
+    s_scale = p.scale_drift_sigma
     horizons = sorted({min(h, t_max) for h in _GC_HORIZONS})
     for horizon in horizons:
         n = max(1, round(horizon / p.dt))
         t_end = horizon if abs(n * p.dt - horizon) < 1e-12 * horizon else n * p.dt
         cov = covariance_analysis(p, t_end, store_every=n)
-        t_c = time_to_sigma(cov, "omega_gc", level)
+        if s_scale >= level:
+            t_c = math.nan
+        else:
+            t_c = time_to_sigma(cov, "omega_gc", math.sqrt(level**2 - s_scale**2))
         if np.isfinite(t_c):
             break
     idx = _log_indices(cov.t.size - 1)
-    return float(t_c), cov.t[idx].copy(), cov.std("omega_gc")[idx].copy()
+    sigma = np.hypot(cov.std("omega_gc")[idx], s_scale)
+    return float(t_c), cov.t[idx].copy(), sigma
 
 
 # The rate-sensor method ----------------------------------------------------------------------
@@ -87,16 +96,41 @@ def _split(proc: RateSensorProcedure, n: int) -> tuple[int, int]:
     return n1, n - n1
 
 
+def _best_split(model: RateSensorModel, n: int) -> tuple[float, int]:
+    """The smallest classical σ over the splits ``n1 + n2 = n`` (or the procedure's fixed
+    split) and its ``n1``: a search over whole samples (σ is unimodal in ``n1``)."""
+    proc = model.procedure
+    if proc.split is not None:
+        n1 = _split(proc, n)[0]
+        return model.classical_sigma_samples(n1, n - n1), n1
+    cache: dict[int, float] = {}
+
+    def s(n1: int) -> float:
+        if n1 not in cache:
+            cache[n1] = model.classical_sigma_samples(n1, n - n1)
+        return cache[n1]
+    lo, hi = 1, n - 1
+    while hi - lo > 2:   # ternary search on integers
+        m1, m2 = lo + (hi - lo) // 3, hi - (hi - lo) // 3
+        if s(m1) <= s(m2):
+            hi = m2
+        else:
+            lo = m1
+    best = min(range(lo, hi + 1), key=s)
+    return s(best), best
+
+
 def _classical_samples(model: RateSensorModel) -> tuple[int, int] | None:
-    """The fewest samples ``n1 + n2`` (split by ``procedure.split``) for which the classical
-    σ is at most σ_c; ``None`` if not within ``t_max``."""
+    """The fewest samples ``n1 + n2`` (each total split optimally, or by
+    ``procedure.split``) for which the classical σ is at most σ_c; ``None`` if not within
+    ``t_max``."""
     proc = model.procedure
     n_max = math.floor((proc.t_max - proc.overhead) / proc.sample_dt + 1e-9)
     if n_max < 2:
         return None
 
     def ok(n: int) -> bool:
-        return model.classical_sigma_samples(*_split(proc, n)) <= proc.sigma_c
+        return _best_split(model, n)[0] <= proc.sigma_c
 
     lo, hi = 1, 2
     while not ok(hi):
@@ -106,7 +140,38 @@ def _classical_samples(model: RateSensorModel) -> tuple[int, int] | None:
     while hi - lo > 1:   # σ falls with the measurement time: the first n that reaches σ_c
         mid = (lo + hi) // 2
         lo, hi = (lo, mid) if ok(mid) else (mid, hi)
-    return _split(proc, hi)
+    n1 = _best_split(model, hi)[1]
+    return n1, hi - n1
+
+
+def _optimal_time(model: RateSensorModel, n1: int, n2_max: int) -> float:
+    """The optimal estimator's time to σ_c with position 1 lasting ``n1`` samples and
+    position 2 ended as soon as σ reaches σ_c (``inf``: not within ``n2_max`` samples)."""
+    t = model.optimal_run_samples(n1, n2_max).time_to(model.procedure.sigma_c)
+    return math.inf if math.isnan(t) else t
+
+
+def _optimal_windows(model: RateSensorModel, n1_hint: int, n2_max: int) -> tuple[float, int]:
+    """The optimal estimator's shortest time to σ_c over the length of position 1 (or the
+    classical's ``n1_hint`` when the procedure fixes the split), and that length (samples):
+    a coarse grid around the hint, then halving steps about the best."""
+    if model.procedure.split is not None:
+        return _optimal_time(model, n1_hint, n2_max), n1_hint
+    cache: dict[int, float] = {}
+
+    def t(n1: int) -> float:
+        n1 = max(1, n1)
+        if n1 not in cache:
+            cache[n1] = _optimal_time(model, n1, n2_max)
+        return cache[n1]
+    grid = sorted({max(1, round(f * n1_hint)) for f in np.linspace(0.1, 2.0, 20)})
+    best = min(grid, key=t)
+    step = max(1, round(0.1 * n1_hint))
+    while step >= 1:
+        best = min((best - step, best, best + step), key=t)
+        best = max(1, best)
+        step //= 2
+    return t(best), best
 
 
 @dataclass(frozen=True)
@@ -115,24 +180,24 @@ class _RatePart:
     t_c_optimal: float
     n1: int
     n2: int
+    n1_optimal: int
 
 
 def _rate_part(model: RateSensorModel) -> _RatePart:
     proc = model.procedure
     found = _classical_samples(model)
+    n_all = math.floor((proc.t_max - proc.overhead) / proc.sample_dt + 1e-9)
     if found is None:
-        # the classical estimator never gets there: the optimal one on the same policy over
-        # the longest procedure
-        n = math.floor((proc.t_max - proc.overhead) / proc.sample_dt + 1e-9)
-        if n < 2:
-            return _RatePart(math.nan, math.nan, 0, 0)
-        n1, n2 = _split(proc, n)
-        run = model.optimal_run_samples(n1, n2)
-        return _RatePart(math.nan, run.time_to(proc.sigma_c), 0, 0)
+        # the classical estimator never gets there: the optimal one over the longest procedure
+        if n_all < 2:
+            return _RatePart(math.nan, math.nan, 0, 0, 0)
+        n1 = n_all // 2 if proc.split is None else _split(proc, n_all)[0]
+        t_opt, n1_opt = _optimal_windows(model, n1, n_all - n1)
+        return _RatePart(math.nan, t_opt if np.isfinite(t_opt) else math.nan, 0, 0, n1_opt)
     n1, n2 = found
     t_c = (n1 + n2) * proc.sample_dt + proc.overhead
-    run = model.optimal_run_samples(n1, n2)
-    return _RatePart(t_c, run.time_to(proc.sigma_c), n1, n2)
+    t_opt, n1_opt = _optimal_windows(model, n1, max(n2, 1) + n1)
+    return _RatePart(t_c, t_opt if np.isfinite(t_opt) else math.nan, n1, n2, n1_opt)
 
 
 def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) -> float:
@@ -146,55 +211,134 @@ def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) 
 
 
 # Result ---------------------------------------------------------------------------------------
+#: The plausible ranges over which the race's claim is judged beside its reference point (the
+#: book's defaults): the rebalance loop's bandwidth (rad/s), the procedure's overhead
+#: ``T_rot + T_settle`` (s), the torquer's white-noise intensity (rad²/s) and the relative
+#: uncertainty κ of GC's scale ``H/f`` (``GyrocompassParams.sigma_hf_scale``; up to the
+#: 10⁻³ the rival's own torque sensor is given, ``RateSensorProcedure.sigma_scale``).
+#: The rival's time grows with the first three and GC's with κ, so the claim's worst case
+#: is the low end of the first three with the high end of κ.
+RACE_RANGES: Final[dict[str, tuple[float, float]]] = {
+    "loop_bandwidth": (1.0, 100.0),
+    "overhead": (10.0, 60.0),
+    "rate_noise": (6.0e-17, 6.0e-15),
+    "sigma_hf_scale": (0.0, 1.0e-3),
+}
+
+
+def _fmt_sci(x: float, digits: int = 2) -> str:
+    """``1.2·10⁻³`` (plain text with superscripts)."""
+    if x == 0.0:
+        return "0"
+    if not math.isfinite(x):
+        return "∞"
+    e = math.floor(math.log10(abs(x)))
+    m = x / 10.0**e
+    if round(m, digits - 1) >= 10.0:
+        m, e = m / 10.0, e + 1
+    sup = str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"{m:.{digits - 1}f}·10{sup}"
+
+
 @dataclass(frozen=True)
 class RaceConditions:
-    """Where "GC more than ``percent`` % faster than the rate-sensor method" holds
-    (:meth:`RaceResult.conditions`), each condition with the other quantities at the race's
-    values.
+    """The claim "GC is more than ``percent`` % faster than the rate-sensor method", judged
+    at the race's own parameters and procedure (its reference point) and over
+    :data:`RACE_RANGES` (:meth:`RaceResult.conditions`).
 
-    ``t_needed`` (s) is the time the rate-sensor method must exceed,
-    ``t_c_gc / (1 − percent/100)``.  For each estimator (``classical``, ``optimal``):
-    ``holds_*`` at the race's procedure; ``overhead_*`` the smallest ``T_rot + T_settle`` (s,
-    both scaled together) for which it holds; ``rate_noise_*`` the smallest rate-noise
-    intensity (rad²/s) for which it holds (0: at any value; ``inf``: at none).
+    ``t_needed`` (s): the time the rival must exceed, ``t_c_gc / (1 − percent/100)``.
+    ``holds_classical``, ``holds_optimal``: at the reference point, against each estimator;
+    ``holds_at_reference``: against both (the rival is granted its best estimator).
+    ``worst_t_gc``, ``worst_t_classical``, ``worst_t_optimal`` (s): the times at the
+    ranges' worst corner for the claim; ``holds_over_ranges``: the claim holds there (so,
+    the times being monotone in each range, everywhere in them).  One at a time, the
+    others at the reference point, against the optimal estimator (never slower than the
+    classical): ``loop_bandwidth_min`` (rad/s), ``overhead_min`` (s), ``rate_noise_min``
+    (rad²/s), the smallest values for which the claim holds (0: at any value; ``inf``: at
+    none up to the search's end); ``kappa_max``, the largest relative uncertainty κ of GC's
+    scale ``H/f`` for which it holds (0: at none), and ``kappa_ceiling = σ_c/Ω_h``, above
+    which GC never reaches σ_c (the rival's turn cancels this error, so it does not slow the
+    rival).
     """
 
     percent: float
     t_c_gc: float
     t_needed: float
+    loop_bandwidth: float
     overhead: float
     rate_noise: float
+    kappa: float
     holds_classical: bool
     holds_optimal: bool
-    overhead_classical: float
-    overhead_optimal: float
-    rate_noise_classical: float
-    rate_noise_optimal: float
+    worst_t_gc: float
+    worst_t_classical: float
+    worst_t_optimal: float
+    holds_over_ranges: bool
+    loop_bandwidth_min: float
+    overhead_min: float
+    rate_noise_min: float
+    kappa_max: float
+    kappa_ceiling: float
+
+    @property
+    def holds_at_reference(self) -> bool:
+        """The claim holds at the reference point against both estimators."""
+        return bool(self.holds_classical and self.holds_optimal)
 
     def text(self) -> str:
-        """The conditions in one sentence (SI units).
+        """Where the claim holds and where it fails, in readable sentences.
 
         Examples
         --------
         >>> from gyrolib import gc
         >>> print(gc.race().conditions().text())   # doctest: +ELLIPSIS
-        more than 50 % faster needs the rate-sensor method to take over 48.1 s; ...
+        At the reference point ... GC reaches σ_c in 24.1 s, so ...
         """
-        def side(name: str, holds: bool, o: float, q: float) -> str:
-            verdict = "holds" if holds else "fails"
-            return (f"against the {name} estimator it {verdict} at T_rot + T_settle = "
-                    f"{self.overhead:g} s and rate noise {self.rate_noise:.3g} rad^2/s; it "
-                    f"holds for T_rot + T_settle > {o:.1f} s at that noise, or for rate noise "
-                    f"> {q:.3g} rad^2/s at those times")
+        def val(x: float, fmt: str, unit: str, none: str) -> str:
+            if x == 0.0:
+                return "at any value"
+            if not math.isfinite(x):
+                return none
+            return f"from {format(x, fmt)} {unit} up"
+        lo = {k: v_[0] for k, v_ in RACE_RANGES.items()}
+        hi = {k: v_[1] for k, v_ in RACE_RANGES.items()}
         if not np.isfinite(self.t_needed):
-            return (f"GC's method does not reach sigma_c within its horizon, so it is not more "
-                    f"than {self.percent:g} % faster at any procedure time or rate noise")
-        return (f"more than {self.percent:g} % faster needs the rate-sensor method to take over "
-                f"{self.t_needed:.1f} s; "
-                + side("classical", self.holds_classical, self.overhead_classical,
-                       self.rate_noise_classical) + "; "
-                + side("optimal", self.holds_optimal, self.overhead_optimal,
-                       self.rate_noise_optimal))
+            return (f"GC's method does not reach σ_c within its horizon, so it is not more than "
+                    f"{self.percent:g} % faster anywhere.")
+        scale = ("GC's scale exact" if self.kappa == 0.0 else
+                 f"GC's scale known to κ = {_fmt_sci(self.kappa)}")
+        ref = (f"At the reference point (loop bandwidth {self.loop_bandwidth:g} rad/s, turn and "
+               f"settling {self.overhead:g} s, torquer noise {_fmt_sci(self.rate_noise)} rad²/s, "
+               f"{scale}) GC reaches σ_c in {self.t_c_gc:.1f} s, so the claim needs "
+               f"the rival to take more than {self.t_needed:.1f} s; it "
+               + ("does with both estimators." if self.holds_at_reference else
+                  "does not with " + " and ".join(
+                      n for n, h in (("the classical", self.holds_classical),
+                                     ("the optimal", self.holds_optimal)) if not h)
+                  + " estimator."))
+        worst = (f" At the worst corner of the plausible ranges (loop bandwidth "
+                 f"{lo['loop_bandwidth']:g} rad/s, turn and settling {lo['overhead']:g} s, "
+                 f"torquer noise {_fmt_sci(lo['rate_noise'])} rad²/s, κ = "
+                 f"{_fmt_sci(hi['sigma_hf_scale'], 1)}) GC takes "
+                 + (f"{self.worst_t_gc:.1f} s" if np.isfinite(self.worst_t_gc)
+                    else "forever (it never reaches σ_c)")
+                 + f" against {self.worst_t_optimal:.1f} s for the rival's optimal estimator, "
+                 f"and the claim {'holds' if self.holds_over_ranges else 'fails'} there.")
+        one = (" One quantity at a time, the others at the reference point, the claim holds "
+               "against "
+               "the optimal estimator for a loop bandwidth "
+               + val(self.loop_bandwidth_min, ".3g", "rad/s", "nowhere up to 100 rad/s")
+               + ", a turn and settling "
+               + val(self.overhead_min, ".1f", "s", "at no duration searched")
+               + ", a torquer noise "
+               + (val(self.rate_noise_min, "", "", "at no intensity searched")
+                  if self.rate_noise_min in (0.0, math.inf)
+                  else f"from {_fmt_sci(self.rate_noise_min)} rad²/s up")
+               + ", and for GC's scale H/f (and the angle sensor's gain) known to κ below "
+               + (f"{_fmt_sci(self.kappa_max)}" if self.kappa_max > 0 else "no value")
+               + f"; above κ = σ_c/Ω_h = {_fmt_sci(self.kappa_ceiling)} GC never reaches σ_c, "
+               "while the rival's turn cancels this error.")
+        return ref + worst + one
 
 
 @compact_repr
@@ -205,11 +349,16 @@ class RaceResult:
     ``t_c_gc`` — GC's method (covariance analysis of paper GC's filter);
     ``t_c_rate_sensor`` — the rate-sensor method with the classical estimator, the
     measurement time ``t1 + t2`` chosen to just reach σ_c, the turn and settling counted;
-    ``t_c_rate_sensor_optimal`` — the optimal estimator on the same procedure, position 2 ended
-    as soon as its σ reaches σ_c (``nan``: not within ``procedure.t_max``).  Curves (SI):
+    ``t_c_rate_sensor_optimal`` — the optimal estimator on the same procedure, position 1
+    lasting ``t1_optimal`` (chosen to reach σ_c soonest) and position 2 ended as soon as its
+    σ reaches σ_c (``nan``: not within ``procedure.t_max``); ``t1``, ``t2`` the classical
+    estimator's windows (s, chosen the same way).  GC's σ includes the drift its scale
+    uncertainty reads as (``params.scale_drift_sigma``, added in quadrature: no measurement
+    time removes it; the rival's turn cancels it).  Curves (SI):
     ``t_gc``, ``sigma_gc``; ``t_classical``, ``sigma_classical`` (position 2 only: the
-    half-sum needs both positions); ``t_optimal``, ``sigma_optimal``; ``phases`` the
-    procedure's ``(name, start, end)``.
+    half-sum needs both positions); ``t_optimal``, ``sigma_optimal`` (on the optimal
+    estimator's windows); ``phases`` the procedure's ``(name, start, end)`` for the
+    classical windows.
     """
 
     params: GyrocompassParams
@@ -219,6 +368,7 @@ class RaceResult:
     t_c_rate_sensor_optimal: float
     t1: float
     t2: float
+    t1_optimal: float
     t_gc: NDArray[np.float64]
     sigma_gc: NDArray[np.float64]
     t_classical: NDArray[np.float64]
@@ -244,7 +394,7 @@ class RaceResult:
         --------
         >>> from gyrolib import gc
         >>> f"{gc.race().faster_percent:.0f} %"
-        '29 %'
+        '83 %'
         """
         return _percent(self.t_c_gc, self.t_c_rate_sensor)
 
@@ -256,14 +406,14 @@ class RaceResult:
         --------
         >>> from gyrolib import gc
         >>> f"{gc.race().faster_percent_optimal:.0f} %"
-        '28 %'
+        '57 %'
         """
         return _percent(self.t_c_gc, self.t_c_rate_sensor_optimal)
 
     def conditions(self, percent: float = 50.0) -> RaceConditions:
-        """Where GC's method is more than ``percent`` % faster than the rate-sensor method:
-        the smallest procedure overhead and the smallest rate noise at which it is, each with
-        the other at the race's value.
+        """The claim "GC more than ``percent`` % faster" at the race's parameters and
+        procedure (the reference point), at the worst corner of :data:`RACE_RANGES`, and the
+        values of each range (one at a time) from which it holds.
 
         Parameters
         ----------
@@ -278,30 +428,49 @@ class RaceResult:
         --------
         >>> from gyrolib import gc
         >>> c = gc.race().conditions()
-        >>> c.holds_classical, f"{c.overhead_classical:.0f} s"
-        (False, '33 s')
+        >>> c.holds_at_reference, c.holds_over_ranges, f"{c.kappa_ceiling:.2e}"
+        (True, False, '2.26e-04')
         """
         percent = v.check_in_range("percent", percent, 0.0, 100.0, low_open=True,
                                    high_open=True)
-        need = self.t_c_gc / (1.0 - percent / 100.0)
+        p, proc = self.params, self.procedure
+        keep = 1.0 - percent / 100.0
+        need = self.t_c_gc / keep
+        ceiling = self.procedure.sigma_c / p.Omega_h
+        base = {"percent": percent, "t_c_gc": self.t_c_gc, "loop_bandwidth":
+                proc.loop_bandwidth, "overhead": proc.overhead, "rate_noise": proc.rate_noise,
+                "kappa": p.sigma_hf_scale, "kappa_ceiling": ceiling}
         if not np.isfinite(need):  # GC does not reach σ_c within its horizon: never faster
             return RaceConditions(
-                percent=percent, t_c_gc=self.t_c_gc, t_needed=math.inf,
-                overhead=self.procedure.overhead, rate_noise=self.procedure.rate_noise,
-                holds_classical=False, holds_optimal=False, overhead_classical=math.inf,
-                overhead_optimal=math.inf, rate_noise_classical=math.inf,
-                rate_noise_optimal=math.inf)
-        out: dict[str, float | bool] = {}
-        for est, t in (("classical", self.t_c_rate_sensor),
-                       ("optimal", self.t_c_rate_sensor_optimal)):
-            out[f"holds_{est}"] = bool(not np.isfinite(t) or t > need)
-            out[f"overhead_{est}"] = _boundary(self.params, self.procedure, "overhead", need,
-                                               est)
-            out[f"rate_noise_{est}"] = _boundary(self.params, self.procedure, "rate_noise",
-                                                 need, est)
-        return RaceConditions(percent=percent, t_c_gc=self.t_c_gc, t_needed=need,
-                              overhead=self.procedure.overhead,
-                              rate_noise=self.procedure.rate_noise, **out)
+                **base, t_needed=math.inf, holds_classical=False, holds_optimal=False,
+                worst_t_gc=math.nan, worst_t_classical=math.nan, worst_t_optimal=math.nan,
+                holds_over_ranges=False, loop_bandwidth_min=math.inf, overhead_min=math.inf,
+                rate_noise_min=math.inf, kappa_max=0.0)
+        held = {est: bool(not np.isfinite(t) or t > need) for est, t in
+                (("classical", self.t_c_rate_sensor),
+                 ("optimal", self.t_c_rate_sensor_optimal))}
+        # the worst corner: the rival at its fastest, GC with the largest scale uncertainty
+        r = RACE_RANGES
+        wp = replace(p, sigma_hf_scale=r["sigma_hf_scale"][1])
+        wproc = _with(replace(proc, loop_bandwidth=r["loop_bandwidth"][0],
+                              rate_noise=r["rate_noise"][0]), "overhead", r["overhead"][0])
+        w_gc = _gc_part(wp, proc.sigma_c, proc.t_max)[0]
+        w_part = _rate_part(rate_sensor_model(p, wproc))
+        w_opt = w_part.t_c_optimal if np.isfinite(w_part.t_c_optimal) else math.inf
+        w_holds = bool(np.isfinite(w_gc) and (not np.isfinite(w_opt) or w_opt > w_gc / keep))
+        # κ: GC's filter must reach sqrt(σ_c² − κ² Ω_h²) before the optimal rival's time × keep
+        t_gc_max = (self.t_c_rate_sensor_optimal if np.isfinite(self.t_c_rate_sensor_optimal)
+                    else proc.t_max) * keep
+        s_f = np.sqrt(np.clip(self.sigma_gc**2 - p.scale_drift_sigma**2, 0.0, None))
+        s_at = float(np.interp(t_gc_max, self.t_gc, s_f))
+        kappa_max = (math.sqrt(proc.sigma_c**2 - s_at**2) / p.Omega_h
+                     if s_at < proc.sigma_c else 0.0)
+        bounds = {f"{field}_min": _boundary(p, proc, field, need, "optimal")
+                  for field in ("loop_bandwidth", "overhead", "rate_noise")}
+        return RaceConditions(**base, t_needed=need, holds_classical=held["classical"],
+                              holds_optimal=held["optimal"], worst_t_gc=w_gc,
+                              worst_t_classical=w_part.t_c, worst_t_optimal=w_opt,
+                              holds_over_ranges=w_holds, kappa_max=kappa_max, **bounds)
 
     def evidence(self) -> str:
         """One sentence for the reproduction ledger: the race's times and savings.
@@ -310,7 +479,7 @@ class RaceResult:
         --------
         >>> from gyrolib import gc
         >>> print(gc.race().evidence())   # doctest: +ELLIPSIS
-        race (gc.race) under the same disturbances: t_c = 24.1 s (GC) against 34.0 s ...
+        race (gc.race) under the same disturbances: t_c = 24.1 s (GC) against 141.6 s ...
         """
         proc = self.procedure
 
@@ -322,8 +491,10 @@ class RaceResult:
         return (f"race (gc.race) under the same disturbances: t_c = {t(self.t_c_gc)} (GC) "
                 f"against {t(self.t_c_rate_sensor)} (rate-sensor method, classical "
                 f"half-sum) and {t(self.t_c_rate_sensor_optimal)} (same measurements, "
-                f"optimal Kalman), turn {proc.T_rot:g} s and settling {proc.T_settle:g} s "
-                f"included: GC faster by {pct(self.faster_percent)} and "
+                f"optimal Kalman), the float in a rebalance loop of {proc.loop_bandwidth:g} "
+                f"rad/s that passes the angle sensor's noise, turn {proc.T_rot:g} s and "
+                f"settling {proc.T_settle:g} s included: GC faster by "
+                f"{pct(self.faster_percent)} and "
                 f"{pct(self.faster_percent_optimal)}")
 
 
@@ -357,7 +528,7 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
     seconds to reach σ_c, the others held.
 
     The rate-sensor time grows with each of these quantities; the value is found by
-    bisection (on a log scale for ``rate_noise``).
+    bisection (on a log scale for ``rate_noise`` and ``loop_bandwidth``).
 
     Parameters
     ----------
@@ -365,7 +536,7 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
         Paper GC's parameters (``None``: the paper's).
     procedure : RateSensorProcedure or None
         The procedure (``None``: the book's).
-    field : {"overhead", "T_rot", "T_settle", "rate_noise"}
+    field : {"overhead", "T_rot", "T_settle", "rate_noise", "loop_bandwidth"}
         What to solve for; ``"overhead"`` scales ``T_rot`` and ``T_settle`` together.
     target : float
         Time (s) of the whole procedure, > 0.
@@ -377,16 +548,18 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
     Returns
     -------
     float
-        The value (s, or rad²/s for ``rate_noise``); 0 if the method takes longer than
-        ``target`` even at 0 (for ``rate_noise``: at 10⁻⁶ of the procedure's); ``inf`` if it
-        takes less at any value up to ``target`` (for ``rate_noise``: 10⁶ times the
+        The value (s, rad²/s for ``rate_noise``, rad/s for ``loop_bandwidth``); 0 if the
+        method takes longer than ``target`` even at 0 (for ``rate_noise``: at 10⁻⁶ of the
+        procedure's, for ``loop_bandwidth`` at 10⁻²); ``inf`` if it takes less at any value
+        up to ``target`` (for ``loop_bandwidth``: 10² times the procedure's; for
+        ``rate_noise``: 10⁶ times the
         procedure's).
 
     Examples
     --------
     >>> from gyrolib import gc
-    >>> f"{gc.procedure_for_time(None, None, 'overhead', 60.0):.1f} s"
-    '44.8 s'
+    >>> f"{gc.procedure_for_time(None, None, 'overhead', 150.0):.1f} s"
+    '27.1 s'
     """
     p = GyrocompassParams() if params is None else check_params(params)
     proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
@@ -398,19 +571,20 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
     def too_slow(x: float) -> bool:
         return _rate_time(p, _with(proc, field, x), estimator) > target
 
-    if field == "rate_noise":
+    if field in ("rate_noise", "loop_bandwidth"):
         # bracket by decades from the procedure's value, then bisect on a log scale
-        q0 = proc.rate_noise
+        q0 = getattr(proc, field)
+        down, up = (1e-6, 1e6) if field == "rate_noise" else (1e-2, 1e2)
         if too_slow(q0):
             lo, hi = q0, q0
             while too_slow(lo):
-                if lo < q0 * 1e-6:
+                if lo < q0 * down:
                     return 0.0
                 lo, hi = lo / 10.0, lo
         else:
             lo, hi = q0, q0
             while not too_slow(hi):
-                if hi > q0 * 1e6:
+                if hi > q0 * up:
                     return math.inf
                 lo, hi = hi, hi * 10.0
         while hi / lo > 1.0 + rtol:
@@ -442,14 +616,21 @@ def _race(p: GyrocompassParams, proc: RateSensorProcedure,
     else:
         t_cl = s_cl = np.zeros(0)
         n = math.floor((proc.t_max - proc.overhead) / proc.sample_dt + 1e-9)
-        n1, n2 = _split(proc, max(n, 2))
+        n1, n2 = _split(proc, max(n, 2)) if proc.split is not None else (
+            max(n, 2) // 2, max(n, 2) - max(n, 2) // 2)
         run = model.optimal_run_samples(n1, n2)
         t1 = t2 = math.nan
+    if part.n1_optimal and np.isfinite(part.t_c_optimal):
+        # the optimal estimator's own windows: position 2 half as long again as it needs
+        n2_opt = math.ceil((part.t_c_optimal - proc.overhead) / proc.sample_dt) \
+            - part.n1_optimal
+        run = model.optimal_run_samples(part.n1_optimal, max(1, n2_opt + max(1, n2_opt // 2)))
     phases = tuple((name, a, min(b, part.t_c) if name == "position 2" and part.n1 else b)
                    for name, a, b in run.phases)
     return RaceResult(params=p, procedure=proc, t_c_gc=gc_part[0], t_c_rate_sensor=part.t_c,
                       t_c_rate_sensor_optimal=part.t_c_optimal, t1=t1, t2=t2,
-                      t_gc=gc_part[1], sigma_gc=gc_part[2], t_classical=t_cl,
+                      t1_optimal=part.n1_optimal * proc.sample_dt if part.n1_optimal
+                      else math.nan, t_gc=gc_part[1], sigma_gc=gc_part[2], t_classical=t_cl,
                       sigma_classical=s_cl, t_optimal=run.t, sigma_optimal=run.sigma,
                       phases=phases)
 
@@ -484,7 +665,7 @@ def race(params: GyrocompassParams | None = None,
     >>> from gyrolib import gc
     >>> r = gc.race()
     >>> [f"{t:.1f} s" for t in (r.t_c_gc, r.t_c_rate_sensor, r.t_c_rate_sensor_optimal)]
-    ['24.1 s', '34.0 s', '33.3 s']
+    ['24.1 s', '141.6 s', '56.4 s']
     """
     p = GyrocompassParams() if params is None else check_params(params)
     proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
@@ -524,7 +705,7 @@ class RaceSweep:
         >>> from gyrolib import gc
         >>> sw = gc.race_sweep(cases=[{"T_settle": 10.0}, {"T_settle": 60.0}])
         >>> [f"{x:.0f}" for x in sw.faster_percent()]
-        ['29', '72']
+        ['83', '88']
         """
         v.check_choice("estimator", estimator, _ESTIMATORS)
         t = self.t_c_rate_sensor if estimator == "classical" else self.t_c_rate_sensor_optimal
@@ -556,7 +737,7 @@ def race_sweep(params: GyrocompassParams | None = None,
     >>> from gyrolib import gc
     >>> sw = gc.race_sweep(cases=[{}, {"rate_noise": 6e-15}])
     >>> [f"{t:.1f}" for t in sw.t_c_rate_sensor]
-    ['34.0', '101.6']
+    ['141.6', '185.5']
     """
     p = GyrocompassParams() if params is None else check_params(params)
     proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)

@@ -19,6 +19,20 @@ at ``β = 0``, with the base's azimuth ``θ`` (0, then ``π + ε``) in the horiz
 
 ``k`` is the torque sensor's scale-factor error and ``v_r`` its white output noise (intensity
 ``rate_noise``); ``s = ±1`` the sign with which the turned sensors see the carrier's vibration.
+
+**The rebalance loop.**  The float is held at the null of its angle sensor by a proportional
+rebalance loop of bandwidth ``ω_b`` (``loop_bandwidth``): the commanded rate is
+``u = k_b (β + n_as)`` with ``k_b = f ω_b / H`` (the loop's crossover is ``ω_b`` when
+``ω_b ≪ f/I``), ``n_as`` the angle sensor's white noise (intensity ``C_as``, the same sensor as
+GC's).  The float obeys ``I β'' + f β' = H (ω_in − u)``, so the loop makes it follow the
+pickoff noise, and the mean of the output over a sample of length ``Δt`` is, exactly,
+``ω_in − (f/H) Δβ/Δt − (I/H) Δβ'/Δt``: over a window the float's motion telescopes to
+``(f/H)(β_end − β_start)/T`` — the pickoff noise differentiated, paper GC's noise that the
+measurement time must average out (p. 52).  The output is counted in pulses of
+``quantization`` (rad) of the accumulated angle, a further ``(a_k − a_{k−1})/Δt`` with ``a``
+uniform (variance ``q²/12``).  The float's closed-loop response to the slowly varying input
+rate itself is left out of the model (the truth of :func:`rate_sensor_monte_carlo` keeps it,
+and the transient of the turn, which the settling time must cover).
 A turn about the local vertical keeps the tilt of the input axis, so the vertical Earth rate
 ``Ω_v γ`` does not change sign and has to be corrected (step 5); the horizontal term does.
 Linearized (the known ``±Ω_h`` removed), position 1 reads ``ω_gc + e + Ω_v γ + …`` and
@@ -38,6 +52,9 @@ State vector of the model (:data:`RS_STATE_NAMES`, SI)::
     delta     δ, gamma γ: platform tilts                rad
     N1, N2    vibration, Eq. (6)                        m/s², m/s³
     N3, N4    random drift, Eq. (7)                     rad/s, rad/s²
+    beta, beta_rate         float angle β, β' (loop)    rad, rad/s
+    beta_prev, beta_rate_prev  the same one sample earlier
+    quant, quant_prev       quantization residual a_k, a_(k−1)  rad
 
 Sampled every ``sample_dt`` (rate sensor and both inclinometers; a continuous white noise of
 intensity ``C`` averaged over a sample has variance ``C/sample_dt``).
@@ -58,6 +75,7 @@ from functools import cached_property
 from typing import Final
 
 import numpy as np
+import scipy.linalg
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
@@ -84,6 +102,7 @@ __all__ = [
 #: States of the rate-sensor model, in order.
 RS_STATE_NAMES: Final[tuple[str, ...]] = (
     "omega_gc", "earth", "turn", "delta", "gamma", "N1", "N2", "N3", "N4",
+    "beta", "beta_rate", "beta_prev", "beta_rate_prev", "quant", "quant_prev",
 )
 
 #: How the turned sensors see the vibration ``N1`` in position 2: ``"carrier"`` (a
@@ -92,10 +111,12 @@ RS_STATE_NAMES: Final[tuple[str, ...]] = (
 VIBRATION_FRAMES: Final[tuple[str, ...]] = ("carrier", "sensor")
 
 _N: Final[int] = len(RS_STATE_NAMES)
-_OMEGA, _EARTH, _TURN, _DELTA, _GAMMA, _N1, _N2, _N3, _N4 = range(_N)
+(_OMEGA, _EARTH, _TURN, _DELTA, _GAMMA, _N1, _N2, _N3, _N4,
+ _B, _BR, _BP, _BRP, _A, _AP) = range(_N)
 
-_NONNEGATIVE = ("T_rot", "T_settle", "sigma_rot", "sigma_scale")
-_POSITIVE = ("rate_noise", "sample_dt", "sigma_c", "t_max")
+_NONNEGATIVE = ("T_rot", "T_settle", "sigma_rot", "sigma_scale", "quantization",
+                "angle_noise_scale")
+_POSITIVE = ("rate_noise", "sample_dt", "sigma_c", "t_max", "loop_bandwidth")
 
 
 @dataclass(frozen=True)
@@ -122,8 +143,10 @@ class RateSensorProcedure:
     sigma_scale : float, default 1e-3
         Standard deviation of the torque sensor's scale-factor error ``k`` (relative): the
         reason the Earth-rate reading is not known to σ_c and the base is turned.
-    split : float, default 0.5
-        ``T1 / (T1 + T2)``, the share of the measurement time spent in position 1.
+    split : float or None, default None
+        ``T1 / (T1 + T2)``, the share of the measurement time spent in position 1; ``None``:
+        chosen optimally (the race picks the windows that reach σ_c soonest, for each
+        estimator).
     vibration_frame : {"carrier", "sensor"}, default "carrier"
         How sensors turned by 180° see ``N1`` (:data:`VIBRATION_FRAMES`).
     sample_dt : float, default 0.1
@@ -132,6 +155,15 @@ class RateSensorProcedure:
         The required accuracy σ_c (rad/s) of the north gyro's drift (paper GC, after ref. [2]).
     t_max : float, default 7200.0
         Longest procedure (s) searched for σ_c.
+    loop_bandwidth : float, default 10.0
+        Bandwidth ``ω_b`` (rad/s) of the rebalance loop that holds the float at null (its
+        proportional gain ``k_b = f ω_b / H``); the book sweeps it from 1 to 100 rad/s.  The
+        settling time should cover several ``1/ω_b`` (the model assumes the loop settled).
+    quantization : float, default 0.01″
+        Weight (rad) of one output pulse of the accumulated angle (0: no quantization).
+    angle_noise_scale : float, default 1.0
+        Factor on the angle sensor's intensity ``C_as`` (paper GC's) as it enters the rival's
+        loop; 0 leaves the pickoff noise out (the old noiseless pickoff, kept for checks).
 
     Examples
     --------
@@ -155,11 +187,14 @@ class RateSensorProcedure:
     T_settle: float = 10.0
     sigma_rot: float = ARCMIN
     sigma_scale: float = 1.0e-3
-    split: float = 0.5
+    split: float | None = None
     vibration_frame: str = "carrier"
     sample_dt: float = 0.1
     sigma_c: float = 2.0e-3 * ARCSEC_PAPER
     t_max: float = 7200.0
+    loop_bandwidth: float = 10.0
+    quantization: float = 0.01 * ARCSEC_PAPER
+    angle_noise_scale: float = 1.0
 
     def __post_init__(self) -> None:
         for f_ in fields(self):
@@ -168,15 +203,29 @@ class RateSensorProcedure:
                 v.check_nonnegative(name, getattr(self, name))
             elif name in _POSITIVE:
                 v.check_positive(name, getattr(self, name))
-        v.check_in_range("split", self.split, 0.0, 1.0, low_open=True, high_open=True)
+        if self.split is not None:
+            v.check_in_range("split", self.split, 0.0, 1.0, low_open=True, high_open=True)
+            object.__setattr__(self, "split", float(self.split))
         v.check_choice("vibration_frame", self.vibration_frame, VIBRATION_FRAMES)
-        for name in (*_NONNEGATIVE, *_POSITIVE, "split"):
+        for name in (*_NONNEGATIVE, *_POSITIVE):
             object.__setattr__(self, name, float(getattr(self, name)))
 
     @property
     def overhead(self) -> float:
         """``T_rot + T_settle`` (s): the time between the two measurements."""
         return self.T_rot + self.T_settle
+
+    def loop_gain(self, params: GyrocompassParams) -> float:
+        """The rebalance loop's proportional gain ``k_b = f ω_b / H`` (1/s).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> gc.RateSensorProcedure().loop_gain(gc.GyrocompassParams())
+        5.0
+        """
+        p = check_params(params)
+        return p.f * self.loop_bandwidth / p.H
 
 
 def check_procedure(procedure: object) -> RateSensorProcedure:
@@ -226,9 +275,9 @@ class OptimalRun:
         --------
         >>> from gyrolib import gc
         >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
-        >>> run = m.optimal_run(10.0, 10.0)
+        >>> run = m.optimal_run(20.0, 40.0)
         >>> f"{run.time_to(1e-8):.1f} s"
-        '34.5 s'
+        '56.1 s'
         """
         level = v.check_positive("level", level)
         above = np.nonzero(self.sigma > level)[0]
@@ -269,8 +318,8 @@ class RateSensorModel:
         check_procedure(self.procedure)
         for name in ("F", "Phi", "Qd", "P0"):
             v.check_ndarray(name, getattr(self, name), shape=(_N, _N))
-        v.check_ndarray("G", self.G, shape=(_N, 2))
-        v.check_ndarray("Q", self.Q, shape=(2, 2))
+        v.check_ndarray("G", self.G, shape=(_N, 3))
+        v.check_ndarray("Q", self.Q, shape=(3, 3))
         v.check_ndarray("H1", self.H1, shape=(3, _N))
         v.check_ndarray("H2", self.H2, shape=(3, _N))
         v.check_ndarray("r", self.r, shape=(3,))
@@ -294,7 +343,7 @@ class RateSensorModel:
         Phi, Qd = _power_sum(self.Phi, self.Qd, k)
         rest = length - k * dt
         if rest > 1e-12:
-            Pr, Qr = van_loan(self.F, self.G, self.Q, rest)
+            Pr, Qr = _discretize(self.F, self.G, self.Q, rest)
             Phi, Qd = Pr @ Phi, Pr @ Qd @ Pr.T + Qr
         return Phi, Qd
 
@@ -372,7 +421,7 @@ class RateSensorModel:
         >>> from gyrolib.units import from_si
         >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
         >>> f"{from_si(m.classical_sigma(10.0, 10.0), 'arcsec_paper/s'):.5f}"
-        '0.00170'
+        '0.01053'
         """
         n1, n2 = self.window_samples("t1", t1), self.window_samples("t2", t2)
         return self.classical_sigma_samples(n1, n2)
@@ -465,8 +514,8 @@ class RateSensorModel:
         >>> from gyrolib.units import from_si
         >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
         >>> run = m.optimal_run(10.0, 10.0)
-        >>> f"{from_si(run.sigma[-1], 'arcsec_paper/s'):.5f}"   # classical: 0.00170
-        '0.00164'
+        >>> f"{from_si(run.sigma[-1], 'arcsec_paper/s'):.5f}"   # classical: 0.01053
+        '0.00401'
         """
         n1, n2 = self.window_samples("t1", t1), self.window_samples("t2", t2)
         return self.optimal_run_samples(n1, n2)
@@ -550,11 +599,22 @@ def rate_sensor_model(params: GyrocompassParams | None = None,
     F = np.zeros((_N, _N))
     F[_N1:_N2 + 1, _N1:_N2 + 1] = vib.A
     F[_N3:_N4 + 1, _N3:_N4 + 1] = drift.A
-    G = np.zeros((_N, 2))
+    # the rebalance loop: I β'' + f β' = −f ω_b (β + n_as) (the input rate's share left out)
+    wf, fi = proc.loop_bandwidth * p.f / p.I, p.f / p.I
+    F[_B, _BR] = 1.0
+    F[_BR, _B], F[_BR, _BR] = -wf, -fi
+    G = np.zeros((_N, 3))
     G[_N1:_N2 + 1, 0] = vib.B[:, 0]
     G[_N3:_N4 + 1, 1] = drift.B[:, 0]
-    Q = np.diag([p.Q1, p.Q2])
-    Phi, Qd = van_loan(F, G, Q, proc.sample_dt)
+    G[_BR, 2] = -wf
+    Q = np.diag([p.Q1, p.Q2, _angle_intensity(p, proc)])
+    Phi, Qd = _discretize(F, G, Q, proc.sample_dt)
+    # the delayed copies and the quantization residual, one sample at a time
+    for cur, prev in ((_B, _BP), (_BR, _BRP), (_A, _AP)):
+        Phi[prev, :] = 0.0
+        Phi[prev, cur] = 1.0
+    Phi[_A, :] = 0.0
+    Qd[_A, _A] = proc.quantization**2 / 12.0
     # prior: paper GC's for ω_gc, δ, γ, N1…N4; e and d from k, ψ and ε (second moments)
     P0 = np.zeros((_N, _N))
     P0[_OMEGA, _OMEGA] = p.sigma_gc0**2
@@ -568,15 +628,30 @@ def rate_sensor_model(params: GyrocompassParams | None = None,
         k = p.shaping_p0_scale
         P0[_N1:_N2 + 1, _N1:_N2 + 1] = k * vib.stationary_covariance()
         P0[_N3:_N4 + 1, _N3:_N4 + 1] = k * drift.stationary_covariance()
+    # the loop in its stationary state, and its value one sample earlier
+    loop = slice(_B, _BR + 1)
+    Ps = _loop_stationary(F, G, Q)
+    lag = Phi[loop, loop] @ Ps
+    P0[_B:_BR + 1, _B:_BR + 1] = Ps
+    P0[_BP:_BRP + 1, _BP:_BRP + 1] = Ps
+    P0[_B:_BR + 1, _BP:_BRP + 1] = lag
+    P0[_BP:_BRP + 1, _B:_BR + 1] = lag.T
+    P0[_A, _A] = P0[_AP, _AP] = proc.quantization**2 / 12.0
     # measurements: rate sensor, inclinometer y, inclinometer z
     s2 = -1.0 if proc.vibration_frame == "carrier" else 1.0
     ub = p.omega_ub / p.g
+    dt = proc.sample_dt
+    # the output's mean over a sample: ω_in − (f/H) Δβ/Δt − (I/H) Δβ'/Δt + Δa/Δt
+    loop_cols = [_B, _BP, _BR, _BRP, _A, _AP]
+    loop_coef = np.array([-p.f / p.H, p.f / p.H, -p.I / p.H, p.I / p.H, 1.0, -1.0]) / dt
     H1 = np.zeros((3, _N))
     H1[0, [_OMEGA, _EARTH, _GAMMA, _N1, _N3]] = (1.0, 1.0, p.Omega_v, ub, 1.0)
+    H1[0, loop_cols] = loop_coef
     H1[1, [_DELTA, _N1]] = (p.g, 1.0)
     H1[2, [_GAMMA, _N1]] = (p.g, 1.0)
     H2 = np.zeros((3, _N))
     H2[0, [_OMEGA, _EARTH, _TURN, _GAMMA, _N1, _N3]] = (1.0, -1.0, 1.0, p.Omega_v, s2 * ub, 1.0)
+    H2[0, loop_cols] = loop_coef
     H2[1, [_DELTA, _N1]] = (p.g, s2)
     H2[2, [_GAMMA, _N1]] = (p.g, s2)
     # the inclinometers' intensities as GC reads them; per sample of proc.sample_dt
@@ -586,6 +661,41 @@ def rate_sensor_model(params: GyrocompassParams | None = None,
     r = np.concatenate(([proc.rate_noise], c_incl)) / proc.sample_dt
     return RateSensorModel(params=p, procedure=proc, F=F, G=G, Q=Q, Phi=Phi, Qd=Qd, P0=P0,
                            H1=H1, H2=H2, r=r)
+
+
+_BASE = slice(0, _B)            # the states of paper GC's disturbances
+_LOOP = slice(_B, _BR + 1)      # the float in its rebalance loop
+
+
+def _loop_stationary(F: np.ndarray, G: np.ndarray, Q: np.ndarray) -> np.ndarray:
+    """Stationary covariance of the loop's ``(β, β')`` (continuous Lyapunov equation)."""
+    Ps = scipy.linalg.solve_continuous_lyapunov(F[_LOOP, _LOOP],
+                                                -(G[_LOOP] @ Q @ G[_LOOP].T))
+    return 0.5 * (Ps + Ps.T)
+
+
+def _discretize(F: np.ndarray, G: np.ndarray, Q: np.ndarray,
+                h: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(Φ, Qd)`` of the continuous model over ``h``: paper GC's disturbances by Van Loan;
+    the loop, whose poles (down to ``−f/I``) are too fast for Van Loan's block exponential,
+    by ``Φ = e^{F h}`` and ``Qd = P_s − Φ P_s Φᵀ`` (exact for a stationary linear loop); the
+    delayed copies and the quantization residual held."""
+    Phi, Qd = np.eye(_N), np.zeros((_N, _N))
+    Phi[_BASE, _BASE], Qd[_BASE, _BASE] = van_loan(F[_BASE, _BASE], G[_BASE, :2],
+                                                   Q[:2, :2], h)
+    Pl = scipy.linalg.expm(F[_LOOP, _LOOP] * h)
+    Ps = _loop_stationary(F, G, Q)
+    Phi[_LOOP, _LOOP] = Pl
+    Ql = Ps - Pl @ Ps @ Pl.T
+    Qd[_LOOP, _LOOP] = 0.5 * (Ql + Ql.T)
+    return Phi, Qd
+
+
+def _angle_intensity(p: GyrocompassParams, proc: RateSensorProcedure) -> float:
+    """The angle sensor's white-noise intensity (rad²·s) in the rival's loop: paper GC's
+    ``C_as`` as GC's filter reads it, times ``angle_noise_scale``."""
+    c = p.C_as * (p.dt if p.measurement_noise == "variance" else 1.0)
+    return c * proc.angle_noise_scale
 
 
 def turn_accuracy_limit(params: GyrocompassParams | None = None,
@@ -671,6 +781,7 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
                             procedure: RateSensorProcedure | None = None, *,
                             t1: float, t2: float, n_runs: int = 400, seed: int = 0,
                             truth_params: GyrocompassParams | None = None,
+                            truth_procedure: RateSensorProcedure | None = None,
                             substeps: int = TRUTH_SUBSTEPS) -> RateSensorMonteCarlo:
     """The classical estimator of the rate-sensor method on a simulated truth.
 
@@ -678,19 +789,25 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
     ω_gc, δ, γ, the scale-factor error ``k``, the turning error ε and the shaping-filter
     states from the truth's priors; integrates the shaping filters (6), (7) on its own grid of
     ``substeps`` steps per sample, white noise held over each fine step (the zero-order-hold
-    steps of :mod:`gyrolib.gc.analysis.montecarlo`); evaluates the output of Eq. (3) at the float's
-    null in full, ``(1 + k)[Ω_h cos(θ − ψ) + Ω_v γ + ω_gc + s ω_ub N1/g + N3]`` with the base's
-    azimuth ``θ = 0`` in position 1 and ``π + ε`` after the turn, the turned sensors seeing
-    the vibration with the sign ``s`` of ``vibration_frame``; and adds the sensors' white
-    noise averaged over each sample.  The estimator is the paper's half-sum corrected by the
-    inclinometer means.
+    steps of :mod:`gyrolib.gc.analysis.montecarlo`), and on the same grid the float in its
+    closed rebalance loop, ``I β'' + f β' = H ω_in − H k_b (β + n_as)`` (the full second-order
+    float, the pickoff noise ``n_as`` held over each fine step, the loop started settled
+    at its steady offset in position 1 and left to settle through the turn and the
+    settling); the input rate is Eq. (3)'s at the float's null in full,
+    ``Ω_h cos(θ − ψ) + Ω_v γ + ω_gc + s ω_ub N1/g + N3`` with the base's azimuth ``θ = 0``
+    in position 1 and ``π + ε`` after the turn, the turned sensors seeing the vibration with
+    the sign ``s`` of ``vibration_frame``; the output, scaled by ``(1 + k)``, is the
+    commanded rate's mean over each sample (from the float's equation integrated), plus the
+    torquer's white noise, counted over each window in pulses of ``quantization`` from a
+    random phase.  The estimator is the paper's half-sum corrected by the inclinometer
+    means.
 
     Parameters
     ----------
     params : GyrocompassParams, optional
         The model the computed σ uses.
     procedure : RateSensorProcedure, optional
-        The procedure (both the model's and the truth's).
+        The procedure (the model's, and the truth's unless ``truth_procedure``).
     t1, t2 : float
         Measurement times (s) in positions 1 and 2.
     n_runs : int
@@ -699,6 +816,9 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
         Seed (>= 0); run ``i`` is the same whatever ``n_runs``.
     truth_params : GyrocompassParams, optional
         The truth's parameters (default: ``params``), e.g. a larger vibration.
+    truth_procedure : RateSensorProcedure, optional
+        The truth's procedure and sensor (default: ``procedure``), e.g. the pickoff noise
+        present while the model leaves it out (``angle_noise_scale=0``).
     substeps : int
         Fine steps of the truth per sample (>= 1).
 
@@ -711,7 +831,7 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
     >>> from gyrolib import gc
     >>> mc = gc.rate_sensor_monte_carlo(t1=10.0, t2=10.0, n_runs=200, seed=3)
     >>> mc.inside, f"{mc.ratio:.2f}"
-    (True, '1.04')
+    (True, '1.05')
     """
     p = GyrocompassParams() if params is None else check_params(params)
     proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
@@ -723,7 +843,8 @@ def rate_sensor_monte_carlo(params: GyrocompassParams | None = None,
     model = rate_sensor_model(p, proc)
     n1, n2 = model.window_samples("t1", t1), model.window_samples("t2", t2)
     sigma = model.classical_sigma_samples(n1, n2)
-    errors = _truth_classical_errors(tp, proc, n1, n2, n_runs, seed, substeps)
+    tproc = proc if truth_procedure is None else check_procedure(truth_procedure)
+    errors = _truth_classical_errors(tp, tproc, n1, n2, n_runs, seed, substeps)
     return RateSensorMonteCarlo(errors=errors, sigma=sigma, band=nees_bounds(1, n_runs),
                                 t1=n1 * proc.sample_dt, t2=n2 * proc.sample_dt, seed=seed,
                                 truth_params=truth_params)
@@ -733,21 +854,28 @@ _BLOCK: Final[int] = 64      # runs per random stream (run i is the same whateve
 
 
 class _Truth:
-    """The truth's fixed arrays: zero-order-hold steps of the shaping filters on the fine
-    grid ``h`` (and over the part of the gap shorter than ``h``), noise levels, signs."""
+    """The truth's fixed arrays: zero-order-hold steps of the shaping filters and of the float
+    in its rebalance loop on the fine grid ``h`` (and over the part of the gap shorter than
+    ``h``), noise levels, signs."""
 
     def __init__(self, tp: GyrocompassParams, proc: RateSensorProcedure, substeps: int):
         self.tp, self.proc, self.substeps = tp, proc, substeps
         dt = proc.sample_dt
         h = dt / substeps
+        self.h = h
         self.vib, self.drift = tp.vibration_filter(), tp.random_drift_filter()
+        # the float: I β'' + f β' = H ω_in − H k_b (β + n_as), inputs held over a fine step
+        self.k_b = proc.loop_gain(tp)
+        self.A_loop = np.array([[0.0, 1.0], [-tp.H * self.k_b / tp.I, -tp.f / tp.I]])
         self.fine = self._steps(h)
         self.n_gap = math.floor(proc.overhead / h + 1e-9)
         rest = proc.overhead - self.n_gap * h
         self.rest = self._steps(rest) if rest > 1e-12 else None
+        self.rest_h = rest
         c_z = tp.C_incl_z * (tp.dt if tp.measurement_noise == "variance" else 1.0)
         self.sd_rate = math.sqrt(proc.rate_noise / dt)
         self.sd_z = math.sqrt(c_z / dt)
+        self.c_as = _angle_intensity(tp, proc)
         self.s2 = -1.0 if proc.vibration_frame == "carrier" else 1.0
         self.ub = tp.omega_ub / tp.g
         P = np.zeros((4, 4))
@@ -759,48 +887,79 @@ class _Truth:
     def _steps(self, h: float) -> tuple[np.ndarray, ...]:
         phi1, gam1 = zoh_discretize(self.vib.A, self.vib.B[:, 0], h)
         phi2, gam2 = zoh_discretize(self.drift.A, self.drift.B[:, 0], h)
+        phil, gaml = zoh_discretize(self.A_loop, np.array([0.0, 1.0 / self.tp.I]), h)
         return (phi1, gam1 * math.sqrt(self.tp.Q1 / h), phi2,
-                gam2 * math.sqrt(self.tp.Q2 / h))
+                gam2 * math.sqrt(self.tp.Q2 / h), phil, gaml, h)
 
-    @staticmethod
-    def advance(x: np.ndarray, n_fine: int, steps: tuple[np.ndarray, ...],
-                rng: np.random.Generator) -> None:
-        """``n_fine`` fine steps of N1…N4 (rows of ``x``), white noise held over each."""
-        phi1, gam1, phi2, gam2 = steps
-        w = rng.standard_normal((n_fine, 2, x.shape[1]))
+    def advance(self, x: np.ndarray, loop: np.ndarray, n_fine: int,
+                steps: tuple[np.ndarray, ...], rng: np.random.Generator,
+                rate_in) -> np.ndarray:
+        """``n_fine`` fine steps of N1…N4 (rows of ``x``) and of the float ``(β, β')``
+        (rows of ``loop``), white noise held over each; returns ``∫ ω_in dt`` over them
+        (``rate_in(x)`` the input rate with the shaping states at the step's start)."""
+        phi1, gam1, phi2, gam2, phil, gaml, h = steps
+        w = rng.standard_normal((n_fine, 3, x.shape[1]))
+        sd_n = math.sqrt(self.c_as / h)
+        tp = self.tp
+        integral = np.zeros(x.shape[1])
         for i in range(n_fine):
+            w_in = rate_in(x)
+            # the feedback on β is in the loop's own step; the inputs: rate and pickoff noise
+            torque = tp.H * w_in - tp.H * self.k_b * sd_n * w[i, 2]
+            loop[:] = phil @ loop + np.outer(gaml, torque)
+            integral += h * w_in
             x[0:2] = phi1 @ x[0:2] + np.outer(gam1, w[i, 0])
             x[2:4] = phi2 @ x[2:4] + np.outer(gam2, w[i, 1])
+        return integral
 
     def errors(self, rng: np.random.Generator, n1: int, n2: int, B: int) -> np.ndarray:
         """Classical-estimate errors of ``B`` runs drawn from ``rng``."""
-        tp = self.tp
+        tp, proc = self.tp, self.proc
+        dt, q = proc.sample_dt, proc.quantization
         # each run's constants and initial shaping-filter states, from the truth's priors
         psi = tp.sigma_psi0 * rng.standard_normal(B)
         omega = tp.sigma_gc0 * rng.standard_normal(B)
         gamma = tp.sigma_gamma0 * rng.standard_normal(B)
-        k = self.proc.sigma_scale * rng.standard_normal(B)
-        eps = self.proc.sigma_rot * rng.standard_normal(B)
+        k = proc.sigma_scale * rng.standard_normal(B)
+        eps = proc.sigma_rot * rng.standard_normal(B)
         x = self.L @ rng.standard_normal((self.L.shape[1], B))      # N1, N2, N3, N4
 
-        def window(n: int, theta: np.ndarray, s: float) -> tuple[np.ndarray, np.ndarray]:
+        def rate_in_at(theta: np.ndarray, s: float):
+            # the input rate of Eq. (3) at the float's null, the base at azimuth θ, in full
+            return lambda x_: (tp.Omega_h * np.cos(theta - psi) + tp.Omega_v * gamma + omega
+                               + s * self.ub * x_[0] + x_[2])
+
+        # the float in its loop: at rest at its steady offset ω_in/k_b, then settled a while
+        rate1 = rate_in_at(np.zeros(B), 1.0)
+        loop = np.vstack([rate1(x) / self.k_b, np.zeros(B)])
+        self.advance(x, loop, math.ceil(10.0 / (proc.loop_bandwidth * self.h)), self.fine,
+                     rng, rate1)
+
+        def window(n: int, rate_in) -> tuple[np.ndarray, np.ndarray]:
             sum_r = np.zeros(B)
             sum_z = np.zeros(B)
             for _ in range(n):
-                self.advance(x, self.substeps, self.fine, rng)
+                b0 = loop.copy()
+                integral = self.advance(x, loop, self.substeps, self.fine, rng, rate_in)
                 e = rng.standard_normal((2, B))
-                # Eq. (3) over H at the float's null, the base at azimuth θ, in full
-                rate = (1.0 + k) * (tp.Omega_h * np.cos(theta - psi) + tp.Omega_v * gamma
-                                    + omega + s * self.ub * x[0] + x[2])
-                sum_r += rate + self.sd_rate * e[0]
-                sum_z += tp.g * gamma + s * x[0] + self.sd_z * e[1]
+                # the output's mean over the sample, from the float's equation integrated:
+                # ∫ u = ∫ ω_in − (f Δβ + I Δβ') / H
+                u = (integral - (tp.f * (loop[0] - b0[0]) + tp.I * (loop[1] - b0[1])) / tp.H) / dt
+                sum_r += (1.0 + k) * u + self.sd_rate * e[0]
+                sum_z += tp.g * gamma + s_now[0] * x[0] + self.sd_z * e[1]
+            if q > 0.0:   # pulses of q counted over the window, from a random phase
+                a0 = q * rng.random(B)
+                sum_r = q * (np.floor((a0 + dt * sum_r) / q) - np.floor(a0 / q)) / dt
             return sum_r / n, sum_z / n
 
-        m1, z1 = window(n1, np.zeros(B), 1.0)
-        self.advance(x, self.n_gap, self.fine, rng)      # the turn and the settling
+        s_now = [1.0]
+        m1, z1 = window(n1, rate1)
+        rate2 = rate_in_at(np.pi + eps, self.s2)
+        s_now[0] = self.s2
+        self.advance(x, loop, self.n_gap, self.fine, rng, rate2)      # the turn, the settling
         if self.rest is not None:
-            self.advance(x, 1, self.rest, rng)
-        m2, z2 = window(n2, np.pi + eps, self.s2)
+            self.advance(x, loop, 1, self.rest, rng, rate2)
+        m2, z2 = window(n2, rate2)
         est = 0.5 * (m1 + m2) - tp.Omega_v * (z1 + z2) / (2.0 * tp.g)
         return est - omega
 
