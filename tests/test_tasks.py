@@ -24,7 +24,8 @@ def _warm(code: str) -> subprocess.CompletedProcess:
 
 def test_warm_up_runs_every_call_and_fills_the_cache():
     """Strict: every call succeeds, and numba's cache then holds the kernels of the
-    covariance, square-root, observability, Monte Carlo, calibration and noise-fit modules (their index files next to the sources)."""
+    covariance, square-root, observability, Monte Carlo, calibration and noise-fit modules
+    (their index files next to the sources)."""
     proc = _warm(tasks.WARM_NUMBA)
     assert proc.returncode == 0, proc.stderr[-3000:]
     index = {p.name.split(".")[0] for p in (ROOT / "gyrolib").rglob("__pycache__/*.nbi")}

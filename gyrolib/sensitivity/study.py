@@ -578,6 +578,7 @@ def recheck(result: SensitivityResult, evaluate: Evaluate, context: object, k: i
 
 
 # Elasticities at the defaults -----------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class Elasticities:
     """Local elasticities ``∂ ln y / ∂ ln x`` of a model's outputs at its defaults
