@@ -4,7 +4,17 @@ Exit status: 0 every file gave a valid estimate; 2 bad input (a missing file or 
 non-numeric cell, time not increasing, an empty or non-CSV file, an unknown TOML field, a
 column whose values are implausible in SI — degrees, milliseconds, g — or a bad option);
 3 no valid estimate (paper GC: the filter lost lock — the gate rejected more than the allowed
-share of a sensor's samples, or a sensor's mean NIS is far outside its band).  Bad input
+share of a sensor's samples, or a sensor's mean NIS is far outside its band — or a check of
+the model failed: a sensor's mean NIS or whiteness, or the split-record consistency of ω_gc,
+at a stated family-wise false-alarm rate, ``--false-alarm``; ``--accept-misfit`` gives the
+estimate of a misfit record anyway, marked ``"misfit"``, with status 0).
+
+Paper GC's σ(ω_gc) carries the instrument constants estimated with the state, each with a
+stated prior: the angle sensor's null offset (``--offset-prior``), the inclinometers' biases
+(``--inclinometer-bias-prior``) and the scale common to ``H/f`` and the angle sensor's gain
+(``--scale-tolerance``); the output prints σ's parts.  The Earth-rate components come from
+``--latitude``, a ``latitude`` key of ``--params`` or the record's ``# latitude_deg:`` line;
+without any, the output says that paper GC's values (about 53.9° N) were used.  Bad input
 prints one line on stderr naming the file, the row or column and what was expected; a lost
 lock prints "no valid estimate" and why (and one line on stderr).  In either case nothing is
 written (no plot, no Allan plot, no TOML) — except ``--summary``, the report of a batch.
@@ -35,7 +45,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import gc, rsf, units
-from gyrolib.gc.model.params import MEASUREMENT_NAMES
+from gyrolib.gc.model.params import MEASUREMENT_NAMES, PAPER_LATITUDE
 from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
 from gyrolib.records.reader import GCChunks, read_gc, read_rsf
@@ -58,6 +68,15 @@ _FIT_UNITS: Final[dict[str, str]] = {
     "alpha1": "rad/s", "sigma1_sq": "m²/s⁴", "xi1": "", "C_as": "rad²·s", "C_in": "m²/s³",
     "C_incl_y": "m²/s³", "C_incl_z": "m²/s³"}
 _FIT_DEFAULT: Final[str] = "alpha1,sigma1_sq,C_as,C_in"
+
+#: Default 1σ relative uncertainty of the scale common to H/f and the angle sensor's gain
+#: (a floated gyro whose H/f and pick-off gain are known to 0.1 %).
+DEFAULT_SCALE_TOLERANCE: Final[float] = 1e-3
+#: Default 1σ prior of the angle sensor's null offset (arcsec): covers a logger that starts
+#: 1 s late ((H/f) Ω_h · 1 s ≈ 18″).
+DEFAULT_OFFSET_PRIOR_ARCSEC: Final[float] = 20.0
+#: Default 1σ prior of each inclinometer's bias (mg; real ones: 0.1–1 mg).
+DEFAULT_INCL_BIAS_PRIOR_MG: Final[float] = 0.5
 
 
 # Parser ----------------------------------------------------------------------------------
@@ -98,6 +117,28 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     gcp.add_argument("--max-rejected", type=float, default=0.01, metavar="SHARE",
                      help="largest share of a sensor's samples the gate may reject before "
                           "the run counts as lost lock (default 0.01)")
+    gcp.add_argument("--latitude", type=float, default=None, metavar="DEG",
+                     help="latitude of the test site in degrees north, in (0, 90): Omega_h, "
+                          "Omega_v from the Earth's rate (default: the params file's "
+                          "'latitude', else the record's, else paper GC's values, ~53.9 N)")
+    gcp.add_argument("--scale-tolerance", type=float, default=None, metavar="REL",
+                     help="1-sigma relative uncertainty of the scale common to H/f and the "
+                          f"angle sensor's gain (default {DEFAULT_SCALE_TOLERANCE:g}); it "
+                          "reads as a drift of REL*Omega_h and enters sigma(omega_gc)")
+    gcp.add_argument("--offset-prior", type=float, default=None, metavar="ARCSEC",
+                     help="1-sigma prior of the angle sensor's null offset, estimated with the "
+                          f"state (default {DEFAULT_OFFSET_PRIOR_ARCSEC:g} arcsec; a logger "
+                          "that starts late reads as an offset)")
+    gcp.add_argument("--inclinometer-bias-prior", type=float, default=None, metavar="MG",
+                     help="1-sigma prior of each inclinometer's bias in mg, estimated with "
+                          f"the state (default {DEFAULT_INCL_BIAS_PRIOR_MG:g} mg); a bias "
+                          "cannot be told from a tilt, so it enters sigma(omega_gc)")
+    gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
+                     help="family-wise false-alarm rate of the model checks that make a "
+                          "record invalid (default 0.01)")
+    gcp.add_argument("--accept-misfit", action="store_true",
+                     help="give the estimate of a record whose model checks fail, marked "
+                          "misfit (exit 0), instead of no valid estimate (exit 3)")
     _batch_options(gcp)
     rsfp = methods.add_parser(
         "rsf", help="paper RSF: roll-gyro scale-factor error per correction interval",
@@ -233,8 +274,8 @@ def _failure_message(label: str, exc: BaseException) -> str:
 
 @dataclasses.dataclass
 class _Outcome:
-    """What one file gave: ``status`` "ok", "invalid" or "bad"; ``message`` the one line for
-    stderr (bad: the error; invalid: the reason); ``text``/``data`` the report; ``row`` its
+    """What one file gave: ``status`` "ok", "misfit" (accepted), "invalid" or "bad";
+    ``message`` the one line for stderr (bad: the error; invalid: the reason); ``text``/``data`` the report; ``row`` its
     summary row; ``artifacts`` files to write when the run is valid (path → figure or text)."""
 
     file: str
@@ -247,7 +288,8 @@ class _Outcome:
 
     @property
     def code(self) -> int:
-        return {"ok": 0, "invalid": EXIT_INVALID, "bad": EXIT_BAD_INPUT}[self.status]
+        return {"ok": 0, "misfit": 0, "invalid": EXIT_INVALID,
+                "bad": EXIT_BAD_INPUT}[self.status]
 
 
 def _bad(method: str, file: str, message: str) -> _Outcome:
@@ -307,8 +349,46 @@ def _gc_options(args: argparse.Namespace) -> dict:
     _check_out_path(args.allan, _PLOT_SUFFIXES, "a plot")
     _check_out_path(args.fit_noise or None, (".toml",), "a TOML")
     params = gc_params_from_toml(args.params)
-    dt_given = args.params is not None and "dt" in load_toml(args.params)
+    toml = load_toml(args.params) if args.params is not None else {}
+    dt_given = "dt" in toml
+    if not (math.isfinite(args.false_alarm) and 0.0 < args.false_alarm < 1.0):
+        raise UsageError(f"--false-alarm must be a probability in (0, 1); got "
+                         f"{args.false_alarm}")
+    priors = {}
+    for opt, field, val, default, unit in (
+            ("--scale-tolerance", "sigma_hf_scale", args.scale_tolerance,
+             DEFAULT_SCALE_TOLERANCE, 1.0),
+            ("--offset-prior", "sigma_as_offset", args.offset_prior,
+             DEFAULT_OFFSET_PRIOR_ARCSEC, units.ARCSEC_PAPER),
+            ("--inclinometer-bias-prior", "sigma_incl_bias", args.inclinometer_bias_prior,
+             DEFAULT_INCL_BIAS_PRIOR_MG, 1e-3 * units.G0)):
+        if val is not None and not (math.isfinite(val) and val >= 0.0):
+            raise UsageError(f"{opt} must be a number >= 0; got {val}")
+        if val is None and field in toml:     # the params file states it
+            continue
+        priors[field] = (default if val is None else val) * unit
+    params = dataclasses.replace(params, **priors)
+    latitude, lat_source = None, "none"
+    if args.latitude is not None:
+        if not (math.isfinite(args.latitude) and 0.0 < args.latitude < 90.0):
+            raise UsageError(f"--latitude must be in degrees north in (0, 90) (paper GC's "
+                             f"model needs both Earth-rate components positive); got "
+                             f"{args.latitude}")
+        if {"Omega_h", "Omega_v", "latitude"} & set(toml):
+            raise UsageError("--latitude and the params file's latitude/Omega_h/Omega_v both "
+                             "set the Earth rate: give one")
+        latitude, lat_source = args.latitude, "--latitude"
+        params = gc.GyrocompassParams.at_latitude(
+            math.radians(latitude), **{k: getattr(params, k) for k in
+                                       (f.name for f in dataclasses.fields(params))
+                                       if k not in ("Omega_h", "Omega_v")})
+    elif "latitude" in toml:
+        latitude, lat_source = float(toml["latitude"]), f"{args.params} (latitude)"
+    elif {"Omega_h", "Omega_v"} & set(toml):
+        lat_source = f"{args.params} (Omega_h, Omega_v)"
     return {"params": params, "dt_given": dt_given, "gate": args.gate,
+            "latitude": latitude, "latitude_source": lat_source,
+            "false_alarm": args.false_alarm, "accept_misfit": args.accept_misfit,
             "store_every": args.store_every, "max_rejected": args.max_rejected,
             "mapping": mapping, "fit_noise": args.fit_noise, "fit": fit,
             "allan": args.allan, "plot": args.plot, "json": args.json,
@@ -329,7 +409,34 @@ def _with_step(params: gc.GyrocompassParams, t: np.ndarray, notes: list[str],
 
 def _calibrate(record, params, o: dict, progress=None, executor=None):
     return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
-                        max_rejected=o["max_rejected"], progress=progress, executor=executor)
+                        max_rejected=o["max_rejected"], false_alarm=o["false_alarm"],
+                        progress=progress, executor=executor)
+
+
+def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, o: dict,
+                   notes: list[str]) -> tuple[gc.GyrocompassParams, dict]:
+    """The Earth rate stated, never assumed: from --latitude or the params file (already in
+    ``params``), else the record's latitude (rad), else paper GC's values with a note."""
+    lat, source = o["latitude"], o["latitude_source"]
+    if source == "none" and record_latitude is not None:
+        if not 0.0 < record_latitude < math.pi / 2:
+            raise ValueError(f"the record's latitude {math.degrees(record_latitude):g} deg is "
+                             "outside (0, 90) deg N, where paper GC's model holds")
+        lat, source = math.degrees(record_latitude), "record"
+        params = dataclasses.replace(params, **{
+            k: getattr(gc.GyrocompassParams.at_latitude(record_latitude), k)
+            for k in ("Omega_h", "Omega_v")})
+    elif record_latitude is not None and lat is not None and \
+            abs(math.degrees(record_latitude) - lat) > 0.01:
+        notes.append(f"the record says latitude {math.degrees(record_latitude):.4g} deg; "
+                     f"{lat:.4g} deg from {source} used")
+    if source == "none":
+        notes.append("no latitude given (--latitude, a 'latitude' key in --params, or the "
+                     "record's '# latitude_deg:' line): Omega_h, Omega_v are paper GC's "
+                     f"values, which correspond to about "
+                     f"{math.degrees(PAPER_LATITUDE):.1f} deg N")
+    return params, {"latitude_deg": lat, "source": source, "Omega_h": params.Omega_h,
+                    "Omega_v": params.Omega_v}
 
 
 def _fit_noise(record, params, o: dict, bar_ok: bool):
@@ -355,6 +462,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
     if whole:   # the fit and the Allan deviation read the record many times: in memory
         raw = read_gc(file, params=params)
         params = _with_step(params, raw.t, notes, o["dt_given"])
+        params, earth = _with_latitude(params, getattr(raw, "latitude", None), o, notes)
         record = mapping.apply(raw)
         if o["fit_noise"] is not None:
             fit = _fit_noise(record, params, o, o["bar"])
@@ -369,6 +477,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         it = iter(chunks)
         first = next(it)
         params = _with_step(params, first.t, notes, o["dt_given"])
+        params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
 
         def mapped():
             yield mapping.apply(first)
@@ -386,6 +495,10 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
             res = _calibrate(mapped(), params, o, executor=reader,
                              progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
     valid, reason = bool(res.valid), str(res.reason)
+    # a record the model checks reject (but the filter kept lock): its estimate on request,
+    # marked misfit
+    accepted = not valid and o["accept_misfit"] and not res.lost_lock
+    status = "ok" if valid else ("misfit" if accepted else "invalid")
     artifacts = []
     if o["plot"]:
         artifacts.append((o["plot"], "plot", res))
@@ -393,30 +506,42 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         artifacts.append((o["allan"], "allan", (raw, params)))
     if fit is not None and o["fit_noise"]:
         artifacts.append((o["fit_noise"], "text", fit.to_toml()))
-    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason)
-    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o)
+    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth)
+    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted)
+    given = valid or accepted
     row = {"file": file, "method": "gc", "quantity": "omega_gc",
-           "estimate": res.omega_gc if valid else "",
-           "sigma": res.omega_gc_std if valid else "", "unit": "rad/s", "valid": valid,
-           "status": "ok" if valid else "invalid", "reason": reason}
-    return _Outcome(file=file, status="ok" if valid else "invalid",
-                    message="" if valid else f"{file}: no valid estimate: {reason}",
+           "estimate": res.omega_gc if given else "",
+           "sigma": res.omega_gc_std if given else "", "unit": "rad/s", "valid": valid,
+           "status": status, "reason": reason}
+    if accepted:
+        message = ""
+    elif not valid:
+        message = f"{file}: no valid estimate: {reason}"
+    else:
+        message = ""
+    return _Outcome(file=file, status=status, message=message,
                     text=text, data=data, row=row, artifacts=artifacts)
 
 
-def _gc_json(file, res, params, mapping, notes, fit, valid, reason) -> dict:
+def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=False,
+             earth=None) -> dict:
     out = res.summary()
     out["file"] = str(file)
     out["dt"] = params.dt
     out["notes"] = notes
     out["valid"] = valid
     out["reason"] = reason
+    out["misfit_accepted"] = bool(accepted)
+    out["earth_rate"] = earth
+    out["priors"] = {"scale_tolerance": params.sigma_hf_scale,
+                     "angle_offset_rad": params.sigma_as_offset,
+                     "inclinometer_bias_m_s2": params.sigma_incl_bias}
     out["inclinometers"] = {"mapping": str(mapping), "delta": _signed(mapping.delta_sign,
                                                                       mapping.delta_column),
                             "gamma": _signed(mapping.gamma_sign, mapping.gamma_column)}
     if fit is not None:
         out["noise_fit"] = fit.summary()
-    if not valid:       # a failure, not a result: no estimate to pick up by mistake
+    if not valid and not accepted:   # a failure, not a result: no estimate to pick up
         out["omega_gc"] = None
         out["omega_gc_std"] = None
         out.pop("states", None)
@@ -427,7 +552,7 @@ def _signed(sign: float, column: str) -> str:
     return ("-" if sign < 0 else "") + column
 
 
-def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
+def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False) -> str:
     band = res.nis_band()
     lines = [
         f"paper GC calibration of {file}: {res.rows} rows over {res.t_final:.6g} s"
@@ -443,11 +568,23 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
                      f"{fit.n_evaluations} evaluations, "
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")
                      + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else ""))
-    if valid:
+    if valid or accepted:
         a = units.from_si(res.omega_gc, "arcsec_paper/s")
         s = units.from_si(res.omega_gc_std, "arcsec_paper/s")
-        lines.append(f"  omega_gc = {_fmt(a)} ± {_fmt(s, 2)} arcsec/s (paper's arcsec, 1 "
+        lines.append(("  MISFIT (accepted with --accept-misfit; sigma may not cover the "
+                      f"truth): {reason}\n" if accepted else "")
+                     + f"  omega_gc = {_fmt(a)} ± {_fmt(s, 2)} arcsec/s (paper's arcsec, 1 "
                      f"sigma)  = {res.omega_gc:.4e} ± {res.omega_gc_std:.2e} rad/s")
+        parts = res.omega_gc_std_parts
+        p = res.params
+        lines.append("  sigma in parts (adding in quadrature): "
+                     f"noise {_fmt(units.from_si(parts['noise'], 'arcsec_paper/s'), 2)}, "
+                     "instrument biases "
+                     f"{_fmt(units.from_si(parts['instrument_biases'], 'arcsec_paper/s'), 2)}"
+                     f", scale {_fmt(units.from_si(parts['scale'], 'arcsec_paper/s'), 2)} "
+                     f"arcsec/s (priors: scale {p.sigma_hf_scale:g}, angle offset "
+                     f"{units.from_si(p.sigma_as_offset, 'arcsec_paper'):g} arcsec, "
+                     f"inclinometer bias {p.sigma_incl_bias / (1e-3 * units.G0):g} mg)")
     else:
         lines.append(f"  no valid estimate: {reason}")
     lines += [
@@ -458,6 +595,8 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
             f"{nm} {res.nis_mean[q]:.4f} [{band[q, 0]:.4f}, {band[q, 1]:.4f}]"
             for q, nm in enumerate(MEASUREMENT_NAMES)),
         f"  {res.verdict()}",
+        f"  model checks at a {100 * res.false_alarm:g} % family-wise false-alarm rate: "
+        + ("all pass" if not res.misfit else "FAIL"),
     ]
     lines += [f"  note: {n}" for n in notes]
     return "\n".join(lines) + "\n"
@@ -643,7 +782,7 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_BAD_INPUT
 
     def emit(out: _Outcome) -> None:
-        if out.status == "ok" or (out.status == "invalid"):
+        if out.status in ("ok", "misfit", "invalid"):
             if args.json:
                 sys.stdout.write(_json(out.data))
             else:
