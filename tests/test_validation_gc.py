@@ -471,6 +471,14 @@ case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), Value
 # lost lock, noise fit, likelihood, nominal integrator (issues 18, 22)
 case("gc.calibrate", lambda: gc.calibrate(_GREC, max_rejected=1.5), ValueError,
      "max_rejected", r"\[0.0, 1.0\]")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, false_alarm=1.5), ValueError,
+     "false_alarm", r"\(0.0, 1.0\)")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, false_alarm=0.0), ValueError,
+     "false_alarm", r"\(0.0, 1.0\)")
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(sigma_as_offset=-1e-6),
+     ValueError, "sigma_as_offset")
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(sigma_incl_bias=NAN),
+     ValueError, "sigma_incl_bias")
 case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=2.0), TypeError, "nis_range",
      "pair")
 case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=(0.5, 0.9)), ValueError,

@@ -275,8 +275,9 @@ def _failure_message(label: str, exc: BaseException) -> str:
 @dataclasses.dataclass
 class _Outcome:
     """What one file gave: ``status`` "ok", "misfit" (accepted), "invalid" or "bad";
-    ``message`` the one line for stderr (bad: the error; invalid: the reason); ``text``/``data`` the report; ``row`` its
-    summary row; ``artifacts`` files to write when the run is valid (path → figure or text)."""
+    ``message`` the one line for stderr (bad: the error; invalid: the reason);
+    ``text``/``data`` the report; ``row`` its summary row; ``artifacts`` files to write
+    when the run is valid (path → figure or text)."""
 
     file: str
     status: str
