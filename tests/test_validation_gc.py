@@ -802,3 +802,18 @@ def test_any_non_positive_physical_parameter_is_rejected_by_name(field, value):
 def test_any_damping_outside_zero_one_is_rejected(field, xi):
     with pytest.raises(ValueError, match=rf"^{field} must be "):
         replace(P, **{field: xi})
+
+# issue 26: the fitted noise's own uncertainty
+_FIT = gc.NoiseFit(params=gc.GyrocompassParams(), start=gc.GyrocompassParams(),
+                   names=("C_as",), values=np.array([2e-13]), std_errors=np.array([1e-14]),
+                   cov_log=np.array([[np.nan]]), loglik=0.0, loglik_start=0.0, converged=True,
+                   message="", n_evaluations=1, outliers=0)
+case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, "fit"), TypeError, "fit",
+     "NoiseFit")
+case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, _FIT), ValueError, "fit",
+     "not identified")
+case("gc.CalibrationResult.split_tests",
+     lambda: gc.calibrate(_GREC).split_tests((0.5, 1.5)), ValueError, "fractions", "(0, 1)")
+case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, _FIT, samples=1), ValueError,
+     "samples")
+case("gc.NoiseFit.not_identified", lambda: _FIT.not_identified(-1.0), ValueError, "duration")

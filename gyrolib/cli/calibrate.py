@@ -496,9 +496,20 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
             res = _calibrate(mapped(), params, o, executor=reader,
                              progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
     valid, reason = bool(res.valid), str(res.reason)
+    fit_std = 0.0
+    if fit is not None:      # the fitted noise carries its own uncertainty (issue 26)
+        why = fit.not_identified(float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9)
+        if why:
+            valid, reason = False, "; ".join(x for x in (reason, f"noise fit: {why}") if x)
+        else:
+            total = gc.fit_uncertainty(record, fit, gate=o["gate"],
+                                       max_rejected=o["max_rejected"],
+                                       false_alarm=o["false_alarm"])
+            fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))
     # a record the model checks reject (but the filter kept lock): its estimate on request,
     # marked misfit
-    accepted = not valid and o["accept_misfit"] and not res.lost_lock
+    accepted = (not valid and o["accept_misfit"] and not res.lost_lock
+                and not reason.startswith("noise fit:") and "; noise fit:" not in reason)
     status = "ok" if valid else ("misfit" if accepted else "invalid")
     artifacts = []
     if o["plot"]:
@@ -507,12 +518,14 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         artifacts.append((o["allan"], "allan", (raw, params)))
     if fit is not None and o["fit_noise"]:
         artifacts.append((o["fit_noise"], "text", fit.to_toml()))
-    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth)
-    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted)
+    std = math.hypot(res.omega_gc_std, fit_std)
+    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth,
+                    fit_std)
+    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted, fit_std)
     given = valid or accepted
     row = {"file": file, "method": "gc", "quantity": "omega_gc",
            "estimate": res.omega_gc if given else "",
-           "sigma": res.omega_gc_std if given else "", "unit": "rad/s", "valid": valid,
+           "sigma": std if given else "", "unit": "rad/s", "valid": valid,
            "status": status, "reason": reason}
     if accepted:
         message = ""
@@ -525,8 +538,11 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
 
 
 def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=False,
-             earth=None) -> dict:
+             earth=None, fit_std=0.0) -> dict:
     out = res.summary()
+    if fit is not None:
+        out["omega_gc_std"] = math.hypot(res.omega_gc_std, fit_std)
+        out["omega_gc_std_parts"]["noise_fit"] = fit_std
     out["file"] = str(file)
     out["dt"] = params.dt
     out["notes"] = notes
@@ -553,7 +569,8 @@ def _signed(sign: float, column: str) -> str:
     return ("-" if sign < 0 else "") + column
 
 
-def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False) -> str:
+def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
+             fit_std=0.0) -> str:
     band = res.nis_band()
     lines = [
         f"paper GC calibration of {file}: {res.rows} rows over {res.t_final:.6g} s"
@@ -570,20 +587,23 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False) -
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")
                      + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else ""))
     if valid or accepted:
+        std = math.hypot(res.omega_gc_std, fit_std)
         a = units.from_si(res.omega_gc, "arcsec_paper/s")
-        s = units.from_si(res.omega_gc_std, "arcsec_paper/s")
+        s = units.from_si(std, "arcsec_paper/s")
         lines.append(("  MISFIT (accepted with --accept-misfit; sigma may not cover the "
                       f"truth): {reason}\n" if accepted else "")
                      + f"  omega_gc = {_fmt(a)} ± {_fmt(s, 2)} arcsec/s (paper's arcsec, 1 "
-                     f"sigma)  = {res.omega_gc:.4e} ± {res.omega_gc_std:.2e} rad/s")
+                     f"sigma)  = {res.omega_gc:.4e} ± {std:.2e} rad/s")
         parts = res.omega_gc_std_parts
         p = res.params
         lines.append("  sigma in parts (adding in quadrature): "
                      f"noise {_fmt(units.from_si(parts['noise'], 'arcsec_paper/s'), 2)}, "
                      "instrument biases "
                      f"{_fmt(units.from_si(parts['instrument_biases'], 'arcsec_paper/s'), 2)}"
-                     f", scale {_fmt(units.from_si(parts['scale'], 'arcsec_paper/s'), 2)} "
-                     f"arcsec/s (priors: scale {p.sigma_hf_scale:g}, angle offset "
+                     f", scale {_fmt(units.from_si(parts['scale'], 'arcsec_paper/s'), 2)}"
+                     + (f", noise fit {_fmt(units.from_si(fit_std, 'arcsec_paper/s'), 2)}"
+                        if fit is not None else "")
+                     + f" arcsec/s (priors: scale {p.sigma_hf_scale:g}, angle offset "
                      f"{units.from_si(p.sigma_as_offset, 'arcsec_paper'):g} arcsec, "
                      f"inclinometer bias {p.sigma_incl_bias / (1e-3 * units.G0):g} mg)")
     else:

@@ -107,6 +107,7 @@ from gyrolib.gc.logs import (
     calibrate,
     convention_study,
     fit_noise,
+    fit_uncertainty,
     innovation_log_likelihood,
     simulate_record,
 )
@@ -245,6 +246,7 @@ __all__ = [
     "discretize",
     "error_budget",
     "fit_noise",
+    "fit_uncertainty",
     "float_acceleration",
     "gyroscopic_torque",
     "information_psi_omega",

@@ -253,6 +253,11 @@ class CalibrationResult:
         is the efficient one and the difference is independent of it, so its variance is
         the difference of the variances (a Hausman test) and ``z`` is standard normal; a
         drift that changes within the record, or a step in a sensor, moves it."""
+        if not isinstance(fractions, tuple | list) or not all(
+                isinstance(f, int | float) and not isinstance(f, bool) and 0.0 < f < 1.0
+                for f in fractions):
+            raise ValueError(f"fractions must be a sequence of numbers in (0, 1); got "
+                             f"{fractions!r}")
         i = state_index("omega_gc")
         out = []
         if self.t.size < 3:
