@@ -19,9 +19,13 @@ default family-wise false-alarm rate of 1 %.
 2. **Each fault** of ``tests/gc_faults.py`` at each of its sizes (``--fault-seeds`` seeds,
    default 5): the refusal rate, the coverage of the valid ones, and the count of the
    confidently wrong (valid with |z| > 3), which must be 0.
+3. **``--fit-noise``** on ``--fit-seeds`` (default 20) clean records of the paper's model:
+   ``gc.fit_noise`` (α1, σ1², C_as, C_in), refused when ``NoiseFit.not_identified``, else
+   ω̂ with the fitted model and σ from ``gc.fit_uncertainty`` (the fitted parameters'
+   covariance folded in); the share of |z| ≤ 2 with that σ and with the filter's σ alone.
 
     nice -n 10 .venv/bin/python benchmarks/bench_calibrate_faults.py [--seeds 100]
-        [--fault-seeds 5]
+        [--fault-seeds 5] [--fit-seeds 20]
 """
 
 from __future__ import annotations
@@ -88,6 +92,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seeds", type=int, default=100)
     ap.add_argument("--fault-seeds", type=int, default=5)
+    ap.add_argument("--fit-seeds", type=int, default=20)
     args = ap.parse_args()
     rec = Recorder("calibrate_faults")
     params = cli_params()
@@ -154,6 +159,35 @@ def main() -> None:
                      note=f"refused {nref}/{len(runs)}; valid and within 3 sigma "
                           f"{len(zs) - wrong}; confidently wrong (valid, |z| > 3) {wrong}")
     stats["faults"] = faults
+    if args.fit_seeds > 0:
+        t0 = time.perf_counter()
+        z_fit, z_naive, refused_fit = [], [], []
+        for s in range(args.fit_seeds):
+            fr = make(None, 0.0, 30_000 + s)
+            fit = gc.fit_noise(fr.record, paper)
+            why = fit.not_identified(float(fr.record.t[-1] - fr.record.t[0]))
+            if why:
+                refused_fit.append(why.split(":")[0])
+                continue
+            res = gc.calibrate(fr.record, fit.params)
+            total = gc.fit_uncertainty(fr.record, fit)
+            z_fit.append(abs(res.omega_gc - fr.omega_gc) / total)
+            z_naive.append(abs(res.omega_gc - fr.omega_gc) / res.omega_gc_std)
+        wall = (time.perf_counter() - t0) / args.fit_seeds
+        zf, zn = np.array(z_fit), np.array(z_naive)
+        stats["fit_noise"] = {
+            "records": args.fit_seeds, "not_identified": len(refused_fit),
+            "reasons": refused_fit,
+            "share_abs_z_le_2": float(np.mean(zf <= 2.0)) if zf.size else None,
+            "share_abs_z_le_2_filter_sigma_only": float(np.mean(zn <= 2.0)) if zn.size
+            else None,
+            "max_abs_z": float(zf.max()) if zf.size else None}
+        rec.case(f"--fit-noise on {args.fit_seeds} clean records", wall,
+                 note=f"not identified {len(refused_fit)}; of the others |z| <= 2: "
+                      + (f"{100 * np.mean(zf <= 2.0):.0f} % with the fit's uncertainty, "
+                         f"{100 * np.mean(zn <= 2.0):.0f} % with the filter's sigma alone"
+                         if zf.size else "none")
+                      + "; time per record (fit + 17 calibrations)")
     rec.doc["statistics"] = stats
     rec.write()
 

@@ -473,6 +473,8 @@ case("gc.calibrate", lambda: gc.calibrate(_GREC, max_rejected=1.5), ValueError,
      "max_rejected", r"\[0.0, 1.0\]")
 case("gc.calibrate", lambda: gc.calibrate(_GREC, false_alarm=1.5), ValueError,
      "false_alarm", r"\(0.0, 1.0\)")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_tolerance=-0.1), ValueError,
+     "nis_tolerance", r"\[0.0, 1.0\)")
 case("gc.calibrate", lambda: gc.calibrate(_GREC, false_alarm=0.0), ValueError,
      "false_alarm", r"\(0.0, 1.0\)")
 case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(sigma_as_offset=-1e-6),
