@@ -561,6 +561,8 @@ def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=Fal
     if not valid and not accepted:   # a failure, not a result: no estimate to pick up
         out["omega_gc"] = None
         out["omega_gc_std"] = None
+        out["omega_gc_std_parts"] = None
+        out["instrument"] = None
         out.pop("states", None)
     return out
 
