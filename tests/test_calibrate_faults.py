@@ -247,7 +247,7 @@ def test_bad_toml_latitude(text, words, tmp_path, capsys):
                       inclinometer_y=np.zeros(10), inclinometer_z=np.zeros(10))
     path = _write(tmp_path / "r.csv", rec)
     code, out, err = _run(["calibrate", "gc", path, "--params", str(toml)], capsys)
-    assert code == 2 and err.count("\n") == 1 and str(toml) in err
+    assert code == 2 and out == "" and err.count("\n") == 1 and str(toml) in err
     assert all(w in err for w in words), err
 
 
