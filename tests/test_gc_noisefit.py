@@ -175,16 +175,15 @@ def test_inclinometer_likelihood_against_plain_numpy():
 def test_fit_uncertainty_folds_the_fit_covariance_into_sigma(wrong):
     """On the wrong-spectrum record: the fit is identified (100 s is more than three
     correlation times 1/(ξ1 α̂1)); σ from draws of the fitted parameters (law of total
-    variance) is at least the filter's σ at the fit and covers the truth within 3σ; with the
-    fit's covariance inflated 25× (5× the standard errors) σ grows — the check has power."""
+    variance) and the slow vibration the likelihood cannot reject over 100 s (α1 = 1/(ξ1 T),
+    2 ΔlnL < 3.84) is larger than the filter's σ at the fit — by more than 1.5× here: the
+    two models' estimates differ — and covers the truth within 3σ."""
     rec, truth, fit = wrong
     assert fit.not_identified(float(rec.t[-1] - rec.t[0])) == ""
     res = gc.calibrate(rec, fit.params)
     total = gc.fit_uncertainty(rec, fit, samples=8, seed=1)
-    assert total >= 0.99 * res.omega_gc_std
+    assert total > 1.5 * res.omega_gc_std
     assert abs(res.omega_gc - truth["omega_gc_rad_s"]) <= 3.0 * total
-    wide = dataclasses.replace(fit, cov_log=25.0 * fit.cov_log)
-    assert gc.fit_uncertainty(rec, wide, samples=8, seed=1) > 1.05 * total
 
 
 def test_short_record_is_not_identified():

@@ -154,7 +154,9 @@ class NoiseFit:
         """Why the fit does not identify its parameters on a record of ``duration`` s (``""``
         when it does): not converged; no curvature; a relative standard error above 1; or,
         for ``alpha1``, a record shorter than three correlation times ``1/(ξ1 α1)`` of the
-        vibration (Eq. (6)), too short for its spectrum (issue 26).
+        vibration (Eq. (6)), too short for its spectrum (issue 26).  (A vibration slower
+        than the record that the likelihood cannot reject enters σ instead:
+        :func:`fit_uncertainty`.)
 
         Examples
         --------
@@ -252,6 +254,32 @@ def _check_names(fit: object) -> tuple[str, ...]:
     return names
 
 
+def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
+                    ) -> GyrocompassParams | None:
+    """A vibration correlated over the whole record, ``α1 = 1/(ξ1 · duration)`` with ``σ1²``
+    refitted, when the likelihood cannot reject it against the fit (``2 ΔlnL < χ²₁(95 %)``);
+    else ``None``."""
+    import scipy.optimize
+
+    p = fit.params
+    slow = 1.0 / (p.xi1 * duration)
+    if "alpha1" not in fit.names or slow >= p.alpha1:
+        return None
+    ll_fit = innovation_log_likelihood(record, p)
+
+    def neg(log_s1: float) -> float:
+        q = dataclasses.replace(p, alpha1=slow, sigma1_sq=math.exp(log_s1))
+        return -innovation_log_likelihood(record, q)
+
+    x0 = math.log(p.sigma1_sq)
+    best = scipy.optimize.minimize_scalar(neg, bounds=(x0 - 6.0, x0 + 3.0), method="bounded",
+                                          options={"xatol": 0.05, "maxiter": 20})
+    stat = 2.0 * (ll_fit + float(best.fun))
+    if stat < 3.841458820694124:       # χ²(1) at 95 %: not rejected
+        return dataclasses.replace(p, alpha1=slow, sigma1_sq=math.exp(float(best.x)))
+    return None
+
+
 def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed: int = 0,
                     **calibrate_options: object) -> float:
     """σ(ω_gc) (rad/s) with the fitted noise parameters' own uncertainty: ``samples`` draws
@@ -259,7 +287,12 @@ def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed:
     (:func:`gyrolib.gc.calibrate`, ``calibrate_options``) with each, and the law of total
     variance, ``√(mean_k σ_k² + var_k ω̂_k)``: the filter's σ at θ̂ treats the fitted values
     as exact, and it shrinks where the fit overestimates the vibration's bandwidth
-    (issue 26).  Seeded: the same ``seed`` gives the same value.
+    (issue 26).  The curvature's covariance is not to be trusted for an ``alpha1`` that the
+    record barely sees, so a vibration correlated over the whole record
+    (``α1 = 1/(ξ1 T)``, ``σ1²`` refitted) that the likelihood cannot reject (likelihood
+    ratio below χ²₁'s 95 % point) enters as an alternative model: the variance becomes the
+    larger of the two models' plus the square of the difference of their estimates.
+    Seeded: the same ``seed`` gives the same value.
 
     Examples
     --------
@@ -296,7 +329,14 @@ def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed:
         res = calibrate(record, _with(fit.params, fit.names, th), **calibrate_options)
         est.append(res.omega_gc)
         var.append(res.omega_gc_std ** 2)
-    return float(math.sqrt(np.mean(var) + np.var(est, ddof=1)))
+    total = float(np.mean(var) + np.var(est, ddof=1))
+    if record.n > 1:
+        slow = _slow_vibration(fit, record, float(record.t[-1] - record.t[0]))
+        if slow is not None:
+            at_fit = calibrate(record, fit.params, **calibrate_options)
+            alt = calibrate(record, slow, **calibrate_options)
+            total = max(total, alt.omega_gc_std ** 2) + (at_fit.omega_gc - alt.omega_gc) ** 2
+    return float(math.sqrt(total))
 
 
 def _with(p: GyrocompassParams, names: tuple[str, ...], theta: np.ndarray
