@@ -288,8 +288,6 @@ class CalibrationResult:
         resolves; a variance off by 0.5 % changes σ by 0.25 %, harmless, while the defects
         that matter move it by more (a 1 % gain error: 2 %).  Each entry: ``test``,
         ``sensor``, ``statistic``, ``low``, ``high``, ``passed``."""
-        from scipy.stats import norm
-
         used = [q for q in range(M) if self.used[q] > 0]
         splits = self.split_tests()
         n = 2 * len(used) + len(splits)
@@ -310,7 +308,7 @@ class CalibrationResult:
             out.append({"test": f"whiteness (portmanteau, {lags} lags)",
                         "sensor": MEASUREMENT_NAMES[q], "statistic": w, "low": 0.0,
                         "high": lim, "passed": bool(w <= lim)})
-        zlim = float(norm.isf(0.5 * a))
+        zlim = math.sqrt(float(chi2_ppf(1.0 - a, 1)))     # P(|z| > zlim) = a, z ~ N(0, 1)
         for t_s, z in splits:
             out.append({"test": f"split-record omega_gc (t = {t_s:.4g} s vs end)",
                         "sensor": "angle_sensor", "statistic": z, "low": -zlim, "high": zlim,
