@@ -28,6 +28,11 @@ GAP = (60.0, 61.0)               # s: rows removed (a 1 s gap)
 OUTLIER_T0, OUTLIER_N, OUTLIER_SIZE = 30.0, 20, 5e-4   # angle-sensor burst: 20 rows, ±0.5 mrad
 N_NAN = 30                       # NaN cells spread over the three sensors
 WRONG_ALPHA1_FACTOR = 10.0       # the "wrong" record: vibration bandwidth α1 ten times larger
+#: The first line of every GC sample file: the latitude of paper GC's Earth-rate components
+#: (the reader fills GCRecord.latitude from it).  The records are simulated with the paper's
+#: printed Omega_h = 4.3e-5, Omega_v = 5.9e-5 rad/s, which are the Earth's rate at 53.9° N
+#: rounded to two digits (Omega_h within 0.1 %).
+LATITUDE_LINE = "latitude_deg: 53.9"
 RSF_DURATION, RSF_RATE, RSF_PERIOD = 60.0, 1000.0, 1.0
 
 
@@ -51,7 +56,7 @@ def _gc_file(name: str, rec: gc.GCRecord, comments: list[str]) -> None:
     write_csv(HERE / name, {"t": rec.t, "angle_sensor": rec.angle_sensor,
                             "inclinometer_y": rec.inclinometer_y,
                             "inclinometer_z": rec.inclinometer_z},
-              comments=comments, fmt=["%.3f", "%.9g", "%.9g", "%.9g"])
+              comments=[LATITUDE_LINE, *comments], fmt=["%.3f", "%.9g", "%.9g", "%.9g"])
 
 
 def main() -> dict:
@@ -161,7 +166,11 @@ The acceptance tests do **not** use them: they simulate their own records with o
   `encoder_counts` (use `--counts-per-rev {truth['rsf_record_encoder.csv.gz']['counts_per_rev']}`)
   and `gs_gyro_angle`, the integrated GS gyro (the GS angle is their sum).
 
-All columns are SI (s, rad, m/s²).  Truth values in full precision: `truth.json`.
+All columns are SI (s, rad, m/s²).  Truth values in full precision: `truth.json`.  Each GC
+file's first line is `# latitude_deg: 53.9`, the latitude of paper GC's Earth-rate components
+(the records are simulated with the printed Ω_h = 4.3·10⁻⁵, Ω_v = 5.9·10⁻⁵ rad/s, the
+Earth's rate at 53.9° N rounded to two digits: Ω_h within 0.1 %, which the command's default
+scale tolerance of 10⁻³ covers).
 """
     (HERE / "README.md").write_text(text)
 

@@ -471,6 +471,16 @@ case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), Value
 # lost lock, noise fit, likelihood, nominal integrator (issues 18, 22)
 case("gc.calibrate", lambda: gc.calibrate(_GREC, max_rejected=1.5), ValueError,
      "max_rejected", r"\[0.0, 1.0\]")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, false_alarm=1.5), ValueError,
+     "false_alarm", r"\(0.0, 1.0\)")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_tolerance=-0.1), ValueError,
+     "nis_tolerance", r"\[0.0, 1.0\)")
+case("gc.calibrate", lambda: gc.calibrate(_GREC, false_alarm=0.0), ValueError,
+     "false_alarm", r"\(0.0, 1.0\)")
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(sigma_as_offset=-1e-6),
+     ValueError, "sigma_as_offset")
+case("gc.GyrocompassParams", lambda: gc.GyrocompassParams(sigma_incl_bias=NAN),
+     ValueError, "sigma_incl_bias")
 case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=2.0), TypeError, "nis_range",
      "pair")
 case("gc.calibrate", lambda: gc.calibrate(_GREC, nis_range=(0.5, 0.9)), ValueError,
@@ -805,3 +815,18 @@ def test_any_non_positive_physical_parameter_is_rejected_by_name(field, value):
 def test_any_damping_outside_zero_one_is_rejected(field, xi):
     with pytest.raises(ValueError, match=rf"^{field} must be "):
         replace(P, **{field: xi})
+
+# issue 26: the fitted noise's own uncertainty
+_FIT = gc.NoiseFit(params=gc.GyrocompassParams(), start=gc.GyrocompassParams(),
+                   names=("C_as",), values=np.array([2e-13]), std_errors=np.array([1e-14]),
+                   cov_log=np.array([[np.nan]]), loglik=0.0, loglik_start=0.0, converged=True,
+                   message="", n_evaluations=1, outliers=0)
+case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, "fit"), TypeError, "fit",
+     "NoiseFit")
+case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, _FIT), ValueError, "fit",
+     "not identified")
+case("gc.CalibrationResult.split_tests",
+     lambda: gc.calibrate(_GREC).split_tests((0.5, 1.5)), ValueError, "fractions", "(0, 1)")
+case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, _FIT, samples=1), ValueError,
+     "samples")
+case("gc.NoiseFit.not_identified", lambda: _FIT.not_identified(-1.0), ValueError, "duration")

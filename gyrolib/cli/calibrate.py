@@ -4,7 +4,17 @@ Exit status: 0 every file gave a valid estimate; 2 bad input (a missing file or 
 non-numeric cell, time not increasing, an empty or non-CSV file, an unknown TOML field, a
 column whose values are implausible in SI — degrees, milliseconds, g — or a bad option);
 3 no valid estimate (paper GC: the filter lost lock — the gate rejected more than the allowed
-share of a sensor's samples, or a sensor's mean NIS is far outside its band).  Bad input
+share of a sensor's samples, or a sensor's mean NIS is far outside its band — or a check of
+the model failed: a sensor's mean NIS or whiteness, or the split-record consistency of ω_gc,
+at a stated family-wise false-alarm rate, ``--false-alarm``; ``--accept-misfit`` gives the
+estimate of a misfit record anyway, marked ``"misfit"``, with status 0).
+
+Paper GC's σ(ω_gc) carries the instrument constants estimated with the state, each with a
+stated prior: the angle sensor's null offset (``--offset-prior``), the inclinometers' biases
+(``--inclinometer-bias-prior``) and the scale common to ``H/f`` and the angle sensor's gain
+(``--scale-tolerance``); the output prints σ's parts.  The Earth-rate components come from
+``--latitude``, a ``latitude`` key of ``--params`` or the record's ``# latitude_deg:`` line;
+without any, the output says that paper GC's values (about 53.9° N) were used.  Bad input
 prints one line on stderr naming the file, the row or column and what was expected; a lost
 lock prints "no valid estimate" and why (and one line on stderr).  In either case nothing is
 written (no plot, no Allan plot, no TOML) — except ``--summary``, the report of a batch.
@@ -53,7 +63,7 @@ import numpy as np
 
 import gyrolib
 from gyrolib import gc, rsf, units
-from gyrolib.gc.model.params import MEASUREMENT_NAMES
+from gyrolib.gc.model.params import MEASUREMENT_NAMES, PAPER_LATITUDE
 from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
 from gyrolib.records.reader import GCChunks, parse_columns, read_gc, read_rsf
@@ -80,6 +90,15 @@ _FIT_UNITS: Final[dict[str, str]] = {
     "alpha1": "rad/s", "sigma1_sq": "m²/s⁴", "xi1": "", "C_as": "rad²·s", "C_in": "m²/s³",
     "C_incl_y": "m²/s³", "C_incl_z": "m²/s³"}
 _FIT_DEFAULT: Final[str] = "alpha1,sigma1_sq,C_as,C_in"
+
+#: Default 1σ relative uncertainty of the scale common to H/f and the angle sensor's gain
+#: (a floated gyro whose H/f and pick-off gain are known to 0.1 %).
+DEFAULT_SCALE_TOLERANCE: Final[float] = 1e-3
+#: Default 1σ prior of the angle sensor's null offset (arcsec): covers a logger that starts
+#: 1 s late ((H/f) Ω_h · 1 s ≈ 18″).
+DEFAULT_OFFSET_PRIOR_ARCSEC: Final[float] = 20.0
+#: Default 1σ prior of each inclinometer's bias (mg; real ones: 0.1–1 mg).
+DEFAULT_INCL_BIAS_PRIOR_MG: Final[float] = 0.5
 
 
 # Parser ----------------------------------------------------------------------------------
@@ -122,6 +141,28 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     gcp.add_argument("--max-rejected", type=float, default=0.01, metavar="SHARE",
                      help="largest share of a sensor's samples the gate may reject before "
                           "the run counts as lost lock (default 0.01)")
+    gcp.add_argument("--latitude", type=float, default=None, metavar="DEG",
+                     help="latitude of the test site in degrees north, in (0, 90): Omega_h, "
+                          "Omega_v from the Earth's rate (default: the params file's "
+                          "'latitude', else the record's, else paper GC's values, ~53.9 N)")
+    gcp.add_argument("--scale-tolerance", type=float, default=None, metavar="REL",
+                     help="1-sigma relative uncertainty of the scale common to H/f and the "
+                          f"angle sensor's gain (default {DEFAULT_SCALE_TOLERANCE:g}); it "
+                          "reads as a drift of REL*Omega_h and enters sigma(omega_gc)")
+    gcp.add_argument("--offset-prior", type=float, default=None, metavar="ARCSEC",
+                     help="1-sigma prior of the angle sensor's null offset, estimated with the "
+                          f"state (default {DEFAULT_OFFSET_PRIOR_ARCSEC:g} arcsec; a logger "
+                          "that starts late reads as an offset)")
+    gcp.add_argument("--inclinometer-bias-prior", type=float, default=None, metavar="MG",
+                     help="1-sigma prior of each inclinometer's bias in mg, estimated with "
+                          f"the state (default {DEFAULT_INCL_BIAS_PRIOR_MG:g} mg); a bias "
+                          "cannot be told from a tilt, so it enters sigma(omega_gc)")
+    gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
+                     help="family-wise false-alarm rate of the model checks that make a "
+                          "record invalid (default 0.01)")
+    gcp.add_argument("--accept-misfit", action="store_true",
+                     help="give the estimate of a record whose model checks fail, marked "
+                          "misfit (exit 0), instead of no valid estimate (exit 3)")
     _batch_options(gcp)
     rsfp = methods.add_parser(
         "rsf", help="paper RSF: roll-gyro scale-factor error per correction interval",
@@ -347,9 +388,10 @@ def _failure_message(label: str, exc: BaseException) -> str:
 
 @dataclasses.dataclass
 class _Outcome:
-    """What one file gave: ``status`` "ok", "invalid" or "error"; ``message`` the one line for
-    stderr (error: the error; invalid: the reason); ``text``/``data`` the report; ``row`` its
-    summary row; ``artifacts`` files to write when the run is valid (path → figure or text)."""
+    """What one file gave: ``status`` "ok", "misfit" (accepted with --accept-misfit),
+    "invalid" or "error"; ``message`` the one line for stderr (error: the error; invalid: the
+    reason); ``text``/``data`` the report; ``row`` its summary row; ``artifacts`` files to
+    write when the run is valid (path → figure or text)."""
 
     file: str
     status: str
@@ -361,7 +403,8 @@ class _Outcome:
 
     @property
     def code(self) -> int:
-        return {"ok": 0, "invalid": EXIT_INVALID, "error": EXIT_BAD_INPUT}[self.status]
+        return {"ok": 0, "misfit": 0, "invalid": EXIT_INVALID,
+                "error": EXIT_BAD_INPUT}[self.status]
 
 
 def _bad(method: str, file: str, message: str) -> _Outcome:
@@ -421,8 +464,46 @@ def _gc_options(args: argparse.Namespace) -> dict:
     _check_out_path(args.allan, _PLOT_SUFFIXES, "a plot")
     _check_out_path(args.fit_noise or None, (".toml",), "a TOML")
     params = gc_params_from_toml(args.params)
-    dt_given = args.params is not None and "dt" in load_toml(args.params)
+    toml = load_toml(args.params) if args.params is not None else {}
+    dt_given = "dt" in toml
+    if not (math.isfinite(args.false_alarm) and 0.0 < args.false_alarm < 1.0):
+        raise UsageError(f"--false-alarm must be a probability in (0, 1); got "
+                         f"{args.false_alarm}")
+    priors = {}
+    for opt, field, val, default, unit in (
+            ("--scale-tolerance", "sigma_hf_scale", args.scale_tolerance,
+             DEFAULT_SCALE_TOLERANCE, 1.0),
+            ("--offset-prior", "sigma_as_offset", args.offset_prior,
+             DEFAULT_OFFSET_PRIOR_ARCSEC, units.ARCSEC_PAPER),
+            ("--inclinometer-bias-prior", "sigma_incl_bias", args.inclinometer_bias_prior,
+             DEFAULT_INCL_BIAS_PRIOR_MG, 1e-3 * units.G0)):
+        if val is not None and not (math.isfinite(val) and val >= 0.0):
+            raise UsageError(f"{opt} must be a number >= 0; got {val}")
+        if val is None and field in toml:     # the params file states it
+            continue
+        priors[field] = (default if val is None else val) * unit
+    params = dataclasses.replace(params, **priors)
+    latitude, lat_source = None, "none"
+    if args.latitude is not None:
+        if not (math.isfinite(args.latitude) and 0.0 < args.latitude < 90.0):
+            raise UsageError(f"--latitude must be in degrees north in (0, 90) (paper GC's "
+                             f"model needs both Earth-rate components positive); got "
+                             f"{args.latitude}")
+        if {"Omega_h", "Omega_v", "latitude"} & set(toml):
+            raise UsageError("--latitude and the params file's latitude/Omega_h/Omega_v both "
+                             "set the Earth rate: give one")
+        latitude, lat_source = args.latitude, "--latitude"
+        params = gc.GyrocompassParams.at_latitude(
+            math.radians(latitude), **{k: getattr(params, k) for k in
+                                       (f.name for f in dataclasses.fields(params))
+                                       if k not in ("Omega_h", "Omega_v")})
+    elif "latitude" in toml:
+        latitude, lat_source = float(toml["latitude"]), f"{args.params} (latitude)"
+    elif {"Omega_h", "Omega_v"} & set(toml):
+        lat_source = f"{args.params} (Omega_h, Omega_v)"
     return {"params": params, "dt_given": dt_given, "gate": args.gate,
+            "latitude": latitude, "latitude_source": lat_source,
+            "false_alarm": args.false_alarm, "accept_misfit": args.accept_misfit,
             "store_every": args.store_every, "max_rejected": args.max_rejected,
             "mapping": mapping, "fit_noise": args.fit_noise, "fit": fit,
             "allan": args.allan, "plot": args.plot, "json": args.json,
@@ -523,7 +604,34 @@ def _allan_report(allan) -> tuple[list[str], dict]:
 
 def _calibrate(record, params, o: dict, progress=None, executor=None):
     return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
-                        max_rejected=o["max_rejected"], progress=progress, executor=executor)
+                        max_rejected=o["max_rejected"], false_alarm=o["false_alarm"],
+                        progress=progress, executor=executor)
+
+
+def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, o: dict,
+                   notes: list[str]) -> tuple[gc.GyrocompassParams, dict]:
+    """The Earth rate stated, never assumed: from --latitude or the params file (already in
+    ``params``), else the record's latitude (rad), else paper GC's values with a note."""
+    lat, source = o["latitude"], o["latitude_source"]
+    if source == "none" and record_latitude is not None:
+        if not 0.0 < record_latitude < math.pi / 2:
+            raise ValueError(f"the record's latitude {math.degrees(record_latitude):g} deg is "
+                             "outside (0, 90) deg N, where paper GC's model holds")
+        lat, source = math.degrees(record_latitude), "record"
+        params = dataclasses.replace(params, **{
+            k: getattr(gc.GyrocompassParams.at_latitude(record_latitude), k)
+            for k in ("Omega_h", "Omega_v")})
+    elif record_latitude is not None and lat is not None and \
+            abs(math.degrees(record_latitude) - lat) > 0.01:
+        notes.append(f"the record says latitude {math.degrees(record_latitude):.4g} deg; "
+                     f"{lat:.4g} deg from {source} used")
+    if source == "none":
+        notes.append("no latitude given (--latitude, a 'latitude' key in --params, or the "
+                     "record's '# latitude_deg:' line): Omega_h, Omega_v are paper GC's "
+                     f"values, which correspond to about "
+                     f"{math.degrees(PAPER_LATITUDE):.1f} deg N")
+    return params, {"latitude_deg": lat, "source": source, "Omega_h": params.Omega_h,
+                    "Omega_v": params.Omega_v}
 
 
 def _fit_noise(record, params, o: dict, bar_ok: bool):
@@ -551,6 +659,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
                             return_info=True)
         extra = _time_notes(info, raw, params, notes)
         params = _with_step(params, raw.t, notes, o["dt_given"])
+        params, earth = _with_latitude(params, getattr(raw, "latitude", None), o, notes)
         record = mapping.apply(raw)
         if o["fit_noise"] is not None:
             fit = _fit_noise(record, params, o, o["bar"])
@@ -567,6 +676,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         info = chunks.info
         extra = _time_notes(info, first, params, notes)
         params = _with_step(params, first.t, notes, o["dt_given"])
+        params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
 
         def mapped():
             yield mapping.apply(first)
@@ -584,6 +694,21 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
             res = _calibrate(mapped(), params, o, executor=reader,
                              progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
     valid, reason = bool(res.valid), str(res.reason)
+    fit_std = 0.0
+    if fit is not None:      # the fitted noise carries its own uncertainty (issue 26)
+        why = fit.not_identified(float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9)
+        if why:
+            valid, reason = False, "; ".join(x for x in (reason, f"noise fit: {why}") if x)
+        else:
+            total = gc.fit_uncertainty(record, fit, gate=o["gate"],
+                                       max_rejected=o["max_rejected"],
+                                       false_alarm=o["false_alarm"])
+            fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))
+    # a record the model checks reject (but the filter kept lock): its estimate on request,
+    # marked misfit
+    accepted = (not valid and o["accept_misfit"] and not res.lost_lock
+                and not reason.startswith("noise fit:") and "; noise fit:" not in reason)
+    status = "ok" if valid else ("misfit" if accepted else "invalid")
     artifacts = []
     if o["plot"]:
         artifacts.append((o["plot"], "plot", res))
@@ -594,34 +719,48 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         allan_lines, extra["allan_noise_terms"] = _allan_report(allan)
     if fit is not None and o["fit_noise"]:
         artifacts.append((o["fit_noise"], "text", fit.to_toml()))
-    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason)
+    std = math.hypot(res.omega_gc_std, fit_std)
+    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth,
+                    fit_std)
     data.update(extra)
-    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o) + "".join(
-        f"{ln}\n" for ln in allan_lines)
+    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted,
+                    fit_std) + "".join(f"{ln}\n" for ln in allan_lines)
+    given = valid or accepted
     row = {"file": file, "method": "gc", "quantity": "omega_gc", "notes": "; ".join(notes),
-           "estimate": res.omega_gc if valid else "",
-           "sigma": res.omega_gc_std if valid else "", "unit": "rad/s", "valid": valid,
-           "status": "ok" if valid else "invalid", "reason": reason}
-    return _Outcome(file=file, status="ok" if valid else "invalid",
-                    message="" if valid else f"{file}: no valid estimate: {reason}",
+           "estimate": res.omega_gc if given else "",
+           "sigma": std if given else "", "unit": "rad/s", "valid": valid,
+           "status": status, "reason": reason}
+    message = "" if (valid or accepted) else f"{file}: no valid estimate: {reason}"
+    return _Outcome(file=file, status=status, message=message,
                     text=text, data=data, row=row, artifacts=artifacts)
 
 
-def _gc_json(file, res, params, mapping, notes, fit, valid, reason) -> dict:
+def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=False,
+             earth=None, fit_std=0.0) -> dict:
     out = res.summary()
+    if fit is not None:
+        out["omega_gc_std"] = math.hypot(res.omega_gc_std, fit_std)
+        out["omega_gc_std_parts"]["noise_fit"] = fit_std
     out["file"] = str(file)
     out["dt"] = params.dt
     out["notes"] = notes
     out["valid"] = valid
     out["reason"] = reason
+    out["misfit_accepted"] = bool(accepted)
+    out["earth_rate"] = earth
+    out["priors"] = {"scale_tolerance": params.sigma_hf_scale,
+                     "angle_offset_rad": params.sigma_as_offset,
+                     "inclinometer_bias_m_s2": params.sigma_incl_bias}
     out["inclinometers"] = {"mapping": str(mapping), "delta": _signed(mapping.delta_sign,
                                                                       mapping.delta_column),
                             "gamma": _signed(mapping.gamma_sign, mapping.gamma_column)}
     if fit is not None:
         out["noise_fit"] = fit.summary()
-    if not valid:       # a failure, not a result: no estimate to pick up by mistake
+    if not valid and not accepted:   # a failure, not a result: no estimate to pick up
         out["omega_gc"] = None
         out["omega_gc_std"] = None
+        out["omega_gc_std_parts"] = None
+        out["instrument"] = None
         out.pop("states", None)
     else:               # the drift in the field's units beside SI
         out["omega_gc_in"] = {u: {"estimate": units.drift_in_units(res.omega_gc)[u],
@@ -645,7 +784,8 @@ def _signed(sign: float, column: str) -> str:
     return ("-" if sign < 0 else "") + column
 
 
-def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
+def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
+             fit_std=0.0) -> str:
     band = res.nis_band()
     lines = [
         f"paper GC calibration of {file}: {res.rows} rows over {res.t_final:.6g} s"
@@ -661,14 +801,29 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
                      f"{fit.n_evaluations} evaluations, "
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")
                      + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else ""))
-    if valid:
+    if valid or accepted:
+        std = math.hypot(res.omega_gc_std, fit_std)
         a = units.drift_in_units(res.omega_gc)
-        s = units.drift_in_units(res.omega_gc_std)
-        lines.append(f"  omega_gc = {_fmt(a['deg/h'])} ± {_fmt(s['deg/h'], 2)} deg/h (1 sigma)"
+        s = units.drift_in_units(std)
+        lines.append(("  MISFIT (accepted with --accept-misfit; sigma may not cover the "
+                      f"truth): {reason}\n" if accepted else "")
+                     + f"  omega_gc = {_fmt(a['deg/h'])} ± {_fmt(s['deg/h'], 2)} deg/h (1 sigma)"
                      f"  = {_fmt(a['arcsec/s'])} ± {_fmt(s['arcsec/s'], 2)} arcsec/s (standard)"
                      f"  = {_fmt(a['arcsec_paper/s'])} ± {_fmt(s['arcsec_paper/s'], 2)} "
                      f"arcsec/s (paper's arcsec, 1\" = 0.485e-5 rad)  = {res.omega_gc:.4e} ± "
-                     f"{res.omega_gc_std:.2e} rad/s")
+                     f"{std:.2e} rad/s")
+        parts = res.omega_gc_std_parts
+        p = res.params
+        lines.append("  sigma in parts (adding in quadrature): "
+                     f"noise {_fmt(units.from_si(parts['noise'], 'arcsec_paper/s'), 2)}, "
+                     "instrument biases "
+                     f"{_fmt(units.from_si(parts['instrument_biases'], 'arcsec_paper/s'), 2)}"
+                     f", scale {_fmt(units.from_si(parts['scale'], 'arcsec_paper/s'), 2)}"
+                     + (f", noise fit {_fmt(units.from_si(fit_std, 'arcsec_paper/s'), 2)}"
+                        if fit is not None else "")
+                     + f" arcsec/s (paper's arcsec; priors: scale {p.sigma_hf_scale:g}, angle "
+                     f"offset {units.from_si(p.sigma_as_offset, 'arcsec_paper'):g} arcsec, "
+                     f"inclinometer bias {p.sigma_incl_bias / (1e-3 * units.G0):g} mg)")
     else:
         lines.append(f"  no valid estimate: {reason}")
     lines += [
@@ -679,6 +834,8 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o) -> str:
             f"{nm} {res.nis_mean[q]:.4f} [{band[q, 0]:.4f}, {band[q, 1]:.4f}]"
             for q, nm in enumerate(MEASUREMENT_NAMES)),
         f"  {res.verdict()}",
+        f"  model checks at a {100 * res.false_alarm:g} % family-wise false-alarm rate: "
+        + ("all pass" if not res.misfit else "FAIL"),
     ]
     lines += [f"  note: {n}" for n in notes]
     return "\n".join(lines) + "\n"
@@ -940,7 +1097,7 @@ def _run(args: argparse.Namespace) -> int:
         return EXIT_BAD_INPUT
 
     def emit(out: _Outcome) -> None:
-        if out.status == "ok" or (out.status == "invalid"):
+        if out.status in ("ok", "misfit", "invalid"):
             if args.json:
                 sys.stdout.write(_json(out.data))
             else:

@@ -109,6 +109,7 @@ from gyrolib.gc.logs import (
     calibrate,
     convention_study,
     fit_noise,
+    fit_uncertainty,
     innovation_log_likelihood,
     simulate_record,
 )
@@ -250,6 +251,7 @@ __all__ = [
     "discretize",
     "error_budget",
     "fit_noise",
+    "fit_uncertainty",
     "float_acceleration",
     "gyroscopic_torque",
     "information_psi_omega",

@@ -2,7 +2,9 @@
 field overridden by name, in SI.
 
 * GC: top-level keys are fields of :class:`gyrolib.gc.GyrocompassParams`
-  (e.g. ``C_as = 2e-13``, ``dt = 0.001``);
+  (e.g. ``C_as = 2e-13``, ``dt = 0.001``), and ``latitude`` (degrees north, in (0, 90); the
+  one key not in SI): ``Omega_h``, ``Omega_v`` from the Earth's rate
+  (:meth:`~gyrolib.gc.GyrocompassParams.at_latitude`), not with those two keys;
 * RSF: tables ``[sins]``, ``[gs]``, ``[encoder]`` whose keys are fields of
   :class:`gyrolib.rsf.SinsGyroModel`, :class:`~gyrolib.rsf.GsModel`,
   :class:`~gyrolib.rsf.EncoderModel` (``motor_rate_max = inf`` is TOML's infinity).
@@ -14,6 +16,7 @@ An unknown key, a value of the wrong type or out of range raises
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import tomllib
 from pathlib import Path
@@ -65,7 +68,19 @@ def gc_params_from_toml(path: object | None = None, base: object | None = None):
     base = GyrocompassParams() if base is None else base
     if path is None:
         return base
-    return _replace(str(path), base, load_toml(path))
+    label = str(path)
+    values = dict(load_toml(path))
+    if "latitude" in values:
+        lat = values.pop("latitude")
+        if {"Omega_h", "Omega_v"} & set(values):
+            raise RecordError(label, "give either 'latitude' or Omega_h/Omega_v, not both")
+        if isinstance(lat, bool) or not isinstance(lat, int | float) or not 0.0 < lat < 90.0:
+            raise RecordError(label, f"field 'latitude' must be degrees north in (0, 90) "
+                              f"(paper GC's model needs both Earth-rate components "
+                              f"positive); got {lat!r}")
+        earth = GyrocompassParams.at_latitude(math.radians(lat))
+        values = {"Omega_h": earth.Omega_h, "Omega_v": earth.Omega_v, **values}
+    return _replace(label, base, values)
 
 
 _RSF_TABLES = ("sins", "gs", "encoder")

@@ -27,6 +27,7 @@ from gyrolib.gc.logs.noise_fit import (
     NOISE_FIT_NAMES,
     NoiseFit,
     fit_noise,
+    fit_uncertainty,
 )
 from gyrolib.gc.logs.record import (
     MEASUREMENT_COLUMNS,
@@ -50,6 +51,7 @@ __all__ = [
     "calibrate",
     "convention_study",
     "fit_noise",
+    "fit_uncertainty",
     "innovation_log_likelihood",
     "simulate_record",
 ]

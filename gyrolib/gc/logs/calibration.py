@@ -83,6 +83,15 @@ M: Final[int] = len(MEASUREMENT_NAMES)
 #: propagated by the regular steps and a short Taylor shift, not a matrix exponential.
 SMALL_SHIFT: Final[float] = 0.05
 
+#: The constants of a real instrument that :func:`calibrate` estimates with the state (a
+#: bias-separated filter): a null offset of the angle sensor (rad), a bias of each
+#: inclinometer (m/s²) and the relative error κ of the scale common to ``H/f`` and the angle
+#: sensor's gain (the reading gains ``κ β_n``).  Their priors are
+#: ``params.sigma_as_offset``, ``sigma_incl_bias`` (both inclinometers), ``sigma_hf_scale``.
+BIAS_NAMES: Final[tuple[str, ...]] = ("angle_offset", "inclinometer_y_bias",
+                                      "inclinometer_z_bias", "scale")
+NB: Final[int] = len(BIAS_NAMES)
+
 #: Rejected measurements listed individually in a result (all are counted).
 MAX_LISTED_REJECTIONS: Final[int] = 10000
 
@@ -152,6 +161,14 @@ class CalibrationResult:
     store_every: int
     max_rejected: float = 0.01
     nis_range: tuple[float, float] = (0.5, 2.0)
+    false_alarm: float = 0.01
+    nis_tolerance: float = 0.005
+    bias_prior: np.ndarray | None = None
+    bias_estimate: np.ndarray | None = None
+    bias_cov: np.ndarray | None = None
+    bias_info: np.ndarray | None = None
+    bias_response: np.ndarray | None = None
+    P_filter: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         v.check_instance("params", self.params, GyrocompassParams)
@@ -165,6 +182,16 @@ class CalibrationResult:
                 raise ValueError(f"{name} must have shape ({M},)")
         v.check_in_range("max_rejected", self.max_rejected, 0.0, 1.0)
         object.__setattr__(self, "nis_range", _check_nis_range(self.nis_range))
+        v.check_in_range("false_alarm", self.false_alarm, 0.0, 1.0, low_open=True,
+                         high_open=True)
+        v.check_in_range("nis_tolerance", self.nis_tolerance, 0.0, 1.0, high_open=True)
+        for name, shape in (("bias_prior", (NB,)), ("bias_estimate", (NB,)),
+                            ("bias_cov", (NB, NB)), ("bias_info", (NB, NB)),
+                            ("bias_response", (NB, N)), ("P_filter", (N, N))):
+            val = getattr(self, name)
+            if val is None:     # no instrument constants: the paper's filter
+                val = self.P_final.copy() if name == "P_filter" else np.zeros(shape)
+            object.__setattr__(self, name, v.check_ndarray(name, val, shape=shape))
 
     # estimates -----------------------------------------------------------------------
     def estimate(self, name: str) -> np.ndarray:
@@ -185,6 +212,133 @@ class CalibrationResult:
         """Its standard deviation (rad/s) from the filter's covariance."""
         i = state_index("omega_gc")
         return float(math.sqrt(max(self.P_final[i, i], 0.0)))
+
+    def _omega_variance(self, columns: tuple[int, ...]) -> float:
+        """Var(ω_gc) of the filter that carries the instrument constants ``columns`` (of
+        those with a prior) and no others, from the run's information about them."""
+        i = state_index("omega_gc")
+        var = float(self.P_filter[i, i])
+        idx = [c for c in columns if self.bias_prior[c] > 0.0]
+        if not idx:
+            return var
+        info = self.bias_info[np.ix_(idx, idx)] + np.diag(1.0 / self.bias_prior[idx] ** 2)
+        vv = self.bias_response[idx, i]
+        return var + float(vv @ np.linalg.solve(info, vv))
+
+    @property
+    def omega_gc_std_parts(self) -> dict[str, float]:
+        """σ(ω_gc) (rad/s) in three parts that add in quadrature to :attr:`omega_gc_std`:
+        ``"noise"`` (the filter of Eq. (8) with the paper's priors), ``"instrument_biases"``
+        (what the angle sensor's null offset and the inclinometer biases add, with their
+        priors ``sigma_as_offset``, ``sigma_incl_bias``) and ``"scale"`` (what the common
+        scale error of ``H/f`` and the gain adds, prior ``sigma_hf_scale``; about
+        ``sigma_hf_scale · Ω_h``, :attr:`GyrocompassParams.scale_drift_sigma`)."""
+        v0 = self._omega_variance(())
+        vb = self._omega_variance((0, 1, 2))
+        va = self._omega_variance((0, 1, 2, 3))
+        return {"noise": math.sqrt(max(v0, 0.0)),
+                "instrument_biases": math.sqrt(max(vb - v0, 0.0)),
+                "scale": math.sqrt(max(va - vb, 0.0))}
+
+    @property
+    def instrument(self) -> dict[str, dict[str, float]]:
+        """The instrument constants (:data:`BIAS_NAMES`, SI): estimate, σ and prior of each
+        that has a prior (the others are not estimated)."""
+        sd = np.sqrt(np.clip(np.diag(self.bias_cov), 0.0, None))
+        return {name: {"estimate": float(self.bias_estimate[c]), "std": float(sd[c]),
+                       "prior": float(self.bias_prior[c])}
+                for c, name in enumerate(BIAS_NAMES) if self.bias_prior[c] > 0.0}
+
+    # the model checks as a gate ----------------------------------------------------------
+    def split_tests(self, fractions: tuple[float, ...] = (0.25, 0.5, 0.75)
+                    ) -> list[tuple[float, float]]:
+        """The split-record consistency tests: for each fraction ``f``, the time ``t_f`` of
+        the stored row nearest to ``f · t_final`` and ``z = (ω̂(t_f) − ω̂_T) /
+        √(σ²(t_f) − σ_T²)``.  For a constant ω_gc in a model that fits, the final estimate
+        is the efficient one and the difference is independent of it, so its variance is
+        the difference of the variances (a Hausman test) and ``z`` is standard normal; a
+        drift that changes within the record, or a step in a sensor, moves it."""
+        if not isinstance(fractions, tuple | list) or not all(
+                isinstance(f, int | float) and not isinstance(f, bool) and 0.0 < f < 1.0
+                for f in fractions):
+            raise ValueError(f"fractions must be a sequence of numbers in (0, 1); got "
+                             f"{fractions!r}")
+        i = state_index("omega_gc")
+        out = []
+        if self.t.size < 3:
+            return out
+        wt = self.omega_gc
+        vt = self.omega_gc_std ** 2
+        for f in fractions:
+            k = int(np.argmin(np.abs(self.t - f * self.t_final)))
+            if k >= self.t.size - 1:
+                continue
+            dv = float(self.std[k, i]) ** 2 - vt
+            if not dv > 1e-6 * vt:     # the later data carry no information: no test
+                continue
+            out.append((float(self.t[k]), float((self.x[k, i] - wt) / math.sqrt(dv))))
+        return out
+
+    def model_tests(self) -> list[dict]:
+        """Every check of the model on the record, each at the level that makes their
+        family-wise false-alarm rate :attr:`false_alarm` (Šidák: ``1 − (1 − a)^(1/n)`` for
+        ``n`` tests): per sensor the two-sided band of the mean NIS and the portmanteau
+        whiteness test of the normalized innovations over ``lags`` lags (χ²(lags)), and the
+        split-record tests (:meth:`split_tests`, two-sided normal).  The NIS band is widened
+        by the relative :attr:`nis_tolerance` (default 0.5 %): the filter's linearized,
+        discretized model predicts the innovation variance to a few 10⁻³ (on the truth
+        model's records the angle sensor's mean NIS is 0.996), which a record of an hour
+        resolves; a variance off by 0.5 % changes σ by 0.25 %, harmless, while the defects
+        that matter move it by more (a 1 % gain error: 2 %).  Each entry: ``test``,
+        ``sensor``, ``statistic``, ``low``, ``high``, ``passed``."""
+        used = [q for q in range(M) if self.used[q] > 0]
+        splits = self.split_tests()
+        n = 2 * len(used) + len(splits)
+        if n == 0:
+            return []
+        a = 1.0 - (1.0 - self.false_alarm) ** (1.0 / n)
+        lags = self.acf.shape[1]
+        out = []
+        for q in used:
+            nq = float(self.used[q])
+            lo = float(chi2_ppf(0.5 * a, nq)) / nq * (1.0 - self.nis_tolerance)
+            hi = float(chi2_ppf(1.0 - 0.5 * a, nq)) / nq * (1.0 + self.nis_tolerance)
+            nis = float(self.nis_mean[q])
+            out.append({"test": "mean NIS", "sensor": MEASUREMENT_NAMES[q], "statistic": nis,
+                        "low": lo, "high": hi, "passed": bool(lo <= nis <= hi)})
+            w = float(self.whiteness[q])
+            lim = float(chi2_ppf(1.0 - a, lags))
+            out.append({"test": f"whiteness (portmanteau, {lags} lags)",
+                        "sensor": MEASUREMENT_NAMES[q], "statistic": w, "low": 0.0,
+                        "high": lim, "passed": bool(w <= lim)})
+        zlim = math.sqrt(float(chi2_ppf(1.0 - a, 1)))     # P(|z| > zlim) = a, z ~ N(0, 1)
+        for t_s, z in splits:
+            out.append({"test": f"split-record omega_gc (t = {t_s:.4g} s vs end)",
+                        "sensor": "angle_sensor", "statistic": z, "low": -zlim, "high": zlim,
+                        "passed": bool(abs(z) <= zlim)})
+        return out
+
+    def _misfit_parts(self) -> list[str]:
+        parts = []
+        for tst in self.model_tests():
+            if tst["passed"]:
+                continue
+            parts.append(f"{tst['sensor']}: {tst['test']} failed: {tst['statistic']:.4g} "
+                         f"outside [{tst['low']:.4g}, {tst['high']:.4g}] (family "
+                         f"false-alarm rate {100 * self.false_alarm:.3g} %)")
+        return parts
+
+    @property
+    def misfit(self) -> bool:
+        """True when a model check fails (:meth:`model_tests`): the model does not describe
+        the record and σ may not cover the truth."""
+        return bool(self._misfit_parts())
+
+    @property
+    def lost_lock(self) -> bool:
+        """True when the gate rejected more than ``max_rejected`` of a sensor's samples or a
+        sensor's mean NIS is outside ``nis_range``."""
+        return bool(self._invalid_parts())
 
     # diagnostics ---------------------------------------------------------------------
     @property
@@ -277,15 +431,16 @@ class CalibrationResult:
 
     @property
     def valid(self) -> bool:
-        """False when the filter lost lock on the record: the gate rejected more than
-        ``max_rejected`` of a sensor's measurements, or a sensor's mean NIS is outside
-        ``nis_range`` (far outside its χ² band); the estimate is then not a result."""
-        return not self._invalid_parts()
+        """False when the filter lost lock on the record (:attr:`lost_lock`) or a check of
+        the model fails (:attr:`misfit`, at the family-wise false-alarm rate
+        :attr:`false_alarm`); the estimate is then not a result."""
+        return not (self._invalid_parts() or self._misfit_parts())
 
     @property
     def reason(self) -> str:
-        """Why the run is not valid, naming each sensor at fault (``""`` when valid)."""
-        return "; ".join(self._invalid_parts())
+        """Why the run is not valid, naming each sensor and test at fault (``""`` when
+        valid)."""
+        return "; ".join(self._invalid_parts() + self._misfit_parts())
 
     def summary(self) -> dict:
         """The result as a JSON-ready dict (SI; a value that is not finite is ``None``)."""
@@ -294,8 +449,14 @@ class CalibrationResult:
         return {
             "valid": self.valid,
             "reason": self.reason,
+            "lost_lock": self.lost_lock,
+            "misfit": self.misfit,
             "omega_gc": self.omega_gc,
             "omega_gc_std": self.omega_gc_std,
+            "omega_gc_std_parts": self.omega_gc_std_parts,
+            "instrument": self.instrument,
+            "false_alarm": self.false_alarm,
+            "model_tests": self.model_tests(),
             "t_end": self.t_final,
             "rows": self.rows,
             "samples_used": self.rows_used,
@@ -379,7 +540,8 @@ class _Model(NamedTuple):
     ``sin_j``, ``cos_j`` at the expansion points; ``dense_ptr``, ``dense_idx``: a CSR pattern
     of a full matrix (the irregular steps' own ``Φ``); ``Fc``, ``Es``, ``Ec``, ``W = G Q Gᵀ``
     for the short time shift; ``H`` with its nonzeros (``hptr``, ``hidx``), ``r`` = diag R;
-    ``gate`` the χ²(1) threshold of the normalized innovation squared."""
+    ``gate`` the χ²(1) threshold of the normalized innovation squared; ``nb`` the number of
+    instrument constants carried (:data:`BIAS_NAMES`; 0: none, the paper's filter)."""
 
     dt: float
     seg_w: float
@@ -402,6 +564,7 @@ class _Model(NamedTuple):
     hidx: NDArray[np.int64]
     r: NDArray[np.float64]
     gate: float
+    nb: int
 
 
 class _Chunk(NamedTuple):
@@ -424,7 +587,11 @@ class _Chunk(NamedTuple):
 
 class _State(NamedTuple):
     """The filter between rows (updated in place): ``x``, ``P``, ``tcur`` (1,) the time of
-    ``x``, and scratch arrays."""
+    ``x``, and scratch arrays.  The instrument constants ``b`` (:data:`BIAS_NAMES`) by bias
+    separation {cite:p}`Friedland1969`: ``x``, ``P`` are the filter without them, ``V``
+    (NB, N) the response of ``x`` to a unit of each (``x_b = x − Vᵀ b̂``), ``bh`` = ``b̂``,
+    ``Mb`` its covariance (from the prior ``diag(σ_b²)``), ``Ab`` the information the
+    innovations carry about ``b``; ``u``, ``mu`` scratch."""
 
     x: NDArray[np.float64]
     P: NDArray[np.float64]
@@ -438,6 +605,12 @@ class _State(NamedTuple):
     Fm: NDArray[np.float64]
     Em: NDArray[np.float64]
     Am: NDArray[np.float64]
+    V: NDArray[np.float64]
+    Mb: NDArray[np.float64]
+    bh: NDArray[np.float64]
+    Ab: NDArray[np.float64]
+    u: NDArray[np.float64]
+    mu: NDArray[np.float64]
 
 
 class _Rejections(NamedTuple):
@@ -498,7 +671,7 @@ def _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j, d, 
 
 
 @njit(cache=True)
-def _shift(x, P, F, W, d, E, A, T, y):
+def _shift(x, P, F, W, d, E, A, T, y, V, nb):
     """Move the state and covariance on by a short time ``d`` (either sign, |F d| ≪ 1):
     ``E = exp(F d)`` (Taylor to 4th order), ``x ← E x``, ``P ← E (P + Q̃) Eᵀ`` with
     ``Q̃ = W d − (F W + W Fᵀ) d²/2`` so that ``E (P + Q̃) Eᵀ = E P Eᵀ + Qd(d)`` to O(d³)
@@ -537,6 +710,14 @@ def _shift(x, P, F, W, d, E, A, T, y):
         y[i] = sx
     for i in range(n):
         x[i] = y[i]
+    for b in range(nb):        # the responses to the instrument constants move as x
+        for i in range(n):
+            sx = 0.0
+            for c in range(n):
+                sx += E[i, c] * V[b, c]
+            y[i] = sx
+        for i in range(n):
+            V[b, i] = y[i]
     for i in range(n):
         for j in range(n):
             sm = 0.0
@@ -553,34 +734,75 @@ def _shift(x, P, F, W, d, E, A, T, y):
 
 
 @njit(cache=True, inline="always")
-def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq):
+def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh, Ab, u, mu, beta_n):
     """The scalar measurement ``zq`` of sensor ``q``: the gate, then the Joseph update
-    (:func:`gyrolib.filtering.joseph_scalar_update`).  Returns ``(used, ν, S)``.  (The
-    arrays come one by one: numba keeps them in registers, where fields of a tuple would be
-    read again after every store.)"""
+    (:func:`gyrolib.filtering.joseph_scalar_update`) and, with ``nb`` instrument constants,
+    their recursive least squares on the innovation (bias separation: the innovation of the
+    filter with the constants is ``ν − uᵀ b̂`` with variance ``S + uᵀ Mb u``, where ``u`` is
+    the innovation's response to a unit of each constant).  Returns ``(used, ν, S)`` of the
+    filter with the constants.  (The arrays come one by one: numba keeps them in registers,
+    where fields of a tuple would be read again after every store.)"""
     hx = 0.0
     for p in range(hptr[q], hptr[q + 1]):
         hx += H[q, hidx[p]] * x[hidx[p]]
     S = measurement_projection(P, H, q, hptr, hidx, Ph) + r[q]
     nu = zq - hx
-    nis = nu * nu / S
+    nua = nu
+    Sa = S
+    if nb > 0:
+        for c in range(nb):
+            hv = 0.0
+            for p in range(hptr[q], hptr[q + 1]):
+                hv += H[q, hidx[p]] * V[c, hidx[p]]
+            uc = -hv
+            if c == q:                 # the offset / bias of this sensor
+                uc += 1.0
+            if c == 3 and q == 0:      # the scale error: the angle sensor reads κ β_n more
+                uc += beta_n
+            u[c] = uc
+            nua -= uc * bh[c]
+        for c in range(nb):
+            sm = 0.0
+            for d in range(nb):
+                sm += Mb[c, d] * u[d]
+            mu[c] = sm
+            Sa += u[c] * sm
+    nis = nua * nua / Sa
     if nis > gate:
-        return False, nu, S
+        return False, nua, Sa
     inv = 1.0 / S
     for p in range(N):
         k[p] = Ph[p] * inv
         x[p] += k[p] * nu
+    if nb > 0:
+        inva = 1.0 / Sa
+        for c in range(nb):
+            uc = u[c]
+            for p in range(N):
+                V[c, p] += k[p] * uc
+            bh[c] += mu[c] * nua * inva
+            for d in range(nb):
+                Ab[c, d] += uc * u[d] * inv
+                Mb[c, d] -= mu[c] * mu[d] * inva
     joseph_scalar_update(P, Ph, k, S)
-    return True, nu, S
+    return True, nua, Sa
 
 
 @njit(cache=True, inline="always")
-def _store_row(x, P, so, t):
+def _store_row(x, P, so, t, nb, V, Mb, bh):
+    """Store the estimate and σ of the filter with the instrument constants:
+    ``x − Vᵀ b̂`` and ``diag(P + Vᵀ Mb V)``."""
     ii = so.n[0]
     so.t[ii] = t
     for p in range(N):
-        so.x[ii, p] = x[p]
-        so.s[ii, p] = math.sqrt(max(P[p, p], 0.0))
+        xv = x[p]
+        pv = P[p, p]
+        for c in range(nb):
+            xv -= V[c, p] * bh[c]
+            for d in range(nb):
+                pv += V[c, p] * Mb[c, d] * V[d, p]
+        so.x[ii, p] = xv
+        so.s[ii, p] = math.sqrt(max(pv, 0.0))
     so.n[0] = ii + 1
 
 
@@ -596,6 +818,7 @@ def _filter_chunk(md, ch, st, rj, so):
     t, z, grid, g0, inv_hh = ch.t, ch.z, ch.grid, ch.g0, ch.inv_hh
     n_whole, irr_idx = ch.n_whole, ch.irr_idx
     dt, inv_seg = md.dt, 1.0 / md.seg_w
+    nb, V, Mb, bh, Ab, u, mu = md.nb, st.V, st.Mb, st.bh, st.Ab, st.u, st.mu
     tcur = st.tcur[0]
     for i in range(t.shape[0]):
         # predict: whole steps of dt, then a short shift or an exact remainder step
@@ -605,6 +828,8 @@ def _filter_chunk(md, ch, st, rj, so):
             _step_matrices(phi_tab, qd_tab, sin_j, cos_j, rowptr, colidx, qi, qj, j,
                            bm - j * md.seg_w, Phi, Qd)
             predict_state(x, Phi, rowptr, colidx, y)
+            for c in range(nb):
+                predict_state(V[c], Phi, rowptr, colidx, y)
             predict_covariance(P, Phi, rowptr, colidx, Qd, T)
             tcur += dt
         d = ch.shift[i]
@@ -615,10 +840,12 @@ def _filter_chunk(md, ch, st, rj, so):
             for p in range(N):
                 for c in range(N):
                     st.Fm[p, c] = md.Fc[p, c] + sb * md.Es[p, c] + cb * md.Ec[p, c]
-            _shift(x, P, st.Fm, md.W, d, st.Em, st.Am, T, y)
+            _shift(x, P, st.Fm, md.W, d, st.Em, st.Am, T, y, V, nb)
         kk = irr_idx[i]
         if kk >= 0:
             predict_state(x, ch.irr_phi[kk], md.dense_ptr, md.dense_idx, y)
+            for c in range(nb):
+                predict_state(V[c], ch.irr_phi[kk], md.dense_ptr, md.dense_idx, y)
             predict_covariance(P, ch.irr_phi[kk], md.dense_ptr, md.dense_idx,
                                ch.irr_qd[kk], T)
         tcur = t[i]
@@ -629,7 +856,8 @@ def _filter_chunk(md, ch, st, rj, so):
                 continue                          # flag 0: missing
             if q == 0:
                 zq -= beta_n     # the angle sensor reads β = β_n + Δβ
-            used, nu, S = _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq)
+            used, nu, S = _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh,
+                                  Ab, u, mu, beta_n)
             if used:
                 so.flag[i, q] = 1
                 so.e[i, q] = nu / math.sqrt(S)
@@ -643,7 +871,7 @@ def _filter_chunk(md, ch, st, rj, so):
                     rj.nis[kk] = nu * nu / S
                 rj.n[0] = kk + 1
         if (so.row0 + i + 1) % so.every == 0:
-            _store_row(x, P, so, t[i])
+            _store_row(x, P, so, t[i], nb, V, Mb, bh)
     st.tcur[0] = tcur
 
 
@@ -755,7 +983,7 @@ class _FilterModel:
             dense_idx=np.tile(np.arange(N, dtype=np.int64), N), Fc=Fc, Es=Es, Ec=Ec,
             W=self.G @ self.Qc @ self.G.T, H=H, hptr=hptr,
             hidx=np.nonzero(hmask)[1].astype(np.int64),
-            r=np.diag(measurement_noise_covariance(p)).copy(), gate=math.inf)
+            r=np.diag(measurement_noise_covariance(p)).copy(), gate=math.inf, nb=0)
 
     def table(self, j: int) -> None:
         """Fill the tables of expansion point ``j`` (once)."""
@@ -792,12 +1020,17 @@ class _Calibrator:
         self.gate_prob = gate
         self.nominal = _Nominal(p)
         self.filter_model = _filter_model(p)
+        self.bias_prior = np.array([p.sigma_as_offset, p.sigma_incl_bias, p.sigma_incl_bias,
+                                    p.sigma_hf_scale])
+        nb = NB if np.any(self.bias_prior > 0.0) else 0
         self.model = self.filter_model.model._replace(
-            gate=float(chi2_ppf(gate, 1)))
+            gate=float(chi2_ppf(gate, 1)), nb=nb)
         self.state = _State(
             x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
             Qd=np.zeros((N, N)), T=np.zeros((N, N)), y=np.zeros(N), Ph=np.zeros(N),
-            k=np.zeros(N), Fm=np.zeros((N, N)), Em=np.zeros((N, N)), Am=np.zeros((N, N)))
+            k=np.zeros(N), Fm=np.zeros((N, N)), Em=np.zeros((N, N)), Am=np.zeros((N, N)),
+            V=np.zeros((NB, N)), Mb=np.diag(self.bias_prior**2), bh=np.zeros(NB),
+            Ab=np.zeros((NB, NB)), u=np.zeros(NB), mu=np.zeros(NB))
         self.rejections = _Rejections(
             t=np.zeros(MAX_LISTED_REJECTIONS), q=np.zeros(MAX_LISTED_REJECTIONS, np.int64),
             nis=np.zeros(MAX_LISTED_REJECTIONS), n=np.zeros(1, dtype=np.int64))
@@ -919,18 +1152,23 @@ class _Calibrator:
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(wcnt > 0, wsum / np.maximum(wcnt, 1), np.nan), wcnt
 
-    def result(self, max_rejected: float, nis_range: tuple[float, float]
+    def result(self, max_rejected: float, nis_range: tuple[float, float],
+               false_alarm: float = 0.01, nis_tolerance: float = 0.005
                ) -> CalibrationResult:
         if self.rows == 0:
             raise ValueError("record must hold at least one row")
         st, rj = self.state, self.rejections
         parts = list(self.stored)
+        # the filter with the instrument constants (bias separation): x − Vᵀ b̂, P + Vᵀ M V
+        x_fin = st.x - st.V.T @ st.bh
+        P_fin = st.P + st.V.T @ st.Mb @ st.V if self.model.nb else st.P.copy()
+        P_fin = 0.5 * (P_fin + P_fin.T)
         if self.rows % self.store_every:   # the last row is not a store point: add it
             with np.errstate(invalid="ignore", divide="ignore"):
                 win = np.where(self.win_cnt > 0,
                                self.win_sum / np.maximum(self.win_cnt, 1), np.nan)
-            parts.append((np.array([st.tcur[0]]), st.x[None, :].copy(),
-                          np.sqrt(np.clip(np.diag(st.P), 0.0, None))[None, :], win[None, :],
+            parts.append((np.array([st.tcur[0]]), x_fin[None, :].copy(),
+                          np.sqrt(np.clip(np.diag(P_fin), 0.0, None))[None, :], win[None, :],
                           self.win_cnt[None, :].copy()))
         cat = [np.concatenate([part[k] for part in parts]) for k in range(5)]
         # the autocorrelation of e: lag products over Σ e² (the NIS sum)
@@ -941,7 +1179,7 @@ class _Calibrator:
         nr = min(int(rj.n[0]), MAX_LISTED_REJECTIONS)
         return CalibrationResult(
             params=self.p, t=cat[0], x=cat[1], std=cat[2], nis_window=cat[3],
-            nis_window_count=cat[4], x_final=st.x.copy(), P_final=st.P.copy(),
+            nis_window_count=cat[4], x_final=x_fin, P_final=P_fin,
             t_final=float(st.tcur[0]), rows=self.rows, used=self.counts[0].copy(),
             missing=self.counts[2].copy(), rejected=self.counts[1].copy(),
             rows_used=int(self.row_counts[0]), rows_rejected=int(self.row_counts[1]),
@@ -950,7 +1188,11 @@ class _Calibrator:
             log_s_sum=self.log_s_sum.copy(), acf=acf, gaps=self.gaps, gap_time=self.gap_time,
             irregular_steps=self.irregular, jittered_steps=self.shifted, gate=self.gate_prob,
             store_every=self.store_every, max_rejected=max_rejected,
-            nis_range=(float(nis_range[0]), float(nis_range[1])))
+            nis_range=(float(nis_range[0]), float(nis_range[1])), false_alarm=false_alarm,
+            nis_tolerance=nis_tolerance,
+            bias_prior=self.bias_prior.copy(), bias_estimate=st.bh.copy(),
+            bias_cov=st.Mb.copy(), bias_info=st.Ab.copy(), bias_response=st.V.copy(),
+            P_filter=st.P.copy())
 
 
 def _chunks(record: GCRecord, size: int):
@@ -993,8 +1235,9 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
               *, chunk_size: int = 65536, store_every: int = 100, gate: float = 0.9999,
               lags: int = 10, time_tolerance: float = 1e-6,
               progress: Callable[[int], None] | None = None, max_rejected: float = 0.01,
-              nis_range: tuple[float, float] = (0.5, 2.0),
-              executor: Executor | None = None) -> CalibrationResult:
+              nis_range: tuple[float, float] = (0.5, 2.0), false_alarm: float = 0.01,
+              nis_tolerance: float = 0.005, executor: Executor | None = None
+              ) -> CalibrationResult:
     """Calibrate the systematic drift ω_gc of a floated gyro from a record (paper GC).
 
     Runs the 10-state Kalman filter of Eq. (8) on ``record`` (a :class:`GCRecord`, or an
@@ -1030,6 +1273,14 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
     nis_range : (float, float)
         The run is invalid when a sensor's mean NIS is outside this range (far outside its
         χ² band, which is within a few % of 1 on a long record).
+    false_alarm : float
+        The family-wise false-alarm rate of the model checks that gate validity
+        (:meth:`CalibrationResult.model_tests`: mean NIS and whiteness of each sensor, the
+        split-record tests; Šidák-corrected): the share of records of a model that fits
+        which are declared invalid (default 1 %).
+    nis_tolerance : float
+        Relative widening of the mean-NIS band of that gate (default 0.5 %, see
+        :meth:`CalibrationResult.model_tests`).
     executor : concurrent.futures.Executor, optional
         Prepares the next chunk through it (reads it, for an iterable ``record`` such as a
         file read in chunks; its steps, nominal motion and step tables) while the current
@@ -1067,6 +1318,10 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
     time_tolerance = v.check_in_range("time_tolerance", time_tolerance, 0.0, 0.5)
     max_rejected = v.check_in_range("max_rejected", max_rejected, 0.0, 1.0)
     nis_range = _check_nis_range(nis_range)
+    false_alarm = v.check_in_range("false_alarm", false_alarm, 0.0, 1.0, low_open=True,
+                                   high_open=True)
+    nis_tolerance = v.check_in_range("nis_tolerance", nis_tolerance, 0.0, 1.0,
+                                     high_open=True)
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable or None; got {type(progress).__name__}")
     if executor is not None:
@@ -1085,7 +1340,7 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         cal.run(prepared)
         if progress is not None:
             progress(cal.rows)
-    return cal.result(max_rejected, nis_range)
+    return cal.result(max_rejected, nis_range, false_alarm, nis_tolerance)
 
 
 def innovation_log_likelihood(record: GCRecord, params: GyrocompassParams | None = None, *,

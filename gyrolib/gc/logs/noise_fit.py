@@ -64,6 +64,7 @@ __all__ = [
     "NOISE_FIT_NAMES",
     "NoiseFit",
     "fit_noise",
+    "fit_uncertainty",
 ]
 
 #: What :func:`fit_noise` can fit: fields of :class:`GyrocompassParams`, and ``C_in`` (one
@@ -145,6 +146,52 @@ class NoiseFit:
         """Its standard error (SI), from the curvature of ``ln L`` at the optimum."""
         return float(self.std_errors[self._index(name)])
 
+    @property
+    def relative_std_errors(self) -> NDArray[np.float64]:
+        """The standard errors of the logarithms of the fitted values (≈ relative standard
+        errors; NaN without curvature)."""
+        with np.errstate(invalid="ignore"):
+            return np.sqrt(np.diag(self.cov_log))
+
+    def not_identified(self, duration: float) -> str:
+        """Why the fit does not identify its parameters on a record of ``duration`` s (``""``
+        when it does): not converged; no curvature; a relative standard error above 1; or,
+        for ``alpha1``, a record shorter than three correlation times ``1/(ξ1 α1)`` of the
+        vibration (Eq. (6)), too short for its spectrum (issue 26).  (A vibration slower
+        than the record that the likelihood cannot reject enters σ instead:
+        :func:`fit_uncertainty`.)
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gyrolib import gc
+        >>> p = gc.GyrocompassParams()
+        >>> fit = gc.NoiseFit(params=p, start=p, names=("alpha1",), values=np.array([p.alpha1]),
+        ...                   std_errors=np.array([0.1 * p.alpha1]),
+        ...                   cov_log=np.array([[0.01]]), loglik=0.0, loglik_start=0.0,
+        ...                   converged=True, message="", n_evaluations=1, outliers=0)
+        >>> fit.not_identified(100.0)[:60]
+        'alpha1 not identified: the record (100 s) is shorter than 3 '
+        >>> fit.not_identified(1000.0)
+        ''
+        """
+        duration = v.check_positive("duration", duration)
+        if not self.converged:
+            return f"noise fit not converged: {self.message}"
+        rel = self.relative_std_errors
+        for nm, r in zip(self.names, rel):
+            if not np.isfinite(r):
+                return f"{nm} not identified: the likelihood has no curvature at the optimum"
+            if r > 1.0:
+                return f"{nm} not identified: relative standard error {r:.3g} > 1"
+        if "alpha1" in self.names:
+            tc = 1.0 / (self.params.xi1 * self.params.alpha1)
+            if duration < 3.0 * tc:
+                return (f"alpha1 not identified: the record ({duration:.4g} s) is shorter than "
+                        f"3 correlation times 1/(xi1 alpha1) = {tc:.4g} s of the fitted "
+                        "vibration spectrum")
+        return ""
+
     def summary(self) -> dict:
         """The fit as a JSON-ready dict (SI)."""
         return {
@@ -208,6 +255,91 @@ def _check_names(fit: object) -> tuple[str, ...]:
         raise ValueError("fit must not hold C_in together with C_incl_y or C_incl_z (C_in "
                          "sets both)")
     return names
+
+
+def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
+                    ) -> GyrocompassParams | None:
+    """A vibration correlated over the whole record, ``α1 = 1/(ξ1 · duration)`` with ``σ1²``
+    refitted, when the likelihood cannot reject it against the fit (``2 ΔlnL < χ²₁(95 %)``);
+    else ``None``."""
+    import scipy.optimize
+
+    p = fit.params
+    slow = 1.0 / (p.xi1 * duration)
+    if "alpha1" not in fit.names or slow >= p.alpha1:
+        return None
+    ll_fit = innovation_log_likelihood(record, p)
+
+    def neg(log_s1: float) -> float:
+        q = dataclasses.replace(p, alpha1=slow, sigma1_sq=math.exp(log_s1))
+        return -innovation_log_likelihood(record, q)
+
+    x0 = math.log(p.sigma1_sq)
+    best = scipy.optimize.minimize_scalar(neg, bounds=(x0 - 6.0, x0 + 3.0), method="bounded",
+                                          options={"xatol": 0.05, "maxiter": 20})
+    stat = 2.0 * (ll_fit + float(best.fun))
+    if stat < 3.841458820694124:       # χ²(1) at 95 %: not rejected
+        return dataclasses.replace(p, alpha1=slow, sigma1_sq=math.exp(float(best.x)))
+    return None
+
+
+def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed: int = 0,
+                    **calibrate_options: object) -> float:
+    """σ(ω_gc) (rad/s) with the fitted noise parameters' own uncertainty: ``samples`` draws
+    of their logarithms from ``N(ln θ̂, C)`` (:attr:`NoiseFit.cov_log`), a calibration
+    (:func:`gyrolib.gc.calibrate`, ``calibrate_options``) with each, and the law of total
+    variance, ``√(mean_k σ_k² + var_k ω̂_k)``: the filter's σ at θ̂ treats the fitted values
+    as exact, and it shrinks where the fit overestimates the vibration's bandwidth
+    (issue 26).  The curvature's covariance is not to be trusted for an ``alpha1`` that the
+    record barely sees, so a vibration correlated over the whole record
+    (``α1 = 1/(ξ1 T)``, ``σ1²`` refitted) that the likelihood cannot reject (likelihood
+    ratio below χ²₁'s 95 % point) enters as an alternative model: the variance becomes the
+    larger of the two models' plus the square of the difference of their estimates.
+    Seeded: the same ``seed`` gives the same value.
+
+    Examples
+    --------
+    With no uncertainty in the fit the calibration's own σ comes back:
+
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> rec = gc.simulate_record(p, 2.0, seed=1).record
+    >>> fit = gc.NoiseFit(params=p, start=p, names=("C_as",), values=np.array([p.C_as]),
+    ...                   std_errors=np.array([0.0]), cov_log=np.array([[0.0]]), loglik=0.0,
+    ...                   loglik_start=0.0, converged=True, message="", n_evaluations=1,
+    ...                   outliers=0)
+    >>> s = gc.fit_uncertainty(rec, fit, samples=2)
+    >>> bool(np.isclose(s, gc.calibrate(rec, p).omega_gc_std, rtol=1e-9))
+    True
+    """
+    v.check_instance("record", record, GCRecord)
+    v.check_instance("fit", fit, NoiseFit)
+    samples = v.check_int("samples", samples, 2)
+    seed = v.check_int("seed", seed, 0)
+    C = fit.cov_log
+    if not np.all(np.isfinite(C)):
+        raise ValueError("fit has no covariance (cov_log not finite): the parameters are not "
+                         "identified, see NoiseFit.not_identified")
+    theta = _log_values(fit.params, fit.names)
+    # a symmetric square root (C may be singular: a parameter held exactly)
+    w, U = np.linalg.eigh(0.5 * (C + C.T))
+    root = U * np.sqrt(np.clip(w, 0.0, None))
+    rng = np.random.default_rng(seed)
+    est, var = [], []
+    for _ in range(samples):
+        th = theta + root @ rng.standard_normal(theta.size)
+        res = calibrate(record, _with(fit.params, fit.names, th), **calibrate_options)
+        est.append(res.omega_gc)
+        var.append(res.omega_gc_std ** 2)
+    total = float(np.mean(var) + np.var(est, ddof=1))
+    if record.n > 1:
+        slow = _slow_vibration(fit, record, float(record.t[-1] - record.t[0]))
+        if slow is not None:
+            at_fit = calibrate(record, fit.params, **calibrate_options)
+            alt = calibrate(record, slow, **calibrate_options)
+            total = max(total, alt.omega_gc_std ** 2) + (at_fit.omega_gc - alt.omega_gc) ** 2
+    return float(math.sqrt(total))
 
 
 def _with(p: GyrocompassParams, names: tuple[str, ...], theta: np.ndarray

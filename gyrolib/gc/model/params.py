@@ -95,7 +95,8 @@ _REAL = ("omega_ub",)
 
 
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
-                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale")
+                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale",
+                "sigma_as_offset", "sigma_incl_bias")
 
 
 _DAMPING = ("xi1", "xi2")
@@ -153,6 +154,16 @@ class GyrocompassParams:
       the drift through the float's steady rate ``(H/f)(Ω_h cos β + ω_gc)``, so a relative
       error κ reads as a drift of about κ·Ω_h, which 100 s of data cannot tell from ω_gc
       (issues 26 and 28).
+    * ``sigma_as_offset``: the 1σ prior (rad) of a constant null offset of the angle sensor
+      (arc seconds in practice; a logger that starts a time τ late reads like an offset of
+      about ``(H/f) Ω_h τ``);
+    * ``sigma_incl_bias``: the 1σ prior (m/s²) of a constant bias of each inclinometer
+      (0.1–1 mg for real ones); a bias reads like a tilt of ``b/g``, which the data cannot
+      tell from one, so this prior enters σ(ω_gc) through the tilt's coupling ``Ω_v``.
+
+    :func:`gyrolib.gc.calibrate` estimates these three constants jointly with the state
+    (bias-separated filter, their priors as stated here) and so carries their uncertainty
+    into σ(ω_gc); the covariance analysis and the Monte Carlo do not use them yet.
 
     The Earth-rate components at a given latitude: :meth:`at_latitude`.
 
@@ -200,6 +211,8 @@ class GyrocompassParams:
     vertical_coupling: str = "eq5"
     eq1_sign: str = "+"
     sigma_hf_scale: float = 0.0
+    sigma_as_offset: float = 0.0
+    sigma_incl_bias: float = 0.0
 
     def __post_init__(self) -> None:
         for f_ in fields(self):
