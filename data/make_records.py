@@ -9,6 +9,7 @@ Deterministic: the same seeds give the same files (gzip without a time stamp).
 from __future__ import annotations
 
 import dataclasses
+import math
 import json
 from pathlib import Path
 
@@ -28,11 +29,12 @@ GAP = (60.0, 61.0)               # s: rows removed (a 1 s gap)
 OUTLIER_T0, OUTLIER_N, OUTLIER_SIZE = 30.0, 20, 5e-4   # angle-sensor burst: 20 rows, ±0.5 mrad
 N_NAN = 30                       # NaN cells spread over the three sensors
 WRONG_ALPHA1_FACTOR = 10.0       # the "wrong" record: vibration bandwidth α1 ten times larger
-#: The first line of every GC sample file: the latitude of paper GC's Earth-rate components
-#: (the reader fills GCRecord.latitude from it).  The records are simulated with the paper's
-#: printed Omega_h = 4.3e-5, Omega_v = 5.9e-5 rad/s, which are the Earth's rate at 53.9° N
-#: rounded to two digits (Omega_h within 0.1 %).
-LATITUDE_LINE = "latitude_deg: 53.9"
+#: Where the GC sample records are made: paper GC's printed Omega_h = 4.3e-5, Omega_v = 5.9e-5
+#: rad/s are the Earth's rate at about 53.9° N rounded to two digits; the records are simulated
+#: with the Earth's rate at exactly this latitude (GyrocompassParams.at_latitude), so that the
+#: first line of every GC file, which the reader turns into GCRecord.latitude, is the truth.
+LATITUDE_DEG = 53.9
+LATITUDE_LINE = f"latitude_deg: {LATITUDE_DEG}"
 RSF_DURATION, RSF_RATE, RSF_PERIOD = 60.0, 1000.0, 1.0
 
 
@@ -60,23 +62,24 @@ def _gc_file(name: str, rec: gc.GCRecord, comments: list[str]) -> None:
 
 
 def main() -> dict:
-    p = gc.GyrocompassParams()
+    p = gc.GyrocompassParams.at_latitude(math.radians(LATITUDE_DEG))
     truth: dict = {}
 
     sim = gc.simulate_record(p, GC_T_END, seed=GC_SEED)
     rec, damage = _degrade(sim.record, GC_SEED)
     _gc_file("gc_record.csv.gz", rec, [
         "paper GC record simulated by gyrolib.gc.simulate_record (truth model, paper's "
-        f"parameters), seed {GC_SEED}, {GC_T_END:g} s at 1 kHz",
+        f"parameters, Earth's rate at {LATITUDE_DEG}° N), seed {GC_SEED}, {GC_T_END:g} s at 1 kHz",
         f"with a gap {GAP[0]:g}-{GAP[1]:g} s, {N_NAN} NaN cells and a burst of {OUTLIER_N} "
         "angle-sensor outliers; truth in data/truth.json",
         "SI units: t s, angle_sensor rad, inclinometers m/s^2"])
     truth["gc_record.csv.gz"] = {
-        "method": "gc", "seed": GC_SEED, "t_end_s": GC_T_END, "params": "paper (defaults)",
+        "method": "gc", "seed": GC_SEED, "t_end_s": GC_T_END, "params": f"paper's, Earth-rate components at {LATITUDE_DEG}° N",
         "omega_gc_rad_s": sim.omega_gc,
         "omega_gc_arcsec_paper_s": float(from_si(sim.omega_gc, "arcsec_paper/s")),
         **damage,
-        "call": f"gc.simulate_record(gc.GyrocompassParams(), {GC_T_END}, seed={GC_SEED})"}
+        "call": (f"gc.simulate_record(gc.GyrocompassParams.at_latitude(math.radians("
+                 f"{LATITUDE_DEG})), {GC_T_END}, seed={GC_SEED})")}
 
     p_wrong = dataclasses.replace(p, alpha1=p.alpha1 * WRONG_ALPHA1_FACTOR)
     sim_w = gc.simulate_record(p_wrong, GC_T_END, seed=GC_WRONG_SEED)
@@ -90,8 +93,9 @@ def main() -> dict:
         "alpha1": p_wrong.alpha1,
         "omega_gc_rad_s": sim_w.omega_gc,
         "omega_gc_arcsec_paper_s": float(from_si(sim_w.omega_gc, "arcsec_paper/s")),
-        "call": (f"gc.simulate_record(dataclasses.replace(gc.GyrocompassParams(), "
-                 f"alpha1={p_wrong.alpha1}), {GC_T_END}, seed={GC_WRONG_SEED})")}
+        "call": (f"gc.simulate_record(gc.GyrocompassParams.at_latitude(math.radians("
+                 f"{LATITUDE_DEG}), alpha1={p_wrong.alpha1}), {GC_T_END}, "
+                 f"seed={GC_WRONG_SEED})")}
 
     cfg = rsf.SimulationConfig(duration=RSF_DURATION, sample_rate=RSF_RATE)
     flight = rsf.simulate_flight(cfg, seed=RSF_SEED)
@@ -167,10 +171,29 @@ The acceptance tests do **not** use them: they simulate their own records with o
   and `gs_gyro_angle`, the integrated GS gyro (the GS angle is their sum).
 
 All columns are SI (s, rad, m/s²).  Truth values in full precision: `truth.json`.  Each GC
-file's first line is `# latitude_deg: 53.9`, the latitude of paper GC's Earth-rate components
-(the records are simulated with the printed Ω_h = 4.3·10⁻⁵, Ω_v = 5.9·10⁻⁵ rad/s, the
-Earth's rate at 53.9° N rounded to two digits: Ω_h within 0.1 %, which the command's default
-scale tolerance of 10⁻³ covers).
+file's first line is `# latitude_deg: {LATITUDE_DEG}`, where it was made: the records are
+simulated with the Earth's rate at {LATITUDE_DEG}° N (`gc.GyrocompassParams.at_latitude`), the
+latitude whose components paper GC prints rounded (Ω_h = 4.3·10⁻⁵, Ω_v = 5.9·10⁻⁵ rad/s), so
+the command, which reads that line, uses the Earth-rate components the records were made with.
+
+## Sensitivity studies
+
+The chapter *What the verdicts are sensitive to* reads two results files written by the
+`sensitivity` command (not by `make_records.py`); each carries the inputs and their ranges,
+the condition, the model's outputs at every sample point (one point a line, in the order of
+the Saltelli sample that `n` and `seed` regenerate), the Sobol' indices with their 95 %
+bootstrap intervals, and a `run` record (command, version, machine, executor, number of
+workers, wall time; `extends` when the study grew from a smaller one with `--extend`).  The
+chapter computes five of the points again and stops the build if any differs by more than
+10⁻⁹ (relative).
+
+* `sensitivity_gc.json`: paper GC, σ_gc(100 s) and t_c over 12 inputs, first-order and total
+  indices (`--no-second-order`), N = 2048:
+  `python -m gyrolib sensitivity gc --n 2048 --no-second-order --out data/sensitivity_gc.json`
+  (grown with `--extend` from N = 512);
+* `sensitivity_rsf.json`: paper RSF, δK and the share removed over its 7 printed inputs (each
+  ±10 %), N = 8192 with the second-order indices:
+  `python -m gyrolib sensitivity rsf --n 8192 --out data/sensitivity_rsf.json`.
 """
     (HERE / "README.md").write_text(text)
 
