@@ -9,8 +9,8 @@ Deterministic: the same seeds give the same files (gzip without a time stamp).
 from __future__ import annotations
 
 import dataclasses
-import math
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -74,7 +74,8 @@ def main() -> dict:
         "angle-sensor outliers; truth in data/truth.json",
         "SI units: t s, angle_sensor rad, inclinometers m/s^2"])
     truth["gc_record.csv.gz"] = {
-        "method": "gc", "seed": GC_SEED, "t_end_s": GC_T_END, "params": f"paper's, Earth-rate components at {LATITUDE_DEG}° N",
+        "method": "gc", "seed": GC_SEED, "t_end_s": GC_T_END,
+        "params": f"paper's, Earth-rate components at {LATITUDE_DEG}° N",
         "omega_gc_rad_s": sim.omega_gc,
         "omega_gc_arcsec_paper_s": float(from_si(sim.omega_gc, "arcsec_paper/s")),
         **damage,
