@@ -268,7 +268,7 @@ def test_good_sample_record_is_valid(sample):
     estimate within 3σ of the truth in data/truth.json."""
     truth = json.loads((Path(__file__).resolve().parents[1] / "data" / "truth.json")
                        .read_text())["gc_record.csv.gz"]
-    res = gc.calibrate(sample, P)
+    res = gc.calibrate(sample, gc.GyrocompassParams.at_latitude(sample.latitude))
     assert res.valid and res.reason == ""
     assert np.all(res.rejected_share <= 0.01)
     assert abs(res.omega_gc - truth["omega_gc_rad_s"]) <= 3 * res.omega_gc_std

@@ -182,7 +182,8 @@ _POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "a
              "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
 _REAL = ("omega_ub",)
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
-                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale")
+                "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale",
+                "sigma_as_offset", "sigma_incl_bias")
 _DAMPING = ("xi1", "xi2")
 _CHOICES = ("shaping_p0", "measurement_noise", "vertical_coupling", "eq1_sign")
 

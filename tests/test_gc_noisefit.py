@@ -24,7 +24,8 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 def wrong():
     truth = json.loads((DATA / "truth.json").read_text())["gc_record_wrong_spectrum.csv.gz"]
     rec = records.read_gc(DATA / "gc_record_wrong_spectrum.csv.gz")
-    return rec, truth, gc.fit_noise(rec, P)
+    # the record's site (its '# latitude_deg:' line), the paper's noise model otherwise
+    return rec, truth, gc.fit_noise(rec, gc.GyrocompassParams.at_latitude(rec.latitude))
 
 
 def test_wrong_spectrum_record_recovers_the_vibration_filter(wrong):
@@ -54,7 +55,7 @@ def test_fitted_model_calibrates_the_record(wrong):
     assert res.valid, res.reason
     assert np.all(res.fits()), res.verdict()
     assert abs(res.omega_gc - truth["omega_gc_rad_s"]) <= 3.0 * res.omega_gc_std
-    paper = gc.calibrate(rec, P)
+    paper = gc.calibrate(rec, gc.GyrocompassParams.at_latitude(rec.latitude))
     assert not paper.valid and not np.all(paper.fits())
 
 

@@ -23,6 +23,8 @@ case = TABLE.case
 case("units.to_si", lambda: units.to_si(NAN, "deg"), ValueError, "value", "NaN")
 case("units.to_si", lambda: units.to_si("1", "deg"), TypeError, "value", "real")
 case("units.to_si", lambda: units.to_si(1j, "deg"), TypeError, "value", "real")
+case("units.drift_in_units", lambda: units.drift_in_units("1"), TypeError, "value", "real")
+case("units.drift_in_units", lambda: units.drift_in_units(NAN), ValueError, "value", "NaN")
 case("units.to_si", lambda: units.to_si(True, "deg"), TypeError, "value", "bool")
 case("units.to_si", lambda: units.to_si([[1.0], [1.0, 2.0]], "deg"), TypeError, "value")
 case("units.to_si", lambda: units.to_si(1.0, "furlong"), ValueError, "unit", "one of")
