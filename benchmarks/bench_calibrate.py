@@ -61,6 +61,9 @@ PREVIOUS = "6712084"
 
 #: The commit whose command line is the end-to-end peer (before issue 18's speed work).
 PREVIOUS_CLI = "f8a3322"
+#: Where the modules the previous path imports live since gc was divided into rooms (issue 29).
+ROOMS = {"model": ("params", "discretization", "state_space", "nominal", "shaping_filters"),
+         "logs": ("record",), "analysis": ("montecarlo", "covariance")}
 
 #: The commit of the old CSV reader (hand-written parser and records/_fastcsv.py), the
 #: peer of ``--reader`` (issue 27).
@@ -87,6 +90,10 @@ def previous_calibrate():
                              text=True, check=True).stdout
     except (OSError, subprocess.CalledProcessError):
         return None
+    # the modules it imports moved into gc's rooms (issue 29): the same code, new paths
+    for room, names in ROOMS.items():
+        for name in names:
+            src = src.replace(f"gyrolib.gc.{name} ", f"gyrolib.gc.{room}.{name} ")
     path = Path(tempfile.gettempdir()) / f"gyrolib_calibration_{PREVIOUS}.py"
     path.write_text(src)
     spec = importlib.util.spec_from_file_location(f"calibration_{PREVIOUS}", path)
