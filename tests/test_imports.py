@@ -192,6 +192,15 @@ def private_reaches(root: Path = ROOT) -> list[str]:
                           for a in node.names if a.name.startswith("_")
                           and not a.name.startswith("__")
                           and f"{node.module}.{a.name}" not in _PRIVATE_MODULES]
+            elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+                  and node.func.id in ("getattr", "hasattr") and len(node.args) >= 2
+                  and isinstance(node.args[1], ast.Constant)
+                  and isinstance(node.args[1].value, str)
+                  and node.args[1].value.startswith("_")
+                  and not node.args[1].value.startswith("__")):
+                # the same reach spelt as a string
+                found.append(f"{path.relative_to(root.parent)}:{node.lineno} "
+                             f"{node.args[1].value}")
             elif (isinstance(node, ast.Attribute) and node.attr.startswith("_")
                   and not node.attr.startswith("__") and node.attr not in _NAMEDTUPLE_API
                   and not (isinstance(node.value, ast.Name)
@@ -214,9 +223,11 @@ def test_private_reach_finder_has_power(tmp_path):
     pkg = tmp_path / "gyrolib"
     pkg.mkdir()
     (pkg / "a.py").write_text("from gyrolib.b import _helper\n\ndef f(m):\n"
-                              "    return m._optimal_run_n(1), m._replace(x=1)\n")
+                              "    return m._optimal_run_n(1), m._replace(x=1)\n\n"
+                              "def g(ex):\n    return getattr(ex, '_processes', {})\n")
     (pkg / "b.py").write_text("class B:\n    def g(self):\n        return self._h()\n")
-    assert private_reaches(pkg) == ["gyrolib/a.py:1 _helper", "gyrolib/a.py:4 _optimal_run_n"]
+    assert private_reaches(pkg) == ["gyrolib/a.py:1 _helper", "gyrolib/a.py:4 _optimal_run_n",
+                                    "gyrolib/a.py:7 _processes"]
 
 
 def test_figures_live_in_plots_modules():

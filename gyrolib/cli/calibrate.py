@@ -998,9 +998,12 @@ def _worker_init() -> None:
 
 
 def _stop(ex: concurrent.futures.ProcessPoolExecutor) -> None:
-    """Stop the worker processes this command started, by their own handles (on Ctrl-C:
-    a worker's file may take minutes)."""
-    for proc in list(getattr(ex, "_processes", {}).values()):
+    """Stop the worker processes this command started (on Ctrl-C: a worker's file may take
+    minutes): pending files cancelled, then every live child that multiprocessing started
+    in this process (the command starts no other) terminated, through the public
+    ``multiprocessing.active_children`` rather than the pool's private process table."""
+    ex.shutdown(wait=False, cancel_futures=True)
+    for proc in multiprocessing.active_children():
         with contextlib.suppress(Exception):
             proc.terminate()
 
@@ -1044,7 +1047,6 @@ def _run_files(method: str, args: argparse.Namespace, o: dict,
     except KeyboardInterrupt:
         if ex is not None:
             _stop(ex)
-            ex.shutdown(wait=False, cancel_futures=True)
             ex = None
         args.done = done
         raise
