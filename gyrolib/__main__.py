@@ -1,6 +1,6 @@
 """``python -m gyrolib``: see :mod:`gyrolib.cli`."""
 
-from gyrolib.cli import main
+from gyrolib.cli import entry
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    entry()

@@ -177,6 +177,9 @@ _NAMEDTUPLE_API = frozenset({"_replace", "_asdict", "_fields", "_make",
                              # the type argparse's add_subparsers returns, which has no
                              # public name: used in annotations only
                              "_SubParsersAction"})
+#: Documented public functions of the standard library spelt with an underscore: ``os._exit``
+#: (end the process without the interpreter's clean-up).
+_STDLIB_PUBLIC = frozenset({("os", "_exit")})
 
 
 def private_reaches(root: Path = ROOT) -> list[str]:
@@ -204,7 +207,8 @@ def private_reaches(root: Path = ROOT) -> list[str]:
             elif (isinstance(node, ast.Attribute) and node.attr.startswith("_")
                   and not node.attr.startswith("__") and node.attr not in _NAMEDTUPLE_API
                   and not (isinstance(node.value, ast.Name)
-                           and node.value.id in ("self", "cls"))):
+                           and (node.value.id in ("self", "cls")
+                                or (node.value.id, node.attr) in _STDLIB_PUBLIC))):
                 found.append(f"{path.relative_to(root.parent)}:{node.lineno} {node.attr}")
     return sorted(found)
 

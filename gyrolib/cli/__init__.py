@@ -36,7 +36,7 @@ if "numpy" not in sys.modules:
 
 from gyrolib.cli import calibrate, ledger, race, sensitivity  # noqa: E402
 
-__all__ = ["COMMANDS", "main"]
+__all__ = ["COMMANDS", "entry", "main"]
 
 #: The commands, by name: each a module with ``add_parser`` and ``run``.
 COMMANDS = {"ledger": ledger, "calibrate": calibrate, "sensitivity": sensitivity,
@@ -71,3 +71,21 @@ def main(argv: list[str] | None = None) -> int:
         module.add_parser(sub, OneLineParser)
     args = parser.parse_args(argv)
     return COMMANDS[args.command].run(args)
+
+
+def entry() -> None:
+    """The process entry point (``python -m gyrolib`` and the ``gyrolib`` script): exit with
+    :func:`main`'s status.
+
+    After Ctrl-C (status 130) the command has already written its one line and left no
+    partial file, so the process ends at once, after flushing its streams, without the
+    interpreter's teardown: native thread pools torn down there after an interrupt can abort
+    the process ("terminate called without an active exception", SIGABRT; seen once on CI,
+    and a known hazard of Arrow's pools, apache/arrow#34314), which would turn the documented
+    status 130 into -6."""
+    code = main()
+    if code == calibrate.EXIT_INTERRUPTED:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    raise SystemExit(code)

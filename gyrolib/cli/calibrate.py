@@ -1003,9 +1003,13 @@ def _stop(ex: concurrent.futures.ProcessPoolExecutor) -> None:
     in this process (the command starts no other) terminated, through the public
     ``multiprocessing.active_children`` rather than the pool's private process table."""
     ex.shutdown(wait=False, cancel_futures=True)
-    for proc in multiprocessing.active_children():
+    children = multiprocessing.active_children()
+    for proc in children:
         with contextlib.suppress(Exception):
             proc.terminate()
+    for proc in children:               # gone before this process reports and ends
+        with contextlib.suppress(Exception):
+            proc.join(timeout=5)
 
 
 def _run_files(method: str, args: argparse.Namespace, o: dict,
