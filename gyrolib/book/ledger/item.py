@@ -302,11 +302,12 @@ def printed_verdict(consistent: float, printed: float | str,
     causes it names, by the one agreement rule (:func:`agrees`).
 
     * ``"reproduced"``: the consistent value agrees with the print;
-    * ``"differs: cause shown"``: it does not, and every candidate agrees (the print is
-      explained whichever candidate is true);
-    * ``"differs: bracketed"``: some candidates agree and some do not, or none does but the
-      print lies within the range of the candidates' values (list the book's own reading
-      among them when the candidates are readings of an open choice);
+    * ``"differs: cause shown"``: it does not, and a candidate agrees: the print follows
+      from that cause (when several agree, whichever is true; a candidate that misses is
+      refuted by this print, which the item's evidence lists);
+    * ``"differs: bracketed"``: no candidate agrees, but the print lies within the range of
+      the candidates' values (list the book's own reading among them when the candidates
+      are readings of an open choice);
     * ``"not reproducible"``: otherwise.
 
     Parameters
@@ -330,7 +331,7 @@ def printed_verdict(consistent: float, printed: float | str,
     >>> printed_verdict(0.0339, 0.033, [Candidate("cut", 0.033), Candidate("12 °/h", 0.0333)])
     'differs: cause shown'
     >>> printed_verdict(0.2034, 0.198, [Candidate("cut", 0.198), Candidate("12 °/h", 0.2)])
-    'differs: bracketed'
+    'differs: cause shown'
     >>> printed_verdict(0.00137, 0.0011, [Candidate("stationary P0", 0.00137),
     ...                                   Candidate("zero P0", 0.00084)])
     'differs: bracketed'
@@ -341,10 +342,8 @@ def printed_verdict(consistent: float, printed: float | str,
     if agrees(consistent, printed, **rule):
         return "reproduced"
     hits = [agrees(c.value, printed, **rule) for c in candidates]
-    if hits and all(hits):
-        return "differs: cause shown"
     if any(hits):
-        return "differs: bracketed"
+        return "differs: cause shown"
     values = [c.value for c in candidates]
     p = float(_print_decimal(printed))
     if values and min(values) <= p <= max(values):

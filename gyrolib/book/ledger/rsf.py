@@ -173,7 +173,8 @@ def _shortening_note(printed: float, candidates: list[Candidate]) -> str:
     missed = [c for c in candidates if c not in hits]
     return (f"only {', '.join(c.name for c in hits)} gives the print ("
             + ", ".join(f"{c.name}: {c.value:.3f}" for c in missed)
-            + "), and the paper does not say which it made: the cause is not shown")
+            + " misses it): the paper computed this column with its printed two-digit "
+            f"ε0,GS = {PRINTED['gs.eps0_total'] * 1e3:.1f}·10⁻³ °/s, and the cause is shown")
 
 
 # Inputs ----------------------------------------------------------------------------------------
