@@ -7,6 +7,7 @@ import math
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from gyrolib import rsf
@@ -230,6 +231,11 @@ def test_compensated_fails_at_the_papers_own_example(items):
     assert (f"{100 * share_900:.1f} % against 90 %" in it.evidence
             and "67 % for the median of 400 simulated flights" in it.evidence
             and "20 % of them worse than uncorrected" in it.evidence)
+    # the spread of the flights, recomputed here from their shares (a single flight may do
+    # far worse than the median: the claim's range is not the table's 67-81 %)
+    lo, hi = np.percentile(100 * flights.share, [10, 90])
+    assert lo < 0.0 < 80.0 < hi
+    assert f"spread from {lo:.0f} % to {hi:.0f} % (10th to 90th percentile)" in it.evidence
     for assumption in ("900 °/s", "ε1 at its 1σ 600 ppm", "1σ terms added linearly",
                        "ω_unc held at 300 °/s", "Δt = 5 s"):
         assert assumption in it.conditions, assumption
