@@ -11,6 +11,7 @@ import math
 import re
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -357,3 +358,35 @@ def test_command_line_uses_one_blas_thread_unless_told():
     assert run() == "1"
     assert run(OPENBLAS_NUM_THREADS="2") == "2"
     assert run("import numpy; ") == "None"
+
+
+def test_a_gc_run_loads_only_what_it_needs():
+    """``calibrate gc FILE --json`` (no terminal, so no bar) loads neither pandas (which
+    ``pyarrow.Array.to_numpy`` would load), tqdm, paper RSF's package nor pyarrow.compute
+    (needed only for an absolute clock; pandas then comes with its scalars): each was
+    start-up time of the hour-long run (benchmarks/bench_calibrate.py).  ``calibrate rsf``
+    does load paper RSF, and an epoch-time record pyarrow.compute: the probe sees them (its
+    power)."""
+    root = Path(__file__).resolve().parents[1]
+    watch = ("pandas", "tqdm", "gyrolib.rsf", "pyarrow.compute")
+
+    def loaded(*argv: str) -> list[str]:
+        probe = ("import contextlib, io, sys\nfrom gyrolib.cli import main\n"
+                 "with contextlib.redirect_stdout(io.StringIO()):\n"
+                 f"    main({list(argv)!r})\n"
+                 f"print(' '.join(m for m in {watch!r} if m in sys.modules))\n")
+        out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                             check=True, cwd=root)
+        return out.stdout.split()
+
+    assert loaded("calibrate", "gc", "data/gc_record.csv.gz", "--json") == []
+    assert loaded("calibrate", "rsf", "data/rsf_record.csv.gz", "--period", "1",
+                  "--json") == ["gyrolib.rsf"]
+    lines = gzip.open(root / "data" / "gc_record.csv.gz", "rt").read().splitlines()[:2005]
+    h = next(i for i, ln in enumerate(lines) if not ln.startswith("#"))
+    epoch = [f"{1.7e9 + float(r.split(',')[0]):.3f}," + r.split(",", 1)[1]
+             for r in lines[h + 1:]]
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "epoch.csv"
+        path.write_text("\n".join([*lines[:h + 1], *epoch]) + "\n")
+        assert "pyarrow.compute" in loaded("calibrate", "gc", str(path), "--json")

@@ -67,7 +67,7 @@ from typing import Final
 import numpy as np
 
 import gyrolib
-from gyrolib import gc, rsf, units
+from gyrolib import gc, units
 from gyrolib.gc.model.params import MEASUREMENT_NAMES, PAPER_LATITUDE
 from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
@@ -435,11 +435,28 @@ def _bar_enabled(args: argparse.Namespace) -> bool:
     return bool(tty and not args.json)
 
 
-def _bar(args: argparse.Namespace, total: float, desc: str, unit: str):
+class _NoBar:
+    """What the code needs of a tqdm bar when none is shown (tqdm not imported: 15 ms)."""
+
+    n: float = 0
+
+    def update(self, k: float = 1) -> None:
+        self.n += k
+
+    def __enter__(self) -> _NoBar:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+
+def _progress(shown: bool, **kwargs):
+    """A tqdm bar on stderr (``leave=False``) when ``shown``, else a :class:`_NoBar`."""
+    if not shown:
+        return _NoBar()
     from tqdm import tqdm
 
-    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
-                disable=not _bar_enabled(args), dynamic_ncols=True)
+    return tqdm(file=sys.stderr, leave=False, **kwargs)
 
 
 # Paper GC ---------------------------------------------------------------------------------
@@ -666,10 +683,7 @@ def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, 
 
 
 def _fit_noise(record, params, o: dict, bar_ok: bool):
-    from tqdm import tqdm
-
-    with tqdm(total=400, desc="fitting the noise", unit="eval", file=sys.stderr,
-              leave=False, disable=not bar_ok) as bar:
+    with _progress(bar_ok, total=400, desc="fitting the noise", unit="eval") as bar:
         def progress(n: int) -> None:
             bar.update(max(0, n - bar.n))
 
@@ -695,9 +709,8 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         if o["fit_noise"] is not None:
             fit = _fit_noise(record, params, o, o["bar"])
             params = fit.params
-        from tqdm import tqdm
-        with tqdm(total=record.n, desc=f"calibrate gc {file}", unit="row", file=sys.stderr,
-                  leave=False, disable=not o["bar"]) as bar:
+        with _progress(o["bar"], total=record.n, desc=f"calibrate gc {file}",
+                       unit="row") as bar:
             res = _calibrate(record, params, o,
                              progress=lambda rows: bar.update(rows - bar.n))
     else:       # stream the file in chunks, each checked at the door
@@ -714,14 +727,12 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
             for chunk in it:
                 yield mapping.apply(chunk)
 
-        from tqdm import tqdm
-
         # the next chunk is read (parsed, checked at the door) in one thread while the
         # filter, which releases the GIL, runs on the current one: two chunks in flight
         with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
-                tqdm(total=100.0, desc=f"calibrate gc {file}", unit="%", file=sys.stderr,
-                     leave=False, disable=not o["bar"],
-                     bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}") as bar:
+                _progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
+                          bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
+                          ) as bar:
             res = _calibrate(mapped(), params, o, executor=reader,
                              progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
     valid, reason = bool(res.valid), str(res.reason)
@@ -911,6 +922,8 @@ def _rsf_options(args: argparse.Namespace) -> dict:
 
 def _rsf_prediction(res, config):
     """δK the error model predicts at the record's mean rate (:func:`rsf.predict_delta_k`)."""
+    from gyrolib import rsf
+
     return rsf.predict_delta_k(config, res.period, rate=res.mean_rate)
 
 
@@ -923,6 +936,8 @@ def _run_rsf_file(file: str, o: dict) -> _Outcome:
     if o["period"] > span:
         raise RecordError(file, f"--period {o['period']} s is longer than the record "
                           f"({span:.6g} s): no complete correction interval")
+    from gyrolib import rsf  # imported by the rsf command only (a gc run does not need it)
+
     try:
         res = rsf.calibrate(record, o["period"], k_form=o["k_form"], slips=o["slips"])
     except ValueError as exc:
@@ -1005,6 +1020,8 @@ def _write_artifacts(outcome: _Outcome) -> None:
         if kind == "plot":
             _save(gc.plot_calibration(payload), path)
         elif kind == "rsf_plot":
+            from gyrolib import rsf
+
             _save(rsf.plot_correction(*payload), path)
         elif kind == "allan":
             _save(gc.plot_allan(payload, title=f"Allan deviation of {outcome.file}"), path)
@@ -1077,15 +1094,13 @@ def _run_files(method: str, args: argparse.Namespace, o: dict,
             emit(results[done])
             done += 1
 
-    from tqdm import tqdm
-
     batch = len(files) > 1
     ex = _executor(args.workers)
     futures = ({} if ex is None else    # submitted first: the workers fork before the bar
                {ex.submit(_process, method, f, o): i for i, f in enumerate(files)})
     try:
-        with tqdm(total=len(files), desc=f"calibrate {method}", unit="file", file=sys.stderr,
-                  leave=False, disable=not (batch and _bar_enabled(args))) as bar:
+        with _progress(batch and _bar_enabled(args), total=len(files),
+                       desc=f"calibrate {method}", unit="file") as bar:
             if ex is None:
                 for i, f in enumerate(files):
                     results[i] = _process(method, f, o)
