@@ -198,7 +198,8 @@ def test_record_header_latitude_and_a_conflicting_option(tmp_path, capsys):
 
 def test_params_earth_rate_components_state_the_latitude(tmp_path, capsys):
     """Omega_h and Omega_v both in --params state the Earth rate (valid, source params, the
-    latitude their angle); one of them alone does not (the other would be the paper's)."""
+    latitude their angle); one of them alone is refused (exit 2: the other would silently be
+    the paper's, or the record header's)."""
     fr = make(None, 0.0, seed=3002)
     path = _write(tmp_path / "r.csv", fr.record)
     toml = tmp_path / "p.toml"
@@ -207,9 +208,10 @@ def test_params_earth_rate_components_state_the_latitude(tmp_path, capsys):
     d = json.loads(out)
     assert code == 0 and d["valid"] is True and d["latitude_source"] == "params"
     assert d["latitude_deg"] == pytest.approx(math.degrees(math.atan2(5.9, 4.3)), abs=1e-9)
-    toml.write_text(f"Omega_h = {P.Omega_h!r}\n")
+    toml.write_text(f"Omega_v = {P.Omega_v!r}\n")
     code, out, err = _run(["calibrate", "gc", path, "--json", "--params", str(toml)], capsys)
-    _one_line_invalid(code, out, err)
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "sets Omega_v but not Omega_h" in err and str(toml) in err
 
 
 def test_record_latitude_is_used(tmp_path, capsys):

@@ -534,6 +534,11 @@ def _gc_options(args: argparse.Namespace) -> dict:
     elif {"Omega_h", "Omega_v"} <= set(toml):   # the Earth rate stated by its components
         latitude = math.degrees(math.atan2(params.Omega_v, params.Omega_h))
         lat_source = LAT_PARAMS
+    elif {"Omega_h", "Omega_v"} & set(toml):    # half an Earth rate: the other the paper's?
+        given, = {"Omega_h", "Omega_v"} & set(toml)
+        raise UsageError(f"{args.params} sets {given} but not "
+                         f"{({'Omega_h', 'Omega_v'} - {given}).pop()}: give both Earth-rate "
+                         "components, or 'latitude' (degrees north), or neither")
     return {"params": params, "dt_given": dt_given, "gate": args.gate,
             "latitude": latitude, "latitude_source": lat_source,
             "false_alarm": args.false_alarm, "accept_misfit": args.accept_misfit,
