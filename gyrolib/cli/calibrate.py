@@ -14,7 +14,7 @@ Paper GC's σ(ω_gc) carries the instrument constants estimated with the state, 
 stated prior: the angle sensor's null offset (``--offset-prior``), the inclinometers' biases
 (``--inclinometer-bias-prior``) and the scale common to ``H/f`` and the angle sensor's gain
 (``--scale-tolerance``); the output prints σ's parts.  The Earth-rate components come from
-``--latitude``, a ``latitude`` key of ``--params`` (or its ``Omega_h`` and ``Omega_v``) or
+``--latitude``, a ``latitude`` key of ``--params`` (or both its ``Omega_h`` and ``Omega_v``) or
 the record's ``# latitude_deg:`` line; an option or params file wins over the record's line,
 and a note says both.  Without any there is no valid estimate (status 3; the Earth rate
 reads as drift, so a record made at 45° calibrated with paper GC's values, about 53.9° N, is
