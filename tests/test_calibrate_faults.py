@@ -166,6 +166,19 @@ def test_no_latitude_is_not_valid_and_paper_is_an_explicit_choice(tmp_path, caps
     assert "no latitude" not in rows[1]["reason"]     # the header states one
 
 
+def test_no_latitude_on_the_in_memory_path_writes_nothing(tmp_path, capsys):
+    """--allan reads the record whole (not streamed): without a latitude it is not valid
+    either (exit 3, the reason) and writes no plot; with the latitude it writes it."""
+    fr = make(None, 0.0, seed=3003, t_end=20.0)
+    path = _write(tmp_path / "r.csv", fr.record)
+    png = tmp_path / "allan.png"
+    code, out, err = _run(["calibrate", "gc", path, "--allan", str(png)], capsys)
+    _one_line_invalid(code, out, err)
+    assert not png.exists()
+    code, out, err = _run([*GC_PAPER, path, "--allan", str(png)], capsys)
+    assert code == 0 and png.stat().st_size > 1000
+
+
 def test_record_header_latitude_and_a_conflicting_option(tmp_path, capsys):
     """The record's ``# latitude_deg: 45`` line is a stated latitude (valid, within 3σ,
     ``latitude_source`` "record header").  A --latitude that disagrees with it wins (the
