@@ -5,9 +5,11 @@ refuses (non-zero exit, one line on stderr with the reason, no traceback, no est
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +18,10 @@ from gc_faults import FAULTS, MG, P, cli_params, make
 from gyrolib import gc, records
 from gyrolib.cli import main
 from gyrolib.units import ARCSEC_PAPER
+
+#: Records of this file are simulated with paper GC's Earth rate (no '# latitude_deg:' line):
+#: the command needs the latitude stated, so it is assumed explicitly.
+GC_PAPER = ("calibrate", "gc", "--latitude", "paper")
 
 CASES = [(f, s) for f, (_, sizes) in FAULTS.items() for s in sizes]
 
@@ -56,7 +62,7 @@ def test_fault_is_covered_or_refused(fault, size, tmp_path, capsys):
     that changes within the record must be covered at both its values or refused."""
     fr = make(fault, size, seed=500 + CASES.index((fault, size)))
     path = _write(tmp_path / "r.csv", fr.record)
-    code, out, err = _run(["calibrate", "gc", path, "--json"], capsys)
+    code, out, err = _run([*GC_PAPER, path, "--json"], capsys)
     how = _covers_or_refuses(code, out, err, {fr.omega_gc, fr.omega_gc_end})
     if fault in ("drift_change", "angle_step", "incl_step") and size >= 0.5:
         assert how == "refused"    # far outside what the model can absorb
@@ -75,45 +81,165 @@ def test_faults_without_the_instrument_terms_are_confidently_wrong(capsys, tmp_p
         assert abs(with_priors.omega_gc - fr.omega_gc) <= 3.0 * with_priors.omega_gc_std
 
 
+def _one_line_invalid(code, out, err):
+    """Exit 3, one line on stderr naming the missing latitude, no traceback, no estimate."""
+    assert code == 3 and err.count("\n") == 1 and "Traceback" not in err
+    assert "no valid estimate: no latitude given" in err and "53.9 deg N" in err
+
+
 def test_latitude_45(tmp_path, capsys):
-    """A record made at 45°: ``--latitude 45`` recovers ω within 3σ; without a latitude the
-    note says none was given and that the paper's values are about 53.9° N, and the
-    estimate is far off (the Earth rate reads as drift: this is why it must be stated)."""
+    """A record made at 45°: ``--latitude 45`` (or ``latitude = 45`` in --params) recovers ω
+    within 3σ.  Without a latitude it is NOT valid (exit 3, the reason names what is
+    missing, the summary row says the same): this is the power test, the command used to
+    answer "valid" with paper GC's Ω_h, Ω_v, hundreds of σ off.  ``--latitude paper`` is the
+    user's explicit assumption: valid, said so, and (here, wrongly assumed) far off."""
     fr = make("latitude", 45.0, seed=777)
     path = _write(tmp_path / "r45.csv", fr.record)
     code, out, err = _run(["calibrate", "gc", path, "--json", "--latitude", "45"], capsys)
     d = json.loads(out)
     assert code == 0 and d["valid"] is True, err
     assert abs(d["omega_gc"] - fr.omega_gc) <= 3.0 * d["omega_gc_std"]
+    assert d["latitude_deg"] == 45.0 and d["latitude_source"] == "option"
     assert d["earth_rate"]["latitude_deg"] == 45.0
     assert d["earth_rate"]["Omega_h"] == pytest.approx(7.292115e-5 * math.cos(math.pi / 4),
                                                        rel=1e-12)
     toml = tmp_path / "lat.toml"
     toml.write_text("latitude = 45.0\n")
     code, out2, _ = _run(["calibrate", "gc", path, "--json", "--params", str(toml)], capsys)
-    assert code == 0 and json.loads(out2)["omega_gc"] == pytest.approx(d["omega_gc"],
-                                                                       rel=1e-12)
+    d2 = json.loads(out2)
+    assert code == 0 and d2["omega_gc"] == pytest.approx(d["omega_gc"], rel=1e-12)
+    assert d2["latitude_source"] == "params" and d2["latitude_deg"] == 45.0
+    # no latitude: the estimate is computed, but not valid
     code, out, err = _run(["calibrate", "gc", path], capsys)
-    assert "no latitude given" in out and "53.9 deg N" in out
+    _one_line_invalid(code, out, err)
+    assert "no valid estimate: no latitude given (--latitude, a 'latitude' key in --params, " \
+           "or a '# latitude_deg:' line in the record); the paper's Omega_h, Omega_v " \
+           "correspond to about 53.9 deg N" in out
+    assert "Earth rate: NO latitude given" in out and "omega_gc =" not in out
     code, out, err = _run(["calibrate", "gc", path, "--json"], capsys)
+    _one_line_invalid(code, out, err)
     d = json.loads(out)
-    assert d["earth_rate"]["source"] == "none" and d["earth_rate"]["latitude_deg"] is None
-    if code == 0:
-        assert abs(d["omega_gc"] - fr.omega_gc) > 3.0 * d["omega_gc_std"]
+    assert d["valid"] is False and d["omega_gc"] is None and d["omega_gc_std"] is None
+    assert d["reason"].startswith("no latitude given")
+    assert d["latitude_deg"] is None and d["latitude_source"] == "none"
+    assert d["earth_rate"]["stated"] is False and d["earth_rate"]["Omega_h"] == P.Omega_h
+    # what "valid" would have meant: paper GC's Earth rate, assumed explicitly, is far off
+    code, out, err = _run(["calibrate", "gc", path, "--json", "--latitude", "paper"], capsys)
+    d = json.loads(out)
+    assert code == 0 and d["valid"] is True and err == ""
+    assert d["latitude_source"] == "paper (assumed by --latitude paper)"
+    assert d["latitude_deg"] == pytest.approx(53.91, abs=0.01)
+    assert d["earth_rate"]["Omega_h"] == P.Omega_h and d["earth_rate"]["Omega_v"] == P.Omega_v
+    assert abs(d["omega_gc"] - fr.omega_gc) > 100.0 * d["omega_gc_std"]
+
+
+def test_no_latitude_is_not_valid_and_paper_is_an_explicit_choice(tmp_path, capsys):
+    """A clean record of paper GC's model without a latitude: exit 3, ``"valid": false``,
+    the reason, and --accept-misfit does not turn it into an estimate (a missing latitude is
+    not a misfit); ``--latitude paper`` gives the valid estimate, and the text says the
+    values were assumed.  In a batch the row says invalid with the same reason."""
+    fr = make(None, 0.0, seed=3001)
+    path = _write(tmp_path / "clean.csv", fr.record)
+    code, out, err = _run(["calibrate", "gc", path, "--json", "--accept-misfit"], capsys)
+    _one_line_invalid(code, out, err)
+    d = json.loads(out)
+    assert d["valid"] is False and d["misfit_accepted"] is False and d["omega_gc"] is None
+    assert d["model_fits"] is True        # the record fits: only the latitude is missing
+    code, out, err = _run(["calibrate", "gc", path, "--latitude", "paper"], capsys)
+    assert code == 0 and err == ""
+    assert "Earth rate: latitude 53.9149 deg N (ASSUMED: paper GC's values, by --latitude " \
+           "paper): Omega_h = 4.3e-05, Omega_v = 5.9e-05 rad/s" in out
+    code, out, err = _run(["calibrate", "gc", path, "--json", "--latitude", "paper"], capsys)
+    d = json.loads(out)
+    assert code == 0 and d["valid"] is True
+    assert abs(d["omega_gc"] - fr.omega_gc) <= 3.0 * d["omega_gc_std"]
+    summary = tmp_path / "s.csv"
+    header = tmp_path / "header.csv"     # the same rows, with a latitude line
+    header.write_text("# latitude_deg: 45\n" + Path(path).read_text())
+    code, out, err = _run(["calibrate", "gc", path, str(header), "--summary", str(summary)],
+                          capsys)
+    assert code == 3
+    with summary.open(newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows[0]["status"] == "invalid" and rows[0]["valid"] == "false"
+    assert rows[0]["reason"].startswith("no latitude given") and rows[0]["estimate"] == ""
+    assert "no latitude" not in rows[1]["reason"]     # the header states one
+
+
+def test_no_latitude_on_the_in_memory_path_writes_nothing(tmp_path, capsys):
+    """--allan reads the record whole (not streamed): without a latitude it is not valid
+    either (exit 3, the reason) and writes no plot; with the latitude it writes it."""
+    fr = make(None, 0.0, seed=3003, t_end=20.0)
+    path = _write(tmp_path / "r.csv", fr.record)
+    png = tmp_path / "allan.png"
+    code, out, err = _run(["calibrate", "gc", path, "--allan", str(png)], capsys)
+    _one_line_invalid(code, out, err)
+    assert not png.exists()
+    code, out, err = _run([*GC_PAPER, path, "--allan", str(png)], capsys)
+    assert code == 0 and png.stat().st_size > 1000
+
+
+def test_record_header_latitude_and_a_conflicting_option(tmp_path, capsys):
+    """The record's ``# latitude_deg: 45`` line is a stated latitude (valid, within 3σ,
+    ``latitude_source`` "record header").  A --latitude that disagrees with it wins (the
+    documented rule: an option or params file overrides the record, e.g. a wrong header),
+    and the output says both: the note, the Earth-rate line, ``record_latitude_deg``."""
+    fr = make("latitude", 45.0, seed=778)
+    path = tmp_path / "h45.csv"
+    records.write_csv(path, {"t": fr.record.t, "angle_sensor": fr.record.angle_sensor,
+                             "inclinometer_y": fr.record.inclinometer_y,
+                             "inclinometer_z": fr.record.inclinometer_z},
+                      comments=["latitude_deg: 45"], fmt=["%.6f", "%.12g", "%.12g", "%.12g"])
+    code, out, err = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    d = json.loads(out)
+    assert code == 0 and d["valid"] is True and err == ""
+    assert d["latitude_source"] == "record header" and d["latitude_deg"] == pytest.approx(45.0)
+    assert abs(d["omega_gc"] - fr.omega_gc) <= 3.0 * d["omega_gc_std"]
+    assert not any("latitude" in n for n in d["notes"])
+    code, out, err = _run(["calibrate", "gc", str(path), "--json", "--latitude", "50"], capsys)
+    d = json.loads(out)
+    assert code == 0 and d["latitude_source"] == "option" and d["latitude_deg"] == 50.0
+    assert d["earth_rate"]["record_latitude_deg"] == pytest.approx(45.0)
+    assert d["earth_rate"]["Omega_h"] == pytest.approx(
+        gc.GyrocompassParams.at_latitude(math.radians(50.0)).Omega_h, rel=1e-12)
+    note = next(n for n in d["notes"] if "latitude" in n)
+    assert "says 45 deg" in note and "50 deg from --latitude used" in note
+    code, out, err = _run(["calibrate", "gc", str(path), "--latitude", "50"], capsys)
+    assert "latitude 50 deg N (from --latitude; the record's '# latitude_deg:' line says " \
+           "45 deg, overridden)" in out
+
+
+def test_params_earth_rate_components_state_the_latitude(tmp_path, capsys):
+    """Omega_h and Omega_v both in --params state the Earth rate (valid, source params, the
+    latitude their angle); one of them alone is refused (exit 2: the other would silently be
+    the paper's, or the record header's)."""
+    fr = make(None, 0.0, seed=3002)
+    path = _write(tmp_path / "r.csv", fr.record)
+    toml = tmp_path / "p.toml"
+    toml.write_text(f"Omega_h = {P.Omega_h!r}\nOmega_v = {P.Omega_v!r}\n")
+    code, out, err = _run(["calibrate", "gc", path, "--json", "--params", str(toml)], capsys)
+    d = json.loads(out)
+    assert code == 0 and d["valid"] is True and d["latitude_source"] == "params"
+    assert d["latitude_deg"] == pytest.approx(math.degrees(math.atan2(5.9, 4.3)), abs=1e-9)
+    toml.write_text(f"Omega_v = {P.Omega_v!r}\n")
+    code, out, err = _run(["calibrate", "gc", path, "--json", "--params", str(toml)], capsys)
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "sets Omega_v but not Omega_h" in err and str(toml) in err
 
 
 def test_record_latitude_is_used(tmp_path, capsys):
     """``GCRecord.latitude`` (the reader fills it from a ``# latitude_deg:`` line): used when
-    neither --latitude nor the params file give one."""
+    neither --latitude nor the params file give one; without any, not stated."""
     from gyrolib.cli import calibrate as cli
 
-    o = {"latitude": None, "latitude_source": "none"}
+    o = {"latitude": None, "latitude_source": cli.LAT_NONE}
     notes: list[str] = []
     p, earth = cli._with_latitude(P, math.radians(45.0), o, notes)
-    assert earth["source"] == "record" and earth["latitude_deg"] == pytest.approx(45.0)
+    assert earth["source"] == "record header" and earth["latitude_deg"] == pytest.approx(45.0)
+    assert earth["stated"] is True
     assert p.Omega_h == pytest.approx(p.Omega_v, rel=1e-12) and not notes
     p, earth = cli._with_latitude(P, None, o, notes)
-    assert p == P and earth["source"] == "none" and "no latitude given" in notes[0]
+    assert p == P and earth["source"] == "none" and earth["stated"] is False and not notes
 
 
 def test_scale_beyond_the_stated_tolerance_is_not_caught():
@@ -202,19 +328,19 @@ def test_accept_misfit_and_batch_rows(tmp_path, capsys):
     bad = _write(tmp_path / "bad.csv", make("drift_change", 0.05, seed=4100).record)
     good = _write(tmp_path / "good.csv", make(None, 0.0, seed=3001).record)
     summary = tmp_path / "s.csv"
-    code, out, err = _run(["calibrate", "gc", good, bad, "--summary", str(summary)], capsys)
+    code, out, err = _run([*GC_PAPER, good, bad, "--summary", str(summary)], capsys)
     assert code == 3
     rows = summary.read_text().splitlines()
     assert rows[1].split(",")[7] == "ok" and rows[2].split(",")[7] == "invalid"
     assert "split-record" in rows[2] or "whiteness" in rows[2]
-    code, out, err = _run(["calibrate", "gc", bad, "--json", "--accept-misfit"], capsys)
+    code, out, err = _run([*GC_PAPER, bad, "--json", "--accept-misfit"], capsys)
     d = json.loads(out)
     assert code == 0 and err == ""
     assert d["valid"] is False and d["misfit"] is True and d["misfit_accepted"] is True
     assert d["omega_gc"] is not None and d["reason"]
-    code, out, err = _run(["calibrate", "gc", bad, "--accept-misfit"], capsys)
+    code, out, err = _run([*GC_PAPER, bad, "--accept-misfit"], capsys)
     assert code == 0 and "MISFIT" in out
-    code, out, err = _run(["calibrate", "gc", good, bad, "--summary", str(summary),
+    code, out, err = _run([*GC_PAPER, good, bad, "--summary", str(summary),
                            "--accept-misfit"], capsys)
     assert code == 0 and summary.read_text().splitlines()[2].split(",")[7] == "misfit"
 
@@ -222,6 +348,8 @@ def test_accept_misfit_and_batch_rows(tmp_path, capsys):
 @pytest.mark.parametrize(("argv", "words"), [
     (["--latitude", "95"], ["--latitude", "(0, 90)"]),
     (["--latitude=-10"], ["--latitude", "(0, 90)"]),
+    (["--latitude", "north"], ["--latitude", "(0, 90)", "'paper'", "north"]),
+    (["--latitude", "nan"], ["--latitude", "(0, 90)"]),
     (["--scale-tolerance=-1e-3"], ["--scale-tolerance", ">= 0"]),
     (["--offset-prior", "nan"], ["--offset-prior", ">= 0"]),
     (["--inclinometer-bias-prior=-1"], ["--inclinometer-bias-prior", ">= 0"]),

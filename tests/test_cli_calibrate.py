@@ -11,6 +11,7 @@ import math
 import re
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,10 @@ import pytest
 from gyrolib import gc, records, rsf
 from gyrolib.cli import main
 from gyrolib.units import from_si
+
+#: Records of this file are simulated with paper GC's Earth rate (no '# latitude_deg:' line):
+#: the command needs the latitude stated, so it is assumed explicitly.
+GC_PAPER = ("calibrate", "gc", "--latitude", "paper")
 
 P = gc.GyrocompassParams()
 GC_HEADER = "t,angle_sensor,inclinometer_y,inclinometer_z"
@@ -51,7 +56,7 @@ def gc_file(tmp_path_factory):
 
 def test_gc_json_acceptance(gc_file, capsys):
     path, sim, burst_t = gc_file
-    code, out, err = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    code, out, err = _run([*GC_PAPER, str(path), "--json"], capsys)
     assert code == 0 and err == ""
     d = json.loads(out)
     assert abs(d["omega_gc"] - sim.omega_gc) <= 3.0 * d["omega_gc_std"]
@@ -72,12 +77,12 @@ def test_gc_json_acceptance(gc_file, capsys):
 def test_gc_summary_and_plot(gc_file, capsys, tmp_path):
     path, _, _ = gc_file
     png = tmp_path / "est.png"
-    code, out, err = _run(["calibrate", "gc", str(path), "--plot", str(png)], capsys)
+    code, out, err = _run([*GC_PAPER, str(path), "--plot", str(png)], capsys)
     assert code == 0 and err == ""
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert "arcsec/s" in out and "model fits" in out
     # the printed estimate is the JSON's, converted to the paper's arcsec/s
-    _, js, _ = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    _, js, _ = _run([*GC_PAPER, str(path), "--json"], capsys)
     val = float(from_si(json.loads(js)["omega_gc"], "arcsec_paper/s"))
     assert re.search(rf"= {val:.4g} ± \S+ arcsec/s \(paper's arcsec", out), out
 
@@ -152,7 +157,7 @@ def test_gc_bad_input(case, capsys, tmp_path):
     text, where = BAD_GC[case]
     path = _write(tmp_path / "bad.csv", text)
     png = tmp_path / "never.png"
-    code, out, err = _run(["calibrate", "gc", str(path), "--json", "--plot", str(png)],
+    code, out, err = _run([*GC_PAPER, str(path), "--json", "--plot", str(png)],
                           capsys)
     assert code == 2
     assert out == "" and not png.exists()
@@ -164,11 +169,11 @@ def test_bad_binary_and_gzip(capsys, tmp_path):
     for name, data in (("x.csv", bytes(range(256)) * 4), ("x.csv.gz", b"not gzip at all")):
         path = tmp_path / name
         path.write_bytes(data)
-        code, out, err = _run(["calibrate", "gc", str(path)], capsys)
+        code, out, err = _run([*GC_PAPER, str(path)], capsys)
         assert code == 2 and out == "" and err.count("\n") == 1 and str(path) in err
     path = tmp_path / "ok.csv.gz"
     path.write_bytes(gzip.compress((GC_HEADER + "\n" + GOOD_ROWS).encode()))
-    code, out, err = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    code, out, err = _run([*GC_PAPER, str(path), "--json"], capsys)
     # readable (not status 2); two samples are too few for a valid estimate to be required
     assert code in (0, 3) and json.loads(out)["rows"] == 2
 
@@ -176,7 +181,7 @@ def test_bad_binary_and_gzip(capsys, tmp_path):
 def test_unknown_toml_field_and_missing_file(capsys, tmp_path):
     rec = _write(tmp_path / "ok.csv", GC_HEADER + "\n" + GOOD_ROWS)
     toml = _write(tmp_path / "p.toml", "C_as = 1e-13\nC_az = 2\n")
-    code, out, err = _run(["calibrate", "gc", str(rec), "--params", str(toml)], capsys)
+    code, out, err = _run([*GC_PAPER, str(rec), "--params", str(toml)], capsys)
     assert code == 2 and out == "" and err.count("\n") == 1
     assert str(toml) in err and "'C_az'" in err
     toml = _write(tmp_path / "r.toml", "[gs]\nmotor_rate_max = inf\n[sins]\nbogus = 1\n")
@@ -184,7 +189,7 @@ def test_unknown_toml_field_and_missing_file(capsys, tmp_path):
     code, out, err = _run(["calibrate", "rsf", str(rrec), "--period", "0.5", "--params",
                            str(toml)], capsys)
     assert code == 2 and "'sins.bogus'" in err and str(toml) in err
-    code, out, err = _run(["calibrate", "gc", str(tmp_path / "nope.csv")], capsys)
+    code, out, err = _run([*GC_PAPER, str(tmp_path / "nope.csv")], capsys)
     assert code == 2 and "no such file" in err and err.count("\n") == 1
 
 
@@ -199,7 +204,7 @@ def test_toml_overrides_apply(capsys, tmp_path):
                             "inclinometer_y": r.inclinometer_y,
                             "inclinometer_z": r.inclinometer_z})
     toml = _write(tmp_path / "p.toml", "".join(f"{k} = {v!r}\n" for k, v in changed.items()))
-    code, b, _ = _run(["calibrate", "gc", str(rec), "--json", "--params", str(toml)], capsys)
+    code, b, _ = _run([*GC_PAPER, str(rec), "--json", "--params", str(toml)], capsys)
     assert code == 0
     sigma = float(gc.covariance_analysis(p_changed, 2.0, store_every=10**9).std("omega_gc")[-1])
     sigma_paper = float(gc.covariance_analysis(P, 2.0, store_every=10**9).std("omega_gc")[-1])
@@ -235,7 +240,7 @@ def test_rsf_bad_input(case, capsys, tmp_path):
 def test_bad_plot_path(capsys, tmp_path):
     rec = _write(tmp_path / "ok.csv", GC_HEADER + "\n" + GOOD_ROWS)
     for plot in (tmp_path / "no" / "dir.png", tmp_path / "x.txt"):
-        code, out, err = _run(["calibrate", "gc", str(rec), "--plot", str(plot)], capsys)
+        code, out, err = _run([*GC_PAPER, str(rec), "--plot", str(plot)], capsys)
         assert code == 2 and out == "" and err.count("\n") == 1 and str(plot) in err
 
 
@@ -243,7 +248,7 @@ def test_subprocess_one_line_no_traceback(tmp_path):
     """Through the real entry point: status 2, one line, no traceback; a usage error of
     calibrate is one line too."""
     path = _write(tmp_path / "bad.csv", GC_HEADER + "\n0.001,0,0,0\n0.002,0,zz,0\n")
-    proc = subprocess.run([sys.executable, "-m", "gyrolib", "calibrate", "gc", str(path)],
+    proc = subprocess.run([sys.executable, "-m", "gyrolib", *GC_PAPER, str(path)],
                           capture_output=True, text=True, check=False)
     assert proc.returncode == 2 and proc.stdout == ""
     assert proc.stderr.count("\n") == 1 and "Traceback" not in proc.stderr
@@ -300,7 +305,7 @@ def test_next_chunk_read_in_a_thread_with_two_chunks_in_flight(gc_file, monkeypa
         return real(record, params, **kw)
 
     monkeypatch.setattr(gc, "calibrate", spy)
-    code, _, _ = _run(["calibrate", "gc", str(path), "--json"], capsys)
+    code, _, _ = _run([*GC_PAPER, str(path), "--json"], capsys)
     assert code == 0 and len(seen) == 1 and isinstance(seen[0], ThreadPoolExecutor)
 
 
@@ -329,7 +334,7 @@ def test_progress_bar_only_on_a_terminal_without_json(tty, as_json, shown, monke
     path, _, _ = gc_file
     err = _Tty(tty)
     monkeypatch.setattr(sys, "stderr", err)
-    code = main(["calibrate", "gc", str(path), *(["--json"] if as_json else [])])
+    code = main([*GC_PAPER, str(path), *(["--json"] if as_json else [])])
     assert code == 0
     assert ("calibrate gc" in err.text and "%" in err.text) is shown
     if not shown:
@@ -353,3 +358,35 @@ def test_command_line_uses_one_blas_thread_unless_told():
     assert run() == "1"
     assert run(OPENBLAS_NUM_THREADS="2") == "2"
     assert run("import numpy; ") == "None"
+
+
+def test_a_gc_run_loads_only_what_it_needs():
+    """``calibrate gc FILE --json`` (no terminal, so no bar) loads neither pandas (which
+    ``pyarrow.Array.to_numpy`` would load), tqdm, paper RSF's package nor pyarrow.compute
+    (needed only for an absolute clock; pandas then comes with its scalars): each was
+    start-up time of the hour-long run (benchmarks/bench_calibrate.py).  ``calibrate rsf``
+    does load paper RSF, and an epoch-time record pyarrow.compute: the probe sees them (its
+    power)."""
+    root = Path(__file__).resolve().parents[1]
+    watch = ("pandas", "tqdm", "gyrolib.rsf", "pyarrow.compute")
+
+    def loaded(*argv: str) -> list[str]:
+        probe = ("import contextlib, io, sys\nfrom gyrolib.cli import main\n"
+                 "with contextlib.redirect_stdout(io.StringIO()):\n"
+                 f"    main({list(argv)!r})\n"
+                 f"print(' '.join(m for m in {watch!r} if m in sys.modules))\n")
+        out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                             check=True, cwd=root)
+        return out.stdout.split()
+
+    assert loaded("calibrate", "gc", "data/gc_record.csv.gz", "--json") == []
+    assert loaded("calibrate", "rsf", "data/rsf_record.csv.gz", "--period", "1",
+                  "--json") == ["gyrolib.rsf"]
+    lines = gzip.open(root / "data" / "gc_record.csv.gz", "rt").read().splitlines()[:2005]
+    h = next(i for i, ln in enumerate(lines) if not ln.startswith("#"))
+    epoch = [f"{1.7e9 + float(r.split(',')[0]):.3f}," + r.split(",", 1)[1]
+             for r in lines[h + 1:]]
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "epoch.csv"
+        path.write_text("\n".join([*lines[:h + 1], *epoch]) + "\n")
+        assert "pyarrow.compute" in loaded("calibrate", "gc", str(path), "--json")

@@ -18,6 +18,10 @@ from gyrolib import gc, records, rsf
 from gyrolib.cli import main
 from gyrolib.gc.model.params import state_index
 
+#: Records of this file are simulated with paper GC's Earth rate (no '# latitude_deg:' line):
+#: the command needs the latitude stated, so it is assumed explicitly.
+GC_PAPER = ("calibrate", "gc", "--latitude", "paper")
+
 P = gc.GyrocompassParams()
 G = P.g
 
@@ -76,7 +80,7 @@ def test_unit_mistakes_refused_at_the_door(case, logs, capsys, tmp_path):
     _, files = logs
     out_dir = tmp_path / "out"
     out_dir.mkdir()
-    code, out, err = _run(["calibrate", "gc", files[case], "--json", *_outputs(out_dir)],
+    code, out, err = _run([*GC_PAPER, files[case], "--json", *_outputs(out_dir)],
                           capsys)
     column, hint = DOOR[case]
     assert code == 2 and out == ""
@@ -90,7 +94,7 @@ def test_good_log_passes_the_door(logs, capsys):
     """The checks have no false alarm on a record of the model (and on one whose vibration
     is ten times wider, below)."""
     sim, files = logs
-    code, out, err = _run(["calibrate", "gc", files["good"], "--json"], capsys)
+    code, out, err = _run([*GC_PAPER, files["good"], "--json"], capsys)
     d = json.loads(out)
     assert code == 0 and err == "" and d["valid"] is True and d["reason"] == ""
     assert abs(d["omega_gc"] - sim.omega_gc) <= 3.0 * d["omega_gc_std"]
@@ -111,8 +115,8 @@ def test_swapped_pair_invisible_then_recovered(logs, capsys):
     Run with no inclinometer-bias prior: paper GC's model, in which a tilt is all the
     inclinometers read.)"""
     sim, files = logs
-    good = json.loads(_run(["calibrate", "gc", files["good"], "--json", *NO_BIAS], capsys)[1])
-    code, out, _ = _run(["calibrate", "gc", files["swapped"], "--json", *NO_BIAS], capsys)
+    good = json.loads(_run([*GC_PAPER, files["good"], "--json", *NO_BIAS], capsys)[1])
+    code, out, _ = _run([*GC_PAPER, files["swapped"], "--json", *NO_BIAS], capsys)
     swapped = json.loads(out)
     assert code == 0 and swapped["valid"] is True
     for name, nis in swapped["nis"].items():
@@ -123,7 +127,7 @@ def test_swapped_pair_invisible_then_recovered(logs, capsys):
     gamma = sim.truth[0, state_index("gamma")]
     predicted = P.Omega_v * (gamma - delta)
     assert swapped["omega_gc"] - good["omega_gc"] == pytest.approx(predicted, rel=0.02)
-    code, out, _ = _run(["calibrate", "gc", files["swapped"], "--json", *NO_BIAS,
+    code, out, _ = _run([*GC_PAPER, files["swapped"], "--json", *NO_BIAS,
                          "--inclinometers", "z,y"], capsys)
     fixed = json.loads(out)
     assert code == 0
@@ -134,7 +138,7 @@ def test_swapped_pair_invisible_then_recovered(logs, capsys):
 
 def test_text_names_which_column_is_delta_and_gamma(logs, capsys):
     _, files = logs
-    code, out, _ = _run(["calibrate", "gc", files["swapped"], "--inclinometers", "z,y"], capsys)
+    code, out, _ = _run([*GC_PAPER, files["swapped"], "--inclinometers", "z,y"], capsys)
     assert code == 0
     line = next(x for x in out.splitlines() if x.strip().startswith("inclinometers"))
     assert "δ (tilt about the input axis, −sin β_n in Eq. (5)) = inclinometer_z" in line
@@ -148,18 +152,18 @@ def test_sign_flipped_is_lost_lock_then_recovered(logs, capsys, tmp_path):
     _, files = logs
     out_dir = tmp_path / "out"
     out_dir.mkdir()
-    code, out, err = _run(["calibrate", "gc", files["negated"], *_outputs(out_dir)], capsys)
+    code, out, err = _run([*GC_PAPER, files["negated"], *_outputs(out_dir)], capsys)
     assert code == 3
     assert "no valid estimate: inclinometer_" in out and "omega_gc =" not in out
     assert "rejected by the chi-square gate" in out
     assert err.count("\n") == 1 and f"{files['negated']}: no valid estimate" in err
     assert _nothing_written(out_dir)
-    code, out, err = _run(["calibrate", "gc", files["negated"], "--json"], capsys)
+    code, out, err = _run([*GC_PAPER, files["negated"], "--json"], capsys)
     d = json.loads(out)
     assert code == 3 and d["valid"] is False and d["omega_gc"] is None and "states" not in d
     assert "rejected by the chi-square gate" in d["reason"]
-    good = json.loads(_run(["calibrate", "gc", files["good"], "--json"], capsys)[1])
-    code, out, _ = _run(["calibrate", "gc", files["negated"], "--json", "--inclinometers",
+    good = json.loads(_run([*GC_PAPER, files["good"], "--json"], capsys)[1])
+    code, out, _ = _run([*GC_PAPER, files["negated"], "--json", "--inclinometers",
                          "-y,z"], capsys)
     assert code == 0
     assert json.loads(out)["omega_gc"] == pytest.approx(good["omega_gc"], rel=1e-9)
@@ -168,7 +172,7 @@ def test_sign_flipped_is_lost_lock_then_recovered(logs, capsys, tmp_path):
 @pytest.mark.parametrize("bad", ["y,y", "y", "x,z", "y,z,y", "--y,z", ""])
 def test_bad_mapping_one_line(bad, logs, capsys, tmp_path):
     _, files = logs
-    code, out, err = _run(["calibrate", "gc", files["good"], f"--inclinometers={bad}",
+    code, out, err = _run([*GC_PAPER, files["good"], f"--inclinometers={bad}",
                            "--plot", tmp_path / "p.png"], capsys)
     assert code == 2 and out == "" and err.count("\n") == 1
     assert "--inclinometers expects two of y, z, -y, -z" in err and repr(bad) in err
@@ -186,7 +190,7 @@ def wrong_spectrum(tmp_path_factory):
 
 def test_wrong_spectrum_is_no_valid_estimate(wrong_spectrum, capsys, tmp_path):
     _, path = wrong_spectrum
-    code, out, err = _run(["calibrate", "gc", path, "--plot", tmp_path / "x.png"], capsys)
+    code, out, err = _run([*GC_PAPER, path, "--plot", tmp_path / "x.png"], capsys)
     assert code == 3 and "no valid estimate: inclinometer_" in out
     assert "model does NOT fit" in out and err.count("\n") == 1
     assert not (tmp_path / "x.png").exists()
@@ -198,7 +202,7 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
     accepted by --params and gives the same estimate."""
     sim, path = wrong_spectrum
     toml = tmp_path / "fitted.toml"
-    code, out, err = _run(["calibrate", "gc", path, "--json", "--fit-noise", toml], capsys)
+    code, out, err = _run([*GC_PAPER, path, "--json", "--fit-noise", toml], capsys)
     d = json.loads(out)
     assert code == 0 and err == "" and d["valid"] and d["model_fits"]
     fitted = d["noise_fit"]["fitted"]
@@ -206,11 +210,12 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
         truth = getattr(sim.params, name)
         assert abs(fitted[name]["value"] - truth) <= 2.0 * fitted[name]["std_error"], name
     assert abs(d["omega_gc"] - sim.omega_gc) <= 3.0 * d["omega_gc_std"]
+    # the TOML holds the Earth rate used (Omega_h, Omega_v): it states the latitude itself
     code, out, _ = _run(["calibrate", "gc", path, "--json", "--params", toml], capsys)
     again = json.loads(out)
-    assert code == 0
+    assert code == 0 and again["latitude_source"] == "params"
     assert again["omega_gc"] == pytest.approx(d["omega_gc"], rel=1e-6)
-    code, out, _ = _run(["calibrate", "gc", path, "--fit-noise"], capsys)
+    code, out, _ = _run([*GC_PAPER, path, "--fit-noise"], capsys)
     assert code == 0 and "noise fitted" in out and "alpha1 = " in out and " ± " in out
 
 
@@ -220,7 +225,7 @@ def test_fit_noise_bad_options(wrong_spectrum, capsys, tmp_path):
                         (["--fit-noise", tmp_path / "no" / "x.toml"], "does not exist"),
                         (["--fit-noise", "--fit", "alpha1,bogus"], "'alpha1,bogus'"),
                         (["--fit-noise", "--fit", "C_in,C_incl_y"], "C_in not with")):
-        code, out, err = _run(["calibrate", "gc", path, *argv], capsys)
+        code, out, err = _run([*GC_PAPER, path, *argv], capsys)
         assert code == 2 and out == "" and err.count("\n") == 1 and where in err
 
 
@@ -228,7 +233,7 @@ def test_fit_noise_bad_options(wrong_spectrum, capsys, tmp_path):
 def test_allan_plot_written(logs, capsys, tmp_path):
     _, files = logs
     png = tmp_path / "allan.png"
-    code, _, err = _run(["calibrate", "gc", files["good"], "--allan", png], capsys)
+    code, _, err = _run([*GC_PAPER, files["good"], "--allan", png], capsys)
     assert code == 0 and err == ""
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -244,7 +249,7 @@ def test_batch_summary_bad_and_invalid(logs, capsys, tmp_path):
     row, the others proceed, exit 2 (a bad file); without the bad one, exit 3."""
     _, files = logs
     summary = tmp_path / "summary.csv"
-    argv = ["calibrate", "gc", files["good"], files["degrees"], files["negated"],
+    argv = [*GC_PAPER, files["good"], files["degrees"], files["negated"],
             "--summary", summary]
     code, out, err = _run(argv, capsys)
     assert code == 2
@@ -254,11 +259,11 @@ def test_batch_summary_bad_and_invalid(logs, capsys, tmp_path):
     assert [r["valid"] for r in rows] == ["true", "false", "false"]
     assert "degrees" in rows[1]["reason"] and "rejected" in rows[2]["reason"]
     assert rows[1]["estimate"] == rows[2]["estimate"] == ""
-    good = json.loads(_run(["calibrate", "gc", files["good"], "--json"], capsys)[1])
+    good = json.loads(_run([*GC_PAPER, files["good"], "--json"], capsys)[1])
     assert float(rows[0]["estimate"]) == pytest.approx(good["omega_gc"], rel=1e-9)
     assert float(rows[0]["sigma"]) == pytest.approx(good["omega_gc_std"], rel=1e-9)
     assert err.count("\n") == 2 and out.count("paper GC calibration of") == 2
-    code, _, _ = _run(["calibrate", "gc", files["good"], files["negated"], "--summary",
+    code, _, _ = _run([*GC_PAPER, files["good"], files["negated"], "--summary",
                        summary], capsys)
     assert code == 3 and [r["status"] for r in _rows(summary)] == ["ok", "invalid"]
 
@@ -266,7 +271,7 @@ def test_batch_summary_bad_and_invalid(logs, capsys, tmp_path):
 def test_batch_json_lines_and_workers(logs, capsys, tmp_path):
     """--json prints one object per file; two worker processes give the rows of one."""
     _, files = logs
-    argv = ["calibrate", "gc", files["good"], files["swapped"], files["degrees"], "--json"]
+    argv = [*GC_PAPER, files["good"], files["swapped"], files["degrees"], "--json"]
     code, out, err = _run([*argv, "--summary", tmp_path / "one.csv"], capsys)
     lines = [json.loads(x) for x in out.splitlines()]
     assert code == 2 and len(lines) == 3 and lines[2]["status"] == "error"
@@ -288,7 +293,7 @@ def test_batch_usage_errors(logs, capsys, tmp_path):
                          (["--workers", "0"], "--workers must be"),
                          (["--summary", tmp_path / "s.txt"], "s.txt"),
                          (["--summary", tmp_path / "no" / "s.csv"], "does not exist")):
-        code, out, err = _run(["calibrate", "gc", *two, *extra], capsys)
+        code, out, err = _run([*GC_PAPER, *two, *extra], capsys)
         assert code == 2 and out == "" and err.count("\n") == 1 and where in err
     assert _nothing_written(tmp_path)
 
@@ -311,7 +316,7 @@ def test_batch_progress_bar_on_a_terminal(logs, monkeypatch, tmp_path):
 
     monkeypatch.setattr(sys, "stderr", Tty())
     shutil.copy(files["good"], tmp_path / "copy.csv.gz")
-    code = main(["calibrate", "gc", str(files["good"]), str(tmp_path / "copy.csv.gz")])
+    code = main([*GC_PAPER, str(files["good"]), str(tmp_path / "copy.csv.gz")])
     assert code == 0 and "calibrate gc" in Tty.text and "2/2" in Tty.text
 
 
@@ -323,7 +328,7 @@ def test_numerics_failure_is_named_not_passed_through(logs, capsys, monkeypatch)
         np.linalg.cholesky(-np.eye(2))    # numpy raises LinAlgError with its own message
 
     monkeypatch.setattr(gc, "calibrate", broken)
-    code, out, err = _run(["calibrate", "gc", files["good"]], capsys)
+    code, out, err = _run([*GC_PAPER, files["good"]], capsys)
     assert code == 2 and out == "" and err.count("\n") == 1
     assert str(files["good"]) in err and "positive definite" not in err
     assert "check the units" in err

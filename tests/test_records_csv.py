@@ -361,3 +361,58 @@ def test_memory_stays_bounded_while_streaming(tmp_path):
     assert len(rss) == math.ceil(n / 32768)
     half = len(rss) // 2
     assert max(rss[half:]) < max(rss[:half]) + 8.0, rss
+
+
+def test_float_matrix_is_arrow_to_numpy_without_pandas(tmp_path):
+    """The reader turns Arrow's float columns into numpy from their buffers (nulls NaN, a
+    sliced array's offset honoured): the same doubles as ``pyarrow.Array.to_numpy`` (an
+    independent conversion; exact by design: both copy the same 8-byte values), and, in a
+    fresh interpreter, without loading pandas, which ``to_numpy`` loads (the check's power)."""
+    import pyarrow as pa
+    from pyarrow import csv as pacsv
+
+    from gyrolib.records.reader import _float_matrix
+
+    rng = np.random.default_rng(7)
+    x = rng.standard_normal((1000, 3))
+    lines = ["a,b,c"] + [",".join("" if rng.random() < 0.1 else repr(float(v)) for v in row)
+                         for row in x]
+    path = tmp_path / "n.csv"
+    path.write_text("\n".join(lines) + "\n")
+    table = pacsv.read_csv(path, convert_options=pacsv.ConvertOptions(
+        column_types={c: pa.float64() for c in "abc"}))
+    batch = table.combine_chunks().to_batches()[0]
+    for start, stop in ((0, 1000), (3, 997), (17, 18), (999, 1000)):
+        cols = [batch.column(j).slice(start, stop - start) for j in range(3)]
+        got = _float_matrix(cols)
+        want = np.column_stack([c.to_numpy(zero_copy_only=False) for c in cols])
+        assert got.shape == (stop - start, 3) and got.dtype == np.float64
+        np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
+        np.testing.assert_array_equal(got[~np.isnan(got)], want[~np.isnan(want)])
+    assert np.isnan(_float_matrix([batch.column(0)])).sum() > 50     # nulls were read
+    with pytest.raises(TypeError, match="float64"):
+        _float_matrix([pa.array([1, 2])])
+    probe = ("import sys\nfrom gyrolib import records\n"
+             f"records.read_gc({str(ROOT / 'data' / 'gc_record.csv.gz')!r})\n"
+             "print('pandas' in sys.modules)\n"
+             "import pyarrow as pa\nfrom pyarrow import csv\n"
+             f"t = csv.read_csv({str(path)!r})\n"
+             "t.column(0).chunk(0).to_numpy(zero_copy_only=False)\n"
+             "print('pandas' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True, cwd=ROOT)
+    assert out.stdout.split() == ["False", "True"]
+
+
+def test_rsf_record_resolves_lazily():
+    """``records.RSFRecord`` (and ``records.reader.RSFRecord``) is paper RSF's record class,
+    imported on first use; another unknown name is an AttributeError."""
+    from gyrolib import rsf
+    from gyrolib.records import reader
+
+    assert records.RSFRecord is rsf.RSFRecord and reader.RSFRecord is rsf.RSFRecord
+    assert "RSFRecord" in records.__all__
+    with pytest.raises(AttributeError, match="no attribute 'NoSuchRecord'"):
+        records.NoSuchRecord  # noqa: B018
+    with pytest.raises(AttributeError, match="no attribute 'NoSuchRecord'"):
+        reader.NoSuchRecord  # noqa: B018

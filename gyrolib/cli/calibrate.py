@@ -3,18 +3,23 @@
 Exit status: 0 every file gave a valid estimate; 2 bad input (a missing file or column, a
 non-numeric cell, time not increasing, an empty or non-CSV file, an unknown TOML field, a
 column whose values are implausible in SI — degrees, milliseconds, g — or a bad option);
-3 no valid estimate (paper GC: the filter lost lock — the gate rejected more than the allowed
-share of a sensor's samples, or a sensor's mean NIS is far outside its band — or a check of
-the model failed: a sensor's mean NIS or whiteness, or the split-record consistency of ω_gc,
-at a stated family-wise false-alarm rate, ``--false-alarm``; ``--accept-misfit`` gives the
-estimate of a misfit record anyway, marked ``"misfit"``, with status 0).
+3 no valid estimate (paper GC: no latitude stated, or the filter lost lock — the gate
+rejected more than the allowed share of a sensor's samples, or a sensor's mean NIS is far
+outside its band — or a check of the model failed: a sensor's mean NIS or whiteness, or the
+split-record consistency of ω_gc, at a stated family-wise false-alarm rate,
+``--false-alarm``; ``--accept-misfit`` gives the estimate of a misfit record anyway, marked
+``"misfit"``, with status 0).
 
 Paper GC's σ(ω_gc) carries the instrument constants estimated with the state, each with a
 stated prior: the angle sensor's null offset (``--offset-prior``), the inclinometers' biases
 (``--inclinometer-bias-prior``) and the scale common to ``H/f`` and the angle sensor's gain
 (``--scale-tolerance``); the output prints σ's parts.  The Earth-rate components come from
-``--latitude``, a ``latitude`` key of ``--params`` or the record's ``# latitude_deg:`` line;
-without any, the output says that paper GC's values (about 53.9° N) were used.  Bad input
+``--latitude``, a ``latitude`` key of ``--params`` (or both its ``Omega_h`` and ``Omega_v``) or
+the record's ``# latitude_deg:`` line; an option or params file wins over the record's line,
+and a note says both.  Without any there is no valid estimate (status 3; the Earth rate
+reads as drift, so a record made at 45° calibrated with paper GC's values, about 53.9° N, is
+hundreds of σ off and fits): ``--latitude paper`` assumes paper GC's values, and the output
+says so (``"latitude_source"``).  Bad input
 prints one line on stderr naming the file, the row or column and what was expected; a lost
 lock prints "no valid estimate" and why (and one line on stderr).  In either case nothing is
 written (no plot, no Allan plot, no TOML) — except ``--summary``, the report of a batch.
@@ -62,7 +67,7 @@ from typing import Final
 import numpy as np
 
 import gyrolib
-from gyrolib import gc, rsf, units
+from gyrolib import gc, units
 from gyrolib.gc.model.params import MEASUREMENT_NAMES, PAPER_LATITUDE
 from gyrolib.records.errors import RecordError
 from gyrolib.records.params import gc_params_from_toml, load_toml, rsf_config_from_toml
@@ -112,7 +117,8 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
         "gc", help="paper GC: drift ω_gc of a floated gyro from a gyrocompass-mode record",
         description="Run paper GC's 10-state Kalman filter on CSV records with the columns "
                     "t (s), angle_sensor (rad), inclinometer_y, inclinometer_z (m/s^2). "
-                    "Exit status 0 valid, 2 bad input, 3 no valid estimate (lost lock).")
+                    "Exit status 0 valid, 2 bad input, 3 no valid estimate (no latitude "
+                    "stated, lost lock or a failed model check).")
     gcp.add_argument("files", nargs="+", metavar="FILE", help="CSV record (.csv or .csv.gz)")
     gcp.add_argument("--params", metavar="P.toml",
                      help="TOML file overriding GyrocompassParams fields (SI)")
@@ -141,10 +147,12 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     gcp.add_argument("--max-rejected", type=float, default=0.01, metavar="SHARE",
                      help="largest share of a sensor's samples the gate may reject before "
                           "the run counts as lost lock (default 0.01)")
-    gcp.add_argument("--latitude", type=float, default=None, metavar="DEG",
+    gcp.add_argument("--latitude", default=None, metavar="DEG|paper",
                      help="latitude of the test site in degrees north, in (0, 90): Omega_h, "
                           "Omega_v from the Earth's rate (default: the params file's "
-                          "'latitude', else the record's, else paper GC's values, ~53.9 N)")
+                          "'latitude', else the record's '# latitude_deg:' line; without "
+                          "any there is no valid estimate, exit 3); 'paper' assumes paper "
+                          "GC's Omega_h, Omega_v (about 53.9 N) and says so")
     gcp.add_argument("--scale-tolerance", type=float, default=None, metavar="REL",
                      help="1-sigma relative uncertainty of the scale common to H/f and the "
                           f"angle sensor's gain (default {DEFAULT_SCALE_TOLERANCE:g}); it "
@@ -427,11 +435,28 @@ def _bar_enabled(args: argparse.Namespace) -> bool:
     return bool(tty and not args.json)
 
 
-def _bar(args: argparse.Namespace, total: float, desc: str, unit: str):
+class _NoBar:
+    """What the code needs of a tqdm bar when none is shown (tqdm not imported: 15 ms)."""
+
+    n: float = 0
+
+    def update(self, k: float = 1) -> None:
+        self.n += k
+
+    def __enter__(self) -> _NoBar:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+
+def _progress(shown: bool, **kwargs):
+    """A tqdm bar on stderr (``leave=False``) when ``shown``, else a :class:`_NoBar`."""
+    if not shown:
+        return _NoBar()
     from tqdm import tqdm
 
-    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
-                disable=not _bar_enabled(args), dynamic_ncols=True)
+    return tqdm(file=sys.stderr, leave=False, **kwargs)
 
 
 # Paper GC ---------------------------------------------------------------------------------
@@ -483,24 +508,37 @@ def _gc_options(args: argparse.Namespace) -> dict:
             continue
         priors[field] = (default if val is None else val) * unit
     params = dataclasses.replace(params, **priors)
-    latitude, lat_source = None, "none"
+    latitude, lat_source = None, LAT_NONE
     if args.latitude is not None:
-        if not (math.isfinite(args.latitude) and 0.0 < args.latitude < 90.0):
-            raise UsageError(f"--latitude must be in degrees north in (0, 90) (paper GC's "
-                             f"model needs both Earth-rate components positive); got "
-                             f"{args.latitude}")
         if {"Omega_h", "Omega_v", "latitude"} & set(toml):
             raise UsageError("--latitude and the params file's latitude/Omega_h/Omega_v both "
                              "set the Earth rate: give one")
-        latitude, lat_source = args.latitude, "--latitude"
-        params = gc.GyrocompassParams.at_latitude(
-            math.radians(latitude), **{k: getattr(params, k) for k in
-                                       (f.name for f in dataclasses.fields(params))
-                                       if k not in ("Omega_h", "Omega_v")})
+        if args.latitude.strip().lower() == "paper":
+            latitude, lat_source = math.degrees(PAPER_LATITUDE), LAT_PAPER
+        else:
+            try:
+                latitude = float(args.latitude)
+            except ValueError:
+                latitude = math.nan
+            if not (math.isfinite(latitude) and 0.0 < latitude < 90.0):
+                raise UsageError(f"--latitude must be in degrees north in (0, 90) (paper GC's "
+                                 f"model needs both Earth-rate components positive), or "
+                                 f"'paper' for paper GC's values; got {args.latitude}")
+            lat_source = LAT_OPTION
+            params = gc.GyrocompassParams.at_latitude(
+                math.radians(latitude), **{k: getattr(params, k) for k in
+                                           (f.name for f in dataclasses.fields(params))
+                                           if k not in ("Omega_h", "Omega_v")})
     elif "latitude" in toml:
-        latitude, lat_source = float(toml["latitude"]), f"{args.params} (latitude)"
-    elif {"Omega_h", "Omega_v"} & set(toml):
-        lat_source = f"{args.params} (Omega_h, Omega_v)"
+        latitude, lat_source = float(toml["latitude"]), LAT_PARAMS
+    elif {"Omega_h", "Omega_v"} <= set(toml):   # the Earth rate stated by its components
+        latitude = math.degrees(math.atan2(params.Omega_v, params.Omega_h))
+        lat_source = LAT_PARAMS
+    elif {"Omega_h", "Omega_v"} & set(toml):    # half an Earth rate: the other the paper's?
+        given, = {"Omega_h", "Omega_v"} & set(toml)
+        raise UsageError(f"{args.params} sets {given} but not "
+                         f"{({'Omega_h', 'Omega_v'} - {given}).pop()}: give both Earth-rate "
+                         "components, or 'latitude' (degrees north), or neither")
     return {"params": params, "dt_given": dt_given, "gate": args.gate,
             "latitude": latitude, "latitude_source": lat_source,
             "false_alarm": args.false_alarm, "accept_misfit": args.accept_misfit,
@@ -508,6 +546,19 @@ def _gc_options(args: argparse.Namespace) -> dict:
             "mapping": mapping, "fit_noise": args.fit_noise, "fit": fit,
             "allan": args.allan, "plot": args.plot, "json": args.json,
             "bar": _bar_enabled(args) and not batch}
+
+
+#: ``latitude_source`` of the JSON: where the latitude (the Earth rate) came from.
+LAT_OPTION: Final[str] = "option"
+LAT_PARAMS: Final[str] = "params"
+LAT_RECORD: Final[str] = "record header"
+LAT_PAPER: Final[str] = "paper (assumed by --latitude paper)"
+LAT_NONE: Final[str] = "none"
+#: The reason of a record calibrated without a stated latitude (no valid estimate).
+NO_LATITUDE: Final[str] = (
+    "no latitude given (--latitude, a 'latitude' key in --params, or a '# latitude_deg:' "
+    "line in the record); the paper's Omega_h, Omega_v correspond to about "
+    f"{math.degrees(PAPER_LATITUDE):.1f} deg N (--latitude paper assumes them)")
 
 
 def _with_step(params: gc.GyrocompassParams, t: np.ndarray, notes: list[str],
@@ -611,34 +662,33 @@ def _calibrate(record, params, o: dict, progress=None, executor=None):
 def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, o: dict,
                    notes: list[str]) -> tuple[gc.GyrocompassParams, dict]:
     """The Earth rate stated, never assumed: from --latitude or the params file (already in
-    ``params``), else the record's latitude (rad), else paper GC's values with a note."""
+    ``params``), else the record's latitude (rad), else none: paper GC's values are used
+    for the estimate, which is then not valid (``"stated": False``; :data:`NO_LATITUDE`).
+    ``--latitude paper`` states paper GC's values.  An option or params file that disagrees
+    with the record's ``# latitude_deg:`` line wins, and a note says both."""
     lat, source = o["latitude"], o["latitude_source"]
-    if source == "none" and record_latitude is not None:
+    rec_deg = None if record_latitude is None else math.degrees(record_latitude)
+    if source == LAT_NONE and record_latitude is not None:
         if not 0.0 < record_latitude < math.pi / 2:
-            raise ValueError(f"the record's latitude {math.degrees(record_latitude):g} deg is "
-                             "outside (0, 90) deg N, where paper GC's model holds")
-        lat, source = math.degrees(record_latitude), "record"
+            raise ValueError(f"the record's latitude {rec_deg:g} deg is outside (0, 90) deg "
+                             "N, where paper GC's model holds")
+        lat, source = rec_deg, LAT_RECORD
         params = dataclasses.replace(params, **{
             k: getattr(gc.GyrocompassParams.at_latitude(record_latitude), k)
             for k in ("Omega_h", "Omega_v")})
-    elif record_latitude is not None and lat is not None and \
-            abs(math.degrees(record_latitude) - lat) > 0.01:
-        notes.append(f"the record says latitude {math.degrees(record_latitude):.4g} deg; "
-                     f"{lat:.4g} deg from {source} used")
-    if source == "none":
-        notes.append("no latitude given (--latitude, a 'latitude' key in --params, or the "
-                     "record's '# latitude_deg:' line): Omega_h, Omega_v are paper GC's "
-                     f"values, which correspond to about "
-                     f"{math.degrees(PAPER_LATITUDE):.1f} deg N")
-    return params, {"latitude_deg": lat, "source": source, "Omega_h": params.Omega_h,
+    elif rec_deg is not None and lat is not None and abs(rec_deg - lat) > 0.01:
+        given = {LAT_OPTION: "--latitude", LAT_PARAMS: "the params file",
+                 LAT_PAPER: "--latitude paper (paper GC's values)"}[source]
+        notes.append(f"the record's '# latitude_deg:' line says {rec_deg:.6g} deg; "
+                     f"{lat:.4g} deg from {given} used (an option or params file wins over "
+                     "the record)")
+    return params, {"latitude_deg": lat, "source": source, "stated": source != LAT_NONE,
+                    "record_latitude_deg": rec_deg, "Omega_h": params.Omega_h,
                     "Omega_v": params.Omega_v}
 
 
 def _fit_noise(record, params, o: dict, bar_ok: bool):
-    from tqdm import tqdm
-
-    with tqdm(total=400, desc="fitting the noise", unit="eval", file=sys.stderr,
-              leave=False, disable=not bar_ok) as bar:
+    with _progress(bar_ok, total=400, desc="fitting the noise", unit="eval") as bar:
         def progress(n: int) -> None:
             bar.update(max(0, n - bar.n))
 
@@ -664,9 +714,8 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         if o["fit_noise"] is not None:
             fit = _fit_noise(record, params, o, o["bar"])
             params = fit.params
-        from tqdm import tqdm
-        with tqdm(total=record.n, desc=f"calibrate gc {file}", unit="row", file=sys.stderr,
-                  leave=False, disable=not o["bar"]) as bar:
+        with _progress(o["bar"], total=record.n, desc=f"calibrate gc {file}",
+                       unit="row") as bar:
             res = _calibrate(record, params, o,
                              progress=lambda rows: bar.update(rows - bar.n))
     else:       # stream the file in chunks, each checked at the door
@@ -683,17 +732,17 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
             for chunk in it:
                 yield mapping.apply(chunk)
 
-        from tqdm import tqdm
-
         # the next chunk is read (parsed, checked at the door) in one thread while the
         # filter, which releases the GIL, runs on the current one: two chunks in flight
         with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
-                tqdm(total=100.0, desc=f"calibrate gc {file}", unit="%", file=sys.stderr,
-                     leave=False, disable=not o["bar"],
-                     bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}") as bar:
+                _progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
+                          bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
+                          ) as bar:
             res = _calibrate(mapped(), params, o, executor=reader,
                              progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
     valid, reason = bool(res.valid), str(res.reason)
+    if not earth["stated"]:   # the Earth rate reads as drift: no latitude, no valid estimate
+        valid, reason = False, "; ".join(x for x in (NO_LATITUDE, reason) if x)
     fit_std = 0.0
     if fit is not None:      # the fitted noise carries its own uncertainty (issue 26)
         why = fit.not_identified(float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9)
@@ -706,7 +755,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
             fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))
     # a record the model checks reject (but the filter kept lock): its estimate on request,
     # marked misfit
-    accepted = (not valid and o["accept_misfit"] and not res.lost_lock
+    accepted = (not valid and o["accept_misfit"] and not res.lost_lock and earth["stated"]
                 and not reason.startswith("noise fit:") and "; noise fit:" not in reason)
     status = "ok" if valid else ("misfit" if accepted else "invalid")
     artifacts = []
@@ -724,7 +773,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
                     fit_std)
     data.update(extra)
     text = _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted,
-                    fit_std) + "".join(f"{ln}\n" for ln in allan_lines)
+                    fit_std, earth) + "".join(f"{ln}\n" for ln in allan_lines)
     given = valid or accepted
     row = {"file": file, "method": "gc", "quantity": "omega_gc", "notes": "; ".join(notes),
            "estimate": res.omega_gc if given else "",
@@ -748,6 +797,8 @@ def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=Fal
     out["reason"] = reason
     out["misfit_accepted"] = bool(accepted)
     out["earth_rate"] = earth
+    out["latitude_deg"] = None if earth is None else earth["latitude_deg"]
+    out["latitude_source"] = None if earth is None else earth["source"]
     out["priors"] = {"scale_tolerance": params.sigma_hf_scale,
                      "angle_offset_rad": params.sigma_as_offset,
                      "inclinometer_bias_m_s2": params.sigma_incl_bias}
@@ -784,14 +835,31 @@ def _signed(sign: float, column: str) -> str:
     return ("-" if sign < 0 else "") + column
 
 
+def _earth_line(earth: dict) -> str:
+    """One line: the latitude, where it came from, and the Earth-rate components used."""
+    rate = f"Omega_h = {earth['Omega_h']:.5g}, Omega_v = {earth['Omega_v']:.5g} rad/s"
+    if not earth["stated"]:
+        return (f"  Earth rate: NO latitude given; paper GC's {rate} (about "
+                f"{math.degrees(PAPER_LATITUDE):.1f} deg N) used, so the estimate is not "
+                "valid")
+    src = {LAT_OPTION: "from --latitude", LAT_PARAMS: "from the params file",
+           LAT_RECORD: "from the record's '# latitude_deg:' line",
+           LAT_PAPER: "ASSUMED: paper GC's values, by --latitude paper"}[earth["source"]]
+    rec = earth.get("record_latitude_deg")
+    over = (f"; the record's '# latitude_deg:' line says {rec:.6g} deg, overridden"
+            if earth["source"] != LAT_RECORD and rec is not None
+            and abs(rec - earth["latitude_deg"]) > 0.01 else "")
+    return f"  Earth rate: latitude {earth['latitude_deg']:.6g} deg N ({src}{over}): {rate}"
+
+
 def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
-             fit_std=0.0) -> str:
+             fit_std=0.0, earth=None) -> str:
     band = res.nis_band()
     lines = [
         f"paper GC calibration of {file}: {res.rows} rows over {res.t_final:.6g} s"
         + (f" ({res.gaps} gap(s), {res.gap_time:.6g} s without rows)" if res.gaps else ""),
         f"  inclinometers (--inclinometers {mapping}): {mapping.describe()}",
-    ]
+    ] + ([_earth_line(earth)] if earth is not None else [])
     if fit is not None:
         parts = [f"{n} = {_fmt(fit.value(n))} ± {_fmt(fit.std_error(n), 2)}"
                  + (f" {_FIT_UNITS[n]}" if _FIT_UNITS.get(n) else "") for n in fit.names]
@@ -859,6 +927,8 @@ def _rsf_options(args: argparse.Namespace) -> dict:
 
 def _rsf_prediction(res, config):
     """δK the error model predicts at the record's mean rate (:func:`rsf.predict_delta_k`)."""
+    from gyrolib import rsf
+
     return rsf.predict_delta_k(config, res.period, rate=res.mean_rate)
 
 
@@ -871,6 +941,8 @@ def _run_rsf_file(file: str, o: dict) -> _Outcome:
     if o["period"] > span:
         raise RecordError(file, f"--period {o['period']} s is longer than the record "
                           f"({span:.6g} s): no complete correction interval")
+    from gyrolib import rsf  # imported by the rsf command only (a gc run does not need it)
+
     try:
         res = rsf.calibrate(record, o["period"], k_form=o["k_form"], slips=o["slips"])
     except ValueError as exc:
@@ -953,6 +1025,8 @@ def _write_artifacts(outcome: _Outcome) -> None:
         if kind == "plot":
             _save(gc.plot_calibration(payload), path)
         elif kind == "rsf_plot":
+            from gyrolib import rsf
+
             _save(rsf.plot_correction(*payload), path)
         elif kind == "allan":
             _save(gc.plot_allan(payload, title=f"Allan deviation of {outcome.file}"), path)
@@ -1025,15 +1099,13 @@ def _run_files(method: str, args: argparse.Namespace, o: dict,
             emit(results[done])
             done += 1
 
-    from tqdm import tqdm
-
     batch = len(files) > 1
     ex = _executor(args.workers)
     futures = ({} if ex is None else    # submitted first: the workers fork before the bar
                {ex.submit(_process, method, f, o): i for i, f in enumerate(files)})
     try:
-        with tqdm(total=len(files), desc=f"calibrate {method}", unit="file", file=sys.stderr,
-                  leave=False, disable=not (batch and _bar_enabled(args))) as bar:
+        with _progress(batch and _bar_enabled(args), total=len(files),
+                       desc=f"calibrate {method}", unit="file") as bar:
             if ex is None:
                 for i, f in enumerate(files):
                     results[i] = _process(method, f, o)

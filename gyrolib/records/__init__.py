@@ -41,7 +41,6 @@ from gyrolib.records.reader import (
     GCChunks,
     GCRecord,
     RecordInfo,
-    RSFRecord,
     iter_csv,
     parse_columns,
     read_csv,
@@ -49,6 +48,17 @@ from gyrolib.records.reader import (
     read_rsf,
     write_csv,
 )
+
+
+def __getattr__(name: str):
+    """``RSFRecord`` (paper RSF's record), imported on first use (see
+    :mod:`gyrolib.records.reader`)."""
+    if name == "RSFRecord":
+        from gyrolib.rsf.record import RSFRecord
+
+        return RSFRecord
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "ABSOLUTE_TIME",

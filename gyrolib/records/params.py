@@ -23,7 +23,6 @@ from pathlib import Path
 
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
-from gyrolib.rsf.simulation import SimulationConfig
 
 __all__ = ["gc_params_from_toml", "load_toml", "rsf_config_from_toml"]
 
@@ -89,6 +88,8 @@ _RSF_TABLES = ("sins", "gs", "encoder")
 def rsf_config_from_toml(path: object | None = None, base: object | None = None):
     """:class:`gyrolib.rsf.SimulationConfig` whose ``sins``, ``gs`` and ``encoder`` models
     take the fields of the TOML tables ``[sins]``, ``[gs]``, ``[encoder]``."""
+    from gyrolib.rsf.simulation import SimulationConfig  # not loaded by a GC run
+
     cfg = SimulationConfig() if base is None else base
     if path is None:
         return cfg

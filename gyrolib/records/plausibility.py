@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
 import numpy as np
 
@@ -48,8 +48,10 @@ from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.nominal import nominal_motion_aperiodic
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
-from gyrolib.rsf.record import RSFRecord
 from gyrolib.units import ARCSEC, ARCSEC_PAPER, DEG
+
+if TYPE_CHECKING:    # imported when used: a GC run does not load paper RSF's package
+    from gyrolib.rsf.record import RSFRecord
 
 __all__ = ["ANGLE_PRIOR_SIGMAS", "angle_bound", "check_gc", "check_rsf", "noise_ratio"]
 
@@ -318,6 +320,8 @@ def check_rsf(record: RSFRecord, *, label: str) -> None:
     ...     print(e.column, "degrees" in str(e))
     sins_increment True
     """
+    from gyrolib.rsf.record import RSFRecord
+
     v.check_instance("record", record, RSFRecord)
     t = record.t
     step = _median_step(t)

@@ -43,7 +43,7 @@ import os
 import re
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Final
+from typing import TYPE_CHECKING, Final
 
 import numpy as np
 
@@ -52,7 +52,20 @@ from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 from gyrolib.records.plausibility import check_gc, check_rsf
-from gyrolib.rsf.record import RSFRecord
+
+if TYPE_CHECKING:
+    from gyrolib.rsf.record import RSFRecord
+
+
+def __getattr__(name: str):
+    """``RSFRecord``, imported on first use: paper RSF's package (20–60 ms) is not loaded by
+    a paper-GC run of the command line."""
+    if name == "RSFRecord":
+        from gyrolib.rsf.record import RSFRecord
+
+        return RSFRecord
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "ABSOLUTE_TIME",
@@ -541,7 +554,6 @@ class _Reader:
     def _batches(self, rest: _Rest, delim: str, n_fields: int, idx: list[int],
                  offset: decimal.Decimal | None):
         import pyarrow as pa
-        import pyarrow.compute as pc
         from pyarrow import csv as pacsv
 
         names = [f"c{i}" for i in range(n_fields)]
@@ -568,10 +580,11 @@ class _Reader:
             if batch.num_rows:
                 cols = [batch.column(c) for c in keep]
                 if offset is not None:      # exact decimal difference, then one rounding
+                    import pyarrow.compute as pc  # only for an absolute clock (50 ms)
+
                     cols[0] = pc.cast(pc.subtract(cols[0], pa.scalar(offset, dec)),
                                       pa.float64())
-                yield np.column_stack([c.to_numpy(zero_copy_only=False)
-                                       for c in cols]).astype(float, copy=False)
+                yield _float_matrix(cols)
 
     def _time_base(self, delim: str, i_t: int) -> tuple[decimal.Decimal | None, str, bool]:
         """The offset subtracted from the time stamps and why (``t0`` when given, else the
@@ -704,6 +717,28 @@ def read_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (
     return (*out, reader.info) if v.check_bool("return_info", return_info) else out
 
 
+def _float_matrix(cols) -> np.ndarray:
+    """The float64 Arrow arrays ``cols`` (equal lengths) as one ``(rows, len(cols))`` float
+    array, a null as NaN, read from the arrays' buffers.  ``pyarrow.Array.to_numpy`` gives
+    the same values but imports pandas on its first call (0.15–0.35 s of a command's
+    start-up, for nothing: benchmarks/bench_calibrate.py)."""
+    n = len(cols[0])
+    out = np.empty((n, len(cols)))
+    for j, c in enumerate(cols):
+        if str(c.type) != "double" or len(c) != n:
+            raise TypeError(f"expected float64 columns of {n} rows; got {c.type}, {len(c)}")
+        valid, data = c.buffers()[:2]
+        if data is None:
+            out[:, j] = np.nan
+            continue
+        out[:, j] = np.frombuffer(data, dtype=np.float64, count=c.offset + n)[c.offset:]
+        if c.null_count:
+            bits = np.unpackbits(np.frombuffer(valid, dtype=np.uint8), count=c.offset + n,
+                                 bitorder="little")[c.offset:]
+            out[bits == 0, j] = np.nan
+    return out
+
+
 def _gc_from(data: np.ndarray, latitude: float | None) -> GCRecord:
     return GCRecord(t=data[:, 0], angle_sensor=data[:, 1], inclinometer_y=data[:, 2],
                     inclinometer_z=data[:, 3], latitude=latitude)
@@ -785,6 +820,8 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = T
     (:func:`gyrolib.records.check_rsf`) unless ``check=False``; ``(record, info)`` with
     ``return_info=True``."""
     label = str(path)
+    from gyrolib.rsf.record import RSFRecord
+
     check = v.check_bool("check", check)
     return_info = v.check_bool("return_info", return_info)
     cols, data, info = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
