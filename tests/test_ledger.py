@@ -244,12 +244,12 @@ def test_concurrent_collects_compute_the_items_once(tmp_path, monkeypatch):
 
 def test_collect_is_computed_once_per_state_of_the_sources_with_a_memo(tmp_path, monkeypatch):
     """With GYROLIB_LEDGER_MEMO (set by the book build) the first collect() writes its items
-    to one file named by the hash of gyrolib's sources, equal to a computation without the
-    memo; later calls read that file (a mark put into it comes back) instead of computing."""
+    to one file named by the hash of gyrolib's sources; they equal the items another
+    computation wrote to the test session's memo and this one read back (``plain``); later
+    calls read that file (a mark put into it comes back) instead of computing."""
     import gyrolib.book.ledger as ledger_module
 
-    monkeypatch.delenv("GYROLIB_LEDGER_MEMO", raising=False)   # the session's (conftest)
-    plain = collect()
+    plain = collect()   # under pytest: read back from the session's memo (conftest)
     monkeypatch.setenv("GYROLIB_LEDGER_MEMO", str(tmp_path))
     first = collect()
     files = list(tmp_path.glob("ledger-*.json"))
