@@ -276,8 +276,9 @@ def test() -> None:
     clean, into a temporary folder (every chapter executed, warnings as errors, the PDF
     printed; ``tests/conftest.py``), in the background while the other tests run; the HTML,
     browser, PDF and determinism tests run last and share that build.
-    ``_build/`` is left as it is: after ``python3 tasks.py book`` its jupyter cache is the
-    second, independent execution the determinism test compares the chapters' outputs with.
+    ``_build/`` is left as it is: the determinism test compares the chapters' outputs with
+    their recorded outputs (``tests/recorded_outputs/``), else with the jupyter cache of
+    ``python3 tasks.py book``, else executes them a second time.
     """
     setup()
     warm = warm_numba()  # on one core while the browser, lint and JupyterLab set-up run

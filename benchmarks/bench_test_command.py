@@ -9,8 +9,9 @@ Times what CI runs, on a fresh ``git clone`` of the current commit in a temporar
 2. ``CI=true bash .ci/run`` — the test command itself (``python3 tasks.py test``: the
    set-up's idempotence check, the browser, lint, the pinned JupyterLab, then pytest on
    every core, whose session builds the book once from clean in the background, prints the
-   PDF and runs every test; with no project build the determinism test executes the
-   chapters a second time itself).
+   PDF and runs every test; with no project build the determinism test compares the
+   chapters with their recorded outputs, ``tests/recorded_outputs/``, and executes a
+   second time only the chapters that differ from their record).
 
 The total of the two is the fresh-clone time (target ≤ 360 s).  The pytest part and its
 slowest tests come from pytest's own report, the steps of the session's book build from the

@@ -28,8 +28,8 @@ the lock first.
 ``GYROLIB_REUSE_BOOK=1`` skips the build and uses the project's ``_build/`` as
 ``python3 tasks.py pdf`` left it (``GYROLIB_REUSE_BOOK=/path/to/_build``: another build
 folder, e.g. one kept by ``GYROLIB_KEEP_BOOK=1``), for quick local reruns; the determinism
-test then executes the chapters a second time itself.  ``GYROLIB_KEEP_BOOK=1`` keeps the
-temporary build and prints where it is.
+test then compares with the recorded outputs, else executes the chapters a second time
+itself.  ``GYROLIB_KEEP_BOOK=1`` keeps the temporary build and prints where it is.
 """
 
 from __future__ import annotations
@@ -394,9 +394,23 @@ def _xdist_controller(config) -> bool:
             and bool(getattr(config.option, "numprocesses", 0)))
 
 
+#: The ledger's memo (``gyrolib.book.ledger.MEMO_ENV``): the tests' calls of ``collect()``
+#: share one computation per session instead of computing the ledger (about 6.5 s of CPU)
+#: in each of a dozen tests, processes and workers.  The book build keeps a memo of its own
+#: (``_ext/gyrolib_cache.py`` sets the variable for its kernels), so the book's ledger and
+#: the tests' stay two independent computations; the tests of the computation itself and of
+#: the command line's determinism compute without it (``tests/test_ledger.py``).
+LEDGER_MEMO_ENV = "GYROLIB_LEDGER_MEMO"
+
+
 def pytest_configure(config) -> None:
     """Under pytest-xdist the workers share one build: its folder is made here, before the
-    workers start (they inherit the environment variable), and removed at the end."""
+    workers start (they inherit the environment variable), and removed at the end.  The
+    ledger's memo for the session (:data:`LEDGER_MEMO_ENV`) is made here too."""
+    if not hasattr(config, "workerinput") and not os.environ.get(LEDGER_MEMO_ENV):
+        memo = tempfile.mkdtemp(prefix="gyrolib-test-ledger-")
+        os.environ[LEDGER_MEMO_ENV] = memo          # the workers inherit it
+        config.gyrolib_ledger_memo = Path(memo)
     if _xdist_controller(config) and not os.environ.get("GYROLIB_REUSE_BOOK"):
         folder = tempfile.mkdtemp(prefix="gyrolib-test-book-")
         os.environ[SHARED_ENV] = folder
@@ -413,6 +427,10 @@ def pytest_configure(config) -> None:
 
 
 def pytest_unconfigure(config) -> None:
+    memo = getattr(config, "gyrolib_ledger_memo", None)
+    if memo is not None:
+        os.environ.pop(LEDGER_MEMO_ENV, None)
+        shutil.rmtree(memo, ignore_errors=True)
     folder = getattr(config, "gyrolib_book_folder", None)
     if folder is None:
         return

@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 from gyrolib import gc
+from gyrolib.book.ledger import collect
 from gyrolib.book.ledger.gc import SIGMA_C
-from gyrolib.book.ledger.gc import items as ledger_items
 from gyrolib.gc.racing.rate_sensor import RS_STATE_NAMES
 
 BASE = gc.GyrocompassParams()
@@ -36,7 +36,7 @@ def result() -> gc.RaceResult:
 
 # GC's time ----------------------------------------------------------------------------------
 def test_t_c_gc_is_the_ledgers_covariance_time(result):
-    led = {it.id: it for it in ledger_items()}
+    led = {it.id: it for it in collect()}   # the session's one computation (conftest)
     assert result.t_c_gc == pytest.approx(led["gc.time_to_sigma_c"].reproduced_value,
                                           rel=1e-12)
     assert PROC.sigma_c == pytest.approx(SIGMA_C, rel=1e-15)

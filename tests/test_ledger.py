@@ -1,6 +1,7 @@
 """The reproduction ledger: complete, well-formed, deterministic, and linked to the book."""
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -55,8 +56,11 @@ def items():
 
 
 def _cli_json() -> str:
+    """The command's JSON, computed by the command (not read from the session's memo of the
+    ledger, ``tests/conftest.py``): two calls are two independent computations."""
+    env = {k: v for k, v in os.environ.items() if k != "GYROLIB_LEDGER_MEMO"}
     out = subprocess.run([sys.executable, "-m", "gyrolib", "ledger", "--json"], check=True,
-                         capture_output=True, text=True, cwd=ROOT)
+                         capture_output=True, text=True, cwd=ROOT, env=env)
     return out.stdout
 
 
@@ -240,11 +244,12 @@ def test_concurrent_collects_compute_the_items_once(tmp_path, monkeypatch):
 
 def test_collect_is_computed_once_per_state_of_the_sources_with_a_memo(tmp_path, monkeypatch):
     """With GYROLIB_LEDGER_MEMO (set by the book build) the first collect() writes its items
-    to one file named by the hash of gyrolib's sources, equal to a computation without the
-    memo; later calls read that file (a mark put into it comes back) instead of computing."""
+    to one file named by the hash of gyrolib's sources; they equal the items another
+    computation wrote to the test session's memo and this one read back (``plain``); later
+    calls read that file (a mark put into it comes back) instead of computing."""
     import gyrolib.book.ledger as ledger_module
 
-    plain = collect()
+    plain = collect()   # under pytest: read back from the session's memo (conftest)
     monkeypatch.setenv("GYROLIB_LEDGER_MEMO", str(tmp_path))
     first = collect()
     files = list(tmp_path.glob("ledger-*.json"))

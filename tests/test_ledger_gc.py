@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from gyrolib.book.ledger import gc
+from gyrolib.book.ledger import collect, gc
 from gyrolib.gc import GyrocompassParams, covariance_analysis, race
 from gyrolib.units import ARCSEC_PAPER
 
@@ -22,7 +22,17 @@ REQUIRED = ("gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.
 
 @pytest.fixture(scope="module")
 def base():
-    return {it.id: it for it in gc.items()}
+    # gc.items() at the baseline, as collect() computed it once for the test session
+    # (tests/conftest.py's memo; collect() is gc.items() then rsf.items())
+    return {it.id: it for it in collect() if it.paper == "GC"}
+
+
+@pytest.fixture(scope="module")
+def race_at_defaults():
+    """The race at the book's defaults and its conditions (about 4 s of CPU), computed here
+    once for the two tests that compare the ledger's items with them."""
+    r = race(P)
+    return r, r.conditions()
 
 
 def test_required_items_present_and_linked_to_gc_chapters(base):
@@ -168,17 +178,17 @@ def test_figures_2_and_3_are_redrawn_beside_their_printed_numbers(base):
         assert all(n in it.note and n in base for n in numbers), key
 
 
-def test_speed_claims_have_their_own_builders_and_both_cite_the_race(base):
+def test_speed_claims_have_their_own_builders_and_both_cite_the_race(base, race_at_defaults):
     """time_to_sigma_c is the comparison with ref. [2]'s quoted 17 min (a quoted bound);
     faster_percent is the race against ref. [3]'s method under the same disturbances: its
     value is 100 (1 − t_c,GC / t_c,rate sensor) from the race's times (by hand), both items cite
     the race in their evidence (issue 17), and the race's t_c for GC is the covariance
     analysis' t_c of time_to_sigma_c."""
-    r = race(P)
+    r, cond = race_at_defaults
     speed = gc.speed_evidence(gc.baseline(P))
     study = gc.study_evidence(P)
     assert gc._time_to_sigma_c(speed, r, study) == base["gc.time_to_sigma_c"]
-    assert gc._faster_percent(r, r.conditions(), study) == base["gc.faster_percent"]
+    assert gc._faster_percent(r, cond, study) == base["gc.faster_percent"]
     assert "rerun under the same disturbances" in base["gc.time_to_sigma_c"].conditions
     for key in ("gc.time_to_sigma_c", "gc.faster_percent"):
         assert "gc.race" in base[key].evidence
@@ -196,14 +206,13 @@ def _kappa(text: str) -> float:
     return float(m.group(1)) * 10.0**exp
 
 
-def test_the_race_verdict_follows_the_race_at_the_defaults(base):
+def test_the_race_verdict_follows_the_race_at_the_defaults(base, race_at_defaults):
     """The status of "more than 50 % faster" is the one rule on the race at the book's
     defaults: it holds there against both estimators (the rival's pickoff noise through its
     loop included) but not over the plausible ranges, so "holds under conditions"; the
     conditions state GC's H/f tolerance and the rival's cancelling turn.  A race whose
     reference point misses 50 % is a failure (tests/test_ledger_rule.py)."""
-    r = race(P)
-    cond = r.conditions()
+    r, cond = race_at_defaults
     assert min(r.faster_percent, r.faster_percent_optimal) > 50.0
     assert cond.holds_at_reference and not cond.holds_over_ranges
     item = base["gc.faster_percent"]

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from gyrolib import rsf
-from gyrolib.book.ledger import STATUSES
+from gyrolib.book.ledger import STATUSES, collect
 from gyrolib.book.ledger import rsf as ledger_rsf
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,7 +34,9 @@ def _by_id(items):
 
 @pytest.fixture(scope="module")
 def items():
-    return _by_id(ledger_rsf.items())
+    # rsf.items() at the baseline, as collect() computed it once for the test session
+    # (tests/conftest.py's memo; collect() is gc.items() then rsf.items())
+    return _by_id(it for it in collect() if it.paper == "RSF")
 
 
 def test_required_ids_are_present_and_well_formed(items):
@@ -301,7 +303,7 @@ def test_kilometres_claim_is_the_lateral_component_with_the_vertical_one_stated(
     """'Kilometres' of lateral deviation: the exact lateral double integral by hand
     (g (x − sin x)/a²) exceeds 1 km within two minutes, and the conditions give the vertical
     component by hand (g (x²/2 − 1 + cos x)/a²); a gyro 600× better makes the claim fail."""
-    it = _by_id(ledger_rsf.items())["rsf.claim.drz_kilometres"]
+    it = _by_id(it for it in collect() if it.paper == "RSF")["rsf.claim.drz_kilometres"]
     g, a = 9.80665, 600e-6 * math.radians(3600.0)
     x = a * 120.0
     lateral = g * (x - math.sin(x)) / a**2
@@ -377,6 +379,6 @@ def test_drz_tolerance_is_stated_with_its_reason():
         lo = max((x - h) / t for x, h, t in zip(p, half, t3))
         hi = min((x + h) / t for x, h, t in zip(p, half, t3))
         assert (lo > hi) == empty
-    it = _by_id(ledger_rsf.items())["rsf.table2.dr_z_120"]
+    it = _by_id(it for it in collect() if it.paper == "RSF")["rsf.table2.dr_z_120"]
     assert "±5 stated for 4590 and 36730 read to four significant digits" in it.evidence
     assert ledger_rsf.DRZ_TOLERANCE[0] == 5.0
