@@ -102,6 +102,30 @@ case("gc.GyrocompassParams", lambda: replace(P, omega_ub=INF), ValueError, "omeg
 case("gc.GyrocompassParams", lambda: replace(P, shaping_p0_scale=-0.5), ValueError,
      "shaping_p0_scale", NONNEG)
 case("gc.state_index", lambda: gc.state_index("foo"), ValueError, "name", "one of")
+# instrument (the declaration of the instrument's constant errors)
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_foo"), ValueError,
+     "prior_field", "GyrocompassParams field")
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_as_offset", H0=(1.0, 0.0)),
+     ValueError, "H0", r"\(3,\)")
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_as_offset", Fb=[NAN] * 10),
+     ValueError, "Fb", FINITE)
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("omega_gc", "sigma_as_offset"),
+     ValueError, "name", "state of Eq")
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_as_offset", group="bias"),
+     ValueError, "group", "one of")
+case("gc.InstrumentTerm.prior", lambda: gc.TERMS[0].prior("P"), TypeError, "params")
+case("gc.InstrumentModel", lambda: gc.InstrumentModel(("a",), np.ones(2), np.ones((3, 1)),
+                                                      np.ones((3, 1)), np.ones((10, 1)),
+                                                      ("scale",)),
+     ValueError, "prior", r"\(1,\)")
+case("gc.InstrumentModel.measurement_columns",
+     lambda: gc.instrument_model(P).measurement_columns(NAN), ValueError, "beta_n", FINITE)
+case("gc.instrument_model", lambda: gc.instrument_model(None), TypeError, "params")
+case("gc.instrument_model", lambda: gc.instrument_model(P, names=("offset",)), ValueError,
+     "names", "terms of TERMS")
+case("gc.instrument_model", lambda: gc.instrument_model(P, names="scale"), TypeError,
+     "names", "tuple or list")
+case("gc.state_names", lambda: gc.state_names(3), TypeError, "params")
 case("gc.normal_gravity", lambda: gc.normal_gravity(2.0), ValueError, "latitude",
      r"\[-1.57")
 case("gc.normal_gravity", lambda: gc.normal_gravity("0"), TypeError, "latitude")
