@@ -230,6 +230,7 @@ case("gc.nominal_half_steps", lambda: gc.nominal_half_steps(None, 10), TypeError
      "params")
 case("gc.nominal_half_steps", lambda: gc.nominal_half_steps(P, 0), ValueError,
      "n_steps", ">= 1")
+case("gc.discretize", lambda: gc.discretize(P, 0.01, instrument=1), TypeError, "instrument")
 case("gc.discretize", lambda: gc.discretize(P, 0.0), ValueError, "t_end", POS)
 case("gc.discretize", lambda: gc.discretize(P, 0.0105), ValueError, "t_end",
      "multiple of dt")
@@ -247,6 +248,9 @@ case("gc.GCDiscretization.exact_step", lambda: disc().exact_step(10), ValueError
      "k", r"\[0, 10\)")
 case("gc.GCDiscretization.exact_step", lambda: disc().exact_step(1.5), TypeError,
      "k")
+case("gc.covariance_analysis",
+     lambda: gc.covariance_analysis(replace(P, sigma_as_offset=1e-5), 0.01, P0=I10),
+     ValueError, "P0", r"\(11, 11\)")
 case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, 0.01, method="x"),
      ValueError, "method", "one of")
 case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, 0.01,

