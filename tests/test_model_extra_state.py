@@ -134,3 +134,52 @@ def test_covariance_with_scale_matches_numpy_reference():
     assert res.final_std("scale") < 0.999e-3     # the data did say something about κ
     const = reference_covariance(ps, 2.0, OFFSET_H0, ZERO_H, [1e-3], (2.0,))[2.0]
     assert _rel(res.final_std("scale"), np.sqrt(const[10, 10])) > 1e-2
+
+
+def _nees_sum_bounds(dof, prob=1e-3):
+    """Two-sided χ² bounds of a sum of NEES over runs (``dof`` in all), each tail ``prob``."""
+    return scipy.stats.chi2.ppf(prob, dof), scipy.stats.chi2.ppf(1.0 - prob, dof)
+
+
+def _mc_checks(mc, cov, n_runs):
+    """The Monte Carlo's errors at the end of the runs against the covariance analysis' σ:
+    the sum over runs of the NEES of ω_gc, of the offset (if the filter carries it) and of
+    both jointly inside their χ² bounds (each tail 1e-3).  Returns the failures."""
+    fails = []
+    assert _rel(mc.std("omega_gc")[-1], cov.final_std("omega_gc")) < 1e-9
+    names = [("omega_gc",)]
+    if "angle_offset" in cov.names:
+        assert _rel(mc.std("angle_offset")[-1], cov.final_std("angle_offset")) < 1e-9
+        names += [("angle_offset",), ("omega_gc", "angle_offset")]
+    for nm in names:
+        total = float(np.sum(mc.nees(nm)[:, -1]))
+        lo, hi = _nees_sum_bounds(len(nm) * n_runs)
+        if not lo < total < hi:
+            fails.append((nm, total, lo, hi))
+    return fails
+
+
+def test_monte_carlo_with_offset_is_consistent():
+    """The truth draws the offset from its prior (per run, after its initial state) and its
+    angle sensor reads it; the filter carries it as an 11th state.  Over 256 seeded runs of
+    2 s the NEES sums of ω_gc, of the offset and of both lie in their χ² bounds; the truth's
+    offsets have the prior's spread.  Power: the filter without the offset state (truth
+    unchanged, an offset of 20″) fails the ω_gc bound."""
+    n = 256
+    cov = gc.covariance_analysis(P_OFF, 2.0)
+    mc = gc.monte_carlo(P_OFF, n, 2.0, seed=29, store_every=100)
+    assert mc.names == cov.names
+    b = mc.truth("angle_offset")[:, 0]
+    assert np.all(mc.truth("angle_offset") == b[:, None])          # a constant
+    lo, hi = _nees_sum_bounds(n)
+    assert lo < float(np.sum((b / SIG_OFF) ** 2)) < hi               # drawn from the prior
+    assert _mc_checks(mc, cov, n) == []
+    # each run's stream draws its 10 initial states first, the offset after them
+    base = gc.monte_carlo(P, 4, 0.1, seed=29, store_every=10)
+    same = gc.monte_carlo(P_OFF, 4, 0.1, seed=29, store_every=10)
+    np.testing.assert_allclose(base.truth("psi"), same.truth("psi"), rtol=0, atol=0)
+    # power: the filter without the offset state, on a truth with a large offset
+    big = dataclasses.replace(P, sigma_as_offset=20.0 * 0.485e-5)
+    off = gc.monte_carlo(P, n, 2.0, seed=29, store_every=100, truth_params=big)
+    assert off.std("angle_offset")[-1] == 0.0                        # the filter's: known 0
+    assert _mc_checks(off, gc.covariance_analysis(P, 2.0), n) != []

@@ -387,6 +387,10 @@ case("gc.MonteCarloResult", lambda: replace(mc(), truth_params=1), TypeError,
 case("gc.MonteCarloResult", lambda: replace(mc(), tru=mc().tru[:1]), ValueError,
      "tru")
 case("gc.MonteCarloResult", lambda: replace(mc(), seed=-3), ValueError, "seed")
+case("gc.MonteCarloResult", lambda: replace(mc(), names=(*gc.STATE_NAMES, "scale")),
+     ValueError, "est", r"11\)")
+case("gc.MonteCarloResult", lambda: replace(mc(), names=("psi",)), ValueError, "names",
+     "STATE_NAMES")
 case("gc.MonteCarloResult", lambda: replace(mc(), truth_mode="linearized"), ValueError,
      "truth_mode")
 case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share(confidence=1.5),
