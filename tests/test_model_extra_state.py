@@ -27,6 +27,7 @@ import scipy.stats
 from gc_reference import _matrices, _p0
 
 from gyrolib import gc
+from gyrolib.gc.model import instrument
 
 P = gc.GyrocompassParams()
 SIG_OFF = 4.0 * 0.485e-5            # 4″ of the paper's arcsecond: the prior of the offset (rad)
@@ -183,3 +184,76 @@ def test_monte_carlo_with_offset_is_consistent():
     off = gc.monte_carlo(P, n, 2.0, seed=29, store_every=100, truth_params=big)
     assert off.std("angle_offset")[-1] == 0.0                        # the filter's: known 0
     assert _mc_checks(off, gc.covariance_analysis(P, 2.0), n) != []
+
+
+def _calibration_checks(res, omega, cov_sigma, offset=None):
+    """Failures of calibrate's answer on a record of known ω_gc (and offset): the estimate
+    within 3σ of the truth, and σ(ω_gc) the covariance analysis' to 1e-3 (the gate may drop a
+    measurement or two of a clean record)."""
+    fails = []
+    if not abs(res.omega_gc - omega) <= 3.0 * res.omega_gc_std:
+        fails.append(("omega_gc", (res.omega_gc - omega) / res.omega_gc_std))
+    if not _rel(res.omega_gc_std, cov_sigma) < 1e-3:
+        fails.append(("sigma", res.omega_gc_std / cov_sigma))
+    if offset is not None:
+        est = res.instrument["angle_offset"]
+        if not abs(est["estimate"] - offset) <= 3.0 * est["std"]:
+            fails.append(("angle_offset", (est["estimate"] - offset) / est["std"]))
+    return fails
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_calibrate_with_offset_covers_the_truth(seed):
+    """Records of the truth model (``gc.simulate_record``, 10 s) with a null offset drawn
+    from the prior added here to the angle sensor: ``calibrate`` with the offset's prior
+    covers ω_gc and the offset within 3σ, and its σ(ω_gc) is the covariance analysis'.
+    Power: the filter without the offset state, on the same record with a 20″ offset,
+    misses ω_gc by far more than 3σ (and its σ is not the augmented model's)."""
+    t_end = 10.0
+    sim = gc.simulate_record(P, t_end, seed)
+    omega = float(sim.truth[0, 3])
+    b = SIG_OFF * float(np.random.default_rng(100 + seed).standard_normal())
+    rec = dataclasses.replace(sim.record, angle_sensor=sim.record.angle_sensor + b)
+    res = gc.calibrate(rec, P_OFF)
+    assert res.bias_names == tuple(t.name for t in gc.TERMS)     # from the model's terms
+    assert _calibration_checks(res, omega, gc.covariance_analysis(P_OFF, t_end).final_std(),
+                               b) == []
+    big = dataclasses.replace(sim.record, angle_sensor=sim.record.angle_sensor + 20 * 0.485e-5)
+    assert _calibration_checks(gc.calibrate(big, P), omega,
+                               gc.covariance_analysis(P_OFF, t_end).final_std()) != []
+
+
+def test_a_new_term_is_an_edit_of_the_model_only(monkeypatch):
+    """A second angle-sensor-like constant declared only in the model (one more
+    :class:`gyrolib.gc.InstrumentTerm` in ``gyrolib.gc.model.instrument.TERMS``, read half
+    by the angle sensor, prior ``sigma_as_offset``) runs through the covariance analysis,
+    the Monte Carlo and calibrate without a change to any kernel: the covariance matches
+    the numpy reference with the two columns, the Monte Carlo's ω_gc errors its σ, and
+    calibrate's σ(ω_gc) the covariance's, with the new constant in its result.  Power: the
+    reference without the new column differs."""
+    new = gc.InstrumentTerm("angle_offset_half", "sigma_as_offset", H0=(0.5, 0.0, 0.0),
+                            unit="rad")
+    monkeypatch.setattr(instrument, "TERMS", (*instrument.TERMS, new))
+    names = (*gc.STATE_NAMES, "angle_offset", "angle_offset_half")
+    assert gc.state_names(P_OFF) == names
+    t_end = 1.0
+    cov = gc.covariance_analysis(P_OFF, t_end)
+    assert cov.names == names
+    ref = reference_covariance(P_OFF, t_end, np.array([[1.0, 0.5], [0.0, 0.0], [0.0, 0.0]]),
+                               np.zeros((3, 2)), [SIG_OFF, SIG_OFF], (t_end,))[t_end]
+    one = reference_covariance(P_OFF, t_end, OFFSET_H0, ZERO_H, [SIG_OFF], (t_end,))[t_end]
+    assert _rel(cov.final_std("omega_gc"), np.sqrt(ref[3, 3])) < 1e-6
+    assert _rel(cov.final_std("angle_offset_half"), np.sqrt(ref[11, 11])) < 1e-6
+    assert _rel(cov.final_std("omega_gc"), np.sqrt(one[3, 3])) > 1e-6     # power
+    n = 128
+    mc = gc.monte_carlo(P_OFF, n, t_end, seed=7, store_every=100)
+    assert mc.names == names
+    assert _mc_checks(mc, cov, n) == []
+    assert np.std(mc.truth("angle_offset_half")[:, 0]) > 0.5 * SIG_OFF   # drawn
+    sim = gc.simulate_record(P, t_end, 4)
+    rec = dataclasses.replace(sim.record, angle_sensor=sim.record.angle_sensor
+                              + 0.7 * SIG_OFF + 0.5 * (-0.4 * SIG_OFF))
+    res = gc.calibrate(rec, P_OFF)
+    assert res.bias_names[-1] == "angle_offset_half"
+    assert set(res.instrument) == {"angle_offset", "angle_offset_half"}
+    assert _calibration_checks(res, float(sim.truth[0, 3]), cov.final_std()) == []

@@ -474,6 +474,13 @@ case("gc.calibrate", lambda: gc.calibrate(_GREC, progress=3), TypeError, "progre
 case("gc.CalibrationResult", lambda: replace(_GRES, x=np.zeros((5, 10))), ValueError, "x",
      "shape")
 case("gc.CalibrationResult", lambda: replace(_GRES, params=None), TypeError, "params")
+case("gc.CalibrationResult", lambda: replace(_GRES, bias_names=["scale"]), TypeError,
+     "bias_names", "tuple")
+case("gc.CalibrationResult",
+     lambda: replace(_GRES, bias_names=("scale",), bias_groups=("scale",)), ValueError,
+     "bias_prior", r"\(1,\)")
+case("gc.CalibrationResult", lambda: replace(_GRES, bias_names=("scale",)), ValueError,
+     "bias_groups", "one group per bias name")
 case("gc.CalibrationResult.estimate", lambda: _GRES.estimate("drift"), ValueError, "name",
      "one of")
 case("gc.CalibrationResult.sigma", lambda: _GRES.sigma(3), ValueError, "name", "one of")
