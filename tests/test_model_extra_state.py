@@ -34,9 +34,10 @@ SIG_OFF = 4.0 * 0.485e-5            # 4″ of the paper's arcsecond: the prior o
 P_OFF = dataclasses.replace(P, sigma_as_offset=SIG_OFF)
 
 
-def reference_covariance(p, t_end, h0, h1, prior, times):
+def reference_covariance(p, t_end, h0, h1, prior, times, fb=None):
     """Plain numpy: the 10 states of Eq. (8) (tests/gc_reference.py's matrices) and ``nb``
-    constants with readings ``(h0 + β_n(t_k) h1) b`` (h0, h1: 3 × nb) and prior σ ``prior``;
+    constants with readings ``(h0 + β_n(t_k) h1) b`` (h0, h1: 3 × nb), prior σ ``prior``
+    and optionally a dynamics column ``fb`` (10 × nb: ``ẋ += fb b``);
     per step Φ, Qd by one Van Loan exponential (F frozen at the midpoint's β_n), a batch
     Joseph update with all three sensors.  Returns ``{t: P}`` at ``times``."""
     F0, Fs, Fc, G, D, Q, R = _matrices(p, None)
@@ -62,6 +63,8 @@ def reference_covariance(p, t_end, h0, h1, prior, times):
         b = beta_mid[k]
         F = np.zeros((n, n))
         F[:10, :10] = F0 + np.sin(b) * Fs + np.cos(b) * Fc
+        if fb is not None:
+            F[:10, 10:] = fb
         M = np.zeros((2 * n, 2 * n))
         M[:n, :n] = -F * p.dt
         M[:n, n:] = GQG * p.dt
@@ -257,3 +260,32 @@ def test_a_new_term_is_an_edit_of_the_model_only(monkeypatch):
     assert res.bias_names[-1] == "angle_offset_half"
     assert set(res.instrument) == {"angle_offset", "angle_offset_half"}
     assert _calibration_checks(res, float(sim.truth[0, 3]), cov.final_std()) == []
+
+
+def test_a_dynamics_column_in_the_covariance_and_refused_elsewhere(monkeypatch):
+    """A declared term with a dynamics column (``Fb``: a second constant drift, entering
+    Δβ'' as ω_gc does, H/I) is integrated by the covariance analysis's augmented Van Loan
+    discretization: σ(ω_gc) and σ of the term match the numpy reference with the column to
+    1e-6, and differ from the reference without it (power).  The Monte Carlo's truth and
+    calibrate's bias separation do not take such a term: both refuse it by name."""
+    fb = np.zeros(10)
+    fb[1] = P.H / P.I
+    new = gc.InstrumentTerm("drift_2", "sigma_as_offset", Fb=fb, unit="rad/s")
+    monkeypatch.setattr(instrument, "TERMS", (*instrument.TERMS, new))
+    # prior σ of the new drift = sigma_as_offset, here set to 0.05″/s (in rad/s)
+    p = dataclasses.replace(P, sigma_as_offset=0.05 * 0.485e-5)
+    cov = gc.covariance_analysis(p, 1.0)
+    assert cov.names[10:] == ("angle_offset", "drift_2")
+    h0 = np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])
+    sig = [p.sigma_as_offset] * 2
+    ref = reference_covariance(p, 1.0, h0, np.zeros((3, 2)), sig, (1.0,),
+                               fb=np.stack([np.zeros(10), fb], axis=1))[1.0]
+    assert _rel(cov.final_std("omega_gc"), np.sqrt(ref[3, 3])) < 1e-6
+    assert _rel(cov.final_std("drift_2"), np.sqrt(ref[11, 11])) < 1e-6
+    nofb = reference_covariance(p, 1.0, h0, np.zeros((3, 2)), sig, (1.0,))[1.0]
+    assert _rel(cov.final_std("omega_gc"), np.sqrt(nofb[3, 3])) > 1e-2
+    with pytest.raises(ValueError, match=r"^params: .*\(drift_2\)"):
+        gc.monte_carlo(p, 2, 0.01, seed=1)
+    sim = gc.simulate_record(P, 0.01, 1)
+    with pytest.raises(ValueError, match=r"^params: calibrate carries.*\(drift_2\)"):
+        gc.calibrate(sim.record, p)

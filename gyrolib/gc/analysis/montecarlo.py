@@ -1311,6 +1311,12 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     if store_every is not None:
         store_every = v.check_int("store_every", store_every, 1)
     recipe = _Recipe(p, tp, float(t_end), store_every, method, LINEARIZE[truth], substeps)
+    for inst in _instruments(recipe):
+        coupled = [nm for nm, col in zip(inst.names, inst.Fb.T, strict=True) if np.any(col)]
+        if coupled:
+            raise ValueError(f"params: the Monte Carlo's truth reads the instrument constants "
+                             f"in its samples only; a term with a dynamics column Fb != 0 "
+                             f"({', '.join(coupled)}) is not supported")
     prep, P_stored = _prepare(recipe)
     X0, states = _run_inputs(tp, seed, n_runs, _instruments(recipe)[1])
     est, tru = _run_all(_ChunkTask(recipe, prep), X0, states,

@@ -1049,10 +1049,12 @@ class _Calibrator:
         # every declared instrument constant (the model's declaration, read now), each with
         # its prior (0: known to be 0, carried at no cost to the estimate)
         inst = instrument.instrument_model(p, tuple(t.name for t in instrument.TERMS))
-        if inst.couples_dynamics:
+        coupled = [nm for nm, col in zip(inst.names, inst.Fb.T, strict=True) if np.any(col)]
+        if coupled:
             raise ValueError("params: calibrate carries the instrument constants by bias "
                              "separation in the measurements only; a declared term with a "
-                             "dynamics column Fb != 0 is not supported")
+                             f"dynamics column Fb != 0 ({', '.join(coupled)}) is not "
+                             "supported")
         self.instrument = inst
         self.bias_prior = inst.prior.copy()
         nb = inst.nb if np.any(self.bias_prior > 0.0) else 0
