@@ -19,7 +19,7 @@ from gyrolib.gc.model.discretization import (
     discretize_steps,
     steps_in,
 )
-from gyrolib.gc.model.instrument import augmented_index, instrument_model
+from gyrolib.gc.model.instrument import augmented_index, build_instrument_model
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
 
 __all__ = [
@@ -176,7 +176,7 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     p = check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("discretization", discretization, DISCRETIZATIONS)
-    inst = instrument_model(p)
+    inst = build_instrument_model(p)
     disc = discretize_steps(p, steps_in(p, t_end), discretization, inst)
     n = disc.model.n
     se = default_store_every(disc.n_steps) if store_every is None else store_every

@@ -81,7 +81,7 @@ from gyrolib.gc.model.discretization import (
 from gyrolib.gc.model.instrument import (
     InstrumentModel,
     augmented_index,
-    instrument_model,
+    build_instrument_model,
     state_names,
     union_names,
 )
@@ -967,7 +967,8 @@ def _instruments(r: _Recipe) -> tuple[InstrumentModel, InstrumentModel]:
     """The instrument constants of the filter and of the truth on one state vector: those
     ON in either (a constant OFF in one has prior 0 there: known to be 0)."""
     names = union_names(r.params, r.truth_params)
-    return instrument_model(r.params, names), instrument_model(r.truth_params, names)
+    return (build_instrument_model(r.params, names),
+            build_instrument_model(r.truth_params, names))
 
 
 def _prepare(r: _Recipe) -> tuple[_Prepared, np.ndarray]:

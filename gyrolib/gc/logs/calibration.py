@@ -1048,7 +1048,7 @@ class _Calibrator:
         self.filter_model = _filter_model(p)
         # every declared instrument constant (the model's declaration, read now), each with
         # its prior (0: known to be 0, carried at no cost to the estimate)
-        inst = instrument.instrument_model(p, tuple(t.name for t in instrument.TERMS))
+        inst = instrument.build_instrument_model(p, tuple(t.name for t in instrument.TERMS))
         coupled = [nm for nm, col in zip(inst.names, inst.Fb.T, strict=True) if np.any(col)]
         if coupled:
             raise ValueError("params: calibrate carries the instrument constants by bias "

@@ -32,7 +32,7 @@ from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
-from gyrolib.gc.model.instrument import InstrumentModel, instrument_model
+from gyrolib.gc.model.instrument import InstrumentModel, build_instrument_model
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
 from gyrolib.gc.model.state_space import (
     build_initial_covariance,
@@ -409,7 +409,7 @@ def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
     n_steps = steps_in(p, t_end)
     v.check_choice("method", method, DISCRETIZATIONS)
     instrument = v.check_bool("instrument", instrument)
-    return discretize_steps(p, n_steps, method, instrument_model(p) if instrument else None)
+    return discretize_steps(p, n_steps, method, build_instrument_model(p) if instrument else None)
 
 
 def discretize_steps(p: GyrocompassParams, n_steps: int, method: str,

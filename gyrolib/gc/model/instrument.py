@@ -115,8 +115,7 @@ class InstrumentTerm:
         >>> gc.TERMS[0].prior(gc.GyrocompassParams(sigma_as_offset=2e-5))
         2e-05
         """
-        p = check_params(params)
-        return v.check_nonnegative(self.prior_field, getattr(p, self.prior_field))
+        return _term_prior(self, check_params(params))
 
 
 #: The declaration: every constant error term the model knows, in state order.  A new term is
@@ -181,6 +180,11 @@ class InstrumentModel:
         return self.H0 + b * self.H1
 
 
+def _term_prior(term: InstrumentTerm, p: GyrocompassParams) -> float:
+    """:meth:`InstrumentTerm.prior` of parameters already checked (at construction)."""
+    return float(getattr(p, term.prior_field))
+
+
 def _declared() -> dict[str, InstrumentTerm]:
     terms = TERMS
     if not isinstance(terms, tuple) or not all(isinstance(t, InstrumentTerm) for t in terms):
@@ -219,21 +223,30 @@ def instrument_model(params: GyrocompassParams,
     (('inclinometer_y_bias', 'inclinometer_z_bias'), [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     """
     p = check_params(params)
-    declared = _declared()
-    if names is None:
-        chosen = [t for t in declared.values() if t.prior(p) > 0.0]
-    else:
+    if names is not None:
         if isinstance(names, str) or not isinstance(names, list | tuple):
             raise TypeError(f"names must be a tuple or list of term names; got "
                             f"{type(names).__name__}")
+        declared = _declared()
         for nm in names:
             if nm not in declared:
                 raise ValueError(f"names must be terms of TERMS {tuple(declared)}; got {nm!r}")
+    return build_instrument_model(p, names)
+
+
+def build_instrument_model(p: GyrocompassParams,
+                           names: tuple[str, ...] | list[str] | None = None) -> InstrumentModel:
+    """:func:`instrument_model` on arguments already checked (the library's internal path:
+    ``params`` is checked once, at the public door)."""
+    declared = _declared()
+    if names is None:
+        chosen = [t for t in declared.values() if _term_prior(t, p) > 0.0]
+    else:
         chosen = [t for t in declared.values() if t.name in set(names)]
     nb = len(chosen)
     return InstrumentModel(
         names=tuple(t.name for t in chosen),
-        prior=np.array([t.prior(p) for t in chosen], dtype=np.float64),
+        prior=np.array([_term_prior(t, p) for t in chosen], dtype=np.float64),
         H0=np.array([t.H0 for t in chosen], dtype=np.float64).reshape(nb, _M).T.copy(),
         H1=np.array([t.H1 for t in chosen], dtype=np.float64).reshape(nb, _M).T.copy(),
         Fb=np.array([t.Fb for t in chosen], dtype=np.float64).reshape(nb, _N).T.copy(),
@@ -261,15 +274,15 @@ def state_names(params: GyrocompassParams) -> tuple[str, ...]:
     >>> gc.state_names(gc.GyrocompassParams(sigma_as_offset=1e-5))[10:]
     ('angle_offset',)
     """
-    return STATE_NAMES + instrument_model(params).names
+    return STATE_NAMES + build_instrument_model(check_params(params)).names
 
 
 def union_names(*params: GyrocompassParams) -> tuple[str, ...]:
-    """The terms ON in any of ``params``, in the order of :data:`TERMS` (for a truth and a
-    filter that carry different constants)."""
+    """The terms ON in any of ``params`` (checked), in the order of :data:`TERMS` (for a
+    truth and a filter that carry different constants)."""
     on = set()
     for p in params:
-        on.update(instrument_model(p).names)
+        on.update(build_instrument_model(p).names)
     return tuple(name for name in _declared() if name in on)
 
 
