@@ -561,9 +561,11 @@ class _Model(NamedTuple):
     of a full matrix (the irregular steps' own ``Φ``); ``Fc``, ``Es``, ``Ec``, ``W = G Q Gᵀ``
     for the short time shift; ``H`` with its nonzeros (``hptr``, ``hidx``), ``r`` = diag R;
     ``gate`` the χ²(1) threshold of the normalized innovation squared; ``nb`` the number of
-    instrument constants carried (:data:`gyrolib.gc.TERMS`; 0: none, the paper's filter),
-    ``Hb0``, ``Hb1`` (3 × nb) their readings (sensor ``q`` reads ``(Hb0 + β_n Hb1) b``
-    more, :func:`gyrolib.gc.instrument_model`)."""
+    instrument constants carried (:data:`gyrolib.gc.TERMS`; 0: none, the paper's filter).
+    With constants, ``H`` is 3 × (10 + 2 nb): ``D`` of Eq. (8), then their columns ``H0``
+    and ``H1`` (sensor ``q`` reads ``(H0[q] + β_n H1[q]) b`` more,
+    :func:`gyrolib.gc.instrument_model`); ``hptr``, ``hidx`` list the nonzeros of ``D``
+    only."""
 
     dt: float
     seg_w: float
@@ -587,8 +589,6 @@ class _Model(NamedTuple):
     r: NDArray[np.float64]
     gate: float
     nb: int
-    Hb0: NDArray[np.float64]
-    Hb1: NDArray[np.float64]
 
 
 class _Chunk(NamedTuple):
@@ -758,16 +758,18 @@ def _shift(x, P, F, W, d, E, A, T, y, V, nb):
 
 
 @njit(cache=True, inline="always")
-def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh, Ab, u, mu, beta_n,
-            Hb0, Hb1):
+def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh, Ab, u, mu, beta_n):
     """The scalar measurement ``zq`` of sensor ``q``: the gate, then the Joseph update
     (:func:`gyrolib.filtering.joseph_scalar_update`) and, with ``nb`` instrument constants,
     their recursive least squares on the innovation (bias separation: the innovation of the
     filter with the constants is ``ν − uᵀ b̂`` with variance ``S + uᵀ Mb u``, where ``u`` is
-    the innovation's response to a unit of each constant: its reading
-    ``Hb0[q, c] + β_n Hb1[q, c]`` less the response of ``H x``).  Returns ``(used, ν, S)`` of
-    the filter with the constants.  (The arrays come one by one: numba keeps them in registers,
-    where fields of a tuple would be read again after every store.)"""
+    the innovation's response to a unit of each constant: its reading by sensor ``q``,
+    ``H0[q, c] + β_n H1[q, c]``, from the model's columns that follow the 10 states' in
+    ``H`` (see :class:`_Model`), less the response of ``H x``).  Returns ``(used, ν, S)`` of
+    the filter with the constants.  (The arrays come one by one: numba keeps them in
+    registers, where fields of a tuple would be read again after every store; the constants'
+    columns ride in ``H`` for the same reason: an array more in this hot loop costs about
+    4 % of calibrate's time.)"""
     hx = 0.0
     for p in range(hptr[q], hptr[q + 1]):
         hx += H[q, hidx[p]] * x[hidx[p]]
@@ -782,7 +784,7 @@ def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh, Ab, u, mu
                 hv += H[q, hidx[p]] * V[c, hidx[p]]
             # the constant's own reading by sensor q (the model's columns), less its
             # response through the state
-            uc = Hb0[q, c] + beta_n * Hb1[q, c] - hv
+            uc = H[q, N + c] + beta_n * H[q, N + nb + c] - hv
             u[c] = uc
             nua -= uc * bh[c]
         for c in range(nb):
@@ -843,7 +845,6 @@ def _filter_chunk(md, ch, st, rj, so):
     n_whole, irr_idx = ch.n_whole, ch.irr_idx
     dt, inv_seg = md.dt, 1.0 / md.seg_w
     nb, V, Mb, bh, Ab, u, mu = md.nb, st.V, st.Mb, st.bh, st.Ab, st.u, st.mu
-    Hb0, Hb1 = md.Hb0, md.Hb1
     tcur = st.tcur[0]
     for i in range(t.shape[0]):
         # predict: whole steps of dt, then a short shift or an exact remainder step
@@ -882,7 +883,7 @@ def _filter_chunk(md, ch, st, rj, so):
             if q == 0:
                 zq -= beta_n     # the angle sensor reads β = β_n + Δβ
             used, nu, S = _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh,
-                                  Ab, u, mu, beta_n, Hb0, Hb1)
+                                  Ab, u, mu, beta_n)
             if used:
                 so.flag[i, q] = 1
                 so.e[i, q] = nu / math.sqrt(S)
@@ -1008,8 +1009,7 @@ class _FilterModel:
             dense_idx=np.tile(np.arange(N, dtype=np.int64), N), Fc=Fc, Es=Es, Ec=Ec,
             W=self.G @ self.Qc @ self.G.T, H=H, hptr=hptr,
             hidx=np.nonzero(hmask)[1].astype(np.int64),
-            r=np.diag(measurement_noise_covariance(p)).copy(), gate=math.inf, nb=0,
-            Hb0=np.zeros((M, 0)), Hb1=np.zeros((M, 0)))
+            r=np.diag(measurement_noise_covariance(p)).copy(), gate=math.inf, nb=0)
 
     def table(self, j: int) -> None:
         """Fill the tables of expansion point ``j`` (once)."""
@@ -1060,8 +1060,8 @@ class _Calibrator:
         nb = inst.nb if np.any(self.bias_prior > 0.0) else 0
         NB = inst.nb     # the constants carried in the state arrays
         self.model = self.filter_model.model._replace(
-            gate=float(chi2_ppf(gate, 1)), nb=nb, Hb0=np.ascontiguousarray(inst.H0),
-            Hb1=np.ascontiguousarray(inst.H1))
+            gate=float(chi2_ppf(gate, 1)), nb=nb,
+            H=np.ascontiguousarray(np.hstack([self.filter_model.model.H, inst.H0, inst.H1])))
         self.state = _State(
             x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
             Qd=np.zeros((N, N)), T=np.zeros((N, N)), y=np.zeros(N), Ph=np.zeros(N),
