@@ -155,8 +155,10 @@ class TruthModel(NamedTuple):
 class FilterModel(NamedTuple):
     """The filter's arrays for the kernels: nonzeros of ``Φ_k`` per step (``phis``, CSR
     pattern ``rowptr``, ``colidx``), the measurement matrix after step ``k``,
-    ``H + hs[k] H1`` (CSR ``hptr``, ``hidx`` of both) and the gains ``K_k``
-    (steps × m × n)."""
+    ``H0 + hs[k] H1`` with ``H = [H0; H1]`` (2m × n: its rows ``m …`` are ``H1``, zero for
+    a constant ``H``; CSR ``hptr``, ``hidx`` of the nonzeros of both) and the gains ``K_k``
+    (steps × m × n).  (``H1`` rides in ``H``: an array more in the kernel's hot loop costs
+    time even when it is zero.)"""
 
     phis: NDArray[np.float64]
     rowptr: NDArray[np.int64]
@@ -165,7 +167,6 @@ class FilterModel(NamedTuple):
     hptr: NDArray[np.int64]
     hidx: NDArray[np.int64]
     gains: NDArray[np.float64]
-    H1: NDArray[np.float64]
     hs: NDArray[np.float64]
 
 
@@ -458,7 +459,7 @@ def _filter_and_store(k, kk, noise, tm, fm, x, xh, y, u, store_every, est, tru, 
     n = x.shape[0]
     B = _RUN_BLOCK
     n_runs = est.shape[0]
-    m = fm.H.shape[0]
+    m = fm.H.shape[0] // 2
     nw = 2 * tm.substeps
     ob = tm.off_b[k + 1]
     if run_filter:
@@ -496,7 +497,7 @@ def _filter_and_store(k, kk, noise, tm, fm, x, xh, y, u, store_every, est, tru, 
                 u[r] = y[q, r]
             for p in range(fm.hptr[q], fm.hptr[q + 1]):
                 c = fm.hidx[p]
-                h = fm.H[q, c] + hk * fm.H1[q, c]
+                h = fm.H[q, c] + hk * fm.H[m + q, c]
                 for r in range(B):
                     u[r] -= h * xh[c, r]
             for i in range(n):
@@ -850,9 +851,9 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
         run_filter = fm is not None
         if fm is None:  # the kernel needs typed arrays even when the filter is off
             fm = FilterModel(np.zeros((n_steps, 1)), np.zeros(N + 1, np.int64),
-                             np.zeros(1, np.int64), np.zeros((3, N)),
+                             np.zeros(1, np.int64), np.zeros((6, N)),
                              np.zeros(4, np.int64), np.zeros(1, np.int64),
-                             np.zeros((n_steps, 3, N)), np.zeros((3, N)), np.zeros(n_steps))
+                             np.zeros((n_steps, 3, N)), np.zeros(n_steps))
 
         def task(b: int) -> None:
             x = np.ascontiguousarray(Xp[b * B:(b + 1) * B].T)
@@ -882,7 +883,8 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
         store = _row_store(rows, store_every, est, tru, tm)
 
         for k0, noise in noise_chunks(b):
-            _reference_block(k0, noise, tm, phi_of_step, None if fm is None else fm.H,
+            _reference_block(k0, noise, tm, phi_of_step,
+                             None if fm is None else fm.H[:fm.H.shape[0] // 2],
                              None if fm is None else fm.gains, X, Xh, store)
     return est, tru
 
@@ -990,9 +992,9 @@ def _prepare(r: _Recipe) -> tuple[_Prepared, np.ndarray]:
     phis = np.empty((mdl.n_steps, colidx.size))
     if r.method == "fast":
         _step_phi(mdl.seg, mdl.a, mdl.b, mdl.Phi0, mdl.PhiA, mdl.PhiB, rowptr, colidx, phis)
-    fm = FilterModel(phis, rowptr, colidx, np.ascontiguousarray(mdl.H), hptr, hidx,
-                     np.ascontiguousarray(run.gains),
-                     np.zeros_like(mdl.H) if mdl.H1 is None else np.ascontiguousarray(mdl.H1),
+    H1 = np.zeros_like(mdl.H) if mdl.H1 is None else mdl.H1
+    fm = FilterModel(phis, rowptr, colidx, np.ascontiguousarray(np.vstack([mdl.H, H1])), hptr,
+                     hidx, np.ascontiguousarray(run.gains),
                      np.zeros(mdl.n_steps) if mdl.h is None else mdl.h)
     phi = _LazyPhi(mdl) if r.method == "reference" else None
     return (_Prepared(tm, fm, disc.n_steps, se, r.method, phi, disc.state_names),
@@ -1049,8 +1051,9 @@ def _run_chunk(prep: _Prepared, X0: np.ndarray, states: np.ndarray) -> tuple[np.
             noise = np.zeros((steps, width, B))
             for r, gen in enumerate(gens):
                 noise[:, :, r] = gen.standard_normal((steps, width))
-            _reference_block(k0, noise, tm, prep.phi, fm.H, fm.gains, X, Xh, store,
-                             fm.H1, fm.hs)
+            m = fm.H.shape[0] // 2
+            _reference_block(k0, noise, tm, prep.phi, fm.H[:m], fm.gains, X, Xh, store,
+                             fm.H[m:], fm.hs)
     return est, tru
 
 
