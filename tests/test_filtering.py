@@ -164,8 +164,8 @@ def test_sized_and_general_covariance_kernels_agree():
     P_st = np.empty((m.n_steps // 100 + 1, m.n, m.n))
     gains = np.empty((m.n_steps, m.H.shape[0], m.n))
     fcov._predict_joseph_kernel(m.seg, m.a, m.b, m.Phi0, m.PhiA, m.PhiB, m.Qd0, m.QdA, m.QdB,
-                                rowptr, colidx, hptr, hidx, m.H, m.r, P0, 100, var, P_st,
-                                gains, False)
+                                rowptr, colidx, hptr, hidx, m.H, np.zeros_like(m.H),
+                                np.zeros(1), False, m.r, P0, 100, var, P_st, gains, False)
     nz = var > 0
     assert np.max(np.abs(sized.var[nz] / var[nz] - 1.0)) < 1e-12
     np.testing.assert_allclose(sized.gains, gains, rtol=1e-12, atol=1e-300)
@@ -173,7 +173,8 @@ def test_sized_and_general_covariance_kernels_agree():
     # power: sensor noise larger by 1e-9 relative moves the variances beyond the tolerance
     var2 = np.empty_like(var)
     fcov._predict_joseph_kernel(m.seg, m.a, m.b, m.Phi0, m.PhiA, m.PhiB, m.Qd0, m.QdA, m.QdB,
-                                rowptr, colidx, hptr, hidx, m.H, m.r * (1.0 + 1e-9), P0, 100,
+                                rowptr, colidx, hptr, hidx, m.H, np.zeros_like(m.H),
+                                np.zeros(1), False, m.r * (1.0 + 1e-9), P0, 100,
                                 var2, P_st.copy(), gains.copy(), False)
     assert np.max(np.abs(sized.var[nz] / var2[nz] - 1.0)) > 1e-12
 

@@ -79,6 +79,15 @@ case("filtering.AffineDiscreteModel", lambda: replace(model(), seg=model().seg +
 case("filtering.AffineDiscreteModel.phi", lambda: model().phi(10), ValueError, "k", r"\[0, 10\)")
 case("filtering.AffineDiscreteModel.phi", lambda: model().phi(-1), ValueError, "k", ">= 0")
 case("filtering.AffineDiscreteModel.qd", lambda: model().qd("a"), TypeError, "k")
+case("filtering.AffineDiscreteModel.h_matrix", lambda: model().h_matrix(10), ValueError, "k",
+     r"\[0, 10\)")
+case("filtering.AffineDiscreteModel", lambda: replace(model(), H1=model().H), ValueError, "H1",
+     "together")
+case("filtering.AffineDiscreteModel",
+     lambda: replace(model(), H1=model().H[:, :3], h=np.zeros(model().n_steps)), ValueError,
+     "H1")
+case("filtering.AffineDiscreteModel",
+     lambda: replace(model(), H1=model().H, h=np.zeros(3)), ValueError, "h")
 case("filtering.CovarianceRun", lambda: filtering.CovarianceRun(np.ones((2, 3)), np.ones((1, 2, 2)),
                                                           1, None),
      ValueError, "P_stored", r"\('any', 3, 3\)")
@@ -121,6 +130,10 @@ case("filtering.cholesky_semidefinite", lambda: filtering.cholesky_semidefinite(
 case("filtering.cholesky_semidefinite", lambda: filtering.cholesky_semidefinite(-np.eye(2)), ValueError,
      "P", "positive semi-definite")
 case("filtering.cholesky_semidefinite", lambda: filtering.cholesky_semidefinite(None), TypeError, "P")
+case("filtering.covariance_square_root",
+     lambda: filtering.covariance_square_root(
+         replace(model(), H1=model().H, h=np.zeros(model().n_steps)), I10),
+     ValueError, "model", "constant H")
 case("filtering.covariance_square_root", lambda: filtering.covariance_square_root(None, I10),
      TypeError, "model")
 case("filtering.covariance_square_root", lambda: filtering.covariance_square_root(model(),

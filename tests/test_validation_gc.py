@@ -102,6 +102,30 @@ case("gc.GyrocompassParams", lambda: replace(P, omega_ub=INF), ValueError, "omeg
 case("gc.GyrocompassParams", lambda: replace(P, shaping_p0_scale=-0.5), ValueError,
      "shaping_p0_scale", NONNEG)
 case("gc.state_index", lambda: gc.state_index("foo"), ValueError, "name", "one of")
+# instrument (the declaration of the instrument's constant errors)
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_foo"), ValueError,
+     "prior_field", "GyrocompassParams field")
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_as_offset", H0=(1.0, 0.0)),
+     ValueError, "H0", r"\(3,\)")
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_as_offset", Fb=[NAN] * 10),
+     ValueError, "Fb", FINITE)
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("omega_gc", "sigma_as_offset"),
+     ValueError, "name", "state of Eq")
+case("gc.InstrumentTerm", lambda: gc.InstrumentTerm("x", "sigma_as_offset", group="bias"),
+     ValueError, "group", "one of")
+case("gc.InstrumentTerm.prior", lambda: gc.TERMS[0].prior("P"), TypeError, "params")
+case("gc.InstrumentModel", lambda: gc.InstrumentModel(("a",), np.ones(2), np.ones((3, 1)),
+                                                      np.ones((3, 1)), np.ones((10, 1)),
+                                                      ("scale",)),
+     ValueError, "prior", r"\(1,\)")
+case("gc.InstrumentModel.measurement_columns",
+     lambda: gc.instrument_model(P).measurement_columns(NAN), ValueError, "beta_n", FINITE)
+case("gc.instrument_model", lambda: gc.instrument_model(None), TypeError, "params")
+case("gc.instrument_model", lambda: gc.instrument_model(P, names=("offset",)), ValueError,
+     "names", "terms of TERMS")
+case("gc.instrument_model", lambda: gc.instrument_model(P, names="scale"), TypeError,
+     "names", "tuple or list")
+case("gc.state_names", lambda: gc.state_names(3), TypeError, "params")
 case("gc.normal_gravity", lambda: gc.normal_gravity(2.0), ValueError, "latitude",
      r"\[-1.57")
 case("gc.normal_gravity", lambda: gc.normal_gravity("0"), TypeError, "latitude")
@@ -206,6 +230,7 @@ case("gc.nominal_half_steps", lambda: gc.nominal_half_steps(None, 10), TypeError
      "params")
 case("gc.nominal_half_steps", lambda: gc.nominal_half_steps(P, 0), ValueError,
      "n_steps", ">= 1")
+case("gc.discretize", lambda: gc.discretize(P, 0.01, instrument=1), TypeError, "instrument")
 case("gc.discretize", lambda: gc.discretize(P, 0.0), ValueError, "t_end", POS)
 case("gc.discretize", lambda: gc.discretize(P, 0.0105), ValueError, "t_end",
      "multiple of dt")
@@ -223,6 +248,9 @@ case("gc.GCDiscretization.exact_step", lambda: disc().exact_step(10), ValueError
      "k", r"\[0, 10\)")
 case("gc.GCDiscretization.exact_step", lambda: disc().exact_step(1.5), TypeError,
      "k")
+case("gc.covariance_analysis",
+     lambda: gc.covariance_analysis(replace(P, sigma_as_offset=1e-5), 0.01, P0=I10),
+     ValueError, "P0", r"\(11, 11\)")
 case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, 0.01, method="x"),
      ValueError, "method", "one of")
 case("gc.covariance_analysis", lambda: gc.covariance_analysis(P, 0.01,
@@ -359,6 +387,10 @@ case("gc.MonteCarloResult", lambda: replace(mc(), truth_params=1), TypeError,
 case("gc.MonteCarloResult", lambda: replace(mc(), tru=mc().tru[:1]), ValueError,
      "tru")
 case("gc.MonteCarloResult", lambda: replace(mc(), seed=-3), ValueError, "seed")
+case("gc.MonteCarloResult", lambda: replace(mc(), names=(*gc.STATE_NAMES, "scale")),
+     ValueError, "est", r"11\)")
+case("gc.MonteCarloResult", lambda: replace(mc(), names=("psi",)), ValueError, "names",
+     "STATE_NAMES")
 case("gc.MonteCarloResult", lambda: replace(mc(), truth_mode="linearized"), ValueError,
      "truth_mode")
 case("gc.MonteCarloResult.inside_share", lambda: mc().inside_share(confidence=1.5),
@@ -442,6 +474,13 @@ case("gc.calibrate", lambda: gc.calibrate(_GREC, progress=3), TypeError, "progre
 case("gc.CalibrationResult", lambda: replace(_GRES, x=np.zeros((5, 10))), ValueError, "x",
      "shape")
 case("gc.CalibrationResult", lambda: replace(_GRES, params=None), TypeError, "params")
+case("gc.CalibrationResult", lambda: replace(_GRES, bias_names=["scale"]), TypeError,
+     "bias_names", "tuple")
+case("gc.CalibrationResult",
+     lambda: replace(_GRES, bias_names=("scale",), bias_groups=("scale",)), ValueError,
+     "bias_prior", r"\(1,\)")
+case("gc.CalibrationResult", lambda: replace(_GRES, bias_names=("scale",)), ValueError,
+     "bias_groups", "one group per bias name")
 case("gc.CalibrationResult.estimate", lambda: _GRES.estimate("drift"), ValueError, "name",
      "one of")
 case("gc.CalibrationResult.sigma", lambda: _GRES.sigma(3), ValueError, "name", "one of")

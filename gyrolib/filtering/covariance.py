@@ -54,8 +54,11 @@ class AffineDiscreteModel:
         Φ_k  = Phi0[j] + a[k] PhiA[j] + b[k] PhiB[j]
         Qd_k = Qd0[j]  + a[k] QdA[j]  + b[k] QdB[j]
 
-    Measurements ``z_k = H x_k + v_k`` with ``R = diag(r)`` after every step.  Paper GC's
-    Eq. (8) discretized by :func:`gyrolib.gc.discretize` is one.
+    Measurements ``z_k = H x_k + v_k`` with ``R = diag(r)`` after every step; optionally
+    a measurement matrix that varies along the run, ``H_k = H + h[k] H1`` after step ``k``
+    (``H1`` m×n, ``h`` one scalar per step; e.g. a reading proportional to paper GC's
+    nominal float angle).  Paper GC's Eq. (8) discretized by :func:`gyrolib.gc.discretize`
+    is one.
 
     Examples
     --------
@@ -80,6 +83,8 @@ class AffineDiscreteModel:
     QdB: np.ndarray
     H: np.ndarray
     r: np.ndarray
+    H1: np.ndarray | None = None
+    h: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         seg = np.asarray(self.seg)
@@ -109,6 +114,11 @@ class AffineDiscreteModel:
             raise ValueError("H must be m×n and r must have m entries")
         if n_steps and (self.seg.min() < 0 or self.seg.max() >= J):
             raise ValueError("seg must index the expansion points")
+        if (self.H1 is None) != (self.h is None):
+            raise ValueError("H1 and h must be given together (H_k = H + h[k] H1)")
+        if self.H1 is not None:
+            object.__setattr__(self, "H1", v.check_array("H1", self.H1, shape=self.H.shape))
+            object.__setattr__(self, "h", v.check_array("h", self.h, shape=(n_steps,)))
 
     @property
     def n_steps(self) -> int:
@@ -136,13 +146,18 @@ class AffineDiscreteModel:
         j = self.seg[k]
         return self.Qd0[j] + self.a[k] * self.QdA[j] + self.b[k] * self.QdB[j]
 
+    def h_matrix(self, k: int) -> np.ndarray:
+        """``H_k``, the measurement matrix after step ``k`` (0 <= k < n_steps)."""
+        k = self._step(k)
+        return self.H.copy() if self.H1 is None else self.H + self.h[k] * self.H1
+
     def sparsity(self) -> tuple[np.ndarray, np.ndarray]:
         """CSR row pointers and column indices of the union of the nonzeros of ``Φ``."""
         return csr_pattern(np.any((self.Phi0 != 0) | (self.PhiA != 0) | (self.PhiB != 0), axis=0))
 
     def measurement_sparsity(self) -> tuple[np.ndarray, np.ndarray]:
-        """CSR row pointers and column indices of the nonzeros of ``H``."""
-        return csr_pattern(self.H != 0)
+        """CSR row pointers and column indices of the nonzeros of ``H`` (and of ``H1``)."""
+        return csr_pattern((self.H != 0) if self.H1 is None else (self.H != 0) | (self.H1 != 0))
 
 
 def csr_pattern(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -207,7 +222,8 @@ def covariance_reference(
     store_every : int
         Keep the full ``P`` every ``store_every`` steps.
     step_matrices, n_steps, H, R
-        The alternative description of the model.
+        The alternative description of the model (``H`` may be a callable ``k -> H_k``,
+        the measurement matrix after step ``k``).
 
     Returns
     -------
@@ -228,10 +244,13 @@ def covariance_reference(
     >>> f"{run.var[-1, 0]:.4f}"
     '0.6180'
     """
+    h_of_step = None
     if step_matrices is None:
         P0, store_every = _check_run(model, P0, store_every)
         step_matrices = lambda k: (model.phi(k), model.qd(k))  # noqa: E731
         n_steps, H, R = model.n_steps, model.H, np.diag(model.r)
+        if model.H1 is not None:
+            h_of_step = model.h_matrix
     else:
         if not callable(step_matrices):
             raise TypeError("step_matrices must be callable, k -> (Phi_k, Qd_k); "
@@ -242,7 +261,11 @@ def covariance_reference(
         v.check_covariance("P0", P0)
         store_every = v.check_int("store_every", store_every, 1)
         n_steps = v.check_int("n_steps", n_steps, 0)
-        H = v.check_array("H", H, shape=(None, P0.shape[0]))
+        if callable(H):       # H_k after step k
+            h_of_step = H
+            H = v.check_array("H", h_of_step(0), shape=(None, P0.shape[0]))
+        else:
+            H = v.check_array("H", H, shape=(None, P0.shape[0]))
         R = v.check_covariance("R", v.check_array("R", R, shape=(H.shape[0], H.shape[0])))
     n, m = P0.shape[0], H.shape[0]
     P = P0.copy()
@@ -256,7 +279,7 @@ def covariance_reference(
     for k in range(n_steps):
         Phi, Qd = step_matrices(k)
         P = Phi @ P @ Phi.T + Qd
-        _, P, K = joseph_update(x, P, z, H, R)
+        _, P, K = joseph_update(x, P, z, H if h_of_step is None else h_of_step(k), R)
         gains[k] = K
         var[k + 1] = np.diag(P)
         if (k + 1) % store_every == 0:
@@ -272,11 +295,13 @@ def _predict_joseph(size: int | None):
 
     @njit(cache=True, nogil=True)
     def _predict_joseph_kernel(seg, a, b, Phi0, PhiA, PhiB, Qd0, QdA, QdB, rowptr, colidx,
-                               hptr, hidx, H, r, P0, store_every, var, P_stored, gains, fixed):
+                               hptr, hidx, H, H1, hs, tv, r, P0, store_every, var,
+                               P_stored, gains, fixed):
         """One kernel for both uses: ``fixed=False`` computes the optimal sequential gains and
         writes them to ``gains`` (if it has ``n_steps`` rows); ``fixed=True`` propagates the
         error covariance with the given ``gains`` (Joseph form, valid for any gain).
-        ``rowptr/colidx`` (``hptr/hidx``) list the nonzeros of ``Φ`` (of the rows of ``H``)."""
+        ``rowptr/colidx`` (``hptr/hidx``) list the nonzeros of ``Φ`` (of the rows of ``H``).
+        ``tv``: the measurement matrix after step ``k`` is ``H + hs[k] H1``."""
         n = P0.shape[0] if size is None else size
         m = H.shape[0]
         n_steps = seg.shape[0]
@@ -287,6 +312,7 @@ def _predict_joseph(size: int | None):
         T = np.zeros((n, n))
         Ph = np.zeros(n)
         kv = np.zeros(n)
+        Hk = H.copy()
         # element-wise copies: an array-slice assignment costs seconds of numba compile time
         for i in range(n):
             var[0, i] = P[i, i]
@@ -303,8 +329,14 @@ def _predict_joseph(size: int | None):
                 for c in range(i, n):
                     Qd[i, c] = Qd0[j, i, c] + ak * QdA[j, i, c] + bk * QdB[j, i, c]
             predict_covariance_inline(P, Phi, rowptr, colidx, Qd, T, n)
+            if tv:
+                hk = hs[k]
+                for q in range(m):
+                    for p in range(hptr[q], hptr[q + 1]):
+                        c = hidx[p]
+                        Hk[q, c] = H[q, c] + hk * H1[q, c]
             for q in range(m):
-                S = measurement_projection_inline(P, H, q, hptr, hidx, Ph, n) + r[q]
+                S = measurement_projection_inline(P, Hk, q, hptr, hidx, Ph, n) + r[q]
                 if fixed:
                     for i in range(n):
                         kv[i] = gains[k, q, i]
@@ -348,8 +380,12 @@ def _run_kernel(model, P0, store_every, gains, fixed, r=None, Qd=None) -> Covari
     var = np.empty((model.n_steps + 1, model.n))
     P_stored = np.empty((model.n_steps // store_every + 1, model.n, model.n))
     kernel = _sized_kernel(model.n) if model.n <= _SIZED_MAX else _predict_joseph_kernel
+    tv = model.H1 is not None
+    H1 = model.H1 if tv else np.zeros_like(model.H)
+    hs = model.h if tv else np.zeros(1)
     kernel(model.seg, model.a, model.b, model.Phi0, model.PhiA, model.PhiB, Qd0, QdA, QdB,
-           rowptr, colidx, hptr, hidx, model.H, r, P0, store_every, var, P_stored, gains, fixed)
+           rowptr, colidx, hptr, hidx, np.ascontiguousarray(model.H), np.ascontiguousarray(H1),
+           hs, tv, r, P0, store_every, var, P_stored, gains, fixed)
     return CovarianceRun(var=var, P_stored=P_stored, store_every=store_every,
                          gains=gains if gains.shape[0] == model.n_steps else None)
 

@@ -173,6 +173,9 @@ def covariance_square_root(model: AffineDiscreteModel, P0: object,
     """
     if not isinstance(model, AffineDiscreteModel):
         raise TypeError("model must be an AffineDiscreteModel")
+    if model.H1 is not None:
+        raise ValueError("model must have a constant H here (H1 = None): the square-root "
+                         "recursion does not take a time-varying measurement matrix")
     P0 = v.check_array("P0", P0, shape=(model.n, model.n))
     store_every = v.check_int("store_every", store_every, 1)
     S0 = _checked_cholesky_semidefinite("P0", P0)

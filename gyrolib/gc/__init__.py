@@ -30,6 +30,7 @@ Eq. (8)                  :func:`system_matrix`,                  ``gc.model.stat
                          :func:`measurement_matrix`, …
 Eqs. (1)–(8), symbolic   ``gc.symbolic``                         ``gc.model.symbolic``
 parameters, state        :class:`GyrocompassParams`              ``gc.model.params``
+instrument errors        :data:`TERMS`, :func:`state_names`      ``gc.model.instrument``
 Δt = 0.001 s model       :func:`discretize`                      ``gc.model.discretization``
 Figure 1                 :func:`plot_figure1`                    ``gc.plots``
 Figure 2                 :func:`psd`, :func:`plot_shaping_psd`   ``gc.model.shaping_filters``
@@ -120,8 +121,11 @@ from gyrolib.gc.model import (
     NOISE_NAMES,
     SEGMENT,
     STATE_NAMES,
+    TERMS,
     GCDiscretization,
     GyrocompassParams,
+    InstrumentModel,
+    InstrumentTerm,
     NominalIntegrator,
     NominalMotion,
     ShapingFilter,
@@ -129,6 +133,7 @@ from gyrolib.gc.model import (
     float_acceleration,
     gyroscopic_torque,
     initial_covariance,
+    instrument_model,
     linearized_acceleration,
     mean_square_standard_error,
     measurement_matrix,
@@ -147,6 +152,7 @@ from gyrolib.gc.model import (
     random_drift_filter,
     simulate_shaping_filter,
     state_index,
+    state_names,
     stationary_covariance,
     system_matrix,
     system_matrix_parts,
@@ -211,6 +217,7 @@ __all__ = [
     "SENSITIVITY_OUTPUTS",
     "SHAPING_FIELDS",
     "STATE_NAMES",
+    "TERMS",
     "VIBRATION_FRAMES",
     "AllanDeviation",
     "AllanSeries",
@@ -225,6 +232,8 @@ __all__ = [
     "GyrocompassParams",
     "InclinometerMapping",
     "InformationPsiOmega",
+    "InstrumentModel",
+    "InstrumentTerm",
     "LinearizationEffect",
     "MonteCarloResult",
     "NoiseFit",
@@ -257,6 +266,7 @@ __all__ = [
     "information_psi_omega",
     "initial_covariance",
     "innovation_log_likelihood",
+    "instrument_model",
     "linearization_effect",
     "linearized_acceleration",
     "mean_square_standard_error",
@@ -313,6 +323,7 @@ __all__ = [
     "simulate_truth",
     "speed_claim_map",
     "state_index",
+    "state_names",
     "stationary_covariance",
     "sweep_covariance",
     "sweep_sigma_gc",

@@ -61,6 +61,7 @@ from gyrolib.gc.analysis.covariance import CovarianceAnalysis, CovarianceSweep
 from gyrolib.gc.logs.allan import AllanDeviation
 from gyrolib.gc.logs.calibration import CalibrationResult
 from gyrolib.gc.logs.convention import ConventionStudy
+from gyrolib.gc.model.instrument import state_names
 from gyrolib.gc.model.nominal import NominalMotion
 from gyrolib.gc.model.params import MEASUREMENT_NAMES
 from gyrolib.gc.racing.comparison import RaceResult, RaceSweep
@@ -594,9 +595,10 @@ def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s
     s = from_si(mc.std(state), unit)
     r = from_si(mc.rms_error(state), unit)
     b1 = nees_bounds(1, mc.n_runs, confidence)
-    bn = nees_bounds(mc.est.shape[2], mc.n_runs, confidence)
+    dof = len(state_names(mc.params))   # the filter's states (what nees() takes)
+    bn = nees_bounds(dof, mc.n_runs, confidence)
     nees = {f"{state} (1 dof)": (mc.nees((state,)).mean(axis=0), b1),
-            f"full state ({mc.est.shape[2]} dof)": (mc.nees().mean(axis=0), bn)}
+            f"full state ({dof} dof)": (mc.nees().mean(axis=0), bn)}
     pct = f"{100 * confidence:g} %"
     fig = Figure(figsize=(10.0, 4.0), layout="constrained")
     ax_r, ax_n = fig.subplots(1, 2)

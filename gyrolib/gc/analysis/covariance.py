@@ -13,11 +13,14 @@ from numpy.typing import ArrayLike, NDArray
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
-from gyrolib.gc.model.discretization import DISCRETIZATIONS, N, discretize_steps, steps_in
-from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
-from gyrolib.gc.model.state_space import (
-    build_initial_covariance,
+from gyrolib.gc.model.discretization import (
+    DISCRETIZATIONS,
+    augmented_initial_covariance,
+    discretize_steps,
+    steps_in,
 )
+from gyrolib.gc.model.instrument import augmented_index, build_instrument_model
+from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
 
 __all__ = [
     "CovarianceAnalysis",
@@ -35,20 +38,26 @@ __all__ = [
 @dataclass(frozen=True)
 class CovarianceAnalysis:
     """Posterior covariance of the filter: variances at every step, full ``P`` at
-    ``t_stored``.  ``std(name)`` is in SI units (rad, rad/s, m/s², m/s³, rad/s²)."""
+    ``t_stored``, of the states ``names`` (Eq. (8)'s, then the instrument constants that are
+    ON, :func:`gyrolib.gc.state_names`).  ``std(name)`` is in SI units (rad, rad/s, m/s²,
+    m/s³, rad/s²; the constants in theirs)."""
 
     params: GyrocompassParams
     t: np.ndarray
     var: np.ndarray
     t_stored: np.ndarray
     P_stored: np.ndarray
+    names: tuple[str, ...] = STATE_NAMES
 
     def __post_init__(self) -> None:
         check_params(self.params)
+        if not isinstance(self.names, tuple) or self.names[:len(STATE_NAMES)] != STATE_NAMES:
+            raise ValueError("names must be a tuple that starts with STATE_NAMES")
+        n = len(self.names)
         nt = v.check_ndarray("t", self.t, ndim=1).size
-        v.check_ndarray("var", self.var, shape=(nt, N))
+        v.check_ndarray("var", self.var, shape=(nt, n))
         ns = v.check_ndarray("t_stored", self.t_stored, ndim=1).size
-        v.check_ndarray("P_stored", self.P_stored, shape=(ns, N, N))
+        v.check_ndarray("P_stored", self.P_stored, shape=(ns, n, n))
 
     def std(self, name: str) -> NDArray[np.float64]:
         """Standard deviation of ``name``'s estimate at every step (SI units).
@@ -60,7 +69,7 @@ class CovarianceAnalysis:
         >>> res.std("omega_gc").shape
         (11,)
         """
-        return np.sqrt(np.clip(self.var[:, state_index(name)], 0.0, None))
+        return np.sqrt(np.clip(self.var[:, augmented_index(self.names, name)], 0.0, None))
 
     def std_at(self, name: str, time: float) -> float:
         """Standard deviation at the step nearest to ``time`` (s).
@@ -116,7 +125,11 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
 
     Runs the filter's covariance recursion (prediction ``P⁻ = Φ P Φᵀ + Qd``, Joseph-form
     update with the angle sensor and both inclinometers, Eq. (8) of paper GC) over
-    ``[0, t_end]``.
+    ``[0, t_end]``.  The instrument constants that are ON for ``params``
+    (:func:`gyrolib.gc.instrument_model`: a prior ``sigma_as_offset``, ``sigma_incl_bias``
+    or ``sigma_hf_scale`` > 0) are appended to the state (constant, their prior variance in
+    ``P(0)``, their readings ``H0 + β_n(t_k) H1`` at each sample); at the defaults there are
+    none.
 
     Parameters
     ----------
@@ -129,9 +142,11 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     method : {"fast", "reference"}, default "fast"
         ``"fast"``: numba kernel on the affine discretization; ``"reference"``: plain numpy
         with a per-step discretization and batch Joseph updates (slow: tests, benchmarks).
-    P0 : array_like of shape (10, 10), optional
-        Initial covariance (symmetric, positive semi-definite); default
-        :func:`gyrolib.gc.initial_covariance` (e.g. override to study a partly known N1…N4).
+    P0 : array_like of shape (n, n), optional
+        Initial covariance (symmetric, positive semi-definite) of the ``n`` states
+        :func:`gyrolib.gc.state_names`; default :func:`gyrolib.gc.initial_covariance` with
+        the constants' prior variances appended (e.g. override to study a partly known
+        N1…N4).
     discretization : {"van_loan", "euler"}, default "van_loan"
         How Eq. (8) becomes the discrete model (see :func:`gyrolib.gc.discretize`).
 
@@ -151,29 +166,38 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     ...     print(d, f"{from_si(res.final_std(), 'arcsec_paper/s'):.4f}")
     van_loan 0.0281
     euler 0.0281
+
+    With a prior on the angle sensor's null offset, the offset is an 11th state:
+
+    >>> res = gc.covariance_analysis(replace(p, sigma_as_offset=5e-6), 2.0)
+    >>> res.names[10:], f"{res.final_std('angle_offset') / 5e-6:.3f}"
+    (('angle_offset',), '0.120')
     """
     p = check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("discretization", discretization, DISCRETIZATIONS)
-    disc = discretize_steps(p, steps_in(p, t_end), discretization)
+    inst = build_instrument_model(p)
+    disc = discretize_steps(p, steps_in(p, t_end), discretization, inst)
+    n = disc.model.n
     se = default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     if P0 is None:
-        P0 = build_initial_covariance(p)
+        P0 = augmented_initial_covariance(p, inst)
     else:
-        P0 = v.check_array("P0", P0, shape=(N, N))
+        P0 = v.check_array("P0", P0, shape=(n, n))
         if not np.allclose(P0, P0.T, rtol=1e-12, atol=0.0) or np.any(np.diag(P0) < 0):
             raise ValueError("P0 must be symmetric with a non-negative diagonal")
         _check_covariance_matrix("P0", P0)
     if method == "fast":
         run = covariance_fast(disc.model, P0, se)
     else:
+        mdl = disc.model
         run = covariance_reference(
             None, P0, se, step_matrices=disc.exact_step, n_steps=disc.n_steps,
-            H=disc.model.H, R=np.diag(disc.model.r))
+            H=mdl.H if mdl.H1 is None else mdl.h_matrix, R=np.diag(mdl.r))
     t = disc.t
     return CovarianceAnalysis(params=p, t=t, var=run.var, t_stored=t[::se].copy(),
-                              P_stored=run.P_stored)
+                              P_stored=run.P_stored, names=disc.state_names)
 
 
 def time_to_sigma(result: CovarianceAnalysis, name: str, level: float) -> float:

@@ -70,11 +70,22 @@ from gyrolib import _validation as v
 from gyrolib._executor import check_executor
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.consistency import nees_bounds
-from gyrolib.filtering.covariance import covariance_fast, covariance_reference, csr_pattern
+from gyrolib.filtering.covariance import covariance_fast, covariance_reference
 from gyrolib.gc.analysis.covariance import default_store_every
-from gyrolib.gc.model.discretization import N, discretize, steps_in
-from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params, state_index
-from gyrolib.gc.model.state_space import initial_covariance
+from gyrolib.gc.model.discretization import (
+    N,
+    augmented_initial_covariance,
+    discretize_steps,
+    steps_in,
+)
+from gyrolib.gc.model.instrument import (
+    InstrumentModel,
+    augmented_index,
+    build_instrument_model,
+    state_names,
+    union_names,
+)
+from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
 
 __all__ = [
     "MonteCarloResult",
@@ -109,7 +120,9 @@ class TruthModel(NamedTuple):
     ``off_b``, ``off_bd``: the truth's nominal minus the filter's at the samples;
     ``substeps``; ``linear``: which torques are replaced by their linearization about the
     nominal (the filter's Eq. (5)): 0 none, 1 all, 2 the horizontal-rate term, 3 the tilt
-    terms (:data:`LINEARIZE`).
+    terms (:data:`LINEARIZE`); ``nb`` instrument constants (states ``10 … 10 + nb − 1``,
+    constant), whose readings ``(Hb0 + β Hb1) b`` are added to the samples, with ``beta_s``
+    the truth's nominal float angle at the samples (:mod:`gyrolib.gc.model.instrument`).
     """
 
     h: float
@@ -133,12 +146,19 @@ class TruthModel(NamedTuple):
     off_bd: NDArray[np.float64]
     substeps: int
     linear: int
+    nb: int
+    Hb0: NDArray[np.float64]
+    Hb1: NDArray[np.float64]
+    beta_s: NDArray[np.float64]
 
 
 class FilterModel(NamedTuple):
     """The filter's arrays for the kernels: nonzeros of ``Φ_k`` per step (``phis``, CSR
-    pattern ``rowptr``, ``colidx``), the measurement matrix ``H`` (CSR ``hptr``, ``hidx``) and
-    the gains ``K_k`` (steps × m × n)."""
+    pattern ``rowptr``, ``colidx``), the measurement matrix after step ``k``,
+    ``H0 + hs[k] H1`` with ``H = [H0; H1]`` (2m × n: its rows ``m …`` are ``H1``, zero for
+    a constant ``H``; CSR ``hptr``, ``hidx`` of the nonzeros of both) and the gains ``K_k``
+    (steps × m × n).  (``H1`` rides in ``H``: an array more in the kernel's hot loop costs
+    time even when it is zero.)"""
 
     phis: NDArray[np.float64]
     rowptr: NDArray[np.int64]
@@ -147,6 +167,7 @@ class FilterModel(NamedTuple):
     hptr: NDArray[np.int64]
     hidx: NDArray[np.int64]
     gains: NDArray[np.float64]
+    hs: NDArray[np.float64]
 
 
 @njit(cache=True, fastmath=True)
@@ -303,11 +324,17 @@ LINEARIZE: Final[dict[str, int]] = {"nonlinear": 0, "linear": 1, "linear_horizon
 
 
 def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
-                substeps: int = TRUTH_SUBSTEPS, linear: bool | int = False) -> TruthModel:
+                substeps: int = TRUTH_SUBSTEPS, linear: bool | int = False,
+                inst: InstrumentModel | None = None) -> TruthModel:
     """The truth's arrays over ``n_steps`` samples of ``filt.dt`` (see :class:`TruthModel`);
     ``filt`` only sets the nominal the states are reported against.  ``linear``: ``False``
     (0) the nonlinear torques, ``True`` (1) all linearized, 2 or 3 one term (see
-    :data:`LINEARIZE`)."""
+    :data:`LINEARIZE`).  ``inst``: the instrument constants the truth's state carries after
+    its 10 states (their readings; ``None``: none)."""
+    if inst is not None and inst.couples_dynamics:
+        raise ValueError("inst must not couple a constant into the dynamics (Fb != 0): the "
+                         "truth integrates Eq. (3) and reads the constants in its samples "
+                         "only")
     h = truth.dt / substeps
     n_fine = n_steps * substeps
     Ab = np.array([[0.0, 1.0], [0.0, -truth.f / truth.I]])
@@ -339,7 +366,10 @@ def truth_model(truth: GyrocompassParams, filt: GyrocompassParams, n_steps: int,
         hi=truth.H / truth.I,
         ub=truth.H * truth.omega_ub / (truth.I * truth.g), g=truth.g,
         sr=_truth_noise_sd(truth), off_b=b_t - b_f,
-        off_bd=bd_t - bd_f, substeps=int(substeps), linear=int(linear))
+        off_bd=bd_t - bd_f, substeps=int(substeps), linear=int(linear),
+        nb=0 if inst is None else inst.nb,
+        Hb0=np.zeros((3, 0)) if inst is None else np.ascontiguousarray(inst.H0),
+        Hb1=np.zeros((3, 0)) if inst is None else np.ascontiguousarray(inst.H1), beta_s=b_t)
 
 
 # Fast kernel (numba): one block of runs, the runs in the innermost loops (SIMD) -----------------
@@ -429,7 +459,7 @@ def _filter_and_store(k, kk, noise, tm, fm, x, xh, y, u, store_every, est, tru, 
     n = x.shape[0]
     B = _RUN_BLOCK
     n_runs = est.shape[0]
-    m = fm.H.shape[0]
+    m = fm.H.shape[0] // 2
     nw = 2 * tm.substeps
     ob = tm.off_b[k + 1]
     if run_filter:
@@ -450,15 +480,24 @@ def _filter_and_store(k, kk, noise, tm, fm, x, xh, y, u, store_every, est, tru, 
             y[0, r] = x[0, r] + ob + tm.sr[0] * noise[kk, nw, r]
             y[1, r] = tm.g * x[4, r] + x[6, r] + tm.sr[1] * noise[kk, nw + 1, r]
             y[2, r] = tm.g * x[5, r] + x[6, r] + tm.sr[2] * noise[kk, nw + 2, r]
+        # plus the instrument constants (rows 10 …): (Hb0 + β Hb1) b
+        bs = tm.beta_s[k + 1]
+        for e in range(tm.nb):
+            for q in range(3):
+                cq = tm.Hb0[q, e] + bs * tm.Hb1[q, e]
+                if cq != 0.0:
+                    for r in range(B):
+                        y[q, r] += cq * x[10 + e, r]
         # update, one scalar measurement after the other (the gains of
         # covariance_fast are those of sequential updates):
-        # x̂ ← x̂ + K_{k,q} (z_q − H_q x̂)
+        # x̂ ← x̂ + K_{k,q} (z_q − H_q x̂), H after step k = H + hs[k] H1
+        hk = fm.hs[k]
         for q in range(m):
             for r in range(B):
                 u[r] = y[q, r]
             for p in range(fm.hptr[q], fm.hptr[q + 1]):
                 c = fm.hidx[p]
-                h = fm.H[q, c]
+                h = fm.H[q, c] + hk * fm.H[m + q, c]
                 for r in range(B):
                     u[r] -= h * xh[c, r]
             for i in range(n):
@@ -686,7 +725,8 @@ def _mc_block_run(n_steps, state, noise, ubuf, tm, fm, x, xh, y, u, store_every,
 # Reference path (plain numpy): the same recursion, written like filterpy -----------------------
 def _reference_block(k0: int, noise: np.ndarray, tm: TruthModel, Phi: list, H: np.ndarray,
                      gains: np.ndarray | None, X: np.ndarray, Xh: np.ndarray,
-                     store: callable) -> None:
+                     store: callable, H1: np.ndarray | None = None,
+                     hs: np.ndarray | None = None) -> None:
     """One chunk of one block (``X``, ``Xh``: B×n, rows are runs), torques by ``np.cos``."""
     M = tm.substeps
     for kk in range(noise.shape[0]):
@@ -722,8 +762,11 @@ def _reference_block(k0: int, noise: np.ndarray, tm: TruthModel, Phi: list, H: n
             x_true[:, 0] += tm.off_b[k + 1]
             z = np.stack([x_true[:, 0], tm.g * X[:, 4] + X[:, 6], tm.g * X[:, 5] + X[:, 6]],
                          axis=1) + noise[kk, 2 * M:].T * tm.sr
+            if tm.nb:   # the instrument constants' readings
+                z = z + X[:, N:N + tm.nb] @ (tm.Hb0 + tm.beta_s[k + 1] * tm.Hb1).T
+            Hk = H if H1 is None else H + hs[k] * H1
             # x̂ = x̂⁻ + K (z − H x̂⁻)
-            Xh[:] = Xh + (z - Xh @ H.T) @ gains[k].T
+            Xh[:] = Xh + (z - Xh @ Hk.T) @ gains[k].T
         store(k, X, Xh)
 
 
@@ -808,9 +851,9 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
         run_filter = fm is not None
         if fm is None:  # the kernel needs typed arrays even when the filter is off
             fm = FilterModel(np.zeros((n_steps, 1)), np.zeros(N + 1, np.int64),
-                             np.zeros(1, np.int64), np.zeros((3, N)),
+                             np.zeros(1, np.int64), np.zeros((6, N)),
                              np.zeros(4, np.int64), np.zeros(1, np.int64),
-                             np.zeros((n_steps, 3, N)))
+                             np.zeros((n_steps, 3, N)), np.zeros(n_steps))
 
         def task(b: int) -> None:
             x = np.ascontiguousarray(Xp[b * B:(b + 1) * B].T)
@@ -840,7 +883,8 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
         store = _row_store(rows, store_every, est, tru, tm)
 
         for k0, noise in noise_chunks(b):
-            _reference_block(k0, noise, tm, phi_of_step, None if fm is None else fm.H,
+            _reference_block(k0, noise, tm, phi_of_step,
+                             None if fm is None else fm.H[:fm.H.shape[0] // 2],
                              None if fm is None else fm.gains, X, Xh, store)
     return est, tru
 
@@ -876,14 +920,22 @@ def run_streams(seed: int, n_runs: int) -> list[np.random.Generator]:
             for child in np.random.SeedSequence(seed).spawn(n_runs)]
 
 
-def _run_inputs(tp: GyrocompassParams, seed: int, n_runs: int) -> tuple[np.ndarray, np.ndarray]:
-    """Each run's initial state (n_runs × 10, from the truth's prior) and the state of its
-    generator after drawing it (4 × n_runs ``uint64``: SFC64's ``a, b, c, counter``)."""
+def _run_inputs(tp: GyrocompassParams, seed: int, n_runs: int,
+                inst: InstrumentModel | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Each run's initial state (n_runs × (10 + nb), from the truth's prior) and the state of
+    its generator after drawing it (4 × n_runs ``uint64``: SFC64's ``a, b, c, counter``).
+    The instrument constants of ``inst`` with a prior > 0 are drawn after the 10 states,
+    from the same stream (none ON: the stream and the runs are those of the paper's
+    model)."""
     L = truth_prior_factor(tp)
-    X0 = np.empty((n_runs, N))
+    nb = 0 if inst is None else inst.nb
+    on = np.zeros(0, np.int64) if inst is None else np.nonzero(inst.prior > 0.0)[0]
+    X0 = np.zeros((n_runs, N + nb))
     states = np.empty((4, n_runs), np.uint64)
     for i, gen in enumerate(run_streams(seed, n_runs)):
-        X0[i] = L @ gen.standard_normal(N)
+        X0[i, :N] = L @ gen.standard_normal(N)
+        if on.size:
+            X0[i, N + on] = inst.prior[on] * gen.standard_normal(on.size)
         states[:, i] = gen.bit_generator.state["state"]["state"]
     return X0, states
 
@@ -897,6 +949,7 @@ class _Prepared(NamedTuple):
     store_every: int
     method: str
     phi: object
+    names: tuple[str, ...]
 
 
 @dataclass(frozen=True)
@@ -912,27 +965,40 @@ class _Recipe:
     substeps: int
 
 
+def _instruments(r: _Recipe) -> tuple[InstrumentModel, InstrumentModel]:
+    """The instrument constants of the filter and of the truth on one state vector: those
+    ON in either (a constant OFF in one has prior 0 there: known to be 0)."""
+    names = union_names(r.params, r.truth_params)
+    return (build_instrument_model(r.params, names),
+            build_instrument_model(r.truth_params, names))
+
+
 def _prepare(r: _Recipe) -> tuple[_Prepared, np.ndarray]:
     """The filter's gains and model, the truth's arrays; and the filter's stored P."""
     p = r.params
-    disc = discretize(p, r.t_end)
+    inst_f, inst_t = _instruments(r)
+    disc = discretize_steps(p, steps_in(p, r.t_end), "van_loan", inst_f)
     se = default_store_every(disc.n_steps) if r.store_every is None else r.store_every
     mdl = disc.model
-    P0 = initial_covariance(p)
+    P0 = augmented_initial_covariance(p, inst_f)
     if r.method == "fast":
         run = covariance_fast(mdl, P0, se, keep_gains=True)
     else:
         run = covariance_reference(mdl, P0, se)
-    tm = truth_model(r.truth_params, p, disc.n_steps, r.substeps, r.linear)
+    tm = truth_model(r.truth_params, p, disc.n_steps, r.substeps, r.linear,
+                     inst_t if inst_t.nb else None)
     rowptr, colidx = mdl.sparsity()
-    hptr, hidx = csr_pattern(mdl.H != 0)
+    hptr, hidx = mdl.measurement_sparsity()
     phis = np.empty((mdl.n_steps, colidx.size))
     if r.method == "fast":
         _step_phi(mdl.seg, mdl.a, mdl.b, mdl.Phi0, mdl.PhiA, mdl.PhiB, rowptr, colidx, phis)
-    fm = FilterModel(phis, rowptr, colidx, np.ascontiguousarray(mdl.H), hptr, hidx,
-                     np.ascontiguousarray(run.gains))
+    H1 = np.zeros_like(mdl.H) if mdl.H1 is None else mdl.H1
+    fm = FilterModel(phis, rowptr, colidx, np.ascontiguousarray(np.vstack([mdl.H, H1])), hptr,
+                     hidx, np.ascontiguousarray(run.gains),
+                     np.zeros(mdl.n_steps) if mdl.h is None else mdl.h)
     phi = _LazyPhi(mdl) if r.method == "reference" else None
-    return _Prepared(tm, fm, disc.n_steps, se, r.method, phi), run.P_stored
+    return (_Prepared(tm, fm, disc.n_steps, se, r.method, phi, disc.state_names),
+            run.P_stored)
 
 
 @functools.lru_cache(maxsize=1)
@@ -946,10 +1012,11 @@ def _run_chunk(prep: _Prepared, X0: np.ndarray, states: np.ndarray) -> tuple[np.
     ``states``), a block of ``_RUN_BLOCK`` lanes after the other; ``(est, tru)``."""
     tm, fm, n_steps, se = prep.tm, prep.fm, prep.n_steps, prep.store_every
     n, B = X0.shape[0], _RUN_BLOCK
+    ns = X0.shape[1]      # 10 states and the instrument constants
     width = 2 * tm.substeps + 3
     n_store = n_steps // se + 1
-    est = np.zeros((n, n_store, N))
-    tru = np.zeros((n, n_store, N))
+    est = np.zeros((n, n_store, ns))
+    tru = np.zeros((n, n_store, ns))
     tru[:, 0] = X0
     for b in range(-(-n // B)):
         lanes = slice(b * B, min((b + 1) * B, n))
@@ -957,7 +1024,7 @@ def _run_chunk(prep: _Prepared, X0: np.ndarray, states: np.ndarray) -> tuple[np.
         st = np.zeros((4, B), np.uint64)   # lanes past the last run: a dummy stream, unused
         st[:, :nv] = states[:, lanes]
         if prep.method == "fast":
-            x = np.zeros((N, B))
+            x = np.zeros((ns, B))
             x[:, :nv] = X0[lanes].T
             x[0] -= tm.off_b[0]
             x[1] -= tm.off_bd[0]
@@ -973,7 +1040,7 @@ def _run_chunk(prep: _Prepared, X0: np.ndarray, states: np.ndarray) -> tuple[np.
             bg.state = {"bit_generator": "SFC64", "state": {"state": st[:, r].copy()},
                         "has_uint32": 0, "uinteger": 0}
             gens.append(np.random.Generator(bg))
-        X = np.zeros((B, N))
+        X = np.zeros((B, ns))
         X[:nv] = X0[lanes]
         Xh = np.zeros_like(X)
 
@@ -984,7 +1051,9 @@ def _run_chunk(prep: _Prepared, X0: np.ndarray, states: np.ndarray) -> tuple[np.
             noise = np.zeros((steps, width, B))
             for r, gen in enumerate(gens):
                 noise[:, :, r] = gen.standard_normal((steps, width))
-            _reference_block(k0, noise, tm, prep.phi, fm.H, fm.gains, X, Xh, store)
+            m = fm.H.shape[0] // 2
+            _reference_block(k0, noise, tm, prep.phi, fm.H[:m], fm.gains, X, Xh, store,
+                             fm.H[m:], fm.hs)
     return est, tru
 
 
@@ -1017,8 +1086,8 @@ def _run_all(task: _ChunkTask, X0: np.ndarray, states: np.ndarray, n_store: int,
     nb = -(-n // _RUN_BLOCK)
     per = 1 if executor is None else -(-nb // _EXECUTOR_CHUNKS)
     bounds = [(lo, min(lo + per * _RUN_BLOCK, n)) for lo in range(0, n, per * _RUN_BLOCK)]
-    est = np.empty((n, n_store, N))
-    tru = np.empty((n, n_store, N))
+    est = np.empty((n, n_store, X0.shape[1]))
+    tru = np.empty((n, n_store, X0.shape[1]))
 
     def put(lo: int, hi: int, out: tuple[np.ndarray, np.ndarray]) -> None:
         est[lo:hi], tru[lo:hi] = out
@@ -1053,7 +1122,10 @@ class MonteCarloResult:
     """Monte Carlo runs (paper GC, Figure 4): estimates and truth at ``t`` (every
     ``store_every`` samples), the filter's posterior covariance ``P`` at the same times, the
     filter's ``params``, the truth's ``truth_params`` (``None``: the same) and which of its
-    torques were linearized (``truth_mode``: the ``truth`` of :func:`monte_carlo`)."""
+    torques were linearized (``truth_mode``: the ``truth`` of :func:`monte_carlo`).  The
+    states are ``names``: Eq. (8)'s, then the instrument constants ON in the filter or the
+    truth (:mod:`gyrolib.gc.model.instrument`; one OFF in the filter has estimate and σ 0,
+    one OFF in the truth the true value 0)."""
 
     params: GyrocompassParams
     t: NDArray[np.float64]
@@ -1063,16 +1135,20 @@ class MonteCarloResult:
     seed: int
     truth_params: GyrocompassParams | None = None
     truth_mode: str = "nonlinear"
+    names: tuple[str, ...] = STATE_NAMES
 
     def __post_init__(self) -> None:
         check_params(self.params)
         if self.truth_params is not None:
             v.check_instance("truth_params", self.truth_params, GyrocompassParams)
         v.check_choice("truth_mode", self.truth_mode, tuple(LINEARIZE))
+        if not isinstance(self.names, tuple) or self.names[:N] != STATE_NAMES:
+            raise ValueError("names must be a tuple that starts with STATE_NAMES")
+        n = len(self.names)
         nt = v.check_ndarray("t", self.t, ndim=1).size
-        runs = v.check_ndarray("est", self.est, shape=(None, nt, N)).shape[0]
-        v.check_ndarray("tru", self.tru, shape=(runs, nt, N))
-        v.check_ndarray("P", self.P, shape=(nt, N, N))
+        runs = v.check_ndarray("est", self.est, shape=(None, nt, n)).shape[0]
+        v.check_ndarray("tru", self.tru, shape=(runs, nt, n))
+        v.check_ndarray("P", self.P, shape=(nt, n, n))
         v.check_int("seed", self.seed, 0)
 
     @property
@@ -1082,11 +1158,11 @@ class MonteCarloResult:
 
     def estimate(self, name: str) -> NDArray[np.float64]:
         """Estimates of state ``name``, shape ``(n_runs, len(t))``, SI."""
-        return self.est[:, :, state_index(name)]
+        return self.est[:, :, augmented_index(self.names, name)]
 
     def truth(self, name: str) -> NDArray[np.float64]:
         """True values of state ``name``, shape ``(n_runs, len(t))``, SI."""
-        return self.tru[:, :, state_index(name)]
+        return self.tru[:, :, augmented_index(self.names, name)]
 
     def error(self, name: str) -> NDArray[np.float64]:
         """Estimation error (estimate − truth) of state ``name``, ``(n_runs, len(t))``."""
@@ -1094,7 +1170,7 @@ class MonteCarloResult:
 
     def std(self, name: str) -> NDArray[np.float64]:
         """Filter standard deviation of state ``name`` at ``t`` (what the filter claims)."""
-        i = state_index(name)
+        i = augmented_index(self.names, name)
         return np.sqrt(np.clip(self.P[:, i, i], 0.0, None))
 
     def rms_error(self, name: str) -> NDArray[np.float64]:
@@ -1103,15 +1179,16 @@ class MonteCarloResult:
 
     def nees(self, names: tuple[str, ...] | None = None) -> NDArray[np.float64]:
         """Normalized estimation error squared per run and time, ``(n_runs, len(t))``,
-        for the states ``names`` (default: all 10); ``nan`` where ``P`` of those states is
-        singular (``t = 0`` when a state starts known)."""
+        for the states ``names`` (default: the filter's, :func:`gyrolib.gc.state_names` of
+        ``params``: the 10 of Eq. (8) and its instrument constants); ``nan`` where ``P`` of
+        those states is singular (``t = 0`` when a state starts known)."""
         if isinstance(names, str) or not (names is None or isinstance(names, list | tuple)):
             raise TypeError("names must be a tuple or list of state names (or None); "
                             f"got {type(names).__name__}")
-        names = STATE_NAMES if names is None else tuple(names)
+        names = state_names(self.params) if names is None else tuple(names)
         if not names:
             raise ValueError("names must name at least one state")
-        idx = [state_index(nm) for nm in names]
+        idx = [augmented_index(self.names, nm) for nm in names]
         e = (self.est - self.tru)[:, :, idx]
         out = np.full(e.shape[:2], np.nan)
         for ti in range(self.t.size):
@@ -1147,10 +1224,10 @@ class MonteCarloResult:
     def inside_share(self, names: tuple[str, ...] | None = None,
                      confidence: float = 0.95) -> float:
         """Share of the stored times ``t > 0`` at which the ensemble-average NEES of
-        ``names`` (default: all 10 states) lies in its two-sided chi-square band of one time
-        {cite:p}`BarShalom2001`.  A consistent filter is inside at ``confidence`` of the times
-        on average; neighbouring times are correlated, so the share of one set of runs
-        scatters widely around that.
+        ``names`` (default: the filter's states, as :meth:`nees`) lies in its two-sided
+        chi-square band of one time {cite:p}`BarShalom2001`.  A consistent filter is inside
+        at ``confidence`` of the times on average; neighbouring times are correlated, so the
+        share of one set of runs scatters widely around that.
 
         Examples
         --------
@@ -1162,7 +1239,7 @@ class MonteCarloResult:
         conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
                                 high_open=True)
         x = self.nees(names).mean(axis=0)[1:]
-        dof = N if names is None else len(names)
+        dof = len(state_names(self.params)) if names is None else len(names)
         lo, hi = nees_bounds(dof, self.n_runs, conf)
         return float(np.mean((x > lo) & (x < hi)))
 
@@ -1188,7 +1265,10 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
         same whatever ``n_runs``, the executor and the number of threads or processes.
     truth_params : GyrocompassParams, optional
         The truth's parameters (default: the filter's); they must share ``dt``.  The initial
-        states are drawn from the truth's prior.
+        states are drawn from the truth's prior, and after them, from the same stream, the
+        instrument constants ON in the truth (:func:`gyrolib.gc.instrument_model`: a prior
+        ``sigma_as_offset``, ``sigma_incl_bias`` or ``sigma_hf_scale`` > 0), which its
+        samples then read; the filter carries the constants ON in ``params`` as states.
     store_every : int, optional
         Store every ``store_every``-th sample (default: about 1000 stored times).
     method : {"fast", "reference"}
@@ -1235,15 +1315,21 @@ def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
     if store_every is not None:
         store_every = v.check_int("store_every", store_every, 1)
     recipe = _Recipe(p, tp, float(t_end), store_every, method, LINEARIZE[truth], substeps)
+    for inst in _instruments(recipe):
+        coupled = [nm for nm, col in zip(inst.names, inst.Fb.T, strict=True) if np.any(col)]
+        if coupled:
+            raise ValueError(f"params: the Monte Carlo's truth reads the instrument constants "
+                             f"in its samples only; a term with a dynamics column Fb != 0 "
+                             f"({', '.join(coupled)}) is not supported")
     prep, P_stored = _prepare(recipe)
-    X0, states = _run_inputs(tp, seed, n_runs)
+    X0, states = _run_inputs(tp, seed, n_runs, _instruments(recipe)[1])
     est, tru = _run_all(_ChunkTask(recipe, prep), X0, states,
                         n_steps // prep.store_every + 1, executor)
     se = prep.store_every
     return MonteCarloResult(params=p, t=np.arange(0, n_steps + 1, se) * p.dt, est=est,
                             tru=tru, P=P_stored, seed=int(seed),
                             truth_params=None if truth_params is None else tp,
-                            truth_mode=truth)
+                            truth_mode=truth, names=prep.names)
 
 
 class _LazyPhi:

@@ -53,6 +53,7 @@ from gyrolib.filtering.discretization import covariance_factor, van_loan, van_lo
 from gyrolib.filtering.kernels import kalman_kernels
 from gyrolib.gc.analysis.montecarlo import simulate_truth
 from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model import instrument
 from gyrolib.gc.model.discretization import (
     SEGMENT,
     NominalIntegrator,
@@ -84,12 +85,13 @@ M: Final[int] = len(MEASUREMENT_NAMES)
 SMALL_SHIFT: Final[float] = 0.05
 
 #: The constants of a real instrument that :func:`calibrate` estimates with the state (a
-#: bias-separated filter): a null offset of the angle sensor (rad), a bias of each
-#: inclinometer (m/s²) and the relative error κ of the scale common to ``H/f`` and the angle
-#: sensor's gain (the reading gains ``κ β_n``).  Their priors are
-#: ``params.sigma_as_offset``, ``sigma_incl_bias`` (both inclinometers), ``sigma_hf_scale``.
-BIAS_NAMES: Final[tuple[str, ...]] = ("angle_offset", "inclinometer_y_bias",
-                                      "inclinometer_z_bias", "scale")
+#: bias-separated filter), as the model declares them (:data:`gyrolib.gc.TERMS`): a null
+#: offset of the angle sensor (rad), a bias of each inclinometer (m/s²) and the relative
+#: error κ of the scale common to ``H/f`` and the angle sensor's gain (the reading gains
+#: ``κ β_n``).  Their priors are ``params.sigma_as_offset``, ``sigma_incl_bias`` (both
+#: inclinometers), ``sigma_hf_scale``.  (:func:`calibrate` reads the declaration at each
+#: call; the result's ``bias_names`` are the terms it carried.)
+BIAS_NAMES: Final[tuple[str, ...]] = tuple(t.name for t in instrument.TERMS)
 NB: Final[int] = len(BIAS_NAMES)
 
 #: Rejected measurements listed individually in a result (all are counted).
@@ -126,6 +128,10 @@ class CalibrationResult:
       ``irregular_steps`` (remainders discretized exactly at their own length),
       ``jittered_steps`` (steps within 5 % of a whole number of ``dt``, shifted in time),
       ``gate`` (probability);
+    * ``bias_names`` (nb,), ``bias_groups``: the instrument constants carried (every term
+      of :data:`gyrolib.gc.TERMS`, those with prior 0 known to be 0) and the part of σ(ω_gc)
+      each belongs to; ``bias_prior``, ``bias_estimate`` (nb,), ``bias_cov``,
+      ``bias_info`` (nb, nb), ``bias_response`` (nb, 10): their bias-separated estimate;
     * ``max_rejected``, ``nis_range``: the limits of a valid run (:attr:`valid`,
       :attr:`reason`): a sensor whose share of gate rejections exceeds ``max_rejected``, or
       whose mean NIS is outside ``nis_range``, has lost lock or is not the sensor the model
@@ -169,6 +175,8 @@ class CalibrationResult:
     bias_info: np.ndarray | None = None
     bias_response: np.ndarray | None = None
     P_filter: np.ndarray | None = None
+    bias_names: tuple[str, ...] = BIAS_NAMES
+    bias_groups: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         v.check_instance("params", self.params, GyrocompassParams)
@@ -185,9 +193,19 @@ class CalibrationResult:
         v.check_in_range("false_alarm", self.false_alarm, 0.0, 1.0, low_open=True,
                          high_open=True)
         v.check_in_range("nis_tolerance", self.nis_tolerance, 0.0, 1.0, high_open=True)
-        for name, shape in (("bias_prior", (NB,)), ("bias_estimate", (NB,)),
-                            ("bias_cov", (NB, NB)), ("bias_info", (NB, NB)),
-                            ("bias_response", (NB, N)), ("P_filter", (N, N))):
+        if not isinstance(self.bias_names, tuple):
+            raise TypeError("bias_names must be a tuple of the instrument constants' names")
+        nb = len(self.bias_names)
+        if self.bias_groups is None:   # the groups of the declared terms of these names
+            declared = {t.name: t.group for t in instrument.TERMS}
+            object.__setattr__(self, "bias_groups",
+                               tuple(declared.get(nm, "instrument_biases")
+                                     for nm in self.bias_names))
+        if len(self.bias_groups) != nb:
+            raise ValueError(f"bias_groups must hold one group per bias name ({nb})")
+        for name, shape in (("bias_prior", (nb,)), ("bias_estimate", (nb,)),
+                            ("bias_cov", (nb, nb)), ("bias_info", (nb, nb)),
+                            ("bias_response", (nb, N)), ("P_filter", (N, N))):
             val = getattr(self, name)
             if val is None:     # no instrument constants: the paper's filter
                 val = self.P_final.copy() if name == "P_filter" else np.zeros(shape)
@@ -233,9 +251,11 @@ class CalibrationResult:
         priors ``sigma_as_offset``, ``sigma_incl_bias``) and ``"scale"`` (what the common
         scale error of ``H/f`` and the gain adds, prior ``sigma_hf_scale``; about
         ``sigma_hf_scale · Ω_h``, :attr:`GyrocompassParams.scale_drift_sigma`)."""
+        groups = self.bias_groups
         v0 = self._omega_variance(())
-        vb = self._omega_variance((0, 1, 2))
-        va = self._omega_variance((0, 1, 2, 3))
+        vb = self._omega_variance(tuple(c for c, g in enumerate(groups)
+                                        if g == "instrument_biases"))
+        va = self._omega_variance(tuple(range(len(groups))))
         return {"noise": math.sqrt(max(v0, 0.0)),
                 "instrument_biases": math.sqrt(max(vb - v0, 0.0)),
                 "scale": math.sqrt(max(va - vb, 0.0))}
@@ -247,7 +267,7 @@ class CalibrationResult:
         sd = np.sqrt(np.clip(np.diag(self.bias_cov), 0.0, None))
         return {name: {"estimate": float(self.bias_estimate[c]), "std": float(sd[c]),
                        "prior": float(self.bias_prior[c])}
-                for c, name in enumerate(BIAS_NAMES) if self.bias_prior[c] > 0.0}
+                for c, name in enumerate(self.bias_names) if self.bias_prior[c] > 0.0}
 
     # the model checks as a gate ----------------------------------------------------------
     def split_tests(self, fractions: tuple[float, ...] = (0.25, 0.5, 0.75)
@@ -541,7 +561,11 @@ class _Model(NamedTuple):
     of a full matrix (the irregular steps' own ``Φ``); ``Fc``, ``Es``, ``Ec``, ``W = G Q Gᵀ``
     for the short time shift; ``H`` with its nonzeros (``hptr``, ``hidx``), ``r`` = diag R;
     ``gate`` the χ²(1) threshold of the normalized innovation squared; ``nb`` the number of
-    instrument constants carried (:data:`BIAS_NAMES`; 0: none, the paper's filter)."""
+    instrument constants carried (:data:`gyrolib.gc.TERMS`; 0: none, the paper's filter).
+    With constants, ``H`` is 3 × (10 + 2 nb): ``D`` of Eq. (8), then their columns ``H0``
+    and ``H1`` (sensor ``q`` reads ``(H0[q] + β_n H1[q]) b`` more,
+    :func:`gyrolib.gc.instrument_model`); ``hptr``, ``hidx`` list the nonzeros of ``D``
+    only."""
 
     dt: float
     seg_w: float
@@ -739,9 +763,13 @@ def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh, Ab, u, mu
     (:func:`gyrolib.filtering.joseph_scalar_update`) and, with ``nb`` instrument constants,
     their recursive least squares on the innovation (bias separation: the innovation of the
     filter with the constants is ``ν − uᵀ b̂`` with variance ``S + uᵀ Mb u``, where ``u`` is
-    the innovation's response to a unit of each constant).  Returns ``(used, ν, S)`` of the
-    filter with the constants.  (The arrays come one by one: numba keeps them in registers,
-    where fields of a tuple would be read again after every store.)"""
+    the innovation's response to a unit of each constant: its reading by sensor ``q``,
+    ``H0[q, c] + β_n H1[q, c]``, from the model's columns that follow the 10 states' in
+    ``H`` (see :class:`_Model`), less the response of ``H x``).  Returns ``(used, ν, S)`` of
+    the filter with the constants.  (The arrays come one by one: numba keeps them in
+    registers, where fields of a tuple would be read again after every store; the constants'
+    columns ride in ``H`` for the same reason: an array more in this hot loop costs about
+    4 % of calibrate's time.)"""
     hx = 0.0
     for p in range(hptr[q], hptr[q + 1]):
         hx += H[q, hidx[p]] * x[hidx[p]]
@@ -754,11 +782,9 @@ def _update(x, P, Ph, k, H, hptr, hidx, r, gate, q, zq, nb, V, Mb, bh, Ab, u, mu
             hv = 0.0
             for p in range(hptr[q], hptr[q + 1]):
                 hv += H[q, hidx[p]] * V[c, hidx[p]]
-            uc = -hv
-            if c == q:                 # the offset / bias of this sensor
-                uc += 1.0
-            if c == 3 and q == 0:      # the scale error: the angle sensor reads κ β_n more
-                uc += beta_n
+            # the constant's own reading by sensor q (the model's columns), less its
+            # response through the state
+            uc = H[q, N + c] + beta_n * H[q, N + nb + c] - hv
             u[c] = uc
             nua -= uc * bh[c]
         for c in range(nb):
@@ -1020,11 +1046,22 @@ class _Calibrator:
         self.gate_prob = gate
         self.nominal = _Nominal(p)
         self.filter_model = _filter_model(p)
-        self.bias_prior = np.array([p.sigma_as_offset, p.sigma_incl_bias, p.sigma_incl_bias,
-                                    p.sigma_hf_scale])
-        nb = NB if np.any(self.bias_prior > 0.0) else 0
+        # every declared instrument constant (the model's declaration, read now), each with
+        # its prior (0: known to be 0, carried at no cost to the estimate)
+        inst = instrument.build_instrument_model(p, tuple(t.name for t in instrument.TERMS))
+        coupled = [nm for nm, col in zip(inst.names, inst.Fb.T, strict=True) if np.any(col)]
+        if coupled:
+            raise ValueError("params: calibrate carries the instrument constants by bias "
+                             "separation in the measurements only; a declared term with a "
+                             f"dynamics column Fb != 0 ({', '.join(coupled)}) is not "
+                             "supported")
+        self.instrument = inst
+        self.bias_prior = inst.prior.copy()
+        nb = inst.nb if np.any(self.bias_prior > 0.0) else 0
+        NB = inst.nb     # the constants carried in the state arrays
         self.model = self.filter_model.model._replace(
-            gate=float(chi2_ppf(gate, 1)), nb=nb)
+            gate=float(chi2_ppf(gate, 1)), nb=nb,
+            H=np.ascontiguousarray(np.hstack([self.filter_model.model.H, inst.H0, inst.H1])))
         self.state = _State(
             x=np.zeros(N), P=initial_covariance(p), tcur=np.zeros(1), Phi=np.zeros((N, N)),
             Qd=np.zeros((N, N)), T=np.zeros((N, N)), y=np.zeros(N), Ph=np.zeros(N),
@@ -1192,7 +1229,8 @@ class _Calibrator:
             nis_tolerance=nis_tolerance,
             bias_prior=self.bias_prior.copy(), bias_estimate=st.bh.copy(),
             bias_cov=st.Mb.copy(), bias_info=st.Ab.copy(), bias_response=st.V.copy(),
-            P_filter=st.P.copy())
+            P_filter=st.P.copy(), bias_names=self.instrument.names,
+            bias_groups=self.instrument.groups)
 
 
 def _chunks(record: GCRecord, size: int):

@@ -19,6 +19,13 @@ from gyrolib.gc.model.equations import (
     linearized_acceleration,
     vertical_rate,
 )
+from gyrolib.gc.model.instrument import (
+    TERMS,
+    InstrumentModel,
+    InstrumentTerm,
+    instrument_model,
+    state_names,
+)
 from gyrolib.gc.model.nominal import (
     NominalMotion,
     nominal_motion,
@@ -62,8 +69,11 @@ __all__ = [
     "NOISE_NAMES",
     "SEGMENT",
     "STATE_NAMES",
+    "TERMS",
     "GCDiscretization",
     "GyrocompassParams",
+    "InstrumentModel",
+    "InstrumentTerm",
     "NominalIntegrator",
     "NominalMotion",
     "ShapingFilter",
@@ -71,6 +81,7 @@ __all__ = [
     "float_acceleration",
     "gyroscopic_torque",
     "initial_covariance",
+    "instrument_model",
     "linearized_acceleration",
     "mean_square_standard_error",
     "measurement_matrix",
@@ -89,6 +100,7 @@ __all__ = [
     "random_drift_filter",
     "simulate_shaping_filter",
     "state_index",
+    "state_names",
     "stationary_covariance",
     "symbolic",
     "system_matrix",

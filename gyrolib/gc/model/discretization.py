@@ -32,8 +32,10 @@ from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
+from gyrolib.gc.model.instrument import InstrumentModel, build_instrument_model
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
 from gyrolib.gc.model.state_space import (
+    build_initial_covariance,
     build_measurement_matrix,
     build_measurement_noise_covariance,
     build_noise_input_matrix,
@@ -226,11 +228,56 @@ def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndar
     return Fc, Es, Ec
 
 
-def affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
+def _pad(A: np.ndarray, n: int, cols: int | None = None) -> np.ndarray:
+    """``A`` in the top left corner of an ``n × cols`` (default ``n × n``) zero matrix."""
+    out = np.zeros((n, n if cols is None else cols))
+    out[:A.shape[0], :A.shape[1]] = A
+    return out
+
+
+def augmented_parts(p: GyrocompassParams, inst: InstrumentModel | None
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(F_c, E_s, E_c, G)`` of the model with the instrument constants ``inst`` appended
+    to the state (:mod:`gyrolib.gc.model.instrument`): constant states (zero rows), their
+    dynamics coupling ``Fb`` in the columns of ``F_c`` (it does not depend on β_n); ``None``
+    or ``nb = 0``: the 10 states of Eq. (8)."""
     Fc, Es, Ec = _affine_parts(p)
     G = build_noise_input_matrix(p)
+    if inst is None or inst.nb == 0:
+        return Fc, Es, Ec, G
+    n = N + inst.nb
+    Fc = _pad(Fc, n)
+    Fc[:N, N:] = inst.Fb
+    return Fc, _pad(Es, n), _pad(Ec, n), _pad(G, n, G.shape[1])
+
+
+def augmented_measurement(p: GyrocompassParams, inst: InstrumentModel | None
+                          ) -> tuple[np.ndarray, np.ndarray]:
+    """``(H0, H1)`` of the model with the instrument constants: ``D`` of Eq. (8) followed by
+    their columns ``H0``; ``H1`` (zero on the 10 states) the part proportional to β_n."""
+    D = build_measurement_matrix(p)
+    if inst is None or inst.nb == 0:
+        return D, np.zeros_like(D)
+    return np.hstack([D, inst.H0]), np.hstack([np.zeros_like(D), inst.H1])
+
+
+def augmented_initial_covariance(p: GyrocompassParams,
+                                 inst: InstrumentModel | None) -> np.ndarray:
+    """``P(0)`` of Eq. (8) with the constants' prior variances appended on the diagonal."""
+    P0 = build_initial_covariance(p)
+    if inst is None or inst.nb == 0:
+        return P0
+    out = _pad(P0, N + inst.nb)
+    out[N:, N:] = np.diag(inst.prior**2)
+    return out
+
+
+def affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray,
+              inst: InstrumentModel | None = None) -> tuple:
+    Fc, Es, Ec, G = augmented_parts(p, inst)
+    n = Fc.shape[0]
     J = betas.size
-    out = [np.zeros((J, N, N)) for _ in range(6)]
+    out = [np.zeros((J, n, n)) for _ in range(6)]
     for j, b in enumerate(betas):
         F = Fc + np.sin(b) * Es + np.cos(b) * Ec
         Phi, Qd, (dPs, dPc), (dQs, dQc) = van_loan_derivatives(F, G, Qc, p.dt, [Es, Ec])
@@ -239,10 +286,11 @@ def affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
     return tuple(out)
 
 
-def _affine_euler(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray) -> tuple:
+def _affine_euler(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray,
+                  inst: InstrumentModel | None = None) -> tuple:
     """Euler steps: ``Φ = I + F Δt`` is affine in (sin, cos) exactly; ``Qd = G Q Gᵀ Δt``."""
-    Fc, Es, Ec = _affine_parts(p)
-    G = build_noise_input_matrix(p)
+    Fc, Es, Ec, G = augmented_parts(p, inst)
+    N = Fc.shape[0]   # the state size of this model
     J = betas.size
     Phi0 = np.eye(N) + (Fc + np.sin(betas)[:, None, None] * Es
                         + np.cos(betas)[:, None, None] * Ec) * p.dt
@@ -261,7 +309,10 @@ class GCDiscretization:
     affine discrete model; ``Gamma[j]`` the response over one step to a unit constant
     acceleration on ``Δβ''`` (for the nonlinear remainder); ``noise_factor[j]`` (n × n_w) a
     factor of ``Qd`` at expansion point ``j`` for drawing the process noise; ``method`` the
-    discretization (``"van_loan"`` or ``"euler"``).
+    discretization (``"van_loan"`` or ``"euler"``); ``instrument`` the instrument constants
+    appended to the state (:func:`gyrolib.gc.instrument_model`; ``None``: the 10 states of
+    Eq. (8)), whose readings after step ``k`` make ``model.H + model.h[k] model.H1`` with
+    ``model.h[k]`` the nominal float angle at ``t_{k+1}``.
     """
 
     params: GyrocompassParams
@@ -272,6 +323,7 @@ class GCDiscretization:
     Gamma: np.ndarray
     noise_factor: np.ndarray
     method: str = "van_loan"
+    instrument: InstrumentModel | None = None
 
     def __post_init__(self) -> None:
         check_params(self.params)
@@ -279,9 +331,19 @@ class GCDiscretization:
         v.check_ndarray("beta_half", self.beta_half, shape=(2 * n + 1,))
         J = v.check_ndarray("betas", self.betas, ndim=1).size
         v.check_instance("model", self.model, AffineDiscreteModel)
-        v.check_ndarray("Gamma", self.Gamma, shape=(J, N))
-        v.check_ndarray("noise_factor", self.noise_factor, shape=(J, N, None))
+        if self.instrument is not None:
+            v.check_instance("instrument", self.instrument, InstrumentModel)
+        ns = N + (0 if self.instrument is None else self.instrument.nb)
+        if self.model.n != ns:
+            raise ValueError(f"model must have {ns} states; got {self.model.n}")
+        v.check_ndarray("Gamma", self.Gamma, shape=(J, ns))
+        v.check_ndarray("noise_factor", self.noise_factor, shape=(J, ns, None))
         v.check_choice("method", self.method, DISCRETIZATIONS)
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """The names of the model's states: Eq. (8)'s, then the instrument constants."""
+        return STATE_NAMES + (() if self.instrument is None else self.instrument.names)
 
     @property
     def t(self) -> NDArray[np.float64]:
@@ -299,15 +361,19 @@ class GCDiscretization:
         if k >= self.n_steps:
             raise ValueError(f"k must be a step index in [0, {self.n_steps}); got {k}")
         p = self.params
-        F = build_system_matrix(p, float(self.beta_mid[k]))
-        G, Qc = build_noise_input_matrix(p), build_process_noise_intensity(p)
+        Fc, Es, Ec, G = augmented_parts(p, self.instrument)
+        b = float(self.beta_mid[k])
+        F = Fc + np.sin(b) * Es + np.cos(b) * Ec
+        if self.instrument is None or self.instrument.nb == 0:
+            F = build_system_matrix(p, b)     # the paper's F exactly (no affine rounding)
+        Qc = build_process_noise_intensity(p)
         if self.method == "euler":
-            return np.eye(N) + F * p.dt, G @ Qc @ G.T * p.dt
+            return np.eye(F.shape[0]) + F * p.dt, G @ Qc @ G.T * p.dt
         return van_loan(F, G, Qc, p.dt)
 
 
 def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
-               method: str = "van_loan") -> GCDiscretization:
+               method: str = "van_loan", instrument: bool = False) -> GCDiscretization:
     """Discretize paper GC's model, Eq. (8), over ``[0, t_end]`` at ``params.dt``.
 
     Parameters
@@ -319,6 +385,10 @@ def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
     method : {"van_loan", "euler"}, default "van_loan"
         ``"van_loan"``: exact ``Φ = exp(F Δt)`` and ``Qd`` for ``F`` frozen at each step's
         midpoint {cite:p}`VanLoan1978`; ``"euler"``: ``Φ = I + F Δt``, ``Qd = G Q Gᵀ Δt``.
+    instrument : bool, default False
+        Append the instrument constants that are ON for ``params``
+        (:func:`gyrolib.gc.instrument_model`) to the state; at the default priors (0) there
+        are none and the model is Eq. (8)'s either way.
 
     Returns
     -------
@@ -331,39 +401,51 @@ def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
     >>> d = gc.discretize(gc.GyrocompassParams(), 1.0)
     >>> d.n_steps, f"{d.beta_half[-1] * 1e3:.3f} mrad"
     (1000, '0.086 mrad')
+    >>> d = gc.discretize(gc.GyrocompassParams(sigma_as_offset=1e-5), 1.0, instrument=True)
+    >>> d.state_names[10:], d.model.n
+    (('angle_offset',), 11)
     """
     p = check_params(params)
     n_steps = steps_in(p, t_end)
     v.check_choice("method", method, DISCRETIZATIONS)
-    return discretize_steps(p, n_steps, method)
+    instrument = v.check_bool("instrument", instrument)
+    return discretize_steps(p, n_steps, method, build_instrument_model(p) if instrument else None)
 
 
-def discretize_steps(p: GyrocompassParams, n_steps: int, method: str) -> GCDiscretization:
-    """:func:`discretize` on arguments already checked by the public entry point."""
+def discretize_steps(p: GyrocompassParams, n_steps: int, method: str,
+                     inst: InstrumentModel | None = None) -> GCDiscretization:
+    """:func:`discretize` on arguments already checked by the public entry point; ``inst``:
+    the instrument constants appended to the state (``None`` or none ON: Eq. (8))."""
+    if inst is not None and inst.nb == 0:
+        inst = None
     beta_half = _nominal_half_steps(p, n_steps)
     bm = beta_half[1::2]
     idx = np.rint(bm / SEGMENT).astype(np.int64)
     uniq, seg = np.unique(idx, return_inverse=True)
     betas = uniq * SEGMENT
     affine = _affine_euler if method == "euler" else affine_qd
-    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, build_process_noise_intensity(p))
+    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, build_process_noise_intensity(p), inst)
     R = build_measurement_noise_covariance(p)
+    H0, H1 = augmented_measurement(p, inst)
     model = AffineDiscreteModel(
         seg=seg.astype(np.int64).ravel(), a=np.sin(bm) - np.sin(betas)[seg].ravel(),
         b=np.cos(bm) - np.cos(betas)[seg].ravel(), Phi0=Phi0, PhiA=PhiA, PhiB=PhiB,
-        Qd0=Qd0, QdA=QdA, QdB=QdB, H=build_measurement_matrix(p), r=np.diag(R).copy())
-    Fc, Es, Ec = _affine_parts(p)
-    Gamma = np.zeros((betas.size, N))
+        Qd0=Qd0, QdA=QdA, QdB=QdB, H=H0, r=np.diag(R).copy(),
+        H1=None if inst is None else H1,
+        h=None if inst is None else beta_half[2::2].copy())
+    Fc, Es, Ec, _ = augmented_parts(p, inst)
+    n = Fc.shape[0]
+    Gamma = np.zeros((betas.size, n))
     factors = []
     for j, b in enumerate(betas):
         F = Fc + np.sin(b) * Es + np.cos(b) * Ec
-        M = np.zeros((N + 1, N + 1))
-        M[:N, :N] = F * p.dt
-        M[1, N] = p.dt
-        Gamma[j] = M[:N, N] if method == "euler" else scipy.linalg.expm(M)[:N, N]
+        M = np.zeros((n + 1, n + 1))
+        M[:n, :n] = F * p.dt
+        M[1, n] = p.dt
+        Gamma[j] = M[:n, n] if method == "euler" else scipy.linalg.expm(M)[:n, n]
         factors.append(covariance_factor(Qd0[j]))
     nz = np.any(np.abs(np.array(factors)) > 0, axis=(0, 1))
     noise_factor = np.ascontiguousarray(np.array(factors)[:, :, nz])
     return GCDiscretization(params=p, n_steps=n_steps, beta_half=beta_half, betas=betas,
                             model=model, Gamma=Gamma, noise_factor=noise_factor,
-                            method=method)
+                            method=method, instrument=inst)

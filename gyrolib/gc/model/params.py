@@ -161,9 +161,11 @@ class GyrocompassParams:
       (0.1–1 mg for real ones); a bias reads like a tilt of ``b/g``, which the data cannot
       tell from one, so this prior enters σ(ω_gc) through the tilt's coupling ``Ω_v``.
 
-    :func:`gyrolib.gc.calibrate` estimates these three constants jointly with the state
-    (bias-separated filter, their priors as stated here) and so carries their uncertainty
-    into σ(ω_gc); the covariance analysis and the Monte Carlo do not use them yet.
+    These constants are declared once, in :mod:`gyrolib.gc.model.instrument`
+    (:data:`gyrolib.gc.TERMS`); a prior > 0 switches one ON, and then the covariance analysis
+    and the Monte Carlo carry it as a state (:func:`gyrolib.gc.state_names`) and
+    :func:`gyrolib.gc.calibrate` estimates it jointly with the state (bias-separated filter),
+    so σ(ω_gc) carries its uncertainty.
 
     The Earth-rate components at a given latitude: :meth:`at_latitude`.
 

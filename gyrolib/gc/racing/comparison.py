@@ -74,11 +74,15 @@ def _gc_part(p: GyrocompassParams, level: float, t_max: float) -> tuple[float, n
     ``params.scale_drift_sigma``, adds in quadrature to the filter's σ (0 by default, the
     paper's model): the filter must then reach ``sqrt(level² − scale_drift_sigma²)``."""
     s_scale = p.scale_drift_sigma
+    # the scale enters here in quadrature (first order, unobservable), so the filter is run
+    # without the model's scale state (gyrolib.gc.model.instrument), which would count it
+    # twice; the other instrument constants ON in p are carried by the covariance analysis
+    p_filter = replace(p, sigma_hf_scale=0.0) if p.sigma_hf_scale else p
     horizons = sorted({min(h, t_max) for h in _GC_HORIZONS})
     for horizon in horizons:
         n = max(1, round(horizon / p.dt))
         t_end = horizon if abs(n * p.dt - horizon) < 1e-12 * horizon else n * p.dt
-        cov = covariance_analysis(p, t_end, store_every=n)
+        cov = covariance_analysis(p_filter, t_end, store_every=n)
         if s_scale >= level:
             t_c = math.nan
         else:
