@@ -242,6 +242,36 @@ def test_record_latitude_is_used(tmp_path, capsys):
     assert p == P and earth["source"] == "none" and earth["stated"] is False and not notes
 
 
+def test_python_api_checks_the_earth_rate_against_the_records_latitude():
+    """``gc.calibrate`` on a record that states its latitude: with the Earth rate of another
+    site (the paper's, about 53.9 deg) it has no valid estimate and says why, since Ω_h
+    reads as drift (here several σ off); with ``at_latitude(record.latitude)`` the same
+    record is valid and covered.  The difference in Ω_h, by hand, is the drift offset."""
+    site = math.radians(45.0)
+    sim = gc.simulate_record(gc.GyrocompassParams.at_latitude(site), 100.0, seed=4501)
+    rec = dataclasses.replace(sim.record, latitude=site)
+    wrong = gc.calibrate(rec, gc.GyrocompassParams())
+    assert not wrong.valid and wrong.reason.startswith(
+        "the record states latitude 45 deg N, but the Earth rate of params")
+    off = (gc.GyrocompassParams().Omega_h - 7.292115e-5 * math.cos(site)) * 180 / math.pi * 3600
+    assert f"Omega_h off by {off:+.3g} deg/h" in wrong.reason
+    assert abs(wrong.omega_gc - sim.omega_gc) > 10 * wrong.omega_gc_std   # it would mislead
+    right = gc.calibrate(rec, gc.GyrocompassParams.at_latitude(rec.latitude))
+    assert right.valid, right.reason
+    assert abs(right.omega_gc - sim.omega_gc) < 3 * right.omega_gc_std
+    # without a stated latitude the record cannot be checked: the caller's rate is taken
+    same = gc.calibrate(sim.record, gc.GyrocompassParams())
+    assert "states latitude" not in same.reason
+    # the paper's printed rates are 0.1 % off the rate at 53.9 deg: a record that states
+    # 53.9 deg is refused with them, accepted with at_latitude
+    from gyrolib.gc.model.params import PAPER_LATITUDE
+
+    r54 = dataclasses.replace(sim.record, latitude=PAPER_LATITUDE)
+    assert gc.earth_rate_mismatch(gc.GyrocompassParams(), r54.latitude)
+    assert not gc.earth_rate_mismatch(gc.GyrocompassParams.at_latitude(r54.latitude),
+                                      r54.latitude)
+
+
 def test_scale_beyond_the_stated_tolerance_is_not_caught():
     """A 1 % error of H/f: covered when the user states a 1 % tolerance (the scale part of σ
     is then ≈ 10⁻² Ω_h), NOT covered and NOT refused with the 0.1 % default — a scale error

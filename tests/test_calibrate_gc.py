@@ -303,10 +303,10 @@ def test_validity_limits_are_parameters(sample):
     """The limits decide: no rejection allowed makes the sample record's 30 angle-sensor
     rejections (its outlier burst) invalid; a NIS range of ±0.1 % about 1 (tighter than the
     sampling spread of a mean over 99 000 samples) fails every sensor."""
-    res = gc.calibrate(sample, P, max_rejected=0.0)
+    res = gc.calibrate(sample, P.at_latitude(sample.latitude), max_rejected=0.0)
     assert not res.valid and res.reason.startswith("angle_sensor: ")
     assert int(res.rejected[0]) >= 20
-    res = gc.calibrate(sample, P, nis_range=(0.999, 1.001))
+    res = gc.calibrate(sample, P.at_latitude(sample.latitude), nis_range=(0.999, 1.001))
     assert not res.valid
     assert all(f"{name}: mean NIS" in res.reason for name in gc.MEASUREMENT_NAMES)
 

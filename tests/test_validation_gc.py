@@ -869,3 +869,7 @@ case("gc.CalibrationResult.split_tests",
 case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, _FIT, samples=1), ValueError,
      "samples")
 case("gc.NoiseFit.not_identified", lambda: _FIT.not_identified(-1.0), ValueError, "duration")
+case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch("paper", 0.5), TypeError,
+     "params", "GyrocompassParams")
+case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch(gc.GyrocompassParams(), 2.0),
+     ValueError, "latitude")

@@ -697,6 +697,16 @@ def _fit_noise(record, params, o: dict, bar_ok: bool):
         return gc.fit_noise(record, params, fit=o["fit"], progress=progress)
 
 
+def _as_stated(record: gc.GCRecord, earth: dict) -> gc.GCRecord:
+    """The record as calibrated: its own ``# latitude_deg:`` line dropped when the Earth rate
+    comes from elsewhere (an option or params file that overrides it, said in a note, or no
+    latitude at all), so that :func:`gyrolib.gc.calibrate` does not refuse the rate the user
+    stated (it checks the parameters against a record's latitude)."""
+    if record.latitude is None or earth["source"] == LAT_RECORD:
+        return record
+    return dataclasses.replace(record, latitude=None)
+
+
 def _run_gc_file(file: str, o: dict) -> _Outcome:
     """Calibrate one GC record with the checked options ``o``."""
     params: gc.GyrocompassParams = o["params"]
@@ -710,7 +720,7 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         extra = _time_notes(info, raw, params, notes)
         params = _with_step(params, raw.t, notes, o["dt_given"])
         params, earth = _with_latitude(params, getattr(raw, "latitude", None), o, notes)
-        record = mapping.apply(raw)
+        record = _as_stated(mapping.apply(raw), earth)
         if o["fit_noise"] is not None:
             fit = _fit_noise(record, params, o, o["bar"])
             params = fit.params
@@ -728,9 +738,9 @@ def _run_gc_file(file: str, o: dict) -> _Outcome:
         params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
 
         def mapped():
-            yield mapping.apply(first)
+            yield _as_stated(mapping.apply(first), earth)
             for chunk in it:
-                yield mapping.apply(chunk)
+                yield _as_stated(mapping.apply(chunk), earth)
 
         # the next chunk is read (parsed, checked at the door) in one thread while the
         # filter, which releases the GIL, runs on the current one: two chunks in flight

@@ -94,6 +94,7 @@ from gyrolib.gc.analysis import (
     truth_prior_factor,
 )
 from gyrolib.gc.logs import (
+    EARTH_RATE_TOLERANCE,
     MEASUREMENT_COLUMNS,
     NOISE_FIT_NAMES,
     AllanDeviation,
@@ -109,6 +110,7 @@ from gyrolib.gc.logs import (
     allan_noise_terms,
     calibrate,
     convention_study,
+    earth_rate_mismatch,
     fit_noise,
     fit_uncertainty,
     innovation_log_likelihood,
@@ -205,6 +207,7 @@ _PLOTS = frozenset({
 __all__ = [
     "BUDGET_SOURCES",
     "DISCRETIZATIONS",
+    "EARTH_RATE_TOLERANCE",
     "F87_READINGS",
     "MEASUREMENT_COLUMNS",
     "MEASUREMENT_NAMES",
@@ -258,6 +261,7 @@ __all__ = [
     "convention_study",
     "covariance_analysis",
     "discretize",
+    "earth_rate_mismatch",
     "error_budget",
     "fit_noise",
     "fit_uncertainty",

@@ -12,9 +12,11 @@ from gyrolib.gc.logs.allan import (
     allan_noise_terms,
 )
 from gyrolib.gc.logs.calibration import (
+    EARTH_RATE_TOLERANCE,
     CalibrationResult,
     SimulatedRecord,
     calibrate,
+    earth_rate_mismatch,
     innovation_log_likelihood,
     simulate_record,
 )
@@ -35,6 +37,7 @@ from gyrolib.gc.logs.record import (
 )
 
 __all__ = [
+    "EARTH_RATE_TOLERANCE",
     "MEASUREMENT_COLUMNS",
     "NOISE_FIT_NAMES",
     "AllanDeviation",
@@ -50,6 +53,7 @@ __all__ = [
     "allan_noise_terms",
     "calibrate",
     "convention_study",
+    "earth_rate_mismatch",
     "fit_noise",
     "fit_uncertainty",
     "innovation_log_likelihood",

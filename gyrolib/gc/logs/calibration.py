@@ -60,7 +60,13 @@ from gyrolib.gc.model.discretization import (
     nominal_half_steps,
     system_matrix_parts,
 )
-from gyrolib.gc.model.params import MEASUREMENT_NAMES, STATE_NAMES, GyrocompassParams, state_index
+from gyrolib.gc.model.params import (
+    EARTH_RATE,
+    MEASUREMENT_NAMES,
+    STATE_NAMES,
+    GyrocompassParams,
+    state_index,
+)
 from gyrolib.gc.model.state_space import (
     initial_covariance,
     measurement_matrix,
@@ -68,11 +74,14 @@ from gyrolib.gc.model.state_space import (
     noise_input_matrix,
     process_noise_intensity,
 )
+from gyrolib.units import from_si
 
 __all__ = [
+    "EARTH_RATE_TOLERANCE",
     "CalibrationResult",
     "SimulatedRecord",
     "calibrate",
+    "earth_rate_mismatch",
     "innovation_log_likelihood",
     "simulate_record",
 ]
@@ -135,7 +144,11 @@ class CalibrationResult:
     * ``max_rejected``, ``nis_range``: the limits of a valid run (:attr:`valid`,
       :attr:`reason`): a sensor whose share of gate rejections exceeds ``max_rejected``, or
       whose mean NIS is outside ``nis_range``, has lost lock or is not the sensor the model
-      describes, and the estimate is not a result.
+      describes, and the estimate is not a result;
+    * ``record_latitude``: the latitude (rad) the record states (:attr:`GCRecord.latitude`),
+      or ``None``.  When the parameters' Earth rate is not the one at that latitude
+      (:func:`earth_rate_mismatch`), the run is not valid: Ω_h reads as drift, so a rate
+      taken for another site moves ω̂_gc by the difference.
     """
 
     params: GyrocompassParams
@@ -177,6 +190,7 @@ class CalibrationResult:
     P_filter: np.ndarray | None = None
     bias_names: tuple[str, ...] = BIAS_NAMES
     bias_groups: tuple[str, ...] | None = None
+    record_latitude: float | None = None
 
     def __post_init__(self) -> None:
         v.check_instance("params", self.params, GyrocompassParams)
@@ -436,6 +450,10 @@ class CalibrationResult:
 
     def _invalid_parts(self) -> list[str]:
         parts = []
+        if self.record_latitude is not None:
+            mismatch = earth_rate_mismatch(self.params, self.record_latitude)
+            if mismatch:
+                parts.append(mismatch)
         share = self.rejected_share
         nis = self.nis_mean
         lo, hi = self.nis_range
@@ -1125,6 +1143,8 @@ class _Calibrator:
         next chunk is prepared while the kernel runs on this one (chunks in time order)."""
         if not isinstance(rec, GCRecord):
             raise TypeError(f"record chunks must be GCRecord; got {type(rec).__name__}")
+        if self.prepared_rows == 0:
+            self.record_latitude = rec.latitude
         t = rec.t
         if t[0] <= self.t_last and self.prepared_rows > 0:
             raise ValueError(f"record chunks must continue in time: t = {t[0]} follows "
@@ -1230,7 +1250,7 @@ class _Calibrator:
             bias_prior=self.bias_prior.copy(), bias_estimate=st.bh.copy(),
             bias_cov=st.Mb.copy(), bias_info=st.Ab.copy(), bias_response=st.V.copy(),
             P_filter=st.P.copy(), bias_names=self.instrument.names,
-            bias_groups=self.instrument.groups)
+            bias_groups=self.instrument.groups, record_latitude=self.record_latitude)
 
 
 def _chunks(record: GCRecord, size: int):
@@ -1238,7 +1258,7 @@ def _chunks(record: GCRecord, size: int):
         sl = slice(s, s + size)
         yield GCRecord(t=record.t[sl], angle_sensor=record.angle_sensor[sl],
                        inclinometer_y=record.inclinometer_y[sl],
-                       inclinometer_z=record.inclinometer_z[sl])
+                       inclinometer_z=record.inclinometer_z[sl], latitude=record.latitude)
 
 
 def _check_nis_range(nis_range: object) -> tuple[float, float]:
@@ -1481,3 +1501,41 @@ def simulate_record(params: GyrocompassParams, t_end: float, seed: int) -> Simul
     rec = GCRecord(t=t[1:], angle_sensor=Z[1:, 0], inclinometer_y=Z[1:, 1],
                    inclinometer_z=Z[1:, 2])
     return SimulatedRecord(record=rec, truth=X, params=p, seed=seed)
+
+
+#: Relative agreement (of the Earth's rate) within which the parameters' Ω_h and Ω_v are
+#: those of a record's stated latitude: what :meth:`GyrocompassParams.at_latitude` gives,
+#: up to rounding.  (Paper GC's printed 4.3·10⁻⁵, 5.9·10⁻⁵ rad/s are 0.1 % off the rate at
+#: 53.9° N: enough to move ω̂_gc by several σ of a 100 s run.)
+EARTH_RATE_TOLERANCE: Final[float] = 1e-6
+
+
+def earth_rate_mismatch(params: GyrocompassParams, latitude: float) -> str:
+    """Why ``params``' Earth rate is not the one at a record's stated ``latitude`` (rad), or
+    ``""`` when it is (within :data:`EARTH_RATE_TOLERANCE` of the Earth's rate).
+
+    Ω_h reads as drift in paper GC's method (the float's steady rate is
+    ``(H/f)(Ω_h + ω_gc)``), so the difference says how far ω̂_gc moves.
+
+    Examples
+    --------
+    >>> import math
+    >>> from gyrolib import gc
+    >>> site = math.radians(45.0)
+    >>> gc.earth_rate_mismatch(gc.GyrocompassParams.at_latitude(site), site)
+    ''
+    >>> gc.earth_rate_mismatch(gc.GyrocompassParams(), site)[:52]
+    'the record states latitude 45 deg N, but the Earth r'
+    """
+    p = v.check_instance("params", params, GyrocompassParams)
+    lat = v.check_in_range("latitude", latitude, -math.pi / 2, math.pi / 2)
+    want_h, want_v = EARTH_RATE * math.cos(lat), EARTH_RATE * math.sin(lat)
+    tol = EARTH_RATE_TOLERANCE * EARTH_RATE
+    if abs(p.Omega_h - want_h) <= tol and abs(p.Omega_v - want_v) <= tol:
+        return ""
+    site = math.degrees(math.atan2(p.Omega_v, p.Omega_h))
+    off = float(from_si(p.Omega_h - want_h, "deg/h"))
+    return (f"the record states latitude {math.degrees(lat):.6g} deg N, but the Earth rate "
+            f"of params (Omega_h = {p.Omega_h:.6g}, Omega_v = {p.Omega_v:.6g} rad/s) is that "
+            f"of about {site:.3g} deg: Omega_h off by {off:+.3g} deg/h, which reads as drift "
+            "(use GyrocompassParams.at_latitude(record.latitude))")

@@ -143,7 +143,8 @@ class InclinometerMapping:
         cols = {"y": record.inclinometer_y, "z": record.inclinometer_z}
         return GCRecord(t=record.t, angle_sensor=record.angle_sensor,
                         inclinometer_y=self.delta_sign * cols[self.delta],
-                        inclinometer_z=self.gamma_sign * cols[self.gamma])
+                        inclinometer_z=self.gamma_sign * cols[self.gamma],
+                        latitude=record.latitude)
 
     def inverse(self) -> InclinometerMapping:
         """The mapping that undoes this one (``m.inverse().apply(m.apply(r))`` is ``r``).
