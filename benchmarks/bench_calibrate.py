@@ -261,6 +261,23 @@ def _best_run(runs: list[dict]) -> dict:
     return min(ok, key=lambda r: r["wall"])
 
 
+def _alternate_cli(path: Path, tree: Path, repeat: int, scratch: Path
+                   ) -> tuple[list[dict], list[dict]]:
+    """The command line on ``path``, ours and the one in ``tree``, alternating (the same load
+    for both, on average), ``repeat`` times each, after both trees' numba caches are filled
+    on a 2000-row head of the file in ``scratch`` (a kernel compiled here would be timed)."""
+    small = scratch / "small.csv"
+    with open(path) as src, open(small, "w") as dst:
+        dst.writelines(line for _, line in zip(range(2001), src))
+    _cli(small)
+    _cli(small, tree)
+    ours, peer = [], []
+    for _ in range(repeat):
+        ours.append(_cli(path))
+        peer.append(_cli(path, tree))
+    return ours, peer
+
+
 def _hour_end_to_end(rec_, path: Path, repeat: int, h: dict) -> None:
     """Case 3: the command line on the hour CSV, ours against the previous command line."""
     mb = path.stat().st_size / 2**20
@@ -268,16 +285,7 @@ def _hour_end_to_end(rec_, path: Path, repeat: int, h: dict) -> None:
         tree = previous_tree(Path(prev_dir))
         if tree is None:
             sys.exit(f"the previous command line (commit {PREVIOUS_CLI}) cannot be exported")
-        # both trees' numba caches filled (a kernel compiled here would be timed otherwise)
-        small = Path(prev_dir) / "small.csv"
-        with open(path) as src, open(small, "w") as dst:
-            dst.writelines(line for _, line in zip(range(2001), src))
-        _cli(small)
-        _cli(small, tree)
-        ours, peer = [], []
-        for _ in range(repeat):    # alternating: the same load for both, on average
-            ours.append(_cli(path))
-            peer.append(_cli(path, tree))
+        ours, peer = _alternate_cli(path, tree, repeat, Path(prev_dir))
         imp = min((_child("--import-child") for _ in range(3)), key=lambda r: r["wall"])
         imp_p = min((_child("--import-child", tree=tree) for _ in range(3)),
                     key=lambda r: r["wall"])
@@ -345,15 +353,7 @@ def reader_cases(repeat: int, write: bool) -> None:
                         + "; all runs ours " + ", ".join(f"{r['wall']:.2f}" for r in ours)
                         + " s, old " + ", ".join(f"{r['wall']:.2f}" for r in peer)
                         + " s; aim 3 s"))
-        small = Path(tmp) / "small.csv"
-        with open(path) as src, open(small, "w") as dst:
-            dst.writelines(line for _, line in zip(range(2001), src))
-        _cli(small)
-        _cli(small, tree)
-        c_ours, c_peer = [], []
-        for _ in range(repeat):
-            c_ours.append(_cli(path))
-            c_peer.append(_cli(path, tree))
+        c_ours, c_peer = _alternate_cli(path, tree, repeat, Path(tmp))
         co, cq = _best_run(c_ours), _best_run(c_peer)
         agree = (co["omega_gc"] is not None and cq["omega_gc"] is not None
                  and abs(co["omega_gc"] - cq["omega_gc"]) <= 1e-12 * abs(cq["omega_gc"]))
