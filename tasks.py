@@ -233,6 +233,10 @@ def lint() -> None:
 # first test workers and chapter kernels compile the same kernels at the same time (about 25 s
 # of CPU each on a fresh clone).  Short calls of every compiled path; a failure is left to the
 # tests to report (GYROLIB_WARM_STRICT=1 raises it instead: tests/test_tasks.py).
+# GYROLIB_WARM_SHARE="i/n" runs every n-th call from the i-th: the test command compiles in
+# one process per core (the calls are ordered so that the shares of two take about as long:
+# Monte Carlo 6 s, square root 7 s, calibrate 4 s, covariance 2 s, noise fit 1.4 s, the rest
+# under 1 s, on a fresh clone).
 WARM_NUMBA = """
 import os
 import numpy as np
@@ -240,18 +244,19 @@ from gyrolib import filtering, gc, records
 strict = os.environ.get("GYROLIB_WARM_STRICT") == "1"
 P = gc.GyrocompassParams()
 calls = [
-    lambda: gc.covariance_analysis(P, 0.05),
+    lambda: gc.monte_carlo(P, 2, 0.05, seed=1),
     lambda: filtering.covariance_square_root(gc.discretize(P, 0.05).model,
                                              gc.initial_covariance(P)),
-    lambda: gc.information_psi_omega(P, 0.05),
-    lambda: gc.monte_carlo(P, 2, 0.05, seed=1),
-    lambda: gc.simulate_truth(P, 0.05, np.zeros(10), seed=1),
     lambda: gc.calibrate(records.read_gc("data/gc_record.csv.gz"), P),
+    lambda: gc.covariance_analysis(P, 0.05),
     lambda: gc.fit_noise(gc.GCRecord(*(np.asarray(getattr(rec, k))[:2000] for k in (
         "t", "angle_sensor", "inclinometer_y", "inclinometer_z"))), P, max_evaluations=40),
+    lambda: gc.simulate_truth(P, 0.05, np.zeros(10), seed=1),
+    lambda: gc.information_psi_omega(P, 0.05),
 ]
+share, shares = (int(x) for x in os.environ.get("GYROLIB_WARM_SHARE", "0/1").split("/"))
 rec = records.read_gc("data/gc_record.csv.gz")
-for call in calls:
+for call in calls[share::shares]:
     try:
         call()
     except Exception:
@@ -260,12 +265,16 @@ for call in calls:
 """
 
 
-def warm_numba() -> subprocess.Popen:
+def warm_numba() -> list[subprocess.Popen]:
     """Start compiling numba's kernels into their cache (:data:`WARM_NUMBA`) in the
-    background; the caller waits for it before the test session."""
-    env = python_env(MPLBACKEND="Agg", OPENBLAS_NUM_THREADS="1")
-    return subprocess.Popen([str(PY), "-c", WARM_NUMBA], cwd=ROOT, env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    background, in one process per core (each a share of the calls); the caller waits for
+    them before the test session."""
+    shares = max(1, min(4, os.cpu_count() or 1))
+    return [subprocess.Popen([str(PY), "-c", WARM_NUMBA], cwd=ROOT,
+                             env=python_env(MPLBACKEND="Agg", OPENBLAS_NUM_THREADS="1",
+                                            GYROLIB_WARM_SHARE=f"{i}/{shares}"),
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            for i in range(shares)]
 
 
 def test() -> None:
@@ -281,13 +290,14 @@ def test() -> None:
     ``python3 tasks.py book``, else executes them a second time.
     """
     setup()
-    warm = warm_numba()  # on one core while the browser, lint and JupyterLab set-up run
+    warm = warm_numba()  # while the browser, lint and JupyterLab set-up run
     try:
         ensure_browser()
         lint()
         lab_setup()
     finally:
-        warm.wait()
+        for proc in warm:
+            proc.wait()
     env = python_env(MPLBACKEND="Agg", GYROLIB_TEST_COMMAND="1")
     # pytest-xdist: the tests on every core (the book is built once, by one worker, for all)
     run(PY, "-m", "pytest", "-n", "auto", "--durations=10", env=env)

@@ -6,10 +6,13 @@ parse and Sphinx settings (read from ``_config.yml``; only the execution mode is
 
 * the good book (a glued string, a glued float with a format spec, a labelled equation, a
   cross-reference, a citation) builds with exit 0 and its prose shows the glued numbers;
-* the same book plus one defect — a cell that raises, a reference to a missing label, a
-  citation of a missing key — exits non-zero and names the defect (the cell's traceback).
+* the same book plus a defect exits non-zero and names it: a cell that raises (its
+  traceback); a reference to a missing label and a citation of a missing key, both in one
+  build (each gives its own WARNING line, and under ``-W`` any one WARNING fails the build:
+  the good book shows that the book without them has none).  The cell error gets a build of
+  its own: it stops the build before references are resolved.
 
-The four builds run concurrently to keep the file fast.
+The three builds run concurrently to keep the file fast.
 """
 
 from __future__ import annotations
@@ -83,8 +86,8 @@ DEFECTS = {
     "good": "",
     "cell_error": ("```{code-cell} ipython3\ndef tiny_fail_here():\n    return 1 / 0\n\n\n"
                    "tiny_fail_here()\n```"),
-    "broken_ref": "A reference to {ref}`tiny-no-such-label`.",
-    "missing_cite": "A citation of {cite:p}`NoSuchKey2099`.",
+    "broken_ref_and_cite": ("A reference to {ref}`tiny-no-such-label`.\n\n"
+                            "A citation of {cite:p}`NoSuchKey2099`."),
 }
 
 
@@ -173,6 +176,7 @@ def test_project_config_makes_failures_loud():
 def test_good_book_builds_and_shows_glued_numbers(builds):
     good = builds["good"]
     assert good.returncode == 0, f"the good tiny book failed:\n{_tail(good)}"
+    assert "WARNING:" not in good.output, _tail(good)    # Sphinx's, not the kernel's "WARNING |"
     bs4 = pytest.importorskip("bs4")
     soup = bs4.BeautifulSoup((good.html / "chapter.html").read_text(encoding="utf-8"),
                              "html.parser")
@@ -196,12 +200,12 @@ def test_failing_cell_fails_the_build_with_its_traceback(builds):
 
 
 def test_broken_cross_reference_fails_the_build(builds):
-    bad = builds["broken_ref"]
+    bad = builds["broken_ref_and_cite"]
     assert bad.returncode != 0, f"a broken cross-reference built fine:\n{_tail(bad)}"
     assert _warning_with(bad, "undefined label", "tiny-no-such-label"), _tail(bad)
 
 
 def test_missing_citation_fails_the_build(builds):
-    bad = builds["missing_cite"]
+    bad = builds["broken_ref_and_cite"]
     assert bad.returncode != 0, f"a citation of a missing key built fine:\n{_tail(bad)}"
     assert _warning_with(bad, "could not find bibtex key", "NoSuchKey2099"), _tail(bad)

@@ -405,7 +405,7 @@ def axe_violations(page) -> list[str]:
 
 #: The pages are checked in this many shares (every SHARES-th page each), so that pytest-xdist
 #: workers can check them side by side; together the shares cover every page.
-SHARES = 2
+SHARES = 4
 
 
 @pytest.mark.parametrize("share", range(SHARES))

@@ -57,7 +57,7 @@ def items():
 
 def _cli_json() -> str:
     """The command's JSON, computed by the command (not read from the session's memo of the
-    ledger, ``tests/conftest.py``): two calls are two independent computations."""
+    ledger, ``tests/conftest.py``)."""
     env = {k: v for k, v in os.environ.items() if k != "GYROLIB_LEDGER_MEMO"}
     out = subprocess.run([sys.executable, "-m", "gyrolib", "ledger", "--json"], check=True,
                          capture_output=True, text=True, cwd=ROOT, env=env)
@@ -82,8 +82,11 @@ def test_statuses_and_fields(items):
             assert it.paper_value == "figure" and it.location.startswith("Fig."), it.id
 
 
-def test_cli_json_parses_with_every_field_and_is_byte_identical():
-    first, second = _cli_json(), _cli_json()
+def test_cli_json_parses_with_every_field_and_is_byte_identical(items):
+    """The command's JSON, computed by the command, is byte for byte the JSON of the test
+    session's ledger (``items``: the session's memo, computed once in another process or
+    in this one, never by the command): two independent computations agree."""
+    first, second = _cli_json(), to_json(items)
     assert first == second
     doc = json.loads(first)
     assert doc["version"] == gyrolib.__version__ and doc["title"]
@@ -243,19 +246,30 @@ def test_concurrent_collects_compute_the_items_once(tmp_path, monkeypatch):
 
 
 def test_collect_is_computed_once_per_state_of_the_sources_with_a_memo(tmp_path, monkeypatch):
-    """With GYROLIB_LEDGER_MEMO (set by the book build) the first collect() writes its items
-    to one file named by the hash of gyrolib's sources; they equal the items another
-    computation wrote to the test session's memo and this one read back (``plain``); later
-    calls read that file (a mark put into it comes back) instead of computing."""
+    """With GYROLIB_LEDGER_MEMO (set by the book build) the first collect() computes once and
+    writes its items to one file named by the hash of gyrolib's sources; they read back
+    equal (floats and all); later calls read that file (a mark put into it comes back)
+    instead of computing.  The computation is counted (it returns the session's items: that
+    an independent computation gives the same ledger is
+    :func:`test_cli_json_parses_with_every_field_and_is_byte_identical`)."""
     import gyrolib.book.ledger as ledger_module
 
     plain = collect()   # under pytest: read back from the session's memo (conftest)
+    computed = []
+
+    def compute():
+        computed.append(1)
+        return plain
+
+    monkeypatch.setattr(ledger_module, "_collect", compute)
     monkeypatch.setenv("GYROLIB_LEDGER_MEMO", str(tmp_path))
     first = collect()
     files = list(tmp_path.glob("ledger-*.json"))
-    assert len(files) == 1 and first == plain
+    assert computed == [1] and len(files) == 1 and first == plain
+    assert ledger_module._read_memo(files[0]) == plain
+    assert collect() == plain and computed == [1]          # read, not computed again
     data = json.loads(files[0].read_text(encoding="utf-8"))
     data[0]["note"] = "read from the memo"
     files[0].write_text(json.dumps(data), encoding="utf-8")
-    assert collect()[0].note == "read from the memo"
+    assert collect()[0].note == "read from the memo" and computed == [1]
     assert ledger_module._memo_file() == files[0]
