@@ -37,6 +37,7 @@ import os
 import re
 import tempfile
 import threading
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from urllib.parse import urlsplit
@@ -130,11 +131,38 @@ class Browser:
             if response.status >= 400:
                 page.problems.append(f"HTTP {response.status}: {response.url}")
 
+        page.inflight = set()      # requests made and not yet finished or failed
+
+        def on_request(request):
+            page.inflight.add(request)
+
+        def on_done(request):
+            page.inflight.discard(request)
+
         page.on("console", on_console)
         page.on("pageerror", lambda exc: page.problems.append(f"uncaught exception: {exc}"))
+        page.on("request", on_request)
+        page.on("requestfinished", on_done)
+        page.on("requestfailed", on_done)
         page.on("requestfailed", on_failed)
         page.on("response", on_response)
         return page
+
+    @staticmethod
+    def settle(page) -> None:
+        """Wait until every request the page made has finished (or failed), its fonts are
+        loaded and two frames drawn, and still no request is in flight: the layout and the
+        list of requests are final.  (Playwright's "networkidle" waits a fixed 500 ms of
+        quiet instead, on every page.)"""
+        deadline = time.monotonic() + TIMEOUT_MS / 1000.0
+        for _ in range(2):
+            while page.inflight:
+                if time.monotonic() > deadline:
+                    pytest.fail(f"{page.url}: requests still in flight after "
+                                f"{TIMEOUT_MS / 1000:.0f} s: "
+                                f"{[r.url for r in page.inflight][:5]}")
+                page.wait_for_timeout(20)
+            page.evaluate(JS_SETTLED)
 
 
 @pytest.fixture(scope="session")
@@ -421,8 +449,7 @@ def test_every_page_is_clean_in_a_real_browser(site, browser, share):
             found = []
             found += [f"<img> not decoded: {src}" for src in page.evaluate(JS_UNDECODED_IMAGES)]
             found += _check_math(page)
-            page.wait_for_load_state("networkidle")
-            page.evaluate(JS_SETTLED)
+            browser.settle(page)
             found += overflow_problems(page)
             found += density_problems(page)
             found += page.problems
@@ -725,8 +752,7 @@ def test_screenshots_of_landing_page_and_a_chapter(site, browser):
         try:
             # Let MathJax, fonts and the theme's layout settle before the picture.
             page.evaluate(JS_MATH_REPORT)
-            page.wait_for_load_state("networkidle")
-            page.evaluate(JS_SETTLED)
+            browser.settle(page)
             page.screenshot(path=str(SHOTS / name), full_page=True, animations="disabled")
         finally:
             page.close()
