@@ -18,7 +18,8 @@ are refused: the PDF is made offline), waits until MathJax has typeset every for
 image is decoded, then adds a title page (title, version, build date) and a table of contents,
 starts each chapter on a new page and prints A4 with page numbers in the footer and a PDF
 outline.  Two passes: the first print tells on which page each chapter starts (from the text
-of each page, with ``pdftotext``), the second prints the table of contents with those numbers.
+of each page, with ``pdftotext``), the second prints the table of contents with those numbers
+(the same page, written into its contents: the formulas are typeset once).
 """
 
 from __future__ import annotations
@@ -138,6 +139,14 @@ JS_FRONT_MATTER = """(meta) => {
   return chapters.map(c => c.title);
 }"""
 
+# The second printing: the table of contents gets each chapter's start page (the same page,
+# its formulas typeset once).
+JS_TOC_PAGES = """(pages) => {
+  for (const li of Array.from(document.querySelectorAll('#gyrolib-toc li'))) {
+    li.querySelector('.page').textContent = pages[li.querySelector('a').textContent] || '';
+  }
+}"""
+
 FOOTER = ('<div style="font-size:8pt;width:100%;padding:0 16mm;display:flex;'
           'justify-content:space-between;color:#555;"><span>{title}, version {version}</span>'
           '<span>page <span class="pageNumber"></span> of <span class="totalPages"></span>'
@@ -224,28 +233,30 @@ def print_book(folder: Path, out: Path, meta: dict) -> dict:
 
             context.route("**/*", route)
             try:
+                page = context.new_page()
+                page.set_default_timeout(TIMEOUT_MS)
+                page.goto(url, wait_until="load")
+                ready = page.evaluate(JS_READY)
+                if ready["untypeset"] or ready["badImages"]:
+                    raise SystemExit(f"not ready to print: {ready['untypeset']} formulas "
+                                     f"untypeset, images not decoded: {ready['badImages']}")
+                page.add_style_tag(content=PRINT_CSS)
+                titles = page.evaluate(JS_FRONT_MATTER, dict(meta, pages={}))
+                page.emulate_media(media="print")
                 pages: dict[str, str] = {}
-                for _pass in (1, 2):
-                    page = context.new_page()
-                    page.set_default_timeout(TIMEOUT_MS)
-                    page.goto(url, wait_until="load")
-                    ready = page.evaluate(JS_READY)
-                    if ready["untypeset"] or ready["badImages"]:
-                        raise SystemExit(f"not ready to print: {ready['untypeset']} formulas "
-                                         f"untypeset, images not decoded: {ready['badImages']}")
-                    page.add_style_tag(content=PRINT_CSS)
-                    titles = page.evaluate(JS_FRONT_MATTER, dict(meta, pages=pages))
-                    page.emulate_media(media="print")
+                for _pass in (1, 2):   # the second with the chapters' pages in the contents
+                    if _pass == 2:
+                        page.evaluate(JS_TOC_PAGES, pages)
                     page.pdf(path=str(out), format="A4", print_background=True,
                              display_header_footer=True, header_template="<span></span>",
                              footer_template=footer, outline=True, tagged=True,
                              margin={"top": "18mm", "bottom": "20mm", "left": "16mm",
                                      "right": "16mm"})
-                    page.close()
                     if _pass == 1:
                         toc_pages = 1 + next(i for i, t in enumerate(page_texts(out))
                                              if "Contents" in t)
                         pages = start_pages(out, titles, toc_pages)
+                page.close()
                 report = {"chapters": titles, "start_pages": pages, "formulas": ready["math"],
                           "offsite_requests": offsite}
             finally:
