@@ -232,21 +232,53 @@ def check_procedure(procedure: object) -> RateSensorProcedure:
     return v.check_instance("procedure", procedure, RateSensorProcedure)
 
 
+def _frozen(a: np.ndarray) -> np.ndarray:
+    """``a`` made read-only (a cached result shared between calls)."""
+    a.flags.writeable = False
+    return a
+
+
+class _PowerTable:
+    """The doubling table of one step ``y ← M y + w``, ``Cov w = Q``: ``B_j = M^(2^j)`` and
+    ``SB_j = Σ_{i<2^j} M^i Q M^iᵀ``, built once (extended on demand) and shared by every
+    :meth:`power_sum` of the same step, so each costs only its combine steps."""
+
+    def __init__(self, M: np.ndarray, Q: np.ndarray):
+        self._B = [M.copy()]
+        self._SB = [Q.copy()]
+
+    @property
+    def step(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(M, Q)`` (the table's own arrays: do not modify)."""
+        return self._B[0], self._SB[0]
+
+    def _level(self, j: int) -> tuple[np.ndarray, np.ndarray]:
+        while len(self._B) <= j:
+            B, SB = self._B[-1], self._SB[-1]
+            self._SB.append(SB + B @ SB @ B.T)
+            self._B.append(B @ B)
+        return self._B[j], self._SB[j]
+
+    def power_sum(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """``(M^k, Σ_{j<k} M^j Q M^jᵀ)``: the covariance of ``k`` steps, in O(log k)
+        products (the same products, in the same order, as doubling from scratch)."""
+        Mk = np.eye(self._B[0].shape[0])
+        Sk = np.zeros_like(self._SB[0])
+        j = 0
+        while k:
+            if k & 1:
+                B, SB = self._level(j)
+                Sk = SB + B @ Sk @ B.T
+                Mk = B @ Mk
+            k >>= 1
+            j += 1
+        return Mk, Sk
+
+
 def _power_sum(M: np.ndarray, Q: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
     """``(M^k, Σ_{j<k} M^j Q M^jᵀ)`` by doubling: the covariance of ``k`` steps of
     ``y ← M y + w``, ``Cov w = Q``, in O(log k) products."""
-    Mk = np.eye(M.shape[0])
-    Sk = np.zeros_like(Q)
-    B, SB = M.copy(), Q.copy()
-    while k:
-        if k & 1:
-            Sk = SB + B @ Sk @ B.T
-            Mk = B @ Mk
-        k >>= 1
-        if k:
-            SB = SB + B @ SB @ B.T
-            B = B @ B
-    return Mk, Sk
+    return _PowerTable(M, Q).power_sum(k)
 
 
 @compact_repr
@@ -338,14 +370,42 @@ class RateSensorModel:
     def _gap(self, length: float) -> tuple[np.ndarray, np.ndarray]:
         """``(Φ, Qd)`` over ``length`` (s): whole samples by doubling (a single matrix
         exponential over minutes would overflow in Van Loan's block), the rest exactly."""
-        dt = self.procedure.sample_dt
-        k = math.floor(length / dt + 1e-9)
-        Phi, Qd = _power_sum(self.Phi, self.Qd, k)
-        rest = length - k * dt
-        if rest > 1e-12:
-            Pr, Qr = _discretize(self.F, self.G, self.Q, rest)
-            Phi, Qd = Pr @ Phi, Pr @ Qd @ Pr.T + Qr
-        return Phi, Qd
+        cache = self._cache("gap")
+        if length not in cache:
+            dt = self.procedure.sample_dt
+            k = math.floor(length / dt + 1e-9)
+            Phi, Qd = self._table("phi").power_sum(k)
+            rest = length - k * dt
+            if rest > 1e-12:
+                Pr, Qr = _discretize(self.F, self.G, self.Q, rest)
+                Phi, Qd = Pr @ Phi, Pr @ Qd @ Pr.T + Qr
+            cache[length] = (_frozen(Phi), _frozen(Qd))
+        return cache[length]
+
+    # -- per-model caches (the dataclass is frozen; its __dict__ holds them) ------------------
+    def _cache(self, name: str) -> dict:
+        """A dict kept on this model (created on first use) for results that depend only on
+        the model and the key."""
+        key = "_cache_" + name
+        d = self.__dict__.get(key)
+        if d is None:
+            d = {}
+            object.__setattr__(self, key, d)
+        return d
+
+    def _table(self, which: str) -> _PowerTable:
+        """The doubling table of one sample: ``"phi"`` (the state alone), ``"w1"``,
+        ``"w2"`` (the augmented step of window 1 or 2, :meth:`_window_step`)."""
+        cache = self._cache("tables")
+        if which not in cache:
+            if which == "phi":
+                cache[which] = _PowerTable(self.Phi, self.Qd)
+            elif which == "w1":
+                cache[which] = _PowerTable(*self._window_step(self.H1, (_N, _N + 1), _N + 4))
+            else:
+                cache[which] = _PowerTable(*self._window_step(self.H2, (_N + 2, _N + 3),
+                                                              _N + 4))
+        return cache[which]
 
     def _window_step(self, H: np.ndarray, slots: tuple[int, int],
                      na: int) -> tuple[np.ndarray, np.ndarray]:
@@ -383,18 +443,22 @@ class RateSensorModel:
         return self._gap(self.procedure.overhead)
 
     def _classical_after_w1(self, n1: int) -> np.ndarray:
-        na = _N + 4
-        P = np.zeros((na, na))
-        P[:_N, :_N] = self.P0
-        M, Qa = self._window_step(self.H1, (_N, _N + 1), na)
-        Mk, Sk = _power_sum(M, Qa, n1)
-        P = Mk @ P @ Mk.T + Sk
-        Pg, Qg = self._gap_overhead
-        A = np.eye(na)
-        A[:_N, :_N] = Pg
-        P = A @ P @ A.T
-        P[:_N, :_N] += Qg
-        return P
+        """The augmented covariance after window 1 of ``n1`` samples, the turn and the
+        settling (computed once per ``n1``; read-only)."""
+        cache = self._cache("after_w1")
+        if n1 not in cache:
+            na = _N + 4
+            P = np.zeros((na, na))
+            P[:_N, :_N] = self.P0
+            Mk, Sk = self._table("w1").power_sum(n1)
+            P = Mk @ P @ Mk.T + Sk
+            Pg, Qg = self._gap_overhead
+            A = np.eye(na)
+            A[:_N, :_N] = Pg
+            P = A @ P @ A.T
+            P[:_N, :_N] += Qg
+            cache[n1] = _frozen(P)
+        return cache[n1]
 
     # -- the classical estimator ---------------------------------------------------------------
     def classical_sigma(self, t1: float, t2: float) -> float:
@@ -429,10 +493,8 @@ class RateSensorModel:
     def classical_sigma_samples(self, n1: int, n2: int) -> float:
         """:meth:`classical_sigma` with windows of ``n1`` and ``n2`` samples."""
         n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
-        na = _N + 4
         P = self._classical_after_w1(n1)
-        M, Qa = self._window_step(self.H2, (_N + 2, _N + 3), na)
-        Mk, Sk = _power_sum(M, Qa, n2)
+        Mk, Sk = self._table("w2").power_sum(n2)
         P = Mk @ P @ Mk.T + Sk
         c = self._classical_weights(n1, n2)
         return float(math.sqrt(max(c @ P @ c, 0.0)))
@@ -464,9 +526,8 @@ class RateSensorModel:
         """
         n1, n2 = self.window_samples("t1", t1), self.window_samples("t2", t2)
         dt = self.procedure.sample_dt
-        na = _N + 4
         P = self._classical_after_w1(n1)
-        M, Qa = self._window_step(self.H2, (_N + 2, _N + 3), na)
+        M, Qa = self._table("w2").step
         sigma = np.empty(n2)
         for k in range(n2):
             P = M @ P @ M.T + Qa
@@ -479,13 +540,38 @@ class RateSensorModel:
         return t, sigma
 
     # -- the optimal estimator -----------------------------------------------------------------
-    def _kalman(self, H: np.ndarray, r: np.ndarray, P: np.ndarray, n: int):
+    def _kalman(self, H: np.ndarray, r: np.ndarray, P: np.ndarray, n: int, *,
+                symmetrize: bool = True):
         z = np.zeros((1, _N, _N))
         model = AffineDiscreteModel(
             seg=np.zeros(n, dtype=np.int64), a=np.zeros(n), b=np.zeros(n),
             Phi0=self.Phi[None], PhiA=z, PhiB=z, Qd0=self.Qd[None], QdA=z, QdB=z,
             H=np.ascontiguousarray(H), r=np.ascontiguousarray(r))
-        return covariance_fast(model, 0.5 * (P + P.T), n)
+        return covariance_fast(model, 0.5 * (P + P.T) if symmetrize else P, n)
+
+    def _position1(self, n1: int) -> tuple[np.ndarray, np.ndarray]:
+        """The optimal filter over position 1 of ``n1`` samples: the covariance at its end
+        (read-only) and the variance of ω_gc at samples ``0 … n1``.
+
+        Position 1 of any length is a prefix of the same filter run from ``P0``, so the run
+        is kept per model: a longer ``n1`` resumes from the longest one computed, a shorter
+        one from the nearest computed below it.  The kernel's state between steps is its
+        covariance alone, so a resumed run repeats the floating-point operations of a
+        single run from ``P0`` (the same numbers, to the bit)."""
+        at = self._cache("pos1_P")
+        var = self._cache("pos1_var")
+        if not at:
+            at[0] = _frozen(0.5 * (self.P0 + self.P0.T))
+            var["omega"] = np.array([at[0][_OMEGA, _OMEGA]])
+        if n1 not in at:
+            start = max(k for k in at if k < n1)
+            run = self._kalman(self.H1, self.r, at[start], n1 - start, symmetrize=False)
+            at[n1] = _frozen(run.P_stored[-1].copy())
+            known = var["omega"]
+            if n1 + 1 > known.size:
+                var["omega"] = np.concatenate((known,
+                                               run.var[known.size - start:, _OMEGA]))
+        return at[n1], var["omega"][:n1 + 1]
 
     def optimal_run(self, t1: float, t2: float) -> OptimalRun:
         """σ of ω_gc of the optimal (Kalman) estimator over the procedure.
@@ -525,10 +611,9 @@ class RateSensorModel:
         n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
         proc = self.procedure
         dt = proc.sample_dt
-        run = self._kalman(self.H1, self.r, self.P0, n1)
-        P = run.P_stored[-1]
+        P, var1 = self._position1(n1)
         ts = [dt * np.arange(n1 + 1)]
-        ss = [np.sqrt(np.clip(run.var[:, _OMEGA], 0.0, None))]
+        ss = [np.sqrt(np.clip(var1, 0.0, None))]
         t = n1 * dt
         phases = [("position 1", 0.0, t)]
         # the turn: no sample (the sensors are moving); the state only propagates
