@@ -542,11 +542,20 @@ class RateSensorModel:
     # -- the optimal estimator -----------------------------------------------------------------
     def _kalman(self, H: np.ndarray, r: np.ndarray, P: np.ndarray, n: int, *,
                 symmetrize: bool = True):
-        z = np.zeros((1, _N, _N))
-        model = AffineDiscreteModel(
-            seg=np.zeros(n, dtype=np.int64), a=np.zeros(n), b=np.zeros(n),
-            Phi0=self.Phi[None], PhiA=z, PhiB=z, Qd0=self.Qd[None], QdA=z, QdB=z,
-            H=np.ascontiguousarray(H), r=np.ascontiguousarray(r))
+        """The filter's covariance run of ``n`` samples measuring ``H`` (noise variances
+        ``r``) from ``P`` (symmetrized unless ``symmetrize=False``: a run resumed from the
+        kernel's own, already symmetric, covariance); the discrete model of each
+        ``(H, r, n)`` is built once per model."""
+        cache = self._cache("kalman")
+        key = (H.tobytes(), r.tobytes(), n)
+        model = cache.get(key)
+        if model is None:
+            z = np.zeros((1, _N, _N))
+            model = AffineDiscreteModel(
+                seg=np.zeros(n, dtype=np.int64), a=np.zeros(n), b=np.zeros(n),
+                Phi0=self.Phi[None], PhiA=z, PhiB=z, Qd0=self.Qd[None], QdA=z, QdB=z,
+                H=np.ascontiguousarray(H), r=np.ascontiguousarray(r))
+            cache[key] = model
         return covariance_fast(model, 0.5 * (P + P.T) if symmetrize else P, n)
 
     def _position1(self, n1: int) -> tuple[np.ndarray, np.ndarray]:
@@ -609,6 +618,18 @@ class RateSensorModel:
     def optimal_run_samples(self, n1: int, n2: int) -> OptimalRun:
         """:meth:`optimal_run` with windows of ``n1`` and ``n2`` samples."""
         n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
+        ts, ss, phases, P, t = self._optimal_to_position2(n1)
+        run = self._kalman(self.H2, self.r, P, n2)
+        dt = self.procedure.sample_dt
+        ts.append(t + dt * np.arange(1, n2 + 1))
+        ss.append(np.sqrt(np.clip(run.var[1:, _OMEGA], 0.0, None)))
+        phases.append(("position 2", t, t + n2 * dt))
+        return OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
+
+    def _optimal_to_position2(self, n1: int) -> tuple[list, list, list, np.ndarray, float]:
+        """The optimal run up to the start of position 2 (position 1 of ``n1`` samples, the
+        turn, the settling): the pieces of ``t`` and ``sigma``, the phases, the covariance
+        and the elapsed time (s) at the start of position 2."""
         proc = self.procedure
         dt = proc.sample_dt
         P, var1 = self._position1(n1)
@@ -634,11 +655,47 @@ class RateSensorModel:
         t += proc.T_settle
         ts.append(np.array([t]))
         ss.append(np.sqrt([max(P[_OMEGA, _OMEGA], 0.0)]))
-        run = self._kalman(self.H2, self.r, P, n2)
-        ts.append(t + dt * np.arange(1, n2 + 1))
-        ss.append(np.sqrt(np.clip(run.var[1:, _OMEGA], 0.0, None)))
-        phases.append(("position 2", t, t + n2 * dt))
-        return OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
+        return ts, ss, phases, P, t
+
+    @cached_property
+    def _omega_constant(self) -> bool:
+        """ω_gc is a constant of the discrete model to the bit (its row of ``Φ`` is the unit
+        row, no process noise reaches it): the filter's variance of ω_gc then never grows
+        while it measures (prediction leaves it, each update lowers it)."""
+        unit = np.zeros(_N)
+        unit[_OMEGA] = 1.0
+        return bool(np.array_equal(self.Phi[_OMEGA], unit) and not self.Qd[_OMEGA].any()
+                    and not self.Qd[:, _OMEGA].any())
+
+    def _optimal_time_to(self, n1: int, n2_max: int, level: float) -> float:
+        """``optimal_run_samples(n1, n2_max).time_to(level)``, position 2 run only as far as
+        that answer needs.
+
+        Position 2 is run in growing chunks, each resumed from the covariance at the end of
+        the last (the same floating-point operations as one run); it stops after the chunk
+        in which the variance of ω_gc falls below ``level² (1 − 10⁻⁶)``.  When ω_gc is a
+        constant of the model (:attr:`_omega_constant`, checked; otherwise the whole window
+        is run) that variance does not grow in position 2, so no later sample can be above
+        ``level`` again (the margin covers rounding, whose relative size is 10⁻¹⁶ per step)
+        and the last sample above ``level`` — all that :meth:`OptimalRun.time_to` reads —
+        is among those computed: the same time as the full run."""
+        ts, ss, phases, P, t = self._optimal_to_position2(n1)
+        dt = self.procedure.sample_dt
+        safe = level**2 * (1.0 - 1e-6)
+        done, chunk, sym = 0, 64, True
+        while done < n2_max:
+            n = min(chunk, n2_max - done)
+            run = self._kalman(self.H2, self.r, P, n, symmetrize=sym)
+            var = run.var[1:, _OMEGA]
+            ts.append(t + dt * np.arange(done + 1, done + n + 1))
+            ss.append(np.sqrt(np.clip(var, 0.0, None)))
+            done += n
+            if self._omega_constant and np.any(var <= safe):
+                break
+            P, chunk, sym = run.P_stored[-1], 2 * chunk, False
+        phases.append(("position 2", t, t + done * dt))
+        run = OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
+        return run.time_to(level)
 
     @property
     def turn_floor(self) -> float:
