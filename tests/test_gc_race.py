@@ -606,3 +606,18 @@ def test_race_and_conditions_match_the_straightforward_search(monkeypatch):
     assert _close(ours[0], ref[0]), (ours[0], ref[0])
     assert all(_close(a, b) for a, b in zip(ours[1], ref[1]))
     assert _close(ours[2], ref[2]) and _close(ours[3], ref[3])
+
+
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_worst_corner_gc_time_is_the_gc_part(factor):
+    """conditions() skips GC's covariance analyses at the worst corner when the scale's drift
+    alone reaches σ_c (factor 0.5): the time is the one _gc_part computes, there and when it
+    does not (factor 2)."""
+    from gyrolib.gc.racing.comparison import _gc_part
+    kappa = gc.RACE_RANGES["sigma_hf_scale"][1]
+    proc = replace(PROC, sigma_c=factor * kappa * BASE.Omega_h)
+    c = gc.race(BASE, proc).conditions()
+    t = _gc_part(replace(BASE, sigma_hf_scale=kappa), proc.sigma_c, proc.t_max)[0]
+    assert math.isnan(t) == (factor < 1.0)
+    assert (math.isnan(c.worst_t_gc) and math.isnan(t)) or c.worst_t_gc == pytest.approx(
+        t, rel=1e-12)
