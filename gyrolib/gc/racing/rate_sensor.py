@@ -246,6 +246,7 @@ class _PowerTable:
     def __init__(self, M: np.ndarray, Q: np.ndarray):
         self._B = [M.copy()]
         self._SB = [Q.copy()]
+        self._sums: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     @property
     def step(self) -> tuple[np.ndarray, np.ndarray]:
@@ -261,7 +262,11 @@ class _PowerTable:
 
     def power_sum(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         """``(M^k, Σ_{j<k} M^j Q M^jᵀ)``: the covariance of ``k`` steps, in O(log k)
-        products (the same products, in the same order, as doubling from scratch)."""
+        products (the same products, in the same order, as doubling from scratch); kept
+        per ``k`` (read-only arrays)."""
+        if k in self._sums:
+            return self._sums[k]
+        k0 = k
         Mk = np.eye(self._B[0].shape[0])
         Sk = np.zeros_like(self._SB[0])
         j = 0
@@ -272,6 +277,7 @@ class _PowerTable:
                 Mk = B @ Mk
             k >>= 1
             j += 1
+        self._sums[k0] = (_frozen(Mk), _frozen(Sk))
         return Mk, Sk
 
 
@@ -493,11 +499,14 @@ class RateSensorModel:
     def classical_sigma_samples(self, n1: int, n2: int) -> float:
         """:meth:`classical_sigma` with windows of ``n1`` and ``n2`` samples."""
         n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
-        P = self._classical_after_w1(n1)
-        Mk, Sk = self._table("w2").power_sum(n2)
-        P = Mk @ P @ Mk.T + Sk
-        c = self._classical_weights(n1, n2)
-        return float(math.sqrt(max(c @ P @ c, 0.0)))
+        cache = self._cache("classical")
+        if (n1, n2) not in cache:
+            P = self._classical_after_w1(n1)
+            Mk, Sk = self._table("w2").power_sum(n2)
+            P = Mk @ P @ Mk.T + Sk
+            c = self._classical_weights(n1, n2)
+            cache[n1, n2] = float(math.sqrt(max(c @ P @ c, 0.0)))
+        return cache[n1, n2]
 
     def classical_curve(self, t1: float, t2: float) -> tuple[NDArray[np.float64],
                                                              NDArray[np.float64]]:
