@@ -587,8 +587,9 @@ class RateSensorModel:
             at[n1] = _frozen(run.P_stored[-1].copy())
             known = var["omega"]
             if n1 + 1 > known.size:
-                var["omega"] = np.concatenate((known,
-                                               run.var[known.size - start:, _OMEGA]))
+                longer = np.concatenate((known, run.var[known.size - start:, _OMEGA]))
+                if longer.size > var["omega"].size:   # (another thread may have gone further)
+                    var["omega"] = longer
         return at[n1], var["omega"][:n1 + 1]
 
     def optimal_run(self, t1: float, t2: float) -> OptimalRun:
