@@ -337,6 +337,11 @@ class RateSensorModel:
     shaping filters (6), (7); the rest constant); ``Phi``, ``Qd``: its exact step over
     ``procedure.sample_dt``; ``P0`` the prior; ``H1``, ``H2`` (3×9): rate sensor, inclinometer y,
     inclinometer z in positions 1 and 2; ``r`` (3,) their noise variances per sample.
+
+    The model keeps what its searches ask for repeatedly (the doubling tables of one
+    sample, power sums, the covariance after window 1, the classical σ per pair of windows,
+    the optimal filter's position 1): build a new model (:func:`rate_sensor_model`,
+    ``dataclasses.replace``) rather than changing its arrays in place.
     """
 
     params: GyrocompassParams
