@@ -5,12 +5,19 @@
 Cases (best of ``--repeat`` wall times, after one warm-up call that loads numba's cache):
 
 * the classical estimator's σ over two 300-s windows by doubling
-  (``RateSensorModel.classical_sigma``) against a peer in the same process: the same
+  (``RateSensorModel.classical_sigma``, a fresh model each call: the model keeps its power
+  sums and σ) against a peer in the same process: the same
   augmented covariance stepped sample by sample in numpy (σ agreeing to 10⁻⁸, relative;
   the turn and settling a whole number of samples at the defaults);
 * ``gc.race()`` at the defaults (GC's 100-s covariance analysis, the classical search, the
   optimal Kalman run, the curves); target 3 s;
 * ``RaceResult.conditions()`` (four bisections); target 5 s;
+* ``gc.race()``, ``RaceResult.conditions()`` and one ``items(params)`` of the ledger's GC
+  part against the previous implementation (commit :data:`PREVIOUS`, before issue 29's
+  per-model caches and early stop, exported from git into a temporary folder): each in a
+  fresh process (after a warm-up call), ours and the previous alternating, best of
+  ``--repeat`` (``items`` best of 2); the two trees' race times and conditions compared
+  (they must agree to 10⁻¹² relative);
 * the chapter's sweeps: the T_rot × T_settle grid (24 cases), the rate-noise sweep (5 cases),
   the σ1² × vibration-frame sweep (6 cases, GC recomputed for each σ1²), and
   ``procedure_for_time`` twice; target 30 s for all of them;
@@ -25,8 +32,15 @@ The chapter as a whole must execute in under 60 s on 2 cores.  Writes
 from __future__ import annotations
 
 import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 from _results import Recorder
@@ -98,10 +112,97 @@ def chapter_sweeps() -> None:
     gc.procedure_for_time(p, proc, "overhead", 1200.0)
 
 
+ROOT = Path(__file__).resolve().parents[1]
+
+#: The commit whose race is the peer of the conditions case: before issue 29's per-model
+#: caches of the rate-sensor model and the early stop of the optimal search.
+PREVIOUS = "a0ae90f"
+
+#: What the child process reports of the race (the numbers both trees must agree on).
+_COMPARED = ("t_c_gc", "t_c_rate_sensor", "t_c_rate_sensor_optimal", "t1", "t2", "t1_optimal")
+_COMPARED_COND = ("t_needed", "worst_t_gc", "worst_t_classical", "worst_t_optimal",
+                  "loop_bandwidth_min", "overhead_min", "rate_noise_min", "kappa_max")
+
+
+def previous_tree(dest: Path, commit: str = PREVIOUS) -> Path | None:
+    """``gyrolib/`` at ``commit`` exported into ``dest``, or None."""
+    try:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit, "gyrolib"],
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return dest
+
+
+def child(repeat: int) -> None:
+    """In a fresh process on the tree of ``PYTHONPATH``: the times of ``gc.race()``,
+    ``conditions()`` and one ledger ``items(params)``, and the race's numbers, as JSON."""
+    from gyrolib.book.ledger import gc as ledger_gc
+    gc.race().conditions()            # warm-up: numba's cache, imports
+    t_race, race = best(gc.race, repeat)
+    t_cond, cond = best(race.conditions, repeat)
+    t_items, _ = best(lambda: ledger_gc.items(gc.GyrocompassParams()), min(repeat, 2))
+    values = {k: getattr(race, k) for k in _COMPARED}
+    values.update({f"conditions.{k}": getattr(cond, k) for k in _COMPARED_COND})
+    print(json.dumps({"gyrolib": gc.__file__, "race_s": t_race, "conditions_s": t_cond,
+                      "items_s": t_items, "values": values}))
+
+
+def run_child(tree: Path, repeat: int) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
+    out = subprocess.run([sys.executable, __file__, "--child", "--repeat", str(repeat)],
+                         capture_output=True, text=True, cwd=tree, env=env, check=True)
+    res = json.loads(out.stdout.strip().splitlines()[-1])
+    assert res["gyrolib"].startswith(str(tree)), (res["gyrolib"], tree)
+    return res
+
+
+def against_previous(rec: Recorder, repeat: int) -> None:
+    """``gc.race()``, ``conditions()``, ledger ``items`` against :data:`PREVIOUS`."""
+    with tempfile.TemporaryDirectory() as tmp:
+        prev = previous_tree(Path(tmp))
+        if prev is None:
+            sys.exit(f"the previous race (commit {PREVIOUS}) cannot be exported from git")
+        runs = {"ours": [], "previous": []}
+        for _ in range(2):                # alternating, each in a fresh process
+            runs["ours"].append(run_child(ROOT, repeat))
+            runs["previous"].append(run_child(prev, repeat))
+    ours, old = runs["ours"][-1]["values"], runs["previous"][-1]["values"]
+    worst = 0.0
+    for k, a in ours.items():
+        b = old[k]
+        if not (a == b or (math.isnan(a) and math.isnan(b))):
+            worst = max(worst, abs(a - b) / abs(b))
+    assert worst <= 1e-12, (worst, ours, old)
+    agree = "identical" if worst == 0.0 else f"agree to {worst:.1e} (relative)"
+    for key, case, target in (
+            ("race_s", "gc.race() at the defaults, against the previous race", 3.0),
+            ("conditions_s", "RaceResult.conditions(), against the previous race", 5.0),
+            ("items_s", "ledger gc items(params), against the previous race", None)):
+        t_ours = min(r[key] for r in runs["ours"])
+        t_old = min(r[key] for r in runs["previous"])
+        rec.case(case, t_ours, peer=f"commit {PREVIOUS} (before the per-model caches and "
+                 "the early stop), fresh process", peer_s=t_old, target_s=target,
+                 note=f"{len(ours)} race and conditions numbers {agree}; best of "
+                      f"{2 * (repeat if key != 'items_s' else min(repeat, 2))} calls in 2 "
+                      "alternating processes each, OPENBLAS_NUM_THREADS=1")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--only-previous", action="store_true",
+                    help="run only the cases against the previous race")
     args = ap.parse_args()
+    if args.child:
+        child(args.repeat)
+        return
+    if args.only_previous:
+        rec = Recorder("gc_race")
+        against_previous(rec, args.repeat)
+        return
     rec = Recorder("gc_race")
     t0 = time.perf_counter()
     race = gc.race()          # warm-up: numba cache load (or compile)
@@ -109,12 +210,15 @@ def main() -> None:
 
     model = gc.rate_sensor_model()
     n = round(300.0 / model.procedure.sample_dt)
-    ours, s_ours = best(lambda: model.classical_sigma(300.0, 300.0), args.repeat)
+    # a fresh model for each call: the model keeps its power sums and σ (issue 29)
+    fresh = iter([gc.rate_sensor_model() for _ in range(args.repeat)])
+    ours, s_ours = best(lambda: next(fresh).classical_sigma(300.0, 300.0), args.repeat)
     peer, s_peer = best(lambda: peer_classical(model, n, n), 1)
     assert abs(s_ours / s_peer - 1) < 1e-8, (s_ours, s_peer)
     rec.case("classical sigma, 2 x 300 s windows (doubling)", ours,
              peer="augmented covariance stepped per sample (numpy)", peer_s=peer,
-             note=f"sigma agrees to {abs(s_ours / s_peer - 1):.1e} (relative)")
+             note=f"sigma agrees to {abs(s_ours / s_peer - 1):.1e} (relative); a fresh model "
+                  "each call (its caches empty)")
 
     t, race = best(gc.race, args.repeat)
     rec.case("gc.race() at the defaults", t, target_s=3.0,
@@ -133,6 +237,7 @@ def main() -> None:
 
     t, _ = best(mc, 1)
     rec.case("Monte Carlo check, 2 x 400 runs", t, target_s=5.0)
+    against_previous(rec, args.repeat)
     rec.write()
 
 

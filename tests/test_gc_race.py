@@ -442,3 +442,182 @@ def test_functions_reject_bad_arguments(result):
     with pytest.raises(ValueError, match="field"):
         gc.plot_race_sweep(gc.race_sweep(cases=[{}]), "T_rot")
     assert len(RS_STATE_NAMES) == m.P0.shape[0]
+
+
+# The fast paths (issue 29, item 7) against the straightforward computation ------------------
+# Kept here, private: the doubling loop, the classical σ and the optimal run as they were
+# computed before the per-model caches (every power sum from scratch, position 1 from P0 and
+# position 2 over the whole window for each n1).
+_RTOL = 1e-12
+_FAST_MODELS = [
+    (BASE, PROC),
+    (BASE, replace(PROC, loop_bandwidth=1.0, rate_noise=6e-17, T_rot=5.05, T_settle=4.97)),
+    (replace(BASE, sigma1_sq=3 * BASE.sigma1_sq),
+     replace(PROC, vibration_frame="sensor", rate_noise=2e-15, quantization=0.0)),
+]
+
+
+def _ref_power_sum(M, Q, k):
+    Mk, Sk, B, SB = np.eye(M.shape[0]), np.zeros_like(Q), M.copy(), Q.copy()
+    while k:
+        if k & 1:
+            Sk = SB + B @ Sk @ B.T
+            Mk = B @ Mk
+        k >>= 1
+        if k:
+            SB = SB + B @ SB @ B.T
+            B = B @ B
+    return Mk, Sk
+
+
+def _ref_gap(m, length):
+    from gyrolib.gc.racing.rate_sensor import _discretize
+    dt = m.procedure.sample_dt
+    k = math.floor(length / dt + 1e-9)
+    Phi, Qd = _ref_power_sum(m.Phi, m.Qd, k)
+    rest = length - k * dt
+    if rest > 1e-12:
+        Pr, Qr = _discretize(m.F, m.G, m.Q, rest)
+        Phi, Qd = Pr @ Phi, Pr @ Qd @ Pr.T + Qr
+    return Phi, Qd
+
+
+def _ref_classical(m, n1, n2):
+    n, na = m.P0.shape[0], m.P0.shape[0] + 4
+    P = np.zeros((na, na))
+    P[:n, :n] = m.P0
+    Mk, Sk = _ref_power_sum(*m._window_step(m.H1, (n, n + 1), na), n1)
+    P = Mk @ P @ Mk.T + Sk
+    Pg, Qg = _ref_gap(m, m.procedure.overhead)
+    A = np.eye(na)
+    A[:n, :n] = Pg
+    P = A @ P @ A.T
+    P[:n, :n] += Qg
+    Mk, Sk = _ref_power_sum(*m._window_step(m.H2, (n + 2, n + 3), na), n2)
+    P = Mk @ P @ Mk.T + Sk
+    c = m._classical_weights(n1, n2)
+    return math.sqrt(max(c @ P @ c, 0.0))
+
+
+def _ref_optimal_sigma(m, n1, n2):
+    """σ of ω_gc at every sample of the optimal run, each phase one filter run from its
+    start (gyrolib.filtering.covariance_fast on a freshly built model)."""
+    from gyrolib.filtering import AffineDiscreteModel, covariance_fast
+    n, proc = m.P0.shape[0], m.procedure
+    dt = proc.sample_dt
+
+    def kalman(H, r, P, k):
+        z = np.zeros((1, n, n))
+        mod = AffineDiscreteModel(seg=np.zeros(k, dtype=np.int64), a=np.zeros(k),
+                                  b=np.zeros(k), Phi0=m.Phi[None], PhiA=z, PhiB=z,
+                                  Qd0=m.Qd[None], QdA=z, QdB=z, H=np.ascontiguousarray(H),
+                                  r=np.ascontiguousarray(r))
+        return covariance_fast(mod, 0.5 * (P + P.T), k)
+
+    run = kalman(m.H1, m.r, m.P0, n1)
+    var = [run.var[:, 0]]
+    P = run.P_stored[-1]
+    Pg, Qg = _ref_gap(m, proc.T_rot)
+    P = Pg @ P @ Pg.T + Qg
+    ns = math.floor(proc.T_settle / dt + 1e-9)
+    if ns:
+        run = kalman(m.H2[1:], m.r[1:], P, ns)
+        P = run.P_stored[-1]
+        var.append(run.var[1:, 0])
+    Pg, Qg = _ref_gap(m, proc.T_settle - ns * dt)
+    P = Pg @ P @ Pg.T + Qg
+    var.append([P[0, 0]])
+    var.append(kalman(m.H2, m.r, P, n2).var[1:, 0])
+    return np.sqrt(np.clip(np.concatenate(var), 0.0, None))
+
+
+def _close(a, b) -> bool:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    same = (a == b) | (np.abs(a - b) <= _RTOL * np.abs(b)) | (np.isnan(a) & np.isnan(b))
+    return a.shape == b.shape and bool(np.all(same))
+
+
+@pytest.mark.parametrize(("p", "proc"), _FAST_MODELS)
+def test_power_tables_and_classical_cache_match_the_plain_loop(p, proc):
+    m = gc.rate_sensor_model(p, proc)
+    na = m.P0.shape[0] + 4
+    step = m._window_step(m.H2, (na - 2, na - 1), na)
+    for k in (1, 2, 3, 7, 64, 1000, 1217, 4097):
+        assert all(_close(x, y) for x, y in zip(m._table("w2").power_sum(k),
+                                                _ref_power_sum(*step, k)))
+    # many windows in a scrambled order, some repeated: the caches must not leak between them
+    rng = np.random.default_rng(29)
+    pairs = [(int(a), int(b)) for a, b in rng.integers(1, 1500, size=(25, 2))]
+    for n1, n2 in pairs + pairs[:5] + [(1, 1), (1500, 1)]:
+        assert _close(m.classical_sigma_samples(n1, n2), _ref_classical(m, n1, n2)), (n1, n2)
+    # power: the same check on a deliberately wrong model (torquer noise 1e-6 higher) fails
+    wrong = gc.rate_sensor_model(p, replace(proc, rate_noise=proc.rate_noise * (1 + 1e-6)))
+    assert not _close(m.classical_sigma_samples(*pairs[0]), _ref_classical(wrong, *pairs[0]))
+
+
+@pytest.mark.parametrize(("p", "proc"), _FAST_MODELS)
+def test_optimal_run_and_time_to_match_a_fresh_run_per_n1(p, proc):
+    m = gc.rate_sensor_model(p, proc)
+    level = proc.sigma_c
+    n2_max = 3000
+    reached = 0
+    # longer and shorter position 1 than any computed so far, repeats: resumed runs
+    for n1 in (300, 900, 40, 600, 301, 900, 1, 2000, 2001):
+        ref = _ref_optimal_sigma(m, n1, n2_max)
+        run = m.optimal_run_samples(n1, n2_max)
+        assert _close(run.sigma, ref), n1
+        t_ref = gc.OptimalRun(t=run.t, sigma=ref, phases=run.phases).time_to(level)
+        t_fast = m._optimal_time_to(n1, n2_max, level)
+        assert _close(t_fast, t_ref), (n1, t_fast, t_ref)
+        reached += math.isfinite(t_ref)
+    assert reached >= 4       # most windows reach σ_c: the early stop is exercised
+    # not reached within the window: nan from both
+    assert math.isnan(m._optimal_time_to(50, 30, level))
+    assert math.isnan(m.optimal_run_samples(50, 30).time_to(level))
+    # power: stopping position 2 at its first chunk, whatever σ, gives another answer
+    assert not _close(m.optimal_run_samples(900, 64).time_to(level),
+                      m.optimal_run_samples(900, n2_max).time_to(level))
+
+
+def test_race_and_conditions_match_the_straightforward_search(monkeypatch):
+    """race(), conditions(), procedure_for_time and race_sweep with the optimal search's
+    fast time (position 2 stopped early, position 1 resumed) against the same search on
+    fresh full runs (the model's caches off for the optimal run)."""
+    def fast():
+        r = gc.race(BASE, PROC)
+        c = r.conditions()
+        sw = gc.race_sweep(BASE, PROC, cases=[{"T_settle": 60.0}, {"split": 0.3},
+                                              {"rate_noise": 6e-15, "loop_bandwidth": 3.0}])
+        pft = gc.procedure_for_time(BASE, PROC, "rate_noise", 150.0, estimator="optimal")
+        return ([r.t_c_rate_sensor, r.t_c_rate_sensor_optimal, r.t1, r.t2, r.t1_optimal,
+                 c.loop_bandwidth_min, c.overhead_min, c.rate_noise_min, c.worst_t_optimal,
+                 c.worst_t_classical, pft], [sw.t_c_rate_sensor, sw.t_c_rate_sensor_optimal],
+                r.sigma_optimal, r.sigma_classical)
+
+    ours = fast()
+
+    def plain_time_to(self, n1, n2_max, level):
+        ref = _ref_optimal_sigma(self, n1, n2_max)
+        run = self.optimal_run_samples(n1, n2_max)
+        return gc.OptimalRun(t=run.t, sigma=ref, phases=run.phases).time_to(level)
+
+    monkeypatch.setattr(gc.RateSensorModel, "_optimal_time_to", plain_time_to)
+    ref = fast()
+    assert _close(ours[0], ref[0]), (ours[0], ref[0])
+    assert all(_close(a, b) for a, b in zip(ours[1], ref[1]))
+    assert _close(ours[2], ref[2]) and _close(ours[3], ref[3])
+
+
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_worst_corner_gc_time_is_the_gc_part(factor):
+    """conditions() skips GC's covariance analyses at the worst corner when the scale's drift
+    alone reaches σ_c (factor 0.5): the time is the one _gc_part computes, there and when it
+    does not (factor 2)."""
+    from gyrolib.gc.racing.comparison import _gc_part
+    kappa = gc.RACE_RANGES["sigma_hf_scale"][1]
+    proc = replace(PROC, sigma_c=factor * kappa * BASE.Omega_h)
+    c = gc.race(BASE, proc).conditions()
+    t = _gc_part(replace(BASE, sigma_hf_scale=kappa), proc.sigma_c, proc.t_max)[0]
+    assert math.isnan(t) == (factor < 1.0)
+    assert (math.isnan(c.worst_t_gc) and math.isnan(t)) or c.worst_t_gc == pytest.approx(
+        t, rel=1e-12)

@@ -151,7 +151,7 @@ def _classical_samples(model: RateSensorModel) -> tuple[int, int] | None:
 def _optimal_time(model: RateSensorModel, n1: int, n2_max: int) -> float:
     """The optimal estimator's time to σ_c with position 1 lasting ``n1`` samples and
     position 2 ended as soon as σ reaches σ_c (``inf``: not within ``n2_max`` samples)."""
-    t = model.optimal_run_samples(n1, n2_max).time_to(model.procedure.sigma_c)
+    t = model._optimal_time_to(n1, n2_max, model.procedure.sigma_c)
     return math.inf if math.isnan(t) else t
 
 
@@ -458,7 +458,10 @@ class RaceResult:
         wp = replace(p, sigma_hf_scale=r["sigma_hf_scale"][1])
         wproc = _with(replace(proc, loop_bandwidth=r["loop_bandwidth"][0],
                               rate_noise=r["rate_noise"][0]), "overhead", r["overhead"][0])
-        w_gc = _gc_part(wp, proc.sigma_c, proc.t_max)[0]
+        # GC's time there; when the scale's drift alone reaches σ_c it is nan at every
+        # horizon (_gc_part), and its covariance analyses (σ curves unused here) are skipped
+        w_gc = (math.nan if wp.scale_drift_sigma >= proc.sigma_c
+                else _gc_part(wp, proc.sigma_c, proc.t_max)[0])
         w_part = _rate_part(rate_sensor_model(p, wproc))
         w_opt = w_part.t_c_optimal if np.isfinite(w_part.t_c_optimal) else math.inf
         w_holds = bool(np.isfinite(w_gc) and (not np.isfinite(w_opt) or w_opt > w_gc / keep))

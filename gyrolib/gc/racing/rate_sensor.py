@@ -232,21 +232,59 @@ def check_procedure(procedure: object) -> RateSensorProcedure:
     return v.check_instance("procedure", procedure, RateSensorProcedure)
 
 
+def _frozen(a: np.ndarray) -> np.ndarray:
+    """``a`` made read-only (a cached result shared between calls)."""
+    a.flags.writeable = False
+    return a
+
+
+class _PowerTable:
+    """The doubling table of one step ``y ← M y + w``, ``Cov w = Q``: ``B_j = M^(2^j)`` and
+    ``SB_j = Σ_{i<2^j} M^i Q M^iᵀ``, built once (extended on demand) and shared by every
+    :meth:`power_sum` of the same step, so each costs only its combine steps."""
+
+    def __init__(self, M: np.ndarray, Q: np.ndarray):
+        self._B = [M.copy()]
+        self._SB = [Q.copy()]
+        self._sums: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    @property
+    def step(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(M, Q)`` (the table's own arrays: do not modify)."""
+        return self._B[0], self._SB[0]
+
+    def _level(self, j: int) -> tuple[np.ndarray, np.ndarray]:
+        while len(self._B) <= j:
+            B, SB = self._B[-1], self._SB[-1]
+            self._SB.append(SB + B @ SB @ B.T)
+            self._B.append(B @ B)
+        return self._B[j], self._SB[j]
+
+    def power_sum(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """``(M^k, Σ_{j<k} M^j Q M^jᵀ)``: the covariance of ``k`` steps, in O(log k)
+        products (the same products, in the same order, as doubling from scratch); kept
+        per ``k`` (read-only arrays)."""
+        if k in self._sums:
+            return self._sums[k]
+        k0 = k
+        Mk = np.eye(self._B[0].shape[0])
+        Sk = np.zeros_like(self._SB[0])
+        j = 0
+        while k:
+            if k & 1:
+                B, SB = self._level(j)
+                Sk = SB + B @ Sk @ B.T
+                Mk = B @ Mk
+            k >>= 1
+            j += 1
+        self._sums[k0] = (_frozen(Mk), _frozen(Sk))
+        return Mk, Sk
+
+
 def _power_sum(M: np.ndarray, Q: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
     """``(M^k, Σ_{j<k} M^j Q M^jᵀ)`` by doubling: the covariance of ``k`` steps of
     ``y ← M y + w``, ``Cov w = Q``, in O(log k) products."""
-    Mk = np.eye(M.shape[0])
-    Sk = np.zeros_like(Q)
-    B, SB = M.copy(), Q.copy()
-    while k:
-        if k & 1:
-            Sk = SB + B @ Sk @ B.T
-            Mk = B @ Mk
-        k >>= 1
-        if k:
-            SB = SB + B @ SB @ B.T
-            B = B @ B
-    return Mk, Sk
+    return _PowerTable(M, Q).power_sum(k)
 
 
 @compact_repr
@@ -299,6 +337,11 @@ class RateSensorModel:
     shaping filters (6), (7); the rest constant); ``Phi``, ``Qd``: its exact step over
     ``procedure.sample_dt``; ``P0`` the prior; ``H1``, ``H2`` (3×9): rate sensor, inclinometer y,
     inclinometer z in positions 1 and 2; ``r`` (3,) their noise variances per sample.
+
+    The model keeps what its searches ask for repeatedly (the doubling tables of one
+    sample, power sums, the covariance after window 1, the classical σ per pair of windows,
+    the optimal filter's position 1): build a new model (:func:`rate_sensor_model`,
+    ``dataclasses.replace``) rather than changing its arrays in place.
     """
 
     params: GyrocompassParams
@@ -338,14 +381,42 @@ class RateSensorModel:
     def _gap(self, length: float) -> tuple[np.ndarray, np.ndarray]:
         """``(Φ, Qd)`` over ``length`` (s): whole samples by doubling (a single matrix
         exponential over minutes would overflow in Van Loan's block), the rest exactly."""
-        dt = self.procedure.sample_dt
-        k = math.floor(length / dt + 1e-9)
-        Phi, Qd = _power_sum(self.Phi, self.Qd, k)
-        rest = length - k * dt
-        if rest > 1e-12:
-            Pr, Qr = _discretize(self.F, self.G, self.Q, rest)
-            Phi, Qd = Pr @ Phi, Pr @ Qd @ Pr.T + Qr
-        return Phi, Qd
+        cache = self._cache("gap")
+        if length not in cache:
+            dt = self.procedure.sample_dt
+            k = math.floor(length / dt + 1e-9)
+            Phi, Qd = self._table("phi").power_sum(k)
+            rest = length - k * dt
+            if rest > 1e-12:
+                Pr, Qr = _discretize(self.F, self.G, self.Q, rest)
+                Phi, Qd = Pr @ Phi, Pr @ Qd @ Pr.T + Qr
+            cache[length] = (_frozen(Phi), _frozen(Qd))
+        return cache[length]
+
+    # -- per-model caches (the dataclass is frozen; its __dict__ holds them) ------------------
+    def _cache(self, name: str) -> dict:
+        """A dict kept on this model (created on first use) for results that depend only on
+        the model and the key."""
+        key = "_cache_" + name
+        d = self.__dict__.get(key)
+        if d is None:
+            d = {}
+            object.__setattr__(self, key, d)
+        return d
+
+    def _table(self, which: str) -> _PowerTable:
+        """The doubling table of one sample: ``"phi"`` (the state alone), ``"w1"``,
+        ``"w2"`` (the augmented step of window 1 or 2, :meth:`_window_step`)."""
+        cache = self._cache("tables")
+        if which not in cache:
+            if which == "phi":
+                cache[which] = _PowerTable(self.Phi, self.Qd)
+            elif which == "w1":
+                cache[which] = _PowerTable(*self._window_step(self.H1, (_N, _N + 1), _N + 4))
+            else:
+                cache[which] = _PowerTable(*self._window_step(self.H2, (_N + 2, _N + 3),
+                                                              _N + 4))
+        return cache[which]
 
     def _window_step(self, H: np.ndarray, slots: tuple[int, int],
                      na: int) -> tuple[np.ndarray, np.ndarray]:
@@ -383,18 +454,22 @@ class RateSensorModel:
         return self._gap(self.procedure.overhead)
 
     def _classical_after_w1(self, n1: int) -> np.ndarray:
-        na = _N + 4
-        P = np.zeros((na, na))
-        P[:_N, :_N] = self.P0
-        M, Qa = self._window_step(self.H1, (_N, _N + 1), na)
-        Mk, Sk = _power_sum(M, Qa, n1)
-        P = Mk @ P @ Mk.T + Sk
-        Pg, Qg = self._gap_overhead
-        A = np.eye(na)
-        A[:_N, :_N] = Pg
-        P = A @ P @ A.T
-        P[:_N, :_N] += Qg
-        return P
+        """The augmented covariance after window 1 of ``n1`` samples, the turn and the
+        settling (computed once per ``n1``; read-only)."""
+        cache = self._cache("after_w1")
+        if n1 not in cache:
+            na = _N + 4
+            P = np.zeros((na, na))
+            P[:_N, :_N] = self.P0
+            Mk, Sk = self._table("w1").power_sum(n1)
+            P = Mk @ P @ Mk.T + Sk
+            Pg, Qg = self._gap_overhead
+            A = np.eye(na)
+            A[:_N, :_N] = Pg
+            P = A @ P @ A.T
+            P[:_N, :_N] += Qg
+            cache[n1] = _frozen(P)
+        return cache[n1]
 
     # -- the classical estimator ---------------------------------------------------------------
     def classical_sigma(self, t1: float, t2: float) -> float:
@@ -429,13 +504,14 @@ class RateSensorModel:
     def classical_sigma_samples(self, n1: int, n2: int) -> float:
         """:meth:`classical_sigma` with windows of ``n1`` and ``n2`` samples."""
         n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
-        na = _N + 4
-        P = self._classical_after_w1(n1)
-        M, Qa = self._window_step(self.H2, (_N + 2, _N + 3), na)
-        Mk, Sk = _power_sum(M, Qa, n2)
-        P = Mk @ P @ Mk.T + Sk
-        c = self._classical_weights(n1, n2)
-        return float(math.sqrt(max(c @ P @ c, 0.0)))
+        cache = self._cache("classical")
+        if (n1, n2) not in cache:
+            P = self._classical_after_w1(n1)
+            Mk, Sk = self._table("w2").power_sum(n2)
+            P = Mk @ P @ Mk.T + Sk
+            c = self._classical_weights(n1, n2)
+            cache[n1, n2] = float(math.sqrt(max(c @ P @ c, 0.0)))
+        return cache[n1, n2]
 
     def classical_curve(self, t1: float, t2: float) -> tuple[NDArray[np.float64],
                                                              NDArray[np.float64]]:
@@ -464,9 +540,8 @@ class RateSensorModel:
         """
         n1, n2 = self.window_samples("t1", t1), self.window_samples("t2", t2)
         dt = self.procedure.sample_dt
-        na = _N + 4
         P = self._classical_after_w1(n1)
-        M, Qa = self._window_step(self.H2, (_N + 2, _N + 3), na)
+        M, Qa = self._table("w2").step
         sigma = np.empty(n2)
         for k in range(n2):
             P = M @ P @ M.T + Qa
@@ -479,13 +554,48 @@ class RateSensorModel:
         return t, sigma
 
     # -- the optimal estimator -----------------------------------------------------------------
-    def _kalman(self, H: np.ndarray, r: np.ndarray, P: np.ndarray, n: int):
-        z = np.zeros((1, _N, _N))
-        model = AffineDiscreteModel(
-            seg=np.zeros(n, dtype=np.int64), a=np.zeros(n), b=np.zeros(n),
-            Phi0=self.Phi[None], PhiA=z, PhiB=z, Qd0=self.Qd[None], QdA=z, QdB=z,
-            H=np.ascontiguousarray(H), r=np.ascontiguousarray(r))
-        return covariance_fast(model, 0.5 * (P + P.T), n)
+    def _kalman(self, H: np.ndarray, r: np.ndarray, P: np.ndarray, n: int, *,
+                symmetrize: bool = True):
+        """The filter's covariance run of ``n`` samples measuring ``H`` (noise variances
+        ``r``) from ``P`` (symmetrized unless ``symmetrize=False``: a run resumed from the
+        kernel's own, already symmetric, covariance); the discrete model of each
+        ``(H, r, n)`` is built once per model."""
+        cache = self._cache("kalman")
+        key = (H.tobytes(), r.tobytes(), n)
+        model = cache.get(key)
+        if model is None:
+            z = np.zeros((1, _N, _N))
+            model = AffineDiscreteModel(
+                seg=np.zeros(n, dtype=np.int64), a=np.zeros(n), b=np.zeros(n),
+                Phi0=self.Phi[None], PhiA=z, PhiB=z, Qd0=self.Qd[None], QdA=z, QdB=z,
+                H=np.ascontiguousarray(H), r=np.ascontiguousarray(r))
+            cache[key] = model
+        return covariance_fast(model, 0.5 * (P + P.T) if symmetrize else P, n)
+
+    def _position1(self, n1: int) -> tuple[np.ndarray, np.ndarray]:
+        """The optimal filter over position 1 of ``n1`` samples: the covariance at its end
+        (read-only) and the variance of ω_gc at samples ``0 … n1``.
+
+        Position 1 of any length is a prefix of the same filter run from ``P0``, so the run
+        is kept per model: a longer ``n1`` resumes from the longest one computed, a shorter
+        one from the nearest computed below it.  The kernel's state between steps is its
+        covariance alone, so a resumed run repeats the floating-point operations of a
+        single run from ``P0`` (the same numbers, to the bit)."""
+        at = self._cache("pos1_P")
+        var = self._cache("pos1_var")
+        if not at:
+            at[0] = _frozen(0.5 * (self.P0 + self.P0.T))
+            var["omega"] = np.array([at[0][_OMEGA, _OMEGA]])
+        if n1 not in at:
+            start = max(k for k in at if k < n1)
+            run = self._kalman(self.H1, self.r, at[start], n1 - start, symmetrize=False)
+            at[n1] = _frozen(run.P_stored[-1].copy())
+            known = var["omega"]
+            if n1 + 1 > known.size:
+                longer = np.concatenate((known, run.var[known.size - start:, _OMEGA]))
+                if longer.size > var["omega"].size:   # (another thread may have gone further)
+                    var["omega"] = longer
+        return at[n1], var["omega"][:n1 + 1]
 
     def optimal_run(self, t1: float, t2: float) -> OptimalRun:
         """σ of ω_gc of the optimal (Kalman) estimator over the procedure.
@@ -523,12 +633,23 @@ class RateSensorModel:
     def optimal_run_samples(self, n1: int, n2: int) -> OptimalRun:
         """:meth:`optimal_run` with windows of ``n1`` and ``n2`` samples."""
         n1, n2 = v.check_int("n1", n1, 1), v.check_int("n2", n2, 1)
+        ts, ss, phases, P, t = self._optimal_to_position2(n1)
+        run = self._kalman(self.H2, self.r, P, n2)
+        dt = self.procedure.sample_dt
+        ts.append(t + dt * np.arange(1, n2 + 1))
+        ss.append(np.sqrt(np.clip(run.var[1:, _OMEGA], 0.0, None)))
+        phases.append(("position 2", t, t + n2 * dt))
+        return OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
+
+    def _optimal_to_position2(self, n1: int) -> tuple[list, list, list, np.ndarray, float]:
+        """The optimal run up to the start of position 2 (position 1 of ``n1`` samples, the
+        turn, the settling): the pieces of ``t`` and ``sigma``, the phases, the covariance
+        and the elapsed time (s) at the start of position 2."""
         proc = self.procedure
         dt = proc.sample_dt
-        run = self._kalman(self.H1, self.r, self.P0, n1)
-        P = run.P_stored[-1]
+        P, var1 = self._position1(n1)
         ts = [dt * np.arange(n1 + 1)]
-        ss = [np.sqrt(np.clip(run.var[:, _OMEGA], 0.0, None))]
+        ss = [np.sqrt(np.clip(var1, 0.0, None))]
         t = n1 * dt
         phases = [("position 1", 0.0, t)]
         # the turn: no sample (the sensors are moving); the state only propagates
@@ -549,11 +670,47 @@ class RateSensorModel:
         t += proc.T_settle
         ts.append(np.array([t]))
         ss.append(np.sqrt([max(P[_OMEGA, _OMEGA], 0.0)]))
-        run = self._kalman(self.H2, self.r, P, n2)
-        ts.append(t + dt * np.arange(1, n2 + 1))
-        ss.append(np.sqrt(np.clip(run.var[1:, _OMEGA], 0.0, None)))
-        phases.append(("position 2", t, t + n2 * dt))
-        return OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
+        return ts, ss, phases, P, t
+
+    @cached_property
+    def _omega_constant(self) -> bool:
+        """ω_gc is a constant of the discrete model to the bit (its row of ``Φ`` is the unit
+        row, no process noise reaches it): the filter's variance of ω_gc then never grows
+        while it measures (prediction leaves it, each update lowers it)."""
+        unit = np.zeros(_N)
+        unit[_OMEGA] = 1.0
+        return bool(np.array_equal(self.Phi[_OMEGA], unit) and not self.Qd[_OMEGA].any()
+                    and not self.Qd[:, _OMEGA].any())
+
+    def _optimal_time_to(self, n1: int, n2_max: int, level: float) -> float:
+        """``optimal_run_samples(n1, n2_max).time_to(level)``, position 2 run only as far as
+        that answer needs.
+
+        Position 2 is run in growing chunks, each resumed from the covariance at the end of
+        the last (the same floating-point operations as one run); it stops after the chunk
+        in which the variance of ω_gc falls below ``level² (1 − 10⁻⁶)``.  When ω_gc is a
+        constant of the model (:attr:`_omega_constant`, checked; otherwise the whole window
+        is run) that variance does not grow in position 2, so no later sample can be above
+        ``level`` again (the margin covers rounding, whose relative size is 10⁻¹⁶ per step)
+        and the last sample above ``level`` — all that :meth:`OptimalRun.time_to` reads —
+        is among those computed: the same time as the full run."""
+        ts, ss, phases, P, t = self._optimal_to_position2(n1)
+        dt = self.procedure.sample_dt
+        safe = level**2 * (1.0 - 1e-6)
+        done, chunk, sym = 0, 64, True
+        while done < n2_max:
+            n = min(chunk, n2_max - done)
+            run = self._kalman(self.H2, self.r, P, n, symmetrize=sym)
+            var = run.var[1:, _OMEGA]
+            ts.append(t + dt * np.arange(done + 1, done + n + 1))
+            ss.append(np.sqrt(np.clip(var, 0.0, None)))
+            done += n
+            if self._omega_constant and np.any(var <= safe):
+                break
+            P, chunk, sym = run.P_stored[-1], 2 * chunk, False
+        phases.append(("position 2", t, t + done * dt))
+        run = OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
+        return run.time_to(level)
 
     @property
     def turn_floor(self) -> float:
