@@ -567,12 +567,12 @@ def test_optimal_run_and_time_to_match_a_fresh_run_per_n1(p, proc):
         run = m.optimal_run_samples(n1, n2_max)
         assert _close(run.sigma, ref), n1
         t_ref = gc.OptimalRun(t=run.t, sigma=ref, phases=run.phases).time_to(level)
-        t_fast = m._optimal_time_to(n1, n2_max, level)
+        t_fast = m.optimal_time_to_samples(n1, n2_max, level)
         assert _close(t_fast, t_ref), (n1, t_fast, t_ref)
         reached += math.isfinite(t_ref)
     assert reached >= 4       # most windows reach σ_c: the early stop is exercised
     # not reached within the window: nan from both
-    assert math.isnan(m._optimal_time_to(50, 30, level))
+    assert math.isnan(m.optimal_time_to_samples(50, 30, level))
     assert math.isnan(m.optimal_run_samples(50, 30).time_to(level))
     # power: stopping position 2 at its first chunk, whatever σ, gives another answer
     assert not _close(m.optimal_run_samples(900, 64).time_to(level),
@@ -601,7 +601,7 @@ def test_race_and_conditions_match_the_straightforward_search(monkeypatch):
         run = self.optimal_run_samples(n1, n2_max)
         return gc.OptimalRun(t=run.t, sigma=ref, phases=run.phases).time_to(level)
 
-    monkeypatch.setattr(gc.RateSensorModel, "_optimal_time_to", plain_time_to)
+    monkeypatch.setattr(gc.RateSensorModel, "optimal_time_to_samples", plain_time_to)
     ref = fast()
     assert _close(ours[0], ref[0]), (ours[0], ref[0])
     assert all(_close(a, b) for a, b in zip(ours[1], ref[1]))

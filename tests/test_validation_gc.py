@@ -637,6 +637,10 @@ case("gc.RateSensorModel.classical_sigma_samples",
      lambda: _RMODEL.classical_sigma_samples(0, 10), ValueError, "n1", ">= 1")
 case("gc.RateSensorModel.optimal_run_samples", lambda: _RMODEL.optimal_run_samples(10, 2.5),
      TypeError, "n2", "integer")
+case("gc.RateSensorModel.optimal_time_to_samples",
+     lambda: _RMODEL.optimal_time_to_samples(10, 20, -1e-8), ValueError, "level", "> 0")
+case("gc.RateSensorModel.optimal_time_to_samples",
+     lambda: _RMODEL.optimal_time_to_samples(10, 0, 1e-8), ValueError, "n2_max", ">= 1")
 case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(procedure=P), TypeError,
      "procedure", "RateSensorProcedure")
 case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(_RPROC), TypeError, "params",

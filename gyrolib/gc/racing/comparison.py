@@ -151,7 +151,7 @@ def _classical_samples(model: RateSensorModel) -> tuple[int, int] | None:
 def _optimal_time(model: RateSensorModel, n1: int, n2_max: int) -> float:
     """The optimal estimator's time to σ_c with position 1 lasting ``n1`` samples and
     position 2 ended as soon as σ reaches σ_c (``inf``: not within ``n2_max`` samples)."""
-    t = model._optimal_time_to(n1, n2_max, model.procedure.sigma_c)
+    t = model.optimal_time_to_samples(n1, n2_max, model.procedure.sigma_c)
     return math.inf if math.isnan(t) else t
 
 

@@ -682,9 +682,11 @@ class RateSensorModel:
         return bool(np.array_equal(self.Phi[_OMEGA], unit) and not self.Qd[_OMEGA].any()
                     and not self.Qd[:, _OMEGA].any())
 
-    def _optimal_time_to(self, n1: int, n2_max: int, level: float) -> float:
-        """``optimal_run_samples(n1, n2_max).time_to(level)``, position 2 run only as far as
-        that answer needs.
+    def optimal_time_to_samples(self, n1: int, n2_max: int, level: float) -> float:
+        """The optimal estimator's first time (s) at which σ of ω_gc falls to ``level`` and
+        stays below it, position 1 lasting ``n1`` samples and position 2 at most ``n2_max``:
+        ``optimal_run_samples(n1, n2_max).time_to(level)``, with position 2 run only as far
+        as that answer needs (``nan``: not reached).
 
         Position 2 is run in growing chunks, each resumed from the covariance at the end of
         the last (the same floating-point operations as one run); it stops after the chunk
@@ -693,7 +695,31 @@ class RateSensorModel:
         is run) that variance does not grow in position 2, so no later sample can be above
         ``level`` again (the margin covers rounding, whose relative size is 10⁻¹⁶ per step)
         and the last sample above ``level`` — all that :meth:`OptimalRun.time_to` reads —
-        is among those computed: the same time as the full run."""
+        is among those computed: the same time as the full run.
+
+        Parameters
+        ----------
+        n1, n2_max : int
+            Samples in position 1, and at most in position 2 (>= 1).
+        level : float
+            The σ of ω_gc to reach (rad/s, > 0).
+
+        Returns
+        -------
+        float
+            Elapsed time (s) since the start of position 1, or ``nan``.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> m = gc.rate_sensor_model(gc.GyrocompassParams(), gc.RateSensorProcedure())
+        >>> n1, n2 = m.window_samples("t1", 20.0), m.window_samples("t2", 40.0)
+        >>> t = m.optimal_time_to_samples(n1, n2, 1e-8)
+        >>> f"{t:.1f} s", t == m.optimal_run_samples(n1, n2).time_to(1e-8)
+        ('56.1 s', True)
+        """
+        n1, n2_max = v.check_int("n1", n1, 1), v.check_int("n2_max", n2_max, 1)
+        level = v.check_positive("level", level)
         ts, ss, phases, P, t = self._optimal_to_position2(n1)
         dt = self.procedure.sample_dt
         safe = level**2 * (1.0 - 1e-6)
