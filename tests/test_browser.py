@@ -431,39 +431,52 @@ def axe_violations(page) -> list[str]:
 # ----------------------------------------------------------------------------- tests
 
 
-#: The pages are checked in this many shares (every SHARES-th page each), so that pytest-xdist
-#: workers can check them side by side; together the shares cover every page.
-SHARES = 4
+def _toc_pages() -> list[str]:
+    """The book's pages as ``_toc.yml`` lists them (``.html``), with the pages every Sphinx
+    build adds (index, general index, search), sorted as :func:`book_pages` sorts them."""
+    import yaml
+
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
+    files = [toc["root"], *(c["file"] for part in toc.get("parts", ())
+                            for c in part["chapters"]),
+             *(c["file"] for c in toc.get("chapters", ()))]
+    return sorted({f"{f}.html" for f in files} | {"index.html", "genindex.html", "search.html"})
 
 
-@pytest.mark.parametrize("share", range(SHARES))
-def test_every_page_is_clean_in_a_real_browser(site, browser, share):
-    pages = book_pages(require_built_book())
-    assert "search.html" in pages and "chapters/intro.html" in pages, pages
-    problems: list[str] = []
-    for rel in pages[share::SHARES]:
-        url = site + rel
-        browser.offsite.clear()
-        page = _visit(browser, url)
-        try:
-            found = []
-            found += [f"<img> not decoded: {src}" for src in page.evaluate(JS_UNDECODED_IMAGES)]
-            found += _check_math(page)
-            browser.settle(page)
-            found += overflow_problems(page)
-            found += density_problems(page)
-            found += page.problems
-            found += [f"request leaves localhost (aborted): {u}"
-                      for u in dict.fromkeys(browser.offsite)]
-            # after the page's own requests: axe-core preloads the stylesheets itself and
-            # resolves theme.css's `@import "../basic.css"` against the page (a 404 of its
-            # own making, not the book's)
-            found += axe_violations(page)
-        finally:
-            page.close()
-        problems += [f"{rel}: {p}" for p in dict.fromkeys(found)]
-    assert not problems, (f"{len(problems)} problems over {len(pages[share::SHARES])} pages:\n  "
-                          + "\n  ".join(problems))
+#: Every page, one test each (known before the book is built, from the table of contents), so
+#: that pytest-xdist shares them out page by page; :func:`test_the_page_checks_cover_the_book`
+#: checks that they are all the pages the build made.
+PAGES = _toc_pages()
+
+
+def test_the_page_checks_cover_the_book():
+    assert book_pages(require_built_book()) == PAGES
+
+
+@pytest.mark.parametrize("rel", PAGES)
+def test_every_page_is_clean_in_a_real_browser(site, browser, rel):
+    assert "search.html" in PAGES and "chapters/intro.html" in PAGES, PAGES
+    url = site + rel
+    browser.offsite.clear()
+    page = _visit(browser, url)
+    try:
+        found = []
+        found += [f"<img> not decoded: {src}" for src in page.evaluate(JS_UNDECODED_IMAGES)]
+        found += _check_math(page)
+        browser.settle(page)
+        found += overflow_problems(page)
+        found += density_problems(page)
+        found += page.problems
+        found += [f"request leaves localhost (aborted): {u}"
+                  for u in dict.fromkeys(browser.offsite)]
+        # after the page's own requests: axe-core preloads the stylesheets itself and
+        # resolves theme.css's `@import "../basic.css"` against the page (a 404 of its
+        # own making, not the book's)
+        found += axe_violations(page)
+    finally:
+        page.close()
+    problems = list(dict.fromkeys(found))
+    assert not problems, f"{rel}: {len(problems)} problems:\n  " + "\n  ".join(problems)
 
 
 def test_the_accessibility_check_finds_an_injected_low_contrast_element(site, browser):
