@@ -17,6 +17,7 @@ import datetime as dt
 import json
 import os
 import platform
+import subprocess
 from pathlib import Path
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -33,6 +34,20 @@ def machine() -> dict[str, object]:
                     if line.startswith("model name")), cpu)
     return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
             "numpy": numpy.__version__}
+
+
+def previous_tree(dest: Path, commit: str) -> Path | None:
+    """``gyrolib/`` at ``commit`` exported into ``dest`` (run the peer with ``PYTHONPATH``
+    and ``cwd`` there, so that its modules, not this tree's, are imported), or None when git
+    or the commit is not there."""
+    root = Path(__file__).resolve().parents[1]
+    try:
+        archive = subprocess.run(["git", "-C", str(root), "archive", commit, "gyrolib"],
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return dest
 
 
 def load() -> float | None:

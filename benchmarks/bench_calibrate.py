@@ -52,7 +52,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _results import Recorder
+from _results import Recorder, previous_tree
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -68,18 +68,6 @@ ROOMS = {"model": ("params", "discretization", "state_space", "nominal", "shapin
 #: The commit of the old CSV reader (hand-written parser and records/_fastcsv.py), the
 #: peer of ``--reader`` (issue 27).
 PREVIOUS_READER = "dac8896"
-
-
-def previous_tree(dest: Path, commit: str = PREVIOUS_CLI) -> Path | None:
-    """``gyrolib/`` at ``commit`` exported into ``dest`` (run with ``PYTHONPATH`` and ``cwd``
-    there, so that its modules, not this tree's, are imported), or None."""
-    try:
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit, "gyrolib"],
-                                 capture_output=True, check=True).stdout
-        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
-    except (OSError, subprocess.CalledProcessError):
-        return None
-    return dest
 
 
 def previous_calibrate():
@@ -282,7 +270,7 @@ def _hour_end_to_end(rec_, path: Path, repeat: int, h: dict) -> None:
     """Case 3: the command line on the hour CSV, ours against the previous command line."""
     mb = path.stat().st_size / 2**20
     with tempfile.TemporaryDirectory() as prev_dir:
-        tree = previous_tree(Path(prev_dir))
+        tree = previous_tree(Path(prev_dir), PREVIOUS_CLI)
         if tree is None:
             sys.exit(f"the previous command line (commit {PREVIOUS_CLI}) cannot be exported")
         ours, peer = _alternate_cli(path, tree, repeat, Path(prev_dir))

@@ -43,7 +43,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from _results import Recorder
+from _results import Recorder, previous_tree
 
 from gyrolib import gc
 
@@ -124,17 +124,6 @@ _COMPARED_COND = ("t_needed", "worst_t_gc", "worst_t_classical", "worst_t_optima
                   "loop_bandwidth_min", "overhead_min", "rate_noise_min", "kappa_max")
 
 
-def previous_tree(dest: Path, commit: str = PREVIOUS) -> Path | None:
-    """``gyrolib/`` at ``commit`` exported into ``dest``, or None."""
-    try:
-        archive = subprocess.run(["git", "-C", str(ROOT), "archive", commit, "gyrolib"],
-                                 capture_output=True, check=True).stdout
-        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
-    except (OSError, subprocess.CalledProcessError):
-        return None
-    return dest
-
-
 def child(repeat: int) -> None:
     """In a fresh process on the tree of ``PYTHONPATH``: the times of ``gc.race()``,
     ``conditions()`` and one ledger ``items(params)``, and the race's numbers, as JSON."""
@@ -161,7 +150,7 @@ def run_child(tree: Path, repeat: int) -> dict:
 def against_previous(rec: Recorder, repeat: int) -> None:
     """``gc.race()``, ``conditions()``, ledger ``items`` against :data:`PREVIOUS`."""
     with tempfile.TemporaryDirectory() as tmp:
-        prev = previous_tree(Path(tmp))
+        prev = previous_tree(Path(tmp), PREVIOUS)
         if prev is None:
             sys.exit(f"the previous race (commit {PREVIOUS}) cannot be exported from git")
         runs = {"ours": [], "previous": []}
