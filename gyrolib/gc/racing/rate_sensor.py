@@ -281,12 +281,6 @@ class _PowerTable:
         return Mk, Sk
 
 
-def _power_sum(M: np.ndarray, Q: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
-    """``(M^k, Σ_{j<k} M^j Q M^jᵀ)`` by doubling: the covariance of ``k`` steps of
-    ``y ← M y + w``, ``Cov w = Q``, in O(log k) products."""
-    return _PowerTable(M, Q).power_sum(k)
-
-
 @compact_repr
 @dataclass(frozen=True)
 class OptimalRun:
