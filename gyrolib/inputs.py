@@ -62,7 +62,7 @@ from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.gc.racing.rate_sensor import RateSensorProcedure
 from gyrolib.rsf.sensors import EncoderSpec, MemsGyroSpec, RollGyroSpec
 from gyrolib.rsf.tables import WorkedExample
-from gyrolib.units import ARCSEC_PAPER, G0
+from gyrolib.units import ARCSEC_PAPER, G0, from_si
 
 __all__ = ["INPUTS", "KINDS", "OWNERS", "Input", "apply", "default_prior", "reference_objects",
            "row", "rows", "table_fingerprint", "value_of"]
@@ -91,6 +91,20 @@ def _combine(mode: str, vals: list[Any]) -> Any:
     return vals[0]
 
 
+
+def _number(x: float) -> str:
+    """Three significant digits (four from 1000 up), ``m·10ⁿ`` outside [10⁻³, 10⁵)."""
+    if x == 0.0 or not math.isfinite(x):
+        return f"{x:g}"
+    e = math.floor(math.log10(abs(x)))
+    if -3 <= e < 5:
+        return f"{x:.4g}" if e >= 3 else f"{x:.3g}"
+    m = x / 10.0**e
+    if round(abs(m), 2) >= 10.0:
+        m, e = m / 10.0, e + 1
+    return f"{m:.2f}·10" + str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+
+
 @dataclass(frozen=True)
 class Input:
     """One row of the table of inputs.
@@ -102,7 +116,8 @@ class Input:
     :data:`KINDS`), ``unit`` (SI), ``reason`` (why this range: the paper's print, a cited
     source or a stated rule).  Numeric rows: ``low``, ``high`` (factors of the reference when
     ``relative``, else absolute SI values) and ``scale``; reading rows: ``values``, the
-    book's reading first.
+    book's reading first.  ``shown``: the unit (of :data:`gyrolib.units.UNITS`) in which
+    the book's text shows the row's values (default: SI, ``unit``).
     """
 
     name: str
@@ -118,6 +133,7 @@ class Input:
     scale: str = "log"
     values: tuple[str, ...] = ()
     mode: str = "each"
+    shown: str = ""
 
     def __post_init__(self) -> None:
         if self.owner not in OWNERS:
@@ -194,6 +210,18 @@ class Input:
             return np.exp(np.log(lo) + u * (np.log(hi) - np.log(lo)))
         return lo + u * (hi - lo)
 
+    def show(self, value: float) -> str:
+        """``value`` (SI) as text in the row's :attr:`shown` unit, with the unit."""
+        if self.kind == "reading":
+            return str(value)
+        unit = self.shown or self.unit
+        x = float(from_si(value, self.shown)) if self.shown else float(value)
+        label = {"arcsec_paper": "″", "arcsec_paper/s": "″/s", "deg": "°", "deg/s": "°/s",
+                 "deg/h": "°/h", "1": ""}.get(unit, unit)
+        num = _number(x)
+        sep = "" if label.startswith(("″", "°")) or not label else " "
+        return f"{num}{sep}{label}"
+
     def as_dict(self) -> dict[str, Any]:
         """The row as plain data (JSON), with its reference and SI bounds."""
         out = {"name": self.name, "symbol": self.symbol, "owner": self.owner,
@@ -244,19 +272,21 @@ INPUTS: Final[tuple[Input, ...]] = (
           scale="linear"),
     Input("gc.sigma_as_offset", "σ_off", "GyrocompassParams", ("sigma_as_offset",),
           "uncertain", "rad", f"the angle sensor's null offset: {_ZERO}: 20″", 0.0,
-          20.0 * ARCSEC_PAPER, relative=False, scale="linear"),
+          20.0 * ARCSEC_PAPER, relative=False, scale="linear", shown="arcsec_paper"),
     Input("gc.sigma_incl_bias", "σ_b", "GyrocompassParams", ("sigma_incl_bias",),
           "uncertain", "m/s²", f"the inclinometers' biases: {_ZERO}: 0.5 mg", 0.0,
-          0.5e-3 * G0, relative=False, scale="linear"),
+          0.5e-3 * G0, relative=False, scale="linear", shown="mg"),
     # paper GC: the filter's priors (a choice of whoever runs the filter)
     Input("gc.sigma_gc0", "σ_ω(0)", "GyrocompassParams", ("sigma_gc0",), "operating",
           "rad/s", "the prior σ of ω_gc, printed in the parameter table: the user states the "
-          "drift a gyro of the type may have; a decade either way", 0.1, 10.0),
+          "drift a gyro of the type may have; a decade either way", 0.1, 10.0,
+          shown="arcsec_paper/s"),
     Input("gc.sigma_psi0", "σ_ψ(0)", "GyrocompassParams", ("sigma_psi0",), "operating", "rad",
-          "the prior σ of ψ, printed in the parameter table; a decade either way", 0.1, 10.0),
+          "the prior σ of ψ, printed in the parameter table; a decade either way", 0.1, 10.0,
+          shown="arcsec_paper"),
     Input("gc.sigma_tilt0", "σ_δ,γ(0)", "GyrocompassParams", ("sigma_delta0", "sigma_gamma0"),
           "operating", "rad", "the prior σ of δ and γ, printed in the parameter table; a "
-          "decade either way", 0.1, 10.0),
+          "decade either way", 0.1, 10.0, shown="arcsec_paper"),
     # paper GC: the readings of the printed text
     Input("gc.measurement_noise", "R", "GyrocompassParams", ("measurement_noise",),
           "reading", "—", "the printed noise levels read as intensities (R = C/dt) or as "
@@ -277,13 +307,13 @@ INPUTS: Final[tuple[Input, ...]] = (
           "rad²/s", "the torquer's white noise, not given: a decade either way of the gyro's "
           "own low-frequency drift intensity", 0.1, 10.0),
     Input("race.sigma_rot", "σ_ε", "RateSensorProcedure", ("sigma_rot",), "uncertain", "rad",
-          "the turning error, not given: a decade either way of 1′", 0.1, 10.0),
+          "the turning error, not given: a decade either way of 1′", 0.1, 10.0, shown="arcmin"),
     Input("race.sigma_scale", "σ_k", "RateSensorProcedure", ("sigma_scale",), "uncertain",
           "1", "the torque sensor's scale error, not given (the reason the rival turns): a "
           "decade either way of 10⁻³", 0.1, 10.0),
     Input("race.quantization", "q", "RateSensorProcedure", ("quantization",), "uncertain",
           "rad", "the weight of one output pulse, not given: a decade either way of 0.01″",
-          0.1, 10.0),
+          0.1, 10.0, shown="arcsec_paper"),
     Input("race.overhead", "T_rot + T_settle", "RateSensorProcedure", ("T_rot", "T_settle"),
           "operating", "s", "the turn and the settling after it: 10 s (a fast turn table) to "
           "60 s; paper GC's 'about 20 minutes' leaves room for more", 0.5, 3.0,
@@ -295,28 +325,29 @@ INPUTS: Final[tuple[Input, ...]] = (
           "carrier, or turning with the sensor", values=("carrier", "sensor")),
     # paper RSF: the data sheets it quotes
     Input("rsf.eps1", "ε1", "RollGyroSpec", ("sf_error",), "uncertain", "1",
-          f"Table 1 (SiIMU02, 600 ppm); {_SHEET}", 0.5, 2.0),
+          f"Table 1 (SiIMU02, 600 ppm); {_SHEET}", 0.5, 2.0, shown="ppm"),
     Input("rsf.eps0", "ε0", "RollGyroSpec", ("bias_instability",), "uncertain", "rad/s",
-          f"Table 1 (SiIMU02, 100 °/h); {_SHEET}", 0.5, 2.0),
+          f"Table 1 (SiIMU02, 100 °/h); {_SHEET}", 0.5, 2.0, shown="deg/h"),
     Input("rsf.gs_bias", "ε0,GS", "MemsGyroSpec", ("bias_repeatability", "bias_stability"),
           "uncertain", "rad/s", f"the GS gyro's table (GYPRO4300, 10 and 7 °/h, root sum of "
-          f"squares); {_SHEET}", 0.5, 2.0, mode="norm"),
+          f"squares); {_SHEET}", 0.5, 2.0, mode="norm", shown="deg/h"),
     Input("rsf.eps1_gs", "ε1,GS", "MemsGyroSpec", ("sf_error",), "uncertain", "1",
-          f"the GS gyro's table (280 ppm); {_SHEET}", 0.5, 2.0),
+          f"the GS gyro's table (280 ppm); {_SHEET}", 0.5, 2.0, shown="ppm"),
     Input("rsf.encoder_error", "Δγ_enc", "EncoderSpec", ("position_error",), "uncertain",
-          "rad", f"the worked example's 0.33° (AEDB-9340); {_SHEET}", 0.5, 2.0),
+          "rad", f"the worked example's 0.33° (AEDB-9340); {_SHEET}", 0.5, 2.0, shown="deg"),
     # paper RSF: its example's operating point
     Input("rsf.omega_x", "ω_x", "WorkedExample", ("omega_x",), "operating", "rad/s",
           "the worked example's roll rate, 900 °/s; the paper's rates reach 5400 °/s", 1.0,
-          6.0),
+          6.0, shown="deg/s"),
     Input("rsf.omega_unc", "ω_unc", "WorkedExample", ("omega_unc",), "operating", "rad/s",
           "the worked example's uncompensated GS rate, 300 °/s: a third to three times", 1 / 3,
-          3.0),
+          3.0, shown="deg/s"),
     Input("rsf.period", "Δt", "WorkedExample", ("period",), "operating", "s",
           "the worked example's correction interval, 5 s: 0.5 s to 30 s, the simulation's "
           "sweep", 0.1, 6.0),
     Input("rsf.table_rate", "ω", "WorkedExample", ("table_rate",), "operating", "rad/s",
-          "Table 2's roll rate, 3600 °/s; the paper's rates span 1800-5400 °/s", 0.5, 1.5),
+          "Table 2's roll rate, 3600 °/s; the paper's rates span 1800-5400 °/s", 0.5, 1.5,
+          shown="deg/s"),
     # paper RSF: the readings of the printed text
     Input("rsf.eps0_gs_digits", "ε0,GS print", "WorkedExample", ("eps0_gs_reading",),
           "reading", "—", "ε0,GS = √(σ_rep² + σ_stab²) as computed, or cut to the two digits "
@@ -392,7 +423,10 @@ def apply(objects: Mapping[str, Any], changes: Mapping[str, Any]) -> dict[str, A
 
 
 def table_fingerprint() -> str:
-    """A hash of the table (rows, ranges, reasons and reference values): stored results
-    computed over it are valid only for the same fingerprint."""
-    blob = json.dumps([r.as_dict() for r in INPUTS], sort_keys=True, default=repr)
+    """A hash of what the table computes with (each row's name, fields, kind, range, scale
+    and reference value or readings; not its words): stored results computed over it are
+    valid only for the same fingerprint."""
+    words = ("symbol", "reason", "unit")
+    blob = json.dumps([{k: v for k, v in r.as_dict().items() if k not in words}
+                       for r in INPUTS], sort_keys=True, default=repr)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
