@@ -163,7 +163,6 @@ from gyrolib.gc.model import (
 )
 from gyrolib.gc.racing import (
     PROCEDURE_TARGETS,
-    RACE_RANGES,
     RS_STATE_NAMES,
     VIBRATION_FRAMES,
     OptimalRun,
@@ -348,7 +347,12 @@ __all__ = [
 def __getattr__(name: str):
     """``gc.symbolic``, ``gc.plots`` and its ``gc.plot_*``, imported on first access (an
     ``import`` statement: ``from gyrolib.gc import plots`` would look the name up here
-    first, and recurse)."""
+    first, and recurse); ``gc.RACE_RANGES``, read from the table of inputs on first use
+    (:mod:`gyrolib.inputs` imports this package's dataclasses)."""
+    if name == "RACE_RANGES":
+        from gyrolib.gc.racing import comparison
+
+        return comparison.RACE_RANGES
     if name == "symbolic":
         import gyrolib.gc.model.symbolic as symbolic
 

@@ -14,9 +14,11 @@ holds at every printed point: its margin is the smallest over them.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Final
 
@@ -37,10 +39,10 @@ from gyrolib.rsf.equations import (
 )
 from gyrolib.units import ARCSEC_PAPER
 
-__all__ = ["CLAIMS", "MAPS_FILE", "MAPS_SCHEMA", "check_stored", "compensated_margin",
+__all__ = ["CLAIMS", "MAPS_FILE", "MAPS_SCHEMA", "Verdict", "check_stored", "compensated_margin",
            "drop_2s_margin", "drz_cubic_margin", "drz_kilometres_margin", "gs_vs_sins_margin",
            "maps", "psi_separable_margin", "race_claim_margin", "stored_maps",
-           "time_to_sigma_c_margin"]
+           "time_to_sigma_c_margin", "verdict", "write_maps"]
 
 #: The stored maps (package data) and the version of their format.
 MAPS_FILE: Final[Path] = Path(__file__).resolve().parents[2] / "data" / "claim_maps.json"
@@ -70,7 +72,6 @@ def time_to_sigma_c_margin(o: Mapping[str, Any]) -> float:
     s_scale = p.scale_drift_sigma
     if s_scale >= _SIGMA_C:
         return -1.0
-    from dataclasses import replace
     pf = replace(p, sigma_hf_scale=0.0) if p.sigma_hf_scale else p
     level = math.sqrt(_SIGMA_C**2 - s_scale**2)
     n = round(100.0 / pf.dt)
@@ -193,6 +194,11 @@ def maps(ids: tuple[str, ...] | None = None, objects: Mapping[str, Any] | None =
     return {i: map_claim(CLAIMS[i], objects, executor=executor, **settings) for i in chosen}
 
 
+@functools.lru_cache(maxsize=4)
+def _stored(path: Path, mtime: float) -> dict[str, ClaimMap]:
+    return stored_maps(path)
+
+
 def stored_maps(path: Path = MAPS_FILE) -> dict[str, ClaimMap]:
     """The maps computed offline for the reference point, as shipped with the package.
 
@@ -233,3 +239,57 @@ def check_stored(path: Path = MAPS_FILE, ids: tuple[str, ...] | None = None) -> 
         check_fingerprint(CLAIMS[i], stored[i])
         n += len(stored[i].fingerprint)
     return n
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """A claim's ledger verdict by the one rule: ``status``, ``conditions`` (the inputs that
+    flip it and where, then ``context``) and ``judged`` (what the ledger's JSON carries:
+    reference, thresholds, share of the box, readings; ``mapped`` says whether the claim was
+    mapped over the table around these inputs)."""
+
+    status: str
+    conditions: str
+    judged: dict
+
+
+#: The parts of a map the ledger's JSON carries (the sweeps and fingerprint stay in the file).
+_JUDGED_KEYS: Final[tuple[str, ...]] = ("meaning", "margin", "reference", "thresholds",
+                                        "share_holding", "readings", "settings")
+
+
+def _is_reference(objects: Mapping[str, Any]) -> bool:
+    ref = _inputs.reference_objects()
+    return all(objects[k] == v for k, v in ref.items())
+
+
+def verdict(claim_id: str, objects: Mapping[str, Any] | None = None, *,
+            context: str = "") -> Verdict:
+    """The verdict on ``claim_id`` at ``objects`` (default: the reference point).
+
+    At the reference point the stored map is read (its table and numbers are checked by
+    :func:`check_stored` in the tests and the book build).  Around other inputs (a user's own
+    parameters, a perturbation) only the margin at that point is computed: the claim then
+    "fails" or "holds under conditions" — never "holds", since the inputs that may flip it
+    were not searched there (``python -m gyrolib claims`` or :func:`maps` map them).
+    """
+    claim = CLAIMS[claim_id]
+    objs = {**_inputs.reference_objects(), **(objects or {})}
+    if _is_reference(objs):
+        m = _stored(MAPS_FILE, MAPS_FILE.stat().st_mtime)[claim_id]
+        d = m.to_dict()
+        judged = {k: d[k] for k in _JUDGED_KEYS}
+        judged["mapped"] = True
+        cond = m.conditions()
+        conditions = "" if m.status == "holds" else f"{cond} {context}".strip()
+        return Verdict(m.status, conditions, judged)
+    margin = float(claim.margin(objs))
+    status = "holds under conditions" if margin > 0 else "fails"
+    conditions = ("Judged at these inputs only: the claim was not mapped over the table of "
+                  "inputs around them (the stored maps are for the reference point), so the "
+                  f"inputs that may flip it are not named here. {context}").strip()
+    judged = {"meaning": claim.meaning, "margin": margin,
+              "reference": {n: _inputs.value_of(objs, _inputs.row(n)) for n in claim.inputs},
+              "thresholds": None, "share_holding": None, "readings": None, "settings": {},
+              "mapped": False}
+    return Verdict(status, conditions, judged)

@@ -34,7 +34,7 @@ from gyrolib.gc.racing.rate_sensor import (
     rate_sensor_model,
 )
 
-__all__ = [
+__all__ = [  # noqa: F822 - RACE_RANGES is a module attribute read on first use
     "PROCEDURE_TARGETS",
     "RACE_RANGES",
     "RaceConditions",
@@ -217,19 +217,30 @@ def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) 
 
 
 # Result ---------------------------------------------------------------------------------------
-#: The plausible ranges over which the race's claim is judged beside its reference point (the
-#: book's defaults): the rebalance loop's bandwidth (rad/s), the procedure's overhead
+#: The plausible ranges over which :meth:`RaceResult.conditions` judges the race beside its
+#: reference point, from the table of inputs (:mod:`gyrolib.inputs`, the one source of
+#: ranges): the rebalance loop's bandwidth (rad/s), the procedure's overhead
 #: ``T_rot + T_settle`` (s), the torquer's white-noise intensity (rad²/s) and the relative
-#: uncertainty κ of GC's scale ``H/f`` (``GyrocompassParams.sigma_hf_scale``; up to the
-#: 10⁻³ the rival's own torque sensor is given, ``RateSensorProcedure.sigma_scale``).
-#: The rival's time grows with the first three and GC's with κ, so the claim's worst case
-#: is the low end of the first three with the high end of κ.
-RACE_RANGES: Final[dict[str, tuple[float, float]]] = {
-    "loop_bandwidth": (1.0, 100.0),
-    "overhead": (10.0, 60.0),
-    "rate_noise": (6.0e-17, 6.0e-15),
-    "sigma_hf_scale": (0.0, 1.0e-3),
-}
+#: uncertainty κ of GC's scale ``H/f`` (``GyrocompassParams.sigma_hf_scale``).  The rival's
+#: time grows with the first three and GC's with κ, so the claim's worst case is the low end
+#: of the first three with the high end of κ.  Every other input of the race is mapped by
+#: :func:`gyrolib.claim_map.map_claim` (the ledger's item ``gc.faster_percent``).
+#: (Read from the table on first use: ``gyrolib.inputs`` imports this package's dataclasses.)
+_RACE_ROWS: Final[tuple[tuple[str, str], ...]] = (
+    ("loop_bandwidth", "race.loop_bandwidth"), ("overhead", "race.overhead"),
+    ("rate_noise", "race.rate_noise"), ("sigma_hf_scale", "gc.sigma_hf_scale"))
+
+
+def _race_ranges() -> dict[str, tuple[float, float]]:
+    from gyrolib import inputs
+
+    return {key: inputs.row(name).bounds() for key, name in _RACE_ROWS}
+
+
+def __getattr__(name: str) -> object:
+    if name == "RACE_RANGES":
+        return _race_ranges()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _fmt_sci(x: float, digits: int = 2) -> str:
@@ -291,6 +302,10 @@ class RaceConditions:
         """The claim holds at the reference point against both estimators."""
         return bool(self.holds_classical and self.holds_optimal)
 
+    def reference_text(self) -> str:
+        """The first sentence of :meth:`text`: the reference point and GC's time there."""
+        return self.text().split(" At the worst corner")[0].split(" One quantity")[0]
+
     def text(self) -> str:
         """Where the claim holds and where it fails, in readable sentences.
 
@@ -306,8 +321,9 @@ class RaceConditions:
             if not math.isfinite(x):
                 return none
             return f"from {format(x, fmt)} {unit} up"
-        lo = {k: v_[0] for k, v_ in RACE_RANGES.items()}
-        hi = {k: v_[1] for k, v_ in RACE_RANGES.items()}
+        ranges = _race_ranges()
+        lo = {k: v_[0] for k, v_ in ranges.items()}
+        hi = {k: v_[1] for k, v_ in ranges.items()}
         if not np.isfinite(self.t_needed):
             return (f"GC's method does not reach σ_c within its horizon, so it is not more than "
                     f"{self.percent:g} % faster anywhere.")
@@ -456,7 +472,7 @@ class RaceResult:
                 (("classical", self.t_c_rate_sensor),
                  ("optimal", self.t_c_rate_sensor_optimal))}
         # the worst corner: the rival at its fastest, GC with the largest scale uncertainty
-        r = RACE_RANGES
+        r = _race_ranges()
         wp = replace(p, sigma_hf_scale=r["sigma_hf_scale"][1])
         wproc = _with(replace(proc, loop_bandwidth=r["loop_bandwidth"][0],
                               rate_noise=r["rate_noise"][0]), "overhead", r["overhead"][0])
