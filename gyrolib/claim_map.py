@@ -45,8 +45,9 @@ import numpy as np
 from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
 
-__all__ = ["STATUS_RULE", "Claim", "ClaimMap", "Share", "Threshold", "demo_margin", "flip_share",
-           "map_claim", "margin_at", "wilson_interval"]
+__all__ = ["STATUS_RULE", "Claim", "ClaimMap", "Share", "Threshold", "check_fingerprint",
+           "demo_margin", "flip_share", "map_claim", "margin_at", "predicted_holds",
+           "wilson_interval"]
 
 #: The one rule, in words (quoted by the ledger page).
 STATUS_RULE: Final[str] = (
@@ -381,6 +382,19 @@ def _call(fn: Callable[..., Any], args: tuple[Any, ...]) -> Any:
     return fn(*args)
 
 
+def predicted_holds(m: ClaimMap, name: str, value: float) -> bool:
+    """Whether the map says the claim holds with row ``name`` at ``value`` (SI) and every
+    other input at the reference: the thresholds of ``name`` split its range into pieces,
+    and each threshold says on which side the claim holds."""
+    ths = sorted((t for t in m.thresholds if t.input == name), key=lambda t: t.value)
+    if not ths:
+        return bool(m.margin > 0)
+    for t in ths:
+        if value < t.value:
+            return t.holds_when == "below"
+    return ths[-1].holds_when == "above"
+
+
 def flip_share(m: ClaimMap, name: str) -> float:
     """The share of row ``name``'s range (on its scale) over which the claim's status
     differs from the reference's, from the map's thresholds (0 when it never flips)."""
@@ -390,23 +404,16 @@ def flip_share(m: ClaimMap, name: str) -> float:
     cuts = sorted(t.value for t in m.thresholds if t.input == name)
     if not cuts:
         return 0.0
-    tr = (np.log if r.scale == "log" else (lambda x: x))
-    edges = [lo, *cuts, hi]
+
+    def tr(x: float) -> float:
+        return math.log(x) if r.scale == "log" else x
     ref_holds = m.margin > 0
-    # the status in each piece alternates; the piece holding the reference has ref's status
     flipped = 0.0
-    for a, b in itertools.pairwise(edges):
+    for a, b in itertools.pairwise([lo, *cuts, hi]):
         mid = math.sqrt(a * b) if r.scale == "log" else 0.5 * (a + b)
-        below = [t for t in m.thresholds if t.input == name and t.value > mid]
-        above = [t for t in m.thresholds if t.input == name and t.value < mid]
-        # a threshold tells the side on which the claim holds
-        if below:
-            holds = below[0].holds_when == "below"
-        else:
-            holds = above[-1].holds_when == "above"
-        if holds != ref_holds:
-            flipped += float(tr(b) - tr(a))
-    return flipped / float(tr(hi) - tr(lo))
+        if predicted_holds(m, name, mid) != ref_holds:
+            flipped += tr(b) - tr(a)
+    return flipped / (tr(hi) - tr(lo))
 
 
 def demo_margin(objects: Mapping[str, Any]) -> float:

@@ -26,6 +26,8 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     p.add_argument("--out", type=Path, metavar="FILE",
                    help="recompute every map and write them to FILE")
     p.add_argument("--only", metavar="IDS", help="comma-separated claim ids (with --out)")
+    p.add_argument("--grid", action="store_true",
+                   help="with --out: (re)compute the race's verdict grid as well")
     p.add_argument("--workers", type=int, default=1, metavar="K",
                    help="worker processes for --out (default 1: in this process)")
     p.add_argument("--scheduler", metavar="ADDR", help="a Dask scheduler for --out")
@@ -71,18 +73,23 @@ def run(args: argparse.Namespace) -> int:
 
             executor = ProcessPoolExecutor(args.workers)
             close = executor.shutdown
+        kept: dict = {}
+        extras: dict = {}
+        if args.out.is_file():  # refresh some maps, or the grid, of an existing file
+            try:
+                kept, extras = claims.stored_maps(args.out), claims.stored_extras(args.out)
+            except ValueError:
+                pass
         try:
-            result = claims.maps(ids, executor=executor, n_box=args.n_box, seed=args.seed)
+            result = claims.maps(ids, executor=executor, n_box=args.n_box, seed=args.seed) \
+                if ids != ("",) else {}
+            if args.grid:
+                extras["race_grid"] = claims.race_grid(executor)
         finally:
             if close is not None:
                 close()
-        if ids is not None and args.out.is_file():  # refresh some maps of an existing file
-            try:
-                kept = claims.stored_maps(args.out)
-            except ValueError:
-                kept = {}
-            result = {**kept, **result}
-        claims.write_maps(result, args.out)
+        result = {**kept, **result} if ids is not None else result
+        claims.write_maps(result, args.out, extras)
         sys.stdout.write(_text(result))
         return 0
     try:

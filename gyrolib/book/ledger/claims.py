@@ -41,7 +41,8 @@ from gyrolib.units import ARCSEC_PAPER
 
 __all__ = ["CLAIMS", "MAPS_FILE", "MAPS_SCHEMA", "Verdict", "check_stored", "compensated_margin",
            "drop_2s_margin", "drz_cubic_margin", "drz_kilometres_margin", "gs_vs_sins_margin",
-           "maps", "psi_separable_margin", "race_claim_margin", "stored_maps",
+           "maps", "psi_separable_margin", "race_claim_margin", "race_grid", "stored_extras",
+           "stored_maps",
            "time_to_sigma_c_margin", "verdict", "write_maps"]
 
 #: The stored maps (package data) and the version of their format.
@@ -215,15 +216,34 @@ def stored_maps(path: Path = MAPS_FILE) -> dict[str, ClaimMap]:
     return {k: ClaimMap.from_dict(v) for k, v in data["maps"].items()}
 
 
-def write_maps(result: Mapping[str, ClaimMap], path: Path = MAPS_FILE) -> None:
-    """Write ``result`` (claim id → map) as the stored maps (the format :func:`stored_maps`
-    reads)."""
+def write_maps(result: Mapping[str, ClaimMap], path: Path = MAPS_FILE,
+               extras: Mapping[str, Any] | None = None) -> None:
+    """Write ``result`` (claim id → map) and ``extras`` (name → plain data, e.g. the race's
+    verdict grid) as the stored maps (the format :func:`stored_maps` reads)."""
     data = {"schema": MAPS_SCHEMA, "table": _inputs.table_fingerprint(),
-            "maps": {k: m.to_dict() for k, m in result.items()}}
+            "maps": {k: m.to_dict() for k, m in result.items()},
+            "extras": dict(extras or {})}
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(path).with_suffix(".json.tmp")
     tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n", encoding="utf-8")
     tmp.replace(path)
+
+
+def stored_extras(path: Path = MAPS_FILE) -> dict[str, Any]:
+    """The extras stored with the maps (``"race_grid"``: :class:`gyrolib.gc.RaceVerdictGrid`
+    as plain data), checked against the table like the maps."""
+    stored_maps(path)
+    return dict(json.loads(Path(path).read_text(encoding="utf-8")).get("extras", {}))
+
+
+def race_grid(executor: object = None) -> dict[str, Any]:
+    """The race's verdict over σ1² × C_as under each reading of the printed noise levels, at
+    the reference point (:func:`gyrolib.gc.race_verdict_grid`), as plain data."""
+    from gyrolib.gc.racing.verdict_grid import race_verdict_grid
+
+    o = _inputs.reference_objects()
+    return race_verdict_grid(o["GyrocompassParams"], o["RateSensorProcedure"],
+                             executor=executor).to_dict()
 
 
 def check_stored(path: Path = MAPS_FILE, ids: tuple[str, ...] | None = None) -> int:

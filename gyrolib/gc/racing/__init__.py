@@ -25,6 +25,7 @@ from gyrolib.gc.racing.rate_sensor import (
     rate_sensor_monte_carlo,
     turn_accuracy_limit,
 )
+from gyrolib.gc.racing.verdict_grid import RaceVerdictGrid, race_verdict_grid
 
 __all__ = [
     "PROCEDURE_TARGETS",
@@ -35,6 +36,7 @@ __all__ = [
     "RaceConditions",
     "RaceResult",
     "RaceSweep",
+    "RaceVerdictGrid",
     "RateSensorModel",
     "RateSensorMonteCarlo",
     "RateSensorProcedure",
@@ -42,6 +44,7 @@ __all__ = [
     "race",
     "race_margin",
     "race_sweep",
+    "race_verdict_grid",
     "rate_sensor_model",
     "rate_sensor_monte_carlo",
     "turn_accuracy_limit",
