@@ -116,7 +116,6 @@ def completeness_violations(claim, m, n=13):
                 if live != (m.readings[name][val] == "holds"):
                     bad.add(name)
             continue
-        lo, hi = r.bounds()
         u = (np.arange(n) + 0.37) / n          # not the map's grid
         for x in r.to_unit(u):
             near = [t for t in m.thresholds if t.input == name

@@ -200,12 +200,13 @@ def _stored(path: Path, mtime: float) -> dict[str, ClaimMap]:
     return stored_maps(path)
 
 
-def stored_maps(path: Path = MAPS_FILE) -> dict[str, ClaimMap]:
+def stored_maps(path: Path | None = None) -> dict[str, ClaimMap]:
     """The maps computed offline for the reference point, as shipped with the package.
 
     Raises ``ValueError`` when the file was computed over another table of inputs (its
     fingerprint differs) or in another format; ``FileNotFoundError`` when it is absent.
     """
+    path = MAPS_FILE if path is None else path
     data = json.loads(Path(path).read_text(encoding="utf-8"))
     if data.get("schema") != MAPS_SCHEMA:
         raise ValueError(f"{path}: schema {data.get('schema')!r}, expected {MAPS_SCHEMA}")
@@ -216,22 +217,24 @@ def stored_maps(path: Path = MAPS_FILE) -> dict[str, ClaimMap]:
     return {k: ClaimMap.from_dict(v) for k, v in data["maps"].items()}
 
 
-def write_maps(result: Mapping[str, ClaimMap], path: Path = MAPS_FILE,
+def write_maps(result: Mapping[str, ClaimMap], path: Path | None = None,
                extras: Mapping[str, Any] | None = None) -> None:
     """Write ``result`` (claim id → map) and ``extras`` (name → plain data, e.g. the race's
     verdict grid) as the stored maps (the format :func:`stored_maps` reads)."""
     data = {"schema": MAPS_SCHEMA, "table": _inputs.table_fingerprint(),
             "maps": {k: m.to_dict() for k, m in result.items()},
             "extras": dict(extras or {})}
+    path = MAPS_FILE if path is None else path
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(path).with_suffix(".json.tmp")
     tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n", encoding="utf-8")
     tmp.replace(path)
 
 
-def stored_extras(path: Path = MAPS_FILE) -> dict[str, Any]:
+def stored_extras(path: Path | None = None) -> dict[str, Any]:
     """The extras stored with the maps (``"race_grid"``: :class:`gyrolib.gc.RaceVerdictGrid`
     as plain data), checked against the table like the maps."""
+    path = MAPS_FILE if path is None else path
     stored_maps(path)
     return dict(json.loads(Path(path).read_text(encoding="utf-8")).get("extras", {}))
 
@@ -246,7 +249,7 @@ def race_grid(executor: object = None) -> dict[str, Any]:
                              executor=executor).to_dict()
 
 
-def check_stored(path: Path = MAPS_FILE, ids: tuple[str, ...] | None = None) -> int:
+def check_stored(path: Path | None = None, ids: tuple[str, ...] | None = None) -> int:
     """Recompute the fingerprint points of the stored maps (a few margins per claim) and
     raise ``ValueError`` when one moved (the code changed a number: the maps are stale).
     Returns how many points were checked."""
@@ -296,7 +299,7 @@ def verdict(claim_id: str, objects: Mapping[str, Any] | None = None, *,
     claim = CLAIMS[claim_id]
     objs = {**_inputs.reference_objects(), **(objects or {})}
     if _is_reference(objs):
-        m = _stored(MAPS_FILE, MAPS_FILE.stat().st_mtime)[claim_id]
+        m = _stored(MAPS_FILE, MAPS_FILE.stat().st_mtime_ns)[claim_id]
         d = m.to_dict()
         judged = {k: d[k] for k in _JUDGED_KEYS}
         judged["mapped"] = True

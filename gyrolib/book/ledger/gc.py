@@ -21,7 +21,7 @@ from typing import Final
 import numpy as np
 
 import gyrolib
-from gyrolib import inputs as _inputs
+from gyrolib import inputs as _table
 from gyrolib.book.ledger.claims import verdict
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict
 from gyrolib.book.report import sci as _sci
@@ -77,7 +77,7 @@ T_BOUND: Final[float] = (1.0 - PRINTED["faster_percent"] / 100.0) * PRINTED["ref
 #: Factors applied, one parameter at a time, to the shaping filters' frequencies and variances
 #: (damping ratios capped at 1) in the chapter's sweep of "the same trend": the table of
 #: inputs' range of those rows (:mod:`gyrolib.inputs`, a decade either way).
-TREND_FACTORS: Final[tuple[float, ...]] = _inputs.row("gc.alpha1").factors
+TREND_FACTORS: Final[tuple[float, ...]] = _table.row("gc.alpha1").factors
 
 #: A float frozen at a constant angle (rad, about its angle after 60 s): the control case in
 #: which ψ and ω_gc cannot be separated.
@@ -116,7 +116,7 @@ def sci(x: float) -> str:
 def _objects(p: GyrocompassParams) -> dict[str, object]:
     """The owners of the table of inputs with paper GC's parameters ``p`` (the others at
     their reference)."""
-    return {**_inputs.reference_objects(), "GyrocompassParams": p}
+    return {**_table.reference_objects(), "GyrocompassParams": p}
 
 
 def _arcsec_s(x: float) -> float:
@@ -493,7 +493,7 @@ def _trend_holds(p: GyrocompassParams, base: Baseline) -> LedgerItem:
     if v.judged.get("mapped"):   # the smallest share over the one-at-a-time points
         from gyrolib.book.ledger.claims import stored_maps
         sweeps = stored_maps()["gc.claim.trend_holds"].sweeps
-        worst = min(share, *(m + 0.5 for pts in sweeps.values() for _, m in pts))
+        worst = min([share, *(m + 0.5 for pts in sweeps.values() for _, m in pts)])
     return _item(
         "claim.trend_holds", "text after Fig. 3",
         "smallest share of the 100-s reduction of sigma(omega_gc) achieved in the first 2 s, "
