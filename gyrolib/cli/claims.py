@@ -25,7 +25,8 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                    help="recompute the stored maps' fingerprint points (exit 3 if stale)")
     p.add_argument("--out", type=Path, metavar="FILE",
                    help="recompute every map and write them to FILE")
-    p.add_argument("--only", metavar="IDS", help="comma-separated claim ids (with --out)")
+    p.add_argument("--only", metavar="IDS",
+                   help="comma-separated claim ids (with --out; empty: none, e.g. with --grid)")
     p.add_argument("--grid", action="store_true",
                    help="with --out: (re)compute the race's verdict grid as well")
     p.add_argument("--workers", type=int, default=1, metavar="K",
@@ -51,7 +52,8 @@ def run(args: argparse.Namespace) -> int:
     from gyrolib.book.ledger import claims
 
     if args.out is not None:
-        ids = tuple(args.only.split(",")) if args.only else None
+        ids = (None if args.only is None else
+               tuple(x.strip() for x in args.only.split(",") if x.strip()))
         unknown = [i for i in ids or () if i not in claims.CLAIMS]
         if unknown:
             sys.stderr.write(f"claims: error: --only: unknown claim {unknown[0]!r}; known: "
@@ -81,8 +83,8 @@ def run(args: argparse.Namespace) -> int:
             except ValueError:
                 pass
         try:
-            result = claims.maps(ids, executor=executor, n_box=args.n_box, seed=args.seed) \
-                if ids != ("",) else {}
+            result = (claims.maps(ids, executor=executor, n_box=args.n_box, seed=args.seed)
+                      if ids != () else {})
             if args.grid:
                 extras["race_grid"] = claims.race_grid(executor)
         finally:
