@@ -86,7 +86,9 @@ class Claim:
     ``id`` (the ledger's item id), ``margin`` (a module-level function of the owners'
     mapping, picklable for an executor; ``> 0`` where the claim holds), ``inputs`` (the
     rows it reads: every row that can move the margin), ``meaning`` (what the margin is, in
-    words) and ``unit`` (of the margin).
+    words), ``unit`` (of the margin) and ``per_reading`` (also find every threshold under
+    each other reading: for claims cheap enough, so that a threshold's dependence on a
+    reading is stated).
     """
 
     id: str
@@ -94,6 +96,7 @@ class Claim:
     inputs: tuple[str, ...]
     meaning: str
     unit: str = "1"
+    per_reading: bool = False
 
     def __post_init__(self) -> None:
         for name in self.inputs:
@@ -163,6 +166,8 @@ class ClaimMap:
     box_fails: int = 0
     fingerprint: tuple[dict[str, Any], ...] = ()
     settings: dict[str, Any] = field(default_factory=dict)
+    reading_thresholds: dict[str, dict[str, list[dict[str, Any]]]] = field(
+        default_factory=dict)
 
     def flipping_inputs(self) -> tuple[str, ...]:
         """Every input that flips the claim: the thresholds' rows and the readings under
@@ -189,6 +194,17 @@ class ClaimMap:
         for r, st in flips:
             text += (f" Under the readings of {_inputs.row(r).symbol}: "
                      + ", ".join(f"{k}: {s}" for k, s in st.items()) + ".")
+        for r, by_value in self.reading_thresholds.items():
+            for val, ths in by_value.items():
+                if [t["input"] for t in ths] == [t.input for t in self.thresholds] and all(
+                        abs(t["value"] / u.value - 1) < 1e-2 if u.value else t["value"] == 0
+                        for t, u in zip(ths, self.thresholds, strict=True)):
+                    continue   # the same thresholds: nothing to add
+                where = "; ".join(f"{_inputs.row(t['input']).symbol} {t['holds_when']} "
+                                  f"{_inputs.row(t['input']).show(t['value'])}" for t in ths)
+                text += (f" Under {_inputs.row(r).symbol} = {val}: "
+                         + (f"it flips for {where}." if ths else
+                            "no input flips it within its range, one at a time."))
         if self.share_holding is not None and (self.box_fails or self.margin <= 0):
             text += (f" Over the box of uncertain inputs it holds at "
                      f"{self.share_holding.text()}.")
@@ -202,7 +218,7 @@ class ClaimMap:
                                   else self.share_holding.as_dict()),
                 "readings": self.readings, "sweeps": self.sweeps,
                 "box_fails": self.box_fails, "fingerprint": list(self.fingerprint),
-                "settings": self.settings}
+                "settings": self.settings, "reading_thresholds": self.reading_thresholds}
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> ClaimMap:
@@ -219,7 +235,8 @@ class ClaimMap:
                            for k, v in d.get("sweeps", {}).items()},
                    box_fails=int(d.get("box_fails", 0)),
                    fingerprint=tuple(d.get("fingerprint", ())),
-                   settings=dict(d.get("settings", {})))
+                   settings=dict(d.get("settings", {})),
+                   reading_thresholds=dict(d.get("reading_thresholds", {})))
 
 
 def _holds(m: float) -> bool:
@@ -333,6 +350,12 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
     tasks += [(_box, (claim, objs, uncertain, box[i:i + chunk]))
               for i in range(0, box.shape[0], chunk)]
     tasks += [(_reading, (claim, objs, r.name, val)) for r in readings for val in r.values[1:]]
+    alts = ([(r.name, val) for r in readings for val in r.values[1:]]
+            if claim.per_reading else [])
+    for name, val in alts:
+        o2 = _inputs.apply(objs, {name: val})
+        m2 = float(claim.margin(o2))
+        tasks += [(_sweep, (claim, o2, n, n_grid, rtol, m2)) for n in numeric]
     results = map_ordered(_call, [(fn, args) for fn, args in tasks], ex)
     k = 0
     sweeps: dict[str, list[list[float]]] = {}
@@ -354,6 +377,13 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
             st[val] = "holds" if _holds(results[k]) else "fails"
             k += 1
         read_status[r.name] = st
+    per_reading: dict[str, dict[str, list[dict[str, Any]]]] = {}
+    for name, val in alts:
+        ths2: list[Threshold] = []
+        for _ in numeric:
+            ths2 += results[k][1]
+            k += 1
+        per_reading.setdefault(name, {})[val] = [t.as_dict() for t in ths2]
     share = None
     n_fail = 0
     if box_margins:
@@ -375,7 +405,8 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
                     readings=read_status, sweeps=sweeps, box_fails=n_fail,
                     fingerprint=tuple(fp),
                     settings={"n_grid": n_grid, "rtol": rtol, "n_box": n_box, "seed": seed,
-                              "table": _inputs.table_fingerprint()})
+                              "table": _inputs.table_fingerprint()},
+                    reading_thresholds=per_reading)
 
 
 def _call(fn: Callable[..., Any], args: tuple[Any, ...]) -> Any:

@@ -83,7 +83,7 @@ class WorkedExample:
     ``eps1_gs_unit`` — ε1,GS = 280 in ``"ppm"`` or slipped to ``"1e-3"``;
     ``omega_unc_model`` — how ω_unc follows the roll rate ω: ``"constant"`` (held at
     ``omega_unc``), ``"motor_limited"`` (ω − :data:`GS_MOTOR_RATE_MAX`, the book's simulated
-    GS) or ``"proportional"`` (``omega_unc · ω/omega_x``).
+    GS) or ``"proportional"`` (``omega_unc · ω/900 °/s``: the example's ratio kept).
 
     Examples
     --------
@@ -116,7 +116,7 @@ class WorkedExample:
             return self.omega_unc
         if self.omega_unc_model == "motor_limited":
             return max(float(omega) - GS_MOTOR_RATE_MAX, 0.0)
-        return self.omega_unc * float(omega) / self.omega_x
+        return self.omega_unc * float(omega) / WORKED_EXAMPLE_OMEGA_X
 
     def eps0_gs(self, gyro: MemsGyroSpec) -> float:
         """ε0,GS (rad/s) of ``gyro`` by the reading: as computed, or cut to two digits in °/s."""

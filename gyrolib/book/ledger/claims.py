@@ -176,9 +176,9 @@ CLAIMS: Final[dict[str, Claim]] = {c.id: c for c in (
     Claim("gc.claim.psi_separable", psi_separable_margin, _GC_ALL,
           "1 − |correlation| of the ψ and ω_gc information over 100 s, minus 1e-9"),
     Claim("rsf.example.compensated", compensated_margin, _RSF_EXAMPLE,
-          "1 − δK/ε1 from Eq. (7) minus 0.90"),
+          "1 − δK/ε1 from Eq. (7) minus 0.90", per_reading=True),
     Claim("rsf.claim.gs_vs_sins", gs_vs_sins_margin, _RSF_TABLES,
-          "log10 of the smallest Δγ_SINS/Δγ_GS at 10, 60, 120 s, minus 2"),
+          "log10 of the smallest Δγ_SINS/Δγ_GS at 10, 60, 120 s, minus 2", per_reading=True),
     Claim("rsf.claim.drz_cubic", drz_cubic_margin, _RSF_DRZ,
           "the smallest local exponent of Δr_z at 10, 60, 120 s, minus 2.9"),
     Claim("rsf.claim.drz_kilometres", drz_kilometres_margin, _RSF_DRZ,
@@ -278,7 +278,8 @@ class Verdict:
 
 #: The parts of a map the ledger's JSON carries (the sweeps and fingerprint stay in the file).
 _JUDGED_KEYS: Final[tuple[str, ...]] = ("meaning", "margin", "reference", "thresholds",
-                                        "share_holding", "readings", "settings")
+                                        "share_holding", "readings", "settings",
+                                        "reading_thresholds")
 
 
 def _is_reference(objects: Mapping[str, Any]) -> bool:
