@@ -405,7 +405,7 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
                     readings=read_status, sweeps=sweeps, box_fails=n_fail,
                     fingerprint=tuple(fp),
                     settings={"n_grid": n_grid, "rtol": rtol, "n_box": n_box, "seed": seed,
-                              "table": _inputs.table_fingerprint()},
+                              "table": _inputs.table_fingerprint(claim.inputs)},
                     reading_thresholds=per_reading)
 
 

@@ -422,11 +422,12 @@ def apply(objects: Mapping[str, Any], changes: Mapping[str, Any]) -> dict[str, A
     return out
 
 
-def table_fingerprint() -> str:
+def table_fingerprint(names: tuple[str, ...] | None = None) -> str:
     """A hash of what the table computes with (each row's name, fields, kind, range, scale
-    and reference value or readings; not its words): stored results computed over it are
-    valid only for the same fingerprint."""
+    and reference value or readings; not its words), over the rows ``names`` (default: every
+    row): a result computed over those rows is valid only for the same fingerprint."""
     words = ("symbol", "reason", "unit")
+    chosen = INPUTS if names is None else tuple(row(n) for n in names)
     blob = json.dumps([{k: v for k, v in r.as_dict().items() if k not in words}
-                       for r in INPUTS], sort_keys=True, default=repr)
+                       for r in chosen], sort_keys=True, default=repr)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]

@@ -203,26 +203,29 @@ def _stored(path: Path, mtime: float) -> dict[str, ClaimMap]:
 def stored_maps(path: Path | None = None) -> dict[str, ClaimMap]:
     """The maps computed offline for the reference point, as shipped with the package.
 
-    Raises ``ValueError`` when the file was computed over another table of inputs (its
-    fingerprint differs) or in another format; ``FileNotFoundError`` when it is absent.
+    Raises ``ValueError`` when a map was computed over other rows than its claim reads now,
+    or other ranges or references of them (the fingerprint of the claim's rows differs), or
+    in another format; ``FileNotFoundError`` when the file is absent.
     """
     path = MAPS_FILE if path is None else path
     data = json.loads(Path(path).read_text(encoding="utf-8"))
     if data.get("schema") != MAPS_SCHEMA:
         raise ValueError(f"{path}: schema {data.get('schema')!r}, expected {MAPS_SCHEMA}")
-    if data.get("table") != _inputs.table_fingerprint():
-        raise ValueError(f"{path} was computed over another table of inputs (fingerprint "
-                         f"{data.get('table')!r}, now {_inputs.table_fingerprint()!r}); "
-                         "recompute it: python -m gyrolib claims --out")
-    return {k: ClaimMap.from_dict(v) for k, v in data["maps"].items()}
+    out = {k: ClaimMap.from_dict(v) for k, v in data["maps"].items()}
+    for k, m in out.items():
+        if k in CLAIMS and (m.settings.get("table") != _inputs.table_fingerprint(
+                CLAIMS[k].inputs) or set(m.reference) != set(CLAIMS[k].inputs)):
+            raise ValueError(f"{path}: the map of {k} was computed over another table of "
+                             "inputs than the claim reads now; recompute it: python -m "
+                             f"gyrolib claims --out {path} --only {k}")
+    return out
 
 
 def write_maps(result: Mapping[str, ClaimMap], path: Path | None = None,
                extras: Mapping[str, Any] | None = None) -> None:
     """Write ``result`` (claim id → map) and ``extras`` (name → plain data, e.g. the race's
     verdict grid) as the stored maps (the format :func:`stored_maps` reads)."""
-    data = {"schema": MAPS_SCHEMA, "table": _inputs.table_fingerprint(),
-            "maps": {k: m.to_dict() for k, m in result.items()},
+    data = {"schema": MAPS_SCHEMA, "maps": {k: m.to_dict() for k, m in result.items()},
             "extras": dict(extras or {})}
     path = MAPS_FILE if path is None else path
     Path(path).parent.mkdir(parents=True, exist_ok=True)

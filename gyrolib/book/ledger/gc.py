@@ -113,10 +113,13 @@ def sci(x: float) -> str:
     return _sci(x, 2)
 
 
-def _objects(p: GyrocompassParams) -> dict[str, object]:
-    """The owners of the table of inputs with paper GC's parameters ``p`` (the others at
-    their reference)."""
-    return {**_table.reference_objects(), "GyrocompassParams": p}
+def _objects(p: GyrocompassParams, procedure: object = None) -> dict[str, object]:
+    """The owners of the table of inputs with paper GC's parameters ``p`` (and the rival's
+    ``procedure``, when given; the others at their reference)."""
+    out = {**_table.reference_objects(), "GyrocompassParams": p}
+    if procedure is not None:
+        out["RateSensorProcedure"] = procedure
+    return out
 
 
 def _arcsec_s(x: float) -> float:
@@ -531,7 +534,8 @@ def _faster_percent(p: GyrocompassParams, race: RaceResult, cond: RaceConditions
     replaces, its rebalance loop and pickoff noise included, under the same disturbances,
     sensors and accuracy target; the rival is granted its better estimator (the optimal
     one), and the claim is mapped over the table of inputs (:func:`gyrolib.gc.race_margin`)."""
-    v = verdict("gc.faster_percent", _objects(p), context=cond.reference_text())
+    v = verdict("gc.faster_percent", _objects(p, race.procedure),
+                context=cond.reference_text())
     saving = race.faster_percent_optimal
     return _item(
         "faster_percent", "Conclusion",
