@@ -159,13 +159,16 @@ def test_every_input_number_is_echoed_with_its_role(base):
 def test_psi_and_omega_gc_separate_as_the_closed_form_says(base):
     """The angle-sensor signatures t (omega_gc) and t^2 (psi) of an aperiodic float correlate
     by sqrt(15)/4 over any [0, T] (closed form), so the two separate, at a cost of
-    1/sqrt(1 - 15/16) = 4 in sigma with no prior on psi; a frozen float cannot separate them."""
+    1/sqrt(1 - 15/16) = 4 in sigma with no prior on psi; a frozen float cannot separate them
+    (the control case of the evidence: not a gyrocompass, so not a point of the claim's
+    ranges, over which nothing flips it)."""
     it = base["gc.claim.psi_separable"]
-    assert it.kind == "claim" and it.status == "holds under conditions"
+    assert it.kind == "claim" and it.status == "holds" and it.conditions == ""
+    assert it.judged["mapped"] and it.judged["thresholds"] == []
     assert it.reproduced_value == pytest.approx(np.sqrt(15.0) / 4.0, abs=2e-3)
-    ratio = float(re.search(r"costs a factor ([0-9.]+)", it.conditions).group(1))
+    ratio = float(re.search(r"psi unknown/known ([0-9.]+)", it.evidence).group(1))
     assert ratio == pytest.approx(4.0, abs=0.05)
-    assert "frozen" in it.conditions and "below 1e-12" in it.conditions
+    assert "frozen" in it.evidence and "below 1e-12" in it.evidence
 
 
 def test_figures_2_and_3_are_redrawn_beside_their_printed_numbers(base):
