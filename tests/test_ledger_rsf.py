@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.stats import binom
 
 from gyrolib import rsf
 from gyrolib.book.ledger import STATUSES, collect
@@ -230,14 +231,39 @@ def test_compensated_fails_at_the_papers_own_example(items):
     assert it.reproduced_value == pytest.approx(71.6, abs=0.05)
     flights = rsf.flight_shares(ledger_rsf.SIM_SEED, n_runs=ledger_rsf.RANDOM_RUNS)
     assert round(100 * flights.median) == 67 and round(100 * flights.worse) == 20
-    assert (f"{100 * share_900:.1f} % against 90 %" in it.evidence
-            and "67 % for the median of 400 simulated flights" in it.evidence
-            and "20 % of them worse than uncorrected" in it.evidence)
-    # the spread of the flights, recomputed here from their shares (a single flight may do
-    # far worse than the median: the claim's range is not the table's 67-81 %)
-    lo, hi = np.percentile(100 * flights.share, [10, 90])
-    assert lo < 0.0 < 80.0 < hi
-    assert f"spread from {lo:.0f} % to {hi:.0f} % (10th to 90th percentile)" in it.evidence
+    assert f"{100 * share_900:.1f} % against 90 %" in it.evidence
+    # every statistic of the flights carries its 95 % interval, printed to no finer digit:
+    # each printed interval contains the distribution-free order-statistic interval of the
+    # percentile (binomial ranks, computed here), to the printed digit
+    x = np.sort(100 * flights.share)
+    n = x.size
+    for q, label in ((50, "for the median of 400 simulated flights"),
+                     (10, "and 90th"), (90, "")):
+        pattern = (r"(-?\d+) % \(95 % CI (-?\d+) to (-?\d+) %\) " + re.escape(label)
+                   if label else r"90th (-?\d+) % \(95 % CI (-?\d+) to (-?\d+) %\)")
+        m = re.search(pattern, it.evidence)
+        assert m, (q, it.evidence)
+        value, lo, hi = (float(g) for g in m.groups())
+        r_lo = int(binom.ppf(0.025, n, q / 100)) - 1
+        r_hi = int(binom.ppf(0.975, n, q / 100))
+        assert lo <= x[r_lo] and x[r_hi] <= hi, (q, x[r_lo], x[r_hi], lo, hi)
+        # no digit finer than the interval: the value is a whole multiple of the power of ten
+        # at or below the (printed) interval's half-width
+        res = 10.0 ** math.floor(math.log10(0.5 * (hi - lo)))
+        assert lo <= value <= hi and abs(value - np.percentile(x, q)) <= res
+        assert value / res == pytest.approx(round(value / res))
+    assert "67 % (95 % CI" in it.evidence and "20 % (95 % CI" in it.evidence
+    # the share worse: Wilson's interval by its formula
+    k, z = int(np.sum(flights.share < 0)), 1.959963984540054
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    m = re.search(r"(\d+) % \(95 % CI (\d+) to (\d+) %\) of them worse", it.evidence)
+    assert m and float(m.group(2)) <= 100 * (centre - half) and 100 * (centre + half) <= float(
+        m.group(3))
+    # a single flight may do far worse than the median: the 10th percentile is negative
+    lo10, hi90 = np.percentile(x, [10, 90])
+    assert lo10 < 0.0 < 80.0 < hi90
     for assumption in ("900 °/s", "ε1 at its 1σ 600 ppm", "1σ terms added linearly",
                        "ω_unc held at 300 °/s", "Δt = 5 s"):
         assert assumption in it.conditions, assumption

@@ -470,10 +470,13 @@ def _compensated(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
                             n_runs=RANDOM_RUNS)
     w_star = float(from_si(cs.rate_for_target, "deg/s"))
     i3600 = CLAIM_RATES.index(3600.0)
-    sim = (f"{100 * flights.median:.0f} % for the median of {RANDOM_RUNS} simulated flights "
-           f"with the errors drawn per flight, {100 * flights.worse:.0f} % of them worse than "
-           f"uncorrected, the flights spread from {np.percentile(100 * flights.share, 10):.0f} % "
-           f"to {np.percentile(100 * flights.share, 90):.0f} % (10th to 90th percentile)")
+    # each statistic of the flights with its 95 % interval (order statistics for the
+    # percentiles, Wilson for the share worse), printed to no digit finer than the interval
+    p10, p50, p90 = (flights.percentile_estimate(q).text("%", scale=100) for q in (10, 50, 90))
+    sim = (f"{p50} for the median of {RANDOM_RUNS} simulated flights (seed {SIM_SEED}) "
+           f"with the errors drawn per flight, {flights.worse_estimate().text('%', scale=100)} "
+           f"of them worse than uncorrected, the flights' 10th percentile {p10} and 90th "
+           f"{p90}")
     assumptions = (f"at the worked example's {CLAIM_RATES[0]:.0f} °/s with ε1 at its 1σ "
                    f"{from_si(roll_gyro.sf_error, 'ppm'):.0f} ppm, Eq. (7)'s 1σ terms added "
                    f"linearly, ω_unc held at {from_si(cs.omega_unc, 'deg/s'):.0f} °/s and "
