@@ -166,15 +166,17 @@ def test_eps0_gs_both_candidate_shortenings_give_the_print(items):
         assert abs(candidate - 3.3e-3) <= 0.05e-3
     assert it.status == "differs: cause shown"
     assert "truncated to two digits: 0.0033 (gives the print)" in it.evidence
-    assert "rounded to 12 °/h: 0.003333 (gives the print)" in it.evidence
+    # rounded to 12 °/h the paper would still print (and use) two digits: the same 3.3e-3
+    assert "rounded to 12 °/h then to two digits: 0.0033 (gives the print)" in it.evidence
+    assert "rounded to 12 °/h and carried unrounded: 0.003333 (gives the print)" in it.evidence
 
 
 #: Table 3 by hand, with Δγ_enc = 0.33° as the worked example prints it (an input): the
 #: consistent ε0,GS·t + 0.33 and the two candidate shortenings of ε0,GS.
 TABLE3_HAND = {  # t: (printed ε0,GS·t, printed Δγ_GS, status)
-    10: (0.033, 0.363, "differs: cause shown"),   # both candidates give the print
-    60: (0.198, 0.528, "differs: cause shown"),   # only the printed 3.3e-3: 12 °/h gives
-    120: (0.396, 0.726, "differs: cause shown"),  # 0.200, 0.530 (0.400, 0.730) and misses
+    10: (0.033, 0.363, "differs: cause shown"),   # every candidate gives the print
+    60: (0.198, 0.528, "differs: cause shown"),   # only the printed 3.3e-3: 12 °/h unrounded
+    120: (0.396, 0.726, "differs: cause shown"),  # gives 0.200, 0.530 (0.400, 0.730), misses
 }
 
 
@@ -195,9 +197,12 @@ def test_table3_from_the_examples_encoder_error_with_every_candidate(items, t):
     assert gs.reproduced_value == pytest.approx(consistent, rel=1e-12)
     assert e0t.reproduced_value == pytest.approx(EPS0_GS_DEG_S * t, rel=1e-12)
     assert e0t.status == gs.status == status
-    for it, hand in ((e0t, per_hour), (gs, per_hour + 0.33)):
+    for it, hand, two in ((e0t, per_hour, truncated), (gs, per_hour + 0.33, truncated + 0.33)):
         verb = "gives" if t == 10 else "misses"
-        assert f"rounded to 12 °/h: {hand:.4f} ({verb} the print)" in it.evidence, it.id
+        assert (f"rounded to 12 °/h and carried unrounded: {hand:.4f} ({verb} the print)"
+                in it.evidence), it.id
+        # 12 °/h printed to two digits is the truncated value: it gives every column
+        assert f"rounded to 12 °/h then to two digits: {two:.4f} (gives the print)" in it.evidence
         assert "truncated to two digits" in it.evidence and "(gives the print)" in it.evidence
         assert "inferred" not in it.note + it.evidence  # the encoder is an input now
         assert ("the paper computed this column with its printed two-digit" in it.note) \
