@@ -8,7 +8,8 @@ every status, by the ledger's one agreement rule
 (:func:`~gyrolib.book.ledger.item.printed_verdict`): a printed number is "reproduced" when the
 consistent computation agrees with the print to half a unit of its last digit; where it does
 not, every candidate cause the book names is computed and listed in the evidence, and the
-status is "differs: cause shown" only when all of them give the print.  A claim's status and
+status is "differs: cause shown" when any of them gives the print (the evidence says which
+miss it: those the print refutes).  A claim's status and
 conditions come from the computation that tests it.  Each table, claim or group of inputs has
 its own builder; perturbing a record moves the ledger (see ``tests/test_ledger_rsf.py``).
 """
