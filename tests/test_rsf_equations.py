@@ -307,3 +307,21 @@ def test_gs_vs_sins_by_hand():
     eps0 = math.hypot(10.0, 7.0) / 3600.0                        # °/s
     assert r.ratio_ideal[0] == pytest.approx(21.6 / (eps0 * 10 + 0.33), rel=1e-12)
     assert r.ratio_nonideal[0] == pytest.approx(21.6 / ((eps0 + 0.084) * 10 + 0.33), rel=1e-12)
+
+
+def test_rate_sweep_share_interval_covers_other_seeds():
+    """The share's 95 % interval (bootstrap over runs) from one seed against the spread of the
+    share over independent seeds: at least 3 of 4 other seeds' shares fall inside the
+    interval widened to the sum of the two ensembles' uncertainty (√2 times its half-width);
+    power: an interval a tenth as wide leaves most of them out."""
+    rate = to_si([900.0], "deg/s")
+    ref = rsf.sweep_roll_rate(rate, seed=11, n_runs=40, duration=10.0)
+    est = ref.share_estimate(0)
+    assert est.lo <= ref.share[0] <= est.hi and est.n == 40 and est.seed == 11
+    others = [rsf.sweep_roll_rate(rate, seed=s, n_runs=40, duration=10.0).share[0]
+              for s in (21, 31, 41, 51)]
+    half = math.sqrt(2) * 0.5 * (est.hi - est.lo)
+    assert sum(abs(x - est.value) <= half for x in others) >= 3
+    assert sum(abs(x - est.value) <= 0.1 * half for x in others) < 3
+    with pytest.raises(ValueError, match=r"^i must"):
+        ref.share_estimate(1)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib import stats
 from gyrolib._executor import check_executor, map_ordered
 from gyrolib._repr import compact_repr
 from gyrolib.rsf.correction import interval_estimates, predict_delta_k
@@ -31,6 +32,7 @@ from gyrolib.rsf.simulation import (
     simulate_flight,
     with_encoder,
 )
+from gyrolib.stats import Estimate
 from gyrolib.units import to_si
 
 __all__ = [
@@ -216,7 +218,10 @@ class RateSweep:
     ``rates`` (rad/s); ``mean``, ``rms``, ``max_abs`` of δK over all runs and complete
     intervals; ``predicted_rms`` (:func:`~gyrolib.rsf.predict_delta_k`); ``eq7`` the paper's
     Eq. (7); ``share`` = 1 − rms/|ε1|, the share of the SINS gyro's SF error removed;
-    ``omega_unc`` (rad/s) and ``period`` (s) as simulated.
+    ``omega_unc`` (rad/s) and ``period`` (s) as simulated; ``rms_ci`` (n × 2) the 95 %
+    interval of each rms, a bootstrap over whole runs seeded with that rate's seed
+    (:func:`gyrolib.stats.bootstrap`), ``eps1`` the SINS gyro's SF error, ``n_runs`` the runs
+    per rate and ``seed`` the first rate's seed.
     """
 
     rates: np.ndarray
@@ -228,6 +233,28 @@ class RateSweep:
     share: np.ndarray
     omega_unc: float
     period: float
+    rms_ci: np.ndarray
+    eps1: float
+    n_runs: int = 1
+    seed: int = 0
+
+    def rms_estimate(self, i: int) -> Estimate:
+        """The rms δK at ``rates[i]`` with its 95 % interval (:attr:`rms_ci`)."""
+        i = v.check_int("i", i, 0)
+        if i >= self.rates.size:
+            raise ValueError(f"i must index the rates (< {self.rates.size}); got {i}")
+        lo, hi = self.rms_ci[i]
+        return Estimate(value=float(self.rms[i]), lo=float(lo), hi=float(hi), confidence=0.95,
+                        n=self.n_runs, method="bootstrap", seed=self.seed + i)
+
+    def share_estimate(self, i: int) -> Estimate:
+        """The share of ε1 removed at ``rates[i]``, 1 − rms/|ε1|, with its 95 % interval
+        (from :attr:`rms_ci`)."""
+        rms = self.rms_estimate(i)
+        e1 = abs(self.eps1)
+        return Estimate(value=float(self.share[i]), lo=1.0 - rms.hi / e1,
+                        hi=1.0 - rms.lo / e1, confidence=rms.confidence, n=rms.n,
+                        method=rms.method, seed=rms.seed)
 
 
 def _rate_row(base: SimulationConfig, rate: float, omega_unc: float, n_runs: int,
@@ -238,10 +265,15 @@ def _rate_row(base: SimulationConfig, rate: float, omega_unc: float, n_runs: int
         base, roll=RollProfile(rate), n_runs=n_runs, duration=duration,
         gs=dataclasses.replace(base.gs, motor_rate_max=rate - omega_unc))
     rec = simulate_flight(cfg, seed=seed)
-    dk = interval_estimates(rec, period, k_form)[2].ravel()
+    per_run = interval_estimates(rec, period, k_form)[2]
+    dk = per_run.ravel()
     pred = predict_delta_k(cfg, period)
+    # the rms with its 95 % interval: a bootstrap over whole runs (the intervals of one run
+    # are not independent), seeded with this rate's seed
+    ci = stats.bootstrap(np.mean(per_run**2, axis=1),
+                         lambda ms: np.sqrt(np.mean(ms, axis=-1)), seed=seed, vectorized=True)
     return (dk.mean(), math.sqrt(np.mean(dk**2)), np.abs(dk).max(),
-            math.hypot(pred.mean, pred.std), pred.eq7)
+            math.hypot(pred.mean, pred.std), pred.eq7, ci.lo, ci.hi)
 
 
 def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
@@ -304,4 +336,5 @@ def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
     return RateSweep(rates=r, mean=rows[:, 0], rms=rms, max_abs=rows[:, 2],
                      predicted_rms=rows[:, 3], eq7=rows[:, 4],
                      share=1.0 - rms / abs(base.sins.eps1), omega_unc=omega_unc,
-                     period=period)
+                     period=period, rms_ci=rows[:, 5:7], eps1=float(base.sins.eps1),
+                     n_runs=int(n_runs), seed=seed)
