@@ -99,7 +99,8 @@ def west_gyro(params: GyrocompassParams, t_end: float = T_BOUND, *,
     Parameters
     ----------
     params : GyrocompassParams
-        The model (its instrument-constant priors must be off).
+        The model.  Its instrument constants (``sigma_as_offset`` and the others) are not
+        appended here: more unknowns can only raise σ, so the failure stands with them.
     t_end : float, optional
         Length of the run, s (default 510 s, half of ref. [2]'s 17 min).
     beta_n : float, optional
