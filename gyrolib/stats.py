@@ -124,14 +124,14 @@ class Estimate:
     def interval_text(self, unit: str = "") -> str:
         """The interval alone: ``'95 % CI -140 to -40 %'``."""
         _, lo, hi = self.rounded()
-        u = f" {unit}" if unit else ""
+        u = f" {v.check_str('unit', unit)}" if unit else ""
         return f"{100 * self.confidence:g} % CI {self._fmt(lo)} to {self._fmt(hi)}{u}"
 
     def text(self, unit: str = "", *, scale: float = 1.0) -> str:
         """The value with its interval, no digit finer than the interval:
         ``'-80 % (95 % CI -140 to -40 %)'``; ``scale`` multiplies all three first."""
         est = self if scale == 1.0 else self.scaled(scale)
-        u = f" {unit}" if unit else ""
+        u = f" {v.check_str('unit', unit)}" if unit else ""
         return f"{est.value_text()}{u} ({est.interval_text(unit)})"
 
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from gyrolib import _validation as v
 from gyrolib import stats
 from gyrolib.book.ledger.gc import SIGMA_C, T_BOUND, TREND_FACTORS
 from gyrolib.book.ledger.item import LedgerItem, judge_claim
@@ -79,6 +80,8 @@ class WestGyro:
     beta_n: float
 
     def sigma_at(self, t: float) -> float:
+        """The filter's σ of ω_gc (rad/s) at time ``t`` (s, within the run; interpolated)."""
+        t = v.check_in_range("t", t, 0.0, float(self.t[-1]))
         return float(np.interp(t, self.t, self.sigma))
 
 
@@ -110,7 +113,9 @@ def west_gyro(params: GyrocompassParams, t_end: float = T_BOUND, *,
     -------
     WestGyro
     """
-    p = params
+    p = v.check_instance("params", params, GyrocompassParams)
+    t_end = v.check_positive("t_end", t_end)
+    beta_n = v.check_real("beta_n", beta_n)
     F = system_matrix(p, beta_n)
     Phi, Qd = van_loan(F, noise_input_matrix(p), process_noise_intensity(p), p.dt)
     n_steps = round(t_end / p.dt)
@@ -220,12 +225,14 @@ class FlightLateral:
     def ratio(self, which: str) -> stats.Estimate:
         """The median over flights of |lateral error| with ``which`` over uncorrected, with
         its 95 % order-statistic interval."""
-        other = {"corrected": self.corrected, "reset": self.reset}[which]
+        which = v.check_choice("which", which, ("corrected", "reset"))
+        other = self.corrected if which == "corrected" else self.reset
         return stats.percentile(np.abs(other) / np.abs(self.raw), 50.0)
 
     def worse(self, which: str) -> stats.Estimate:
         """The share of flights whose lateral error ``which`` is larger than uncorrected."""
-        other = {"corrected": self.corrected, "reset": self.reset}[which]
+        which = v.check_choice("which", which, ("corrected", "reset"))
+        other = self.corrected if which == "corrected" else self.reset
         return stats.proportion(int(np.sum(np.abs(other) > np.abs(self.raw))), self.raw.size)
 
 
@@ -234,6 +241,9 @@ def flight_lateral(seed: int = SIM_SEED, n_runs: int = RANDOM_RUNS,
     """``n_runs`` seeded flights at the worked example's 900 °/s with the paper's sensors, the
     errors drawn per flight, corrected every ``period`` (paper RSF, Eqs. (1)–(3)) with and
     without the angle reset: their lateral errors at the end."""
+    seed = v.check_int("seed", seed, 0)
+    n_runs = v.check_int("n_runs", n_runs, 2)
+    period = v.check_positive("period", period)
     cfg = SimulationConfig(sins=SinsGyroModel.from_spec(SIIMU02_ROLL),
                            gs=GsModel.from_spec(GYPRO4300),
                            encoder=EncoderModel.from_spec(AEDB9340), n_runs=n_runs,
