@@ -6,6 +6,7 @@ Subpackages, one per subject:
 * :mod:`gyrolib.rsf` — paper RSF (roll-gyro scale-factor correction);
 * :mod:`gyrolib.filtering` — paper-agnostic discretization and Kalman filtering;
 * :mod:`gyrolib.units` — the papers' units, to and from SI;
+* :mod:`gyrolib.stats` — statistics of random runs with their 95 % intervals;
 * :mod:`gyrolib.book` — code only the book uses (prose formats, the reproduction ledger).
 
 Use as ``from gyrolib import gc, rsf, filtering``.

@@ -25,6 +25,7 @@ from gyrolib.book.ledger import (
     to_csv,
     to_json,
 )
+from gyrolib.book.ledger.remaining import UNDECIDABLE
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
@@ -32,6 +33,8 @@ FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reprodu
 REQUIRED_IDS = [
     "gc.fig1", "gc.fig4", "gc.claim.trend_holds", "rsf.fig1", "rsf.fig2", "rsf.fig3",
     "gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.fig2.var_N3",
+    "gc.fig2.areas", "gc.claim.corresponding_gyro", "rsf.claim.premise",
+    "rsf.claim.no_complication", "rsf.claim.only_small_eps1", "rsf.claim.coordinate_accuracy",
     *[f"rsf.table2.dgamma_sins_{t}" for t in (10, 60, 120)],
     *[f"rsf.table2.dr_z_{t}" for t in (10, 60, 120)],
     *[f"rsf.table3.eps0_t_{t}" for t in (10, 60, 120)],
@@ -78,8 +81,10 @@ def test_statuses_and_fields(items):
         assert it.note and len(it.note.splitlines()) == 1, f"{it.id}: note must be one line"
         assert re.fullmatch(r"[a-z]+(\.[A-Za-z0-9_]+)+", it.id), it.id
         if it.status != "not reproducible" and it.reproduced_value is None:
-            # only drawings and curves without a printed number may lack a value
-            assert it.paper_value == "figure" and it.location.startswith("Fig."), it.id
+            # only drawings and curves without a printed number may lack a value, and the
+            # statements no computation decides (their evidence says why)
+            assert ((it.paper_value == "figure" and it.location.startswith("Fig."))
+                    or it.evidence.startswith(UNDECIDABLE)), it.id
 
 
 def test_cli_json_parses_with_every_field_and_is_byte_identical(items):
@@ -147,10 +152,14 @@ def test_a_failed_claim_states_where_it_would_hold():
 
 
 def test_every_kind_but_inferred_has_an_item_and_the_review_cases_are_classified(items):
-    """Every kind is in use except 'inferred': the encoder error, once inferred from Table 3,
-    is an input printed by the worked example (second audit)."""
+    """Every kind but 'inferred' is in use (the statements no computation can decide are
+    claims with the status 'not decidable', their evidence says why): the encoder error, once
+    inferred from Table 3, is an input printed by the worked example (second audit)."""
     by_id = {it.id: it for it in items}
     assert {it.kind for it in items} == set(KINDS) - {"inferred"}
+    undecided = [it for it in items if it.status == "not decidable"]
+    assert len(undecided) >= 2
+    assert all(it.evidence.startswith(UNDECIDABLE) and it.conditions for it in undecided)
     for echoed in ("rsf.table1.bias_instability", "rsf.table1.sf_error", "rsf.gs.sigma_rep",
                    "rsf.gs.sigma_stab", "rsf.gs.sf_error", "rsf.encoder.position_error"):
         assert by_id[echoed].kind == "input", echoed

@@ -9,10 +9,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.stats import binom
 
 from gyrolib import rsf
 from gyrolib.book.ledger import STATUSES, collect
 from gyrolib.book.ledger import rsf as ledger_rsf
+from gyrolib.book.ledger.remaining import UNDECIDABLE
 
 ROOT = Path(__file__).resolve().parents[1]
 REQUIRED = [
@@ -49,6 +51,9 @@ def test_required_ids_are_present_and_well_formed(items):
         assert it.anchor and len(it.note.splitlines()) == 1
         if it.paper_value == "figure":  # drawings: checked in the chapter, no number
             assert it.reproduced_value is None and it.location.startswith("Fig.")
+        elif it.evidence.startswith(UNDECIDABLE):  # no computation decides it: no number
+            assert (it.kind, it.status) == ("claim", "not decidable"), it.id
+            assert it.reproduced_value is None and it.conditions, it.id
         elif it.status != "not reproducible":
             assert it.reproduced_value is not None and math.isfinite(it.reproduced_value)
 
@@ -165,15 +170,17 @@ def test_eps0_gs_both_candidate_shortenings_give_the_print(items):
         assert abs(candidate - 3.3e-3) <= 0.05e-3
     assert it.status == "differs: cause shown"
     assert "truncated to two digits: 0.0033 (gives the print)" in it.evidence
-    assert "rounded to 12 °/h: 0.003333 (gives the print)" in it.evidence
+    # rounded to 12 °/h the paper would still print (and use) two digits: the same 3.3e-3
+    assert "rounded to 12 °/h then to two digits: 0.0033 (gives the print)" in it.evidence
+    assert "rounded to 12 °/h and carried unrounded: 0.003333 (gives the print)" in it.evidence
 
 
 #: Table 3 by hand, with Δγ_enc = 0.33° as the worked example prints it (an input): the
 #: consistent ε0,GS·t + 0.33 and the two candidate shortenings of ε0,GS.
 TABLE3_HAND = {  # t: (printed ε0,GS·t, printed Δγ_GS, status)
-    10: (0.033, 0.363, "differs: cause shown"),   # both candidates give the print
-    60: (0.198, 0.528, "differs: cause shown"),   # only the printed 3.3e-3: 12 °/h gives
-    120: (0.396, 0.726, "differs: cause shown"),  # 0.200, 0.530 (0.400, 0.730) and misses
+    10: (0.033, 0.363, "differs: cause shown"),   # every candidate gives the print
+    60: (0.198, 0.528, "differs: cause shown"),   # only the printed 3.3e-3: 12 °/h unrounded
+    120: (0.396, 0.726, "differs: cause shown"),  # gives 0.200, 0.530 (0.400, 0.730), misses
 }
 
 
@@ -194,9 +201,12 @@ def test_table3_from_the_examples_encoder_error_with_every_candidate(items, t):
     assert gs.reproduced_value == pytest.approx(consistent, rel=1e-12)
     assert e0t.reproduced_value == pytest.approx(EPS0_GS_DEG_S * t, rel=1e-12)
     assert e0t.status == gs.status == status
-    for it, hand in ((e0t, per_hour), (gs, per_hour + 0.33)):
+    for it, hand, two in ((e0t, per_hour, truncated), (gs, per_hour + 0.33, truncated + 0.33)):
         verb = "gives" if t == 10 else "misses"
-        assert f"rounded to 12 °/h: {hand:.4f} ({verb} the print)" in it.evidence, it.id
+        assert (f"rounded to 12 °/h and carried unrounded: {hand:.4f} ({verb} the print)"
+                in it.evidence), it.id
+        # 12 °/h printed to two digits is the truncated value: it gives every column
+        assert f"rounded to 12 °/h then to two digits: {two:.4f} (gives the print)" in it.evidence
         assert "truncated to two digits" in it.evidence and "(gives the print)" in it.evidence
         assert "inferred" not in it.note + it.evidence  # the encoder is an input now
         assert ("the paper computed this column with its printed two-digit" in it.note) \
@@ -213,7 +223,7 @@ def test_worked_example_slip_gives_the_print_by_hand_with_either_shortening(item
         slipped = ((eps0 + 280e-3 * 300.0) * 5.0 + 0.33) / (900.0 * 5.0)   # 0.0934
         assert abs(slipped - 0.093) < 5e-4
     assert it.status == "differs: cause shown"
-    assert it.evidence.count("(gives the print)") == 2 and "misses" not in it.evidence
+    assert it.evidence.count("(gives the print)") == 3 and "misses" not in it.evidence
 
 
 def test_compensated_fails_at_the_papers_own_example(items):
@@ -230,14 +240,39 @@ def test_compensated_fails_at_the_papers_own_example(items):
     assert it.reproduced_value == pytest.approx(71.6, abs=0.05)
     flights = rsf.flight_shares(ledger_rsf.SIM_SEED, n_runs=ledger_rsf.RANDOM_RUNS)
     assert round(100 * flights.median) == 67 and round(100 * flights.worse) == 20
-    assert (f"{100 * share_900:.1f} % against 90 %" in it.evidence
-            and "67 % for the median of 400 simulated flights" in it.evidence
-            and "20 % of them worse than uncorrected" in it.evidence)
-    # the spread of the flights, recomputed here from their shares (a single flight may do
-    # far worse than the median: the claim's range is not the table's 67-81 %)
-    lo, hi = np.percentile(100 * flights.share, [10, 90])
-    assert lo < 0.0 < 80.0 < hi
-    assert f"spread from {lo:.0f} % to {hi:.0f} % (10th to 90th percentile)" in it.evidence
+    assert f"{100 * share_900:.1f} % against 90 %" in it.evidence
+    # every statistic of the flights carries its 95 % interval, printed to no finer digit:
+    # each printed interval contains the distribution-free order-statistic interval of the
+    # percentile (binomial ranks, computed here), to the printed digit
+    x = np.sort(100 * flights.share)
+    n = x.size
+    for q, label in ((50, "for the median of 400 simulated flights"),
+                     (10, "and 90th"), (90, "")):
+        pattern = (r"(-?\d+) % \(95 % CI (-?\d+) to (-?\d+) %\) " + re.escape(label)
+                   if label else r"90th (-?\d+) % \(95 % CI (-?\d+) to (-?\d+) %\)")
+        m = re.search(pattern, it.evidence)
+        assert m, (q, it.evidence)
+        value, lo, hi = (float(g) for g in m.groups())
+        r_lo = int(binom.ppf(0.025, n, q / 100)) - 1
+        r_hi = int(binom.ppf(0.975, n, q / 100))
+        assert lo <= x[r_lo] and x[r_hi] <= hi, (q, x[r_lo], x[r_hi], lo, hi)
+        # no digit finer than the interval: the value is a whole multiple of the power of ten
+        # at or below the (printed) interval's half-width
+        res = 10.0 ** math.floor(math.log10(0.5 * (hi - lo)))
+        assert lo <= value <= hi and abs(value - np.percentile(x, q)) <= res
+        assert value / res == pytest.approx(round(value / res))
+    assert "67 % (95 % CI" in it.evidence and "20 % (95 % CI" in it.evidence
+    # the share worse: Wilson's interval by its formula
+    k, z = int(np.sum(flights.share < 0)), 1.959963984540054
+    p = k / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * np.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    m = re.search(r"(\d+) % \(95 % CI (\d+) to (\d+) %\) of them worse", it.evidence)
+    assert m and float(m.group(2)) <= 100 * (centre - half) and 100 * (centre + half) <= float(
+        m.group(3))
+    # a single flight may do far worse than the median: the 10th percentile is negative
+    lo10, hi90 = np.percentile(x, [10, 90])
+    assert lo10 < 0.0 < 80.0 < hi90
     for assumption in ("900 °/s", "ε1 at its 1σ 600 ppm", "1σ terms added linearly",
                        "ω_unc held at 300 °/s", "Δt = 5 s"):
         assert assumption in it.conditions, assumption

@@ -97,7 +97,7 @@ def test_bad_input_is_rejected_by_name(call, exc, name):
     (21.6, 21.6, [], "reproduced"),
     # Table 3 at 10 s: both candidate shortenings of ε0,GS give the print
     (0.0339, 0.033, [0.033, 0.0333], "differs: cause shown"),
-    # at 60 s only the truncation does: the print shows that cause (and refutes 12 °/h)
+    # at 60 s only the two-digit value does: the print shows it (and refutes 12 °/h unrounded)
     (0.2034, 0.198, [0.198, 0.2], "differs: cause shown"),
     # sigma_gc: no reading gives the print, but the two P0 readings span it
     (0.00137, 0.0011, [0.00137, 0.00084], "differs: bracketed"),

@@ -9,7 +9,8 @@ import pytest
 import sympy as sp
 from scipy.integrate import quad
 
-from gyrolib import rsf
+from gyrolib import rsf, stats
+from gyrolib.rsf.correction import interval_estimates
 from gyrolib.units import DEG, G0, PPM, from_si, to_si
 
 W3600 = 3600.0 * DEG
@@ -307,3 +308,40 @@ def test_gs_vs_sins_by_hand():
     eps0 = math.hypot(10.0, 7.0) / 3600.0                        # °/s
     assert r.ratio_ideal[0] == pytest.approx(21.6 / (eps0 * 10 + 0.33), rel=1e-12)
     assert r.ratio_nonideal[0] == pytest.approx(21.6 / ((eps0 + 0.084) * 10 + 0.33), rel=1e-12)
+
+
+def test_rate_sweep_share_interval_covers_other_seeds():
+    """The share's 95 % interval (bootstrap over runs) from one seed against the spread of the
+    share over independent seeds: at least 3 of 4 other seeds' shares fall inside the
+    interval widened to the sum of the two ensembles' uncertainty (√2 times its half-width);
+    power: an interval a tenth as wide leaves most of them out."""
+    rate = to_si([900.0], "deg/s")
+    ref = rsf.sweep_roll_rate(rate, seed=11, n_runs=40, duration=10.0)
+    est = ref.share_estimate(0)
+    assert est.lo <= ref.share[0] <= est.hi and est.n == 40 and est.seed == 11
+    others = [rsf.sweep_roll_rate(rate, seed=s, n_runs=40, duration=10.0).share[0]
+              for s in (21, 31, 41, 51)]
+    half = math.sqrt(2) * 0.5 * (est.hi - est.lo)
+    assert sum(abs(x - est.value) <= half for x in others) >= 3
+    assert sum(abs(x - est.value) <= 0.1 * half for x in others) < 3
+    with pytest.raises(ValueError, match=r"^i must"):
+        ref.share_estimate(1)
+
+
+def test_period_sweep_rms_interval_agrees_with_the_delta_method():
+    """The rms δK's interval (bootstrap over runs) against the closed form of the delta
+    method, rms = √m̄ with m̄ the mean of the runs' mean squares: half-width
+    1.96 sd(m)/(2√(n m̄)).  Power: the bootstrap at 50 % confidence misses the same
+    tolerance."""
+    rec = rsf.simulate_flight(rsf.SimulationConfig(duration=20.0, n_runs=80), seed=3)
+    sw = rsf.sweep_correction_period(rec, [5.0])
+    est = sw.rms_estimate(0)
+    m = np.mean(interval_estimates(rec, 5.0, "linear", rsf.gs_angle(rec))[2] ** 2, axis=1)
+    half = 1.96 * m.std(ddof=1) / (2.0 * math.sqrt(m.size * m.mean()))
+    assert est.value == pytest.approx(math.sqrt(m.mean()), rel=1e-12)
+    assert est.n == 80 and est.seed == 3
+    assert abs(est.lo - (est.value - half)) < 0.25 * half
+    assert abs(est.hi - (est.value + half)) < 0.25 * half
+    narrow = stats.bootstrap(m, lambda x: np.sqrt(np.mean(x, axis=-1)), seed=3,
+                             vectorized=True, confidence=0.5)
+    assert not abs(narrow.lo - (est.value - half)) < 0.25 * half

@@ -266,6 +266,16 @@ case("rsf.flight_shares", lambda: rsf.flight_shares(1, period=0.0), ValueError, 
 case("rsf.flight_shares", lambda: rsf.flight_shares(1, n_runs=0), ValueError, "n_runs")
 case("rsf.flight_shares", lambda: rsf.flight_shares(1, config="x"), TypeError, "config",
      "SimulationConfig")
+_FLIGHTS = rsf.FlightShares(share=np.array([0.1, 0.5, 0.9]), rms=np.ones(3), period=5.0,
+                            rate=1.0, seed=0)
+case("rsf.FlightShares.percentile_estimate", lambda: _FLIGHTS.percentile_estimate(120.0),
+     ValueError, "q")
+_ONE = np.ones(1)
+_RATES = rsf.RateSweep(rates=_ONE, mean=_ONE, rms=_ONE, max_abs=_ONE, predicted_rms=_ONE,
+                       eq7=_ONE, share=_ONE, omega_unc=0.0, period=5.0,
+                       rms_ci=np.ones((1, 2)), eps1=1e-3)
+case("rsf.RateSweep.share_estimate", lambda: _RATES.share_estimate(1), ValueError, "i",
+     "index")
 case("rsf.CompensationShare.share_at",
      lambda: rsf.compensation_share([1.0]).share_at(0.0), ValueError, "rate", POS)
 case("rsf.gs_vs_sins", lambda: rsf.gs_vs_sins([-1.0]), ValueError, "times")

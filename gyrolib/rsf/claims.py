@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from gyrolib import _validation as v
+from gyrolib import stats
 from gyrolib._repr import compact_repr
 from gyrolib.rsf._inputs import check_times
 from gyrolib.rsf.correction import run_correction
@@ -48,6 +49,7 @@ from gyrolib.rsf.sensors import (
 )
 from gyrolib.rsf.simulation import SimulationConfig, simulate_flight
 from gyrolib.rsf.sweeps import RateSweep
+from gyrolib.stats import Estimate
 from gyrolib.units import G0, from_si, to_si
 
 __all__ = [
@@ -183,6 +185,22 @@ class FlightShares:
     def worse(self) -> float:
         """The fraction of flights that end up worse than uncorrected (share < 0)."""
         return float(np.mean(self.share < 0.0))
+
+    def percentile_estimate(self, q: float) -> Estimate:
+        """The ``q``-th percentile of the flights' shares with its 95 % distribution-free
+        interval (:func:`gyrolib.stats.percentile`; the flights are independent).
+
+        >>> fs = flight_shares(1, n_runs=40)
+        >>> est = fs.percentile_estimate(50)
+        >>> est.lo <= fs.median <= est.hi
+        True
+        """
+        return stats.percentile(self.share, q)
+
+    def worse_estimate(self) -> Estimate:
+        """The fraction of flights worse than uncorrected with its 95 % Wilson interval
+        (:func:`gyrolib.stats.proportion`; the flights are independent)."""
+        return stats.proportion(int(np.sum(self.share < 0.0)), self.share.size)
 
 
 def flight_shares(seed: int, *, config: SimulationConfig | None = None, period: float = 5.0,

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib import stats
 from gyrolib._executor import check_executor, map_ordered
 from gyrolib._repr import compact_repr
 from gyrolib.rsf.correction import interval_estimates, predict_delta_k
@@ -31,6 +32,7 @@ from gyrolib.rsf.simulation import (
     simulate_flight,
     with_encoder,
 )
+from gyrolib.stats import Estimate
 from gyrolib.units import to_si
 
 __all__ = [
@@ -44,13 +46,44 @@ __all__ = [
 
 
 # Sweeps ------------------------------------------------------------------------------------------
+def _rms_ci(per_run: np.ndarray, seed: int) -> tuple[float, float]:
+    """The 95 % interval of the rms δK over all runs and intervals (``per_run``: runs ×
+    intervals): a bootstrap over whole runs (the intervals of one run are not independent),
+    seeded with ``seed``."""
+    ci = stats.bootstrap(np.mean(per_run**2, axis=1), lambda ms: np.sqrt(np.mean(ms, axis=-1)),
+                         seed=seed, vectorized=True)
+    return ci.lo, ci.hi
+
+
+class _RmsIntervals:
+    """``rms_estimate(i)`` of a sweep with ``rms``, ``rms_ci`` (n × 2), ``n_runs`` and the
+    seed of entry ``i`` (:meth:`_ci_seed`)."""
+
+    def _ci_seed(self, i: int) -> int:
+        return self.seed  # type: ignore[attr-defined]
+
+    def rms_estimate(self, i: int) -> Estimate:
+        """The rms δK of entry ``i`` with its 95 % interval (:attr:`rms_ci`: a bootstrap
+        over whole runs, seeded)."""
+        i = v.check_int("i", i, 0)
+        rms = self.rms  # type: ignore[attr-defined]
+        if i >= rms.size:
+            raise ValueError(f"i must index the sweep (< {rms.size}); got {i}")
+        lo, hi = self.rms_ci[i]  # type: ignore[attr-defined]
+        return Estimate(value=float(rms[i]), lo=float(lo), hi=float(hi), confidence=0.95,
+                        n=self.n_runs, method="bootstrap",  # type: ignore[attr-defined]
+                        seed=self._ci_seed(i))
+
+
 @compact_repr
 @dataclass(frozen=True)
-class PeriodSweep:
+class PeriodSweep(_RmsIntervals):
     """δK against the correction period: ``mean``, ``rms`` and ``max_abs`` over all runs and
     complete intervals, the predicted rms ``predicted_rms`` and the paper's ``eq7``; ``floor``
     the GS gyro's systematic part (ε0,GS + ε1,GS ω_unc)/ω that no period removes, ``net_floor``
-    the same less the SINS bias that K absorbs (signed), ``eps1`` the uncorrected SF error."""
+    the same less the SINS bias that K absorbs (signed), ``eps1`` the uncorrected SF error;
+    ``rms_ci`` (n × 2) the 95 % interval of each rms (a bootstrap over the ``n_runs`` runs,
+    seeded with the record's ``seed``; :meth:`rms_estimate`)."""
 
     periods: np.ndarray
     mean: np.ndarray
@@ -61,6 +94,9 @@ class PeriodSweep:
     floor: float = 0.0
     net_floor: float = 0.0
     eps1: float = 0.0
+    rms_ci: np.ndarray | None = None
+    n_runs: int = 1
+    seed: int = 0
 
     def __post_init__(self) -> None:
         _same_length(self, "periods", "mean", "rms", "max_abs", "predicted_rms", "eq7")
@@ -76,10 +112,12 @@ def _same_length(record: object, first: str, *others: str) -> None:
 def _period_row(record: SensorRecord, period: float, k_form: str,
                 gs: np.ndarray) -> tuple[float, ...]:
     """δK statistics at one correction period (one task of :func:`sweep_correction_period`)."""
-    dk = interval_estimates(record, period, k_form, gs)[2].ravel()
+    per_run = interval_estimates(record, period, k_form, gs)[2]
+    dk = per_run.ravel()
     pred = predict_delta_k(record.config, period)
     return (dk.mean(), math.sqrt(np.mean(dk**2)), np.abs(dk).max(),
-            math.hypot(pred.mean, pred.std), pred.eq7, float(pred.mean))
+            math.hypot(pred.mean, pred.std), pred.eq7, float(pred.mean),
+            *_rms_ci(per_run, record.seed))
 
 
 def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
@@ -127,14 +165,17 @@ def sweep_correction_period(record: SensorRecord, periods: Sequence[float],
     return PeriodSweep(periods=p, mean=rows[:, 0], rms=rows[:, 1], max_abs=rows[:, 2],
                        predicted_rms=rows[:, 3], eq7=rows[:, 4],
                        floor=(abs(cfg.gs.eps0) + abs(cfg.gs.eps1) * w_unc) / w,
-                       net_floor=float(rows[-1, 5]), eps1=cfg.sins.eps1)
+                       net_floor=float(rows[-1, 5]), eps1=cfg.sins.eps1, rms_ci=rows[:, 6:8],
+                       n_runs=cfg.n_runs, seed=record.seed)
 
 
 @compact_repr
 @dataclass(frozen=True)
-class ResolutionSweep:
+class ResolutionSweep(_RmsIntervals):
     """δK against the encoder: ``counts_per_rev`` and ``position_error`` of each encoder,
-    ``mean``/``rms``/``max_abs`` of δK, ``predicted_rms`` and the paper's ``eq7``."""
+    ``mean``/``rms``/``max_abs`` of δK, ``predicted_rms`` and the paper's ``eq7``; ``rms_ci``
+    (n × 2) the 95 % interval of each rms (a bootstrap over the ``n_runs`` runs, seeded with
+    the record's ``seed``; :meth:`rms_estimate`)."""
 
     counts_per_rev: np.ndarray
     position_error: np.ndarray
@@ -143,6 +184,9 @@ class ResolutionSweep:
     max_abs: np.ndarray
     predicted_rms: np.ndarray
     eq7: np.ndarray
+    rms_ci: np.ndarray | None = None
+    n_runs: int = 1
+    seed: int = 0
 
     def __post_init__(self) -> None:
         _same_length(self, "counts_per_rev", "position_error", "mean", "rms", "max_abs",
@@ -153,10 +197,12 @@ def _encoder_row(record: SensorRecord, enc: EncoderModel, period: float, k_form:
                  gyro: np.ndarray) -> tuple[float, ...]:
     """δK statistics with one encoder (one task of :func:`sweep_encoder`)."""
     rec = with_encoder(record, enc)
-    dk = interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2].ravel()
+    per_run = interval_estimates(rec, period, k_form, gs_angle(rec, gyro_angle=gyro))[2]
+    dk = per_run.ravel()
     pred = predict_delta_k(rec.config, period)
     return (enc.counts_per_rev, enc.position_error, dk.mean(), math.sqrt(np.mean(dk**2)),
-            np.abs(dk).max(), math.hypot(pred.mean, pred.std), pred.eq7)
+            np.abs(dk).max(), math.hypot(pred.mean, pred.std), pred.eq7,
+            *_rms_ci(per_run, record.seed))
 
 
 def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period: float,
@@ -205,18 +251,23 @@ def sweep_encoder(record: SensorRecord, encoders: Sequence[EncoderModel], period
                        executor)
     cols = [np.array(c) for c in zip(*rows, strict=True)]
     return ResolutionSweep(counts_per_rev=cols[0], position_error=cols[1], mean=cols[2],
-                           rms=cols[3], max_abs=cols[4], predicted_rms=cols[5], eq7=cols[6])
+                           rms=cols[3], max_abs=cols[4], predicted_rms=cols[5], eq7=cols[6],
+                           rms_ci=np.column_stack([cols[7], cols[8]]),
+                           n_runs=record.config.n_runs, seed=record.seed)
 
 
 @compact_repr
 @dataclass(frozen=True)
-class RateSweep:
+class RateSweep(_RmsIntervals):
     """δK against the vehicle roll rate (one seeded ensemble per rate, constant ω_unc).
 
     ``rates`` (rad/s); ``mean``, ``rms``, ``max_abs`` of δK over all runs and complete
     intervals; ``predicted_rms`` (:func:`~gyrolib.rsf.predict_delta_k`); ``eq7`` the paper's
     Eq. (7); ``share`` = 1 − rms/|ε1|, the share of the SINS gyro's SF error removed;
-    ``omega_unc`` (rad/s) and ``period`` (s) as simulated.
+    ``omega_unc`` (rad/s) and ``period`` (s) as simulated; ``rms_ci`` (n × 2) the 95 %
+    interval of each rms, a bootstrap over whole runs seeded with that rate's seed
+    (:func:`gyrolib.stats.bootstrap`), ``eps1`` the SINS gyro's SF error, ``n_runs`` the runs
+    per rate and ``seed`` the first rate's seed.
     """
 
     rates: np.ndarray
@@ -228,6 +279,22 @@ class RateSweep:
     share: np.ndarray
     omega_unc: float
     period: float
+    rms_ci: np.ndarray
+    eps1: float
+    n_runs: int = 1
+    seed: int = 0
+
+    def _ci_seed(self, i: int) -> int:
+        return self.seed + i     # each rate's ensemble has its own seed
+
+    def share_estimate(self, i: int) -> Estimate:
+        """The share of ε1 removed at ``rates[i]``, 1 − rms/|ε1|, with its 95 % interval
+        (from :attr:`rms_ci`)."""
+        rms = self.rms_estimate(i)
+        e1 = abs(self.eps1)
+        return Estimate(value=float(self.share[i]), lo=1.0 - rms.hi / e1,
+                        hi=1.0 - rms.lo / e1, confidence=rms.confidence, n=rms.n,
+                        method=rms.method, seed=rms.seed)
 
 
 def _rate_row(base: SimulationConfig, rate: float, omega_unc: float, n_runs: int,
@@ -238,10 +305,11 @@ def _rate_row(base: SimulationConfig, rate: float, omega_unc: float, n_runs: int
         base, roll=RollProfile(rate), n_runs=n_runs, duration=duration,
         gs=dataclasses.replace(base.gs, motor_rate_max=rate - omega_unc))
     rec = simulate_flight(cfg, seed=seed)
-    dk = interval_estimates(rec, period, k_form)[2].ravel()
+    per_run = interval_estimates(rec, period, k_form)[2]
+    dk = per_run.ravel()
     pred = predict_delta_k(cfg, period)
     return (dk.mean(), math.sqrt(np.mean(dk**2)), np.abs(dk).max(),
-            math.hypot(pred.mean, pred.std), pred.eq7)
+            math.hypot(pred.mean, pred.std), pred.eq7, *_rms_ci(per_run, seed))
 
 
 def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
@@ -304,4 +372,5 @@ def sweep_roll_rate(rates: Sequence[float], seed: int, *, period: float = 5.0,
     return RateSweep(rates=r, mean=rows[:, 0], rms=rms, max_abs=rows[:, 2],
                      predicted_rms=rows[:, 3], eq7=rows[:, 4],
                      share=1.0 - rms / abs(base.sins.eps1), omega_unc=omega_unc,
-                     period=period)
+                     period=period, rms_ci=rows[:, 5:7], eps1=float(base.sins.eps1),
+                     n_runs=int(n_runs), seed=seed)

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import gyrolib
 from gyrolib import _validation as v
-from gyrolib.book.ledger import gc, rsf
+from gyrolib.book.ledger import gc, remaining, rsf
 from gyrolib.book.ledger.item import (
     KINDS,
     STATUS_MARKS,
@@ -119,7 +119,7 @@ def _exclusive(lock: Path):
 
 
 def _collect() -> list[LedgerItem]:
-    items = [*gc.items(), *rsf.items()]
+    items = [*gc.items(), *remaining.items_gc(), *rsf.items(), *remaining.items_rsf()]
     ids = [it.id for it in items]
     if len(ids) != len(set(ids)):
         raise RuntimeError("duplicate ledger ids")

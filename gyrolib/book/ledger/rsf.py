@@ -9,7 +9,7 @@ every status, by the ledger's one agreement rule
 consistent computation agrees with the print to half a unit of its last digit; where it does
 not, every candidate cause the book names is computed and listed in the evidence, and the
 status is "differs: cause shown" when any of them gives the print (the evidence says which
-miss it).  A claim's status and
+miss it: those the print refutes).  A claim's status and
 conditions come from the computation that tests it.  Each table, claim or group of inputs has
 its own builder; perturbing a record moves the ledger (see ``tests/test_ledger_rsf.py``).
 """
@@ -164,15 +164,21 @@ def _candidates_text(printed: float, candidates: list[Candidate], fmt: str,
 # The candidate causes of the shortened ε0,GS ----------------------------------------------------
 def eps0_candidates(gs_gyro: MemsGyroSpec) -> list[Candidate]:
     """The values of ε0,GS (°/s) the paper may have worked with instead of
-    √(σ_rep² + σ_stab²): that value truncated to the print's two digits, and the same sum
-    rounded to a whole °/h first (√149 = 12.2 °/h → 12 °/h).  Both give the printed
-    3.3·10⁻³ °/s, and nothing in the paper tells them apart."""
+    √(σ_rep² + σ_stab²): that value truncated to the print's two digits; the same sum
+    rounded to a whole °/h first (√149 = 12.2 °/h → 12 °/h) and then, as the paper prints it,
+    to two digits in °/s; and the whole °/h carried unrounded (12/3600 °/s).  All three give
+    the printed 3.3·10⁻³ °/s; the first two are the same number, so nothing in the paper
+    tells them apart, while Table 3's 60 s and 120 s columns refute the third."""
     exact = float(from_si(gs_gyro.bias_total, "deg/s"))
     unit = 2.0 * half_unit(PRINTED["gs.eps0_total"])
     cut = math.floor(exact / unit + 1e-9) * unit
     per_hour = round(float(from_si(gs_gyro.bias_total, "deg/h")))
+    whole = per_hour / 3600.0
     return [Candidate("ε0,GS truncated to two digits", cut),
-            Candidate(f"√(σ_rep² + σ_stab²) rounded to {per_hour} °/h", per_hour / 3600.0)]
+            Candidate(f"√(σ_rep² + σ_stab²) rounded to {per_hour} °/h then to two digits",
+                      round(whole / unit) * unit),
+            Candidate(f"√(σ_rep² + σ_stab²) rounded to {per_hour} °/h and carried unrounded",
+                      whole)]
 
 
 def _shortening_note(printed: float, candidates: list[Candidate]) -> str:
@@ -183,7 +189,8 @@ def _shortening_note(printed: float, candidates: list[Candidate]) -> str:
     if not hits:
         return "no candidate shortening of ε0,GS gives the print"
     missed = [c for c in candidates if c not in hits]
-    return (f"only {', '.join(c.name for c in hits)} gives the print ("
+    return (f"only {' and '.join(c.name for c in hits)} "
+            f"{'gives' if len(hits) == 1 else 'give'} the print ("
             + ", ".join(f"{c.name}: {c.value:.3f}" for c in missed)
             + " misses it): the paper computed this column with its printed two-digit "
             f"ε0,GS = {PRINTED['gs.eps0_total'] * 1e3:.1f}·10⁻³ °/s, and the cause is shown")
@@ -367,8 +374,9 @@ def _eps0_total(gs_gyro: MemsGyroSpec) -> LedgerItem:
         "gs.eps0_total", "Table 3 and example", "ε0,GS = √(σ_rep² + σ_stab²)", "°/s", exact,
         printed_verdict(exact, printed, cands),
         f"√(σ_rep² + σ_stab²) = {from_si(gs_gyro.bias_total, 'deg/h'):.3g} °/h rounds to "
-        f"{exact:.2g} °/s; the two candidate shortenings cannot be told apart, and both give "
-        "the print", "rsf-table3", kind="printed number", precision=3,
+        f"{exact:.2g} °/s; the candidate shortenings to two digits (truncated, or rounded "
+        "to a whole °/h first) are the same number and cannot be told apart; every candidate "
+        "gives the print", "rsf-table3", kind="printed number", precision=3,
         evidence="√(σ_rep² + σ_stab²) from the printed σ's against the print, then each "
         "candidate: " + _candidates_text(printed, cands, ".4g"))
 
@@ -481,10 +489,13 @@ def _compensated(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
                             n_runs=RANDOM_RUNS)
     w_star = float(from_si(cs.rate_for_target, "deg/s"))
     i3600 = CLAIM_RATES.index(3600.0)
-    sim = (f"{100 * flights.median:.0f} % for the median of {RANDOM_RUNS} simulated flights "
-           f"with the errors drawn per flight, {100 * flights.worse:.0f} % of them worse than "
-           f"uncorrected, the flights spread from {np.percentile(100 * flights.share, 10):.0f} % "
-           f"to {np.percentile(100 * flights.share, 90):.0f} % (10th to 90th percentile)")
+    # each statistic of the flights with its 95 % interval (order statistics for the
+    # percentiles, Wilson for the share worse), printed to no digit finer than the interval
+    p10, p50, p90 = (flights.percentile_estimate(q).text("%", scale=100) for q in (10, 50, 90))
+    sim = (f"{p50} for the median of {RANDOM_RUNS} simulated flights (seed {SIM_SEED}) "
+           f"with the errors drawn per flight, {flights.worse_estimate().text('%', scale=100)} "
+           f"of them worse than uncorrected, the flights' 10th percentile {p10} and 90th "
+           f"{p90}")
     assumptions = (f"at the worked example's {CLAIM_RATES[0]:.0f} °/s with ε1 at its 1σ "
                    f"{from_si(roll_gyro.sf_error, 'ppm'):.0f} ppm, Eq. (7)'s 1σ terms added "
                    f"linearly, ω_unc held at {from_si(cs.omega_unc, 'deg/s'):.0f} °/s and "
