@@ -13,7 +13,6 @@ from scipy.stats import binom
 from gyrolib import gc
 from gyrolib.book.ledger import remaining
 from gyrolib.book.ledger.gc import SIGMA_C
-from gyrolib.book.ledger.item import STATUSES_BY_KIND
 from gyrolib.units import ARCSEC_PAPER
 
 
