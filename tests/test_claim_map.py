@@ -259,3 +259,24 @@ def test_bad_rows_are_refused():
                      0.0, 1.0, relative=False)
     with pytest.raises(KeyError, match="known"):
         inputs.row("gc.nope")
+
+
+def test_time_to_level_carries_the_instrument_terms():
+    """The fast 10-state path ignored the instrument terms (an inclinometer bias prior of
+    0.5 mg left t_c at 24 s): they now run the whole covariance analysis, and the fast path
+    refuses them.  Checked against covariance_analysis over 510 s (a second computation)."""
+    from dataclasses import replace
+
+    from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
+    from gyrolib.gc.analysis.speed_claim import _run_omega_gc, time_to_level
+    from gyrolib.units import G0
+
+    level = claims._SIGMA_C
+    p = replace(gc.GyrocompassParams(), sigma_incl_bias=0.05e-3 * G0)
+    cov = covariance_analysis(p, 510.0, store_every=10)
+    assert time_to_level(p, level, 510.0) == pytest.approx(
+        time_to_sigma(cov, "omega_gc", level), abs=0.02)
+    big = replace(p, sigma_incl_bias=0.5e-3 * G0)
+    assert math.isnan(time_to_level(big, level, 100.0))
+    with pytest.raises(ValueError, match="instrument terms"):
+        _run_omega_gc((p,), 100.0, 100.0, level)

@@ -95,6 +95,12 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
     ``(nan, σ(t_max))``.
     """
     p = ps[0]
+    from gyrolib.gc.model.instrument import instrument_model
+
+    if any(instrument_model(q).nb for q in ps):
+        raise ValueError("params with instrument terms (sigma_hf_scale, sigma_as_offset, "
+                         "sigma_incl_bias, ...) need gyrolib.gc.covariance_analysis: this fast "
+                         "path runs paper GC's 10-state filter only")
     dt = p.dt
     i = state_index("omega_gc")
     n_max = steps_in(p, t_max)
@@ -157,6 +163,8 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     crossing (σ of the constant ω_gc never increases, so it stays below; the time is
     interpolated as by :func:`gyrolib.gc.time_to_sigma`); discretized over
     ``min(100 s, t_max)`` first, and over ``t_max`` only when σ has not crossed by then.
+    Parameters with instrument terms (their constants appended to the state) run the whole
+    :func:`gyrolib.gc.covariance_analysis` instead, over the same two horizons.
 
     Parameters
     ----------
@@ -183,7 +191,17 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     p = check_params(params)
     level = v.check_positive("level", level)
     t_max = v.check_positive("t_max", t_max)
-    steps_in(p, t_max)
+    n_max = steps_in(p, t_max)
+    from gyrolib.gc.analysis.covariance import time_to_sigma
+    from gyrolib.gc.model.instrument import instrument_model
+
+    if instrument_model(p).nb:
+        for n in sorted({min(steps_in(p, _FIRST_HORIZON), n_max), n_max}):
+            cov = covariance_analysis(p, n * p.dt, store_every=max(1, n // 50_000))
+            t = time_to_sigma(cov, "omega_gc", level)
+            if np.isfinite(t):
+                return float(t)
+        return float("nan")
     return _run_omega_gc((p,), _FIRST_HORIZON, t_max, level)[0][0]
 
 
