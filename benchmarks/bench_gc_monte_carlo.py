@@ -7,6 +7,9 @@ of 32 lanes, each block one numba kernel call that draws its runs' own random st
 SFC64 and numpy's ziggurat — and integrates truth and filter; the blocks on this process's
 threads, one per core) against peers run in the same process on the same runs:
 
+* the same call by the commit before issue 36 (``PREVIOUS``, the ziggurat's first try in
+  one loop), both in child processes, alternating: what vectorizing the first try on AVX2
+  buys;
 * the same call on one thread (``executor=ThreadPoolExecutor(1)``): what the second core buys;
 * the previous path, kept in the library for ``gc.simulate_truth``: normals drawn by numpy
   (SFC64) per block of 32 runs in Python, the same kernels otherwise
@@ -41,12 +44,17 @@ result is sound (NEES of ω_gc at 100 s inside its 95 % band).  Writes
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import subprocess
+import sys
+import tempfile
 import time
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from pathlib import Path
 
 import numpy as np
-from _results import Recorder, load, machine, machine_label
+from _results import Recorder, load, machine, machine_label, previous_tree
 
 from gyrolib import filtering, gc
 from gyrolib.filtering.discretization import covariance_factor
@@ -143,6 +151,51 @@ def ns_per_normal(reps: int = 200) -> tuple[float, float]:
     return 1e9 * (c1 - c0) / n_np, 1e9 * (c2 - c1) / n_copy
 
 
+#: The commit before issue 36's kernel (its ziggurat's first try in one loop, scalar on AVX2).
+PREVIOUS = "5ddf2b6"
+
+_CHILD = """
+import json, sys, time
+from gyrolib import gc
+p = gc.GyrocompassParams()
+runs, t_end = int(sys.argv[1]), float(sys.argv[2])
+gc.monte_carlo(p, 8, 0.5, seed=0)            # numba: compiled or loaded before timing
+c0, t0 = time.process_time(), time.perf_counter()
+res = gc.monte_carlo(p, runs, t_end, seed=1)
+print(json.dumps({"cpu": time.process_time() - c0, "wall": time.perf_counter() - t0,
+                  "gyrolib": gc.__file__, "est": float(abs(res.est[:, -1, 3]).sum())}))
+"""
+
+
+def previous_commit(runs: int, t_end: float, rounds: int) -> dict | None:
+    """The whole Monte Carlo by this tree and by :data:`PREVIOUS`'s, each in a child process
+    (``PYTHONPATH`` its tree), alternating over ``rounds``: medians of CPU and wall time and
+    the median of each round's CPU ratio; None when the commit cannot be exported."""
+    root = Path(__file__).resolve().parents[1]
+    with tempfile.TemporaryDirectory() as tmp:
+        tree = previous_tree(Path(tmp), PREVIOUS)
+        if tree is None:
+            return None
+        out: dict[str, list[dict]] = {"ours": [], "previous": []}
+        for _ in range(rounds):
+            for name, where in (("ours", root), ("previous", tree)):
+                env = dict(os.environ, PYTHONPATH=str(where), OPENBLAS_NUM_THREADS="1")
+                proc = subprocess.run([sys.executable, "-c", _CHILD, str(runs), str(t_end)],
+                                      cwd=where, env=env, capture_output=True, text=True,
+                                      check=True)
+                out[name].append(json.loads(proc.stdout.splitlines()[-1]))
+                print(f"{name}: {out[name][-1]}; load {load()}", flush=True)
+    assert out["previous"][0]["gyrolib"].startswith(str(tree)), "the peer's gyrolib"
+    same = out["ours"][0]["est"] == out["previous"][0]["est"]
+    return {"ours_cpu": float(np.median([r["cpu"] for r in out["ours"]])),
+            "prev_cpu": float(np.median([r["cpu"] for r in out["previous"]])),
+            "ours_wall": float(np.median([r["wall"] for r in out["ours"]])),
+            "prev_wall": float(np.median([r["wall"] for r in out["previous"]])),
+            "ratio": float(np.median([q["cpu"] / o["cpu"] for o, q in
+                                      zip(out["ours"], out["previous"], strict=True)])),
+            "same": same}
+
+
 #: The copied generator stays only if numpy's path costs more than this times its CPU over
 #: the whole Monte Carlo on the AVX2 class (issue 36).
 KEEP_COPY_ABOVE = 1.15
@@ -200,6 +253,8 @@ def main() -> None:
     np_over_copy = float(np.median(np.array(npg_c) / np.array(ours_c)))
     keep = np_over_copy > KEEP_COPY_ABOVE
 
+    prev_commit = previous_commit(args.runs, args.t_end, args.rounds)
+
     with ThreadPoolExecutor(1) as one:
         _, serial, serial_cpu = timed(gc.monte_carlo, p, args.runs, args.t_end, seed=1,
                                       executor=one)
@@ -246,6 +301,15 @@ def main() -> None:
                   f"{med['npg']:.1f} s; the same runs to {same:.0e} of the prior scale; one "
                   f"normal costs {ns_numpy:.2f} ns of CPU from numpy against "
                   f"{med['ns_copy']:.2f} ns from the kernel's copy; {rounds}")
+    if prev_commit is not None:
+        rec.case(f"{name}: vs the previous commit's kernel (CPU s)", prev_commit["ours_cpu"],
+                 peer=f"gc.monte_carlo of commit {PREVIOUS} (the ziggurat's first try in one "
+                      "loop, which LLVM leaves scalar on AVX2), in a child process",
+                 peer_s=prev_commit["prev_cpu"],
+                 note=f"ratio = peer/ours of CPU s, the median of each round's ratio "
+                      f"{prev_commit['ratio']:.2f}; wall {prev_commit['ours_wall']:.1f} s vs "
+                      f"{prev_commit['prev_wall']:.1f} s; both in child processes, alternating, "
+                      f"{rounds}; the same estimates to the bit: {prev_commit['same']}; {cpu}")
     rec.case(f"{name}: threads over the cores vs one thread", ours,
              peer="the same call on one thread (executor=ThreadPoolExecutor(1))",
              peer_s=serial, target_s=10.0,
