@@ -662,7 +662,7 @@ def _fill_normals(s, out, ubuf, ki, ki_signed, wi, fi):
     double through its bits (``2⁵² + m`` minus ``2⁵²``, exact: AVX2 has no instruction for
     int64 → double, AVX-512 has), and the two table look-ups are a scalar loop of their own
     (LLVM does not vectorize a loop that needs gathers on AMD's Zen, whose gathers are slow):
-    about 1.8 times faster on a 2-core AMD EPYC (Zen 3) than the loop that did all in one
+    about 1.7 times faster on a 2-core AMD EPYC (Zen 3) than the loop that did all in one
     (``benchmarks/bench_gc_monte_carlo.py``), the same numbers."""
     a, b, c, w = s[0], s[1], s[2], s[3]
     lanes = _RUN_BLOCK  # a constant (out.shape[2] must be it): the lane loops unroll
