@@ -22,7 +22,7 @@ from sphinx.util.docutils import SphinxDirective
 DOC = "chapters/benchmarks"
 KEYS = ("benchmark", "date", "machine", "load", "results")
 CASE_KEYS = ("case", "ours_s", "peer", "peer_s", "ratio", "target_s", "note")
-MACHINE_KEYS = ("cpu", "cores", "python", "numpy")
+MACHINE_KEYS = ("cpu", "cpu_class", "host_cpu", "cores", "python", "numpy")
 
 
 def _seconds(x) -> str:
@@ -67,6 +67,15 @@ def purpose(script: Path) -> str:
     return paragraphs[1] if len(paragraphs) > 1 else (paragraphs[0] if paragraphs else "")
 
 
+def cpu_label(m: dict) -> str:
+    """The CPU with its class (AVX2, AVX-512, or "class unknown" for the files written before
+    the class was recorded), family, model and numba's host CPU name."""
+    if m["cpu_class"] == "class unknown":
+        return f"{m['cpu']} (class unknown)"
+    return (f"{m['cpu']}, **{m['cpu_class']}** (family {m.get('cpu_family')}, model "
+            f"{m.get('cpu_model')}, {m['host_cpu']})")
+
+
 def markdown(doc: dict, script: Path) -> list[str]:
     m = doc["machine"]
     lines = [f"**`{doc['benchmark']}`** — `benchmarks/{script.name}`"
@@ -75,7 +84,7 @@ def markdown(doc: dict, script: Path) -> list[str]:
     if what:
         lines += [what.replace("*", "\\*"), ""]
     load_txt = "unknown" if doc["load"] is None else f"{float(doc['load']):.2f}"
-    lines += [f"Run {doc['date']} on {_cell(m['cpu'])}, {m['cores']} cores, Python "
+    lines += [f"Run {doc['date']} on {_cell(cpu_label(m))}, {m['cores']} cores, Python "
               f"{m['python']}, NumPy {m['numpy']}; 1-minute load average at the start "
               f"{load_txt}.", ""]
     lines += ["| case | ours (s) | peer | peer (s) | ratio | target (s) | note |",

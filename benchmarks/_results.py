@@ -2,9 +2,17 @@
 
 Format (read by the book's Performance page, which renders every file it finds)::
 
-    {"benchmark": name, "date": ISO-8601 UTC, "machine": {"cpu", "cores", "python", "numpy"},
+    {"benchmark": name, "date": ISO-8601 UTC,
+     "machine": {"cpu", "cpu_class", "cpu_family", "cpu_model", "host_cpu", "cores",
+                 "python", "numpy"},
      "load": 1-min load average at the start,
      "results": [{"case", "ours_s", "peer", "peer_s", "ratio", "target_s", "note"}]}
+
+``cpu_class`` is ``"AVX-512"`` (``avx512f`` among ``/proc/cpuinfo``'s flags), ``"AVX2"``,
+``"AVX"`` or ``"no AVX"``: "AMD EPYC" names machines whose figures differ by 2×, the class
+tells them apart (issue 36).  ``cpu_family`` and ``cpu_model`` are ``/proc/cpuinfo``'s
+numbers, ``host_cpu`` is ``llvmlite.binding.get_host_cpu_name()`` (what numba compiles for,
+e.g. ``znver3``).  Files written before these fields carry ``"class unknown"`` in them.
 
 ``ratio`` is ``peer_s / ours_s`` (how many times faster than the peer), or, for a case
 without a peer, ``ours_s / target_s`` (the share of the time budget used); ``note`` says
@@ -18,22 +26,74 @@ import json
 import os
 import platform
 import subprocess
+from functools import cache
 from pathlib import Path
 
 RESULTS = Path(__file__).resolve().parent / "results"
 FIELDS = ("case", "ours_s", "peer", "peer_s", "ratio", "target_s", "note")
 
 
+#: What a results file written before the CPU class was recorded says in its place.
+UNKNOWN = "class unknown"
+
+
+def cpu_class(flags: set[str]) -> str:
+    """The CPU class from the flags of ``/proc/cpuinfo``.
+
+    >>> cpu_class({"avx", "avx2", "avx512f"}), cpu_class({"avx", "avx2"}), cpu_class(set())
+    ('AVX-512', 'AVX2', 'no AVX')
+    """
+    for flag, name in (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX")):
+        if flag in flags:
+            return name
+    return "no AVX"
+
+
+def host_cpu_name() -> str:
+    """What numba compiles for on this machine (llvmlite's name of the host CPU)."""
+    try:
+        from llvmlite import binding
+        return binding.get_host_cpu_name()
+    except (ImportError, OSError, RuntimeError):   # no llvmlite: say so, do not fail
+        return "?"
+
+
+def _number(text: str | None) -> int | str | None:
+    return int(text) if text is not None and text.isdigit() else text
+
+
+@cache
 def machine() -> dict[str, object]:
+    """The machine, computed once per process: CPU name, class, family, model and llvmlite's
+    host CPU name, cores, Python's and NumPy's versions."""
     import numpy
 
     cpu = platform.processor() or "?"
+    fields: dict[str, str] = {}
     cpuinfo = Path("/proc/cpuinfo")
     if cpuinfo.is_file():
-        cpu = next((line.split(":", 1)[1].strip() for line in cpuinfo.read_text().splitlines()
-                    if line.startswith("model name")), cpu)
-    return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(),
-            "numpy": numpy.__version__}
+        for line in cpuinfo.read_text().splitlines():
+            key, _, value = line.partition(":")
+            key = key.strip()
+            if not key and fields:
+                break                                   # the first processor is enough
+            fields.setdefault(key, value.strip())
+    flags = set(fields.get("flags", "").split())
+    return {"cpu": fields.get("model name", cpu),
+            "cpu_class": cpu_class(flags) if flags else UNKNOWN,
+            "cpu_family": _number(fields.get("cpu family")),
+            "cpu_model": _number(fields.get("model")),
+            "host_cpu": host_cpu_name(), "cores": os.cpu_count(),
+            "python": platform.python_version(), "numpy": numpy.__version__}
+
+
+def machine_label(m: dict) -> str:
+    """``AMD EPYC, AVX2 (family 25, model 1, znver3)``: the CPU as the results quote it."""
+    cls = m.get("cpu_class", UNKNOWN)
+    if cls == UNKNOWN:
+        return f"{m.get('cpu', '?')}, {UNKNOWN}"
+    return (f"{m.get('cpu', '?')}, {cls} (family {m.get('cpu_family')}, model "
+            f"{m.get('cpu_model')}, {m.get('host_cpu')})")
 
 
 def previous_tree(dest: Path, commit: str) -> Path | None:
@@ -63,7 +123,7 @@ class Recorder:
     def __init__(self, name: str):
         self.doc = {"benchmark": name,
                     "date": dt.datetime.now(dt.UTC).replace(microsecond=0).isoformat(),
-                    "machine": machine(), "load": load(), "results": []}
+                    "machine": dict(machine()), "load": load(), "results": []}
 
     def case(self, case: str, ours_s: float, *, peer: str | None = None,
              peer_s: float | None = None, target_s: float | None = None,

@@ -304,6 +304,9 @@ def test_benchmark_results_files_follow_the_format(tmp_path):
     for path in files:
         doc = ext.load(path)
         assert path.stem == doc["benchmark"], path.name
+        # the machine's class (issue 36): "AMD EPYC" alone names machines 2x apart
+        assert doc["machine"]["cpu_class"] in ("AVX-512", "AVX2", "AVX", "no AVX",
+                                               "class unknown"), path.name
     # a file with a case missing its peer time is refused, naming the field
     import json
 
@@ -311,6 +314,12 @@ def test_benchmark_results_files_follow_the_format(tmp_path):
     del bad["results"][0]["peer_s"]
     (tmp_path / "bad.json").write_text(json.dumps(bad))
     with pytest.raises(ValueError, match=r"bad\.json: missing \['results\[0\]\.peer_s'\]"):
+        ext.load(tmp_path / "bad.json")
+    # and one without the CPU class, naming it
+    bad = json.loads(files[0].read_text())
+    del bad["machine"]["cpu_class"]
+    (tmp_path / "bad.json").write_text(json.dumps(bad))
+    with pytest.raises(ValueError, match=r"bad\.json: missing \['machine\.cpu_class'\]"):
         ext.load(tmp_path / "bad.json")
 
 

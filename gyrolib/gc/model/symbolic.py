@@ -26,6 +26,9 @@ extraction): the base frame ``Oxyz`` has ``y`` along the gyro's input axis at ``
 ``Ω_h`` lies in the ``xy`` plane at the angle ``ψ`` from ``y``.  This is the only geometry in
 which the printed ``cos(β − ψ)`` of Eq. (1) arises (both angles are measured in the plane in
 which the float's input axis ``η`` turns).
+
+sympy is the ``book`` extra's (``pip install 'gyrolib[book]'``): the derivations are the
+book's; the numeric library does not need them.  Without it, importing this module says so.
 """
 
 from __future__ import annotations
@@ -36,9 +39,12 @@ from functools import cache
 from typing import Final
 
 import numpy as np
-import sympy as sp
 
 from gyrolib import _validation as v
+from gyrolib._optional import optional
+
+with optional("sympy", "book", "gyrolib.gc.model.symbolic"):
+    import sympy as sp
 from gyrolib.gc.model.params import check_params
 
 __all__ = [
