@@ -73,7 +73,8 @@ def markdown(doc: dict, script: Path) -> list[str]:
              if script.is_file() else f"**`{doc['benchmark']}`**", ""]
     what = purpose(script)
     if what:
-        lines += [what.replace("*", "\\*"), ""]
+        # the docstring's **emphasis** stays Markdown; a lone * (a product) is escaped
+        lines += [re.sub(r"(?<!\*)\*(?!\*)", r"\\*", what), ""]
     load_txt = "unknown" if doc["load"] is None else f"{float(doc['load']):.2f}"
     lines += [f"Run {doc['date']} on {_cell(m['cpu'])}, {m['cores']} cores, Python "
               f"{m['python']}, NumPy {m['numpy']}; 1-minute load average at the start "

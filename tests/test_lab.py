@@ -77,6 +77,8 @@ def test_lab_requirements_are_exact_pins_compatible_with_the_book():
     lab = pins(ROOT / "requirements-lab.txt")
     book = pins(ROOT / "requirements.txt")
     assert "jupyterlab" in lab
+    # MyST Markdown rendered in JupyterLab's notebook view (issue 35): pinned, for JupyterLab 4
+    assert lab.get("jupyterlab-myst") == "2.7.0" and lab["jupyterlab"].startswith("4.")
     clash = {n: (v, book[n]) for n, v in lab.items() if n in book and book[n] != v}
     assert not clash, f"requirements-lab.txt pins other versions than requirements.txt: {clash}"
 
