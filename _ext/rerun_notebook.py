@@ -15,7 +15,7 @@ Markdown outputs of its code cells) into plain Markdown, from the notebook's own
   glued image as a cell attachment (``![alt](attachment:key.png)``) and its caption,
   "Figure N." in front as on the page;
 * ``{ref}`` -> the explicit text, else the target section's title, figure's number or the
-  label; ``{numref}`` -> "Fig. N"; ``{eq}`` -> "(N)"; ``{cite:p}``/``{cite:t}`` -> author
+  label; ``{numref}`` -> "Fig. N"; ``{eq}`` -> "Eq. (N)"; ``{cite:p}``/``{cite:t}`` -> author
   and year, with a "References" cell at the end listing the works cited (from
   ``references.bib``); ``{bdg-*}`` badges -> bold text; any other role -> its text;
 * ``(label)=`` lines are removed; a numbered display equation gets its number as a
@@ -27,7 +27,7 @@ Markdown outputs of its code cells) into plain Markdown, from the notebook's own
 
 A first cell says that the prose's values are those of the run that wrote the notebook, and
 how to refresh them.  The numbers of figures and equations are those of the book: figures
-are numbered through the book in the order of ``_toc.yml``, equations page by page
+and equations are numbered through the book in the order of ``_toc.yml``
 (:func:`label_index`; ``tests/test_rerun_notebook.py`` checks both against the built HTML).
 
 Used by ``python3 tasks.py chapter NAME`` (``python _ext/rerun_notebook.py NOTEBOOK``) and by
@@ -134,14 +134,13 @@ def label_index(root: Path = ROOT) -> LabelIndex:
     """The book's labels, read from the chapters' sources in the order of ``_toc.yml``.
 
     A label before a heading names the heading's title; a ``{glue:figure}``'s ``:name:``
-    the figure's number, counted through the book (``use_multitoc_numbering``); a display
-    equation's label its number, counted page by page (Sphinx's ``math_numfig``).
+    the figure's number, and a display equation's label its number, both counted through
+    the book (``use_multitoc_numbering``).
     """
     index = LabelIndex()
-    n_fig = 0
+    n_fig = n_eq = 0
     for path in _toc_files(root):
         lines = path.read_text(encoding="utf-8").splitlines()
-        n_eq = 0
         pending: list[str] = []
         fence = ""  # inside a code cell or code block: its fence, until the closing one
         opened: list[str] = []  # the fences of the directives open here
@@ -196,8 +195,10 @@ def glue_outputs(nb) -> dict[str, dict]:
             meta = out.get("metadata", {}).get("scrapbook")
             if not meta:
                 continue
-            cut = len(meta.get("mime_prefix", ""))
-            found[meta["name"]] = {k[cut:]: v for k, v in out.get("data", {}).items()}
+            # myst-nb's build strips the prefix from the data it read (and keeps the metadata)
+            prefix = meta.get("mime_prefix", "")
+            found[meta["name"]] = {k.removeprefix(prefix): v
+                                   for k, v in out.get("data", {}).items()}
     return found
 
 
@@ -296,9 +297,9 @@ class _Renderer:
     def _ref(self, name: str, body: str) -> str:
         m = EXPLICIT.match(body)
         text, target = (m.group("text"), m.group("target")) if m else ("", body.strip())
-        if name == "eq":
+        if name == "eq":  # as the book writes it (_config.yml: math_eqref_format)
             n = self.index.equations.get(target)
-            return f"({n})" if n else f"({target})"
+            return f"Eq. ({n})" if n else f"Eq. ({target})"
         if name == "numref":
             n = self.index.figures.get(target)
             if text:
@@ -465,9 +466,12 @@ def first_cell_text(name: str) -> str:
         f"`_build/chapters/{name}.ipynb`), or build the book (`python3 tasks.py book`).")
 
 
-def render_notebook(nb, name: str, root: Path = ROOT, index: LabelIndex | None = None):
+def render_notebook(nb, name: str, root: Path = ROOT, index: LabelIndex | None = None,
+                    glue: dict[str, dict] | None = None):
     """``nb`` (an executed chapter, nbformat v4) rewritten in place as described in the
-    module's docstring; returns it.  ``name`` is the chapter's name (for the first cell)."""
+    module's docstring; returns it.  ``name`` is the chapter's name (for the first cell);
+    ``glue`` the glued values when the notebook no longer holds them (``key -> output``, as
+    myst-nb writes them beside the notebook in ``NAME.glue.json``)."""
     import nbformat
 
     index = index if index is not None else label_index(root)
@@ -477,8 +481,9 @@ def render_notebook(nb, name: str, root: Path = ROOT, index: LabelIndex | None =
             own.update(_section_titles(cell.source))
     index = LabelIndex({**own, **index.titles}, index.figures, index.equations)
     bib_path = root / "references.bib"
-    renderer = _Renderer(glue_outputs(nb), index, Bibliography(bib_path)
-                         if bib_path.is_file() else None)
+    values = {k: dict(v.get("data", {})) for k, v in (glue or {}).items()}
+    values.update(glue_outputs(nb))
+    renderer = _Renderer(values, index, Bibliography(bib_path) if bib_path.is_file() else None)
     for cell in nb.cells:
         if cell.cell_type == "markdown":
             renderer.attachments = {}
@@ -514,11 +519,17 @@ def render_notebook(nb, name: str, root: Path = ROOT, index: LabelIndex | None =
 
 def render_file(path: Path, name: str | None = None, root: Path = ROOT,
                 out: Path | None = None, index: LabelIndex | None = None) -> Path:
-    """Render the executed notebook ``path`` (in place, or into ``out``)."""
+    """Render the executed notebook ``path`` (in place, or into ``out``), with the glued
+    values of ``NAME.glue.json`` beside it when there is one: the book's build (myst-nb)
+    moves them there from the notebook it writes to ``_build/jupyter_execute``."""
+    import json
+
     import nbformat
 
     nb = nbformat.read(str(path), as_version=4)
-    render_notebook(nb, name or Path(path).stem, root, index)
+    glue_file = Path(path).with_name(Path(path).stem + ".glue.json")
+    glue = json.loads(glue_file.read_text(encoding="utf-8")) if glue_file.is_file() else None
+    render_notebook(nb, name or Path(path).stem, root, index, glue)
     target = out or path
     nbformat.write(nb, str(target))
     return Path(target)

@@ -106,7 +106,7 @@ def test_rendering_fills_glue_and_roles_and_the_check_has_power():
     text = nb.cells[1].source
     assert "σ = 0.0123 rad/s, 1.23%" in text  # the value, formatted as myst-nb formats it
     index = rn.label_index()
-    assert f"see Fig. {index.figures['fig-gcm-figure1']}, (1)" in text
+    assert f"see Fig. {index.figures['fig-gcm-figure1']}, Eq. (1)" in text
     assert f"“{index.titles['gcm-derivation']}”" in text and "the text and" in text
     assert "(Kalman, 1960)" in text and "**reproduced**" in text
     assert "\\tag{1}" in text and "![A drawing](attachment:x_fig.png)" in text
