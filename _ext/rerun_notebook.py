@@ -246,6 +246,8 @@ class Bibliography:
         people = entry.persons.get("author") or entry.persons.get("editor") or []
         names = [" ".join(p.last_names) or str(p) for p in people]
         names = [n.replace("{", "").replace("}", "") for n in names]
+        if "others" in names[1:]:  # BibTeX's "and others"
+            names = [names[0], "", ""]
         who = (names[0] if len(names) == 1 else f"{names[0]} and {names[1]}" if len(names) == 2
                else f"{names[0]} et al." if names else key)
         year = entry.fields.get("year", "n.d.")
