@@ -167,6 +167,8 @@ def text_problems(fig: Any) -> list[str]:
 def _kinds(fig: Any) -> dict[int, str]:
     """What each text artist of ``fig`` is, by ``id``: legend text, tick label, axis label,
     title (any other text: "text")."""
+    from matplotlib.text import Text
+
     kinds: dict[int, str] = {}
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
@@ -174,14 +176,17 @@ def _kinds(fig: Any) -> dict[int, str]:
                 kinds.update({id(tick.label1): "tick label", id(tick.label2): "tick label"})
             kinds[id(axis.label)] = "axis label"
             kinds[id(axis.get_offset_text())] = "tick label"
-        for title in (ax.title, ax._left_title, ax._right_title):
-            kinds[id(title)] = "title"
+        titles = {ax.get_title(loc) for loc in ("left", "center", "right")} - {""}
+        for child in ax.get_children():  # the three title artists (public API: their text)
+            if isinstance(child, Text) and id(child) not in kinds and child.get_text() in titles:
+                kinds[id(child)] = "title"
     for leg in _legends(fig):
         kinds.update({id(t): "legend text" for t in [*leg.get_texts(), leg.get_title()]})
-    for title in (getattr(fig, "_suptitle", None), getattr(fig, "_supxlabel", None),
-                  getattr(fig, "_supylabel", None)):
-        if title is not None:
-            kinds[id(title)] = "title"
+    suptitle = fig.get_suptitle() if hasattr(fig, "get_suptitle") else ""
+    if suptitle:
+        for t in fig.findobj(Text):
+            if t.axes is None and t.get_text() == suptitle:
+                kinds[id(t)] = "title"
     return kinds
 
 
