@@ -71,6 +71,13 @@ def test_every_item_bibtex_parses_and_escapes(items):
     assert not problems, problems
     book = cite.book_bibtex("A title with 100 % & a_b")
     assert not bibtex_problems(book), book
+    # the corporate author stays one name: no first name "The", no last name "authors"
+    from pybtex.database import parse_string
+
+    for entry in (book, cite.ledger_item_bibtex(items[0])):
+        (person,) = next(iter(parse_string(entry, "bibtex").entries.values())).persons["author"]
+        assert not person.first_names and not person.middle_names, str(person)
+        assert person.last_names == ["{The gyrolib authors}"], person.last_names
 
 
 def test_the_bibtex_check_fails_on_an_injected_underscore(items):

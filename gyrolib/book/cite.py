@@ -118,10 +118,22 @@ def unescaped_specials(value: str) -> list[str]:
 VERBATIM_FIELDS = ("url",)
 
 
+#: Fields holding one name that BibTeX must not split into first and last names (a
+#: corporate author): written in an extra pair of braces.
+CORPORATE_FIELDS = ("author",)
+
+
+def _value(name: str, value: str) -> str:
+    if name in VERBATIM_FIELDS:
+        return value
+    if name in CORPORATE_FIELDS:
+        return "{" + bibtex_escape(value) + "}"
+    return bibtex_escape(value)
+
+
 def _entry(kind: str, key: str, fields: dict[str, str]) -> str:
     width = max(len(k) for k in fields)
-    body = ",\n".join(f"  {k:<{width}} = {{{v if k in VERBATIM_FIELDS else bibtex_escape(v)}}}"
-                      for k, v in fields.items())
+    body = ",\n".join(f"  {k:<{width}} = {{{_value(k, v)}}}" for k, v in fields.items())
     return f"@{kind}{{{key},\n{body}\n}}"
 
 
