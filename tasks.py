@@ -9,8 +9,9 @@
 Set-up is idempotent: the virtual environment ``.venv`` is (re)installed from the pinned
 ``requirements.txt`` whenever that file or ``pyproject.toml`` changes; ``lab`` adds the pinned
 ``requirements-lab.txt``.  Nothing is ever installed unpinned.  Other sub-commands: ``setup``
-(environment only), ``lint``, ``clean``, ``chapter NAME`` (execute one chapter as a notebook
-from the command line).
+(environment only), ``lint``, ``clean``, ``chapter NAME [FOLDER]`` (execute one chapter as a
+notebook from the command line, its prose rendered as the book shows it; into
+``_build/chapters`` unless FOLDER is given).
 """
 
 from __future__ import annotations
@@ -303,13 +304,19 @@ def test() -> None:
     run(PY, "-m", "pytest", "-n", "auto", "--durations=10", env=env)
 
 
-def chapter(name: str) -> None:
-    """Execute one chapter as a notebook from the command line (output in _build/chapters)."""
+def chapter(name: str, out: str | os.PathLike | None = None) -> None:
+    """Execute one chapter as a notebook from the command line (output in _build/chapters,
+    or the folder ``out``).
+
+    The executed notebook's prose is then rendered as the book's page shows it
+    (``_ext/rerun_notebook.py``): the glued values and figures of this run pasted in,
+    cross-references and citations as text, and a first cell saying so.
+    """
     setup()
     src = ROOT / "chapters" / f"{Path(name).stem}.md"
     if not src.is_file():
         sys.exit(f"no chapter {src}")
-    out = BUILD / "chapters"
+    out = Path(out).resolve() if out else BUILD / "chapters"
     out.mkdir(parents=True, exist_ok=True)
     ipynb = out / f"{src.stem}.ipynb"
     run(BIN / "jupytext", "--to", "ipynb", "--output", ipynb, src)
@@ -319,6 +326,7 @@ def chapter(name: str) -> None:
     env.setdefault("OPENBLAS_NUM_THREADS", "1")
     run(BIN / "jupyter", "nbconvert", "--to", "notebook", "--execute", "--inplace",
         "--ExecutePreprocessor.timeout=600", ipynb, env=env)
+    run(PY, ROOT / "_ext" / "rerun_notebook.py", ipynb, src.stem)
     print(f"executed {ipynb}")
 
 
@@ -330,8 +338,8 @@ def clean() -> None:
 def main(argv: list[str]) -> None:
     cmds = {"setup": setup, "book": book, "pdf": pdf, "test": test, "lint": lint,
             "clean": clean}
-    if len(argv) == 2 and argv[0] == "chapter":
-        chapter(argv[1])
+    if len(argv) in (2, 3) and argv[0] == "chapter":
+        chapter(*argv[1:])
     elif argv and argv[0] == "lab":
         lab(*argv[1:])
     elif len(argv) == 1 and argv[0] in cmds:

@@ -10,18 +10,24 @@
   carrying the version) are written to the root of the built site; the ledger page links to
   them.
 * **Executed notebooks.**  Each chapter page's download menu offers the executed ``.ipynb``
-  (myst-nb writes it to ``_build/jupyter_execute``; it is copied next to the ``.md`` source in
+  (myst-nb writes it to ``_build/jupyter_execute``; it is written next to the ``.md`` source in
   ``_sources``), as sphinx-book-theme does when launch buttons are configured; this book has
-  none (it loads nothing from the internet), so the copy is done here.
+  none (it loads nothing from the internet), so the copy is done here.  The copy's prose is
+  rendered as the page shows it (``_ext/rerun_notebook.py``): glued values and figures
+  pasted in, cross-references and citations as text.
 * **Status table.**  myst-nb's execution table marks each chapter with an emoji, which shows as
   a missing-glyph box on machines without an emoji font; it says "passed"/"failed" instead.
 """
 
 from __future__ import annotations
 
+import functools
 import json
 import shutil
 from pathlib import Path
+
+# _ext/ is on sys.path (Jupyter Book's local_extensions): the sibling module
+import rerun_notebook
 
 PDF_NAME = "book.pdf"
 
@@ -63,8 +69,15 @@ def _add_context(app, pagename, templatename, context, doctree) -> None:
     if executed.is_file():
         target = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
         target.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(executed, target)
+        # the prose as the page shows it: glued values and figures pasted in, roles as text
+        rerun_notebook.render_file(executed, Path(pagename).name, Path(app.srcdir),
+                                   out=target, index=_label_index(app.srcdir))
         context["ipynb_source"] = f"{pagename}.ipynb"
+
+
+@functools.cache
+def _label_index(srcdir: str):
+    return rerun_notebook.label_index(Path(srcdir))
 
 
 def _write_ledger_data(app, exception) -> None:

@@ -7,6 +7,12 @@ The book shows a figure at ``width_in × dpi`` CSS pixels, shrunk to the column 
 larger to be readable.  :func:`for_the_page` does that for every legend of a figure, and caps a
 figure's width so that its other text does not shrink much below its size either; it changes
 sizes only, never what a figure shows.
+
+:func:`text_problems` measures every visible text artist of a figure (tick labels, axis
+labels, titles, annotations, legends) as the reader sees it, against two rules: at least
+:data:`MIN_LEGEND_PT` points at the desk's column (:data:`COLUMN_PX`), and at least
+:data:`MIN_PHONE_PX` CSS pixels at a phone's column (:data:`PHONE_COLUMN_PX`, a 390-px window;
+issue 35, item 3).
 """
 
 from __future__ import annotations
@@ -23,6 +29,10 @@ COLUMN_PX = 672.0
 MIN_LEGEND_PT = 9.0
 #: Figures wider than this are scaled down to it (their fonts keep their point size).
 MAX_WIDTH_IN = 8.0
+#: The output column on a phone (a 390-px window; measured by ``tests/test_browser.py``), and
+#: the smallest text there, in CSS pixels (issue 35).
+PHONE_COLUMN_PX = 342.0
+MIN_PHONE_PX = 9.0
 
 
 def display_scale(fig: Any, column_px: float = COLUMN_PX) -> float:
@@ -84,3 +94,103 @@ def page_figure(plot: Callable[..., Any]) -> Callable[..., Any]:
         return for_the_page(plot(*args, **kwargs))
 
     return wrapper
+
+
+def visible_texts(fig: Any) -> list[Any]:
+    """Every text artist of ``fig`` a reader sees: visible, not empty, with every ancestor
+    visible (tick labels, axis labels, titles, annotations, legend texts, free text).  The
+    figure is laid out first (``draw_without_rendering``), so that its ticks exist."""
+    from matplotlib.text import Text
+
+    fig.draw_without_rendering()
+
+    def shown(artist: Any) -> bool:
+        while artist is not None:
+            if not artist.get_visible():
+                return False
+            artist = getattr(artist, "axes", None) if artist is not getattr(
+                artist, "axes", None) else None
+        return True
+
+    texts = []
+    for t in fig.findobj(Text):
+        if t.get_text().strip() and t.get_visible() and shown(t) and t.get_figure() is fig:
+            texts.append(t)
+    return texts
+
+
+def shown_px(fig: Any, size_pt: float, column_px: float) -> float:
+    """CSS pixels on the page of text of ``size_pt`` points in ``fig``, in a column of
+    ``column_px`` (the figure drawn at its dpi, shown at half its 2x pixels, shrunk to the
+    column when wider).
+
+    >>> from matplotlib.figure import Figure
+    >>> round(shown_px(Figure(figsize=(5.0, 3.0), dpi=96.0), 9.0, 342.0), 2)
+    8.55
+    """
+    width_px = fig.get_figwidth() * fig.dpi
+    return float(size_pt * fig.dpi / 72.0 * min(1.0, column_px / width_px))
+
+
+def text_problems(fig: Any) -> list[str]:
+    """The visible texts of ``fig`` (:func:`visible_texts`) below :data:`MIN_LEGEND_PT` points
+    at the desk's column or :data:`MIN_PHONE_PX` pixels at the phone's, one line each (empty:
+    every text reads).
+
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(4.0, 3.0), dpi=96.0)
+    >>> ax = fig.subplots()
+    >>> _ = ax.set_title("title", fontsize=12)
+    >>> _ = ax.tick_params(labelsize=11)
+    >>> _ = ax.set_xlabel("x", fontsize=11); _ = ax.set_ylabel("y", fontsize=11)
+    >>> text_problems(fig)
+    []
+    >>> _ = ax.plot([0, 1], label="curve"); _ = ax.legend(fontsize=4.5)
+    >>> text_problems(fig)
+    ['legend text "curve": 4.5 pt at 672 px (< 9), 5.34 px at 342 px (< 9)']
+    """
+    problems = []
+    texts = visible_texts(fig)
+    kinds = _kinds(fig)
+    for t in texts:
+        size = t.get_fontsize()
+        desk = shown_px(fig, size, COLUMN_PX) * 72.0 / CSS_DPI
+        phone = shown_px(fig, size, PHONE_COLUMN_PX)
+        if desk < MIN_LEGEND_PT - 1e-9 or phone < MIN_PHONE_PX - 1e-9:
+            kind = _kind(t, kinds)
+            problems.append(f'{kind} "{" ".join(t.get_text().split())[:40]}": {desk:.3g} pt at '
+                            f"{COLUMN_PX:.0f} px (< {MIN_LEGEND_PT:g}), {phone:.3g} px at "
+                            f"{PHONE_COLUMN_PX:.0f} px (< {MIN_PHONE_PX:g})")
+    return problems
+
+
+def _kinds(fig: Any) -> dict[int, str]:
+    """What each text artist of ``fig`` is, by ``id``: legend text, tick label, axis label,
+    title (any other text: "text")."""
+    from matplotlib.text import Text
+
+    kinds: dict[int, str] = {}
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            for tick in [*axis.get_major_ticks(), *axis.get_minor_ticks()]:
+                kinds.update({id(tick.label1): "tick label", id(tick.label2): "tick label"})
+            kinds[id(axis.label)] = "axis label"
+            kinds[id(axis.get_offset_text())] = "tick label"
+        titles = {ax.get_title(loc) for loc in ("left", "center", "right")} - {""}
+        for child in ax.get_children():  # the three title artists (public API: their text)
+            if isinstance(child, Text) and id(child) not in kinds and child.get_text() in titles:
+                kinds[id(child)] = "title"
+    for leg in _legends(fig):
+        kinds.update({id(t): "legend text" for t in [*leg.get_texts(), leg.get_title()]})
+    suptitle = fig.get_suptitle() if hasattr(fig, "get_suptitle") else ""
+    if suptitle:
+        for t in fig.findobj(Text):
+            if t.axes is None and t.get_text() == suptitle:
+                kinds[id(t)] = "title"
+    return kinds
+
+
+def _kind(text: Any, kinds: dict[int, str] | None = None) -> str:
+    """What a text artist is, for a message (:func:`_kinds`)."""
+    kinds = _kinds(text.get_figure()) if kinds is None else kinds
+    return kinds.get(id(text), "text")

@@ -795,3 +795,120 @@ def test_every_page_declares_a_favicon_that_loads(site, browser):
     missing = [rel for rel in book_pages(html) if 'rel="icon"' not in (html / rel).read_text()
                and "Refresh" not in (html / rel).read_text()[:2000]]
     assert not missing, f"pages without a favicon link: {missing}"
+
+
+# ----------------------------------------------------------------------------- navigation
+
+#: The page the navigation is tried on: a long chapter, with its table of contents.
+NAV_PAGE = "chapters/gc_model.html"
+
+# What the reader sees of the two panels and the buttons that open them.
+JS_NAV_STATE = """() => {
+  const shown = el => {
+    if (!el) return false;
+    const r = el.getBoundingClientRect(), s = getComputedStyle(el);
+    return r.width > 40 && r.height > 40 && s.visibility !== 'hidden' && s.display !== 'none'
+      && r.right > 0 && r.left < innerWidth && parseFloat(s.opacity || '1') > 0.1;
+  };
+  const visible = sel => Array.from(document.querySelectorAll(sel)).filter(b => {
+    const r = b.getBoundingClientRect();
+    return r.width > 0 && r.height > 0 && getComputedStyle(b).visibility !== 'hidden';
+  });
+  const pm = document.getElementById('pst-primary-sidebar-modal');
+  const sm = document.getElementById('pst-secondary-sidebar-modal');
+  const links = el => el ? el.querySelectorAll('a[href]').length : 0;
+  return {
+    primaryButtons: visible('.primary-toggle').length,
+    secondaryButtons: visible('.secondary-toggle').length,
+    primaryExpanded: visible('.primary-toggle').map(b => b.getAttribute('aria-expanded')),
+    secondaryExpanded: visible('.secondary-toggle').map(b => b.getAttribute('aria-expanded')),
+    primaryModalOpen: !!(pm && pm.open), primaryModalLinks: links(pm),
+    secondaryModalOpen: !!(sm && sm.open), secondaryModalLinks: links(sm),
+    sidebarShown: shown(document.getElementById('pst-primary-sidebar')),
+    tocShown: shown(document.getElementById('pst-secondary-sidebar')),
+    focus: document.activeElement ? (document.activeElement.className || '') + '' : '',
+  };
+}"""
+
+
+def _nav_page(browser: Browser, site: str, width: int, height: int):
+    page = browser.open(site + NAV_PAGE)
+    page.set_viewport_size({"width": width, "height": height})
+    page.goto(site + NAV_PAGE, wait_until="load")
+    browser.settle(page)
+    return page
+
+
+def _click_visible(page, selector: str) -> None:
+    for button in page.query_selector_all(selector):
+        if button.is_visible():
+            button.click()
+            page.wait_for_timeout(350)  # the themes' transitions: 0.25 s
+            return
+    raise AssertionError(f"no visible {selector}")
+
+
+@pytest.mark.parametrize("width,height", [(390, 844), (800, 900)])
+def test_navigation_panels_open_and_close_on_a_phone_and_a_tablet(site, browser, width, height):
+    """Below 992 px: ☰ opens the site navigation, the contents button the page's table of
+    contents, each in a modal panel; Escape and a click on the backdrop close it, the
+    content goes back, focus returns to the button, and aria-expanded follows."""
+    page = _nav_page(browser, site, width, height)
+    try:
+        state = page.evaluate(JS_NAV_STATE)
+        assert state["primaryButtons"] == 1 and state["secondaryButtons"] == 1, state
+        assert state["primaryExpanded"] == ["false"], state
+        _click_visible(page, ".primary-toggle")
+        state = page.evaluate(JS_NAV_STATE)
+        assert state["primaryModalOpen"] and state["primaryModalLinks"] > 10, state
+        assert state["primaryExpanded"] == ["true"], state
+        page.keyboard.press("Escape")
+        page.wait_for_timeout(200)
+        state = page.evaluate(JS_NAV_STATE)
+        assert not state["primaryModalOpen"] and state["primaryExpanded"] == ["false"], state
+        assert "primary-toggle" in state["focus"], state
+        assert page.evaluate("document.getElementById('pst-primary-sidebar')"
+                             ".querySelectorAll('a[href]').length") > 10  # content back
+
+        _click_visible(page, ".secondary-toggle")
+        state = page.evaluate(JS_NAV_STATE)
+        assert state["secondaryModalOpen"] and state["secondaryModalLinks"] > 3, state
+        assert state["secondaryExpanded"] == ["true"], state
+        # the backdrop: beside the panel, on its wider side
+        box = page.evaluate("(() => { const r = document.getElementById("
+                            "'pst-secondary-sidebar-modal').getBoundingClientRect();"
+                            " return [r.left, r.right]; })()")
+        x = box[0] / 2 if box[0] > width - box[1] else (box[1] + width) / 2
+        assert min(abs(x - box[0]), abs(x - box[1])) > 10, (box, width)  # a backdrop to click
+        page.mouse.click(x, height / 2)
+        page.wait_for_timeout(200)
+        state = page.evaluate(JS_NAV_STATE)
+        assert not state["secondaryModalOpen"], state
+        assert state["secondaryExpanded"] == ["false"], state
+
+        if width == 390:  # the open panel has no accessibility violation either
+            _click_visible(page, ".primary-toggle")
+            found = axe_violations(page)
+            assert not found, found
+    finally:
+        page.close()
+
+
+def test_navigation_sidebar_collapses_and_returns_on_a_desk(site, browser):
+    """At 1280 px: ☰ collapses and restores the sidebar (aria-expanded follows), and the
+    contents column is visible."""
+    page = _nav_page(browser, site, 1280, 900)
+    try:
+        state = page.evaluate(JS_NAV_STATE)
+        assert state["sidebarShown"] and state["tocShown"], state
+        assert state["primaryButtons"] == 1 and state["primaryExpanded"] == ["true"], state
+        _click_visible(page, ".primary-toggle")
+        state = page.evaluate(JS_NAV_STATE)
+        assert not state["sidebarShown"] and state["primaryExpanded"] == ["false"], state
+        assert not state["primaryModalOpen"], state
+        _click_visible(page, ".primary-toggle")
+        state = page.evaluate(JS_NAV_STATE)
+        assert state["sidebarShown"] and state["primaryExpanded"] == ["true"], state
+        assert state["tocShown"], state
+    finally:
+        page.close()

@@ -77,6 +77,8 @@ def test_lab_requirements_are_exact_pins_compatible_with_the_book():
     lab = pins(ROOT / "requirements-lab.txt")
     book = pins(ROOT / "requirements.txt")
     assert "jupyterlab" in lab
+    # MyST Markdown rendered in JupyterLab's notebook view (issue 35): pinned, for JupyterLab 4
+    assert "jupyterlab-myst" in lab and lab["jupyterlab"].startswith("4.")
     clash = {n: (v, book[n]) for n, v in lab.items() if n in book and book[n] != v}
     assert not clash, f"requirements-lab.txt pins other versions than requirements.txt: {clash}"
 
@@ -123,6 +125,19 @@ def test_installed_lab_environment_is_the_pinned_one():
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert proc.stdout.strip().splitlines()[-1] == pins(ROOT / "requirements-lab.txt")[
         "jupyterlab"]
+
+
+def test_the_pinned_lab_extensions_load():
+    """Every lab extension of the pinned environment is one JupyterLab loads: ``jupyter
+    labextension list`` marks each "OK", none "not compatible" (jupyterlab-myst 2.7.0 is,
+    with JupyterLab 4.6: it would be installed and inert)."""
+    _lab_installed()
+    out = subprocess.run([str(Path(sys.executable).with_name("jupyter")), "labextension",
+                          "list"], capture_output=True, text=True, timeout=120, check=False)
+    text = re.sub(r"\x1b\[[0-9;]*m", "", out.stdout + out.stderr)
+    assert out.returncode == 0, text[-2000:]
+    assert re.search(r"jupyterlab-myst v\S+ +enabled +OK", text), text
+    assert "not compatible" not in text and " X" not in text, text
 
 
 @pytest.mark.slow

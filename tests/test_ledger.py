@@ -12,6 +12,7 @@ import pytest
 from conftest import require_built_book
 
 import gyrolib
+from gyrolib.book import cite
 from gyrolib.book.ledger import (
     KINDS,
     STATUSES_BY_KIND,
@@ -186,7 +187,8 @@ def test_json_and_markdown_of_a_known_item():
     assert table_markdown([it], "RSF").count("\n") == 1  # header only: no RSF item
     line = citation(it)
     assert line.startswith("σ|x: 0.4927 m (paper GC, Fig. 3, printed: 0.5; reproduced).")
-    assert f"version {gyrolib.__version__}, ledger item gc.test (ledger.html#gc-test)" in line
+    assert (f"version {gyrolib.__version__}, ledger item gc.test "
+            f"({cite.ledger_location('gc-test')})") in line  # tests/test_cite.py: its forms
     entry = entries_markdown([it], "GC")
     assert entry.startswith("(gc.test)=\n") and f"```text\n{line}\n```" in entry
     assert anchor("gc.sigma_gc_100s") == "gc-sigma-gc-100s"

@@ -18,6 +18,7 @@ import argparse
 import dataclasses
 import json
 import math
+import re
 import sys
 
 __all__ = ["add_parser", "race_report", "run"]
@@ -29,8 +30,10 @@ class _UsageError(Exception):
 
 def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     """Add the ``race`` sub-command to ``sub``."""
+    # the docstring's paragraph as plain text: a terminal shows no Sphinx role
+    text = re.sub(r":\w+:`~?([^`]+)`", r"\1", __doc__.split("\n\n")[1]).replace("``", "")
     p = sub.add_parser("race", help="race GC's method against the rate-sensor method",
-                       description=__doc__.split("\n\n")[1])
+                       description=text)
     p.add_argument("--params", metavar="P.toml", default=None,
                    help="GyrocompassParams fields at the top level, RateSensorProcedure "
                    "fields in a [procedure] table (SI); default: the paper's and the book's")

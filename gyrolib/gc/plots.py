@@ -307,8 +307,8 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
     # Horizontal Earth rate at ψ from y.
     hx, hy = _dir(psi_deg)
     _arrow(ax, 0, 0, 0.8 * hx, 0.8 * hy, earth, lw=2.2)
-    ax.text(0.82 * hx - 0.03, 0.82 * hy + 0.04, r"$\Omega_h$ (north)", fontsize=11,
-            color=earth, ha="center")
+    ax.text(0.82 * hx + 0.03, 0.82 * hy + 0.04, r"$\Omega_h$ (north)", fontsize=11,
+            color=earth, ha="left")  # right of the y axis, not across it
     _angle_arc(ax, 0.42, 90.0, 90.0 - psi_deg, r"$\psi$", earth, label_r=0.5)
     _angle_arc(ax, 0.62, 90.0, 90.0 - beta_deg, r"$\beta$", flt, label_r=0.7)
     _angle_arc(ax, 0.26, 90.0 - psi_deg, 90.0 - beta_deg, "", "0.35", label_r=0.0)
@@ -316,9 +316,10 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
     ax.annotate(r"$\beta-\psi$", xy=(0.26 * math.cos(mid), 0.26 * math.sin(mid)),
                 xytext=(0.55, 0.22), fontsize=11, color="0.35",
                 arrowprops={"arrowstyle": "-", "color": "0.5", "lw": 0.8})
-    ax.text(-0.95, 0.55, r"$\Omega_v$: along the vertical $\approx z$;" "\n"
+    # below the origin's label, clear of the axes and arcs
+    ax.text(-0.98, -0.24, r"$\Omega_v$: along the vertical $\approx z$;" "\n"
             r"a rate about $z$ gives no torque" "\n" r"about the output axis $z$",
-            fontsize=9.5, color=earth)
+            fontsize=9.5, color=earth, va="top")
     ax.set_xlim(-1.0, 1.3)
     ax.set_ylim(-0.62, 1.15)
     ax.set_aspect("equal")
@@ -331,7 +332,7 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
         axs = fig.add_subplot(gs[row, 1])
         a = sgn * math.radians(tilt_deg)
         axs.plot([-0.25, 1.15], [0, 0], color="0.6", lw=1, ls="--")
-        axs.text(1.16, 0.0, "horizon", color="0.5", fontsize=8, va="center")
+        axs.text(-0.72, 0.02, "horizon", color="0.5", fontsize=9, va="bottom")  # in the panel
         _arrow(axs, 0, 0, math.cos(a), math.sin(a), base)
         axs.text(1.03 * math.cos(a), 1.03 * math.sin(a), rf"${axis_name}$", fontsize=12,
                  color=base, va="center")

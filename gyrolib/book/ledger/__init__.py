@@ -24,6 +24,7 @@ from pathlib import Path
 
 import gyrolib
 from gyrolib import _validation as v
+from gyrolib.book import cite
 from gyrolib.book.ledger import gc, remaining, rsf
 from gyrolib.book.ledger.item import (
     KINDS,
@@ -316,7 +317,8 @@ def table_markdown(items: list[LedgerItem], paper: str) -> str:
 
 def citation(item: LedgerItem) -> str:
     """One line a reader can paste into a paper: the value, the verdict, the item's id and
-    the book's version, and the page anchor that resolves it."""
+    the book's version, and where the item is found: the ledger page's absolute URL, or
+    "unpublished build" with the version and release date (:mod:`gyrolib.book.cite`)."""
     it = v.check_instance("item", item, LedgerItem)
     printed = _shown(it.paper_value, it.precision)
     got = _shown(it.reproduced_value, it.precision)
@@ -324,7 +326,7 @@ def citation(item: LedgerItem) -> str:
     what = f"{it.quantity}: {got}{unit}" if it.reproduced_value is not None else it.quantity
     return (f"{what} (paper {it.paper}, {it.location}, printed: {printed}; {it.status}). "
             f"{TITLE}, version {gyrolib.__version__}, ledger item {it.id} "
-            f"(ledger.html#{anchor(it.id)}).")
+            f"({cite.ledger_location(anchor(it.id))}).")
 
 
 def claim_map_markdown(item: LedgerItem) -> str:

@@ -1,0 +1,185 @@
+"""A rerun chapter shows what the book's page shows (issue 35, item 1).
+
+``python3 tasks.py chapter NAME`` and each page's download menu give an executed notebook
+whose prose was rendered by ``_ext/rerun_notebook.py``.  The check
+(:func:`notebook_problems`): rendered to HTML by nbconvert, as Jupyter shows it, the notebook
+
+* has no raw MyST in its Markdown cells or Markdown outputs (``rerun_notebook.RAW_MYST``:
+  any ``{role}``, a ```` ```{directive} ```` or ``:::{directive}`` fence, a ``(label)=``
+  line, and by name ``{eq}``, ``{numref}``, ``{glue:md}``, ``{bibliography}``, ``{bdg-*}``);
+* shows at least as many ``<img>`` as the chapter has figures (``{glue:figure}`` blocks in
+  its source);
+* says in its first cell where its prose's values come from.
+
+Power: the same check on the notebook as the build executed it, before rendering (what the
+download menu offered until issue 35), fails.
+"""
+
+from __future__ import annotations
+
+import base64
+import copy
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import nbformat
+import pytest
+from conftest import require_built_book
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "_ext"))
+import rerun_notebook as rn  # noqa: E402 - _ext/ is not a package
+
+IMG = re.compile(r"<img\b", re.I)
+# a 1x1 PNG, glued as a figure
+PNG = base64.b64encode(bytes.fromhex(
+    "89504e470d0a1a0a0000000d4948445200000001000000010806000000"
+    "1f15c4890000000d49444154789c6360f8cf000000030101005dc2a3"
+    "5b0000000049454e44ae426082")).decode()
+
+
+def n_figures(chapter: str) -> int:
+    return (ROOT / "chapters" / f"{chapter}.md").read_text(encoding="utf-8").count(
+        "```{glue:figure}")
+
+
+def notebook_problems(nb, figures: int) -> list[str]:
+    """What a reader of ``nb`` in Jupyter would see wrong (module docstring)."""
+    from nbconvert import HTMLExporter
+
+    problems = []
+    for i, cell in enumerate(nb.cells):
+        texts = [cell.source] if cell.cell_type == "markdown" else [
+            "".join(o["data"]["text/markdown"]) for o in cell.get("outputs", [])
+            if "text/markdown" in o.get("data", {})]
+        for text in texts:
+            problems += [f"cell {i}: raw {hit}" for hit in rn.raw_myst(text)]
+    html, _ = HTMLExporter(template_name="classic").from_notebook_node(copy.deepcopy(nb))
+    images = len(IMG.findall(html))
+    if images < figures:
+        problems.append(f"{images} <img> in the rendered notebook, {figures} figures")
+    if not (nb.cells and "run that wrote it" in nb.cells[0].source):
+        problems.append("no first cell saying where the prose's values come from")
+    return problems
+
+
+def _glued(name: str, data: dict) -> dict:
+    return nbformat.v4.new_output(
+        "display_data", data={rn.GLUE_PREFIX + k: v for k, v in data.items()},
+        metadata={"scrapbook": {"name": name, "mime_prefix": rn.GLUE_PREFIX}})
+
+
+def small_notebook():
+    """A chapter in miniature: a glued value and figure, and every kind of markup."""
+    code = nbformat.v4.new_code_cell("glue(...)")
+    code.outputs = [_glued("x_sigma", {"text/plain": "'0.0123'"}),
+                    _glued("x_fig", {"image/png": PNG, "text/plain": "<Figure>"}),
+                    nbformat.v4.new_output("display_data", data={
+                        "text/markdown": "| a | b |\n| --- | --- |\n| {ref}`x-sec` | 1 |"})]
+    md = nbformat.v4.new_markdown_cell(
+        "(x-sec)=\n# A section\n\nσ = {glue:text}`x_sigma` rad/s, {glue:text}`x_sigma:.2%`; see "
+        "{numref}`fig-gcm-figure1`, {eq}`gc-eq-1`, {ref}`gcm-derivation`, {ref}`the text "
+        "<gcm-derivation>` and {cite:p}`Kalman1960`; {bdg-success}`reproduced`.\n\n"
+        "$$\na = b\n$$ (gc-eq-1)\n\n"
+        "```{glue:figure} x_fig\n:name: fig-gcm-figure1\n:alt: A drawing\n\nThe caption "
+        "({ref}`gcm-derivation`).\n```\n\n:::{note}\nA note.\n:::\n\n"
+        "```text\n{ref}`kept in code`\n```")
+    return nbformat.v4.new_notebook(cells=[md, code])
+
+
+@pytest.mark.filterwarnings("ignore:Your element with mimetype")  # the raw glue records
+def test_rendering_fills_glue_and_roles_and_the_check_has_power():
+    nb = small_notebook()
+    raw = notebook_problems(copy.deepcopy(nb), figures=1)
+    assert any("raw role" in p for p in raw) and any("<img>" in p for p in raw), raw
+    assert any("raw label" in p for p in raw) and any("raw directive" in p for p in raw), raw
+
+    rn.render_notebook(nb, "small")
+    code_block = "```text\n{ref}`kept in code`\n```"
+    md = nb.cells[1].source
+    assert code_block in md  # code is not prose: left as it is
+    nb.cells[1].source = md.replace(code_block, "")
+    assert notebook_problems(nb, figures=1) == []
+    text = nb.cells[1].source
+    assert "σ = 0.0123 rad/s, 1.23%" in text  # the value, formatted as myst-nb formats it
+    index = rn.label_index()
+    assert f"see Fig. {index.figures['fig-gcm-figure1']}, Eq. (1)" in text
+    assert f"“{index.titles['gcm-derivation']}”" in text and "the text and" in text
+    assert "(Kalman, 1960)" in text and "**reproduced**" in text
+    assert "\\tag{1}" in text and "![A drawing](attachment:x_fig.png)" in text
+    assert nb.cells[1].attachments["x_fig.png"]["image/png"] == PNG
+    assert "> **Note**" in text
+    assert nb.cells[-1].source.startswith("## References") and "Kalman" in nb.cells[-1].source
+    assert len(nb.cells[2].outputs) == 1  # the glue records dropped: Jupyter shows none
+    assert "| “A section” | 1 |" in nb.cells[2].outputs[0]["data"]["text/markdown"]
+    # rendering twice gives one first cell and one reference list
+    again = rn.render_notebook(copy.deepcopy(nb), "small")
+    assert [c.source.strip() for c in again.cells] == [c.source.strip() for c in nb.cells]
+
+
+def test_a_missing_glue_value_is_shown_as_missing_not_raw():
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_markdown_cell("{glue:text}`nope`")])
+    rn.render_notebook(nb, "x")
+    assert "nope: not computed in this run" in nb.cells[1].source
+    assert nb.metadata["gyrolib"]["missing_glue"] == ["nope"]
+
+
+@pytest.mark.book
+def test_label_numbers_are_the_books():
+    """The figure and equation numbers the notebooks print are those of the built pages."""
+    html = require_built_book()
+    index = rn.label_index()
+    wrong = []
+    for path in sorted((html / "chapters").glob("*.html")):
+        page = path.read_text(encoding="utf-8")
+        for m in re.finditer(r'<figure[^>]*id="([^"]+)".*?<span class="caption-number">'
+                             r'Fig\. (\d+) </span>', page, re.S):
+            if index.figures.get(m.group(1)) != int(m.group(2)):
+                wrong.append(f"{path.name}: {m.group(1)} is Fig. {m.group(2)} on the page, "
+                             f"{index.figures.get(m.group(1))} in the notebook")
+        for m in re.finditer(r'<span class="eqno">\((\d+)\)<a class="headerlink" '
+                             r'href="#equation-([^"]+)"', page):
+            if index.equations.get(m.group(2)) != int(m.group(1)):
+                wrong.append(f"{path.name}: eq. {m.group(2)} is ({m.group(1)}) on the page, "
+                             f"{index.equations.get(m.group(2))} in the notebook")
+    assert len(index.figures) == sum(n_figures(p.stem) for p in (ROOT / "chapters").glob("*.md"))
+    assert not wrong, wrong
+
+
+@pytest.mark.book
+@pytest.mark.filterwarnings("ignore:Your element with mimetype")
+def test_the_downloaded_notebook_shows_what_the_page_shows():
+    """gc_model's ``.ipynb`` of the download menu passes the check; the notebook as the build
+    executed it (before rendering) fails it."""
+    build = require_built_book().parent
+    name = "gc_model"
+    got = nbformat.read(str(build / "html" / "_sources" / "chapters" / f"{name}.ipynb"), 4)
+    assert notebook_problems(got, n_figures(name)) == []
+    executed = nbformat.read(str(build / "jupyter_execute" / "chapters" / f"{name}.ipynb"), 4)
+    assert len(notebook_problems(executed, n_figures(name))) > 10
+
+
+#: A short chapter with glued values and a glued figure (about 12 s of CPU on a quiet
+#: machine, most of it importing the libraries).
+RERUN_CHAPTER = "rsf_method"
+
+
+@pytest.mark.slow
+def test_a_rerun_chapter_shows_what_the_page_shows(tmp_path):
+    """``python3 tasks.py chapter rsf_method FOLDER`` writes a notebook that passes the check.
+    Power: its figures counted against a chapter with more, it fails."""
+    proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "chapter", RERUN_CHAPTER,
+                           str(tmp_path)], cwd=ROOT, capture_output=True, text=True,
+                          timeout=900, check=False)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
+    nb = nbformat.read(str(tmp_path / f"{RERUN_CHAPTER}.ipynb"), 4)
+    assert notebook_problems(nb, n_figures(RERUN_CHAPTER)) == []
+    assert nb.metadata["gyrolib"]["missing_glue"] == []
+    assert notebook_problems(nb, n_figures(RERUN_CHAPTER) + 1)  # one figure short
+    text = "\n".join(c.source for c in nb.cells if c.cell_type == "markdown")
+    assert "python3 tasks.py chapter rsf_method" in nb.cells[0].source
+    assert json.dumps(nb.cells[0].source)  # plain text
+    assert "attachment:rsf_fig1.png" in text
