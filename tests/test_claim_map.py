@@ -280,3 +280,46 @@ def test_time_to_level_carries_the_instrument_terms():
     assert math.isnan(time_to_level(big, level, 100.0))
     with pytest.raises(ValueError, match="instrument terms"):
         _run_omega_gc((p,), 100.0, 100.0, level)
+
+
+# each claim's thresholds against the claim's own function, at both sides of the root --------
+def _own_status(cid):
+    """The status of claim ``cid`` computed by the chapters' own functions, not the margins
+    the maps were made with (a second computation of the same verdict)."""
+    from gyrolib import rsf
+    from gyrolib.gc.analysis.covariance import covariance_analysis
+
+    def status(objs):
+        p = objs["GyrocompassParams"]
+        if cid == "gc.time_to_sigma_c":       # the race's own GC time (another code path)
+            t = gc.race(p, objs["RateSensorProcedure"]).t_c_gc
+            return bool(np.isfinite(t) and t < 510.0)
+        if cid in ("gc.claim.trend_holds", "gc.fig3.drop_2s"):
+            cov = covariance_analysis(p, 100.0, store_every=100)
+            s = cov.std("omega_gc")
+            return bool((s[0] - cov.std_at("omega_gc", 2.0)) / (s[0] - s[-1]) > 0.5)
+        if cid == "rsf.claim.gs_vs_sins":
+            ex = objs["WorkedExample"]
+            r = rsf.gs_vs_sins(roll_gyro=objs["RollGyroSpec"], gs_gyro=objs["MemsGyroSpec"],
+                               encoder=objs["EncoderSpec"], omega=ex.table_rate)
+            return bool(r.ratio_ideal.min() >= 100.0)
+        raise KeyError(cid)
+    return status
+
+
+@pytest.mark.parametrize("cid", ["gc.time_to_sigma_c", "gc.claim.trend_holds",
+                                 "rsf.claim.gs_vs_sins"])
+def test_thresholds_bracket_the_claims_own_status(cid):
+    """Every threshold of these claims (up to two) is where the claim's own status changes:
+    it differs at 0.995 and 1.005 of the threshold (the bisection's tolerance is 10⁻³), on the
+    side the map states."""
+    m = claims.stored_maps()[cid]
+    assert m.thresholds, cid
+    status = _own_status(cid)
+    objs = inputs.reference_objects()
+    for t in m.thresholds[:2]:
+        lo, hi = (t.value * 0.995, t.value * 1.005) if t.value else (0.0, 1e-12)
+        below = status(inputs.apply(objs, {t.input: lo}))
+        above = status(inputs.apply(objs, {t.input: hi}))
+        assert below != above, (cid, t.input)
+        assert below == (t.holds_when == "below"), (cid, t.input)
