@@ -15,6 +15,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import gc, units
+from gyrolib.cli import hints
 from gyrolib.cli.constants import (
     DEFAULT_INCL_BIAS_PRIOR_MG,
     DEFAULT_OFFSET_PRIOR_ARCSEC,
@@ -335,6 +336,11 @@ def run_file(file: str, o: dict) -> Outcome:
                                        max_rejected=o["max_rejected"],
                                        false_alarm=o["false_alarm"])
             fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))
+    codes, t0_hint = ([], None) if valid else reason_codes(
+        res, earth, why if fit is not None else "")
+    code = hints.primary(codes)
+    hint = hints.hint(code, f"{t0_hint:g}" if code == "early_release" and t0_hint else "") \
+        if code else ""
     # a record the model checks reject (but the filter kept lock): its estimate on request,
     # marked misfit
     accepted = (not valid and o["accept_misfit"] and not res.lost_lock and earth["stated"]
@@ -354,16 +360,75 @@ def run_file(file: str, o: dict) -> Outcome:
     data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth,
                     fit_std)
     data.update(extra)
-    text = _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted,
-                    fit_std, earth) + "".join(f"{ln}\n" for ln in allan_lines)
+    data.update(reason_code=code or None, reason_codes=codes, hint=hint or None)
+    text = (_gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted, fit_std, earth)
+            + "".join(f"{ln}\n" for ln in allan_lines) + (f"  {hint}\n" if hint else ""))
     given = valid or accepted
     row = {"file": file, "method": "gc", "quantity": "omega_gc", "notes": "; ".join(notes),
            "estimate": res.omega_gc if given else "",
            "sigma": std if given else "", "unit": "rad/s", "valid": valid,
-           "status": status, "reason": reason}
+           "status": status, "reason": reason, "reason_code": code, "hint": hint}
     message = "" if (valid or accepted) else f"{file}: no valid estimate: {reason}"
     return Outcome(file=file, status=status, message=message,
                     text=text, data=data, row=row, artifacts=artifacts)
+
+
+#: Share of the record's start (from its first row) within which gate rejections point to
+#: rows logged before the feedback was switched off (``early_release``).
+EARLY_SHARE: Final[float] = 0.1
+
+
+def reason_codes(res, earth: dict, fit_why: str = "") -> tuple[list[str], float | None]:
+    """The reason codes (keys of :data:`gyrolib.cli.hints.REASONS`) of a run that is not
+    valid, read from its evidence rather than its message, and the time stamp ``--t0``
+    should start from when the evidence is an early release (else None).
+
+    * ``no_latitude``: no Earth rate stated; ``latitude_mismatch``: the params' Earth rate
+      is not the one at the record's stated latitude;
+    * ``early_release``: the gate's rejections crowd the record's start: at least three,
+      and at least three times as many in the first :data:`EARLY_SHARE` of the record as
+      that share of all rejected rows (rows logged before the feedback switch-off); the
+      suggested ``--t0`` is the end of their first cluster (no gap over 0.5 s), rounded up
+      to 0.1 s;
+    * ``lost_lock``: a sensor's share of rejections beyond ``max_rejected`` or its mean NIS
+      outside ``nis_range`` (when not an early release);
+    * ``drift_changes``: a split-record test failed; ``misfit``: a mean-NIS or whiteness
+      test failed;
+    * ``fit_not_converged``, ``fit_not_identified``: from ``fit_why``
+      (:meth:`gyrolib.gc.NoiseFit.not_identified`).
+    """
+    codes: list[str] = []
+    if not earth["stated"]:
+        codes.append("no_latitude")
+    if res.record_latitude is not None and gc.earth_rate_mismatch(res.params,
+                                                                  res.record_latitude):
+        codes.append("latitude_mismatch")
+    t0 = None
+    rt = np.unique(np.asarray(res.rejected_t, dtype=float))
+    start = float(res.t[0]) if res.t.size else 0.0
+    span = max(float(res.t_final) - start, 0.0)
+    tests = res.model_tests()
+    early = rt[rt <= start + EARLY_SHARE * span] if span > 0.0 else rt[:0]
+    if early.size >= 3 and early.size >= 3.0 * EARLY_SHARE * max(int(res.rows_rejected), 1):
+        # the rejections crowd the record's start: three times their share of it or more
+        gaps = np.flatnonzero(np.diff(early) > 0.5)
+        end = float(early[gaps[0]] if gaps.size else early[-1])
+        codes.append("early_release")
+        t0 = math.ceil(10.0 * end) / 10.0
+    lo, hi = res.nis_range
+    nis = res.nis_mean
+    if (np.any(res.rejected_share > res.max_rejected)
+            or np.any((res.used > 0) & ~((nis >= lo) & (nis <= hi)))):
+        codes.append("lost_lock")
+    for tst in tests:
+        if not tst["passed"]:
+            code = "drift_changes" if tst["test"].startswith("split-record") else "misfit"
+            if code not in codes:
+                codes.append(code)
+    if fit_why:
+        codes.append("fit_not_converged" if fit_why.startswith("noise fit not converged")
+                     else "fit_not_identified")
+    return codes, t0
 
 
 def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=False,

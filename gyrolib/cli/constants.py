@@ -22,7 +22,7 @@ EXIT_INTERRUPTED: Final[int] = 130
 #: Columns of ``--summary OUT.csv``, one row per file.
 SUMMARY_COLUMNS: Final[tuple[str, ...]] = (
     "file", "method", "quantity", "estimate", "sigma", "unit", "valid", "status", "reason",
-    "notes")
+    "reason_code", "hint", "notes")
 
 #: Suffixes of the plot files ``--plot`` and ``--allan`` write.
 PLOT_SUFFIXES: Final[tuple[str, ...]] = (".png", ".pdf", ".svg", ".jpg", ".jpeg")

@@ -26,14 +26,15 @@ from pathlib import Path
 
 import numpy as np
 
+from gyrolib.cli import hints
 from gyrolib.cli.constants import EXIT_BAD_INPUT, EXIT_INTERRUPTED, EXIT_INVALID, SUMMARY_COLUMNS
 from gyrolib.records.errors import OptionError, RecordError
 from gyrolib.records.options import read_options
 
 __all__ = ["NoBar", "Outcome", "atomic", "bad", "bar_enabled", "check_out_path",
-           "check_outputs", "failure_message", "fmt", "guarded", "json_line", "one_line",
-           "progress", "run_batch", "run_files", "same_file", "save", "summary_csv",
-           "unique_files", "write_artifacts", "write_text"]
+           "check_outputs", "error_hint", "error_object", "failure_message", "fmt", "guarded",
+           "json_line", "one_line", "progress", "run_batch", "run_files", "same_file", "save",
+           "summary_csv", "unique_files", "write_artifacts", "write_text"]
 
 
 # Writing outputs ---------------------------------------------------------------------------
@@ -213,14 +214,36 @@ class Outcome:
                 "error": EXIT_BAD_INPUT}[self.status]
 
 
-def bad(method: str, file: str, message: str) -> Outcome:
+def error_hint(exc: BaseException | None) -> tuple[str, str]:
+    """``(reason_code, hint)`` of a bad input or option (:data:`gyrolib.cli.hints.REASONS`):
+    ``bad_option``, or ``bad_input`` with the option the error names (a
+    :class:`RecordError`'s ``hint``, e.g. a unit option) as its ``try:`` line, else no hint
+    (the message itself names the row, column and what was expected)."""
+    if isinstance(exc, OptionError):
+        return "bad_option", hints.hint("bad_option")
+    option = getattr(exc, "hint", None)
+    if option:
+        return "units" if "-unit" in option else "bad_input", f"try: {option}"
+    return "bad_input", ""
+
+
+def error_object(message: str, code: str, hint: str, file: str | None = None) -> dict:
+    """The JSON object of a refusal on bad input (``--json`` writes it on stdout)."""
+    return {"file": file, "valid": False, "status": "error", "error": message,
+            "reason_code": code, "hint": hint or None}
+
+
+def bad(method: str, file: str, message: str, exc: BaseException | None = None) -> Outcome:
+    """The outcome of a file that could not be calibrated (bad input, or a failure)."""
     quantity = "omega_gc" if method == "gc" else "eps1_hat_mean"
     unit = "rad/s" if method == "gc" else "1"
-    return Outcome(file=file, status="error", message=message,
-                    data={"file": file, "valid": False, "status": "error", "error": message},
-                    row={"file": file, "method": method, "quantity": quantity, "estimate": "",
-                         "sigma": "", "unit": unit, "valid": False, "status": "error",
-                         "reason": message, "notes": ""})
+    code, hint = error_hint(exc)
+    return Outcome(file=file, status="error",
+                   message=message + (f"; {hint}" if hint else ""),
+                   data=error_object(message, code, hint, file),
+                   row={"file": file, "method": method, "quantity": quantity, "estimate": "",
+                        "sigma": "", "unit": unit, "valid": False, "status": "error",
+                        "reason": message, "reason_code": code, "hint": hint, "notes": ""})
 
 
 # Progress -----------------------------------------------------------------------------------
@@ -271,7 +294,7 @@ def guarded(run_file: RunFile, method: str, file: str, o: dict) -> Outcome:
     try:
         return run_file(file, o)
     except (OptionError, RecordError) as exc:
-        return bad(method, file, str(exc))
+        return bad(method, file, str(exc), exc)
     except Exception as exc:       # any failure is this file's row, not the batch's
         return bad(method, file, failure_message(file, exc))
 
@@ -407,6 +430,18 @@ def run_batch(args: argparse.Namespace, options: Callable[[argparse.Namespace], 
         return EXIT_INTERRUPTED
 
 
+def _refuse(args: argparse.Namespace, message: str, exc: BaseException) -> int:
+    """Bad input or a bad option before or after the files: one line on stderr (with the
+    hint when the error names an option), and with ``--json`` a JSON error object on
+    stdout; status 2."""
+    code, hint = error_hint(exc)
+    sys.stderr.write(f"error: {message}" + (f"; {hint}" if hint else "") + "\n")
+    if getattr(args, "json", False):
+        sys.stdout.write(json_line(error_object(message, code, hint)))
+        sys.stdout.flush()
+    return EXIT_BAD_INPUT
+
+
 def _run(args: argparse.Namespace, options: Callable[[argparse.Namespace], dict],
          process: Process) -> int:
     label = args.files[0] if len(args.files) == 1 else f"calibrate {args.method}"
@@ -425,11 +460,9 @@ def _run(args: argparse.Namespace, options: Callable[[argparse.Namespace], dict]
             ("--fit-noise", getattr(args, "fit_noise", None) or None)) if val]
         check_outputs(args, outputs)
     except OptionError as exc:
-        sys.stderr.write(f"error: {one_line(exc)}\n")
-        return EXIT_BAD_INPUT
+        return _refuse(args, one_line(exc), exc)
     except (RecordError, ValueError, TypeError) as exc:
-        sys.stderr.write(f"error: {failure_message(label, exc)}\n")
-        return EXIT_BAD_INPUT
+        return _refuse(args, failure_message(label, exc), exc)
 
     def emit(out: Outcome) -> None:
         if out.status in ("ok", "misfit", "invalid"):
@@ -437,7 +470,7 @@ def _run(args: argparse.Namespace, options: Callable[[argparse.Namespace], dict]
                 sys.stdout.write(json_line(out.data))
             else:
                 sys.stdout.write(out.text)
-        elif args.json and (len(args.files) > 1 or args.summary):
+        elif args.json:       # a refusal on bad input: its JSON error object
             sys.stdout.write(json_line(out.data))
         if out.message:
             sys.stderr.write(f"error: {one_line(out.message)}\n")
@@ -452,14 +485,12 @@ def _run(args: argparse.Namespace, options: Callable[[argparse.Namespace], dict]
             try:
                 write_artifacts(out)
             except RecordError as exc:
-                sys.stderr.write(f"error: {one_line(exc)}\n")
-                return EXIT_BAD_INPUT
+                return _refuse(args, one_line(exc), exc)
     if args.summary:
         try:
             summary_csv(args.summary, outcomes)
         except RecordError as exc:
-            sys.stderr.write(f"error: {one_line(exc)}\n")
-            return EXIT_BAD_INPUT
+            return _refuse(args, one_line(exc), exc)
     return max(out.code for out in outcomes) if all(
         out.status != "error" for out in outcomes) else EXIT_BAD_INPUT
 

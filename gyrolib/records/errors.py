@@ -11,6 +11,8 @@ class RecordError(ValueError):
 
     ``str(err)`` is one line: ``"<file>: line <row>, column '<col>': <what was expected>"``
     (row and column when known).  The command line prints it and exits with status 2.
+    ``hint``, when given, is the option the evidence points to (e.g. ``"--angle-unit deg"``):
+    the command line adds it as ``try: ...``.
 
     Examples
     --------
@@ -19,8 +21,9 @@ class RecordError(ValueError):
     """
 
     def __init__(self, path: object, message: str, *, row: int | None = None,
-                 column: str | None = None) -> None:
+                 column: str | None = None, hint: str | None = None) -> None:
         self.path = str(path)
+        self.hint = hint
         self.row = row
         self.column = column
         self.detail = " ".join(str(message).split())  # always one line
