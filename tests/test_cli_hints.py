@@ -185,3 +185,37 @@ def test_json_on_bad_input_writes_an_error_object(logs, capsys, tmp_path, argv, 
     assert data["reason_code"] == code and data["error"] in err
     status, out, err = _run(argv, capsys)
     assert status == 2 and out == ""        # without --json: nothing on stdout
+
+
+# The verdict lines use the tests' own bands, rounded to read true (issue 34, item 6) -------
+def test_printed_comparisons_read_true():
+    """For random statistics near their bounds, the printed numbers compare as the numbers
+    do (the ".3g" rounding printed "23.2 > 23.2"); with a fixed 3 digits they would not
+    (power)."""
+    rng = np.random.default_rng(346)
+    for _ in range(2000):
+        b = float(rng.uniform(0.5, 50.0))
+        x = b * (1.0 + float(rng.choice([-1.0, 1.0])) * 10.0 ** rng.uniform(-11.0, -2.0))
+        sx, _, sb = cg.compared(x, None, b)
+        assert (float(sx) > float(sb)) == (x > b) and (float(sx) < float(sb)) == (x < b)
+    x, b = 23.24, 23.2351
+    assert f"{x:.3g}" == f"{b:.3g}"                 # the old rounding reads "23.2 > 23.2"
+    assert cg.compared(x, None, b) == ("23.24", "", "23.235")
+
+
+def test_the_text_prints_the_bands_that_decide_validity(logs, capsys):
+    """The text's mean-NIS bands are those of the model tests (with their tolerance and
+    family-wise level), not another band; the verdict line agrees with the status."""
+    for case, status_expected in (("clean", 0), ("noisy", 3)):
+        status, out, _ = _run(["calibrate", "gc", logs[case], "--latitude", "paper",
+                               "--json"], capsys)
+        data = json.loads(out)
+        assert status == status_expected
+        _, text, _ = _run(["calibrate", "gc", logs[case], "--latitude", "paper"], capsys)
+        for t in data["model_tests"]:
+            if t["test"] == "mean NIS":
+                x, lo, hi = cg.compared(t["statistic"], t["low"], t["high"])
+                assert f"{t['sensor']} {x} {'in' if t['passed'] else 'NOT in'} [{lo}, {hi}]" \
+                    in text
+        verdict = "model fits" if data["valid"] else "model does NOT fit"
+        assert f"\n  {verdict}" in text and "99 % band" not in text

@@ -24,7 +24,7 @@ from gyrolib.cli.constants import (
     PLOT_SUFFIXES,
 )
 from gyrolib.cli.outputs import Outcome, bar_enabled, check_out_path, fmt, progress
-from gyrolib.gc.model.params import MEASUREMENT_NAMES, PAPER_LATITUDE
+from gyrolib.gc.model.params import PAPER_LATITUDE
 from gyrolib.records.errors import OptionError
 from gyrolib.records.params import gc_params_from_toml, load_toml
 from gyrolib.records.reader import GCChunks, read_gc
@@ -499,9 +499,62 @@ def _earth_line(earth: dict) -> str:
     return f"  Earth rate: latitude {earth['latitude_deg']:.6g} deg N ({src}{over}): {rate}"
 
 
+def compared(x: float, lo: float | None, hi: float | None) -> tuple[str, str, str]:
+    """``x``, ``lo`` and ``hi`` formatted with as many significant digits (4 at least, 12 at
+    most) as it takes for the printed numbers to compare as the numbers do, so that no
+    printed comparison reads false ("23.2 > 23.2"); a missing bound prints as "".
+
+    Examples
+    --------
+    >>> compared(23.24, None, 23.2351)
+    ('23.24', '', '23.235')
+    >>> compared(0.99812, 0.998123, 1.0021)
+    ('0.99812', '0.998123', '1.0021')
+    """
+    def ok(d: int) -> bool:
+        fx = float(f"{x:.{d}g}")
+        return all((float(f"{b:.{d}g}") < fx) == (b < x)
+                   and (float(f"{b:.{d}g}") > fx) == (b > x) for b in (lo, hi) if b is not None)
+
+    d = next((d for d in range(4, 13) if ok(d)), 12)
+    return (f"{x:.{d}g}", "" if lo is None else f"{lo:.{d}g}",
+            "" if hi is None else f"{hi:.{d}g}")
+
+
+def _check_lines(res) -> list[str]:
+    """The model checks as the text prints them: every test of :meth:`model_tests` with the
+    band or limit that decides validity (the same tolerance and family-wise level), each
+    comparison rounded so that it reads true, then one verdict line."""
+    tests = res.model_tests()
+    lines = [f"  model checks at a {100 * res.false_alarm:g} % family-wise false-alarm rate "
+             "(the bands that decide validity): " + ("all pass" if not res.misfit
+                                                     else "FAIL")]
+    groups: dict[str, list[str]] = {}
+    failed: list[str] = []
+    for t in tests:
+        x, lo, hi = compared(t["statistic"], t["low"], t["high"])
+        if t["test"] == "mean NIS":
+            key = "mean NIS"
+            shown = f"{t['sensor']} {x} {'in' if t['passed'] else 'NOT in'} [{lo}, {hi}]"
+        elif t["test"].startswith("whiteness"):
+            key = t["test"]
+            shown = f"{t['sensor']} {x} {'<=' if t['passed'] else '>'} {hi}"
+        else:
+            key = "split-record omega_gc, z"
+            shown = (t["test"].split("(", 1)[1].rstrip(")") + f": {x} "
+                     + ("within" if t["passed"] else "outside") + f" ±{hi}")
+        groups.setdefault(key, []).append(shown)
+        if not t["passed"]:
+            failed.append(f"{key}: {shown}")
+    lines += [f"    {key}: " + "; ".join(v) for key, v in groups.items()]
+    lines.append("  model fits: every check passes" if not failed and tests else
+                 "  model does NOT fit: " + "; ".join(failed) if failed else
+                 "  model checks: none (no usable measurement)")
+    return lines
+
+
 def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
              fit_std=0.0, earth=None) -> str:
-    band = res.nis_band()
     lines = [
         f"paper GC calibration of {file}: {res.rows} rows over {res.t_final:.6g} s"
         + (f" ({res.gaps} gap(s), {res.gap_time:.6g} s without rows)" if res.gaps else ""),
@@ -545,12 +598,7 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
         f"  samples used {res.rows_used}, rejected {res.rows_rejected} (an innovation beyond "
         f"the {100 * res.gate:g} % chi-square gate), missing values "
         f"{int(res.missing.sum())}",
-        "  mean NIS (99 % band): " + ", ".join(
-            f"{nm} {res.nis_mean[q]:.4f} [{band[q, 0]:.4f}, {band[q, 1]:.4f}]"
-            for q, nm in enumerate(MEASUREMENT_NAMES)),
-        f"  {res.verdict()}",
-        f"  model checks at a {100 * res.false_alarm:g} % family-wise false-alarm rate: "
-        + ("all pass" if not res.misfit else "FAIL"),
+        *_check_lines(res),
     ]
     lines += [f"  note: {n}" for n in notes]
     return "\n".join(lines) + "\n"
