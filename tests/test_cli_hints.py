@@ -219,3 +219,19 @@ def test_the_text_prints_the_bands_that_decide_validity(logs, capsys):
                     in text
         verdict = "model fits" if data["valid"] else "model does NOT fit"
         assert f"\n  {verdict}" in text and "99 % band" not in text
+
+
+def test_rejected_t_lists_each_row_once_or_says_it_is_truncated(logs, capsys):
+    """``rejected_t`` (issue 34, item 10): each rejected row's time once, in order; when
+    more rows were rejected than it lists, ``rejected_t_truncated`` says so beside the
+    count."""
+    for case in ("clean", "noisy"):
+        _, out, _ = _run(["calibrate", "gc", logs[case], "--latitude", "paper", "--json"],
+                         capsys)
+        d = json.loads(out)
+        listed, count = d["rejected_t"], d["rejected_t_count"]
+        assert listed == sorted(set(listed)) and count == d["samples_rejected"]
+        assert d["rejected_t_truncated"] == (len(listed) < count)
+        assert len(listed) == (count if count <= 100 else 100)
+        if case == "noisy":
+            assert count > 100 and d["rejected_t_truncated"] is True

@@ -472,7 +472,8 @@ def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=Fal
 #: Units of the GC JSON's numeric fields (SI; the ``omega_gc_in`` table is keyed by unit).
 _GC_UNITS: Final[dict[str, str]] = {
     "omega_gc": "rad/s", "omega_gc_std": "rad/s", "t_end": "s", "dt": "s", "gap_time": "s",
-    "rejected_t": "s", "nis": "1", "gate": "1 (probability)", "max_rejected": "1 (share)",
+    "rejected_t": "s", "rejected_t_count": "1 (rows)", "nis": "1", "gate": "1 (probability)",
+    "max_rejected": "1 (share)",
     "rejected_share": "1 (share)", "log_likelihood": "1 (natural log)",
     "states": "SI per state (rad, rad/s, m/s^2)", "time_base.t_offset_s": "s",
     "timestamp_jitter": "s, rad, 1"}
