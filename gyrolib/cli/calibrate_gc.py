@@ -168,8 +168,8 @@ def _time_notes(info, record, params, notes: list[str]) -> dict:
     """Notes on the time base (an absolute clock taken relative) and on time-stamp jitter,
     with what jitter does to paper GC's fit test; returns their JSON fields."""
     out: dict = {"time_base": info.summary() if info is not None else None}
-    if info is not None and info.time_note:
-        notes.append(info.time_note)
+    if info is not None:
+        notes.extend(info.notes)
     jit = _jitter(record.t)
     if jit is None:
         return out

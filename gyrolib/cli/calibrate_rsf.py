@@ -71,7 +71,7 @@ def run_file(file: str, o: dict) -> Outcome:
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
     st = res.eps1_stats()
     rate = units.from_si(res.mean_rate, "deg/s")
-    notes = ([info.time_note] if info.time_note else []) + list(res.notes)
+    notes = info.notes + list(res.notes)
     if res.reverses:
         notes.append(f"the roll rate reverses ({int(np.sum(res.rate > 0))} interval(s) turn "
                      f"one way, {int(np.sum(res.rate < 0))} the other, "

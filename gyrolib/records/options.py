@@ -52,8 +52,10 @@ def add_format_options(p: argparse.ArgumentParser) -> None:
                    help="the file's header names of the record's columns, e.g. "
                         "t=time,angle_sensor=gyro (default: the names themselves)")
     p.add_argument("--t0", type=float, metavar="S",
-                   help="subtract S seconds from every time stamp (default: the first row's "
-                        "time when it is an absolute clock, >= 1000 s; else none)")
+                   help="the time stamp of the feedback switch-off: earlier rows are dropped "
+                        "(the output says how many) and S is subtracted from every time "
+                        "stamp (default: the first row's time when it is an absolute clock, "
+                        ">= 1000 s; else none)")
 
 
 def read_options(args: argparse.Namespace) -> dict:

@@ -36,6 +36,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import decimal
+import difflib
 import gzip
 import io
 import math
@@ -133,7 +134,10 @@ class RecordInfo:
     (s) subtracted from every time stamp, with ``t_offset_source`` ``"none"``, ``"first
     row"`` (an absolute clock, see :data:`ABSOLUTE_TIME`) or ``"t0"`` (given);
     ``t_offset_text`` the offset exactly as subtracted (decimal: the time stamps of an offset
-    clock are read as decimals to 1 ns, the offset subtracted exactly, then rounded once)."""
+    clock are read as decimals to 1 ns, the offset subtracted exactly, then rounded once);
+    ``rows_dropped`` the rows before ``t0`` (given) left out; ``empty_rows`` rows whose every
+    cell read is empty, skipped; ``header_notes`` a note for each column whose header
+    matched only when case is ignored."""
 
     path: str
     delimiter: str
@@ -144,6 +148,9 @@ class RecordInfo:
     t_offset_source: str
     t_offset_text: str = "0"
     t_exact: bool = False
+    rows_dropped: int = 0
+    empty_rows: int = 0
+    header_notes: tuple[str, ...] = ()
 
     @property
     def time_note(self) -> str | None:
@@ -154,15 +161,30 @@ class RecordInfo:
         why = ("an absolute clock (first time stamp >= "
                f"{ABSOLUTE_TIME:g} s): the first row is t = 0, the start of the run (give "
                "t0 otherwise)" if self.t_offset_source == "first row" else "t0 given")
+        dropped = (f"; the {self.rows_dropped} row(s) before it dropped"
+                   if self.t_offset_source == "t0" else "")
         return (f"times taken relative to t0 = {self.t_offset_text} s ({why}"
-                + ("; read as decimals, differences exact to 1 ns)" if self.t_exact else ")"))
+                + ("; read as decimals, differences exact to 1 ns" if self.t_exact else "")
+                + dropped + ")")
+
+    @property
+    def notes(self) -> list[str]:
+        """Every note on how the file was read: the time base, headers matched ignoring
+        case, empty rows skipped."""
+        out = [self.time_note] if self.time_note else []
+        out += list(self.header_notes)
+        if self.empty_rows:
+            out.append(f"{self.empty_rows} empty row(s) (every cell empty, as spreadsheets "
+                       "leave at the end) skipped")
+        return out
 
     def summary(self) -> dict:
         """JSON-ready dict (SI, with units)."""
         return {"delimiter": self.delimiter, "header_line": self.header_line,
                 "columns": dict(self.columns), "latitude_rad": self.latitude,
                 "t_offset_s": self.t_offset, "t_offset_exact": self.t_offset_text,
-                "t_offset_source": self.t_offset_source}
+                "t_offset_source": self.t_offset_source, "rows_dropped": self.rows_dropped,
+                "empty_rows": self.empty_rows}
 
 
 # Reading the lines before the data --------------------------------------------------------
@@ -404,14 +426,28 @@ class _Reader:
         shown = (", ".join(repr(n[:30]) for n in names[:8])
                  + (" ..." if len(names) > 8 else ""))
         sep = _DELIM_NAMES[delim]
+        self.header_notes = []
+        for c, want in list(files.items()):   # a header in another case: matched, noted
+            if want in names:
+                continue
+            same = [n for n in names if n.lower() == want.lower()]
+            if len(same) == 1:
+                files[c] = same[0]
+                self.header_notes.append(f"column {c!r} read from the header {same[0]!r} "
+                                         "(matched ignoring case)")
         missing = [c for c in self.required if files[c] not in names]
         if missing:
             c = missing[0]
             mapped = f" (mapped to {files[c]!r} by columns)" if c in self.mapping else ""
+            close = difflib.get_close_matches(files[c].lower(), [n.lower() for n in names],
+                                              n=1, cutoff=0.6)
+            near = next((n for n in names if close and n.lower() == close[0]), None)
+            mean = f"; did you mean {near!r}?" if near else ""
             raise self._error(f"not in the header{mapped}: expected the columns "
                               f"{', '.join(self.required)} (or map other names, "
-                              f"--columns {c}=NAME); found {shown}, separated by {sep}",
-                              row=line_no, column=c)
+                              f"--columns {c}=NAME); found {shown}, separated by {sep}{mean}",
+                              row=line_no, column=c,
+                              hint=f"--columns {c}={near}" if near else None)
         use = list(self.required)
         if self.one_of:
             present = [c for c in self.one_of if files[c] in names]
@@ -475,6 +511,8 @@ class _Reader:
                 raise self._error(f"expected a number (or an empty cell / nan for a "
                                   f"missing value); got {cell[:40]!r}{hint}", row=line_no,
                                   column=name)
+            if all(math.isnan(x) for x in values):    # an empty row (",,,"): skipped
+                continue
             # the checks of _check, in file order (the fast reader may stop further on)
             if self._decimal_t and math.isfinite(values[0]):
                 values[0] = float(decimal.Decimal(cells[idx[0]].strip()) - self._offset)
@@ -596,7 +634,7 @@ class _Reader:
             ctx = {"header_line": header_line, "delim": delim, "n_fields": len(names),
                    "use": use, "idx": idx}
             t_prev = -math.inf
-            n_rows = 0
+            n_rows = dropped = empty_rows = 0
             pending: list[np.ndarray] = []
             held = 0
             offset, source, exact = self._time_base(delim, idx[0])
@@ -620,14 +658,24 @@ class _Reader:
                 if data is not None:
                     if offset is not None and not exact:
                         data[:, 0] -= float(offset)
-                    self._check(data, n_rows, ctx, t_prev)
+                    empty = np.all(np.isnan(data), axis=1)    # ",,," rows of a spreadsheet
+                    if np.any(empty):
+                        data, empty_rows = data[~empty], empty_rows + int(np.sum(empty))
+                    if source == "t0" and info is None:       # rows before t0: dropped
+                        before = ~(data[:, 0] >= 0.0) & ~np.isnan(data[:, 0])
+                        lead = int(np.argmin(before)) if not np.all(before) else len(data)
+                        data, dropped = data[lead:], dropped + lead
+                    if data.shape[0] == 0:
+                        continue
+                    self._check(data, n_rows + dropped + empty_rows, ctx, t_prev)
                     t_prev = float(data[-1, 0])
                     if info is None:
                         info = self.info = RecordInfo(
                             path=self.label, delimiter=delim, header_line=header_line,
                             columns={c: self.files[c] for c in use}, latitude=self.latitude,
                             t_offset=float(offset or 0.0), t_offset_source=source,
-                            t_offset_text=str(offset or 0), t_exact=exact)
+                            t_offset_text=str(offset or 0), t_exact=exact,
+                            rows_dropped=dropped, header_notes=tuple(self.header_notes))
                     n_rows += data.shape[0]
                     pending.append(data)
                     held += data.shape[0]
@@ -640,7 +688,11 @@ class _Reader:
                 if data is None:
                     break
             if n_rows == 0:
-                raise self._error("has a header but no data rows", row=header_line)
+                raise self._error("has a header but no data rows"
+                                  + (f" at or after t0 = {self.t0:g} s ({dropped} before it)"
+                                     if dropped else ""), row=header_line)
+            if empty_rows and info is not None:
+                self.info = info = dataclasses.replace(info, empty_rows=empty_rows)
         finally:
             stream.close()
             raw.close()

