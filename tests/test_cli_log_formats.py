@@ -33,6 +33,14 @@ def rows() -> list[str]:
             zip(r.t, r.angle_sensor, r.inclinometer_y, r.inclinometer_z)]
 
 
+@pytest.fixture(scope="module")
+def rows20() -> list[str]:
+    """20 s: long enough for the checks at the door to tell a unit (2 s is not)."""
+    r = gc.simulate_record(P, 20.0, seed=3472).record
+    return [f"{t:.3f},{a:.12g},{y:.12g},{z:.12g}" for t, a, y, z in
+            zip(r.t, r.angle_sensor, r.inclinometer_y, r.inclinometer_z)]
+
+
 def _write(path: Path, header: str, rows: list[str], tail: list[str] = ()) -> Path:
     path.write_text("\n".join([header, *rows, *tail]) + "\n")
     return path
@@ -87,3 +95,46 @@ def test_t0_drops_the_earlier_rows_and_says_how_many(rows, tmp_path):
     # without t0 the early rows stay (the check's power)
     rec, info = records.read_gc(path, return_info=True)
     assert rec.n == ref.n + 499 and info.rows_dropped == 0 and info.time_note is None
+
+
+@pytest.mark.parametrize(("col", "scale", "option", "unit"), [
+    (1, 180.0 / np.pi, "--angle-unit", "deg"),
+    (1, 180.0 / np.pi * 3600.0, "--angle-unit", "arcsec"),
+    (0, 1000.0, "--time-unit", "ms"),
+])
+def test_unit_options_convert_and_the_diagnosis_names_them(rows20, tmp_path, capsys, col,
+                                                           scale, option, unit):
+    """A column in another unit: refused at the door with the option to use as the hint
+    (exit 2); read with that option it gives the SI record's estimate."""
+    def scaled(r: str) -> str:
+        f = r.split(",")
+        f[col] = f"{float(f[col]) * scale:.12g}"
+        return ",".join(f)
+
+    ref = _write(tmp_path / "si.csv", HEADER, rows20)
+    path = _write(tmp_path / f"{unit}.csv", HEADER, [scaled(r) for r in rows20])
+    lat = ["--latitude", "paper", "--json"]
+    code, out, err = _run(["calibrate", "gc", path, *lat], capsys)
+    assert code == 2 and json.loads(out)["hint"] == f"try: {option} {unit}"
+    assert f"try: {option} {unit}" in err
+    _, out, _ = _run(["calibrate", "gc", ref, *lat], capsys)
+    want = json.loads(out)["omega_gc"]
+    code, out, _ = _run(["calibrate", "gc", path, *lat, option, unit], capsys)
+    assert code == 0 and json.loads(out)["omega_gc"] == pytest.approx(want, rel=1e-6)
+
+
+def test_inclinometers_in_g(rows20, tmp_path):
+    g = P.g
+
+    def in_g(r: str) -> str:
+        f = r.split(",")
+        return ",".join([f[0], f[1], f"{float(f[2]) / g:.12g}", f"{float(f[3]) / g:.12g}"])
+
+    path = _write(tmp_path / "g.csv", HEADER, [in_g(r) for r in rows20])
+    with pytest.raises(records.RecordError) as exc:
+        records.read_gc(path)
+    assert exc.value.hint == "--accel-unit g"
+    rec = records.read_gc(path, units={"accel": "g"})
+    ref = records.read_gc(_write(tmp_path / "si.csv", HEADER, rows20))
+    np.testing.assert_allclose(rec.inclinometer_y, ref.inclinometer_y * P.g / 9.80665,
+                               rtol=1e-9)

@@ -289,6 +289,7 @@ def run_file(file: str, o: dict) -> Outcome:
     whole = o["fit_noise"] is not None or o["allan"] is not None
     if whole:   # the fit and the Allan deviation read the record many times: in memory
         raw, info = read_gc(file, params=params, columns=o["columns"], t0=o["t0"],
+                            units=o["units"],
                             return_info=True)
         extra = _time_notes(info, raw, params, notes)
         params = _with_step(params, raw.t, notes, o["dt_given"])
@@ -302,7 +303,8 @@ def run_file(file: str, o: dict) -> Outcome:
             res = _calibrate(record, params, o,
                              progress=lambda rows: bar.update(rows - bar.n))
     else:       # stream the file in chunks, each checked at the door
-        chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"])
+        chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"],
+                          units=o["units"])
         it = iter(chunks)
         first = next(it)
         info = chunks.info

@@ -54,6 +54,7 @@ from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 from gyrolib.records.options import parse_columns
 from gyrolib.records.plausibility import check_gc, check_rsf
+from gyrolib.units import UNITS
 
 if TYPE_CHECKING:
     from gyrolib.rsf.record import RSFRecord
@@ -263,6 +264,32 @@ class _Rest:
 
 
 # The reader -------------------------------------------------------------------------------
+#: The kind of each record column a unit option converts (``encoder_counts`` is counts).
+UNIT_KINDS: Final[dict[str, str]] = {
+    "t": "time", "angle_sensor": "angle", "sins_increment": "angle", "gs_angle": "angle",
+    "gs_gyro_angle": "angle", "inclinometer_y": "accel", "inclinometer_z": "accel"}
+#: The units each kind may be read in (names of :data:`gyrolib.units.UNITS`).
+READ_UNITS: Final[dict[str, tuple[str, ...]]] = {
+    "time": ("s", "ms", "us", "µs"), "angle": ("rad", "mrad", "deg", "arcsec"),
+    "accel": ("m/s^2", "mg", "g")}
+
+
+def _unit_factors(units: Mapping[str, str | None] | None) -> dict[str, float]:
+    """``{"time": "ms", ...}`` -> the SI factor of each kind given (``m/s²`` spelt either
+    way); an unknown kind or unit is a ValueError naming the choices."""
+    out: dict[str, float] = {}
+    for kind, unit in (units or {}).items():
+        if unit is None:
+            continue
+        unit = "m/s^2" if unit == "m/s²" else unit
+        if kind not in READ_UNITS or unit not in READ_UNITS[kind]:
+            raise ValueError(f"units: expected {kind!r} in "
+                             f"{', '.join(READ_UNITS.get(kind, ()))} (kinds: "
+                             f"{', '.join(READ_UNITS)}); got {unit!r}")
+        out[kind] = float(UNITS[unit])
+    return out
+
+
 class _Reader:
     """Iterates over a CSV record in chunks of rows ``(columns, data)``, checking as it
     goes; :attr:`info` is set once the first chunk is read."""
@@ -270,7 +297,8 @@ class _Reader:
     def __init__(self, path: object, required: Sequence[str], one_of: Sequence[str] = (),
                  chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = (), *,
                  columns: Mapping[str, str] | None = None, t0: float | None = None,
-                 block_bytes: int = BLOCK_BYTES) -> None:
+                 block_bytes: int = BLOCK_BYTES,
+                 units: Mapping[str, str | None] | None = None) -> None:
         if not isinstance(path, str | os.PathLike):
             raise TypeError(f"path must be a str or path; got {type(path).__name__}")
         self.path = Path(path)
@@ -289,6 +317,7 @@ class _Reader:
         if t0 is not None:
             t0 = v.check_real("t0", t0)
         self.t0 = t0
+        self.units = _unit_factors(units)
         self.fraction = 0.0
         self.first_line: str | None = None
         self._decimal_t = False
@@ -667,6 +696,10 @@ class _Reader:
                         data, dropped = data[lead:], dropped + lead
                     if data.shape[0] == 0:
                         continue
+                    for j, c in enumerate(use):     # --time-unit, --angle-unit, ...
+                        f = self.units.get(UNIT_KINDS.get(c, ""), 1.0)
+                        if f != 1.0:
+                            data[:, j] *= f
                     self._check(data, n_rows + dropped + empty_rows, ctx, t_prev)
                     t_prev = float(data[-1, 0])
                     if info is None:
@@ -701,6 +734,7 @@ class _Reader:
 def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
              optional: Sequence[str] = (), chunk_rows: int = CHUNK_ROWS,
              columns: Mapping[str, str] | None = None, t0: float | None = None,
+             units: Mapping[str, str | None] | None = None,
              ) -> Iterator[tuple[list[str], np.ndarray]]:
     """Chunks ``(columns, data)`` of a CSV record: ``data`` is ``(rows, len(columns))`` float,
     the ``required`` columns in that order, then the one column of ``one_of`` present, then
@@ -723,15 +757,18 @@ def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (
     [(['t', 'x'], [[0.1, 1.5], [0.2, nan]])]
     """
     return iter(_Reader(path, required, one_of, chunk_rows, optional, columns=columns,
+                        units=units,
                         t0=t0))
 
 
 def read_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
              optional: Sequence[str] = (), columns: Mapping[str, str] | None = None,
-             t0: float | None = None, return_info: bool = False):
+             t0: float | None = None, return_info: bool = False,
+             units: Mapping[str, str | None] | None = None):
     """The whole record at once: ``(columns, data)`` as :func:`iter_csv` (and the
     :class:`RecordInfo` as a third item with ``return_info=True``)."""
-    reader = _Reader(path, required, one_of, CHUNK_ROWS, optional, columns=columns, t0=t0)
+    reader = _Reader(path, required, one_of, CHUNK_ROWS, optional, columns=columns, t0=t0,
+                     units=units)
     cols: list[str] = []
     parts = []
     for names, data in reader:
@@ -783,8 +820,10 @@ class GCChunks:
 
     def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS,
                  params: GyrocompassParams | None = None, check: bool = True,
-                 columns: Mapping[str, str] | None = None, t0: float | None = None) -> None:
-        self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows, columns=columns, t0=t0)
+                 columns: Mapping[str, str] | None = None, t0: float | None = None,
+                 units: Mapping[str, str | None] | None = None) -> None:
+        self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows, columns=columns, t0=t0,
+                               units=units)
         self._params = params
         self._check = v.check_bool("check", check)
 
@@ -813,6 +852,7 @@ class GCChunks:
 
 def read_gc(path: object, *, params: GyrocompassParams | None = None, check: bool = True,
             columns: Mapping[str, str] | None = None, t0: float | None = None,
+            units: Mapping[str, str | None] | None = None,
             return_info: bool = False):
     """A whole paper-GC record file (see the module docstring for the format), checked at
     the door (:func:`gyrolib.records.check_gc` with ``params``) unless ``check=False``;
@@ -828,7 +868,8 @@ def read_gc(path: object, *, params: GyrocompassParams | None = None, check: boo
     >>> f"{math.degrees(rec.latitude):.1f}", rec.n
     ('53.9', 2)
     """
-    _, data, info = read_csv(path, GC_COLUMNS, columns=columns, t0=t0, return_info=True)
+    _, data, info = read_csv(path, GC_COLUMNS, columns=columns, t0=t0, return_info=True,
+                             units=units)
     _check_gc_start(str(path), float(data[0, 0]))
     rec = _gc_from(data, info.latitude)
     if v.check_bool("check", check):
@@ -838,6 +879,7 @@ def read_gc(path: object, *, params: GyrocompassParams | None = None, check: boo
 
 def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = True,
              columns: Mapping[str, str] | None = None, t0: float | None = None,
+             units: Mapping[str, str | None] | None = None,
              return_info: bool = False):
     """A whole paper-RSF record file: ``t``, ``sins_increment`` and ``gs_angle`` or
     ``encoder_counts`` (then ``counts_per_rev`` is required), checked at the door
@@ -850,6 +892,7 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = T
     return_info = v.check_bool("return_info", return_info)
     cols, data, info = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
                                 optional=("gs_gyro_angle",), columns=columns, t0=t0,
+                                units=units,
                                 return_info=True)
     if cols[2] == "gs_angle":
         if counts_per_rev is not None:
