@@ -138,3 +138,30 @@ def test_inclinometers_in_g(rows20, tmp_path):
     ref = records.read_gc(_write(tmp_path / "si.csv", HEADER, rows20))
     np.testing.assert_allclose(rec.inclinometer_y, ref.inclinometer_y * P.g / 9.80665,
                                rtol=1e-9)
+
+
+def _comma(line: str) -> str:
+    return ";".join(c.replace(".", ",") for c in line.split(","))
+
+
+def test_decimal_commas_detected_told_or_refused_as_ambiguous(rows, tmp_path):
+    """';' columns with every number written d,d: read with a decimal comma (detected, with
+    a note), the same record as with points; a line mixing d,d and plain integers is
+    ambiguous unless told (decimal_comma=True); commas as separators cannot be decimal."""
+    ref = records.read_gc(_write(tmp_path / "ref.csv", HEADER, rows))
+    path = _write(tmp_path / "dc.csv", HEADER.replace(",", ";"), [_comma(r) for r in rows])
+    rec, info = records.read_gc(path, return_info=True)
+    assert np.array_equal(rec.angle_sensor, ref.angle_sensor)
+    assert np.array_equal(rec.t, ref.t)
+    assert any("decimal comma (detected" in n for n in info.notes)
+    mixed = [_comma(rows[0]).split(";", 1)[0] + ";0;0;0", *(_comma(r) for r in rows[1:])]
+    amb = _write(tmp_path / "amb.csv", HEADER.replace(",", ";"), mixed)
+    with pytest.raises(records.RecordError, match="ambiguous decimal separator") as exc:
+        records.read_gc(amb, check=False)
+    assert exc.value.hint == "--decimal-comma"
+    rec = records.read_gc(amb, check=False, decimal_comma=True)
+    assert rec.t[0] == pytest.approx(ref.t[0]) and rec.angle_sensor[0] == 0.0
+    with pytest.raises(records.RecordError, match="decimal commas need another column"):
+        records.read_gc(_write(tmp_path / "c.csv", HEADER, rows), decimal_comma=True)
+    # points stay points: the plain file is not read with commas (power)
+    assert records.read_gc(tmp_path / "ref.csv", return_info=True)[1].notes == []

@@ -290,6 +290,7 @@ def run_file(file: str, o: dict) -> Outcome:
     if whole:   # the fit and the Allan deviation read the record many times: in memory
         raw, info = read_gc(file, params=params, columns=o["columns"], t0=o["t0"],
                             units=o["units"],
+                            decimal_comma=o["decimal_comma"],
                             return_info=True)
         extra = _time_notes(info, raw, params, notes)
         params = _with_step(params, raw.t, notes, o["dt_given"])
@@ -304,7 +305,7 @@ def run_file(file: str, o: dict) -> Outcome:
                              progress=lambda rows: bar.update(rows - bar.n))
     else:       # stream the file in chunks, each checked at the door
         chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"],
-                          units=o["units"])
+                          units=o["units"], decimal_comma=o["decimal_comma"])
         it = iter(chunks)
         first = next(it)
         info = chunks.info

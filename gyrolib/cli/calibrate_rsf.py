@@ -45,7 +45,8 @@ def _rsf_prediction(res, config):
 
 def run_file(file: str, o: dict) -> Outcome:
     record, info = read_rsf(file, counts_per_rev=o["counts_per_rev"], columns=o["columns"],
-                            t0=o["t0"], units=o["units"], return_info=True)
+                            t0=o["t0"], units=o["units"],
+                            decimal_comma=o["decimal_comma"], return_info=True)
     if record.n < 2:
         raise RecordError(file, "expected at least two data rows")
     span = float(record.t[-1] - record.t[0])

@@ -65,6 +65,10 @@ def add_format_options(p: argparse.ArgumentParser) -> None:
                         "(the output says how many) and S is subtracted from every time "
                         "stamp (default: the first row's time when it is an absolute clock, "
                         ">= 1000 s; else none); in the time column's unit")
+    p.add_argument("--decimal-comma", action="store_true", default=None,
+                   help="the numbers are written with a decimal comma (0,5); default: "
+                        "detected when ';' separates the columns and every number of the "
+                        "first data line is written d,d (some so and some not is refused)")
     what = {"time": "the time column t", "angle": "the angle columns (angle_sensor; "
             "sins_increment, gs_angle, gs_gyro_angle)", "accel": "the inclinometers"}
     for opt, (kind, choices) in UNIT_OPTIONS.items():
@@ -79,8 +83,9 @@ def read_options(args: argparse.Namespace) -> dict:
 
     Examples
     --------
-    >>> read_options(argparse.Namespace(columns="t=time", t0=None, time_unit="ms"))
-    {'columns': {'t': 'time'}, 't0': None, 'units': {'time': 'ms', 'angle': None, 'accel': None}}
+    >>> o = read_options(argparse.Namespace(columns="t=time", t0=None, time_unit="ms"))
+    >>> o["columns"], o["units"]["time"], o["units"]["angle"]
+    ({'t': 'time'}, 'ms', None)
     """
     try:
         columns = parse_columns(args.columns) if args.columns is not None else None
@@ -90,4 +95,5 @@ def read_options(args: argparse.Namespace) -> dict:
         raise OptionError(f"--t0 must be a finite number of seconds; got {args.t0}")
     units = {kind: getattr(args, opt[2:].replace("-", "_"), None)
              for opt, (kind, _) in UNIT_OPTIONS.items()}
-    return {"columns": columns, "t0": args.t0, "units": units}
+    return {"columns": columns, "t0": args.t0, "units": units,
+            "decimal_comma": getattr(args, "decimal_comma", None)}

@@ -122,6 +122,7 @@ NULL_VALUES: Final[tuple[str, ...]] = (
 
 _BOM: Final[bytes] = b"\xef\xbb\xbf"
 _LATITUDE: Final[re.Pattern] = re.compile(r"#\s*latitude_deg\s*[:=]\s*(.*?)\s*$")
+_DECIMAL_COMMA: Final[re.Pattern] = re.compile(r"-?\d+,\d+(?:[eE][-+]?\d+)?")
 _DELIM_NAMES: Final[dict[str, str]] = {",": "commas", "\t": "tabs", ";": "semicolons"}
 
 
@@ -298,7 +299,8 @@ class _Reader:
                  chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = (), *,
                  columns: Mapping[str, str] | None = None, t0: float | None = None,
                  block_bytes: int = BLOCK_BYTES,
-                 units: Mapping[str, str | None] | None = None) -> None:
+                 units: Mapping[str, str | None] | None = None,
+                 decimal_comma: bool | None = None) -> None:
         if not isinstance(path, str | os.PathLike):
             raise TypeError(f"path must be a str or path; got {type(path).__name__}")
         self.path = Path(path)
@@ -318,6 +320,8 @@ class _Reader:
             t0 = v.check_real("t0", t0)
         self.t0 = t0
         self.units = _unit_factors(units)
+        self.decimal_comma = decimal_comma
+        self._comma = False
         self.fraction = 0.0
         self.first_line: str | None = None
         self._decimal_t = False
@@ -423,6 +427,40 @@ class _Reader:
             if line and not line.startswith("#"):
                 return line, extra
 
+    def _decimal_comma(self, delim: str, idx: list[int], header_line: int) -> bool:
+        """Whether the numbers are written with a decimal comma: as told
+        (``decimal_comma``), else detected when the separator is ``;`` and every number of
+        the first data line's columns reads ``-?d+,d+``; some cells so and others not is
+        refused as ambiguous."""
+        if self.decimal_comma is not None:
+            if self.decimal_comma and delim == ",":
+                raise self._error("decimal commas need another column separator (';' or "
+                                  "tabs): the columns are separated by commas",
+                                  row=header_line)
+            comma = bool(self.decimal_comma)
+        else:
+            comma = False
+            if delim == ";" and self.first_line is not None:
+                cells = _fields(self.first_line, delim)
+                vals = [cells[i].strip().strip('"') for i in idx if i < len(cells)]
+                vals = [c for c in vals if c and c.lower() not in NULL_VALUES]
+                hits = [c for c in vals if _DECIMAL_COMMA.fullmatch(c)]
+                if hits and len(hits) == len(vals):
+                    comma = True
+                elif hits:
+                    raise self._error(
+                        f"ambiguous decimal separator: the first data line holds numbers "
+                        f"with a comma ({hits[0]!r}) and without ("
+                        f"{next(c for c in vals if c not in hits)!r}); give --decimal-comma "
+                        "if the commas are decimal points", row=header_line + 1,
+                        hint="--decimal-comma")
+        if comma:
+            self.header_notes.append("numbers read with a decimal comma"
+                                     + ("" if self.decimal_comma else
+                                        " (detected: ';' separates the columns and every "
+                                        "number of the first data line is written d,d)"))
+        return comma
+
     def _wanted(self) -> list[str]:
         return [self.mapping.get(c, c) for c in self.required]
 
@@ -523,6 +561,8 @@ class _Reader:
             values = []
             for name, i in zip(use, idx):
                 cell = cells[i].strip()
+                if self._comma:
+                    cell = cell.replace(",", ".")
                 if name == use[0] and self._decimal_t and _is_number(cell):
                     if not _decimal_time_ok(decimal.Decimal(cell)):
                         raise self._error(
@@ -614,6 +654,7 @@ class _Reader:
                                              invalid_row_handler=invalid),
             convert_options=pacsv.ConvertOptions(
                 column_types=types, include_columns=keep,
+                decimal_point="," if self._comma else ".",
                 null_values=list(NULL_VALUES), quoted_strings_can_be_null=True))
         for batch in reader:
             if batch.num_rows:
@@ -633,7 +674,8 @@ class _Reader:
         if self.first_line is not None:
             cells = _fields(self.first_line, delim)
             try:
-                first = decimal.Decimal(cells[i_t].strip() if i_t < len(cells) else "")
+                cell = cells[i_t].strip() if i_t < len(cells) else ""
+                first = decimal.Decimal(cell.replace(",", ".") if self._comma else cell)
             except decimal.InvalidOperation:
                 first = None
         absolute = (first is not None and first.is_finite() and abs(first) >= ABSOLUTE_TIME
@@ -660,6 +702,7 @@ class _Reader:
                 raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
             use, idx = self._columns(names, header_line, delim)
             self.use = use
+            self._comma = self._decimal_comma(delim, idx, header_line)
             ctx = {"header_line": header_line, "delim": delim, "n_fields": len(names),
                    "use": use, "idx": idx}
             t_prev = -math.inf
@@ -735,6 +778,7 @@ def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (
              optional: Sequence[str] = (), chunk_rows: int = CHUNK_ROWS,
              columns: Mapping[str, str] | None = None, t0: float | None = None,
              units: Mapping[str, str | None] | None = None,
+             decimal_comma: bool | None = None,
              ) -> Iterator[tuple[list[str], np.ndarray]]:
     """Chunks ``(columns, data)`` of a CSV record: ``data`` is ``(rows, len(columns))`` float,
     the ``required`` columns in that order, then the one column of ``one_of`` present, then
@@ -757,18 +801,19 @@ def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (
     [(['t', 'x'], [[0.1, 1.5], [0.2, nan]])]
     """
     return iter(_Reader(path, required, one_of, chunk_rows, optional, columns=columns,
-                        units=units,
+                        units=units, decimal_comma=decimal_comma,
                         t0=t0))
 
 
 def read_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
              optional: Sequence[str] = (), columns: Mapping[str, str] | None = None,
              t0: float | None = None, return_info: bool = False,
-             units: Mapping[str, str | None] | None = None):
+             units: Mapping[str, str | None] | None = None,
+             decimal_comma: bool | None = None):
     """The whole record at once: ``(columns, data)`` as :func:`iter_csv` (and the
     :class:`RecordInfo` as a third item with ``return_info=True``)."""
     reader = _Reader(path, required, one_of, CHUNK_ROWS, optional, columns=columns, t0=t0,
-                     units=units)
+                     units=units, decimal_comma=decimal_comma)
     cols: list[str] = []
     parts = []
     for names, data in reader:
@@ -821,9 +866,10 @@ class GCChunks:
     def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS,
                  params: GyrocompassParams | None = None, check: bool = True,
                  columns: Mapping[str, str] | None = None, t0: float | None = None,
-                 units: Mapping[str, str | None] | None = None) -> None:
+                 units: Mapping[str, str | None] | None = None,
+                 decimal_comma: bool | None = None) -> None:
         self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows, columns=columns, t0=t0,
-                               units=units)
+                               units=units, decimal_comma=decimal_comma)
         self._params = params
         self._check = v.check_bool("check", check)
 
@@ -853,6 +899,7 @@ class GCChunks:
 def read_gc(path: object, *, params: GyrocompassParams | None = None, check: bool = True,
             columns: Mapping[str, str] | None = None, t0: float | None = None,
             units: Mapping[str, str | None] | None = None,
+            decimal_comma: bool | None = None,
             return_info: bool = False):
     """A whole paper-GC record file (see the module docstring for the format), checked at
     the door (:func:`gyrolib.records.check_gc` with ``params``) unless ``check=False``;
@@ -869,7 +916,7 @@ def read_gc(path: object, *, params: GyrocompassParams | None = None, check: boo
     ('53.9', 2)
     """
     _, data, info = read_csv(path, GC_COLUMNS, columns=columns, t0=t0, return_info=True,
-                             units=units)
+                             units=units, decimal_comma=decimal_comma)
     _check_gc_start(str(path), float(data[0, 0]))
     rec = _gc_from(data, info.latitude)
     if v.check_bool("check", check):
@@ -880,6 +927,7 @@ def read_gc(path: object, *, params: GyrocompassParams | None = None, check: boo
 def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = True,
              columns: Mapping[str, str] | None = None, t0: float | None = None,
              units: Mapping[str, str | None] | None = None,
+             decimal_comma: bool | None = None,
              return_info: bool = False):
     """A whole paper-RSF record file: ``t``, ``sins_increment`` and ``gs_angle`` or
     ``encoder_counts`` (then ``counts_per_rev`` is required), checked at the door
@@ -892,7 +940,7 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = T
     return_info = v.check_bool("return_info", return_info)
     cols, data, info = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
                                 optional=("gs_gyro_angle",), columns=columns, t0=t0,
-                                units=units,
+                                units=units, decimal_comma=decimal_comma,
                                 return_info=True)
     if cols[2] == "gs_angle":
         if counts_per_rev is not None:
