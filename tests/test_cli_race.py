@@ -39,9 +39,11 @@ def test_race_with_a_parameter_file(capsys, tmp_path):
     path = tmp_path / "p.toml"
     path.write_text("C_as = 2e-12\n[procedure]\nT_rot = 2.0\nT_settle = 3.0\n"
                     "loop_bandwidth = 1.0\nrate_noise = 6e-17\n", encoding="utf-8")
-    code, out, err = _run(capsys, ["race", "--params", str(path), "--json"])
+    code, out, err = _run(capsys, ["race", "--params", str(path), "--json",
+                                   "--no-thresholds"])
     assert code == 0 and err == ""
     r = json.loads(out)
+    assert r["thresholds"] is None        # not mapped: the verdict at these inputs only
     assert r["params"]["C_as"] == 2e-12 and r["procedure"]["T_rot"] == 2.0
     # GC is slowed by the tenfold angle-sensor noise (its time rises from 24.1 s), and the
     # verdict follows the numbers: fails when the saving misses 50 % against either estimator
@@ -55,6 +57,37 @@ def test_race_text_output(capsys):
     code, out, err = _run(capsys, ["race"])
     assert code == 0 and err == ""
     assert "more than 50 % faster:" in out and "holds under conditions" in out
+    assert "inputs that flip it" in out and "gc.sigma1_sq" in out
+
+
+def test_race_thresholds_for_a_users_own_instrument(capsys, tmp_path):
+    """The map around a user's parameters (here twice the paper's vibration σ1², which
+    alone makes the claim fail): the σ1² threshold moves with the reference (ranges are
+    factors of the given values) and is the same point in SI as at the paper's values."""
+    s1 = gc.GyrocompassParams().sigma1_sq
+    path = tmp_path / "p.toml"
+    path.write_text(f"sigma1_sq = {2 * s1!r}\n", encoding="utf-8")
+    code, out, err = _run(capsys, ["race", "--params", str(path), "--json",
+                                   "--inputs", "gc.sigma1_sq"])
+    assert code == 0 and err == ""
+    r = json.loads(out)
+    assert r["status"] == "fails"
+    (t,) = r["thresholds"]
+    assert t["input"] == "gc.sigma1_sq" and t["holds_when"] == "below"
+    from gyrolib.book.ledger import claims
+
+    (ref,) = [x for x in claims.stored_maps()["gc.faster_percent"].thresholds
+              if x.input == "gc.sigma1_sq"]
+    assert t["value"] == pytest.approx(ref.value, rel=2e-2)   # rtol 1e-2 of the CLI's map
+    assert t["factor"] == pytest.approx(ref.factor / 2, rel=2e-2)
+
+
+def test_race_never_reaching_sigma_c_names_the_ceiling(capsys, tmp_path):
+    path = tmp_path / "k.toml"
+    path.write_text("sigma_hf_scale = 1e-3\n", encoding="utf-8")
+    code, out, _ = _run(capsys, ["race", "--params", str(path), "--no-thresholds"])
+    assert code == 0 and "GC never reaches σ_c" in out and "ceiling" in out
+    assert "undefined" not in out
 
 
 @pytest.mark.parametrize(("text", "words"), [

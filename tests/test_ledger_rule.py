@@ -222,15 +222,21 @@ def test_the_race_claim_fails_where_the_rival_is_fast():
     r = gcm.race(None, proc)
     cond = r.conditions()
     assert r.faster_percent_optimal < 50.0 and not cond.holds_at_reference
-    status, text = lgc.race_status(cond)
-    assert status == "fails" and "does not with" in text and "from" in text
-    item = lgc._faster_percent(r, cond, lgc.study_evidence(gcm.GyrocompassParams()))
-    assert item.status == "fails" and item.conditions == text
+    from gyrolib.book.ledger.claims import verdict
+
+    v = verdict("gc.faster_percent", lgc._objects(r.params, proc),
+                context=cond.reference_text())
+    assert v.status == "fails" and "does not with" in v.conditions
+    assert v.judged["mapped"] is False and v.judged["margin"] < 0
+    item = lgc._faster_percent(r.params, r, cond,
+                               lgc.study_evidence(gcm.GyrocompassParams()))
+    assert item.status == "fails" and item.conditions == v.conditions
 
 
 def test_every_claim_of_the_ledger_goes_through_the_one_rule():
-    """Each claim builder of both paper modules calls judge_claim (directly or through the
-    race's race_status), and no claim builder writes a status literal of its own."""
+    """Each claim builder of both paper modules calls the one rule (``verdict``, the map over
+    the table of inputs, or ``judge_claim`` for the one claim judged by its own sweeps), and no
+    claim builder writes a status literal of its own."""
     for name in ("gc.py", "rsf.py"):
         tree = ast.parse((LEDGER / name).read_text(encoding="utf-8"))
         funcs = {n.name: n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)}
@@ -238,7 +244,8 @@ def test_every_claim_of_the_ledger_goes_through_the_one_rule():
         def called(node):
             return {c.func.id for c in ast.walk(node) if isinstance(c, ast.Call)
                     and isinstance(c.func, ast.Name)}
-        rule = {"judge_claim"} | {f for f, n in funcs.items() if "judge_claim" in called(n)}
+        rule = {"judge_claim", "verdict"} | {f for f, n in funcs.items()
+                                             if called(n) & {"judge_claim", "verdict"}}
         for fname, node in funcs.items():
             src = ast.get_source_segment((LEDGER / name).read_text(encoding="utf-8"), node)
             if 'kind="claim"' not in src:

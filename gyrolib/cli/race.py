@@ -2,8 +2,9 @@
 
 Paper GC's method against the rate-sensor method it replaces (its ref. [3]) for a user's own
 instrument: both methods' times to σ_c and the verdict on "more than 50 % faster" by the
-ledger's one rule for claims (:func:`gyrolib.book.ledger.item.judge_claim`), at the given
-parameters (the reference point) and over :data:`gyrolib.gc.RACE_RANGES`.
+ledger's one rule for claims, at the given parameters (the reference point) and over the
+table of inputs (:mod:`gyrolib.inputs`, ranges as factors of the given values): every input
+that flips the verdict, and where.
 
 The TOML file's top-level keys are fields of :class:`gyrolib.gc.GyrocompassParams` (SI, e.g.
 ``C_as = 2e-13``, ``sigma_hf_scale = 5e-5``); a table ``[procedure]`` holds fields of
@@ -34,6 +35,14 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                    help="GyrocompassParams fields at the top level, RateSensorProcedure "
                    "fields in a [procedure] table (SI); default: the paper's and the book's")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.add_argument("--no-thresholds", action="store_true",
+                   help="skip the map over the table of inputs (the verdict at the given "
+                   "parameters only; seconds instead of minutes)")
+    p.add_argument("--inputs", metavar="NAMES", default=None,
+                   help="comma-separated rows of the table to vary (default: every input the "
+                   "race reads; see python -m gyrolib claims)")
+    p.add_argument("--workers", type=int, default=1, metavar="K",
+                   help="worker processes for the map (default 1)")
 
 
 def _replace(label: str, obj: object, values: dict, where: str) -> object:
@@ -72,7 +81,8 @@ def _num(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
 
 
-def race_report(params=None, procedure=None) -> dict:
+def race_report(params=None, procedure=None, *, thresholds: bool = True,
+                inputs: tuple[str, ...] | None = None, executor=None) -> dict:
     """The race and its verdict as a plain dict (the ``--json`` output).
 
     Parameters
@@ -81,30 +91,64 @@ def race_report(params=None, procedure=None) -> dict:
         Paper GC's parameters (default: the paper's).
     procedure : RateSensorProcedure, optional
         The rival's procedure and sensor (default: the book's).
+    thresholds : bool, default True
+        Map the claim over the table of inputs around these parameters (the book's stored
+        map at the reference point; else computed: a few minutes on one core).
+    inputs : tuple of str, optional
+        The rows to vary (default: every row the race reads).
+    executor : concurrent.futures.Executor, optional
+        Where the map's sweeps run.
 
     Returns
     -------
     dict
         ``t_c_gc``, ``t_c_rate_sensor``, ``t_c_rate_sensor_optimal`` (s; ``None``: not
         reached), ``faster_percent``, ``faster_percent_optimal`` (%), ``status`` (by the
-        ledger's one rule for claims), ``conditions`` (readable sentences), ``kappa_max``,
-        ``kappa_ceiling`` (GC's H/f tolerance), ``holds_at_reference``,
-        ``holds_over_ranges``.
+        ledger's one rule for claims), ``conditions`` (readable sentences), ``reference``,
+        ``thresholds`` (each ``{input, value, factor, unit, holds_when}``),
+        ``share_holding``, ``readings`` (``None`` without the map), ``kappa_max``,
+        ``kappa_ceiling`` (GC's H/f tolerance and the κ above which GC never reaches σ_c),
+        ``gc_reaches_sigma_c``.
 
     Examples
     --------
     >>> r = race_report()
     >>> r["status"], f"{r['t_c_gc']:.1f} s", f"{r['t_c_rate_sensor_optimal']:.1f} s"
     ('holds under conditions', '24.1 s', '56.4 s')
+    >>> sorted({t["input"] for t in r["thresholds"]} & {"gc.sigma1_sq", "gc.sigma_hf_scale"})
+    ['gc.sigma1_sq', 'gc.sigma_hf_scale']
     """
     from gyrolib import gc
-    from gyrolib.book.ledger.item import judge_claim
+    from gyrolib import inputs as table
+    from gyrolib.book.ledger import claims
+    from gyrolib.claim_map import Claim, map_claim
 
     result = gc.race(params, procedure)
     cond = result.conditions()
-    status, conditions = judge_claim(cond.holds_at_reference,
-                                     cond.holds_at_reference and cond.holds_over_ranges,
-                                     cond.text())
+    objs = {**table.reference_objects(), "GyrocompassParams": result.params,
+            "RateSensorProcedure": result.procedure}
+    claim = claims.CLAIMS["gc.faster_percent"]
+    if inputs is not None:
+        claim = Claim(claim.id, claim.margin, tuple(inputs), claim.meaning, claim.unit)
+    at_reference = inputs is None and all(
+        objs[k] == v for k, v in table.reference_objects().items())
+    if not thresholds:
+        v = claims.verdict(claim.id, objs, context=cond.reference_text())
+        status, conditions, judged = v.status, v.conditions, v.judged
+    else:
+        m = (claims.stored_maps()[claim.id] if at_reference else
+             map_claim(claim, objs, n_grid=5, rtol=1e-2, n_box=0, executor=executor))
+        judged = {**m.to_dict(), "mapped": True}
+        status = m.status
+        conditions = ("" if status == "holds" else
+                      f"{m.conditions()} {cond.reference_text()}".strip())
+    reaches = bool(math.isfinite(result.t_c_gc))
+    if not reaches:
+        conditions = (f"GC's method never reaches σ_c: its scale's drift κ·Ω_h alone is "
+                      f"{result.params.scale_drift_sigma / result.procedure.sigma_c:.2g} σ_c "
+                      f"(κ = {result.params.sigma_hf_scale:.3g} against the ceiling σ_c/Ω_h "
+                      f"= {cond.kappa_ceiling:.3g}), or its filter does not get there within "
+                      f"{result.procedure.t_max:g} s. {conditions}").strip()
     return {
         "t_c_gc": _num(result.t_c_gc),
         "t_c_rate_sensor": _num(result.t_c_rate_sensor),
@@ -113,9 +157,10 @@ def race_report(params=None, procedure=None) -> dict:
         "faster_percent": _num(result.faster_percent),
         "faster_percent_optimal": _num(result.faster_percent_optimal),
         "claim": "GC's method is more than 50 % faster than the rate-sensor method",
-        "status": status, "conditions": conditions,
-        "holds_at_reference": cond.holds_at_reference,
-        "holds_over_ranges": cond.holds_over_ranges,
+        "status": status, "conditions": conditions, "gc_reaches_sigma_c": reaches,
+        "reference": judged.get("reference"), "thresholds": judged.get("thresholds"),
+        "share_holding": judged.get("share_holding"), "readings": judged.get("readings"),
+        "margin": judged.get("margin"),
         "kappa_max": _num(cond.kappa_max), "kappa_ceiling": _num(cond.kappa_ceiling),
         "params": {k: v for k, v in dataclasses.asdict(result.params).items()},
         "procedure": {k: v for k, v in dataclasses.asdict(result.procedure).items()},
@@ -127,7 +172,7 @@ def _text(r: dict) -> str:
         return "not reached" if x is None else f"{x:.1f} s"
 
     def pct(x):
-        return "undefined" if x is None else f"{x:.0f} %"
+        return "GC never reaches σ_c" if x is None else f"{x:.0f} %"
     lines = [
         f"GC's method:                          {t(r['t_c_gc'])}",
         f"rate-sensor method, classical:        {t(r['t_c_rate_sensor'])}"
@@ -136,6 +181,15 @@ def _text(r: dict) -> str:
         f"  (GC faster by {pct(r['faster_percent_optimal'])})",
         f"more than 50 % faster:                {r['status']}",
     ]
+    if r["thresholds"]:
+        from gyrolib import inputs as table
+
+        lines += ["", "inputs that flip it, each varied alone (the others as given):"]
+        for t in r["thresholds"]:
+            row = table.row(t["input"])
+            fac = "" if t["factor"] is None else f"  (× {t['factor']:.3g})"
+            lines.append(f"  {row.symbol:<14} {t['input']:<24} holds {t['holds_when']} "
+                         f"{row.show(t['value'])}{fac}")
     if r["conditions"]:
         lines.append("")
         lines.append(r["conditions"])
@@ -145,15 +199,36 @@ def _text(r: dict) -> str:
 def run(args: argparse.Namespace) -> int:
     """Print the race and its verdict; status 0, or 2 with one line on stderr for a bad
     parameter file."""
+    executor = None
     try:
         params, proc = _inputs(args.params)
-        report = race_report(params, proc)
+        names = None if args.inputs is None else tuple(
+            n.strip() for n in args.inputs.split(",") if n.strip())
+        if names is not None:
+            from gyrolib import inputs as table
+
+            for n in names:
+                table.row(n)
+        if args.workers < 1:
+            raise _UsageError("--workers must be >= 1")
+        if args.workers > 1 and not args.no_thresholds:
+            from concurrent.futures import ProcessPoolExecutor
+
+            executor = ProcessPoolExecutor(args.workers)
+        report = race_report(params, proc, thresholds=not args.no_thresholds, inputs=names,
+                             executor=executor)
+    except KeyError as exc:
+        sys.stderr.write(f"python -m gyrolib race: error: --inputs: {exc.args[0]}\n")
+        return 2
     except _UsageError as exc:
         sys.stderr.write(f"python -m gyrolib race: error: {' '.join(str(exc).split())}\n")
         return 2
     except (TypeError, ValueError) as exc:
         sys.stderr.write(f"python -m gyrolib race: error: {' '.join(str(exc).split())}\n")
         return 2
+    finally:
+        if executor is not None:
+            executor.shutdown()
     sys.stdout.write(json.dumps(report, indent=1, ensure_ascii=False) + "\n" if args.json
                      else _text(report))
     return 0

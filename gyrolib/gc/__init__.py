@@ -163,19 +163,21 @@ from gyrolib.gc.model import (
 )
 from gyrolib.gc.racing import (
     PROCEDURE_TARGETS,
-    RACE_RANGES,
     RS_STATE_NAMES,
     VIBRATION_FRAMES,
     OptimalRun,
     RaceConditions,
     RaceResult,
     RaceSweep,
+    RaceVerdictGrid,
     RateSensorModel,
     RateSensorMonteCarlo,
     RateSensorProcedure,
     procedure_for_time,
     race,
+    race_margin,
     race_sweep,
+    race_verdict_grid,
     rate_sensor_model,
     rate_sensor_monte_carlo,
     turn_accuracy_limit,
@@ -198,6 +200,7 @@ _PLOTS = frozenset({
     "plot_p0_scale",
     "plot_race",
     "plot_race_sweep",
+    "plot_race_verdict",
     "plot_shaping_psd",
     "plot_sigma_history",
     "plot_speed_claim",
@@ -246,6 +249,7 @@ __all__ = [
     "RaceConditions",
     "RaceResult",
     "RaceSweep",
+    "RaceVerdictGrid",
     "RateSensorModel",
     "RateSensorMonteCarlo",
     "RateSensorProcedure",
@@ -299,6 +303,7 @@ __all__ = [
     "plot_p0_scale",
     "plot_race",
     "plot_race_sweep",
+    "plot_race_verdict",
     "plot_shaping_psd",
     "plot_sigma_history",
     "plot_speed_claim",
@@ -310,7 +315,9 @@ __all__ = [
     "psd_two_sided",
     "psi_for_drift",
     "race",
+    "race_margin",
     "race_sweep",
+    "race_verdict_grid",
     "random_drift_filter",
     "rate_sensor_model",
     "rate_sensor_monte_carlo",
@@ -346,7 +353,12 @@ __all__ = [
 def __getattr__(name: str):
     """``gc.symbolic``, ``gc.plots`` and its ``gc.plot_*``, imported on first access (an
     ``import`` statement: ``from gyrolib.gc import plots`` would look the name up here
-    first, and recurse)."""
+    first, and recurse); ``gc.RACE_RANGES``, read from the table of inputs on first use
+    (:mod:`gyrolib.inputs` imports this package's dataclasses)."""
+    if name == "RACE_RANGES":
+        from gyrolib.gc.racing import comparison
+
+        return comparison.RACE_RANGES
     if name == "symbolic":
         import gyrolib.gc.model.symbolic as symbolic
 

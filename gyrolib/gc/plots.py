@@ -81,6 +81,7 @@ __all__ = [
     "plot_p0_scale",
     "plot_race",
     "plot_race_sweep",
+    "plot_race_verdict",
     "plot_shaping_psd",
     "plot_sigma_history",
     "plot_speed_claim",
@@ -944,6 +945,58 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     ax.set_ylabel("time to σ_c (s)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
+    return fig
+
+
+@page_figure
+def plot_race_verdict(grid, *, thresholds: Mapping[str, float] | None = None) -> Figure:
+    """Where "more than 50 % faster" holds: the race's margin (the smaller saving over the
+    rival's two estimators minus 50 %) against the vibration variance σ1², one line per
+    angle-sensor intensity C_as, one panel per reading of the printed noise levels (stacked,
+    so that one image serves a phone and a page).  Above zero the claim holds; the
+    reference point (the paper's σ1² and C_as under the book's reading) is marked.
+
+    Parameters
+    ----------
+    grid : RaceVerdictGrid
+        From :func:`gyrolib.gc.race_verdict_grid`.
+    thresholds : mapping, optional
+        Reading → the σ1² factor where the claim flips at the paper's C_as (a vertical line).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from gyrolib.gc.racing.verdict_grid import RaceVerdictGrid
+
+    g = v.check_instance("grid", grid, RaceVerdictGrid)
+    names = {"intensity_over_dt": "the book's reading: R = C/dt",
+             "variance": "the other reading: R = C"}
+    n = len(g.readings)
+    fig = Figure(figsize=(5.0, 2.6 * n + 0.4), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(n, 1, sharex=True))
+    colors = {0.1: "C2", 1.0: "C0", 10.0: "C3"}
+    for ax, r, m in zip(axes, g.readings, g.margin, strict=True):
+        for c, row in zip(g.cas_factors, m, strict=True):
+            clipped = np.maximum(row, -60.0)
+            ax.plot(g.sigma1_factors, clipped, "-o", ms=3,
+                    color=colors.get(float(c), None), label=f"C_as × {c:g}")
+        ax.axhline(0.0, color="k", lw=1.0)
+        ax.axhspan(0.0, 60.0, color="C2", alpha=0.08)
+        i = int(np.argmin(np.abs(g.cas_factors - 1.0)))
+        j = int(np.argmin(np.abs(g.sigma1_factors - 1.0)))
+        ax.plot([1.0], [m[i, j]], marker="*", ms=12, color="k", zorder=5,
+                label="paper's σ1², C_as")
+        if thresholds and r in thresholds and np.isfinite(thresholds[r]):
+            ax.axvline(thresholds[r], color="C0", ls=":", lw=1.2,
+                       label=f"flips at σ1² × {thresholds[r]:.3g}")
+        ax.set_xscale("log")
+        ax.set_ylim(-62.0, 55.0)
+        ax.set_ylabel("saving − 50 (%)")
+        ax.set_title(names.get(r, r), fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8, loc="lower left")
+    axes[-1].set_xlabel("σ1² as a factor of the paper's")
     return fig
 
 

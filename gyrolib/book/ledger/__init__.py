@@ -37,10 +37,11 @@ from gyrolib.book.ledger.item import (
     printed_verdict,
 )
 
-__all__ = ["KINDS", "KIND_PLURALS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "TITLE",
-           "Candidate", "LedgerItem", "agrees", "anchor", "citation", "collect",
-           "entries_markdown", "format_value", "half_unit", "kinds_markdown", "printed_verdict",
-           "rounded", "summary", "table_markdown", "to_csv", "to_json", "to_table"]
+__all__ = ["KINDS", "KIND_PLURALS", "MAP_FIELDS", "SCHEMA_VERSION", "STATUSES",
+           "STATUSES_BY_KIND", "STATUS_MARKS", "TITLE", "Candidate", "LedgerItem", "agrees",
+           "anchor", "citation", "claim_map_markdown", "collect", "entries_markdown",
+           "format_value", "half_unit", "kinds_markdown", "printed_verdict", "rounded",
+           "summary", "table_markdown", "to_csv", "to_json", "to_table"]
 
 #: The book's title, as cited with the ledger's data files.
 TITLE = "Gyro calibration, reproduced"
@@ -139,31 +140,60 @@ def rounded(value: float | str | None, precision: int) -> float | str | None:
     return float(f"{v.check_real('value', value):.{precision}g}")
 
 
+#: The version of the ledger's file format (JSON and CSV).  2: each claim carries
+#: ``reference``, ``thresholds``, ``share_holding`` and ``readings`` (release 0.3.0's files,
+#: without these fields, are version 1).
+SCHEMA_VERSION = 2
+
+#: The fields a claim's map adds to its record (``None`` for the other kinds).
+MAP_FIELDS = ("reference", "thresholds", "share_holding", "readings", "margin", "mapped")
+
+
+def _sig(x: object, digits: int = 4) -> object:
+    """Floats in a claim's map at ``digits`` significant digits (the same on every CPU)."""
+    if isinstance(x, float):
+        return float(f"{x:.{digits}g}")
+    if isinstance(x, dict):
+        return {k: _sig(val, digits) for k, val in x.items()}
+    if isinstance(x, list | tuple):
+        return [_sig(val, digits) for val in x]
+    return x
+
+
 def _record(it: LedgerItem) -> dict[str, object]:
     d = asdict(it)
     d.pop("anchor")
+    judged = d.pop("judged") or {}
     d["reproduced_value"] = rounded(it.reproduced_value, it.precision)
+    for key in MAP_FIELDS:
+        d[key] = _sig(judged.get(key)) if it.kind == "claim" else None
     return d
 
 
 def to_json(items: list[LedgerItem]) -> str:
-    """The ledger as one JSON object: ``{"title", "version", "items": [...]}``, every value
-    rounded to its item's precision, so that the text is the same on every machine."""
+    """The ledger as one JSON object: ``{"title", "version", "schema_version", "items":
+    [...]}``, every value rounded to its item's precision (a claim's map to four significant
+    digits), so that the text is the same on every machine."""
     items = _check_items(items)
-    doc = {"title": TITLE, "version": gyrolib.__version__,
+    doc = {"title": TITLE, "version": gyrolib.__version__, "schema_version": SCHEMA_VERSION,
            "items": [_record(it) for it in items]}
     return json.dumps(doc, indent=2, ensure_ascii=False, sort_keys=False) + "\n"
 
 
 def to_csv(items: list[LedgerItem]) -> str:
-    """The ledger as CSV: a ``# <title> <version>`` comment line, a header, one row per item
-    (values rounded to each item's precision)."""
+    """The ledger as CSV: a ``# <title> <version> (schema N)`` comment line, a header, one
+    row per item (values rounded to each item's precision; a claim's map fields as JSON
+    text)."""
     items = _check_items(items)
     buf = io.StringIO()
-    buf.write(f"# {TITLE} {gyrolib.__version__}\n")
+    buf.write(f"# {TITLE} {gyrolib.__version__} (schema {SCHEMA_VERSION})\n")
     records = [_record(it) for it in items]
-    names = [f.name for f in fields(LedgerItem) if f.name != "anchor"]
-    writer = csv.DictWriter(buf, fieldnames=names, lineterminator="\n")
+    for r in records:  # a claim's map as JSON text in its cell (empty for the other kinds)
+        for key in MAP_FIELDS:
+            r[key] = "" if r[key] is None else json.dumps(r[key], ensure_ascii=False,
+                                                          sort_keys=True)
+    names = [f.name for f in fields(LedgerItem) if f.name not in ("anchor", "judged")]
+    writer = csv.DictWriter(buf, fieldnames=[*names, *MAP_FIELDS], lineterminator="\n")
     writer.writeheader()
     writer.writerows(records)
     return buf.getvalue()
@@ -297,6 +327,35 @@ def citation(item: LedgerItem) -> str:
             f"(ledger.html#{anchor(it.id)}).")
 
 
+def claim_map_markdown(item: LedgerItem) -> str:
+    """A claim's map over the table of inputs as a compact MyST table: each input that flips
+    it (the threshold, on which side it holds), the status under each reading, and the share
+    of the box of uncertain inputs that holds (with its 95 % interval).  Empty for an item
+    that is not a mapped claim."""
+    from gyrolib import inputs as _inputs
+
+    it = v.check_instance("item", item, LedgerItem)
+    j = it.judged or {}
+    if it.kind != "claim" or not j.get("mapped"):
+        return ""
+    rows = ["| input | where it flips | the claim holds |", "| --- | --- | --- |"]
+    for t in j["thresholds"]:
+        r = _inputs.row(t["input"])
+        fac = "" if t["factor"] is None else f" (× {t['factor']:.3g})"
+        rows.append(f"| {_md_escape(r.symbol)} `{t['input']}` | {r.show(t['value'])}{fac} | "
+                    f"{t['holds_when']} |")
+    for name, st in j["readings"].items():
+        r = _inputs.row(name)
+        rows.append(f"| {_md_escape(r.symbol)} `{name}` (reading) | "
+                    + ", ".join(f"{k}: {val}" for k, val in st.items()) + " | — |")
+    share = j.get("share_holding")
+    if share:
+        rows.append(f"| the box of uncertain inputs | {share['n']} points, seed "
+                    f"{share['seed']} | {100 * share['value']:.0f} % of them (95 %: "
+                    f"{100 * share['lo']:.0f}–{100 * share['hi']:.0f} %) |")
+    return "\n".join(rows) if len(rows) > 2 else ""
+
+
 def entries_markdown(items: list[LedgerItem], paper: str) -> str:
     """One labelled entry per item of ``paper`` (the target of ``ledger.html#<anchor>``):
     quantity, where it is shown, the note, and the citation line in a copyable block."""
@@ -306,7 +365,9 @@ def entries_markdown(items: list[LedgerItem], paper: str) -> str:
     out = []
     for it in items:
         if it.paper == paper:
+            table = claim_map_markdown(it)
+            table = f"\n\n{table}" if table else ""
             out.append(f"({it.id})=\n**`{it.id}`** — {_md_escape(it.quantity)} "
                        f"({{ref}}`{_md_escape(it.location)} <{it.target}>`). "
-                       f"{_md_escape(it.note)}\n\n```text\n{citation(it)}\n```\n")
+                       f"{_md_escape(it.note)}{table}\n\n```text\n{citation(it)}\n```\n")
     return "\n".join(out)

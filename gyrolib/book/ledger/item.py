@@ -11,21 +11,28 @@ A print stored as a float is read at its shortest representation (``4590.0`` is 
 verdict does not depend on the CPU.  A tolerance that differs from the rule is never implicit:
 :func:`agrees` refuses one without a reason, and the item's evidence quotes it.
 
-**The one rule for every claim** (:func:`judge_claim`).  A claim is judged at its *reference
-point* — the paper's own example where it gives one, else the book's defended defaults — and
-over the *plausible ranges* the item states: "holds" when it holds there and everywhere in the
-ranges; "holds under conditions" when it holds there but not everywhere (the conditions say
-where it stops); "fails" when it fails there (the conditions say where, if anywhere, it
-would hold).  No claim's status is set any other way.
+**The one rule for every claim** (:func:`judge_claim`, applied by
+:func:`gyrolib.claim_map.map_claim` over the table of inputs :mod:`gyrolib.inputs`).  A claim
+is judged at its *reference point* — every input at its reference value, set for each kind of
+input by the table's one written rule — and over the table: "holds" when it holds at the
+reference point, at every one-at-a-time point of every input's range, at every sampled point
+of the box of uncertain inputs and under every reading; "holds under conditions" when it
+holds at the reference point but some input flips it (the conditions name each input and
+where); "fails" when it fails at the reference point (the conditions say where, if anywhere,
+it would hold).  A claim about several printed points (times, rates) holds at a point only if
+it holds at every printed point.  The item's ``judged`` carries the evidence: the reference
+values, the thresholds, the share of the box that holds (with its 95 % interval) and the
+status under each reading.  A qualitative claim that no computation can decide is "not
+decidable", with the reason.  No claim's status is set any other way.
 
 **Verdicts of a printed number from its candidates** (:func:`printed_verdict`).  The book's
 consistent computation is compared first; where it does not agree, every *candidate cause*
 the book can name (a truncation, a unit slip, an unstated reading of the paper) is computed
-and compared by the same rule.  "differs: cause shown" only when every candidate gives the
-print (the print is explained whichever of them is true); "differs: bracketed" when some do
-and others do not, or none does but the print lies between the candidates' values (where the
-candidates are readings of a choice the paper leaves open, the book's own reading among
-them); "not reproducible" otherwise.
+and compared by the same rule.  "differs: cause shown" when any candidate gives the print
+(the print follows from that cause; a candidate that misses is refuted by this print, and the
+evidence says which); "differs: bracketed" when none does but the print lies between the
+candidates' values (where the candidates are readings of a choice the paper leaves open, the
+book's own reading among them); "not reproducible" otherwise.
 """
 
 from __future__ import annotations
@@ -49,9 +56,9 @@ __all__ = ["KINDS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "Candidate",
 #: * ``figure`` — a figure (redrawn by code; its printed numbers are items of their own);
 #: * ``claim`` — a verbal claim (faster, holds when…, compensates…).
 #:
-#: ``differs: cause shown`` only where every candidate cause the book names gives the printed
-#: value; ``differs: bracketed`` where only some do, or where the printed value lies inside the
-#: range spanned by the paper's unstated choices but no candidate gives it (see
+#: ``differs: cause shown`` where any candidate cause the book names gives the printed value
+#: (the others are refuted by the print); ``differs: bracketed`` where none does but the
+#: printed value lies inside the range spanned by the candidates' values (see
 #: :func:`printed_verdict`).
 STATUSES_BY_KIND: dict[str, tuple[str, ...]] = {
     "printed number": ("reproduced", "differs: cause shown", "differs: bracketed",
@@ -59,7 +66,7 @@ STATUSES_BY_KIND: dict[str, tuple[str, ...]] = {
     "input": ("input",),
     "inferred": ("inferred",),
     "figure": ("redrawn",),
-    "claim": ("holds", "holds under conditions", "fails"),
+    "claim": ("holds", "holds under conditions", "fails", "not decidable"),
 }
 KINDS: tuple[str, ...] = tuple(STATUSES_BY_KIND)
 #: Every allowed value of :attr:`LedgerItem.status`.
@@ -76,10 +83,12 @@ STATUS_MARKS: dict[str, str] = {
     "holds": "{bdg-success}`holds`",
     "holds under conditions": "{bdg-warning}`holds under conditions`",
     "fails": "{bdg-danger}`fails`",
+    "not decidable": "{bdg-secondary}`not decidable`",
 }
 #: Claim statuses that carry conditions (:func:`judge_claim`): required for "holds under
-#: conditions" (where it stops holding) and for "fails" (where, if anywhere, it would hold).
-_WITH_CONDITIONS = ("holds under conditions", "fails")
+#: conditions" (where it stops holding), for "fails" (where, if anywhere, it would hold) and
+#: for "not decidable" (why no computation can decide it).
+_WITH_CONDITIONS = ("holds under conditions", "fails", "not decidable")
 
 
 def _is_real(value: object) -> bool:
@@ -98,7 +107,9 @@ class LedgerItem:
     :func:`judge_claim`, the one rule for claims), ``evidence`` in one line what computation
     decides the status, and ``precision`` the significant digits to which
     ``reproduced_value`` is reported and cited (the same on every CPU: see
-    :func:`gyrolib.book.ledger.rounded`).
+    :func:`gyrolib.book.ledger.rounded`).  ``judged`` (claims only): the claim over the table
+    of inputs, ``{"reference", "thresholds", "share_holding", "readings", ...}``
+    (:meth:`gyrolib.claim_map.ClaimMap.to_dict`, or ``None`` where a claim is not mapped).
 
     Examples
     --------
@@ -124,6 +135,7 @@ class LedgerItem:
     conditions: str = ""
     precision: int = 4
     anchor: str = ""
+    judged: dict | None = None
 
     @property
     def target(self) -> str:
@@ -133,7 +145,7 @@ class LedgerItem:
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            if f.name not in ("paper_value", "reproduced_value", "precision"):
+            if f.name not in ("paper_value", "reproduced_value", "precision", "judged"):
                 value = getattr(self, f.name)
                 if not isinstance(value, str):
                     raise TypeError(f"{f.name} must be a str; got {type(value).__name__}")
@@ -155,6 +167,13 @@ class LedgerItem:
                 or not 1 <= self.precision <= 15):
             raise ValueError(f"precision of {self.id} must be an int in [1, 15]; "
                              f"got {self.precision!r}")
+        if self.judged is not None:
+            if self.kind != "claim" or not isinstance(self.judged, dict):
+                raise ValueError(f"judged of {self.id} must be a dict, and only for a claim")
+            missing = {"reference", "thresholds", "share_holding", "readings"} - set(
+                self.judged)
+            if missing:
+                raise ValueError(f"judged of {self.id} lacks {sorted(missing)}")
         if self.paper not in ("GC", "RSF"):
             raise ValueError(f"paper must be 'GC' or 'RSF'; got {self.paper!r}")
         pv = self.paper_value
@@ -356,9 +375,10 @@ def judge_claim(holds_at_reference: bool, holds_over_ranges: bool,
                 conditions: str = "") -> tuple[str, str]:
     """The status of a claim by the ledger's one rule, and the conditions the item carries.
 
-    * ``"holds"``: it holds at the reference point and over the plausible ranges;
-    * ``"holds under conditions"``: it holds at the reference point but not everywhere in the
-      ranges; ``conditions`` says where it stops (required);
+    * ``"holds"``: it holds at the reference point and at every point of the plausible
+      ranges (every one-at-a-time point, every box point, every reading);
+    * ``"holds under conditions"``: it holds at the reference point but fails at some point
+      of the ranges; ``conditions`` says where it stops (required);
     * ``"fails"``: it fails at the reference point; ``conditions`` says where, if anywhere, it
       would hold (required).
 

@@ -6,12 +6,12 @@ and figures to these modules.
 """
 from gyrolib.gc.racing.comparison import (
     PROCEDURE_TARGETS,
-    RACE_RANGES,
     RaceConditions,
     RaceResult,
     RaceSweep,
     procedure_for_time,
     race,
+    race_margin,
     race_sweep,
 )
 from gyrolib.gc.racing.rate_sensor import (
@@ -25,6 +25,7 @@ from gyrolib.gc.racing.rate_sensor import (
     rate_sensor_monte_carlo,
     turn_accuracy_limit,
 )
+from gyrolib.gc.racing.verdict_grid import RaceVerdictGrid, race_verdict_grid
 
 __all__ = [
     "PROCEDURE_TARGETS",
@@ -35,13 +36,26 @@ __all__ = [
     "RaceConditions",
     "RaceResult",
     "RaceSweep",
+    "RaceVerdictGrid",
     "RateSensorModel",
     "RateSensorMonteCarlo",
     "RateSensorProcedure",
     "procedure_for_time",
     "race",
+    "race_margin",
     "race_sweep",
+    "race_verdict_grid",
     "rate_sensor_model",
     "rate_sensor_monte_carlo",
     "turn_accuracy_limit",
 ]
+
+
+def __getattr__(name: str) -> object:
+    # RACE_RANGES is read from the table of inputs on first use (gyrolib.inputs imports
+    # this package's dataclasses, so it cannot be read while the package loads)
+    if name == "RACE_RANGES":
+        from gyrolib.gc.racing import comparison
+
+        return comparison.RACE_RANGES
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -15,6 +15,7 @@ target.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, fields, replace
 from typing import Final
@@ -33,7 +34,7 @@ from gyrolib.gc.racing.rate_sensor import (
     rate_sensor_model,
 )
 
-__all__ = [
+__all__ = [  # noqa: F822 - RACE_RANGES is a module attribute read on first use
     "PROCEDURE_TARGETS",
     "RACE_RANGES",
     "RaceConditions",
@@ -41,6 +42,7 @@ __all__ = [
     "RaceSweep",
     "procedure_for_time",
     "race",
+    "race_margin",
     "race_sweep",
 ]
 
@@ -215,19 +217,30 @@ def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) 
 
 
 # Result ---------------------------------------------------------------------------------------
-#: The plausible ranges over which the race's claim is judged beside its reference point (the
-#: book's defaults): the rebalance loop's bandwidth (rad/s), the procedure's overhead
+#: The plausible ranges over which :meth:`RaceResult.conditions` judges the race beside its
+#: reference point, from the table of inputs (:mod:`gyrolib.inputs`, the one source of
+#: ranges): the rebalance loop's bandwidth (rad/s), the procedure's overhead
 #: ``T_rot + T_settle`` (s), the torquer's white-noise intensity (rad²/s) and the relative
-#: uncertainty κ of GC's scale ``H/f`` (``GyrocompassParams.sigma_hf_scale``; up to the
-#: 10⁻³ the rival's own torque sensor is given, ``RateSensorProcedure.sigma_scale``).
-#: The rival's time grows with the first three and GC's with κ, so the claim's worst case
-#: is the low end of the first three with the high end of κ.
-RACE_RANGES: Final[dict[str, tuple[float, float]]] = {
-    "loop_bandwidth": (1.0, 100.0),
-    "overhead": (10.0, 60.0),
-    "rate_noise": (6.0e-17, 6.0e-15),
-    "sigma_hf_scale": (0.0, 1.0e-3),
-}
+#: uncertainty κ of GC's scale ``H/f`` (``GyrocompassParams.sigma_hf_scale``).  The rival's
+#: time grows with the first three and GC's with κ, so the claim's worst case is the low end
+#: of the first three with the high end of κ.  Every other input of the race is mapped by
+#: :func:`gyrolib.claim_map.map_claim` (the ledger's item ``gc.faster_percent``).
+#: (Read from the table on first use: ``gyrolib.inputs`` imports this package's dataclasses.)
+_RACE_ROWS: Final[tuple[tuple[str, str], ...]] = (
+    ("loop_bandwidth", "race.loop_bandwidth"), ("overhead", "race.overhead"),
+    ("rate_noise", "race.rate_noise"), ("sigma_hf_scale", "gc.sigma_hf_scale"))
+
+
+def _race_ranges() -> dict[str, tuple[float, float]]:
+    from gyrolib import inputs
+
+    return {key: inputs.row(name).bounds() for key, name in _RACE_ROWS}
+
+
+def __getattr__(name: str) -> object:
+    if name == "RACE_RANGES":
+        return _race_ranges()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _fmt_sci(x: float, digits: int = 2) -> str:
@@ -289,6 +302,10 @@ class RaceConditions:
         """The claim holds at the reference point against both estimators."""
         return bool(self.holds_classical and self.holds_optimal)
 
+    def reference_text(self) -> str:
+        """The first sentence of :meth:`text`: the reference point and GC's time there."""
+        return self.text().split(" At the worst corner")[0].split(" One quantity")[0]
+
     def text(self) -> str:
         """Where the claim holds and where it fails, in readable sentences.
 
@@ -304,8 +321,9 @@ class RaceConditions:
             if not math.isfinite(x):
                 return none
             return f"from {format(x, fmt)} {unit} up"
-        lo = {k: v_[0] for k, v_ in RACE_RANGES.items()}
-        hi = {k: v_[1] for k, v_ in RACE_RANGES.items()}
+        ranges = _race_ranges()
+        lo = {k: v_[0] for k, v_ in ranges.items()}
+        hi = {k: v_[1] for k, v_ in ranges.items()}
         if not np.isfinite(self.t_needed):
             return (f"GC's method does not reach σ_c within its horizon, so it is not more than "
                     f"{self.percent:g} % faster anywhere.")
@@ -454,7 +472,7 @@ class RaceResult:
                 (("classical", self.t_c_rate_sensor),
                  ("optimal", self.t_c_rate_sensor_optimal))}
         # the worst corner: the rival at its fastest, GC with the largest scale uncertainty
-        r = RACE_RANGES
+        r = _race_ranges()
         wp = replace(p, sigma_hf_scale=r["sigma_hf_scale"][1])
         wproc = _with(replace(proc, loop_bandwidth=r["loop_bandwidth"][0],
                               rate_noise=r["rate_noise"][0]), "overhead", r["overhead"][0])
@@ -503,6 +521,42 @@ class RaceResult:
                 f"settling {proc.T_settle:g} s included: GC faster by "
                 f"{pct(self.faster_percent)} and "
                 f"{pct(self.faster_percent_optimal)}")
+
+
+def race_margin(params: GyrocompassParams | None = None,
+                procedure: RateSensorProcedure | None = None, percent: float = 50.0) -> float:
+    """The margin of the claim "GC is more than ``percent`` % faster than the rate-sensor
+    method": the smaller saving over the two estimators minus ``percent`` (%; ``> 0``: the
+    claim holds).  The saving is ``100 (1 − t_GC/t_rival)``; when GC never reaches σ_c it is
+    −100 % (the margin ``−100 − percent``), when the rival never does +100 %.  The same
+    times as :func:`race`, without its curves (the table of inputs maps this margin,
+    :mod:`gyrolib.claim_map`).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> f"{gc.race_margin():.1f}"
+    '7.3'
+    """
+    p = GyrocompassParams() if params is None else check_params(params)
+    proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
+    percent = v.check_in_range("percent", percent, 0.0, 100.0, low_open=True, high_open=True)
+    t_gc = _gc_time(p, proc.sigma_c, proc.t_max)
+    if not np.isfinite(t_gc):
+        return -100.0 - percent
+    part = _rate_part(rate_sensor_model(p, proc))
+    savings = [_percent(t_gc, t if np.isfinite(t) else math.inf)
+               for t in (part.t_c, part.t_c_optimal)]
+    return float(min(savings)) - percent
+
+
+@functools.lru_cache(maxsize=256)
+def _gc_time(p: GyrocompassParams, level: float, t_max: float) -> float:
+    """GC's time to ``level`` (``nan``: not reached), kept per parameters: the rival's rows
+    of a map do not change it."""
+    if p.scale_drift_sigma >= level:
+        return math.nan
+    return _gc_part(p, level, t_max)[0]
 
 
 def _percent(t_gc: float, t_other: float) -> float:

@@ -1,0 +1,95 @@
+"""The race's verdict over two inputs and a reading: where "more than 50 % faster" holds.
+
+:func:`race_verdict_grid` evaluates :func:`gyrolib.gc.race_margin` (the smaller saving over
+the rival's two estimators minus 50 %) on a grid of the vibration variance σ1² and the angle
+sensor's intensity C_as, each as a factor of the parameters given, under each reading of the
+printed noise levels (``GyrocompassParams.measurement_noise``), and the three race times
+under each reading at the given C_as and σ1².  The book stores one grid (it costs about a
+hundred races) with the table's other maps (``python -m gyrolib claims --out``);
+:func:`gyrolib.gc.plot_race_verdict` draws it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gyrolib._executor import check_executor, map_ordered
+from gyrolib.gc.model.params import GyrocompassParams, check_params
+from gyrolib.gc.racing.comparison import race, race_margin
+from gyrolib.gc.racing.rate_sensor import RateSensorProcedure, check_procedure
+
+__all__ = ["RaceVerdictGrid", "race_verdict_grid"]
+
+
+@dataclass(frozen=True)
+class RaceVerdictGrid:
+    """``margin[r, i, j]`` (%): the claim's margin under reading ``readings[r]`` at
+    ``C_as × cas_factors[i]`` and ``σ1² × sigma1_factors[j]`` (``> 0``: it holds);
+    ``times[r]``: GC's, the classical and the optimal rival's times to σ_c (s) under reading
+    ``r`` at the given parameters; ``params``' C_as and σ1² (SI) as ``C_as``, ``sigma1_sq``."""
+
+    readings: tuple[str, ...]
+    cas_factors: NDArray[np.float64]
+    sigma1_factors: NDArray[np.float64]
+    margin: NDArray[np.float64]
+    times: NDArray[np.float64]
+    C_as: float
+    sigma1_sq: float
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"readings": list(self.readings), "cas_factors": self.cas_factors.tolist(),
+                "sigma1_factors": self.sigma1_factors.tolist(),
+                "margin": self.margin.tolist(), "times": self.times.tolist(),
+                "C_as": self.C_as, "sigma1_sq": self.sigma1_sq}
+
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> RaceVerdictGrid:
+        return cls(tuple(d["readings"]), np.asarray(d["cas_factors"], float),
+                   np.asarray(d["sigma1_factors"], float), np.asarray(d["margin"], float),
+                   np.asarray(d["times"], float), float(d["C_as"]), float(d["sigma1_sq"]))
+
+
+def _margin(p: GyrocompassParams, proc: RateSensorProcedure) -> float:
+    return race_margin(p, proc)
+
+
+def _times(p: GyrocompassParams, proc: RateSensorProcedure) -> list[float]:
+    r = race(p, proc)
+    return [r.t_c_gc, r.t_c_rate_sensor, r.t_c_rate_sensor_optimal]
+
+
+def race_verdict_grid(params: GyrocompassParams | None = None,
+                      procedure: RateSensorProcedure | None = None, *,
+                      sigma1_factors: Sequence[float] = tuple(np.geomspace(0.1, 10.0, 13)),
+                      cas_factors: Sequence[float] = (0.1, 1.0, 10.0),
+                      readings: Sequence[str] = ("intensity_over_dt", "variance"),
+                      executor: object = None) -> RaceVerdictGrid:
+    """The race's margin over σ1² × C_as under each reading (see the module docstring).
+
+    Examples
+    --------
+    >>> from gyrolib import gc
+    >>> g = gc.race_verdict_grid(sigma1_factors=(1.0,), cas_factors=(1.0,),
+    ...                          readings=("intensity_over_dt",))
+    >>> f"{g.margin[0, 0, 0]:.1f}", [f"{t:.1f}" for t in g.times[0]]
+    ('7.3', ['24.1', '141.6', '56.4'])
+    """
+    p = GyrocompassParams() if params is None else check_params(params)
+    proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
+    ex = check_executor(executor)
+    s1 = np.asarray(sigma1_factors, float)
+    ca = np.asarray(cas_factors, float)
+    if s1.ndim != 1 or ca.ndim != 1 or not (np.all(s1 > 0) and np.all(ca > 0)):
+        raise ValueError("sigma1_factors and cas_factors must be 1-D sequences of positive "
+                         "factors")
+    args = [(replace(p, measurement_noise=r, C_as=c * p.C_as, sigma1_sq=f * p.sigma1_sq), proc)
+            for r in readings for c in ca for f in s1]
+    m = np.array(map_ordered(_margin, args, ex)).reshape(len(readings), ca.size, s1.size)
+    t = np.array(map_ordered(_times, [(replace(p, measurement_noise=r), proc)
+                                      for r in readings], ex))
+    return RaceVerdictGrid(tuple(readings), ca, s1, m, t, p.C_as, p.sigma1_sq)
