@@ -253,3 +253,52 @@ def test_every_option_is_in_the_readme_and_the_chapter():
     assert "`--no-such-option" not in readme
     assert "gyrolib.cli.calibrate.add_parser(" in chapter     # the chapter's table
     assert "for _a in _methods[_m]._actions" in chapter
+
+
+# One instrument file for calibrate and race (issue 34, item 9) --------------------------------
+def test_one_instrument_file_read_by_both_commands(logs, capsys, tmp_path):
+    """The same TOML file: calibrate gc reads the site and the instrument's fields and names
+    the [procedure] and [sins] tables it ignores; race reads the site (latitude -> Omega_h,
+    Omega_v) and [procedure], and names [sins]; calibrate rsf reads [sins] and names the
+    rest.  Without the file, race keeps the paper's Earth rate (power)."""
+    from gyrolib.records.params import instrument_notes
+
+    path = tmp_path / "instrument.toml"
+    path.write_text("latitude = 48.14\nC_as = 2e-13\n[procedure]\nT_settle = 20.0\n"
+                    "[sins]\n", encoding="utf-8")
+    code, out, _ = _run(["calibrate", "gc", logs["clean"], "--params", path, "--json"],
+                        capsys)
+    d = json.loads(out)
+    assert d["latitude_source"] == "params" and d["latitude_deg"] == pytest.approx(48.14)
+    assert any("[procedure] ignored by calibrate gc (read by race)" in n for n in d["notes"])
+    assert any("[sins] ignored by calibrate gc" in n for n in d["notes"])
+    code, out, err = _run(["race", "--params", path, "--json", "--no-thresholds"], capsys)
+    r = json.loads(out)
+    site = gc.GyrocompassParams.at_latitude(math.radians(48.14))
+    assert code == 0 and r["params"]["Omega_h"] == pytest.approx(site.Omega_h, rel=1e-12)
+    assert r["params"]["C_as"] == 2e-13 and r["procedure"]["T_settle"] == 20.0
+    assert "[sins] ignored by race" in err and "procedure" not in err
+    assert instrument_notes(path, "calibrate rsf") == [
+        f"{path}: 'latitude' ignored by calibrate rsf (read by calibrate gc, race)",
+        f"{path}: 'C_as' ignored by calibrate rsf (read by calibrate gc, race)",
+        f"{path}: [procedure] ignored by calibrate rsf (read by race)"]
+
+
+@pytest.mark.parametrize("where", ["option", "params", "record"])
+def test_the_southern_hemisphere_is_refused_with_the_physical_reason(logs, capsys, tmp_path,
+                                                                      where):
+    from gyrolib.records.params import NORTHERN_ONLY
+
+    rec, argv = logs["clean"], []
+    if where == "option":
+        argv = ["--latitude", "-33.9"]
+    elif where == "params":
+        (tmp_path / "p.toml").write_text("latitude = -33.9\n")
+        argv = ["--params", tmp_path / "p.toml"]
+    else:
+        rec = tmp_path / "south.csv"
+        rec.write_text("# latitude_deg: -33.9\n" + logs["clean"].read_text())
+    code, out, err = _run(["calibrate", "gc", rec, *argv], capsys)
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert " ".join(NORTHERN_ONLY.split()) in err
+    assert "northern hemisphere" in (ROOT / "README.md").read_text("utf-8")

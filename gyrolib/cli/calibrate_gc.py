@@ -26,7 +26,12 @@ from gyrolib.cli.constants import (
 from gyrolib.cli.outputs import Outcome, bar_enabled, check_out_path, fmt, progress
 from gyrolib.gc.model.params import PAPER_LATITUDE
 from gyrolib.records.errors import OptionError
-from gyrolib.records.params import gc_params_from_toml, load_toml
+from gyrolib.records.params import (
+    NORTHERN_ONLY,
+    gc_params_from_toml,
+    instrument_notes,
+    load_toml,
+)
 from gyrolib.records.reader import GCChunks, read_gc
 
 __all__ = ["LAT_NONE", "LAT_OPTION", "LAT_PAPER", "LAT_PARAMS", "LAT_RECORD", "NO_LATITUDE",
@@ -94,9 +99,9 @@ def options(args: argparse.Namespace) -> dict:
             except ValueError:
                 latitude = math.nan
             if not (math.isfinite(latitude) and 0.0 < latitude < 90.0):
-                raise OptionError(f"--latitude must be in degrees north in (0, 90) (paper GC's "
-                                 f"model needs both Earth-rate components positive), or "
-                                 f"'paper' for paper GC's values; got {args.latitude}")
+                raise OptionError(f"--latitude must be in degrees north in (0, 90), or 'paper' "
+                                  f"for paper GC's values: {NORTHERN_ONLY}; got "
+                                  f"{args.latitude}")
             lat_source = LAT_OPTION
             params = gc.GyrocompassParams.at_latitude(
                 math.radians(latitude), **{k: getattr(params, k) for k in
@@ -118,6 +123,7 @@ def options(args: argparse.Namespace) -> dict:
             "store_every": args.store_every, "max_rejected": args.max_rejected,
             "mapping": mapping, "fit_noise": args.fit_noise, "fit": fit,
             "allan": args.allan, "plot": args.plot, "json": args.json,
+            "params_notes": instrument_notes(args.params, "calibrate gc"),
             "bar": bar_enabled(args) and not batch}
 
 
@@ -244,7 +250,7 @@ def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, 
     if source == LAT_NONE and record_latitude is not None:
         if not 0.0 < record_latitude < math.pi / 2:
             raise ValueError(f"the record's latitude {rec_deg:g} deg is outside (0, 90) deg "
-                             "N, where paper GC's model holds")
+                             f"N: {NORTHERN_ONLY}")
         lat, source = rec_deg, LAT_RECORD
         params = dataclasses.replace(params, **{
             k: getattr(gc.GyrocompassParams.at_latitude(record_latitude), k)
@@ -284,7 +290,7 @@ def run_file(file: str, o: dict) -> Outcome:
     """Calibrate one GC record with the checked options ``o``."""
     params: gc.GyrocompassParams = o["params"]
     mapping: gc.InclinometerMapping = o["mapping"]
-    notes: list[str] = []
+    notes: list[str] = list(o["params_notes"])
     fit = None
     whole = o["fit_noise"] is not None or o["allan"] is not None
     if whole:   # the fit and the Allan deviation read the record many times: in memory

@@ -15,7 +15,7 @@ from gyrolib import units
 from gyrolib.cli.constants import PLOT_SUFFIXES
 from gyrolib.cli.outputs import Outcome, check_out_path, one_line
 from gyrolib.records.errors import OptionError, RecordError
-from gyrolib.records.params import rsf_config_from_toml
+from gyrolib.records.params import instrument_notes, rsf_config_from_toml
 from gyrolib.records.reader import read_rsf
 
 __all__ = ["options", "run_file"]
@@ -31,7 +31,9 @@ def options(args: argparse.Namespace) -> dict:
         raise OptionError(f"--plot writes one file: give one record, not {len(args.files)} "
                          "(--summary OUT.csv reports a batch)")
     check_out_path(args.plot, PLOT_SUFFIXES, "a plot")
-    return {"config": rsf_config_from_toml(args.params), "period": args.period,
+    return {"config": rsf_config_from_toml(args.params),
+            "params_notes": instrument_notes(args.params, "calibrate rsf"),
+            "period": args.period,
             "counts_per_rev": args.counts_per_rev, "k_form": args.k_form, "plot": args.plot,
             "slips": args.slips}
 
@@ -72,7 +74,7 @@ def run_file(file: str, o: dict) -> Outcome:
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
     st = res.eps1_stats()
     rate = units.from_si(res.mean_rate, "deg/s")
-    notes = info.notes + list(res.notes)
+    notes = list(o["params_notes"]) + info.notes + list(res.notes)
     if res.reverses:
         notes.append(f"the roll rate reverses ({int(np.sum(res.rate > 0))} interval(s) turn "
                      f"one way, {int(np.sum(res.rate < 0))} the other, "
