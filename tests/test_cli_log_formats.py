@@ -165,3 +165,33 @@ def test_decimal_commas_detected_told_or_refused_as_ambiguous(rows, tmp_path):
         records.read_gc(_write(tmp_path / "c.csv", HEADER, rows), decimal_comma=True)
     # points stay points: the plain file is not read with commas (power)
     assert records.read_gc(tmp_path / "ref.csv", return_info=True)[1].notes == []
+
+
+def test_a_units_row_is_read_and_skipped(rows20, tmp_path, capsys):
+    """A units row under the header ("[s],[deg],[m/s^2],[m/s^2]"): read as the units of the
+    columns (the angle converted from degrees, with a note), never as data; an unknown unit
+    or one an option contradicts is refused naming the row and column."""
+    def deg(r: str) -> str:
+        f = r.split(",")
+        f[1] = f"{float(f[1]) * 180.0 / np.pi:.15g}"
+        return ",".join(f)
+
+    ref = records.read_gc(_write(tmp_path / "si.csv", HEADER, rows20))
+    path = _write(tmp_path / "units.csv", HEADER, ["[s],[deg],[m/s^2],[m/s^2]",
+                                                   *(deg(r) for r in rows20)])
+    rec, info = records.read_gc(path, return_info=True)
+    assert rec.n == ref.n and np.allclose(rec.angle_sensor, ref.angle_sensor, rtol=1e-12)
+    assert any(n.startswith("units row (line 2) read: t in s, angle_sensor in deg")
+               for n in info.notes)
+    bad = _write(tmp_path / "bad.csv", HEADER, ["s,furlong,m/s^2,m/s^2", *rows20])
+    with pytest.raises(records.RecordError, match="line 2, column 'angle_sensor': the "
+                                                  "units row gives 'furlong'"):
+        records.read_gc(bad)
+    with pytest.raises(records.RecordError, match="contradicts"):
+        records.read_gc(path, units={"angle": "rad"})
+    # a fault further down is still named at its own line (the units row is not a row)
+    broken = _write(tmp_path / "broken.csv", HEADER, ["[s],[deg],[m/s^2],[m/s^2]",
+                                                      *rows20[:9], "0.0105,x,0,0",
+                                                      *rows20[10:]])
+    with pytest.raises(records.RecordError, match="line 12, column 'angle_sensor'"):
+        records.read_gc(broken)

@@ -275,6 +275,26 @@ READ_UNITS: Final[dict[str, tuple[str, ...]]] = {
     "accel": ("m/s^2", "mg", "g")}
 
 
+#: Unit names a units row may hold, by kind (brackets and parentheses around them dropped).
+_ROW_UNITS: Final[dict[str, str]] = {
+    "s": "s", "sec": "s", "ms": "ms", "us": "us", "µs": "us", "rad": "rad", "mrad": "mrad",
+    "deg": "deg", "°": "deg", "arcsec": "arcsec", '"': "arcsec", "m/s^2": "m/s^2",
+    "m/s²": "m/s^2", "m/s2": "m/s^2", "mg": "mg", "g": "g"}
+#: Cells of a units row that name no unit (a count, a ratio).
+_ROW_NO_UNIT: Final[frozenset[str]] = frozenset({"", "-", "1", "counts", "count"})
+
+
+def _units_row(line: str, delim: str) -> list[str] | None:
+    """The cells of ``line`` if it is a units row (no cell a number, at least one a unit of
+    :data:`_ROW_UNITS`), normalized; else None."""
+    cells = [c.strip().strip('"').strip().strip("[]()").strip() for c in _fields(line, delim)]
+    if any(_is_number(c.replace(",", ".")) for c in cells if c):
+        return None
+    if not any(c.lower() in _ROW_UNITS or c in _ROW_UNITS for c in cells):
+        return None
+    return [_ROW_UNITS.get(c, _ROW_UNITS.get(c.lower(), c)) for c in cells]
+
+
 def _unit_factors(units: Mapping[str, str | None] | None) -> dict[str, float]:
     """``{"time": "ms", ...}`` -> the SI factor of each kind given (``m/s²`` spelt either
     way); an unknown kind or unit is a ValueError naming the choices."""
@@ -322,6 +342,9 @@ class _Reader:
         self.units = _unit_factors(units)
         self.decimal_comma = decimal_comma
         self._comma = False
+        self.units_row: dict[str, str] | None = None
+        self.units_line: int | None = None
+        self.col_factor: dict[str, float] = {}
         self.fraction = 0.0
         self.first_line: str | None = None
         self._decimal_t = False
@@ -391,8 +414,18 @@ class _Reader:
         first_data = self._first_data_line(rest, stream, eof)
         delim = self._delimiter(header, first_data, line_no)
         names = [c.strip().strip('"').strip() for c in _fields(header, delim)]
-        self.first_line = first_data[0] if first_data else None
-        return names, line_no, delim, rest + (first_data[1] if first_data else b"")
+        self.first_line = first_data[0]
+        after = rest + first_data[1]
+        self.units_row, self.units_line = None, None
+        row = _units_row(first_data[0], delim) if first_data[0] is not None else None
+        if row is not None:        # a units row under the header: read, then skipped
+            self.units_row = dict(zip(names, row))
+            self.units_line = line_no + first_data[3]
+            after = after[first_data[2]:]
+            nxt = self._first_data_line(after, stream, False)
+            self.first_line = nxt[0]
+            after += nxt[1]
+        return names, line_no, delim, after
 
     def _latitude(self, text: str, line_no: int) -> float:
         try:
@@ -405,10 +438,12 @@ class _Reader:
         return math.radians(deg)
 
     def _first_data_line(self, rest: bytes, stream, eof: bool):
-        """(first data line as text or None, bytes read beyond ``rest`` to find it)."""
+        """(first data line as text or None, bytes read beyond ``rest`` to find it, the
+        offset in ``rest`` + those bytes after that line, the lines read up to it)."""
         extra = b""
         buf = rest
         pos = 0
+        lines = 0
         while True:
             le = _line_end(buf, pos)
             if le is None and not eof and len(buf) < (1 << 20):
@@ -421,11 +456,40 @@ class _Reader:
                 le = (len(buf), len(buf))
             end, nxt = le
             if pos >= len(buf):
-                return None, extra
+                return None, extra, pos, lines
             line = buf[pos:end].decode("utf-8", errors="replace").strip()
             pos = nxt
+            lines += 1
             if line and not line.startswith("#"):
-                return line, extra
+                return line, extra, pos, lines
+
+    def _row_factors(self, use: list[str]) -> dict[str, float]:
+        """The SI factor of each column that the units row names (checked against the unit
+        options: a contradiction is refused), with a note."""
+        if self.units_row is None:
+            return {}
+        out: dict[str, float] = {}
+        shown = []
+        for c in use:
+            unit = self.units_row.get(self.files[c], "")
+            kind = UNIT_KINDS.get(c)
+            if kind is None or unit in _ROW_NO_UNIT:
+                continue
+            if unit not in READ_UNITS[kind]:
+                raise self._error(f"the units row gives {unit!r}: expected one of "
+                                  f"{', '.join(READ_UNITS[kind])}", row=self.units_line,
+                                  column=c)
+            f = float(UNITS[unit])
+            given = self.units.get(kind)
+            if given is not None and given != f:
+                raise self._error(f"the units row gives {unit!r}, which the {kind} unit "
+                                  "option contradicts: give one", row=self.units_line,
+                                  column=c)
+            out[c] = f
+            shown.append(f"{c} in {unit}")
+        self.header_notes.append(f"units row (line {self.units_line}) read: "
+                                 + (", ".join(shown) or "no unit to convert"))
+        return out
 
     def _decimal_comma(self, delim: str, idx: list[int], header_line: int) -> bool:
         """Whether the numbers are written with a decimal comma: as told
@@ -548,7 +612,7 @@ class _Reader:
                 continue
             text = _decode(raw_line, self.label, line_no)
             s = text.strip()
-            if not s or s.startswith("#"):
+            if not s or s.startswith("#") or line_no == self.units_line:
                 continue
             row += 1
             if stop_row is not None and row == stop_row:
@@ -703,6 +767,7 @@ class _Reader:
             use, idx = self._columns(names, header_line, delim)
             self.use = use
             self._comma = self._decimal_comma(delim, idx, header_line)
+            self.col_factor = self._row_factors(use)
             ctx = {"header_line": header_line, "delim": delim, "n_fields": len(names),
                    "use": use, "idx": idx}
             t_prev = -math.inf
@@ -739,8 +804,8 @@ class _Reader:
                         data, dropped = data[lead:], dropped + lead
                     if data.shape[0] == 0:
                         continue
-                    for j, c in enumerate(use):     # --time-unit, --angle-unit, ...
-                        f = self.units.get(UNIT_KINDS.get(c, ""), 1.0)
+                    for j, c in enumerate(use):     # the units row, --time-unit, ...
+                        f = self.col_factor.get(c, self.units.get(UNIT_KINDS.get(c, ""), 1.0))
                         if f != 1.0:
                             data[:, j] *= f
                     self._check(data, n_rows + dropped + empty_rows, ctx, t_prev)
