@@ -195,3 +195,30 @@ def test_a_units_row_is_read_and_skipped(rows20, tmp_path, capsys):
                                                       *rows20[10:]])
     with pytest.raises(records.RecordError, match="line 12, column 'angle_sensor'"):
         records.read_gc(broken)
+
+
+def test_iso_date_time_stamps(rows, tmp_path):
+    """ISO 8601 stamps ("2024-05-14 10:32:01.251"): taken relative to the first row, exact
+    to 1 ns, with a note; --t0 S drops the rows of the first S seconds; a stamp that is not
+    one is named at its line."""
+    import datetime
+
+    base = datetime.datetime(2024, 5, 14, 10, 32, 1, 251000)
+
+    def iso(r: str) -> str:
+        f = r.split(",")
+        stamp = base + datetime.timedelta(milliseconds=round(float(f[0]) * 1000))
+        return ",".join([stamp.strftime("%Y-%m-%d %H:%M:%S.%f")[:-3], *f[1:]])
+
+    ref = records.read_gc(_write(tmp_path / "ref.csv", HEADER, rows))
+    path = _write(tmp_path / "iso.csv", HEADER, [iso(r) for r in rows])
+    rec, info = records.read_gc(path, return_info=True)
+    np.testing.assert_allclose(rec.t, ref.t - ref.t[0], rtol=0, atol=1e-12)
+    assert np.array_equal(rec.angle_sensor, ref.angle_sensor)
+    assert info.time_note.startswith("ISO date-time stamps, taken relative to the first row")
+    rec, info = records.read_gc(path, t0=0.5, return_info=True)
+    assert info.rows_dropped == 500 and rec.t[0] == pytest.approx(0.0, abs=1e-12)
+    bad = [iso(r) for r in rows]
+    bad[7] = "2024-05-14 xx," + bad[7].split(",", 1)[1]
+    with pytest.raises(records.RecordError, match="line 9, column 't'"):
+        records.read_gc(_write(tmp_path / "bad.csv", HEADER, bad))

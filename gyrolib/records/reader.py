@@ -122,6 +122,9 @@ NULL_VALUES: Final[tuple[str, ...]] = (
 
 _BOM: Final[bytes] = b"\xef\xbb\xbf"
 _LATITUDE: Final[re.Pattern] = re.compile(r"#\s*latitude_deg\s*[:=]\s*(.*?)\s*$")
+#: An ISO 8601 date-time stamp without a zone (``2024-05-14 10:32:01.251``, or with a T).
+_ISO_TIME: Final[re.Pattern] = re.compile(
+    r"\d{4}-\d{2}-\d{2}[ T]\d{2}:\d{2}(?::\d{2}(?:[.,]\d{1,9})?)?")
 _DECIMAL_COMMA: Final[re.Pattern] = re.compile(r"-?\d+,\d+(?:[eE][-+]?\d+)?")
 _DELIM_NAMES: Final[dict[str, str]] = {",": "commas", "\t": "tabs", ";": "semicolons"}
 
@@ -160,6 +163,11 @@ class RecordInfo:
         they are."""
         if self.t_offset_source == "none":
             return None
+        if self.t_offset_source == "iso" or self.t_offset_text.startswith("iso "):
+            return (f"ISO date-time stamps, taken relative to the first row "
+                    f"({self.t_offset_text.removeprefix('iso ')}), exact to 1 ns"
+                    + (f"; the {self.rows_dropped} row(s) before t0 dropped"
+                       if self.rows_dropped else ""))
         why = ("an absolute clock (first time stamp >= "
                f"{ABSOLUTE_TIME:g} s): the first row is t = 0, the start of the run (give "
                "t0 otherwise)" if self.t_offset_source == "first row" else "t0 given")
@@ -344,6 +352,7 @@ class _Reader:
         self._comma = False
         self.units_row: dict[str, str] | None = None
         self.units_line: int | None = None
+        self._iso_ns: int | None = None     # ISO stamps: the offset (ns since the epoch)
         self.col_factor: dict[str, float] = {}
         self.fraction = 0.0
         self.first_line: str | None = None
@@ -627,6 +636,11 @@ class _Reader:
                 cell = cells[i].strip()
                 if self._comma:
                     cell = cell.replace(",", ".")
+                if name == use[0] and self._iso_ns is not None and _ISO_TIME.fullmatch(cell):
+                    ns = int(np.datetime64(cell.replace(" ", "T").replace(",", "."), "ns")
+                             .astype(np.int64))
+                    values.append((ns - self._iso_ns) / 1e9)
+                    continue
                 if name == use[0] and self._decimal_t and _is_number(cell):
                     if not _decimal_time_ok(decimal.Decimal(cell)):
                         raise self._error(
@@ -648,8 +662,10 @@ class _Reader:
                 continue
             # the checks of _check, in file order (the fast reader may stop further on)
             if self._decimal_t and math.isfinite(values[0]):
-                values[0] = float(decimal.Decimal(cells[idx[0]].strip()) - self._offset)
-            elif self._offset is not None:
+                cell0 = cells[idx[0]].strip()
+                values[0] = float(decimal.Decimal(cell0.replace(",", ".") if self._comma
+                                                  else cell0) - self._offset)
+            elif self._offset is not None and self._iso_ns is None:
                 values[0] -= float(self._offset)
             self._check(np.array([values]), 0, None, t_prev, line=line_no)
             t_prev = values[0]
@@ -705,6 +721,8 @@ class _Reader:
         types = {c: pa.float64() for c in keep}
         if offset is not None:
             types[keep[0]] = dec
+        if self._iso_ns is not None:
+            types[keep[0]] = pa.timestamp("ns")
 
         def invalid(row) -> str:       # a comment or blank line inside the data
             s = row.text.strip()
@@ -723,12 +741,37 @@ class _Reader:
         for batch in reader:
             if batch.num_rows:
                 cols = [batch.column(c) for c in keep]
+                if self._iso_ns is not None:   # ns since the epoch, less the offset, exact
+                    ns = np.asarray(cols[0].cast(pa.int64()).fill_null(self._iso_ns - 1)
+                                    .to_numpy(zero_copy_only=False))
+                    sec = (ns - self._iso_ns) / 1e9
+                    if cols[0].null_count:
+                        sec[np.asarray(cols[0].is_null().to_numpy(zero_copy_only=False))] = \
+                            np.nan
+                    cols[0] = pa.array(sec, type=pa.float64())
                 if offset is not None:      # exact decimal difference, then one rounding
                     import pyarrow.compute as pc  # only for an absolute clock (50 ms)
 
                     cols[0] = pc.cast(pc.subtract(cols[0], pa.scalar(offset, dec)),
                                       pa.float64())
                 yield _float_matrix(cols)
+
+    def _iso_base(self, delim: str, i_t: int):
+        """For ISO 8601 date-time stamps in the first row: ``(offset text, source, True)``,
+        the stamps read to 1 ns and taken relative to the first row, or to ``t0`` seconds
+        after it; else None."""
+        if self.first_line is None:
+            return None
+        cells = _fields(self.first_line, delim)
+        cell = cells[i_t].strip().strip('"') if i_t < len(cells) else ""
+        if not _ISO_TIME.fullmatch(cell):
+            return None
+        first = int(np.datetime64(cell.replace(" ", "T").replace(",", "."), "ns")
+                    .astype(np.int64))
+        self._iso_ns = first + (round(self.t0 * 1e9) if self.t0 is not None else 0)
+        self._iso_text = cell
+        return (decimal.Decimal(self._iso_ns) / decimal.Decimal(10**9),
+                "t0" if self.t0 is not None else "iso", True)
 
     def _time_base(self, delim: str, i_t: int) -> tuple[decimal.Decimal | None, str, bool]:
         """The offset subtracted from the time stamps and why (``t0`` when given, else the
@@ -774,11 +817,12 @@ class _Reader:
             n_rows = dropped = empty_rows = 0
             pending: list[np.ndarray] = []
             held = 0
-            offset, source, exact = self._time_base(delim, idx[0])
-            self._decimal_t = exact
+            offset, source, exact = self._iso_base(delim, idx[0]) or self._time_base(
+                delim, idx[0])
+            self._decimal_t = exact and self._iso_ns is None
             self._offset = offset
             batches = self._batches(_Rest(after, stream), delim, len(names), idx,
-                                    offset if exact else None)
+                                    offset if exact and self._iso_ns is None else None)
             info = None
             while True:
                 try:
@@ -815,7 +859,9 @@ class _Reader:
                             path=self.label, delimiter=delim, header_line=header_line,
                             columns={c: self.files[c] for c in use}, latitude=self.latitude,
                             t_offset=float(offset or 0.0), t_offset_source=source,
-                            t_offset_text=str(offset or 0), t_exact=exact,
+                            t_offset_text=(f"iso {self._iso_text}" if self._iso_ns
+                                           is not None else str(offset or 0)),
+                            t_exact=exact,
                             rows_dropped=dropped, header_notes=tuple(self.header_notes))
                     n_rows += data.shape[0]
                     pending.append(data)
