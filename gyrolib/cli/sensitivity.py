@@ -130,14 +130,16 @@ def _with_counts(text: str) -> str:
             .replace("{rsf_inputs}", str(len(rsf_inputs()))))
 
 
-class _CountingFormatter(argparse.HelpFormatter):
-    """The help formatter that fills in the studies' numbers of inputs (never typed)."""
+class _Counted(str):
+    """A help or description text whose :data:`_COUNTS` are filled in when argparse
+    formats it (its ``%`` formatting; a description is formatted when it names ``%(prog)``,
+    which this text says it does), so that building the parser reads no study."""
 
-    def _expand_help(self, action: argparse.Action) -> str:
-        return _with_counts(super()._expand_help(action))
+    def __contains__(self, item: object) -> bool:
+        return item == "%(prog)" or str.__contains__(self, item)
 
-    def _format_text(self, text: str) -> str:
-        return super()._format_text(_with_counts(text))
+    def __mod__(self, params: object) -> str:
+        return str.__mod__(_with_counts(str(self)), params)
 
 
 def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
@@ -145,7 +147,6 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     ``parser_class`` (one line, status 2)."""
     sen = sub.add_parser(
         "sensitivity", help="Sobol' indices of paper GC's or RSF's verdicts",
-        formatter_class=_CountingFormatter,
         description="Global sensitivity analysis (Sobol' indices, SALib) of paper GC's "
                     "sigma_gc(100 s) and t_c, or of paper RSF's delta K and share removed.")
     # ``sub`` builds plain parsers; this one's usage errors (an unknown model) are one line too
@@ -154,8 +155,7 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     for name, text in (("gc", "paper GC: sigma_gc(100 s) and t_c over {gc_inputs} inputs"),
                        ("rsf", "paper RSF: delta K and the share removed over {rsf_inputs} "
                                "inputs")):
-        p = models.add_parser(name, help=text, description=text,
-                              formatter_class=_CountingFormatter)
+        p = models.add_parser(name, help=_Counted(text), description=_Counted(text))
         p.add_argument("--n", type=_power_of_two, required=True, metavar="N",
                        help="base sample size, a power of 2 (N (2D + 2) model runs)")
         where = p.add_mutually_exclusive_group()
