@@ -302,3 +302,32 @@ def test_the_southern_hemisphere_is_refused_with_the_physical_reason(logs, capsy
     assert code == 2 and out == "" and err.count("\n") == 1
     assert " ".join(NORTHERN_ONLY.split()) in err
     assert "northern hemisphere" in (ROOT / "README.md").read_text("utf-8")
+
+
+def test_long_log_plot_bins_the_nis_and_names_file_and_latitude(logs, tmp_path, capsys):
+    """--plot of a record with many stored windows (here 2000: --store-every 10) draws at
+    most MAX_NIS_BINS points per sensor, each the count-weighted mean NIS of its windows,
+    under a title naming the file and the latitude (issue 34, item 10)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gyrolib.gc import plots
+
+    rec = records.read_gc(logs["clean"])
+    res = gc.calibrate(rec, P, store_every=10)
+    fig = plots.plot_calibration(res, label="clean.csv, latitude 53.9 deg N")
+    ax, bx = fig.axes[:2]
+    lines = [ln for ln in bx.get_lines() if ln.get_label() in gc.MEASUREMENT_NAMES]
+    assert res.t.size > plots.MAX_NIS_BINS and len(lines) == 3
+    assert all(ln.get_xdata().size <= plots.MAX_NIS_BINS for ln in lines)
+    k = math.ceil(res.t.size / plots.MAX_NIS_BINS)
+    w, c = res.nis_window[:k, 0], res.nis_window_count[:k, 0]
+    assert lines[0].get_ydata()[0] == pytest.approx(np.sum(w * c) / np.sum(c), rel=1e-12)
+    assert ax.get_title().startswith("clean.csv, latitude 53.9 deg N\n")
+    plt.close(fig)
+    png = tmp_path / "p.png"
+    code, _, _ = _run(["calibrate", "gc", logs["clean"], "--latitude", "paper", "--plot",
+                       png], capsys)
+    assert code == 0 and png.stat().st_size > 0

@@ -357,7 +357,9 @@ def run_file(file: str, o: dict) -> Outcome:
     status = "ok" if valid else ("misfit" if accepted else "invalid")
     artifacts = []
     if o["plot"]:
-        artifacts.append((o["plot"], "plot", res))
+        site = (f"latitude {earth['latitude_deg']:.6g} deg N ({earth['source']})"
+                if earth["stated"] else "NO latitude given")
+        artifacts.append((o["plot"], "plot", (res, f"{file}, {site}")))
     allan_lines: list[str] = []
     if o["allan"]:
         allan = gc.allan_deviation(raw, params)

@@ -305,7 +305,8 @@ def write_artifacts(outcome: Outcome) -> None:
 
     for path, kind, payload in outcome.artifacts:
         if kind == "plot":
-            save(gc.plot_calibration(payload), path)
+            res, label = payload
+            save(gc.plot_calibration(res, label=label), path)
         elif kind == "rsf_plot":
             from gyrolib import rsf
 
