@@ -1178,6 +1178,8 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
     if not isinstance(result, CalibrationResult):
         raise TypeError(f"result must be a CalibrationResult; got {type(result).__name__}")
     conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True, high_open=True)
+    if label is not None and not isinstance(label, str):
+        raise TypeError(f"label must be a str or None; got {type(label).__name__}")
     fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 5.6), sharex=True,
                                  gridspec_kw={"height_ratios": [3, 2]})
     est = np.asarray(from_si(result.estimate("omega_gc"), "arcsec_paper/s"))
