@@ -331,3 +331,19 @@ def test_long_log_plot_bins_the_nis_and_names_file_and_latitude(logs, tmp_path, 
     code, _, _ = _run(["calibrate", "gc", logs["clean"], "--latitude", "paper", "--plot",
                        png], capsys)
     assert code == 0 and png.stat().st_size > 0
+
+
+def test_instrument_file_values_are_judged_against_the_input_table(tmp_path):
+    """A number the command reads outside its row's plausible range in gyrolib.inputs is
+    named with the row and its reason; one inside is not (power)."""
+    from gyrolib import inputs
+    from gyrolib.records.params import instrument_notes
+
+    _lo, hi = inputs.row("gc.C_as").bounds()
+    path = tmp_path / "i.toml"
+    path.write_text(f"C_as = {10 * hi!r}\nalpha1 = {inputs.row('gc.alpha1').reference!r}\n")
+    notes = instrument_notes(path, "calibrate gc")
+    assert len(notes) == 1 and "C_as = " in notes[0] and "row gc.C_as" in notes[0]
+    assert instrument_notes(path, "calibrate rsf") == [
+        f"{path}: 'C_as' ignored by calibrate rsf (read by calibrate gc, race)",
+        f"{path}: 'alpha1' ignored by calibrate rsf (read by calibrate gc, race)"]

@@ -112,7 +112,7 @@ def instrument_notes(path: object | None, command: str) -> list[str]:
     if path is None:
         return []
     doc = load_toml(path)
-    out = []
+    out = _range_notes(path, doc, command)
     for key, val in doc.items():
         if key in INSTRUMENT_TABLES and isinstance(val, dict):
             if command not in INSTRUMENT_TABLES[key]:
@@ -121,6 +121,33 @@ def instrument_notes(path: object | None, command: str) -> list[str]:
         elif command not in _TOP_READERS:
             out.append(f"{path}: {key!r} ignored by {command} (read by "
                        f"{', '.join(_TOP_READERS)})")
+    return out
+
+
+def _range_notes(path: object, doc: dict, command: str) -> list[str]:
+    """A note for each number the command reads from the instrument file that lies outside
+    the plausible range of its row in the input table (:mod:`gyrolib.inputs`): top-level
+    fields of GyrocompassParams, and RateSensorProcedure's in ``[procedure]`` for race."""
+    from gyrolib import inputs  # only with a file: it loads both papers' dataclasses
+
+    parts = [("GyrocompassParams", {k: v for k, v in doc.items() if not isinstance(v, dict)})]
+    if command == "race" and isinstance(doc.get("procedure"), dict):
+        parts.append(("RateSensorProcedure", doc["procedure"]))
+    if command not in _TOP_READERS:
+        parts = parts[1:]
+    out = []
+    for owner, values in parts:
+        for r in inputs.rows(owner=owner):
+            if r.kind == "reading" or len(r.fields) != 1 or r.fields[0] not in values:
+                continue
+            val = values[r.fields[0]]
+            if isinstance(val, bool) or not isinstance(val, int | float):
+                continue
+            lo, hi = r.bounds()
+            if not lo <= val <= hi:
+                out.append(f"{path}: {r.fields[0]} = {val:g} lies outside the plausible range "
+                           f"[{lo:.3g}, {hi:.3g}] of the input table's row {r.name} "
+                           f"({' '.join(r.reason.split())[:120]})")
     return out
 
 
