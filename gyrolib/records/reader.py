@@ -125,6 +125,8 @@ _LATITUDE: Final[re.Pattern] = re.compile(r"#\s*latitude_deg\s*[:=]\s*(.*?)\s*$"
 #: An ISO 8601 date-time stamp without a zone (``2024-05-14 10:32:01.251``, or with a T).
 _ISO_TIME: Final[re.Pattern] = re.compile(
     r"\d{4}-\d{2}-\d{2}[ T]\d{2}:\d{2}(?::\d{2}(?:[.,]\d{1,9})?)?")
+#: The file's end made of rows of separators only (and blank lines), after a line end.
+_EMPTY_TAIL: Final[re.Pattern] = re.compile(rb"(?:(?:\r\n|\r|\n)[ \t,;\"]*)+\Z")
 _DECIMAL_COMMA: Final[re.Pattern] = re.compile(r"-?\d+,\d+(?:[eE][-+]?\d+)?")
 _DELIM_NAMES: Final[dict[str, str]] = {",": "commas", "\t": "tabs", ";": "semicolons"}
 
@@ -253,14 +255,38 @@ class _Rest:
         self.stream = stream
         self.closed = False
 
-    def read(self, n: int = -1) -> bytes:
+        self.empty_rows = 0      # rows of separators only, stripped from the file's end
+        self._held = b""         # the last bytes read, held until the end is known
+        self._eof = False
+
+    def _raw(self, n: int) -> bytes:
         if self.head:
-            if n is None or n < 0:
+            if n < 0:
                 out, self.head = self.head + self.stream.read(), b""
                 return out
             out, self.head = self.head[:n], self.head[n:]
             return out
-        return self.stream.read() if n is None or n < 0 else self.stream.read(n)
+        return self.stream.read() if n < 0 else self.stream.read(n)
+
+    def read(self, n: int = -1) -> bytes:
+        """Up to ``n`` bytes (all with ``n < 0``); the file's trailing rows of separators
+        only (``,,,`` as spreadsheets leave them) are cut off and counted."""
+        n = -1 if n is None else n
+        if self._eof:
+            out, self._held = self._held, b""
+            return out
+        nxt = self._raw(n if n >= 0 else -1)
+        if n < 0 or not nxt:
+            data = self._held + nxt
+            self._held, self._eof = b"", True
+            m = _EMPTY_TAIL.search(data)
+            if m:
+                self.empty_rows = sum(1 for ln in re.split(rb"\r\n|\r|\n", m.group(0))
+                                      if ln.strip(b" \t"))
+                data = data[:m.start()] + b"\n"
+            return data
+        out, self._held = self._held, nxt
+        return out if out else self.read(n)
 
     def readable(self) -> bool:
         return True
@@ -658,8 +684,6 @@ class _Reader:
                 raise self._error(f"expected a number (or an empty cell / nan for a "
                                   f"missing value); got {cell[:40]!r}{hint}", row=line_no,
                                   column=name)
-            if all(math.isnan(x) for x in values):    # an empty row (",,,"): skipped
-                continue
             # the checks of _check, in file order (the fast reader may stop further on)
             if self._decimal_t and math.isfinite(values[0]):
                 cell0 = cells[idx[0]].strip()
@@ -814,14 +838,15 @@ class _Reader:
             ctx = {"header_line": header_line, "delim": delim, "n_fields": len(names),
                    "use": use, "idx": idx}
             t_prev = -math.inf
-            n_rows = dropped = empty_rows = 0
+            n_rows = dropped = 0
             pending: list[np.ndarray] = []
             held = 0
             offset, source, exact = self._iso_base(delim, idx[0]) or self._time_base(
                 delim, idx[0])
             self._decimal_t = exact and self._iso_ns is None
             self._offset = offset
-            batches = self._batches(_Rest(after, stream), delim, len(names), idx,
+            source_bytes = _Rest(after, stream)
+            batches = self._batches(source_bytes, delim, len(names), idx,
                                     offset if exact and self._iso_ns is None else None)
             info = None
             while True:
@@ -839,9 +864,6 @@ class _Reader:
                 if data is not None:
                     if offset is not None and not exact:
                         data[:, 0] -= float(offset)
-                    empty = np.all(np.isnan(data), axis=1)    # ",,," rows of a spreadsheet
-                    if np.any(empty):
-                        data, empty_rows = data[~empty], empty_rows + int(np.sum(empty))
                     if source == "t0" and info is None:       # rows before t0: dropped
                         before = ~(data[:, 0] >= 0.0) & ~np.isnan(data[:, 0])
                         lead = int(np.argmin(before)) if not np.all(before) else len(data)
@@ -852,7 +874,7 @@ class _Reader:
                         f = self.col_factor.get(c, self.units.get(UNIT_KINDS.get(c, ""), 1.0))
                         if f != 1.0:
                             data[:, j] *= f
-                    self._check(data, n_rows + dropped + empty_rows, ctx, t_prev)
+                    self._check(data, n_rows + dropped, ctx, t_prev)
                     t_prev = float(data[-1, 0])
                     if info is None:
                         info = self.info = RecordInfo(
@@ -878,8 +900,9 @@ class _Reader:
                 raise self._error("has a header but no data rows"
                                   + (f" at or after t0 = {self.t0:g} s ({dropped} before it)"
                                      if dropped else ""), row=header_line)
-            if empty_rows and info is not None:
-                self.info = info = dataclasses.replace(info, empty_rows=empty_rows)
+            if source_bytes.empty_rows and info is not None:
+                self.info = info = dataclasses.replace(info,
+                                                       empty_rows=source_bytes.empty_rows)
         finally:
             stream.close()
             raw.close()
