@@ -72,9 +72,10 @@ def _inputs(path: str | None):
         data, table, notes = race_inputs(path)
     except RecordError as exc:
         raise _UsageError(str(exc)) from None
-    for note in notes:
+    out = (_replace(path, params, data, ""), _replace(path, proc, table, "procedure."))
+    for note in notes:       # after the checks: a bad file gets its one line only
         sys.stderr.write(f"note: {note}\n")
-    return (_replace(path, params, data, ""), _replace(path, proc, table, "procedure."))
+    return out
 
 
 def _num(x: float) -> float | None:
