@@ -83,7 +83,7 @@ def test_unit_mistakes_refused_at_the_door(case, logs, capsys, tmp_path):
     code, out, err = _run([*GC_PAPER, files[case], "--json", *_outputs(out_dir)],
                           capsys)
     column, hint = DOOR[case]
-    assert code == 2 and out == ""
+    assert code == 2 and json.loads(out)["status"] == "error"  # --json: an error object
     assert err.count("\n") == 1 and err.startswith(f"error: {files[case]}: ")
     assert column in err and hint in err
     assert "finite values" not in err and "Traceback" not in err
@@ -372,7 +372,7 @@ def test_rsf_unit_mistakes_refused(case, rsf_logs, capsys, tmp_path):
     code, out, err = _run(["calibrate", "rsf", rsf_logs[case], "--period", "1", "--json",
                            "--plot", tmp_path / "p.png"], capsys)
     column, hint = RSF_DOOR[case]
-    assert code == 2 and out == "" and err.count("\n") == 1
+    assert code == 2 and json.loads(out)["status"] == "error" and err.count("\n") == 1
     assert str(rsf_logs[case]) in err and column in err and hint in err
     assert not (tmp_path / "p.png").exists()
 

@@ -506,6 +506,8 @@ case("gc.plot_calibration", lambda: gc.plot_calibration(None), TypeError, "resul
      "CalibrationResult")
 case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), ValueError,
      "truth", FINITE)
+case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, label=3), TypeError,
+     "label", "str or None")
 
 # lost lock, noise fit, likelihood, nominal integrator (issues 18, 22)
 case("gc.calibrate", lambda: gc.calibrate(_GREC, max_rejected=1.5), ValueError,

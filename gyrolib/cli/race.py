@@ -65,19 +65,20 @@ def _replace(label: str, obj: object, values: dict, where: str) -> object:
 
 def _inputs(path: str | None):
     from gyrolib import gc
-    from gyrolib.records import RecordError, load_toml
+    from gyrolib.records import RecordError
+    from gyrolib.records.params import race_inputs
 
     params, proc = gc.GyrocompassParams(), gc.RateSensorProcedure()
     if path is None:
         return params, proc
-    try:
-        data = dict(load_toml(path))
+    try:      # one instrument file with calibrate: 'latitude' read, RSF's tables named
+        data, table, notes = race_inputs(path)
     except RecordError as exc:
         raise _UsageError(str(exc)) from None
-    table = data.pop("procedure", {})
-    if not isinstance(table, dict):
-        raise _UsageError(f"{path}: 'procedure' must be a table of RateSensorProcedure fields")
-    return (_replace(path, params, data, ""), _replace(path, proc, table, "procedure."))
+    out = (_replace(path, params, data, ""), _replace(path, proc, table, "procedure."))
+    for note in notes:       # after the checks: a bad file gets its one line only
+        sys.stderr.write(f"note: {note}\n")
+    return out
 
 
 def _num(x: float) -> float | None:

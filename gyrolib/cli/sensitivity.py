@@ -113,6 +113,35 @@ def _previous(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
     return prev, dict(data.get("run", {}))
 
 
+#: Placeholders of the help texts: each study's number of sampled inputs.
+_COUNTS = ("{gc_inputs}", "{rsf_inputs}")
+
+
+def _with_counts(text: str) -> str:
+    """``text`` with :data:`_COUNTS` replaced by the studies' own numbers of inputs, read
+    from them when a help text that names them is printed (they import numpy, which the
+    command line's start does not)."""
+    if not any(c in text for c in _COUNTS):
+        return text
+    from gyrolib.gc.analysis.sensitivity_study import sensitivity_inputs as gc_inputs
+    from gyrolib.rsf.sensitivity_study import sensitivity_inputs as rsf_inputs
+
+    return (text.replace("{gc_inputs}", str(len(gc_inputs())))
+            .replace("{rsf_inputs}", str(len(rsf_inputs()))))
+
+
+class _Counted(str):
+    """A help or description text whose :data:`_COUNTS` are filled in when argparse
+    formats it (its ``%`` formatting; a description is formatted when it names ``%(prog)``,
+    which this text says it does), so that building the parser reads no study."""
+
+    def __contains__(self, item: object) -> bool:
+        return item == "%(prog)" or str.__contains__(self, item)
+
+    def __mod__(self, params: object) -> str:
+        return str.__mod__(_with_counts(str(self)), params)
+
+
 def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     """Add the ``sensitivity`` sub-command to ``sub``; its usage errors go through
     ``parser_class`` (one line, status 2)."""
@@ -123,9 +152,10 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     # ``sub`` builds plain parsers; this one's usage errors (an unknown model) are one line too
     sen.error = types.MethodType(parser_class.error, sen)  # type: ignore[method-assign]
     models = sen.add_subparsers(dest="model", required=True, parser_class=parser_class)
-    for name, text in (("gc", "paper GC: sigma_gc(100 s) and t_c over 12 inputs"),
-                       ("rsf", "paper RSF: delta K and the share removed over 5 inputs")):
-        p = models.add_parser(name, help=text, description=text)
+    for name, text in (("gc", "paper GC: sigma_gc(100 s) and t_c over {gc_inputs} inputs"),
+                       ("rsf", "paper RSF: delta K and the share removed over {rsf_inputs} "
+                               "inputs")):
+        p = models.add_parser(name, help=_Counted(text), description=_Counted(text))
         p.add_argument("--n", type=_power_of_two, required=True, metavar="N",
                        help="base sample size, a power of 2 (N (2D + 2) model runs)")
         where = p.add_mutually_exclusive_group()

@@ -1142,12 +1142,36 @@ def plot_convention_study(study: ConventionStudy):
 
 
 # Figure -----------------------------------------------------------------------------------
+#: Most points of the NIS panel: a longer record's windows are pooled into this many bins.
+MAX_NIS_BINS: int = 200
+
+
+def _binned_nis(result: CalibrationResult, bins: int) -> tuple[np.ndarray, np.ndarray,
+                                                                np.ndarray]:
+    """(t, mean NIS (k, 3), samples per bin (k, 3)): the stored windows pooled into at most
+    ``bins`` consecutive bins, each bin's mean NIS weighted by its windows' sample counts."""
+    t, w, c = result.t, result.nis_window, result.nis_window_count.astype(float)
+    k = max(1, math.ceil(t.size / bins))
+    if k == 1:
+        return t, w, c
+    edges = np.arange(0, t.size, k)
+    wc = np.where(np.isfinite(w) & (c > 0), w * c, 0.0)
+    num = np.add.reduceat(wc, edges, axis=0)
+    cnt = np.add.reduceat(np.where(np.isfinite(w), c, 0.0), edges, axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(cnt > 0, num / np.maximum(cnt, 1.0), np.nan)
+    t_end = t[np.minimum(edges + k - 1, t.size - 1)]
+    return t_end, mean, cnt
+
+
 @page_figure
 def plot_calibration(result: CalibrationResult, truth: float | None = None,
-                     confidence: float = 0.99):
+                     confidence: float = 0.99, label: str | None = None):
     """The ω_gc estimate with its ±σ band over time (paper's ″/s) and, below, the mean NIS
     of each sensor per stored window against its χ² band; ``truth`` (rad/s) draws the true
-    drift when known.  Returns a :class:`matplotlib.figure.Figure`."""
+    drift when known; ``label`` (e.g. the file and its latitude) heads the figure.  A long
+    record's windows are pooled into at most :data:`MAX_NIS_BINS` bins, the band drawn for
+    a bin's samples.  Returns a :class:`matplotlib.figure.Figure`."""
     import matplotlib.pyplot as plt
 
     from gyrolib.units import from_si
@@ -1155,6 +1179,8 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
     if not isinstance(result, CalibrationResult):
         raise TypeError(f"result must be a CalibrationResult; got {type(result).__name__}")
     conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True, high_open=True)
+    if label is not None and not isinstance(label, str):
+        raise TypeError(f"label must be a str or None; got {type(label).__name__}")
     fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 5.6), sharex=True,
                                  gridspec_kw={"height_ratios": [3, 2]})
     est = np.asarray(from_si(result.estimate("omega_gc"), "arcsec_paper/s"))
@@ -1173,17 +1199,20 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
         lo, hi = min(lo, tr - (hi - lo) * 0.1), max(hi, tr + (hi - lo) * 0.1)
     ax.set_ylim(lo, hi)
     ax.legend(loc="upper right", fontsize=8)
-    ax.set_title(f"ω_gc = {from_si(result.omega_gc, 'arcsec_paper/s'):.4g} ± "
+    ax.set_title((f"{label}\n" if label else "")
+                 + f"ω_gc = {from_si(result.omega_gc, 'arcsec_paper/s'):.4g} ± "
                  f"{from_si(result.omega_gc_std, 'arcsec_paper/s'):.2g} ″/s", fontsize=10)
+    tb, nis, cnt = _binned_nis(result, MAX_NIS_BINS)
     for q, name in enumerate(MEASUREMENT_NAMES):
-        bx.plot(result.t, result.nis_window[:, q], lw=0.8, color=f"C{q + 1}", label=name)
-    n = np.maximum(np.median(result.nis_window_count, axis=0), 1.0)
+        bx.plot(tb, nis[:, q], lw=0.8, color=f"C{q + 1}", label=name)
+    n = np.maximum(np.median(cnt, axis=0), 1.0)
     nn = float(np.max(n))
     bx.axhspan(chi2_ppf(0.5 * (1 - conf), nn) / nn,
                chi2_ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
                label=f"{conf:.0%} band, {nn:.0f} samples")
     bx.axhline(1.0, color="k", lw=0.6)
-    bx.set_ylabel("mean NIS per window")
+    bx.set_ylabel("mean NIS per window" if tb.size == result.t.size else
+                  f"mean NIS per bin of {math.ceil(result.t.size / MAX_NIS_BINS)} windows")
     bx.set_xlabel("t (s)")
     bx.legend(loc="upper right", fontsize=7, ncol=2)
     fig.tight_layout()

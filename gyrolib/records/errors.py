@@ -3,7 +3,7 @@ number in the file) and the column, and what was expected."""
 
 from __future__ import annotations
 
-__all__ = ["RecordError"]
+__all__ = ["OptionError", "RecordError"]
 
 
 class RecordError(ValueError):
@@ -11,6 +11,8 @@ class RecordError(ValueError):
 
     ``str(err)`` is one line: ``"<file>: line <row>, column '<col>': <what was expected>"``
     (row and column when known).  The command line prints it and exits with status 2.
+    ``hint``, when given, is the option the evidence points to (e.g. ``"--angle-unit deg"``):
+    the command line adds it as ``try: ...``.
 
     Examples
     --------
@@ -19,8 +21,9 @@ class RecordError(ValueError):
     """
 
     def __init__(self, path: object, message: str, *, row: int | None = None,
-                 column: str | None = None) -> None:
+                 column: str | None = None, hint: str | None = None) -> None:
         self.path = str(path)
+        self.hint = hint
         self.row = row
         self.column = column
         self.detail = " ".join(str(message).split())  # always one line
@@ -33,3 +36,14 @@ class RecordError(ValueError):
         text = f"{self.path}: " + (", ".join(loc) + ": " if loc else "") + self.detail
         del where
         super().__init__(text)
+
+
+class OptionError(ValueError):
+    """A bad command-line option (not a bad file): one line naming the option and what was
+    expected; the command line prints it and exits with status 2.
+
+    Examples
+    --------
+    >>> str(OptionError("--t0 must be a finite number of seconds; got nan"))
+    '--t0 must be a finite number of seconds; got nan'
+    """

@@ -20,11 +20,29 @@ import math
 import os
 import tomllib
 from pathlib import Path
+from typing import Final
 
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 
-__all__ = ["gc_params_from_toml", "load_toml", "rsf_config_from_toml"]
+__all__ = ["INSTRUMENT_TABLES", "NORTHERN_ONLY", "gc_params_from_toml", "instrument_notes",
+           "load_toml", "race_inputs", "rsf_config_from_toml"]
+
+#: Why a site south of the equator (or on it) is refused, in every message that refuses one.
+NORTHERN_ONLY: Final[str] = (
+    "paper GC's model is written for the northern hemisphere: it takes both Earth-rate "
+    "components, Omega_h = Omega_E cos(lat) and Omega_v = Omega_E sin(lat), positive "
+    "(Eqs. (3)-(4)); south of the equator Omega_v changes sign, which neither the model nor "
+    "the checks at the door carry, so a southern site is refused rather than calibrated "
+    "wrongly")
+
+#: The tables of one instrument file, and the command that reads each; the top-level keys
+#: (fields of GyrocompassParams and ``latitude``, the site) are read by ``calibrate gc`` and
+#: ``race``.
+INSTRUMENT_TABLES: Final[dict[str, tuple[str, ...]]] = {
+    "procedure": ("race",), "sins": ("calibrate rsf",), "gs": ("calibrate rsf",),
+    "encoder": ("calibrate rsf",)}
+_TOP_READERS: Final[tuple[str, ...]] = ("calibrate gc", "race")
 
 
 def load_toml(path: object) -> dict:
@@ -68,18 +86,82 @@ def gc_params_from_toml(path: object | None = None, base: object | None = None):
     if path is None:
         return base
     label = str(path)
-    values = dict(load_toml(path))
+    return _replace(label, base, _top_values(label, load_toml(path)))
+
+
+def _top_values(label: str, doc: dict) -> dict:
+    """The instrument file's top-level values (the tables of :data:`INSTRUMENT_TABLES`
+    left out), ``latitude`` turned into ``Omega_h``, ``Omega_v``."""
+    values = {k: v for k, v in doc.items()
+              if not (k in INSTRUMENT_TABLES and isinstance(v, dict))}
     if "latitude" in values:
         lat = values.pop("latitude")
         if {"Omega_h", "Omega_v"} & set(values):
             raise RecordError(label, "give either 'latitude' or Omega_h/Omega_v, not both")
         if isinstance(lat, bool) or not isinstance(lat, int | float) or not 0.0 < lat < 90.0:
-            raise RecordError(label, f"field 'latitude' must be degrees north in (0, 90) "
-                              f"(paper GC's model needs both Earth-rate components "
-                              f"positive); got {lat!r}")
+            raise RecordError(label, f"field 'latitude' must be degrees north in (0, 90): "
+                              f"{NORTHERN_ONLY}; got {lat!r}")
         earth = GyrocompassParams.at_latitude(math.radians(lat))
         values = {"Omega_h": earth.Omega_h, "Omega_v": earth.Omega_v, **values}
-    return _replace(label, base, values)
+    return values
+
+
+def instrument_notes(path: object | None, command: str) -> list[str]:
+    """One note per entry of the instrument file ``path`` that ``command`` ("calibrate gc",
+    "calibrate rsf" or "race") does not read, naming the command that does."""
+    if path is None:
+        return []
+    doc = load_toml(path)
+    out = _range_notes(path, doc, command)
+    for key, val in doc.items():
+        if key in INSTRUMENT_TABLES and isinstance(val, dict):
+            if command not in INSTRUMENT_TABLES[key]:
+                out.append(f"{path}: [{key}] ignored by {command} (read by "
+                           f"{', '.join(INSTRUMENT_TABLES[key])})")
+        elif command not in _TOP_READERS:
+            out.append(f"{path}: {key!r} ignored by {command} (read by "
+                       f"{', '.join(_TOP_READERS)})")
+    return out
+
+
+def _range_notes(path: object, doc: dict, command: str) -> list[str]:
+    """A note for each number the command reads from the instrument file that lies outside
+    the plausible range of its row in the input table (:mod:`gyrolib.inputs`): top-level
+    fields of GyrocompassParams, and RateSensorProcedure's in ``[procedure]`` for race."""
+    from gyrolib import inputs  # only with a file: it loads both papers' dataclasses
+
+    parts = [("GyrocompassParams", {k: v for k, v in doc.items() if not isinstance(v, dict)})]
+    if command == "race" and isinstance(doc.get("procedure"), dict):
+        parts.append(("RateSensorProcedure", doc["procedure"]))
+    if command not in _TOP_READERS:
+        parts = parts[1:]
+    out = []
+    for owner, values in parts:
+        for r in inputs.rows(owner=owner):
+            if r.kind == "reading" or len(r.fields) != 1 or r.fields[0] not in values:
+                continue
+            val = values[r.fields[0]]
+            if isinstance(val, bool) or not isinstance(val, int | float):
+                continue
+            lo, hi = r.bounds()
+            if not lo <= val <= hi:
+                out.append(f"{path}: {r.fields[0]} = {val:g} lies outside the plausible range "
+                           f"[{lo:.3g}, {hi:.3g}] of the input table's row {r.name} "
+                           f"({' '.join(r.reason.split())[:120]})")
+    return out
+
+
+def race_inputs(path: object) -> tuple[dict, dict, list[str]]:
+    """The ``race`` command's share of an instrument file: the top-level fields of
+    :class:`~gyrolib.gc.GyrocompassParams` (``latitude`` as ``Omega_h``, ``Omega_v``), the
+    ``[procedure]`` table's fields of :class:`~gyrolib.gc.RateSensorProcedure`, and the
+    notes on what it ignores (paper RSF's tables)."""
+    label = str(path)
+    doc = load_toml(path)
+    table = doc.get("procedure", {})
+    if not isinstance(table, dict):
+        raise RecordError(label, "'procedure' must be a table of RateSensorProcedure fields")
+    return _top_values(label, doc), dict(table), instrument_notes(path, "race")
 
 
 _RSF_TABLES = ("sins", "gs", "encoder")
@@ -97,7 +179,11 @@ def rsf_config_from_toml(path: object | None = None, base: object | None = None)
     doc = load_toml(path)
     parts = {}
     for key, val in doc.items():
-        if key not in _RSF_TABLES or not isinstance(val, dict):
+        if key in INSTRUMENT_TABLES and key not in _RSF_TABLES and isinstance(val, dict):
+            continue                      # another command's table (instrument_notes)
+        if not isinstance(val, dict):     # a top-level field: calibrate gc's and race's
+            continue
+        if key not in _RSF_TABLES:
             raise RecordError(label, f"unknown entry {key!r}: expected the tables "
                               f"[{'], ['.join(_RSF_TABLES)}] of the RSF sensor models")
         parts[key] = _replace(label, getattr(cfg, key), val, where=f"{key}.")

@@ -77,11 +77,13 @@ _JUMP_SHARE: Final[float] = 0.01
 #: Agreement of the SINS and GS turns (relative) below which an RSF record passes.
 _TURN_AGREEMENT: Final[float] = 0.01
 
-_ANGLE_UNITS: Final[tuple[tuple[str, float], ...]] = (
-    ("degrees", DEG), ("milliradians", 1e-3), ("microradians", 1e-6),
-    ("arcseconds", ARCSEC), ("the paper's arcseconds", ARCSEC_PAPER))
-_TIME_UNITS: Final[tuple[tuple[str, float], ...]] = (
-    ("milliseconds", 1e-3), ("microseconds", 1e-6))
+#: (name, SI factor, the command line's unit option that reads it, or None).
+_ANGLE_UNITS: Final[tuple[tuple[str, float, str | None], ...]] = (
+    ("degrees", DEG, "--angle-unit deg"), ("milliradians", 1e-3, "--angle-unit mrad"),
+    ("microradians", 1e-6, None), ("arcseconds", ARCSEC, "--angle-unit arcsec"),
+    ("the paper's arcseconds", ARCSEC_PAPER, None))
+_TIME_UNITS: Final[tuple[tuple[str, float, str | None], ...]] = (
+    ("milliseconds", 1e-3, "--time-unit ms"), ("microseconds", 1e-6, "--time-unit us"))
 
 
 # GC -------------------------------------------------------------------------------------
@@ -165,13 +167,13 @@ def _check_angle(label: str, rec: GCRecord, p: GyrocompassParams, where: str) ->
     slow = step > _MAX_STEP_TIME_CONSTANTS * p.time_constant
     if share <= _BEYOND_SHARE and not slow:
         return
-    for unit, factor in _TIME_UNITS:
+    for unit, factor, option in _TIME_UNITS:
         if (step * factor <= _MAX_STEP_TIME_CONSTANTS * p.time_constant
                 and share_beyond(t * factor, a) <= _FITS_SHARE):
             raise RecordError(label, f"a median step of {step:.6g} and the last time "
                               f"{rec.t[-1]:.6g}{where} fit {unit}: read so, the angle sensor "
                               "follows the nominal motion β_n(t) of Eq. (4); expected t in s "
-                              "since the feedback was switched off", column="t")
+                              "since the feedback was switched off", column="t", hint=option)
     if slow:
         raise RecordError(label, f"a median step of {step:.6g} s{where} is more than "
                           f"{_MAX_STEP_TIME_CONSTANTS:g} float time constants (I/f = "
@@ -184,10 +186,10 @@ def _check_angle(label: str, rec: GCRecord, p: GyrocompassParams, where: str) ->
                   "motion β_n(t) of Eq. (4) than the float can turn")
     example = (f"e.g. at t = {t[i]:.6g} it reads {a[i]:.4g} where β_n = {beta_n:.4g} ± "
                f"{bound:.2g} rad")
-    for unit, factor in _ANGLE_UNITS:
+    for unit, factor, option in _ANGLE_UNITS:
         if share_beyond(t, a * factor, factor) <= _FITS_SHARE:
             raise RecordError(label, f"{share_text} ({example}); read in {unit} it fits: "
-                              "expected radians", column="angle_sensor")
+                              "expected radians", column="angle_sensor", hint=option)
     raise RecordError(label, f"{share_text} ({example}): expected radians, with t in s since "
                       "the feedback was switched off (β = 0 then); if the gyro is not paper "
                       "GC's, give its parameters with --params", column="angle_sensor")
@@ -221,7 +223,7 @@ def _check_inclinometer(label: str, name: str, values: np.ndarray, step: float,
                           "about 1/g: "
                           "in g (or an angle in rad) instead of m/s²? expected m/s²; if the "
                           "sensor really is this quiet, give its C_incl_y / C_incl_z with "
-                          "--params", column=name)
+                          "--params", column=name, hint="--accel-unit g")
 
 
 def check_gc(record: GCRecord, params: GyrocompassParams | None = None, *, label: str,
@@ -328,7 +330,8 @@ def check_rsf(record: RSFRecord, *, label: str) -> None:
     if math.isfinite(step) and step >= 0.5 and np.mean(t == np.round(t)) >= 0.99:
         raise RecordError(label, f"a median step of {step:.6g} in whole numbers over "
                           f"{t[-1] - t[0]:.6g}: milliseconds instead of seconds? expected t "
-                          "in s (a SINS log holds many samples per second)", column="t")
+                          "in s (a SINS log holds many samples per second)", column="t",
+                          hint="--time-unit ms")
     gs = _gs_steps(record)
     inc = record.sins_increment
     ok = np.isfinite(gs) & np.isfinite(inc)

@@ -36,6 +36,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import decimal
+import difflib
 import gzip
 import io
 import math
@@ -51,7 +52,9 @@ from gyrolib import _validation as v
 from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
+from gyrolib.records.options import parse_columns
 from gyrolib.records.plausibility import check_gc, check_rsf
+from gyrolib.units import UNITS
 
 if TYPE_CHECKING:
     from gyrolib.rsf.record import RSFRecord
@@ -119,6 +122,12 @@ NULL_VALUES: Final[tuple[str, ...]] = (
 
 _BOM: Final[bytes] = b"\xef\xbb\xbf"
 _LATITUDE: Final[re.Pattern] = re.compile(r"#\s*latitude_deg\s*[:=]\s*(.*?)\s*$")
+#: An ISO 8601 date-time stamp without a zone (``2024-05-14 10:32:01.251``, or with a T).
+_ISO_TIME: Final[re.Pattern] = re.compile(
+    r"\d{4}-\d{2}-\d{2}[ T]\d{2}:\d{2}(?::\d{2}(?:[.,]\d{1,9})?)?")
+#: The file's end made of rows of separators only (and blank lines), after a line end.
+_EMPTY_TAIL: Final[re.Pattern] = re.compile(rb"(?:(?:\r\n|\r|\n)[ \t,;\"]*)+\Z")
+_DECIMAL_COMMA: Final[re.Pattern] = re.compile(r"-?\d+,\d+(?:[eE][-+]?\d+)?")
 _DELIM_NAMES: Final[dict[str, str]] = {",": "commas", "\t": "tabs", ";": "semicolons"}
 
 
@@ -132,7 +141,10 @@ class RecordInfo:
     (s) subtracted from every time stamp, with ``t_offset_source`` ``"none"``, ``"first
     row"`` (an absolute clock, see :data:`ABSOLUTE_TIME`) or ``"t0"`` (given);
     ``t_offset_text`` the offset exactly as subtracted (decimal: the time stamps of an offset
-    clock are read as decimals to 1 ns, the offset subtracted exactly, then rounded once)."""
+    clock are read as decimals to 1 ns, the offset subtracted exactly, then rounded once);
+    ``rows_dropped`` the rows before ``t0`` (given) left out; ``empty_rows`` rows whose every
+    cell read is empty, skipped; ``header_notes`` a note for each column whose header
+    matched only when case is ignored."""
 
     path: str
     delimiter: str
@@ -143,6 +155,9 @@ class RecordInfo:
     t_offset_source: str
     t_offset_text: str = "0"
     t_exact: bool = False
+    rows_dropped: int = 0
+    empty_rows: int = 0
+    header_notes: tuple[str, ...] = ()
 
     @property
     def time_note(self) -> str | None:
@@ -150,47 +165,38 @@ class RecordInfo:
         they are."""
         if self.t_offset_source == "none":
             return None
+        if self.t_offset_source == "iso" or self.t_offset_text.startswith("iso "):
+            return (f"ISO date-time stamps, taken relative to the first row "
+                    f"({self.t_offset_text.removeprefix('iso ')}), exact to 1 ns"
+                    + (f"; the {self.rows_dropped} row(s) before t0 dropped"
+                       if self.rows_dropped else ""))
         why = ("an absolute clock (first time stamp >= "
                f"{ABSOLUTE_TIME:g} s): the first row is t = 0, the start of the run (give "
                "t0 otherwise)" if self.t_offset_source == "first row" else "t0 given")
+        dropped = (f"; the {self.rows_dropped} row(s) before it dropped"
+                   if self.t_offset_source == "t0" else "")
         return (f"times taken relative to t0 = {self.t_offset_text} s ({why}"
-                + ("; read as decimals, differences exact to 1 ns)" if self.t_exact else ")"))
+                + ("; read as decimals, differences exact to 1 ns" if self.t_exact else "")
+                + dropped + ")")
+
+    @property
+    def notes(self) -> list[str]:
+        """Every note on how the file was read: the time base, headers matched ignoring
+        case, empty rows skipped."""
+        out = [self.time_note] if self.time_note else []
+        out += list(self.header_notes)
+        if self.empty_rows:
+            out.append(f"{self.empty_rows} empty row(s) (every cell empty, as spreadsheets "
+                       "leave at the end) skipped")
+        return out
 
     def summary(self) -> dict:
         """JSON-ready dict (SI, with units)."""
         return {"delimiter": self.delimiter, "header_line": self.header_line,
                 "columns": dict(self.columns), "latitude_rad": self.latitude,
                 "t_offset_s": self.t_offset, "t_offset_exact": self.t_offset_text,
-                "t_offset_source": self.t_offset_source}
-
-
-def parse_columns(text: str) -> dict[str, str]:
-    """``"t=time,angle_sensor=gyro"`` → ``{"t": "time", "angle_sensor": "gyro"}`` (the
-    command line's ``--columns``): the record's column name, ``=``, the file's header name.
-
-    Examples
-    --------
-    >>> parse_columns("t=time, angle_sensor = gyro")
-    {'t': 'time', 'angle_sensor': 'gyro'}
-    """
-    if not isinstance(text, str):
-        raise TypeError(f"columns must be a str like 't=time,angle_sensor=gyro'; got "
-                        f"{type(text).__name__}")
-    out: dict[str, str] = {}
-    for part in text.split(","):
-        if not part.strip():
-            continue
-        name, eq, header = part.partition("=")
-        name, header = name.strip(), header.strip()
-        if not eq or not name or not header:
-            raise ValueError(f"columns expects NAME=HEADER pairs separated by commas (e.g. "
-                             f"t=time,angle_sensor=gyro); got {part.strip()!r}")
-        if name in out:
-            raise ValueError(f"columns maps {name!r} twice")
-        out[name] = header
-    if not out:
-        raise ValueError("columns expects at least one NAME=HEADER pair (e.g. t=time)")
-    return out
+                "t_offset_source": self.t_offset_source, "rows_dropped": self.rows_dropped,
+                "empty_rows": self.empty_rows}
 
 
 # Reading the lines before the data --------------------------------------------------------
@@ -249,14 +255,38 @@ class _Rest:
         self.stream = stream
         self.closed = False
 
-    def read(self, n: int = -1) -> bytes:
+        self.empty_rows = 0      # rows of separators only, stripped from the file's end
+        self._held = b""         # the last bytes read, held until the end is known
+        self._eof = False
+
+    def _raw(self, n: int) -> bytes:
         if self.head:
-            if n is None or n < 0:
+            if n < 0:
                 out, self.head = self.head + self.stream.read(), b""
                 return out
             out, self.head = self.head[:n], self.head[n:]
             return out
-        return self.stream.read() if n is None or n < 0 else self.stream.read(n)
+        return self.stream.read() if n < 0 else self.stream.read(n)
+
+    def read(self, n: int = -1) -> bytes:
+        """Up to ``n`` bytes (all with ``n < 0``); the file's trailing rows of separators
+        only (``,,,`` as spreadsheets leave them) are cut off and counted."""
+        n = -1 if n is None else n
+        if self._eof:
+            out, self._held = self._held, b""
+            return out
+        nxt = self._raw(n if n >= 0 else -1)
+        if n < 0 or not nxt:
+            data = self._held + nxt
+            self._held, self._eof = b"", True
+            m = _EMPTY_TAIL.search(data)
+            if m:
+                self.empty_rows = sum(1 for ln in re.split(rb"\r\n|\r|\n", m.group(0))
+                                      if ln.strip(b" \t"))
+                data = data[:m.start()] + b"\n"
+            return data
+        out, self._held = self._held, nxt
+        return out if out else self.read(n)
 
     def readable(self) -> bool:
         return True
@@ -269,6 +299,52 @@ class _Rest:
 
 
 # The reader -------------------------------------------------------------------------------
+#: The kind of each record column a unit option converts (``encoder_counts`` is counts).
+UNIT_KINDS: Final[dict[str, str]] = {
+    "t": "time", "angle_sensor": "angle", "sins_increment": "angle", "gs_angle": "angle",
+    "gs_gyro_angle": "angle", "inclinometer_y": "accel", "inclinometer_z": "accel"}
+#: The units each kind may be read in (names of :data:`gyrolib.units.UNITS`).
+READ_UNITS: Final[dict[str, tuple[str, ...]]] = {
+    "time": ("s", "ms", "us", "µs"), "angle": ("rad", "mrad", "deg", "arcsec"),
+    "accel": ("m/s^2", "mg", "g")}
+
+
+#: Unit names a units row may hold, by kind (brackets and parentheses around them dropped).
+_ROW_UNITS: Final[dict[str, str]] = {
+    "s": "s", "sec": "s", "ms": "ms", "us": "us", "µs": "us", "rad": "rad", "mrad": "mrad",
+    "deg": "deg", "°": "deg", "arcsec": "arcsec", '"': "arcsec", "m/s^2": "m/s^2",
+    "m/s²": "m/s^2", "m/s2": "m/s^2", "mg": "mg", "g": "g"}
+#: Cells of a units row that name no unit (a count, a ratio).
+_ROW_NO_UNIT: Final[frozenset[str]] = frozenset({"", "-", "1", "counts", "count"})
+
+
+def _units_row(line: str, delim: str) -> list[str] | None:
+    """The cells of ``line`` if it is a units row (no cell a number, at least one a unit of
+    :data:`_ROW_UNITS`), normalized; else None."""
+    cells = [c.strip().strip('"').strip().strip("[]()").strip() for c in _fields(line, delim)]
+    if any(_is_number(c.replace(",", ".")) for c in cells if c):
+        return None
+    if not any(c.lower() in _ROW_UNITS or c in _ROW_UNITS for c in cells):
+        return None
+    return [_ROW_UNITS.get(c, _ROW_UNITS.get(c.lower(), c)) for c in cells]
+
+
+def _unit_factors(units: Mapping[str, str | None] | None) -> dict[str, float]:
+    """``{"time": "ms", ...}`` -> the SI factor of each kind given (``m/s²`` spelt either
+    way); an unknown kind or unit is a ValueError naming the choices."""
+    out: dict[str, float] = {}
+    for kind, unit in (units or {}).items():
+        if unit is None:
+            continue
+        unit = "m/s^2" if unit == "m/s²" else unit
+        if kind not in READ_UNITS or unit not in READ_UNITS[kind]:
+            raise ValueError(f"units: expected {kind!r} in "
+                             f"{', '.join(READ_UNITS.get(kind, ()))} (kinds: "
+                             f"{', '.join(READ_UNITS)}); got {unit!r}")
+        out[kind] = float(UNITS[unit])
+    return out
+
+
 class _Reader:
     """Iterates over a CSV record in chunks of rows ``(columns, data)``, checking as it
     goes; :attr:`info` is set once the first chunk is read."""
@@ -276,7 +352,9 @@ class _Reader:
     def __init__(self, path: object, required: Sequence[str], one_of: Sequence[str] = (),
                  chunk_rows: int = CHUNK_ROWS, optional: Sequence[str] = (), *,
                  columns: Mapping[str, str] | None = None, t0: float | None = None,
-                 block_bytes: int = BLOCK_BYTES) -> None:
+                 block_bytes: int = BLOCK_BYTES,
+                 units: Mapping[str, str | None] | None = None,
+                 decimal_comma: bool | None = None) -> None:
         if not isinstance(path, str | os.PathLike):
             raise TypeError(f"path must be a str or path; got {type(path).__name__}")
         self.path = Path(path)
@@ -295,6 +373,13 @@ class _Reader:
         if t0 is not None:
             t0 = v.check_real("t0", t0)
         self.t0 = t0
+        self.units = _unit_factors(units)
+        self.decimal_comma = decimal_comma
+        self._comma = False
+        self.units_row: dict[str, str] | None = None
+        self.units_line: int | None = None
+        self._iso_ns: int | None = None     # ISO stamps: the offset (ns since the epoch)
+        self.col_factor: dict[str, float] = {}
         self.fraction = 0.0
         self.first_line: str | None = None
         self._decimal_t = False
@@ -364,8 +449,18 @@ class _Reader:
         first_data = self._first_data_line(rest, stream, eof)
         delim = self._delimiter(header, first_data, line_no)
         names = [c.strip().strip('"').strip() for c in _fields(header, delim)]
-        self.first_line = first_data[0] if first_data else None
-        return names, line_no, delim, rest + (first_data[1] if first_data else b"")
+        self.first_line = first_data[0]
+        after = rest + first_data[1]
+        self.units_row, self.units_line = None, None
+        row = _units_row(first_data[0], delim) if first_data[0] is not None else None
+        if row is not None:        # a units row under the header: read, then skipped
+            self.units_row = dict(zip(names, row))
+            self.units_line = line_no + first_data[3]
+            after = after[first_data[2]:]
+            nxt = self._first_data_line(after, stream, False)
+            self.first_line = nxt[0]
+            after += nxt[1]
+        return names, line_no, delim, after
 
     def _latitude(self, text: str, line_no: int) -> float:
         try:
@@ -378,10 +473,12 @@ class _Reader:
         return math.radians(deg)
 
     def _first_data_line(self, rest: bytes, stream, eof: bool):
-        """(first data line as text or None, bytes read beyond ``rest`` to find it)."""
+        """(first data line as text or None, bytes read beyond ``rest`` to find it, the
+        offset in ``rest`` + those bytes after that line, the lines read up to it)."""
         extra = b""
         buf = rest
         pos = 0
+        lines = 0
         while True:
             le = _line_end(buf, pos)
             if le is None and not eof and len(buf) < (1 << 20):
@@ -394,11 +491,74 @@ class _Reader:
                 le = (len(buf), len(buf))
             end, nxt = le
             if pos >= len(buf):
-                return None, extra
+                return None, extra, pos, lines
             line = buf[pos:end].decode("utf-8", errors="replace").strip()
             pos = nxt
+            lines += 1
             if line and not line.startswith("#"):
-                return line, extra
+                return line, extra, pos, lines
+
+    def _row_factors(self, use: list[str]) -> dict[str, float]:
+        """The SI factor of each column that the units row names (checked against the unit
+        options: a contradiction is refused), with a note."""
+        if self.units_row is None:
+            return {}
+        out: dict[str, float] = {}
+        shown = []
+        for c in use:
+            unit = self.units_row.get(self.files[c], "")
+            kind = UNIT_KINDS.get(c)
+            if kind is None or unit in _ROW_NO_UNIT:
+                continue
+            if unit not in READ_UNITS[kind]:
+                raise self._error(f"the units row gives {unit!r}: expected one of "
+                                  f"{', '.join(READ_UNITS[kind])}", row=self.units_line,
+                                  column=c)
+            f = float(UNITS[unit])
+            given = self.units.get(kind)
+            if given is not None and given != f:
+                raise self._error(f"the units row gives {unit!r}, which the {kind} unit "
+                                  "option contradicts: give one", row=self.units_line,
+                                  column=c)
+            out[c] = f
+            shown.append(f"{c} in {unit}")
+        self.header_notes.append(f"units row (line {self.units_line}) read: "
+                                 + (", ".join(shown) or "no unit to convert"))
+        return out
+
+    def _decimal_comma(self, delim: str, idx: list[int], header_line: int) -> bool:
+        """Whether the numbers are written with a decimal comma: as told
+        (``decimal_comma``), else detected when the separator is ``;`` and every number of
+        the first data line's columns reads ``-?d+,d+``; some cells so and others not is
+        refused as ambiguous."""
+        if self.decimal_comma is not None:
+            if self.decimal_comma and delim == ",":
+                raise self._error("decimal commas need another column separator (';' or "
+                                  "tabs): the columns are separated by commas",
+                                  row=header_line)
+            comma = bool(self.decimal_comma)
+        else:
+            comma = False
+            if delim == ";" and self.first_line is not None:
+                cells = _fields(self.first_line, delim)
+                vals = [cells[i].strip().strip('"') for i in idx if i < len(cells)]
+                vals = [c for c in vals if c and c.lower() not in NULL_VALUES]
+                hits = [c for c in vals if _DECIMAL_COMMA.fullmatch(c)]
+                if hits and len(hits) == len(vals):
+                    comma = True
+                elif hits:
+                    raise self._error(
+                        f"ambiguous decimal separator: the first data line holds numbers "
+                        f"with a comma ({hits[0]!r}) and without ("
+                        f"{next(c for c in vals if c not in hits)!r}); give --decimal-comma "
+                        "if the commas are decimal points", row=header_line + 1,
+                        hint="--decimal-comma")
+        if comma:
+            self.header_notes.append("numbers read with a decimal comma"
+                                     + ("" if self.decimal_comma else
+                                        " (detected: ';' separates the columns and every "
+                                        "number of the first data line is written d,d)"))
+        return comma
 
     def _wanted(self) -> list[str]:
         return [self.mapping.get(c, c) for c in self.required]
@@ -432,14 +592,28 @@ class _Reader:
         shown = (", ".join(repr(n[:30]) for n in names[:8])
                  + (" ..." if len(names) > 8 else ""))
         sep = _DELIM_NAMES[delim]
+        self.header_notes = []
+        for c, want in list(files.items()):   # a header in another case: matched, noted
+            if want in names:
+                continue
+            same = [n for n in names if n.lower() == want.lower()]
+            if len(same) == 1:
+                files[c] = same[0]
+                self.header_notes.append(f"column {c!r} read from the header {same[0]!r} "
+                                         "(matched ignoring case)")
         missing = [c for c in self.required if files[c] not in names]
         if missing:
             c = missing[0]
             mapped = f" (mapped to {files[c]!r} by columns)" if c in self.mapping else ""
+            close = difflib.get_close_matches(files[c].lower(), [n.lower() for n in names],
+                                              n=1, cutoff=0.6)
+            near = next((n for n in names if close and n.lower() == close[0]), None)
+            mean = f"; did you mean {near!r}?" if near else ""
             raise self._error(f"not in the header{mapped}: expected the columns "
                               f"{', '.join(self.required)} (or map other names, "
-                              f"--columns {c}=NAME); found {shown}, separated by {sep}",
-                              row=line_no, column=c)
+                              f"--columns {c}=NAME); found {shown}, separated by {sep}{mean}",
+                              row=line_no, column=c,
+                              hint=f"--columns {c}={near}" if near else None)
         use = list(self.required)
         if self.one_of:
             present = [c for c in self.one_of if files[c] in names]
@@ -473,7 +647,7 @@ class _Reader:
                 continue
             text = _decode(raw_line, self.label, line_no)
             s = text.strip()
-            if not s or s.startswith("#"):
+            if not s or s.startswith("#") or line_no == self.units_line:
                 continue
             row += 1
             if stop_row is not None and row == stop_row:
@@ -486,6 +660,13 @@ class _Reader:
             values = []
             for name, i in zip(use, idx):
                 cell = cells[i].strip()
+                if self._comma:
+                    cell = cell.replace(",", ".")
+                if name == use[0] and self._iso_ns is not None and _ISO_TIME.fullmatch(cell):
+                    ns = int(np.datetime64(cell.replace(" ", "T").replace(",", "."), "ns")
+                             .astype(np.int64))
+                    values.append((ns - self._iso_ns) / 1e9)
+                    continue
                 if name == use[0] and self._decimal_t and _is_number(cell):
                     if not _decimal_time_ok(decimal.Decimal(cell)):
                         raise self._error(
@@ -505,8 +686,10 @@ class _Reader:
                                   column=name)
             # the checks of _check, in file order (the fast reader may stop further on)
             if self._decimal_t and math.isfinite(values[0]):
-                values[0] = float(decimal.Decimal(cells[idx[0]].strip()) - self._offset)
-            elif self._offset is not None:
+                cell0 = cells[idx[0]].strip()
+                values[0] = float(decimal.Decimal(cell0.replace(",", ".") if self._comma
+                                                  else cell0) - self._offset)
+            elif self._offset is not None and self._iso_ns is None:
                 values[0] -= float(self._offset)
             self._check(np.array([values]), 0, None, t_prev, line=line_no)
             t_prev = values[0]
@@ -562,6 +745,8 @@ class _Reader:
         types = {c: pa.float64() for c in keep}
         if offset is not None:
             types[keep[0]] = dec
+        if self._iso_ns is not None:
+            types[keep[0]] = pa.timestamp("ns")
 
         def invalid(row) -> str:       # a comment or blank line inside the data
             s = row.text.strip()
@@ -575,16 +760,42 @@ class _Reader:
                                              invalid_row_handler=invalid),
             convert_options=pacsv.ConvertOptions(
                 column_types=types, include_columns=keep,
+                decimal_point="," if self._comma else ".",
                 null_values=list(NULL_VALUES), quoted_strings_can_be_null=True))
         for batch in reader:
             if batch.num_rows:
                 cols = [batch.column(c) for c in keep]
+                if self._iso_ns is not None:   # ns since the epoch, less the offset, exact
+                    ns = np.asarray(cols[0].cast(pa.int64()).fill_null(self._iso_ns - 1)
+                                    .to_numpy(zero_copy_only=False))
+                    sec = (ns - self._iso_ns) / 1e9
+                    if cols[0].null_count:
+                        sec[np.asarray(cols[0].is_null().to_numpy(zero_copy_only=False))] = \
+                            np.nan
+                    cols[0] = pa.array(sec, type=pa.float64())
                 if offset is not None:      # exact decimal difference, then one rounding
                     import pyarrow.compute as pc  # only for an absolute clock (50 ms)
 
                     cols[0] = pc.cast(pc.subtract(cols[0], pa.scalar(offset, dec)),
                                       pa.float64())
                 yield _float_matrix(cols)
+
+    def _iso_base(self, delim: str, i_t: int):
+        """For ISO 8601 date-time stamps in the first row: ``(offset text, source, True)``,
+        the stamps read to 1 ns and taken relative to the first row, or to ``t0`` seconds
+        after it; else None."""
+        if self.first_line is None:
+            return None
+        cells = _fields(self.first_line, delim)
+        cell = cells[i_t].strip().strip('"') if i_t < len(cells) else ""
+        if not _ISO_TIME.fullmatch(cell):
+            return None
+        first = int(np.datetime64(cell.replace(" ", "T").replace(",", "."), "ns")
+                    .astype(np.int64))
+        self._iso_ns = first + (round(self.t0 * 1e9) if self.t0 is not None else 0)
+        self._iso_text = cell
+        return (decimal.Decimal(self._iso_ns) / decimal.Decimal(10**9),
+                "t0" if self.t0 is not None else "iso", True)
 
     def _time_base(self, delim: str, i_t: int) -> tuple[decimal.Decimal | None, str, bool]:
         """The offset subtracted from the time stamps and why (``t0`` when given, else the
@@ -594,7 +805,8 @@ class _Reader:
         if self.first_line is not None:
             cells = _fields(self.first_line, delim)
             try:
-                first = decimal.Decimal(cells[i_t].strip() if i_t < len(cells) else "")
+                cell = cells[i_t].strip() if i_t < len(cells) else ""
+                first = decimal.Decimal(cell.replace(",", ".") if self._comma else cell)
             except decimal.InvalidOperation:
                 first = None
         absolute = (first is not None and first.is_finite() and abs(first) >= ABSOLUTE_TIME
@@ -621,17 +833,21 @@ class _Reader:
                 raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
             use, idx = self._columns(names, header_line, delim)
             self.use = use
+            self._comma = self._decimal_comma(delim, idx, header_line)
+            self.col_factor = self._row_factors(use)
             ctx = {"header_line": header_line, "delim": delim, "n_fields": len(names),
                    "use": use, "idx": idx}
             t_prev = -math.inf
-            n_rows = 0
+            n_rows = dropped = 0
             pending: list[np.ndarray] = []
             held = 0
-            offset, source, exact = self._time_base(delim, idx[0])
-            self._decimal_t = exact
+            offset, source, exact = self._iso_base(delim, idx[0]) or self._time_base(
+                delim, idx[0])
+            self._decimal_t = exact and self._iso_ns is None
             self._offset = offset
-            batches = self._batches(_Rest(after, stream), delim, len(names), idx,
-                                    offset if exact else None)
+            source_bytes = _Rest(after, stream)
+            batches = self._batches(source_bytes, delim, len(names), idx,
+                                    offset if exact and self._iso_ns is None else None)
             info = None
             while True:
                 try:
@@ -648,14 +864,27 @@ class _Reader:
                 if data is not None:
                     if offset is not None and not exact:
                         data[:, 0] -= float(offset)
-                    self._check(data, n_rows, ctx, t_prev)
+                    if source == "t0" and info is None:       # rows before t0: dropped
+                        before = ~(data[:, 0] >= 0.0) & ~np.isnan(data[:, 0])
+                        lead = int(np.argmin(before)) if not np.all(before) else len(data)
+                        data, dropped = data[lead:], dropped + lead
+                    if data.shape[0] == 0:
+                        continue
+                    for j, c in enumerate(use):     # the units row, --time-unit, ...
+                        f = self.col_factor.get(c, self.units.get(UNIT_KINDS.get(c, ""), 1.0))
+                        if f != 1.0:
+                            data[:, j] *= f
+                    self._check(data, n_rows + dropped, ctx, t_prev)
                     t_prev = float(data[-1, 0])
                     if info is None:
                         info = self.info = RecordInfo(
                             path=self.label, delimiter=delim, header_line=header_line,
                             columns={c: self.files[c] for c in use}, latitude=self.latitude,
                             t_offset=float(offset or 0.0), t_offset_source=source,
-                            t_offset_text=str(offset or 0), t_exact=exact)
+                            t_offset_text=(f"iso {self._iso_text}" if self._iso_ns
+                                           is not None else str(offset or 0)),
+                            t_exact=exact,
+                            rows_dropped=dropped, header_notes=tuple(self.header_notes))
                     n_rows += data.shape[0]
                     pending.append(data)
                     held += data.shape[0]
@@ -668,7 +897,12 @@ class _Reader:
                 if data is None:
                     break
             if n_rows == 0:
-                raise self._error("has a header but no data rows", row=header_line)
+                raise self._error("has a header but no data rows"
+                                  + (f" at or after t0 = {self.t0:g} s ({dropped} before it)"
+                                     if dropped else ""), row=header_line)
+            if source_bytes.empty_rows and info is not None:
+                self.info = info = dataclasses.replace(info,
+                                                       empty_rows=source_bytes.empty_rows)
         finally:
             stream.close()
             raw.close()
@@ -677,6 +911,8 @@ class _Reader:
 def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
              optional: Sequence[str] = (), chunk_rows: int = CHUNK_ROWS,
              columns: Mapping[str, str] | None = None, t0: float | None = None,
+             units: Mapping[str, str | None] | None = None,
+             decimal_comma: bool | None = None,
              ) -> Iterator[tuple[list[str], np.ndarray]]:
     """Chunks ``(columns, data)`` of a CSV record: ``data`` is ``(rows, len(columns))`` float,
     the ``required`` columns in that order, then the one column of ``one_of`` present, then
@@ -699,15 +935,19 @@ def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (
     [(['t', 'x'], [[0.1, 1.5], [0.2, nan]])]
     """
     return iter(_Reader(path, required, one_of, chunk_rows, optional, columns=columns,
+                        units=units, decimal_comma=decimal_comma,
                         t0=t0))
 
 
 def read_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
              optional: Sequence[str] = (), columns: Mapping[str, str] | None = None,
-             t0: float | None = None, return_info: bool = False):
+             t0: float | None = None, return_info: bool = False,
+             units: Mapping[str, str | None] | None = None,
+             decimal_comma: bool | None = None):
     """The whole record at once: ``(columns, data)`` as :func:`iter_csv` (and the
     :class:`RecordInfo` as a third item with ``return_info=True``)."""
-    reader = _Reader(path, required, one_of, CHUNK_ROWS, optional, columns=columns, t0=t0)
+    reader = _Reader(path, required, one_of, CHUNK_ROWS, optional, columns=columns, t0=t0,
+                     units=units, decimal_comma=decimal_comma)
     cols: list[str] = []
     parts = []
     for names, data in reader:
@@ -759,8 +999,11 @@ class GCChunks:
 
     def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS,
                  params: GyrocompassParams | None = None, check: bool = True,
-                 columns: Mapping[str, str] | None = None, t0: float | None = None) -> None:
-        self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows, columns=columns, t0=t0)
+                 columns: Mapping[str, str] | None = None, t0: float | None = None,
+                 units: Mapping[str, str | None] | None = None,
+                 decimal_comma: bool | None = None) -> None:
+        self._reader = _Reader(path, GC_COLUMNS, (), chunk_rows, columns=columns, t0=t0,
+                               units=units, decimal_comma=decimal_comma)
         self._params = params
         self._check = v.check_bool("check", check)
 
@@ -789,6 +1032,8 @@ class GCChunks:
 
 def read_gc(path: object, *, params: GyrocompassParams | None = None, check: bool = True,
             columns: Mapping[str, str] | None = None, t0: float | None = None,
+            units: Mapping[str, str | None] | None = None,
+            decimal_comma: bool | None = None,
             return_info: bool = False):
     """A whole paper-GC record file (see the module docstring for the format), checked at
     the door (:func:`gyrolib.records.check_gc` with ``params``) unless ``check=False``;
@@ -804,7 +1049,8 @@ def read_gc(path: object, *, params: GyrocompassParams | None = None, check: boo
     >>> f"{math.degrees(rec.latitude):.1f}", rec.n
     ('53.9', 2)
     """
-    _, data, info = read_csv(path, GC_COLUMNS, columns=columns, t0=t0, return_info=True)
+    _, data, info = read_csv(path, GC_COLUMNS, columns=columns, t0=t0, return_info=True,
+                             units=units, decimal_comma=decimal_comma)
     _check_gc_start(str(path), float(data[0, 0]))
     rec = _gc_from(data, info.latitude)
     if v.check_bool("check", check):
@@ -814,6 +1060,8 @@ def read_gc(path: object, *, params: GyrocompassParams | None = None, check: boo
 
 def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = True,
              columns: Mapping[str, str] | None = None, t0: float | None = None,
+             units: Mapping[str, str | None] | None = None,
+             decimal_comma: bool | None = None,
              return_info: bool = False):
     """A whole paper-RSF record file: ``t``, ``sins_increment`` and ``gs_angle`` or
     ``encoder_counts`` (then ``counts_per_rev`` is required), checked at the door
@@ -826,6 +1074,7 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = T
     return_info = v.check_bool("return_info", return_info)
     cols, data, info = read_csv(path, RSF_COLUMNS[:2], one_of=("gs_angle", "encoder_counts"),
                                 optional=("gs_gyro_angle",), columns=columns, t0=t0,
+                                units=units, decimal_comma=decimal_comma,
                                 return_info=True)
     if cols[2] == "gs_angle":
         if counts_per_rev is not None:

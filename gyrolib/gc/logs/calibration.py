@@ -480,6 +480,17 @@ class CalibrationResult:
         valid)."""
         return "; ".join(self._invalid_parts() + self._misfit_parts())
 
+    def _rejected_summary(self, limit: int = 100) -> dict:
+        """``rejected_t``: the times of the rows the gate rejected, each once (a row whose
+        two sensors were rejected is one entry), in order, at most ``limit``;
+        ``rejected_t_count``: how many rows were rejected; ``rejected_t_truncated``: whether
+        ``rejected_t`` lists fewer than that."""
+        times = np.unique(self.rejected_t)
+        listed = times[:limit]
+        return {"rejected_t": [float(x) for x in listed],
+                "rejected_t_count": int(self.rows_rejected),
+                "rejected_t_truncated": bool(listed.size < int(self.rows_rejected))}
+
     def summary(self) -> dict:
         """The result as a JSON-ready dict (SI; a value that is not finite is ``None``)."""
         band = self.nis_band()
@@ -520,7 +531,7 @@ class CalibrationResult:
             "gap_time": self.gap_time,
             "irregular_steps": self.irregular_steps,
             "jittered_steps": self.jittered_steps,
-            "rejected_t": [float(x) for x in self.rejected_t[:100]],
+            **self._rejected_summary(),
             "states": {name: {"estimate": float(self.x_final[i]),
                               "std": float(math.sqrt(max(self.P_final[i, i], 0.0)))}
                        for i, name in enumerate(STATE_NAMES)},
