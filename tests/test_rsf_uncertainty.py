@@ -17,12 +17,13 @@ from gyrolib.units import to_si
 
 DT = 0.01
 W = math.radians(900.0)
+POSITION_ERROR = math.radians(0.33)     # the AEDB-9340's, as paper RSF's worked example
 #: An ideal GS (its platform follows the roll): no GS gyro turn to scale.
 IDEAL = rsf.SimulationConfig(gs=rsf.GsModel(motor_rate_max=math.inf))
 
 
 def _record(*, eps1=6e-4, b_sins=0.0, b_gs=0.0, gs_scale=0.0, counts=4000,
-            position_error=math.radians(0.33), reverse_every=None, noise=0.0,
+            position_error=POSITION_ERROR, reverse_every=None, noise=0.0,
             duration=60.0, seed=0):
     """A roll at 900 °/s (reversing every ``reverse_every`` s, tanh-smoothed), the SINS
     increments (1 + ε1) Δγ + b_S Δt (+ white noise of ``noise`` rad per sample) and the GS
@@ -34,7 +35,8 @@ def _record(*, eps1=6e-4, b_sins=0.0, b_gs=0.0, gs_scale=0.0, counts=4000,
         rate = np.full(t.size, W)
     else:
         rate = W * np.tanh(20.0 * np.sin(math.pi * t / reverse_every))
-    gamma = rng.uniform(0.0, 2.0 * math.pi) + np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * DT)])
+    steps = np.cumsum(0.5 * (rate[1:] + rate[:-1]) * DT)
+    gamma = rng.uniform(0.0, 2.0 * math.pi) + np.concatenate([[0.0], steps])
     inc = np.diff(gamma) * (1.0 + eps1) + b_sins * DT + noise * rng.standard_normal(t.size - 1)
     q = 2.0 * math.pi / counts
     phase = rng.uniform(0.0, 2.0 * math.pi)

@@ -199,9 +199,6 @@ from gyrolib.rsf.calibration import (
 )
 from gyrolib.rsf.record import RSFRecord
 
-# The total standard uncertainty of the mean and the run's checks (issue 34)
-from gyrolib.rsf.uncertainty import Eps1Uncertainty, eps1_uncertainty
-
 # Global sensitivity of delta K and the share removed (issue 19)
 from gyrolib.rsf.sensitivity_study import (
     SENSITIVITY_OUTPUTS,
@@ -211,6 +208,9 @@ from gyrolib.rsf.sensitivity_study import (
     sensitivity_inputs,
     sensitivity_outputs,
 )
+
+# The total standard uncertainty of the mean and the run's checks (issue 34)
+from gyrolib.rsf.uncertainty import Eps1Uncertainty, eps1_uncertainty
 
 __all__ += ["CalibrationResult", "RSFRecord", "calibrate", "plot_correction",
             "record_from_simulation"]

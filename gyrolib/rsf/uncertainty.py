@@ -12,8 +12,8 @@ error ``ε1,GS`` on its own turn ``U_i``, GS end-point errors ``e_i``),
 
 so the mean over ``n`` intervals has the systematic part ``(b_S − b_G)·mean(1/ω_i) −
 ε1,GS·mean(U_i/T_i)`` and the end-point part ``(e_n − e_0)/Σ T_i`` (for equal turns the
-end-point errors telescope; where the roll reverses they add).  :class:`Eps1Uncertainty` adds, in quadrature, one part per term, each counted
-once:
+end-point errors telescope; where the roll reverses they add).  :class:`Eps1Uncertainty`
+adds, in quadrature, one part per term, each counted once:
 
 * ``random``: the standard error of the mean from the intervals' own scatter, with the lag-1
   autocovariance, ``√(max(γ̂0 + 2(1 − 1/n) γ̂1, 0)/n)`` (the variance of the mean of an MA(1)
@@ -223,7 +223,8 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
     >>> {k: f"{x * 1e6:.1f}" for k, x in u.parts.items()}    # ppm
     {'random': '0.6', 'encoder': '6.1', 'biases': '31.1', 'gs_scale': '0.0'}
     >>> err = u.mean - sim.eps1_sins[0] / (1 + sim.eps1_sins[0])
-    >>> f"error {err * 1e6:.1f} ppm, σ {u.std * 1e6:.1f} ppm, SEM {res.eps1_stats()['sem'] * 1e6:.0f} ppm", u.valid
+    >>> sem = res.eps1_stats()["sem"]
+    >>> f"error {err * 1e6:.1f} ppm, σ {u.std * 1e6:.1f} ppm, SEM {sem * 1e6:.0f} ppm", u.valid
     ('error 27.3 ppm, σ 31.7 ppm, SEM 95 ppm', True)
     """
     v.check_instance("result", result, CalibrationResult)
