@@ -36,9 +36,10 @@ from gyrolib.rsf.sensors import (
     MemsGyroSpec,
     RollGyroSpec,
 )
-from gyrolib.units import G0, to_si
+from gyrolib.units import G0, from_si, to_si
 
 __all__ = [
+    "GS_MOTOR_RATE_MAX",
     "TABLE2_OMEGA",
     "WORKED_EXAMPLE_OMEGA_UNC",
     "WORKED_EXAMPLE_OMEGA_X",
@@ -46,6 +47,7 @@ __all__ = [
     "DeltaKTerms",
     "Table2",
     "Table3",
+    "WorkedExample",
     "table2",
     "table3",
     "worked_example_delta_k",
@@ -59,6 +61,76 @@ TABLE2_OMEGA: float = float(to_si(3600.0, "deg/s"))
 WORKED_EXAMPLE_PERIOD: float = 5.0
 WORKED_EXAMPLE_OMEGA_UNC: float = float(to_si(300.0, "deg/s"))
 WORKED_EXAMPLE_OMEGA_X: float = float(to_si(900.0, "deg/s"))
+#: The GS motor's speed limit of the book's simulation (rad/s, 600 °/s): above it the vehicle's
+#: roll rate is left uncompensated (``GsModel.motor_rate_max``), 300 °/s at the worked example.
+GS_MOTOR_RATE_MAX: float = float(to_si(600.0, "deg/s"))
+
+#: The readings of the worked example that the table of inputs (:mod:`gyrolib.inputs`) names.
+_EXAMPLE_READINGS = {"eps0_gs_reading": ("consistent", "two_digit"),
+                     "eps1_gs_unit": ("ppm", "1e-3"),
+                     "omega_unc_model": ("constant", "motor_limited", "proportional")}
+
+
+@dataclass(frozen=True)
+class WorkedExample:
+    """Paper RSF's operating point and the readings of its printed example, as the claims
+    are judged (:mod:`gyrolib.inputs`; SI units).
+
+    ``omega_x`` the vehicle's roll rate (900 °/s), ``omega_unc`` the GS's uncompensated rate
+    at it (300 °/s), ``period`` the correction interval Δt (5 s), ``table_rate`` Table 2's
+    roll rate (3600 °/s).  Readings: ``eps0_gs_reading`` — ε0,GS as computed
+    (``"consistent"``) or cut to the printed two digits, 0.0033 °/s (``"two_digit"``);
+    ``eps1_gs_unit`` — ε1,GS = 280 in ``"ppm"`` or slipped to ``"1e-3"``;
+    ``omega_unc_model`` — how ω_unc follows the roll rate ω: ``"constant"`` (held at
+    ``omega_unc``), ``"motor_limited"`` (ω − :data:`GS_MOTOR_RATE_MAX`, the book's simulated
+    GS) or ``"proportional"`` (``omega_unc · ω/omega_x``).
+
+    Examples
+    --------
+    >>> from gyrolib.units import from_si, to_si
+    >>> ex = WorkedExample(omega_unc_model="motor_limited")
+    >>> f"{from_si(ex.omega_unc_at(to_si(3600.0, 'deg/s')), 'deg/s'):.0f}"
+    '3000'
+    >>> f"{from_si(WorkedExample().omega_unc_at(to_si(3600.0, 'deg/s')), 'deg/s'):.0f}"
+    '300'
+    """
+
+    omega_x: float = WORKED_EXAMPLE_OMEGA_X
+    omega_unc: float = WORKED_EXAMPLE_OMEGA_UNC
+    period: float = WORKED_EXAMPLE_PERIOD
+    table_rate: float = TABLE2_OMEGA
+    eps0_gs_reading: str = "consistent"
+    eps1_gs_unit: str = "ppm"
+    omega_unc_model: str = "constant"
+
+    def __post_init__(self) -> None:
+        for name in ("omega_x", "omega_unc", "period", "table_rate"):
+            v.check_positive(name, getattr(self, name))
+        for name, allowed in _EXAMPLE_READINGS.items():
+            if getattr(self, name) not in allowed:
+                raise ValueError(f"{name} must be one of {allowed}; got {getattr(self, name)!r}")
+
+    def omega_unc_at(self, omega: float) -> float:
+        """ω_unc (rad/s) at the roll rate ``omega`` (rad/s), by :attr:`omega_unc_model`."""
+        if self.omega_unc_model == "constant":
+            return self.omega_unc
+        if self.omega_unc_model == "motor_limited":
+            return max(float(omega) - GS_MOTOR_RATE_MAX, 0.0)
+        return self.omega_unc * float(omega) / self.omega_x
+
+    def eps0_gs(self, gyro: MemsGyroSpec) -> float:
+        """ε0,GS (rad/s) of ``gyro`` by the reading: as computed, or cut to two digits in °/s."""
+        e0 = gyro.bias_total
+        if self.eps0_gs_reading == "two_digit":
+            deg = float(from_si(e0, "deg/s"))
+            digits = 1 - int(np.floor(np.log10(deg)))
+            return float(to_si(np.floor(deg * 10.0**digits) / 10.0**digits, "deg/s"))
+        return e0
+
+    def eps1_gs(self, gyro: MemsGyroSpec) -> float:
+        """ε1,GS of ``gyro`` by the reading: as given, or its ppm read as 10⁻³."""
+        return gyro.sf_error * (1e3 if self.eps1_gs_unit == "1e-3" else 1.0)
+
 
 
 @compact_repr

@@ -12,6 +12,7 @@ from gyrolib.gc.racing.comparison import (
     RaceSweep,
     procedure_for_time,
     race,
+    race_margin,
     race_sweep,
 )
 from gyrolib.gc.racing.rate_sensor import (
@@ -40,6 +41,7 @@ __all__ = [
     "RateSensorProcedure",
     "procedure_for_time",
     "race",
+    "race_margin",
     "race_sweep",
     "rate_sensor_model",
     "rate_sensor_monte_carlo",

@@ -1,0 +1,235 @@
+"""Every claim of both papers as a margin over the table of inputs (:mod:`gyrolib.inputs`).
+
+Each function here takes the owners' instances (``"GyrocompassParams"``,
+``"RateSensorProcedure"``, ``"RollGyroSpec"``, ``"MemsGyroSpec"``, ``"EncoderSpec"``,
+``"WorkedExample"``) and returns the claim's *margin*, a number whose sign is the verdict
+(``> 0``: it holds).  :data:`CLAIMS` pairs each with the rows it reads; :func:`maps` judges
+them all by the one rule of :func:`gyrolib.claim_map.map_claim`, and :func:`stored_maps`
+reads the maps computed once, offline (``python -m gyrolib claims --out``), and shipped as
+package data (``gyrolib/data/claim_maps.json``).
+
+A claim about several printed points (times, rates) holds at a point of the table only if it
+holds at every printed point: its margin is the smallest over them.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Final
+
+import numpy as np
+
+from gyrolib import inputs as _inputs
+from gyrolib.claim_map import Claim, ClaimMap, check_fingerprint, map_claim
+from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
+from gyrolib.gc.analysis.observability import information_psi_omega
+from gyrolib.gc.analysis.speed_claim import time_to_level
+from gyrolib.gc.racing.comparison import race_margin
+from gyrolib.rsf.equations import (
+    delta_k,
+    fraction_compensated,
+    gs_roll_error_ideal,
+    lateral_deviation_exact,
+    sins_roll_error,
+)
+from gyrolib.units import ARCSEC_PAPER
+
+__all__ = ["CLAIMS", "MAPS_FILE", "MAPS_SCHEMA", "check_stored", "compensated_margin",
+           "drop_2s_margin", "drz_cubic_margin", "drz_kilometres_margin", "gs_vs_sins_margin",
+           "maps", "psi_separable_margin", "race_claim_margin", "stored_maps",
+           "time_to_sigma_c_margin"]
+
+#: The stored maps (package data) and the version of their format.
+MAPS_FILE: Final[Path] = Path(__file__).resolve().parents[2] / "data" / "claim_maps.json"
+MAPS_SCHEMA: Final[int] = 1
+
+#: σ_c = 2·10⁻³ ″/s (paper GC, after ref. [2]) and the speed claim's bound, 510 s (half of
+#: ref. [2]'s 17 min): the same numbers as :mod:`gyrolib.book.ledger.gc`.
+_SIGMA_C: Final[float] = 2e-3 * ARCSEC_PAPER
+_T_BOUND: Final[float] = 0.5 * 17.0 * 60.0
+#: Paper RSF's printed times (Tables 2 and 3) and levels.
+_TIMES: Final[tuple[float, ...]] = (10.0, 60.0, 120.0)
+_CUBIC_EXPONENT: Final[float] = 2.9
+
+
+# paper GC ------------------------------------------------------------------------------------
+def race_claim_margin(o: Mapping[str, Any]) -> float:
+    """"More than 50 % faster than the rate-sensor method" (paper GC, conclusion): the smaller
+    saving over the two estimators minus 50 % (:func:`gyrolib.gc.race_margin`)."""
+    return race_margin(o["GyrocompassParams"], o["RateSensorProcedure"])
+
+
+def time_to_sigma_c_margin(o: Mapping[str, Any]) -> float:
+    """"More than 50 % faster than ref. [2]'s 17 min": ``1 − t_c/510 s``, with t_c the time
+    for σ of ω_gc (the scale's drift added in quadrature) to reach σ_c; −1 when it does not
+    within 510 s."""
+    p = o["GyrocompassParams"]
+    s_scale = p.scale_drift_sigma
+    if s_scale >= _SIGMA_C:
+        return -1.0
+    from dataclasses import replace
+    pf = replace(p, sigma_hf_scale=0.0) if p.sigma_hf_scale else p
+    level = math.sqrt(_SIGMA_C**2 - s_scale**2)
+    n = round(100.0 / pf.dt)
+    t_c = time_to_sigma(covariance_analysis(pf, 100.0, store_every=n), "omega_gc", level)
+    if not np.isfinite(t_c):
+        t_c = time_to_level(pf, level, _T_BOUND)
+    return -1.0 if not np.isfinite(t_c) else 1.0 - float(t_c) / _T_BOUND
+
+
+def _sigmas(p: Any) -> tuple[float, float, float]:
+    n100 = round(100.0 / p.dt)
+    cov = covariance_analysis(p, 100.0, store_every=n100)
+    s = cov.std("omega_gc")
+    return float(s[0]), float(cov.std_at("omega_gc", 2.0)), float(s[-1])
+
+
+def drop_2s_margin(o: Mapping[str, Any]) -> float:
+    """"σ drops sharply in the first 2 s" (Fig. 3 and the text after it): the share of the
+    100-s reduction of σ(ω_gc) achieved in the first 2 s, minus one half."""
+    s0, s2, s100 = _sigmas(o["GyrocompassParams"])
+    return (s0 - s2) / (s0 - s100) - 0.5 if s0 > s100 else -0.5
+
+
+def psi_separable_margin(o: Mapping[str, Any]) -> float:
+    """"ψ and ω_gc can be separated" (text after Eq. (5)): ``1 − |correlation|`` of their
+    information in the angle sensor over 100 s, minus 10⁻⁹ (parallel to the last bits)."""
+    info = information_psi_omega(o["GyrocompassParams"], 100.0)
+    return float(1.0 - abs(info.correlation()[-1])) - 1e-9
+
+
+# paper RSF -----------------------------------------------------------------------------------
+def compensated_margin(o: Mapping[str, Any]) -> float:
+    """"Compensates 90 %" (conclusion): ``1 − δK/ε1`` from Eq. (7) at the example's roll
+    rate, with ω_unc by the example's reading, minus 0.90."""
+    ex, gs, enc, roll = (o["WorkedExample"], o["MemsGyroSpec"], o["EncoderSpec"],
+                         o["RollGyroSpec"])
+    dk = delta_k(ex.eps0_gs(gs), enc.position_error, ex.omega_x, ex.period, ex.eps1_gs(gs),
+                 ex.omega_unc_at(ex.omega_x))
+    return float(fraction_compensated(roll.sf_error, dk)) - 0.90
+
+
+def gs_vs_sins_margin(o: Mapping[str, Any]) -> float:
+    """"The GS's roll error is hundreds of times smaller than the SINS's" (after Table 3):
+    ``log10`` of the smallest Δγ_SINS/Δγ_GS over the printed times (ideal GS, Eq. (9)),
+    minus 2."""
+    ex, gs, enc, roll = (o["WorkedExample"], o["MemsGyroSpec"], o["EncoderSpec"],
+                         o["RollGyroSpec"])
+    t = np.array(_TIMES)
+    sins = np.asarray(sins_roll_error(roll.sf_error, ex.table_rate, t), dtype=float)
+    ideal = np.asarray(gs_roll_error_ideal(ex.eps0_gs(gs), t, enc.position_error),
+                       dtype=float)
+    return float(np.log10(np.min(sins / ideal))) - 2.0
+
+
+def _exponent(eps1: float, omega: float, t: float, h: float = 1e-3) -> float:
+    a, b = (float(lateral_deviation_exact(eps1, omega, t * (1.0 + s * h))) for s in (-1, 1))
+    return math.log(b / a) / math.log((1.0 + h) / (1.0 - h))
+
+
+def drz_cubic_margin(o: Mapping[str, Any]) -> float:
+    """"The lateral deviation grows as t³" (Eq. (8)): the smallest local exponent
+    d ln Δr_z/d ln t of the exact double integral over the printed times, minus 2.9."""
+    ex, roll = o["WorkedExample"], o["RollGyroSpec"]
+    return min(_exponent(roll.sf_error, ex.table_rate, t) for t in _TIMES) - _CUBIC_EXPONENT
+
+
+def drz_kilometres_margin(o: Mapping[str, Any]) -> float:
+    """"The deviation reaches kilometres" (the unit of Table 2's Δr_z): ``log10`` of the
+    exact lateral Δr_z at the end of Table 2's flight (its last printed time, 120 s), in km.
+    One point, the flight: a deviation that grows cannot be kilometres at every time."""
+    ex, roll = o["WorkedExample"], o["RollGyroSpec"]
+    d = float(lateral_deviation_exact(roll.sf_error, ex.table_rate, _TIMES[-1]))
+    return float(np.log10(d / 1000.0))
+
+
+def _names(*prefixes: str, kinds: tuple[str, ...] = _inputs.KINDS,
+           exclude: tuple[str, ...] = ()) -> tuple[str, ...]:
+    return tuple(r.name for r in _inputs.INPUTS
+                 if r.name.startswith(prefixes) and r.kind in kinds and r.name not in exclude)
+
+
+_GC_ALL = _names("gc.")
+_GC_READINGS = _names("gc.", kinds=("reading",))
+_RSF_EXAMPLE = _names("rsf.", exclude=("rsf.eps0", "rsf.table_rate"))
+_RSF_TABLES = ("rsf.eps1", "rsf.gs_bias", "rsf.encoder_error", "rsf.table_rate",
+               "rsf.eps0_gs_digits")
+_RSF_DRZ = ("rsf.eps1", "rsf.table_rate")
+
+#: Every claim the table maps: the ledger's item id → its margin and the rows it reads.
+CLAIMS: Final[dict[str, Claim]] = {c.id: c for c in (
+    Claim("gc.faster_percent", race_claim_margin, _GC_ALL + _names("race."),
+          "the smaller saving over the rival's two estimators minus 50", "%"),
+    Claim("gc.time_to_sigma_c", time_to_sigma_c_margin, _GC_ALL,
+          "1 − t_c/510 s (t_c: σ of ω_gc reaches σ_c)"),
+    Claim("gc.fig3.drop_2s", drop_2s_margin, _GC_READINGS,
+          "share of the 100-s reduction of σ(ω_gc) in the first 2 s, minus 0.5 (Fig. 3 at "
+          "the printed parameters: only the readings of the text move it)"),
+    Claim("gc.claim.trend_holds", drop_2s_margin, _GC_ALL,
+          "share of the 100-s reduction of σ(ω_gc) in the first 2 s, minus 0.5, over the "
+          "table"),
+    Claim("gc.claim.psi_separable", psi_separable_margin, _GC_ALL,
+          "1 − |correlation| of the ψ and ω_gc information over 100 s, minus 1e-9"),
+    Claim("rsf.example.compensated", compensated_margin, _RSF_EXAMPLE,
+          "1 − δK/ε1 from Eq. (7) minus 0.90"),
+    Claim("rsf.claim.gs_vs_sins", gs_vs_sins_margin, _RSF_TABLES,
+          "log10 of the smallest Δγ_SINS/Δγ_GS at 10, 60, 120 s, minus 2"),
+    Claim("rsf.claim.drz_cubic", drz_cubic_margin, _RSF_DRZ,
+          "the smallest local exponent of Δr_z at 10, 60, 120 s, minus 2.9"),
+    Claim("rsf.claim.drz_kilometres", drz_kilometres_margin, _RSF_DRZ,
+          "log10 of the lateral Δr_z at the end of Table 2's flight (120 s), in km"),
+)}
+
+
+def maps(ids: tuple[str, ...] | None = None, objects: Mapping[str, Any] | None = None, *,
+         executor: object = None, **settings: Any) -> dict[str, ClaimMap]:
+    """Judge the claims ``ids`` (default: all of :data:`CLAIMS`) over the table around
+    ``objects`` (default: the reference point); ``settings`` go to
+    :func:`gyrolib.claim_map.map_claim`."""
+    chosen = tuple(CLAIMS) if ids is None else ids
+    return {i: map_claim(CLAIMS[i], objects, executor=executor, **settings) for i in chosen}
+
+
+def stored_maps(path: Path = MAPS_FILE) -> dict[str, ClaimMap]:
+    """The maps computed offline for the reference point, as shipped with the package.
+
+    Raises ``ValueError`` when the file was computed over another table of inputs (its
+    fingerprint differs) or in another format; ``FileNotFoundError`` when it is absent.
+    """
+    data = json.loads(Path(path).read_text(encoding="utf-8"))
+    if data.get("schema") != MAPS_SCHEMA:
+        raise ValueError(f"{path}: schema {data.get('schema')!r}, expected {MAPS_SCHEMA}")
+    if data.get("table") != _inputs.table_fingerprint():
+        raise ValueError(f"{path} was computed over another table of inputs (fingerprint "
+                         f"{data.get('table')!r}, now {_inputs.table_fingerprint()!r}); "
+                         "recompute it: python -m gyrolib claims --out")
+    return {k: ClaimMap.from_dict(v) for k, v in data["maps"].items()}
+
+
+def write_maps(result: Mapping[str, ClaimMap], path: Path = MAPS_FILE) -> None:
+    """Write ``result`` (claim id → map) as the stored maps (the format :func:`stored_maps`
+    reads)."""
+    data = {"schema": MAPS_SCHEMA, "table": _inputs.table_fingerprint(),
+            "maps": {k: m.to_dict() for k, m in result.items()}}
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(path).with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n", encoding="utf-8")
+    tmp.replace(path)
+
+
+def check_stored(path: Path = MAPS_FILE, ids: tuple[str, ...] | None = None) -> int:
+    """Recompute the fingerprint points of the stored maps (a few margins per claim) and
+    raise ``ValueError`` when one moved (the code changed a number: the maps are stale).
+    Returns how many points were checked."""
+    stored = stored_maps(path)
+    missing = set(CLAIMS) - set(stored)
+    if missing:
+        raise ValueError(f"{path} has no map of {sorted(missing)}; recompute it")
+    n = 0
+    for i in (tuple(CLAIMS) if ids is None else ids):
+        check_fingerprint(CLAIMS[i], stored[i])
+        n += len(stored[i].fingerprint)
+    return n

@@ -1,0 +1,431 @@
+"""Every claim judged over the table of inputs by one rule, and the inputs that flip it.
+
+A :class:`Claim` is a *margin*: a function of the owners' instances (see
+:mod:`gyrolib.inputs`) whose sign is the verdict (``> 0``: the claim holds there; ``nan``
+counts as failing), and the rows of the table it reads.  :func:`map_claim` judges it:
+
+* **at the reference point** (every row at its reference: the fields' defaults, or a user's
+  own instances);
+* **one input at a time** over each numeric row's range: a grid of ``n_grid`` points on the
+  row's scale (the reference among them) brackets every change of status, then bisection on
+  the same scale narrows each to a relative width ``rtol`` (an input may flip a claim more than
+  once); each boundary is a :class:`Threshold` with the side on which the claim holds;
+* **over the box** of the uncertain rows: ``n_box`` points drawn independently on each row's
+  scale (operating rows and readings at their reference), with the seed stored; the share
+  that holds, with its 95 % Wilson interval (:class:`Share`) — descriptive, never the status;
+* **under each reading**, alone, the others at the reference.
+
+The status (:data:`STATUS_RULE`): *holds* when the claim holds at the reference, at every
+one-at-a-time point, at every box point and under every reading; *holds under conditions*
+when it holds at the reference but some input flips it; *fails* when it fails at the
+reference.
+
+Examples
+--------
+A claim of two inputs with a known boundary (the synthetic claims of the tests):
+
+>>> from gyrolib import claim_map, inputs
+>>> c = claim_map.Claim("demo", claim_map.demo_margin, ("gc.sigma1_sq", "gc.C_as"),
+...                     "2 - sigma1_sq/reference")
+>>> m = claim_map.map_claim(c, n_box=32)
+>>> m.status, [(t.input, round(t.factor, 2), t.holds_when) for t in m.thresholds]
+('holds under conditions', [('gc.sigma1_sq', 2.0, 'below')])
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Final
+
+import numpy as np
+
+from gyrolib import inputs as _inputs
+from gyrolib._executor import check_executor, map_ordered
+
+__all__ = ["STATUS_RULE", "Claim", "ClaimMap", "Share", "Threshold", "demo_margin", "flip_share",
+           "map_claim", "margin_at", "wilson_interval"]
+
+#: The one rule, in words (quoted by the ledger page).
+STATUS_RULE: Final[str] = (
+    "holds: it holds at the reference point, at every one-at-a-time point of every range, at "
+    "every sampled point of the box of uncertain inputs and under every reading; holds under "
+    "conditions: it holds at the reference point but some input flips it (each named, with "
+    "where); fails: it fails at the reference point (the thresholds say where it would hold)")
+
+#: z of a two-sided 95 % interval.
+_Z95: Final[float] = 1.959963984540054
+
+
+def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
+    """The Wilson score interval of a binomial share ``k/n`` (95 % by default).
+
+    Examples
+    --------
+    >>> [round(x, 4) for x in wilson_interval(32, 64)]
+    [0.381, 0.619]
+    >>> wilson_interval(0, 10)[0], round(wilson_interval(10, 10)[1], 12)
+    (0.0, 1.0)
+    """
+    if n <= 0 or not 0 <= k <= n:
+        raise ValueError(f"need 0 <= k <= n and n > 0; got k={k}, n={n}")
+    p = k / n
+    d = 1.0 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
+
+
+@dataclass(frozen=True)
+class Claim:
+    """A claim as a margin over the table of inputs.
+
+    ``id`` (the ledger's item id), ``margin`` (a module-level function of the owners'
+    mapping, picklable for an executor; ``> 0`` where the claim holds), ``inputs`` (the
+    rows it reads: every row that can move the margin), ``meaning`` (what the margin is, in
+    words) and ``unit`` (of the margin).
+    """
+
+    id: str
+    margin: Callable[[Mapping[str, Any]], float]
+    inputs: tuple[str, ...]
+    meaning: str
+    unit: str = "1"
+
+    def __post_init__(self) -> None:
+        for name in self.inputs:
+            _inputs.row(name)  # KeyError naming the known rows
+
+
+@dataclass(frozen=True)
+class Threshold:
+    """Where one input, varied alone, flips a claim: ``value`` (SI), ``factor`` (relative to
+    the reference; ``nan`` for a zero reference), ``unit`` and ``holds_when`` (``"below"`` or
+    ``"above"``: the side of ``value`` on which the claim holds)."""
+
+    input: str
+    value: float
+    factor: float
+    unit: str
+    holds_when: str
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"input": self.input, "value": self.value,
+                "factor": None if math.isnan(self.factor) else self.factor,
+                "unit": self.unit, "holds_when": self.holds_when}
+
+
+@dataclass(frozen=True)
+class Share:
+    """The share of the box of uncertain inputs where the claim holds: ``value`` with its 95 %
+    Wilson interval ``[lo, hi]``, from ``n`` points drawn with ``seed``."""
+
+    value: float
+    lo: float
+    hi: float
+    n: int
+    seed: int
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"value": self.value, "lo": self.lo, "hi": self.hi, "n": self.n,
+                "seed": self.seed}
+
+    def text(self) -> str:
+        """``"62 % (95 % interval 50–73 %, 64 points)"``."""
+        return (f"{100 * self.value:.0f} % (95 % interval {100 * self.lo:.0f}–"
+                f"{100 * self.hi:.0f} %, {self.n} points)")
+
+
+@dataclass(frozen=True)
+class ClaimMap:
+    """A claim judged over the table (:func:`map_claim`).
+
+    ``status`` by :data:`STATUS_RULE`; ``margin`` at the reference; ``reference`` (row →
+    value); ``thresholds``; ``share_holding`` (``None`` when no uncertain row is read or
+    no box was drawn); ``readings`` (row → {reading → "holds" or "fails"} at the reference
+    point); ``sweeps`` (row → the grid's ``[value, margin]`` pairs); ``box_fails`` (how
+    many box points fail); ``fingerprint`` (a few points with their margins, recomputed to
+    check that a stored map is still valid: :func:`check_fingerprint`).
+    """
+
+    claim: str
+    meaning: str
+    status: str
+    margin: float
+    reference: dict[str, Any]
+    thresholds: tuple[Threshold, ...]
+    share_holding: Share | None
+    readings: dict[str, dict[str, str]]
+    sweeps: dict[str, list[list[float]]] = field(default_factory=dict)
+    box_fails: int = 0
+    fingerprint: tuple[dict[str, Any], ...] = ()
+    settings: dict[str, Any] = field(default_factory=dict)
+
+    def flipping_inputs(self) -> tuple[str, ...]:
+        """Every input that flips the claim: the thresholds' rows and the readings under
+        which the status differs from the reference's."""
+        ref = "holds" if self.margin > 0 else "fails"
+        out = [t.input for t in self.thresholds]
+        out += [r for r, st in self.readings.items() if any(s != ref for s in st.values())]
+        return tuple(dict.fromkeys(out))
+
+    def conditions(self) -> str:
+        """Where the claim flips, in sentences (empty when it holds everywhere)."""
+        parts = []
+        for t in self.thresholds:
+            r = _inputs.row(t.input)
+            fac = "" if math.isnan(t.factor) else f" ({t.factor:.3g} × the reference)"
+            parts.append(f"{r.symbol} {t.holds_when} {r.show(t.value)}{fac}")
+        text = ""
+        if parts:
+            verb = "It holds, the others at the reference, for " if self.margin > 0 else \
+                "It would hold, the others at the reference, for "
+            text = verb + "; ".join(parts) + "."
+        flips = [(r, st) for r, st in self.readings.items()
+                 if any(s != ("holds" if self.margin > 0 else "fails") for s in st.values())]
+        for r, st in flips:
+            text += (f" Under the readings of {_inputs.row(r).symbol}: "
+                     + ", ".join(f"{k}: {s}" for k, s in st.items()) + ".")
+        if self.share_holding is not None and (self.box_fails or self.margin <= 0):
+            text += (f" Over the box of uncertain inputs it holds at "
+                     f"{self.share_holding.text()}.")
+        return text.strip()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"claim": self.claim, "meaning": self.meaning, "status": self.status,
+                "margin": self.margin, "reference": dict(self.reference),
+                "thresholds": [t.as_dict() for t in self.thresholds],
+                "share_holding": (None if self.share_holding is None
+                                  else self.share_holding.as_dict()),
+                "readings": self.readings, "sweeps": self.sweeps,
+                "box_fails": self.box_fails, "fingerprint": list(self.fingerprint),
+                "settings": self.settings}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> ClaimMap:
+        share = d.get("share_holding")
+        return cls(claim=d["claim"], meaning=d["meaning"], status=d["status"],
+                   margin=float(d["margin"]), reference=dict(d["reference"]),
+                   thresholds=tuple(Threshold(t["input"], float(t["value"]),
+                                              math.nan if t["factor"] is None
+                                              else float(t["factor"]), t["unit"],
+                                              t["holds_when"]) for t in d["thresholds"]),
+                   share_holding=None if share is None else Share(**share),
+                   readings={k: dict(v) for k, v in d["readings"].items()},
+                   sweeps={k: [list(map(float, p)) for p in v]
+                           for k, v in d.get("sweeps", {}).items()},
+                   box_fails=int(d.get("box_fails", 0)),
+                   fingerprint=tuple(d.get("fingerprint", ())),
+                   settings=dict(d.get("settings", {})))
+
+
+def _holds(m: float) -> bool:
+    return bool(m > 0.0)  # nan fails
+
+
+def margin_at(claim: Claim, objects: Mapping[str, Any], changes: Mapping[str, Any]) -> float:
+    """The claim's margin with the rows in ``changes`` set (the others as in ``objects``)."""
+    return float(claim.margin(_inputs.apply(objects, changes)))
+
+
+def _bisect(claim: Claim, objects: Mapping[str, Any], r: _inputs.Input, a: float, b: float,
+            holds_a: bool, rtol: float) -> float:
+    """The boundary between ``a`` (status ``holds_a``) and ``b`` (the other), to ``rtol``."""
+    while True:
+        if r.scale == "log":
+            if b / a - 1.0 <= rtol:
+                return math.sqrt(a * b)
+            mid = math.sqrt(a * b)
+        else:
+            if abs(b - a) <= rtol * max(abs(a), abs(b)):
+                return 0.5 * (a + b)
+            mid = 0.5 * (a + b)
+        if _holds(margin_at(claim, objects, {r.name: mid})) == holds_a:
+            a = mid
+        else:
+            b = mid
+
+
+def _sweep(claim: Claim, objects: Mapping[str, Any], name: str, n_grid: int,
+           rtol: float, ref_margin: float) -> tuple[list[list[float]], list[Threshold]]:
+    """One row alone over its range: the grid's margins and every boundary."""
+    r = _inputs.row(name)
+    ref = float(_inputs.value_of(objects, r))
+    xs = r.grid(n_grid, reference=ref if r.relative else None)
+    ms = [ref_margin if x == ref else margin_at(claim, objects, {name: float(x)}) for x in xs]
+    out = []
+    for i in range(len(xs) - 1):
+        h0, h1 = _holds(ms[i]), _holds(ms[i + 1])
+        if h0 != h1:
+            x = _bisect(claim, objects, r, float(xs[i]), float(xs[i + 1]), h0, rtol)
+            out.append(Threshold(name, x, x / ref if ref else math.nan, r.unit,
+                                 "below" if h0 else "above"))
+    return [[float(x), float(m)] for x, m in zip(xs, ms, strict=True)], out
+
+
+def _box(claim: Claim, objects: Mapping[str, Any], names: Sequence[str],
+         values: np.ndarray) -> list[float]:
+    return [margin_at(claim, objects, dict(zip(names, map(float, row), strict=True)))
+            for row in values]
+
+
+def _reading(claim: Claim, objects: Mapping[str, Any], name: str, value: str) -> float:
+    return margin_at(claim, objects, {name: value})
+
+
+def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid: int = 9,
+              rtol: float = 1e-3, n_box: int = 64, seed: int = 2026,
+              executor: object = None, chunk: int = 8) -> ClaimMap:
+    """Judge ``claim`` at the reference point and over the table (see the module docstring).
+
+    Parameters
+    ----------
+    claim : Claim
+    objects : mapping, optional
+        Owner name → instance: the reference point (default: every owner at its defaults,
+        :func:`gyrolib.inputs.reference_objects`).  Ranges of relative rows are factors of
+        these instances' values, so a user's own parameters get their own map.
+    n_grid : int, default 9
+        Grid points per numeric row (on its scale; the reference is added).
+    rtol : float, default 1e-3
+        Relative width to which each threshold is bisected.
+    n_box : int, default 64
+        Points drawn in the box of uncertain rows (0: none).
+    seed : int, default 2026
+        Seed of the box's draws (stored with the share).
+    executor : concurrent.futures.Executor, optional
+        Where the one-at-a-time sweeps and the box's chunks run (``None``: here).
+    chunk : int, default 8
+        Box points per task.
+
+    Returns
+    -------
+    ClaimMap
+    """
+    if not isinstance(claim, Claim):
+        raise TypeError(f"claim must be a Claim; got {type(claim).__name__}")
+    for name, val, lo in (("n_grid", n_grid, 2), ("n_box", n_box, 0), ("chunk", chunk, 1)):
+        if not isinstance(val, int) or isinstance(val, bool) or val < lo:
+            raise ValueError(f"{name} must be an int >= {lo}; got {val!r}")
+    if not 0.0 < rtol < 0.5:
+        raise ValueError(f"rtol must be in (0, 0.5); got {rtol!r}")
+    ex = check_executor(executor)
+    objs = dict(_inputs.reference_objects() if objects is None else objects)
+    rows = [_inputs.row(n) for n in claim.inputs]
+    ref_margin = float(claim.margin(objs))
+    numeric = [r.name for r in rows if r.kind != "reading"]
+    uncertain = [r.name for r in rows if r.kind == "uncertain"]
+    readings = [r for r in rows if r.kind == "reading"]
+    # the box's draws, on each uncertain row's scale around these instances
+    rng = np.random.default_rng(seed)
+    box = np.empty((n_box if uncertain else 0, len(uncertain)))
+    if box.size:
+        u = rng.random(box.shape)
+        for j, name in enumerate(uncertain):
+            r = _inputs.row(name)
+            ref = float(_inputs.value_of(objs, r))
+            box[:, j] = r.to_unit(u[:, j], reference=ref if r.relative else None)
+    tasks: list[tuple[Callable[..., Any], tuple[Any, ...]]] = []
+    tasks += [(_sweep, (claim, objs, n, n_grid, rtol, ref_margin)) for n in numeric]
+    tasks += [(_box, (claim, objs, uncertain, box[i:i + chunk]))
+              for i in range(0, box.shape[0], chunk)]
+    tasks += [(_reading, (claim, objs, r.name, val)) for r in readings for val in r.values[1:]]
+    results = map_ordered(_call, [(fn, args) for fn, args in tasks], ex)
+    k = 0
+    sweeps: dict[str, list[list[float]]] = {}
+    thresholds: list[Threshold] = []
+    for name in numeric:
+        grid, ths = results[k]
+        sweeps[name] = grid
+        thresholds += ths
+        k += 1
+    box_margins: list[float] = []
+    for _ in range(0, box.shape[0], chunk):
+        box_margins += results[k]
+        k += 1
+    ref_status = "holds" if _holds(ref_margin) else "fails"
+    read_status: dict[str, dict[str, str]] = {}
+    for r in readings:
+        st = {r.values[0]: ref_status}
+        for val in r.values[1:]:
+            st[val] = "holds" if _holds(results[k]) else "fails"
+            k += 1
+        read_status[r.name] = st
+    share = None
+    n_fail = 0
+    if box_margins:
+        ok = sum(_holds(m) for m in box_margins)
+        n_fail = len(box_margins) - ok
+        lo, hi = wilson_interval(ok, len(box_margins))
+        share = Share(ok / len(box_margins), lo, hi, len(box_margins), seed)
+    flips = bool(thresholds) or n_fail > 0 or any(
+        s != ref_status for st in read_status.values() for s in st.values())
+    status = ("fails" if ref_status == "fails" else
+              "holds under conditions" if flips else "holds")
+    fp = [{"changes": {}, "margin": ref_margin}]
+    for i in range(min(2, box.shape[0])):
+        fp.append({"changes": dict(zip(uncertain, map(float, box[i]), strict=True)),
+                   "margin": float(box_margins[i])})
+    reference = {r.name: _inputs.value_of(objs, r) for r in rows}
+    return ClaimMap(claim=claim.id, meaning=claim.meaning, status=status, margin=ref_margin,
+                    reference=reference, thresholds=tuple(thresholds), share_holding=share,
+                    readings=read_status, sweeps=sweeps, box_fails=n_fail,
+                    fingerprint=tuple(fp),
+                    settings={"n_grid": n_grid, "rtol": rtol, "n_box": n_box, "seed": seed,
+                              "table": _inputs.table_fingerprint()})
+
+
+def _call(fn: Callable[..., Any], args: tuple[Any, ...]) -> Any:
+    return fn(*args)
+
+
+def flip_share(m: ClaimMap, name: str) -> float:
+    """The share of row ``name``'s range (on its scale) over which the claim's status
+    differs from the reference's, from the map's thresholds (0 when it never flips)."""
+    r = _inputs.row(name)
+    ref = m.reference[name]
+    lo, hi = r.bounds(ref if r.relative else None)
+    cuts = sorted(t.value for t in m.thresholds if t.input == name)
+    if not cuts:
+        return 0.0
+    tr = (np.log if r.scale == "log" else (lambda x: x))
+    edges = [lo, *cuts, hi]
+    ref_holds = m.margin > 0
+    # the status in each piece alternates; the piece holding the reference has ref's status
+    flipped = 0.0
+    for a, b in itertools.pairwise(edges):
+        mid = math.sqrt(a * b) if r.scale == "log" else 0.5 * (a + b)
+        below = [t for t in m.thresholds if t.input == name and t.value > mid]
+        above = [t for t in m.thresholds if t.input == name and t.value < mid]
+        # a threshold tells the side on which the claim holds
+        if below:
+            holds = below[0].holds_when == "below"
+        else:
+            holds = above[-1].holds_when == "above"
+        if holds != ref_holds:
+            flipped += float(tr(b) - tr(a))
+    return flipped / float(tr(hi) - tr(lo))
+
+
+def demo_margin(objects: Mapping[str, Any]) -> float:
+    """A synthetic claim for the examples: holds while σ1² is below twice the paper's."""
+    return 2.0 - objects["GyrocompassParams"].sigma1_sq / 1.86e-6
+
+
+def check_fingerprint(claim: Claim, m: ClaimMap, objects: Mapping[str, Any] | None = None, *,
+                      rtol: float = 1e-6, atol: float = 1e-9) -> None:
+    """Recompute the map's fingerprint points and raise ``ValueError`` naming the claim when a
+    margin moved by more than ``rtol`` relative (``atol`` absolute): the stored map is then
+    stale and must be recomputed (``python -m gyrolib claims --out ...``)."""
+    objs = dict(_inputs.reference_objects() if objects is None else objects)
+    for pt in m.fingerprint:
+        now = margin_at(claim, objs, pt["changes"])
+        was = float(pt["margin"])
+        same = (math.isnan(now) and math.isnan(was)) or (now == was) or (
+            abs(now - was) <= atol + rtol * max(abs(now), abs(was)))
+        if not same:
+            raise ValueError(f"the stored map of {claim.id} is stale: its margin at "
+                             f"{pt['changes'] or 'the reference'} was {was!r}, now {now!r}; "
+                             "recompute the maps (python -m gyrolib claims --out)")

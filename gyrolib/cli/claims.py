@@ -1,0 +1,102 @@
+"""The ``claims`` command: every claim of both papers judged over the table of inputs.
+
+``python -m gyrolib claims`` prints the stored maps (status, the inputs that flip each claim
+and where, the share of the box that holds, the status under each reading); ``--check``
+recomputes their fingerprint points (exit 3 when a number moved: the maps are stale);
+``--out FILE`` recomputes them (``--workers K`` processes, or ``--scheduler ADDR`` a Dask
+cluster) and writes them, the one command that refreshes ``gyrolib/data/claim_maps.json``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
+    """Add the ``claims`` sub-command to ``sub``."""
+    p = sub.add_parser("claims", help="every claim judged over the table of inputs")
+    p.add_argument("--json", action="store_true", help="print the maps as JSON")
+    p.add_argument("--check", action="store_true",
+                   help="recompute the stored maps' fingerprint points (exit 3 if stale)")
+    p.add_argument("--out", type=Path, metavar="FILE",
+                   help="recompute every map and write them to FILE")
+    p.add_argument("--only", metavar="IDS", help="comma-separated claim ids (with --out)")
+    p.add_argument("--workers", type=int, default=1, metavar="K",
+                   help="worker processes for --out (default 1: in this process)")
+    p.add_argument("--scheduler", metavar="ADDR", help="a Dask scheduler for --out")
+    p.add_argument("--n-box", type=int, default=64, metavar="N",
+                   help="points drawn in the box of uncertain inputs (default 64)")
+    p.add_argument("--seed", type=int, default=2026, help="seed of the box (default 2026)")
+
+
+def _text(maps: dict) -> str:
+    lines = []
+    for cid, m in maps.items():
+        lines.append(f"{cid}: {m.status} (margin {m.margin:.4g}: {m.meaning})")
+        cond = m.conditions()
+        if cond:
+            lines.append(f"  {cond}")
+    return "\n".join(lines) + "\n"
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print, check or recompute the maps; the exit status."""
+    from gyrolib.book.ledger import claims
+
+    if args.out is not None:
+        ids = tuple(args.only.split(",")) if args.only else None
+        unknown = [i for i in ids or () if i not in claims.CLAIMS]
+        if unknown:
+            sys.stderr.write(f"claims: error: --only: unknown claim {unknown[0]!r}; known: "
+                             f"{', '.join(claims.CLAIMS)}\n")
+            return 2
+        if args.workers < 1 or args.n_box < 0:
+            sys.stderr.write("claims: error: --workers must be >= 1 and --n-box >= 0\n")
+            return 2
+        executor, close = None, None
+        if args.scheduler:
+            from gyrolib._optional import optional
+
+            with optional("dask", "dask", "--scheduler"):
+                from dask.distributed import Client
+            client = Client(args.scheduler)
+            executor, close = client.get_executor(), client.close
+        elif args.workers > 1:
+            from concurrent.futures import ProcessPoolExecutor
+
+            executor = ProcessPoolExecutor(args.workers)
+            close = executor.shutdown
+        try:
+            result = claims.maps(ids, executor=executor, n_box=args.n_box, seed=args.seed)
+        finally:
+            if close is not None:
+                close()
+        if ids is not None and args.out.is_file():  # refresh some maps of an existing file
+            try:
+                kept = claims.stored_maps(args.out)
+            except ValueError:
+                kept = {}
+            result = {**kept, **result}
+        claims.write_maps(result, args.out)
+        sys.stdout.write(_text(result))
+        return 0
+    try:
+        maps = claims.stored_maps()
+        if args.check:
+            n = claims.check_stored()
+            sys.stdout.write(f"{n} fingerprint points of {len(maps)} maps agree\n")
+            return 0
+    except (ValueError, FileNotFoundError) as exc:
+        sys.stderr.write(f"claims: {' '.join(str(exc).split())}\n")
+        return 3
+    if args.json:
+        sys.stdout.write(json.dumps({k: m.to_dict() for k, m in maps.items()}, indent=1)
+                         + "\n")
+    else:
+        sys.stdout.write(_text(maps))
+    return 0
