@@ -28,6 +28,7 @@ from gyrolib.gc.logs.convention import (
 from gyrolib.gc.logs.noise_fit import (
     NOISE_FIT_NAMES,
     NoiseFit,
+    fit_checks,
     fit_noise,
     fit_uncertainty,
 )
@@ -54,6 +55,7 @@ __all__ = [
     "calibrate",
     "convention_study",
     "earth_rate_mismatch",
+    "fit_checks",
     "fit_noise",
     "fit_uncertainty",
     "innovation_log_likelihood",

@@ -1577,11 +1577,13 @@ class SimulatedRecord:
         return float(self.truth[0, state_index("omega_gc")])
 
 
-def simulate_record(params: GyrocompassParams, t_end: float, seed: int) -> SimulatedRecord:
+def simulate_record(params: GyrocompassParams, t_end: float, seed: int, *,
+                    omega_gc: float | None = None) -> SimulatedRecord:
     """A seeded record of paper GC's truth model (nonlinear Eq. (3) with the shaping filters)
     over ``(0, t_end]`` at ``params.dt``, in the columns of a :class:`GCRecord`.
 
-    The initial state is drawn from ``P(0)`` (:func:`gyrolib.gc.initial_covariance`); the
+    The initial state is drawn from ``P(0)`` (:func:`gyrolib.gc.initial_covariance`; with
+    ``omega_gc`` given, the drift is that value, rad/s, the other states drawn); the
     angle sensor reads ``β = β_n + Δβ`` plus white noise of variance ``R₁₁``, the
     inclinometers ``g δ + N1`` and ``g γ + N1`` plus noise of variances ``R₂₂``, ``R₃₃``
     (Eq. (8), :func:`gyrolib.gc.measurement_noise_covariance`).
@@ -1597,6 +1599,8 @@ def simulate_record(params: GyrocompassParams, t_end: float, seed: int) -> Simul
     seed = v.check_int("seed", seed, 0)
     rng = np.random.default_rng(seed)
     x0 = covariance_factor(initial_covariance(p)) @ rng.standard_normal(N)
+    if omega_gc is not None:
+        x0[state_index("omega_gc")] = v.check_real("omega_gc", omega_gc)
     truth_seed = int(rng.integers(0, 2**62))
     t, X = simulate_truth(p, t_end, x0, seed=truth_seed)
     beta_n = nominal_half_steps(p, t.size - 1)[::2]

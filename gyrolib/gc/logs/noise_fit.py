@@ -63,6 +63,7 @@ from gyrolib.gc.model.state_space import (
 __all__ = [
     "NOISE_FIT_NAMES",
     "NoiseFit",
+    "fit_checks",
     "fit_noise",
     "fit_uncertainty",
 ]
@@ -224,6 +225,134 @@ class NoiseFit:
             if f.name not in fitted:
                 lines.append(f"{f.name} = {_toml_value(getattr(self.params, f.name))}")
         return "\n".join(lines) + "\n"
+
+
+#: The row of the table of inputs (:mod:`gyrolib.inputs`) that holds each fitted name's
+#: plausible range.
+FIT_ROWS: Final[dict[str, str]] = {"alpha1": "gc.alpha1", "sigma1_sq": "gc.sigma1_sq",
+                                   "xi1": "gc.xi1", "C_as": "gc.C_as", "C_in": "gc.C_incl",
+                                   "C_incl_y": "gc.C_incl", "C_incl_z": "gc.C_incl"}
+
+#: The white-noise intensities: a time base off by ε scales every one by 1 + ε (R = C/dt).
+_INTENSITIES: Final[tuple[str, ...]] = ("C_as", "C_in", "C_incl_y", "C_incl_z")
+
+
+def fit_checks(fit: NoiseFit, unfitted: object | None = None, *, clock_tolerance: float = 0.0,
+               false_alarm: float = 0.01) -> list[dict]:
+    """The checks a noise fit must pass before its calibration is a result (issue 34,
+    item 3), at a family-wise false-alarm rate (Šidák over the checks made).
+
+    * **plausible range** (one per fitted name): the fitted value's interval
+      ``θ̂ · exp(± z SE(ln θ))`` must reach the plausible range of its row of the table of
+      inputs (:data:`FIT_ROWS`, :func:`gyrolib.inputs.row`; ``ξ1`` on a linear scale):
+      a fit that lands outside it describes another instrument, or absorbs a fault.
+    * **absorbed misfit** (when two or more white-noise intensities are fitted; the message
+      says so when the run before the fit, ``unfitted``, failed a model check, whose misfit
+      the fit then absorbs): a time base off by ε makes every
+      sensor's per-sample variance ``C/dt`` look ``1 + ε`` times larger, the signature of a
+      fit that moves every intensity by one common factor.  The ratios fitted/start of the
+      intensities are tested for one common factor (χ² of their logarithms about their
+      weighted mean, upper quantile); when they share one, its logarithm against
+      ``√(SE² + clock_tolerance²)`` (two-sided normal): a common factor beyond the clock's
+      tolerance means the fit moved the levels only to absorb the misfit the unfitted run
+      showed (or, on a record too short for the run before the fit to show it, that the
+      unfitted run missed), and its ω̂_gc carries the time base's error (about ε Ω_h) that
+      no σ holds.  Intensities that move apart are the sensors' own noise: no finding; two
+      independent sensors whose noise differs from the start by one factor within a few
+      tenths of a percent (100 s at 1 kHz) would be refused (stated).
+
+    Parameters
+    ----------
+    fit : NoiseFit
+    unfitted : CalibrationResult, optional
+        The calibration of the same record with the start's parameters.
+    clock_tolerance : float
+        The logger's time-scale tolerance (1σ, relative; ``params.sigma_clock``).
+    false_alarm : float
+        Family-wise false-alarm rate, in (0, 1).
+
+    Returns
+    -------
+    list of dict
+        ``test``, ``name``, ``statistic``, ``low``, ``high``, ``passed``, ``reason_code``
+        (``fit_implausible``, ``fit_absorbs_misfit``) and ``message``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> fit = gc.NoiseFit(params=p, start=p, names=("C_as",), values=np.array([50 * p.C_as]),
+    ...                   std_errors=np.array([0.5 * p.C_as]), cov_log=np.array([[1e-4]]),
+    ...                   loglik=0.0, loglik_start=0.0, converged=True, message="",
+    ...                   n_evaluations=1, outliers=0)
+    >>> [(c["name"], c["passed"]) for c in gc.fit_checks(fit)]
+    [('C_as', False)]
+    """
+    from gyrolib import inputs
+    from gyrolib.filtering.consistency import chi2_ppf
+
+    v.check_instance("fit", fit, NoiseFit)
+    clock_tolerance = v.check_nonnegative("clock_tolerance", clock_tolerance)
+    false_alarm = v.check_in_range("false_alarm", false_alarm, 0.0, 1.0, low_open=True,
+                                   high_open=True)
+    se_log = fit.relative_std_errors
+    misfit = unfitted is not None and any(
+        c.startswith("misfit") for c in getattr(unfitted, "reason_codes", ()))
+    idx = [i for i, nm in enumerate(fit.names) if nm in _INTENSITIES
+           and np.isfinite(se_log[i]) and se_log[i] > 0]
+    common = len(idx) >= 2
+    n_tests = len(fit.names) + (2 if common else 0)
+    a = 1.0 - (1.0 - false_alarm) ** (1.0 / n_tests)
+    zlim = math.sqrt(float(chi2_ppf(1.0 - a, 1)))
+    out = []
+    for i, nm in enumerate(fit.names):
+        row = inputs.row(FIT_ROWS[nm])
+        ref = float(np.mean([getattr(fit.start, f) for f in _fields_of(nm)]))
+        lo, hi = row.bounds(ref if row.relative else None)
+        val = float(fit.values[i])
+        s = float(se_log[i]) if np.isfinite(se_log[i]) else 0.0
+        if row.scale == "log":
+            stat = math.log(val)
+            reach_lo, reach_hi = stat - zlim * s, stat + zlim * s
+            ok = reach_hi >= math.log(lo) and reach_lo <= math.log(hi)
+            shown = f"{val:.4g} (x/÷ {math.exp(zlim * s):.3g} at the test's level)"
+        else:
+            stat = val
+            ok = val + zlim * val * s >= lo and val - zlim * val * s <= hi
+            shown = f"{val:.4g} ± {zlim * val * s:.2g}"
+        out.append({"test": "plausible range", "name": nm, "statistic": val, "low": lo,
+                    "high": hi, "passed": bool(ok), "reason_code": "fit_implausible",
+                    "message": f"fitted {nm} = {shown} is outside its plausible range "
+                               f"[{lo:.3g}, {hi:.3g}] ({row.name} of gyrolib.inputs: "
+                               f"{row.reason}): another instrument, or a fault the fit "
+                               "absorbs"})
+    if common:
+        start = _log_values(fit.start, fit.names)
+        r = np.log(fit.values[idx]) - start[idx]          # ln(fitted / start)
+        w = 1.0 / se_log[idx] ** 2
+        mean = float(np.sum(w * r) / np.sum(w))
+        se = math.sqrt(1.0 / float(np.sum(w)))
+        chi = float(np.sum(w * (r - mean) ** 2))
+        lim = float(chi2_ppf(1.0 - a, len(idx) - 1))
+        names = ", ".join(fit.names[i] for i in idx)
+        shared = chi <= lim
+        z = mean / math.hypot(se, clock_tolerance)
+        eps = math.expm1(mean)
+        out.append({"test": "absorbed misfit", "name": names, "statistic": z,
+                    "low": -zlim, "high": zlim,
+                    "passed": bool(not shared or abs(z) <= zlim),
+                    "reason_code": "fit_absorbs_misfit",
+                    "message": f"the fit moves every white-noise intensity ({names}) by one "
+                               f"common factor {1 + eps:.4g} ± {se:.2g} (their spread about "
+                               f"it: chi-square {chi:.3g} <= {lim:.3g})"
+                               + (" only to absorb the misfit the run before the fit showed"
+                                  if misfit else "") + ": the signature of a "
+                               f"time base off by {100 * eps:+.2g} % (a logger rate labelled "
+                               "wrong? 1024 Hz read as 1 kHz is +2.4 %), which reads into "
+                               "omega_gc as about that share of Omega_h; fix the time stamps "
+                               "or state the clock's tolerance (--clock-tolerance)"})
+    return out
 
 
 def _toml_value(x: object) -> str:
