@@ -115,6 +115,7 @@ from gyrolib.gc.logs import (
     fit_noise,
     fit_uncertainty,
     innovation_log_likelihood,
+    profile_intervals,
     simulate_record,
 )
 from gyrolib.gc.model import (
@@ -308,6 +309,7 @@ __all__ = [
     "plot_sweep",
     "procedure_for_time",
     "process_noise_intensity",
+    "profile_intervals",
     "psd",
     "psd_integral",
     "psd_two_sided",

@@ -31,6 +31,7 @@ from gyrolib.gc.logs.noise_fit import (
     fit_checks,
     fit_noise,
     fit_uncertainty,
+    profile_intervals,
 )
 from gyrolib.gc.logs.record import (
     MEASUREMENT_COLUMNS,
@@ -59,5 +60,6 @@ __all__ = [
     "fit_noise",
     "fit_uncertainty",
     "innovation_log_likelihood",
+    "profile_intervals",
     "simulate_record",
 ]
