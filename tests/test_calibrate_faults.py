@@ -230,7 +230,7 @@ def test_params_earth_rate_components_state_the_latitude(tmp_path, capsys):
 def test_record_latitude_is_used(tmp_path, capsys):
     """``GCRecord.latitude`` (the reader fills it from a ``# latitude_deg:`` line): used when
     neither --latitude nor the params file give one; without any, not stated."""
-    from gyrolib.cli import calibrate as cli
+    from gyrolib.cli import calibrate_gc as cli
 
     o = {"latitude": None, "latitude_source": cli.LAT_NONE}
     notes: list[str] = []

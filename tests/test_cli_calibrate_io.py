@@ -242,16 +242,16 @@ def test_a_failing_file_is_its_own_error_row_with_workers(gc_files, capsys, tmp_
     """A file whose calibration fails inside a worker (here: MemoryError, as a time column
     the size of Unix time made it) becomes its own row with status error and the reason;
     the other rows are kept; exit 2."""
-    import gyrolib.cli.calibrate as cc
+    import gyrolib.cli.calibrate_gc as cc
 
-    real = cc._run_gc_file
+    real = cc.run_file
 
     def failing(file, o):
         if Path(file).name == "boom.csv":
             raise MemoryError("Unable to allocate 25.0 TiB")
         return real(file, o)
 
-    monkeypatch.setattr(cc, "_run_gc_file", failing)       # the workers are forked after
+    monkeypatch.setattr(cc, "run_file", failing)       # the workers are forked after
     boom = tmp_path / "boom.csv"
     boom.write_bytes(gc_files["good2"].read_bytes())
     summary = tmp_path / "s.csv"

@@ -108,3 +108,19 @@ def test_extend_reuses_a_smaller_study_and_refuses_another(tmp_path, capsys):
                  "--out", str(bad)]) == 2
     assert capsys.readouterr().err.count("\n") == 1
     assert not bad.exists()
+
+
+def test_help_counts_the_studies_inputs(capsys):
+    """``sensitivity --help`` names each study's number of inputs as the study defines it
+    (issue 34: it said 5 where RSF's study has 7), never a typed number."""
+    from gyrolib.gc.analysis.sensitivity_study import sensitivity_inputs as gc_inputs
+    from gyrolib.rsf.sensitivity_study import sensitivity_inputs as rsf_inputs
+
+    with pytest.raises(SystemExit):
+        main(["sensitivity", "--help"])
+    out = capsys.readouterr().out
+    assert f"t_c over {len(gc_inputs())} inputs" in out
+    assert f"share removed over {len(rsf_inputs())} inputs" in out
+    with pytest.raises(SystemExit):
+        main(["sensitivity", "rsf", "--help"])
+    assert f"over {len(rsf_inputs())} inputs" in capsys.readouterr().out

@@ -70,7 +70,8 @@ GRAPH = import_graph()
 def test_the_graph_sees_known_edges():
     """The parser finds imports at module level, inside functions and relative ones."""
     assert "gyrolib.gc.model.params" in GRAPH["gyrolib.gc.analysis.covariance"]
-    assert "gyrolib.records.reader" in GRAPH["gyrolib.cli.calibrate"]
+    assert "gyrolib.records.reader" in GRAPH["gyrolib.cli.calibrate_gc"]
+    assert "gyrolib.cli.calibrate_gc" in GRAPH["gyrolib.cli.calibrate"]   # inside run()
     assert "gyrolib.rsf.sensors" in GRAPH["gyrolib.rsf.simulation"]
 
 
@@ -147,6 +148,52 @@ def test_command_line_does_not_import_plotting_or_sympy(tmp_path):
     assert _fresh(run) == []
     assert set(_fresh("from gyrolib import gc\ngc.plot_figure1\ngc.symbolic")) >= {
         "matplotlib", "sympy"}
+
+
+def test_help_loads_no_numerics():
+    """``python -m gyrolib --help`` and the commands' ``--help`` build the parsers without
+    loading numpy, numba or pyarrow (issue 34, item 11: they took 2–5 s); importing a
+    calibration's run in the same kind of process loads numpy (the probe's power).
+    (``sensitivity --help`` reads its studies' numbers of inputs from the studies: numpy.)"""
+    import subprocess
+    import sys
+
+    watch = ("numpy", "numba", "pyarrow")
+    probe = ("import contextlib, io, sys\nfrom gyrolib.cli import main\n"
+             "for argv in (['--help'], ['calibrate', '--help'], ['calibrate', 'gc', '--help'],"
+             " ['calibrate', 'rsf', '--help'], ['race', '--help'],"
+             " ['ledger', '--help']):\n"
+             "    try:\n"
+             "        with contextlib.redirect_stdout(io.StringIO()):\n"
+             "            main(argv)\n"
+             "    except SystemExit as exc:\n"
+             "        assert exc.code == 0, argv\n"
+             f"print(' '.join(m for m in {watch!r} if m in sys.modules))\n"
+             "import gyrolib.cli.calibrate_gc\n"
+             f"print(' '.join(m for m in {watch!r} if m in sys.modules))\n")
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True)
+    help_loaded, run_loaded = out.stdout.split("\n")[:2]
+    assert help_loaded == ""
+    assert "numpy" in run_loaded.split()
+
+
+def test_records_names_resolve_lazily():
+    """Every name of ``gyrolib.records.__all__`` resolves on first use to the object of the
+    module that defines it, and is listed by dir(); an unknown name is an AttributeError."""
+    import gyrolib.records as records
+    import gyrolib.records.errors
+    import gyrolib.records.options
+    import gyrolib.records.reader
+
+    for name in records.__all__:
+        assert getattr(records, name) is not None, name
+    assert set(records.__all__) <= set(dir(records))
+    assert records.read_gc is gyrolib.records.reader.read_gc
+    assert records.parse_columns is gyrolib.records.options.parse_columns
+    assert records.OptionError is gyrolib.records.errors.OptionError
+    with pytest.raises(AttributeError, match="no attribute 'read_nothing'"):
+        records.read_nothing  # noqa: B018
 
 
 @pytest.mark.parametrize("package", ["gyrolib.gc", "gyrolib.rsf"])

@@ -12,7 +12,11 @@ module           command
 ===============  ==================================================================
 
 Each command module offers ``add_parser(sub)`` (its sub-parser) and ``run(args)`` (its exit
-status).  Usage errors exit with status 2 and one line on stderr.
+status).  Usage errors exit with status 2 and one line on stderr.  Building the parsers loads
+no numerics (``--help`` imports no numpy, numba or pyarrow): each command imports its work in
+``run``.  ``calibrate``'s runs live in ``calibrate_gc`` and ``calibrate_rsf``, its batch and
+atomic outputs in ``outputs``, its shared constants in ``constants``, and its format options
+with the reader in :mod:`gyrolib.records.options`.
 """
 
 from __future__ import annotations

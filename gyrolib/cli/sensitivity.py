@@ -113,19 +113,49 @@ def _previous(args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
     return prev, dict(data.get("run", {}))
 
 
+#: Placeholders of the help texts: each study's number of sampled inputs.
+_COUNTS = ("{gc_inputs}", "{rsf_inputs}")
+
+
+def _with_counts(text: str) -> str:
+    """``text`` with :data:`_COUNTS` replaced by the studies' own numbers of inputs, read
+    from them when a help text that names them is printed (they import numpy, which the
+    command line's start does not)."""
+    if not any(c in text for c in _COUNTS):
+        return text
+    from gyrolib.gc.analysis.sensitivity_study import sensitivity_inputs as gc_inputs
+    from gyrolib.rsf.sensitivity_study import sensitivity_inputs as rsf_inputs
+
+    return (text.replace("{gc_inputs}", str(len(gc_inputs())))
+            .replace("{rsf_inputs}", str(len(rsf_inputs()))))
+
+
+class _CountingFormatter(argparse.HelpFormatter):
+    """The help formatter that fills in the studies' numbers of inputs (never typed)."""
+
+    def _expand_help(self, action: argparse.Action) -> str:
+        return _with_counts(super()._expand_help(action))
+
+    def _format_text(self, text: str) -> str:
+        return super()._format_text(_with_counts(text))
+
+
 def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     """Add the ``sensitivity`` sub-command to ``sub``; its usage errors go through
     ``parser_class`` (one line, status 2)."""
     sen = sub.add_parser(
         "sensitivity", help="Sobol' indices of paper GC's or RSF's verdicts",
+        formatter_class=_CountingFormatter,
         description="Global sensitivity analysis (Sobol' indices, SALib) of paper GC's "
                     "sigma_gc(100 s) and t_c, or of paper RSF's delta K and share removed.")
     # ``sub`` builds plain parsers; this one's usage errors (an unknown model) are one line too
     sen.error = types.MethodType(parser_class.error, sen)  # type: ignore[method-assign]
     models = sen.add_subparsers(dest="model", required=True, parser_class=parser_class)
-    for name, text in (("gc", "paper GC: sigma_gc(100 s) and t_c over 12 inputs"),
-                       ("rsf", "paper RSF: delta K and the share removed over 5 inputs")):
-        p = models.add_parser(name, help=text, description=text)
+    for name, text in (("gc", "paper GC: sigma_gc(100 s) and t_c over {gc_inputs} inputs"),
+                       ("rsf", "paper RSF: delta K and the share removed over {rsf_inputs} "
+                               "inputs")):
+        p = models.add_parser(name, help=text, description=text,
+                              formatter_class=_CountingFormatter)
         p.add_argument("--n", type=_power_of_two, required=True, metavar="N",
                        help="base sample size, a power of 2 (N (2D + 2) model runs)")
         where = p.add_mutually_exclusive_group()

@@ -8,56 +8,61 @@ module              what it holds
 ``reader``          :func:`read_csv`, :func:`iter_csv` (CSV or ``.csv.gz`` through pyarrow's
                     CSV reader, streamed in chunks), :func:`read_gc`, :class:`GCChunks` (a
                     long record in chunks), :func:`read_rsf`, :class:`RecordInfo`,
-                    :func:`parse_columns`, :func:`write_csv`
+                    :func:`write_csv`
 ``params``          :func:`load_toml`, :func:`gc_params_from_toml`,
                     :func:`rsf_config_from_toml`
 ``plausibility``    units and conventions at the door: :func:`check_gc`,
                     :func:`check_rsf` (a column in degrees, milliseconds or g refused with
                     the likely mistake named), :func:`angle_bound`, :func:`noise_ratio`
-``errors``          :class:`RecordError` (a bad file: names the file, row and column)
+``options``         the command line's format options beside the reader:
+                    :func:`add_format_options`, :func:`read_options`, :func:`parse_columns`
+``errors``          :class:`RecordError` (a bad file: names the file, row and column),
+                    :class:`OptionError` (a bad option)
 ==================  ===============================================================
 
 Use as ``from gyrolib import records`` then ``records.read_gc("run.csv")``.
 """
 
-from gyrolib.records.errors import (
-    RecordError,
-)
-from gyrolib.records.params import (
-    gc_params_from_toml,
-    load_toml,
-    rsf_config_from_toml,
-)
-from gyrolib.records.plausibility import (
-    angle_bound,
-    check_gc,
-    check_rsf,
-    noise_ratio,
-)
-from gyrolib.records.reader import (
-    ABSOLUTE_TIME,
-    GC_COLUMNS,
-    RSF_COLUMNS,
-    GCChunks,
-    GCRecord,
-    RecordInfo,
-    iter_csv,
-    parse_columns,
-    read_csv,
-    read_gc,
-    read_rsf,
-    write_csv,
-)
+#: Which module defines each public name; imported on first use, so that the command line's
+#: parsers (:mod:`gyrolib.records.options`) load no numpy or pyarrow.
+_HOME: dict[str, str] = {
+    "RecordError": "errors", "OptionError": "errors",
+    "gc_params_from_toml": "params", "load_toml": "params", "rsf_config_from_toml": "params",
+    "angle_bound": "plausibility", "check_gc": "plausibility", "check_rsf": "plausibility",
+    "noise_ratio": "plausibility",
+    "add_format_options": "options", "parse_columns": "options", "read_options": "options",
+    "ABSOLUTE_TIME": "reader", "GC_COLUMNS": "reader", "RSF_COLUMNS": "reader",
+    "GCChunks": "reader", "GCRecord": "reader", "RecordInfo": "reader", "iter_csv": "reader",
+    "read_csv": "reader", "read_gc": "reader", "read_rsf": "reader", "write_csv": "reader",
+}
 
 
 def __getattr__(name: str):
-    """``RSFRecord`` (paper RSF's record), imported on first use (see
-    :mod:`gyrolib.records.reader`)."""
-    if name == "RSFRecord":
+    """The names of ``__all__``, each imported from its module on first use (an ``import``
+    statement each, which the import graph of ``tests/test_imports.py`` sees);
+    ``RSFRecord`` is paper RSF's record (see :mod:`gyrolib.records.reader`)."""
+    home = _HOME.get(name)
+    if home == "errors":
+        import gyrolib.records.errors as module
+    elif home == "params":
+        import gyrolib.records.params as module
+    elif home == "plausibility":
+        import gyrolib.records.plausibility as module
+    elif home == "options":
+        import gyrolib.records.options as module
+    elif home == "reader":
+        import gyrolib.records.reader as module
+    elif name == "RSFRecord":
         from gyrolib.rsf.record import RSFRecord
 
         return RSFRecord
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(module, name)
+
+
+def __dir__() -> list[str]:
+    return sorted(set(__all__) | set(globals()))
 
 
 __all__ = [
@@ -66,9 +71,11 @@ __all__ = [
     "RSF_COLUMNS",
     "GCChunks",
     "GCRecord",
+    "OptionError",
     "RSFRecord",
     "RecordError",
     "RecordInfo",
+    "add_format_options",
     "angle_bound",
     "check_gc",
     "check_rsf",
@@ -79,6 +86,7 @@ __all__ = [
     "parse_columns",
     "read_csv",
     "read_gc",
+    "read_options",
     "read_rsf",
     "rsf_config_from_toml",
     "write_csv",

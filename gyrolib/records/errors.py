@@ -3,7 +3,7 @@ number in the file) and the column, and what was expected."""
 
 from __future__ import annotations
 
-__all__ = ["RecordError"]
+__all__ = ["OptionError", "RecordError"]
 
 
 class RecordError(ValueError):
@@ -33,3 +33,14 @@ class RecordError(ValueError):
         text = f"{self.path}: " + (", ".join(loc) + ": " if loc else "") + self.detail
         del where
         super().__init__(text)
+
+
+class OptionError(ValueError):
+    """A bad command-line option (not a bad file): one line naming the option and what was
+    expected; the command line prints it and exits with status 2.
+
+    Examples
+    --------
+    >>> str(OptionError("--t0 must be a finite number of seconds; got nan"))
+    '--t0 must be a finite number of seconds; got nan'
+    """

@@ -51,6 +51,7 @@ from gyrolib import _validation as v
 from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
+from gyrolib.records.options import parse_columns
 from gyrolib.records.plausibility import check_gc, check_rsf
 
 if TYPE_CHECKING:
@@ -162,35 +163,6 @@ class RecordInfo:
                 "columns": dict(self.columns), "latitude_rad": self.latitude,
                 "t_offset_s": self.t_offset, "t_offset_exact": self.t_offset_text,
                 "t_offset_source": self.t_offset_source}
-
-
-def parse_columns(text: str) -> dict[str, str]:
-    """``"t=time,angle_sensor=gyro"`` → ``{"t": "time", "angle_sensor": "gyro"}`` (the
-    command line's ``--columns``): the record's column name, ``=``, the file's header name.
-
-    Examples
-    --------
-    >>> parse_columns("t=time, angle_sensor = gyro")
-    {'t': 'time', 'angle_sensor': 'gyro'}
-    """
-    if not isinstance(text, str):
-        raise TypeError(f"columns must be a str like 't=time,angle_sensor=gyro'; got "
-                        f"{type(text).__name__}")
-    out: dict[str, str] = {}
-    for part in text.split(","):
-        if not part.strip():
-            continue
-        name, eq, header = part.partition("=")
-        name, header = name.strip(), header.strip()
-        if not eq or not name or not header:
-            raise ValueError(f"columns expects NAME=HEADER pairs separated by commas (e.g. "
-                             f"t=time,angle_sensor=gyro); got {part.strip()!r}")
-        if name in out:
-            raise ValueError(f"columns maps {name!r} twice")
-        out[name] = header
-    if not out:
-        raise ValueError("columns expects at least one NAME=HEADER pair (e.g. t=time)")
-    return out
 
 
 # Reading the lines before the data --------------------------------------------------------

@@ -1,0 +1,118 @@
+"""Paper RSF's run of the ``calibrate`` command on one record: its options checked
+(:func:`options`), the record read, the correction of Eqs. (1)-(3) applied per interval, and
+the report as text, JSON and a summary row (:func:`run_file`).  Paper RSF's package is
+imported by :func:`run_file`, not by a GC run.  See :mod:`gyrolib.cli.calibrate` for the
+command's behaviour."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import numpy as np
+
+from gyrolib import units
+from gyrolib.cli.constants import PLOT_SUFFIXES
+from gyrolib.cli.outputs import Outcome, check_out_path, one_line
+from gyrolib.records.errors import OptionError, RecordError
+from gyrolib.records.params import rsf_config_from_toml
+from gyrolib.records.reader import read_rsf
+
+__all__ = ["options", "run_file"]
+
+
+def options(args: argparse.Namespace) -> dict:
+    if not (math.isfinite(args.period) and args.period > 0):
+        raise OptionError(f"--period must be a positive number of seconds; got {args.period}")
+    if args.counts_per_rev is not None and args.counts_per_rev < 2:
+        raise OptionError(f"--counts-per-rev must be an integer >= 2; got "
+                         f"{args.counts_per_rev}")
+    if len(args.files) > 1 and args.plot:
+        raise OptionError(f"--plot writes one file: give one record, not {len(args.files)} "
+                         "(--summary OUT.csv reports a batch)")
+    check_out_path(args.plot, PLOT_SUFFIXES, "a plot")
+    return {"config": rsf_config_from_toml(args.params), "period": args.period,
+            "counts_per_rev": args.counts_per_rev, "k_form": args.k_form, "plot": args.plot,
+            "slips": args.slips}
+
+
+def _rsf_prediction(res, config):
+    """δK the error model predicts at the record's mean rate (:func:`rsf.predict_delta_k`)."""
+    from gyrolib import rsf
+
+    return rsf.predict_delta_k(config, res.period, rate=res.mean_rate)
+
+
+def run_file(file: str, o: dict) -> Outcome:
+    record, info = read_rsf(file, counts_per_rev=o["counts_per_rev"], columns=o["columns"],
+                            t0=o["t0"], return_info=True)
+    if record.n < 2:
+        raise RecordError(file, "expected at least two data rows")
+    span = float(record.t[-1] - record.t[0])
+    if o["period"] > span:
+        raise RecordError(file, f"--period {o['period']} s is longer than the record "
+                          f"({span:.6g} s): no complete correction interval")
+    from gyrolib import rsf  # imported by the rsf command only (a gc run does not need it)
+
+    try:
+        res = rsf.calibrate(record, o["period"], k_form=o["k_form"], slips=o["slips"])
+    except ValueError as exc:
+        raise RecordError(file, one_line(exc)) from None
+    if res.n_intervals == 0:
+        raise RecordError(file, "no correction interval holds a usable sample (every "
+                          "sample is missing or follows a gap)")
+    pred = _rsf_prediction(res, o["config"])
+    out = res.summary()
+    out["file"] = str(file)
+    out["valid"] = True
+    out["reason"] = ""
+    out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
+                                "std_per_interval": [float(x) for x in res.delta_k_std(pred)]}
+    e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
+    st = res.eps1_stats()
+    rate = units.from_si(res.mean_rate, "deg/s")
+    notes = ([info.time_note] if info.time_note else []) + list(res.notes)
+    if res.reverses:
+        notes.append(f"the roll rate reverses ({int(np.sum(res.rate > 0))} interval(s) turn "
+                     f"one way, {int(np.sum(res.rate < 0))} the other, "
+                     f"{int(np.sum(res.reversal))} reverse inside and are left out of the "
+                     "mean: their net turn is small, their eps1_hat ill-conditioned); the rate "
+                     "is reported as mean |omega|")
+    out["notes"] = notes
+    out["time_base"] = info.summary()
+    out["units"] = {"eps1_hat": "1", "eps1_hat_mean": "1", "eps1_hat_spread": "1",
+                    "eps1_hat_sem": "1", "K": "1", "rate": "rad/s", "abs_rate": "rad/s",
+                    "mean_abs_rate": "rad/s", "t_start": "s", "period": "s", "dt": "s",
+                    "gap_time": "s", "residual_end": "rad", "residual_raw_end": "rad",
+                    "delta_k_predicted": "1"}
+    spread = (f"; per-interval spread (SD) {units.from_si(st['spread'], 'ppm'):.4g} ppm, "
+              f"standard error of the mean {units.from_si(st['sem'], 'ppm'):.3g} ppm "
+              f"(SD/sqrt({st['n']}), independent intervals"
+              + (f"; an upper bound here: lag-1 autocorrelation {st['lag1']:.2f}, the GS "
+                 "end-point errors cancel in the mean)" if st["lag1"] < -0.25 else ")")
+              if st["n"] > 1 else "")
+    lines = [
+        f"paper RSF correction of {file}: {res.rows} rows, period {res.period:g} s, "
+        f"{res.n_intervals} complete interval(s), mean |roll rate| {rate:.5g} deg/s",
+        f"  eps1_hat: mean {units.from_si(st['mean'], 'ppm'):.4g} ppm over {st['n']} "
+        f"interval(s){spread} (per interval: "
+        + ", ".join(f"{x:.4g}" for x in e[:6]) + (", ..." if e.size > 6 else "") + ")",
+        f"  K (k_form {res.k_form}): mean {np.mean(res.k):.8f}",
+        f"  error model at this rate: delta K = {units.from_si(pred.mean, 'ppm'):.3g} ± "
+        f"{units.from_si(pred.std, 'ppm'):.3g} ppm per interval",
+        f"  samples used {res.samples_used}, skipped {res.samples_skipped} (missing values "
+        f"or across gaps), gaps {res.gaps} ({res.gap_time:.4g} s without rows)",
+        f"  roll angle vs GS at the end: corrected "
+        f"{units.from_si(res.residual[-1], 'deg'):.4g} deg, uncorrected "
+        f"{units.from_si(res.residual_raw[-1], 'deg'):.4g} deg",
+    ]
+    lines += [f"  note: {n}" for n in notes]
+    row = {"file": file, "method": "rsf", "quantity": "eps1_hat_mean",
+           "estimate": st["mean"], "sigma": st["sem"] if st["n"] > 1 else "", "unit": "1",
+           "valid": True, "status": "ok", "reason": "",
+           "notes": "; ".join(notes + ([f"sigma is the standard error of the mean; the "
+                                        f"per-interval spread is {st['spread']:.4g}"]
+                                       if st["n"] > 1 else []))}
+    artifacts = [(o["plot"], "rsf_plot", (res, pred))] if o["plot"] else []
+    return Outcome(file=file, status="ok", text="\n".join(lines) + "\n", data=out, row=row,
+                    artifacts=artifacts)
