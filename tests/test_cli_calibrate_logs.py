@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import shutil
 import sys
 from pathlib import Path
@@ -387,10 +388,12 @@ def test_rsf_good_and_batch_summary(rsf_logs, capsys, tmp_path):
     single = json.loads(_run(["calibrate", "rsf", rsf_logs["good"], "--period", "1",
                               "--json"], capsys)[1])
     assert float(rows[0]["estimate"]) == pytest.approx(np.mean(single["eps1_hat"]), rel=1e-9)
-    # sigma: the standard error of the mean, not the per-interval spread (issue 27)
-    n = len(single["eps1_hat"])
-    assert float(rows[0]["sigma"]) == pytest.approx(
-        np.std(single["eps1_hat"], ddof=1) / np.sqrt(n), rel=1e-9)
+    # sigma: the total standard uncertainty, its parts in quadrature (issue 34), not the
+    # per-interval spread (issue 27)
+    parts = single["eps1_hat_mean_std_parts"]
+    assert float(rows[0]["sigma"]) == pytest.approx(single["eps1_hat_mean_std"], rel=1e-9)
+    assert single["eps1_hat_mean_std"] == pytest.approx(
+        math.sqrt(sum(x * x for x in parts.values())), rel=1e-9)
     assert single["eps1_hat_spread"] == pytest.approx(np.std(single["eps1_hat"], ddof=1),
                                                       rel=1e-9)
     assert "standard error of the mean" in rows[0]["notes"]

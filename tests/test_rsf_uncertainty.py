@@ -144,3 +144,38 @@ def test_simulated_flights_z_spread():
         z.append((u.mean - e1 / (1 + e1)) / u.std)
     z = np.array(z)
     assert 0.5 < float(np.std(z)) < 1.6 and np.max(np.abs(z)) < 3.5, z
+
+
+def _csv(path, rec):
+    np.savetxt(path, np.column_stack([rec.t, rec.sins_increment, rec.gs_angle]),
+               delimiter=",", header="t,sins_increment,gs_angle", comments="", fmt="%.17g")
+    return str(path)
+
+
+def test_command_prints_the_total_sigma_and_refuses_with_exit_3(tmp_path, capsys):
+    """``calibrate rsf``: the JSON's eps1_hat_mean_std is the library's total, the summary's
+    sigma column the same, a stated tolerance moves it (--sins-bias-tolerance 0 and
+    --gs-bias-tolerance 0 drop the bias part); the noisy record exits 3 with its reason
+    code and one line on stderr, and writes no plot."""
+    import json
+
+    from gyrolib.cli import main
+
+    good = _csv(tmp_path / "good.csv", _record(b_sins=BIAS_S))
+    code = main(["calibrate", "rsf", good, "--period", "1", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["valid"] and out["reason_code"] == ""
+    u = rsf.eps1_uncertainty(rsf.calibrate(_record(b_sins=BIAS_S), 1.0))
+    assert out["eps1_hat_mean_std"] == pytest.approx(u.std, rel=1e-9)
+    code = main(["calibrate", "rsf", good, "--period", "1", "--json",
+                 "--sins-bias-tolerance", "0", "--gs-bias-tolerance", "0"])
+    assert json.loads(capsys.readouterr().out)["eps1_hat_mean_std_parts"]["biases"] == 0.0
+    noisy = _csv(tmp_path / "noisy.csv", _record(noise=2e-3))
+    plot = tmp_path / "p.png"
+    code = main(["calibrate", "rsf", noisy, "--period", "1", "--json", "--plot", str(plot)])
+    cap = capsys.readouterr()
+    out = json.loads(cap.out)
+    assert code == 3 and not out["valid"] and out["reason_code"] == "rsf_scatter"
+    assert cap.err.count("\n") == 1 and "no valid estimate" in cap.err
+    assert not plot.exists()
+    assert main(["calibrate", "rsf", good, "--period", "1", "--sf-tolerance", "-1"]) == 2

@@ -144,8 +144,14 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
         "rsf", help="paper RSF: roll-gyro scale-factor error per correction interval",
         description="Apply paper RSF's correction (Eqs. (1)-(3)) to CSV records with the "
                     "columns t (s), sins_increment (rad) and gs_angle (rad) or "
-                    "encoder_counts (wrapped, with --counts-per-rev). Exit status 0 ok, "
-                    "2 bad input.")
+                    "encoder_counts (wrapped, with --counts-per-rev). The mean eps1_hat "
+                    "carries a total standard uncertainty: the intervals' scatter plus the "
+                    "terms that do not average out (the SINS and GS biases over the roll "
+                    "rate, the GS angle's scale, the encoder's end points), each tolerance "
+                    "stated. Exit status 0 ok, 2 bad input, 3 no valid estimate (a check of "
+                    "the run failed: the intervals' scatter against the sensors' error model, "
+                    "the biases of a reversing roll, the estimate against the gyro's "
+                    "scale-factor tolerance).")
     rsfp.add_argument("files", nargs="+", metavar="FILE", help="CSV record (.csv or .csv.gz)")
     rsfp.add_argument("--period", type=float, required=True, metavar="S",
                       help="correction interval Δt in seconds")
@@ -162,6 +168,27 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                       help="a whole-turn jump of the GS angle against the SINS turn: remove it "
                            "with a note (default) or refuse the file; a wrapped gs_angle is "
                            "always unwrapped, a quarter-turn jump always refused")
+    rsfp.add_argument("--sins-bias-tolerance", type=float, default=None, metavar="DEG/H",
+                      help="1-sigma bias of the SINS roll gyro, deg/h (default: [sins] eps0 of "
+                           "--params, paper RSF Table 1's 100 deg/h); over the roll rate it "
+                           "enters sigma(eps1_hat_mean)")
+    rsfp.add_argument("--gs-bias-tolerance", type=float, default=None, metavar="DEG/H",
+                      help="1-sigma bias of the GS gyro, deg/h (default: [gs] eps0 of --params, "
+                           "the GYPRO4300's sqrt(10^2 + 7^2) = 12.2 deg/h)")
+    rsfp.add_argument("--gs-gyro-scale-tolerance", type=float, default=None, metavar="PPM",
+                      help="1-sigma scale-factor error of the GS gyro, ppm (default: [gs] eps1 "
+                           "of --params, the GYPRO4300's 280 ppm); it scales the GS gyro's own "
+                           "turn (measured with a gs_gyro_angle column, else the turn the GS "
+                           "motor's speed limit leaves)")
+    rsfp.add_argument("--gs-scale-tolerance", type=float, default=None, metavar="PPM",
+                      help="1-sigma relative scale error of the whole GS angle, ppm; replaces "
+                           "the GS gyro's term (a GS angle from another source)")
+    rsfp.add_argument("--sf-tolerance", type=float, default=None, metavar="PPM",
+                      help="1-sigma scale-factor error of the roll gyro, ppm, the prior "
+                           "eps1_hat_mean is checked against (default: [sins] eps1 of "
+                           "--params, paper RSF Table 1's 600 ppm)")
+    rsfp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
+                      help="family-wise false-alarm rate of the run's checks (default 0.01)")
     _batch_options(rsfp)
 
 
