@@ -103,3 +103,38 @@ def test_stated_clock_tolerance_covers_the_fast_clock(fast_clock):
     assert res.valid, res.reason
     assert abs(_z(res, truth)) < 3.0
     assert res.instrument["clock"]["estimate"] > 0.0     # the stamps run fast
+
+
+def _csv(path, record, latitude_deg=None):
+    from gyrolib import records
+
+    records.write_csv(path, {"t": record.t, "angle_sensor": record.angle_sensor,
+                             "inclinometer_y": record.inclinometer_y,
+                             "inclinometer_z": record.inclinometer_z},
+                      fmt=["%.4f", "%.12g", "%.12g", "%.12g"])
+    if latitude_deg is not None:
+        path.write_text(f"# latitude_deg: {latitude_deg}\n" + path.read_text())
+    return str(path)
+
+
+def test_command_refuses_a_wrong_header_with_its_code_and_takes_drift_prior(at_50, tmp_path,
+                                                                           capsys):
+    """``calibrate gc``: the record made at 50° whose header says 54° exits 3 with
+    reason_code ``prior_latitude``; ``--latitude 50`` (it wins over the header) exits 0;
+    ``--drift-prior`` and ``--clock-tolerance`` reach the model's priors (JSON) and a
+    negative value is bad input (exit 2)."""
+    import json
+
+    from gyrolib.cli import main
+
+    path = _csv(tmp_path / "r.csv", at_50.record, latitude_deg=54)
+    code = main(["calibrate", "gc", path, "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 3 and out["reason_code"] == "prior_latitude", out["reason"]
+    code = main(["calibrate", "gc", path, "--json", "--latitude", "50",
+                 "--drift-prior", "0.3", "--clock-tolerance", "2e-4"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["reason_codes"] == [], out["reason"]
+    assert out["priors"]["drift_rad_s"] == pytest.approx(float(to_si(0.3, "deg/h")))
+    assert out["priors"]["clock_tolerance"] == 2e-4
+    assert main(["calibrate", "gc", path, "--drift-prior", "-1"]) == 2

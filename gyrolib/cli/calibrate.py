@@ -133,6 +133,16 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                      help="1-sigma prior of each inclinometer's bias in mg, estimated with "
                           f"the state (default {DEFAULT_INCL_BIAS_PRIOR_MG:g} mg); a bias "
                           "cannot be told from a tilt, so it enters sigma(omega_gc)")
+    gcp.add_argument("--drift-prior", type=float, default=None, metavar="DEG/H",
+                     help="1-sigma prior of the drift omega_gc in deg/h (default: the params "
+                          "file's sigma_gc0, paper GC's 0.15 arcsec/s = 0.15 deg/h); an "
+                          "estimate far outside it is not valid, so a gyro that really drifts "
+                          "more needs a wider prior")
+    gcp.add_argument("--clock-tolerance", type=float, default=None, metavar="REL",
+                     help="1-sigma relative error of the logger's time scale (default: the "
+                          "table of inputs' gc.sigma_clock, 1e-4, a crystal's tolerance); "
+                          "carried like the scale (a logger of 1024 Hz labelled 1 kHz is "
+                          "2.4e-2)")
     gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
                      help="family-wise false-alarm rate of the model checks that make a "
                           "record invalid (default 0.01)")

@@ -79,6 +79,21 @@ def options(args: argparse.Namespace) -> dict:
         if val is None and field in toml:     # the params file states it
             continue
         priors[field] = (default if val is None else val) * unit
+    from gyrolib import inputs  # the table of inputs: the defaults of the new priors
+
+    for opt, field, val, default, unit in (
+            ("--drift-prior", "sigma_gc0", args.drift_prior,
+             inputs.row("gc.sigma_gc0").reference, units.DEG_PER_HOUR),
+            ("--clock-tolerance", "sigma_clock", args.clock_tolerance,
+             inputs.default_prior("gc.sigma_clock"), 1.0)):
+        if val is not None and not (math.isfinite(val) and val >= 0.0):
+            raise OptionError(f"{opt} must be a number >= 0; got {val}")
+        if val is None and field in toml:
+            continue
+        priors[field] = default if val is None else val * unit
+    if priors.get("sigma_gc0", 1.0) <= 0.0:
+        raise OptionError("--drift-prior must be > 0 (a drift known to be exactly 0 is not "
+                          "calibrated)")
     params = dataclasses.replace(params, **priors)
     latitude, lat_source = None, LAT_NONE
     if args.latitude is not None:
@@ -294,7 +309,11 @@ def run_file(file: str, o: dict) -> Outcome:
         params, earth = _with_latitude(params, getattr(raw, "latitude", None), o, notes)
         record = _as_stated(mapping.apply(raw), earth)
         if o["fit_noise"] is not None:
+            # the run before the fit: its misfit is what a fit must not merely absorb
+            unfitted = _calibrate(record, params, o)
             fit = _fit_noise(record, params, o, o["bar"])
+            # each fitted parameter's 95 % interval (about 8 likelihoods a parameter)
+            fit = gc.profile_intervals(record, fit)
             params = fit.params
         with progress(o["bar"], total=record.n, desc=f"calibrate gc {file}",
                        unit="row") as bar:
@@ -328,6 +347,13 @@ def run_file(file: str, o: dict) -> Outcome:
     fit_std = 0.0
     if fit is not None:      # the fitted noise carries its own uncertainty (issue 26)
         why = fit.not_identified(float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9)
+        duration = float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9
+        failed = [c for c in gc.fit_checks(fit, unfitted, clock_tolerance=params.sigma_clock,
+                                           false_alarm=o["false_alarm"]) if not c["passed"]]
+        extra["noise_fit_checks"] = failed
+        notes.extend(fit.nuisance(duration))
+        if failed and not why:
+            why = "; ".join(c["message"] for c in failed)
         if why:
             valid, reason = False, "; ".join(x for x in (reason, f"noise fit: {why}") if x)
         else:
@@ -348,12 +374,14 @@ def run_file(file: str, o: dict) -> Outcome:
         allan = gc.allan_deviation(raw, params)
         artifacts.append((o["allan"], "allan", allan))
         allan_lines, extra["allan_noise_terms"] = _allan_report(allan)
-    if fit is not None and o["fit_noise"]:
+    if fit is not None and o["fit_noise"] and valid:
         artifacts.append((o["fit_noise"], "text", fit.to_toml()))
     std = math.hypot(res.omega_gc_std, fit_std)
     data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth,
                     fit_std)
     data.update(extra)
+    data["reason_codes"] = _reason_codes(res, earth, fit, extra) if not valid else []
+    data["reason_code"] = data["reason_codes"][0] if data["reason_codes"] else ""
     text = _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted,
                     fit_std, earth) + "".join(f"{ln}\n" for ln in allan_lines)
     given = valid or accepted
@@ -364,6 +392,17 @@ def run_file(file: str, o: dict) -> Outcome:
     message = "" if (valid or accepted) else f"{file}: no valid estimate: {reason}"
     return Outcome(file=file, status=status, message=message,
                     text=text, data=data, row=row, artifacts=artifacts)
+
+
+def _reason_codes(res, earth: dict, fit, extra: dict) -> list[str]:
+    """The stable codes of why a run is not valid, most likely cause first: no latitude,
+    the library's (:attr:`gyrolib.gc.CalibrationResult.reason_codes`), the noise fit's."""
+    codes = ([] if earth["stated"] else ["no_latitude"]) + list(res.reason_codes)
+    if fit is not None:
+        if not fit.converged:
+            codes.append("fit_not_converged")
+        codes += [c["reason_code"] for c in extra.get("noise_fit_checks", [])]
+    return list(dict.fromkeys(codes))
 
 
 def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=False,
@@ -383,7 +422,8 @@ def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=Fal
     out["latitude_source"] = None if earth is None else earth["source"]
     out["priors"] = {"scale_tolerance": params.sigma_hf_scale,
                      "angle_offset_rad": params.sigma_as_offset,
-                     "inclinometer_bias_m_s2": params.sigma_incl_bias}
+                     "inclinometer_bias_m_s2": params.sigma_incl_bias,
+                     "drift_rad_s": params.sigma_gc0, "clock_tolerance": params.sigma_clock}
     out["inclinometers"] = {"mapping": str(mapping), "delta": _signed(mapping.delta_sign,
                                                                       mapping.delta_column),
                             "gamma": _signed(mapping.gamma_sign, mapping.gamma_column)}
@@ -443,10 +483,11 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
         f"  inclinometers (--inclinometers {mapping}): {mapping.describe()}",
     ] + ([_earth_line(earth)] if earth is not None else [])
     if fit is not None:
-        parts = [f"{n} = {fmt(fit.value(n))} ± {fmt(fit.std_error(n), 2)}"
+        parts = [f"{n} = {fmt(fit.value(n))} ± {fmt(fit.std_error(n), 2)} "
+                 f"[{fmt(fit.interval(n)[0], 3)}, {fmt(fit.interval(n)[1], 3)}]"
                  + (f" {FIT_UNITS[n]}" if FIT_UNITS.get(n) else "") for n in fit.names]
-        lines.append("  noise fitted (maximum likelihood, ± standard error): "
-                     + ", ".join(parts))
+        lines.append("  noise fitted (maximum likelihood, ± standard error [95 % "
+                     "likelihood-ratio interval]): " + ", ".join(parts))
         lines.append(f"  log-likelihood {fit.loglik:.6g} (start {fit.loglik_start:.6g}), "
                      f"{fit.n_evaluations} evaluations, "
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")
