@@ -211,10 +211,16 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
         truth = getattr(sim.params, name)
         assert abs(fitted[name]["value"] - truth) <= 2.0 * fitted[name]["std_error"], name
     assert abs(d["omega_gc"] - sim.omega_gc) <= 3.0 * d["omega_gc_std"]
-    # the TOML holds the Earth rate used (Omega_h, Omega_v): it states the latitude itself
-    code, out, _ = _run(["calibrate", "gc", path, "--json", "--params", toml], capsys)
+    for name in fitted:       # each value inside its 95 % interval (issue 34)
+        lo, hi = fitted[name]["interval"]
+        assert lo < fitted[name]["value"] < hi, name
+    # the TOML holds nothing of the record (no dt, no Omega_h, Omega_v: issue 34): the
+    # latitude comes with the record or the option, as for any record
+    text = toml.read_text()
+    assert "Omega_h" not in text and "\ndt = " not in text and "interval [" in text
+    code, out, _ = _run([*GC_PAPER, path, "--json", "--params", toml], capsys)
     again = json.loads(out)
-    assert code == 0 and again["latitude_source"] == "params"
+    assert code == 0 and again["latitude_source"].startswith("paper")
     assert again["omega_gc"] == pytest.approx(d["omega_gc"], rel=1e-6)
     # the text output (its fit of α1 alone: the fit itself is checked above, in JSON)
     code, out, _ = _run([*GC_PAPER, path, "--fit-noise", "--fit", "alpha1"], capsys)

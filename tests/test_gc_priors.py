@@ -66,9 +66,9 @@ def test_a_real_drift_needs_its_prior():
 
 @pytest.fixture(scope="module")
 def fast_clock():
-    """30 s of a 1024 Hz logger whose time stamps say 1 kHz (they run 2.4 % fast)."""
+    """60 s of a 1024 Hz logger whose time stamps say 1 kHz (they run 2.4 % fast)."""
     truth = gc.GyrocompassParams.at_latitude(SITE, dt=1 / 1024, **PRIORS)
-    sim = gc.simulate_record(truth, 30.0, seed=5)
+    sim = gc.simulate_record(truth, 60.0, seed=5)
     r = sim.record
     rec = gc.GCRecord(t=r.t * 1.024, angle_sensor=r.angle_sensor,
                       inclinometer_y=r.inclinometer_y, inclinometer_z=r.inclinometer_z)

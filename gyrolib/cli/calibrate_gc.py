@@ -218,7 +218,7 @@ _ALLAN_UNITS: Final[dict[str, tuple[tuple[float, str], ...]]] = {
                      (units.DEG_PER_HOUR, "deg/h"),
                      (units.DEG_PER_HOUR / 60.0, "deg/h/sqrt(h)")),
     "inclinometer": ((1.0 / 60.0, "m/s/sqrt(h)"), (units.G0 * 1e-6, "ug"),
-                     (1.0 / 3600.0 / 60.0, "m/s^2/h/sqrt(h)")),
+                     (1.0 / 3600.0 / 60.0, "m/s/h/sqrt(h)")),
 }
 
 
