@@ -18,7 +18,7 @@ with every constant drawn from its prior, so the prior is part of the truth.
 Each part's CPU time per record is recorded; the CPU class with the machine.
 
     nice -n 10 .venv/bin/python benchmarks/bench_coverage.py [--rsf 100] [--gc 100]
-        [--fit 100] [--fit-duration 100]
+        [--fit 100] [--fit-duration 100] [--name coverage]
 """
 
 from __future__ import annotations
@@ -55,8 +55,10 @@ def main() -> None:
     ap.add_argument("--gc", type=int, default=100)
     ap.add_argument("--fit", type=int, default=100)
     ap.add_argument("--fit-duration", type=float, default=100.0)
+    ap.add_argument("--name", default="coverage",
+                    help="results file benchmarks/results/NAME.json (a part run alone)")
     args = ap.parse_args()
-    rec = Recorder("coverage")
+    rec = Recorder(args.name)
     stats: dict = {}
     for name, n, case in (("rsf", args.rsf, rsf_case), ("gc", args.gc, gc_case)):
         if n <= 0:

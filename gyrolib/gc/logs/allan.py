@@ -48,7 +48,8 @@ from gyrolib.gc.model.nominal import nominal_motion_aperiodic
 from gyrolib.gc.model.params import GyrocompassParams
 
 __all__ = ["AllanDeviation", "AllanSeries", "NoiseTerm", "allan_deviation",
-           "allan_model_vibration", "allan_noise_terms", "edf_oadev", "noise_terms", "oadev"]
+           "allan_model_vibration", "allan_noise_terms", "allan_series", "edf_oadev",
+           "noise_terms", "oadev"]
 
 #: The series of :class:`AllanDeviation`, in order.
 SERIES: Final[tuple[str, ...]] = ("angle_sensor", "inclinometer_y", "inclinometer_z")
@@ -417,6 +418,27 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
                              tau=float(tau[int(np.argmax(share))]), identified=identified,
                              slope=slope))
     return tuple(out)
+
+
+def allan_series(rate: np.ndarray, sample_rate: float, *, name: str = "rate",
+                 unit: str = "rad/s", taus: str | np.ndarray = "octave") -> AllanSeries:
+    """The overlapping Allan deviation of a plain rate series (any gyro's output, evenly
+    sampled at ``sample_rate`` Hz), with its 68 % interval (white-frequency edf, NIST SP
+    1065), as an :class:`AllanSeries` for :func:`noise_terms` (``model`` is the measured
+    deviation: there is no model curve).  The series of ``python -m gyrolib allan``.
+
+    Examples
+    --------
+    >>> y = np.random.default_rng(2).standard_normal(2**14) * 0.01   # N = 0.001 at 100 Hz
+    >>> s = allan_series(y, 100.0)
+    >>> f"{noise_terms(s)[0].value:.4f}"
+    '0.0010'
+    """
+    sample_rate = v.check_positive("sample_rate", sample_rate)
+    y = v.check_array("rate", rate, ndim=1, min_size=10)
+    tau, ad, lo, hi, edf, n = _oadev(y, sample_rate, "freq", taus, 0)
+    return AllanSeries(name=v.check_str("name", name), unit=v.check_str("unit", unit),
+                       tau=tau, adev=ad, lo=lo, hi=hi, edf=edf, model=ad, n=n)
 
 
 def allan_deviation(record: GCRecord, params: GyrocompassParams | None = None, *,
