@@ -437,8 +437,9 @@ class CalibrationResult:
             if tst["passed"]:
                 continue
             if tst["sensor"] == "prior":
-                parts.append(f"{tst['constant']} = {tst['statistic']:+.3g} sigma from its "
-                             f"prior (limit {tst['high']:.3g}): {tst['cause']}")
+                parts.append(f"prior of {tst['constant']}: the estimate is "
+                             f"{tst['statistic']:+.3g} sigma from it (limit {tst['high']:.3g}): "
+                             f"{tst['cause']}")
                 continue
             parts.append(f"{tst['sensor']}: {tst['test']} failed: {tst['statistic']:.4g} "
                          f"outside [{tst['low']:.4g}, {tst['high']:.4g}] (family "
