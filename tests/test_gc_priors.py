@@ -138,3 +138,13 @@ def test_command_refuses_a_wrong_header_with_its_code_and_takes_drift_prior(at_5
     assert out["priors"]["drift_rad_s"] == pytest.approx(float(to_si(0.3, "deg/h")))
     assert out["priors"]["clock_tolerance"] == 2e-4
     assert main(["calibrate", "gc", path, "--drift-prior", "-1"]) == 2
+
+
+def test_command_default_priors_are_the_table_of_inputs():
+    """The command's default clock tolerance and drift prior are the table of inputs' rows
+    (gc.sigma_clock's plausible maximum, gc.sigma_gc0's reference)."""
+    from gyrolib import inputs
+    from gyrolib.cli.constants import DEFAULT_CLOCK_TOLERANCE
+
+    assert DEFAULT_CLOCK_TOLERANCE == inputs.default_prior("gc.sigma_clock")
+    assert gc.GyrocompassParams().sigma_gc0 == inputs.row("gc.sigma_gc0").reference

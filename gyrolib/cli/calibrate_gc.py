@@ -16,6 +16,7 @@ import numpy as np
 
 from gyrolib import gc, units
 from gyrolib.cli.constants import (
+    DEFAULT_CLOCK_TOLERANCE,
     DEFAULT_INCL_BIAS_PRIOR_MG,
     DEFAULT_OFFSET_PRIOR_ARCSEC,
     DEFAULT_SCALE_TOLERANCE,
@@ -79,13 +80,12 @@ def options(args: argparse.Namespace) -> dict:
         if val is None and field in toml:     # the params file states it
             continue
         priors[field] = (default if val is None else val) * unit
-    from gyrolib import inputs  # the table of inputs: the defaults of the new priors
-
+    # defaults: the table of inputs' (gc.sigma_gc0's reference is the field's default)
     for opt, field, val, default, unit in (
             ("--drift-prior", "sigma_gc0", args.drift_prior,
-             inputs.row("gc.sigma_gc0").reference, units.DEG_PER_HOUR),
+             gc.GyrocompassParams().sigma_gc0, units.DEG_PER_HOUR),
             ("--clock-tolerance", "sigma_clock", args.clock_tolerance,
-             inputs.default_prior("gc.sigma_clock"), 1.0)):
+             DEFAULT_CLOCK_TOLERANCE, 1.0)):
         if val is not None and not (math.isfinite(val) and val >= 0.0):
             raise OptionError(f"{opt} must be a number >= 0; got {val}")
         if val is None and field in toml:
