@@ -15,7 +15,7 @@ from gyrolib.cli import main
 N_ARW = 0.15 * math.radians(1.0) / 60.0       # 0.15 °/√h in rad/√s
 
 
-def _series(path, n=2**15, dt=0.01, unit_scale=1.0):
+def _series(path, n=2**14, dt=0.01, unit_scale=1.0):
     rng = np.random.default_rng(3)
     t = np.arange(n) * dt
     y = rng.standard_normal(n) * N_ARW / math.sqrt(dt) * unit_scale
