@@ -276,6 +276,10 @@ INPUTS: Final[tuple[Input, ...]] = (
     Input("gc.sigma_incl_bias", "σ_b", "GyrocompassParams", ("sigma_incl_bias",),
           "uncertain", "m/s²", f"the inclinometers' biases: {_ZERO}: 0.5 mg", 0.0,
           0.5e-3 * G0, relative=False, scale="linear", shown="mg"),
+    Input("gc.sigma_clock", "ε_t", "GyrocompassParams", ("sigma_clock",), "uncertain", "1",
+          f"the logger's time-scale error: {_ZERO}: 10⁻⁴, a logger crystal's tolerance (a "
+          "rate labelled wrong, 1024 Hz read as 1 kHz, is 2.4·10⁻²: stated, not a default)",
+          0.0, 1.0e-4, relative=False, scale="linear"),
     # paper GC: the filter's priors (a choice of whoever runs the filter)
     Input("gc.sigma_gc0", "σ_ω(0)", "GyrocompassParams", ("sigma_gc0",), "operating",
           "rad/s", "the prior σ of ω_gc, printed in the parameter table: the user states the "

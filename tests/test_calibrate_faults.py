@@ -92,7 +92,8 @@ def test_latitude_45(tmp_path, capsys):
     within 3σ.  Without a latitude it is NOT valid (exit 3, the reason names what is
     missing, the summary row says the same): this is the power test, the command used to
     answer "valid" with paper GC's Ω_h, Ω_v, hundreds of σ off.  ``--latitude paper`` is the
-    user's explicit assumption: valid, said so, and (here, wrongly assumed) far off."""
+    user's explicit assumption, said so; here wrongly assumed, the prior check refuses it
+    and names the latitude (issue 34)."""
     fr = make("latitude", 45.0, seed=777)
     path = _write(tmp_path / "r45.csv", fr.record)
     code, out, err = _run(["calibrate", "gc", path, "--json", "--latitude", "45"], capsys)
@@ -123,14 +124,17 @@ def test_latitude_45(tmp_path, capsys):
     assert d["reason"].startswith("no latitude given")
     assert d["latitude_deg"] is None and d["latitude_source"] == "none"
     assert d["earth_rate"]["stated"] is False and d["earth_rate"]["Omega_h"] == P.Omega_h
-    # what "valid" would have meant: paper GC's Earth rate, assumed explicitly, is far off
+    # paper GC's Earth rate, assumed explicitly: the 9 deg between the sites read as a drift
+    # far outside its prior, so the prior check refuses it and names the latitude, near 45
+    # deg, that would explain it (issue 34; before, this was "valid" and hundreds of σ off)
     code, out, err = _run(["calibrate", "gc", path, "--json", "--latitude", "paper"], capsys)
     d = json.loads(out)
-    assert code == 0 and d["valid"] is True and err == ""
+    assert code == 3 and d["valid"] is False and d["reason_code"] == "prior_latitude"
     assert d["latitude_source"] == "paper (assumed by --latitude paper)"
     assert d["latitude_deg"] == pytest.approx(53.91, abs=0.01)
     assert d["earth_rate"]["Omega_h"] == P.Omega_h and d["earth_rate"]["Omega_v"] == P.Omega_v
-    assert abs(d["omega_gc"] - fr.omega_gc) > 100.0 * d["omega_gc_std"]
+    explained = float(d["reason"].split("about ")[1].split(" deg")[0])
+    assert abs(explained - 45.0) < 2.0, d["reason"]
 
 
 def test_no_latitude_is_not_valid_and_paper_is_an_explicit_choice(tmp_path, capsys):
@@ -198,7 +202,10 @@ def test_record_header_latitude_and_a_conflicting_option(tmp_path, capsys):
     assert not any("latitude" in n for n in d["notes"])
     code, out, err = _run(["calibrate", "gc", str(path), "--json", "--latitude", "50"], capsys)
     d = json.loads(out)
-    assert code == 0 and d["latitude_source"] == "option" and d["latitude_deg"] == 50.0
+    # the option wins, and the 5 deg between the record's site and 50 deg read as a drift
+    # far outside its prior: not valid, the latitude named (issue 34)
+    assert code == 3 and d["latitude_source"] == "option" and d["latitude_deg"] == 50.0
+    assert d["reason_code"] == "prior_latitude", d["reason"]
     assert d["earth_rate"]["record_latitude_deg"] == pytest.approx(45.0)
     assert d["earth_rate"]["Omega_h"] == pytest.approx(
         gc.GyrocompassParams.at_latitude(math.radians(50.0)).Omega_h, rel=1e-12)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import shutil
 import sys
 from pathlib import Path
@@ -210,10 +211,16 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
         truth = getattr(sim.params, name)
         assert abs(fitted[name]["value"] - truth) <= 2.0 * fitted[name]["std_error"], name
     assert abs(d["omega_gc"] - sim.omega_gc) <= 3.0 * d["omega_gc_std"]
-    # the TOML holds the Earth rate used (Omega_h, Omega_v): it states the latitude itself
-    code, out, _ = _run(["calibrate", "gc", path, "--json", "--params", toml], capsys)
+    for name in fitted:       # each value inside its 95 % interval (issue 34)
+        lo, hi = fitted[name]["interval"]
+        assert lo < fitted[name]["value"] < hi, name
+    # the TOML holds nothing of the record (no dt, no Omega_h, Omega_v: issue 34): the
+    # latitude comes with the record or the option, as for any record
+    text = toml.read_text()
+    assert "Omega_h" not in text and "\ndt = " not in text and "interval [" in text
+    code, out, _ = _run([*GC_PAPER, path, "--json", "--params", toml], capsys)
     again = json.loads(out)
-    assert code == 0 and again["latitude_source"] == "params"
+    assert code == 0 and again["latitude_source"].startswith("paper")
     assert again["omega_gc"] == pytest.approx(d["omega_gc"], rel=1e-6)
     # the text output (its fit of α1 alone: the fit itself is checked above, in JSON)
     code, out, _ = _run([*GC_PAPER, path, "--fit-noise", "--fit", "alpha1"], capsys)
@@ -387,10 +394,12 @@ def test_rsf_good_and_batch_summary(rsf_logs, capsys, tmp_path):
     single = json.loads(_run(["calibrate", "rsf", rsf_logs["good"], "--period", "1",
                               "--json"], capsys)[1])
     assert float(rows[0]["estimate"]) == pytest.approx(np.mean(single["eps1_hat"]), rel=1e-9)
-    # sigma: the standard error of the mean, not the per-interval spread (issue 27)
-    n = len(single["eps1_hat"])
-    assert float(rows[0]["sigma"]) == pytest.approx(
-        np.std(single["eps1_hat"], ddof=1) / np.sqrt(n), rel=1e-9)
+    # sigma: the total standard uncertainty, its parts in quadrature (issue 34), not the
+    # per-interval spread (issue 27)
+    parts = single["eps1_hat_mean_std_parts"]
+    assert float(rows[0]["sigma"]) == pytest.approx(single["eps1_hat_mean_std"], rel=1e-9)
+    assert single["eps1_hat_mean_std"] == pytest.approx(
+        math.sqrt(sum(x * x for x in parts.values())), rel=1e-9)
     assert single["eps1_hat_spread"] == pytest.approx(np.std(single["eps1_hat"], ddof=1),
                                                       rel=1e-9)
     assert "standard error of the mean" in rows[0]["notes"]

@@ -183,7 +183,7 @@ _POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "a
 _REAL = ("omega_ub",)
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
                 "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale",
-                "sigma_as_offset", "sigma_incl_bias")
+                "sigma_as_offset", "sigma_incl_bias", "sigma_clock")
 _DAMPING = ("xi1", "xi2")
 _CHOICES = ("shaping_p0", "measurement_noise", "vertical_coupling", "eq1_sign")
 

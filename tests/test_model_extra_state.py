@@ -292,12 +292,12 @@ def test_a_dynamics_column_in_the_covariance_and_refused_elsewhere(monkeypatch):
 
 
 def test_calibrate_and_covariance_share_the_model_with_every_term_on():
-    """All four declared constants ON (the command's kind of priors): the covariance
+    """Every declared constant ON (the command's kind of priors): the covariance
     analysis carries them as states, calibrate by bias separation; on a clean record (no
     gate rejection) their σ of ω_gc and of each constant agree to 1e-6 (two algorithms, one
     model).  Power: without the scale term in the covariance analysis σ(ω_gc) differs."""
     p = dataclasses.replace(P, sigma_as_offset=SIG_OFF, sigma_incl_bias=0.5e-3 * 9.80665,
-                            sigma_hf_scale=1e-3)
+                            sigma_hf_scale=1e-3, sigma_clock=1e-4)
     t_end = 2.0
     cov = gc.covariance_analysis(p, t_end)
     assert cov.names[10:] == tuple(t.name for t in gc.TERMS)

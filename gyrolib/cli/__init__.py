@@ -9,6 +9,7 @@ module           command
 ``sensitivity``  ``python -m gyrolib sensitivity gc|rsf --n N [...]``: Sobol' indices
 ``race``         ``python -m gyrolib race [--params P.toml] [--json]``: GC against ref. [3]
 ``claims``       ``python -m gyrolib claims [--check | --out FILE]``: claims over the inputs
+``allan``        ``python -m gyrolib allan FILE [--json]``: Allan deviation of a rate series
 ===============  ==================================================================
 
 Each command module offers ``add_parser(sub)`` (its sub-parser) and ``run(args)`` (its exit
@@ -39,13 +40,13 @@ if "numpy" not in sys.modules:
     for _name in BLAS_THREADS:
         os.environ.setdefault(_name, "1")
 
-from gyrolib.cli import calibrate, claims, ledger, race, sensitivity  # noqa: E402
+from gyrolib.cli import allan, calibrate, claims, ledger, race, sensitivity  # noqa: E402
 
 __all__ = ["COMMANDS", "entry", "main"]
 
 #: The commands, by name: each a module with ``add_parser`` and ``run``.
 COMMANDS = {"ledger": ledger, "calibrate": calibrate, "sensitivity": sensitivity,
-            "race": race, "claims": claims}
+            "race": race, "claims": claims, "allan": allan}
 
 
 def _version() -> str:

@@ -133,6 +133,16 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                      help="1-sigma prior of each inclinometer's bias in mg, estimated with "
                           f"the state (default {DEFAULT_INCL_BIAS_PRIOR_MG:g} mg); a bias "
                           "cannot be told from a tilt, so it enters sigma(omega_gc)")
+    gcp.add_argument("--drift-prior", type=float, default=None, metavar="DEG/H",
+                     help="1-sigma prior of the drift omega_gc in deg/h (default: the params "
+                          "file's sigma_gc0, paper GC's 0.15 arcsec/s = 0.15 deg/h); an "
+                          "estimate far outside it is not valid, so a gyro that really drifts "
+                          "more needs a wider prior")
+    gcp.add_argument("--clock-tolerance", type=float, default=None, metavar="REL",
+                     help="1-sigma relative error of the logger's time scale (default: the "
+                          "table of inputs' gc.sigma_clock, 1e-4, a crystal's tolerance); "
+                          "carried like the scale (a logger of 1024 Hz labelled 1 kHz is "
+                          "2.4e-2)")
     gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
                      help="family-wise false-alarm rate of the model checks that make a "
                           "record invalid (default 0.01)")
@@ -144,8 +154,14 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
         "rsf", help="paper RSF: roll-gyro scale-factor error per correction interval",
         description="Apply paper RSF's correction (Eqs. (1)-(3)) to CSV records with the "
                     "columns t (s), sins_increment (rad) and gs_angle (rad) or "
-                    "encoder_counts (wrapped, with --counts-per-rev). Exit status 0 ok, "
-                    "2 bad input.")
+                    "encoder_counts (wrapped, with --counts-per-rev). The mean eps1_hat "
+                    "carries a total standard uncertainty: the intervals' scatter plus the "
+                    "terms that do not average out (the SINS and GS biases over the roll "
+                    "rate, the GS angle's scale, the encoder's end points), each tolerance "
+                    "stated. Exit status 0 ok, 2 bad input, 3 no valid estimate (a check of "
+                    "the run failed: the intervals' scatter against the sensors' error model, "
+                    "the biases of a reversing roll, the estimate against the gyro's "
+                    "scale-factor tolerance).")
     rsfp.add_argument("files", nargs="+", metavar="FILE", help="CSV record (.csv or .csv.gz)")
     rsfp.add_argument("--period", type=float, required=True, metavar="S",
                       help="correction interval Δt in seconds")
@@ -162,6 +178,27 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                       help="a whole-turn jump of the GS angle against the SINS turn: remove it "
                            "with a note (default) or refuse the file; a wrapped gs_angle is "
                            "always unwrapped, a quarter-turn jump always refused")
+    rsfp.add_argument("--sins-bias-tolerance", type=float, default=None, metavar="DEG/H",
+                      help="1-sigma bias of the SINS roll gyro, deg/h (default: [sins] eps0 of "
+                           "--params, paper RSF Table 1's 100 deg/h); over the roll rate it "
+                           "enters sigma(eps1_hat_mean)")
+    rsfp.add_argument("--gs-bias-tolerance", type=float, default=None, metavar="DEG/H",
+                      help="1-sigma bias of the GS gyro, deg/h (default: [gs] eps0 of --params, "
+                           "the GYPRO4300's sqrt(10^2 + 7^2) = 12.2 deg/h)")
+    rsfp.add_argument("--gs-gyro-scale-tolerance", type=float, default=None, metavar="PPM",
+                      help="1-sigma scale-factor error of the GS gyro, ppm (default: [gs] eps1 "
+                           "of --params, the GYPRO4300's 280 ppm); it scales the GS gyro's own "
+                           "turn (measured with a gs_gyro_angle column, else the turn the GS "
+                           "motor's speed limit leaves)")
+    rsfp.add_argument("--gs-scale-tolerance", type=float, default=None, metavar="PPM",
+                      help="1-sigma relative scale error of the whole GS angle, ppm; replaces "
+                           "the GS gyro's term (a GS angle from another source)")
+    rsfp.add_argument("--sf-tolerance", type=float, default=None, metavar="PPM",
+                      help="1-sigma scale-factor error of the roll gyro, ppm, the prior "
+                           "eps1_hat_mean is checked against (default: [sins] eps1 of "
+                           "--params, paper RSF Table 1's 600 ppm)")
+    rsfp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
+                      help="family-wise false-alarm rate of the run's checks (default 0.01)")
     _batch_options(rsfp)
 
 

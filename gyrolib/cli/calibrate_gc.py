@@ -17,6 +17,7 @@ import numpy as np
 from gyrolib import gc, units
 from gyrolib.cli import hints
 from gyrolib.cli.constants import (
+    DEFAULT_CLOCK_TOLERANCE,
     DEFAULT_INCL_BIAS_PRIOR_MG,
     DEFAULT_OFFSET_PRIOR_ARCSEC,
     DEFAULT_SCALE_TOLERANCE,
@@ -85,6 +86,20 @@ def options(args: argparse.Namespace) -> dict:
         if val is None and field in toml:     # the params file states it
             continue
         priors[field] = (default if val is None else val) * unit
+    # defaults: the table of inputs' (gc.sigma_gc0's reference is the field's default)
+    for opt, field, val, default, unit in (
+            ("--drift-prior", "sigma_gc0", args.drift_prior,
+             gc.GyrocompassParams().sigma_gc0, units.DEG_PER_HOUR),
+            ("--clock-tolerance", "sigma_clock", args.clock_tolerance,
+             DEFAULT_CLOCK_TOLERANCE, 1.0)):
+        if val is not None and not (math.isfinite(val) and val >= 0.0):
+            raise OptionError(f"{opt} must be a number >= 0; got {val}")
+        if val is None and field in toml:
+            continue
+        priors[field] = default if val is None else val * unit
+    if priors.get("sigma_gc0", 1.0) <= 0.0:
+        raise OptionError("--drift-prior must be > 0 (a drift known to be exactly 0 is not "
+                          "calibrated)")
     params = dataclasses.replace(params, **priors)
     latitude, lat_source = None, LAT_NONE
     if args.latitude is not None:
@@ -210,7 +225,7 @@ _ALLAN_UNITS: Final[dict[str, tuple[tuple[float, str], ...]]] = {
                      (units.DEG_PER_HOUR, "deg/h"),
                      (units.DEG_PER_HOUR / 60.0, "deg/h/sqrt(h)")),
     "inclinometer": ((1.0 / 60.0, "m/s/sqrt(h)"), (units.G0 * 1e-6, "ug"),
-                     (1.0 / 3600.0 / 60.0, "m/s^2/h/sqrt(h)")),
+                     (1.0 / 3600.0 / 60.0, "m/s/h/sqrt(h)")),
 }
 
 
@@ -303,7 +318,11 @@ def run_file(file: str, o: dict) -> Outcome:
         params, earth = _with_latitude(params, getattr(raw, "latitude", None), o, notes)
         record = _as_stated(mapping.apply(raw), earth)
         if o["fit_noise"] is not None:
+            # the run before the fit: its misfit is what a fit must not merely absorb
+            unfitted = _calibrate(record, params, o)
             fit = _fit_noise(record, params, o, o["bar"])
+            # each fitted parameter's 95 % interval (about 8 likelihoods a parameter)
+            fit = gc.profile_intervals(record, fit)
             params = fit.params
         with progress(o["bar"], total=record.n, desc=f"calibrate gc {file}",
                        unit="row") as bar:
@@ -338,6 +357,13 @@ def run_file(file: str, o: dict) -> Outcome:
     fit_std = 0.0
     if fit is not None:      # the fitted noise carries its own uncertainty (issue 26)
         why = fit.not_identified(float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9)
+        duration = float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9
+        failed = [c for c in gc.fit_checks(fit, unfitted, clock_tolerance=params.sigma_clock,
+                                           false_alarm=o["false_alarm"]) if not c["passed"]]
+        extra["noise_fit_checks"] = failed
+        notes.extend(fit.nuisance(duration))
+        if failed and not why:
+            why = "; ".join(c["message"] for c in failed)
         if why:
             valid, reason = False, "; ".join(x for x in (reason, f"noise fit: {why}") if x)
         else:
@@ -347,6 +373,10 @@ def run_file(file: str, o: dict) -> Outcome:
             fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))
     codes, t0_hint = ([], None) if valid else reason_codes(
         res, earth, why if fit is not None else "")
+    if not valid:   # the library's codes (its prior and model checks) and the fit's checks
+        codes += [c for c in (*res.reason_codes,
+                              *(c["reason_code"] for c in extra.get("noise_fit_checks", [])))
+                  if c not in codes]
     code = hints.primary(codes)
     hint = hints.hint(code, f"{t0_hint:g}" if code == "early_release" and t0_hint else "") \
         if code else ""
@@ -365,7 +395,7 @@ def run_file(file: str, o: dict) -> Outcome:
         allan = gc.allan_deviation(raw, params)
         artifacts.append((o["allan"], "allan", allan))
         allan_lines, extra["allan_noise_terms"] = _allan_report(allan)
-    if fit is not None and o["fit_noise"]:
+    if fit is not None and o["fit_noise"] and valid:
         artifacts.append((o["fit_noise"], "text", fit.to_toml()))
     std = math.hypot(res.omega_gc_std, fit_std)
     data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth,
@@ -459,7 +489,8 @@ def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=Fal
     out["latitude_source"] = None if earth is None else earth["source"]
     out["priors"] = {"scale_tolerance": params.sigma_hf_scale,
                      "angle_offset_rad": params.sigma_as_offset,
-                     "inclinometer_bias_m_s2": params.sigma_incl_bias}
+                     "inclinometer_bias_m_s2": params.sigma_incl_bias,
+                     "drift_rad_s": params.sigma_gc0, "clock_tolerance": params.sigma_clock}
     out["inclinometers"] = {"mapping": str(mapping), "delta": _signed(mapping.delta_sign,
                                                                       mapping.delta_column),
                             "gamma": _signed(mapping.gamma_sign, mapping.gamma_column)}
@@ -573,10 +604,11 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
         f"  inclinometers (--inclinometers {mapping}): {mapping.describe()}",
     ] + ([_earth_line(earth)] if earth is not None else [])
     if fit is not None:
-        parts = [f"{n} = {fmt(fit.value(n))} ± {fmt(fit.std_error(n), 2)}"
+        parts = [f"{n} = {fmt(fit.value(n))} ± {fmt(fit.std_error(n), 2)} "
+                 f"[{fmt(fit.interval(n)[0], 3)}, {fmt(fit.interval(n)[1], 3)}]"
                  + (f" {FIT_UNITS[n]}" if FIT_UNITS.get(n) else "") for n in fit.names]
-        lines.append("  noise fitted (maximum likelihood, ± standard error): "
-                     + ", ".join(parts))
+        lines.append("  noise fitted (maximum likelihood, ± standard error [95 % "
+                     "likelihood-ratio interval]): " + ", ".join(parts))
         lines.append(f"  log-likelihood {fit.loglik:.6g} (start {fit.loglik_start:.6g}), "
                      f"{fit.n_evaluations} evaluations, "
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")

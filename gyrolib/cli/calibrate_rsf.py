@@ -31,11 +31,26 @@ def options(args: argparse.Namespace) -> dict:
         raise OptionError(f"--plot writes one file: give one record, not {len(args.files)} "
                          "(--summary OUT.csv reports a batch)")
     check_out_path(args.plot, PLOT_SUFFIXES, "a plot")
+    if not (math.isfinite(args.false_alarm) and 0.0 < args.false_alarm < 1.0):
+        raise OptionError(f"--false-alarm must be a probability in (0, 1); got "
+                          f"{args.false_alarm}")
+    tolerances = {}
+    for opt, key, val, unit in (
+            ("--sins-bias-tolerance", "sins_bias", args.sins_bias_tolerance, "deg/h"),
+            ("--gs-bias-tolerance", "gs_bias", args.gs_bias_tolerance, "deg/h"),
+            ("--gs-gyro-scale-tolerance", "gs_gyro_scale", args.gs_gyro_scale_tolerance, "ppm"),
+            ("--gs-scale-tolerance", "gs_scale", args.gs_scale_tolerance, "ppm"),
+            ("--sf-tolerance", "sf_prior", args.sf_tolerance, "ppm")):
+        if val is None:
+            continue
+        if not (math.isfinite(val) and val >= 0.0):
+            raise OptionError(f"{opt} must be a number >= 0 ({unit}); got {val}")
+        tolerances[key] = float(units.to_si(val, unit))
     return {"config": rsf_config_from_toml(args.params),
             "params_notes": instrument_notes(args.params, "calibrate rsf"),
             "period": args.period,
             "counts_per_rev": args.counts_per_rev, "k_form": args.k_form, "plot": args.plot,
-            "slips": args.slips}
+            "slips": args.slips, "tolerances": tolerances, "false_alarm": args.false_alarm}
 
 
 def _rsf_prediction(res, config):
@@ -65,10 +80,15 @@ def run_file(file: str, o: dict) -> Outcome:
         raise RecordError(file, "no correction interval holds a usable sample (every "
                           "sample is missing or follows a gap)")
     pred = _rsf_prediction(res, o["config"])
+    try:
+        unc = rsf.eps1_uncertainty(res, o["config"], false_alarm=o["false_alarm"],
+                                   **o["tolerances"])
+    except ValueError as exc:
+        raise RecordError(file, one_line(exc)) from None
     out = res.summary()
     out["file"] = str(file)
-    out["valid"] = True
-    out["reason"] = ""
+    out.update(unc.summary())       # eps1_hat_mean_std (+ parts), checks, valid, reason
+    out["reason_code"] = unc.reason_codes[0] if unc.reason_codes else ""
     out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
                                 "std_per_interval": [float(x) for x in res.delta_k_std(pred)]}
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
@@ -87,7 +107,9 @@ def run_file(file: str, o: dict) -> Outcome:
                     "eps1_hat_sem": "1", "K": "1", "rate": "rad/s", "abs_rate": "rad/s",
                     "mean_abs_rate": "rad/s", "t_start": "s", "period": "s", "dt": "s",
                     "gap_time": "s", "residual_end": "rad", "residual_raw_end": "rad",
-                    "delta_k_predicted": "1"}
+                    "delta_k_predicted": "1", "eps1_hat_mean_std": "1",
+                    "eps1_hat_mean_std_parts": "1", "tolerances": "rad/s or 1",
+                    "bias_estimate": "rad/s", "bias_estimate_std": "rad/s"}
     spread = (f"; per-interval spread (SD) {units.from_si(st['spread'], 'ppm'):.4g} ppm, "
               f"standard error of the mean {units.from_si(st['sem'], 'ppm'):.3g} ppm "
               f"(SD/sqrt({st['n']}), independent intervals"
@@ -100,6 +122,14 @@ def run_file(file: str, o: dict) -> Outcome:
         f"  eps1_hat: mean {units.from_si(st['mean'], 'ppm'):.4g} ppm over {st['n']} "
         f"interval(s){spread} (per interval: "
         + ", ".join(f"{x:.4g}" for x in e[:6]) + (", ..." if e.size > 6 else "") + ")",
+        (f"  eps1_hat_mean = {units.from_si(unc.mean, 'ppm'):.4g} ± "
+         f"{units.from_si(unc.std, 'ppm'):.2g} ppm (1 sigma, total standard uncertainty; "
+         "parts adding in quadrature: "
+         + ", ".join(f"{k.replace('_', ' ')} {units.from_si(x, 'ppm'):.2g}"
+                     for k, x in unc.parts.items()) + " ppm)" if unc.valid else
+         f"  no valid estimate: {unc.reason}"),
+        f"  checks at a {100 * unc.false_alarm:g} % family-wise false-alarm rate: "
+        + ", ".join(f"{c['test']} {'pass' if c['passed'] else 'FAIL'}" for c in unc.checks),
         f"  K (k_form {res.k_form}): mean {np.mean(res.k):.8f}",
         f"  error model at this rate: delta K = {units.from_si(pred.mean, 'ppm'):.3g} ± "
         f"{units.from_si(pred.std, 'ppm'):.3g} ppm per interval",
@@ -109,13 +139,18 @@ def run_file(file: str, o: dict) -> Outcome:
         f"{units.from_si(res.residual[-1], 'deg'):.4g} deg, uncorrected "
         f"{units.from_si(res.residual_raw[-1], 'deg'):.4g} deg",
     ]
+    notes += list(unc.notes)
     lines += [f"  note: {n}" for n in notes]
+    valid = unc.valid
+    status = "ok" if valid else "invalid"
     row = {"file": file, "method": "rsf", "quantity": "eps1_hat_mean",
-           "estimate": st["mean"], "sigma": st["sem"] if st["n"] > 1 else "", "unit": "1",
-           "valid": True, "status": "ok", "reason": "",
-           "notes": "; ".join(notes + ([f"sigma is the standard error of the mean; the "
-                                        f"per-interval spread is {st['spread']:.4g}"]
-                                       if st["n"] > 1 else []))}
-    artifacts = [(o["plot"], "rsf_plot", (res, pred))] if o["plot"] else []
-    return Outcome(file=file, status="ok", text="\n".join(lines) + "\n", data=out, row=row,
-                    artifacts=artifacts)
+           "estimate": st["mean"] if valid else "", "sigma": unc.std if valid else "",
+           "unit": "1", "valid": valid, "status": status, "reason": unc.reason,
+           "notes": "; ".join([*notes, *(["sigma is the total standard uncertainty "
+                                          "(eps1_hat_mean_std_parts); the standard error "
+                                          f"of the mean alone is {st['sem']:.4g}"]
+                                         if st["n"] > 1 else [])])}
+    artifacts = [(o["plot"], "rsf_plot", (res, pred))] if o["plot"] and valid else []
+    message = "" if valid else f"{file}: no valid estimate: {unc.reason}"
+    return Outcome(file=file, status=status, message=message, text="\n".join(lines) + "\n",
+                   data=out, row=row, artifacts=artifacts)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from typing import Final
 
-__all__ = ["DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
+__all__ = ["DEFAULT_CLOCK_TOLERANCE", "DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
            "DEFAULT_SCALE_TOLERANCE", "EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_INVALID",
            "FIT_DEFAULT", "FIT_UNITS", "PLOT_SUFFIXES", "SUMMARY_COLUMNS"]
 
@@ -42,3 +42,7 @@ DEFAULT_SCALE_TOLERANCE: Final[float] = 1e-3
 DEFAULT_OFFSET_PRIOR_ARCSEC: Final[float] = 20.0
 #: Default 1σ prior of each inclinometer's bias (mg; real ones: 0.1–1 mg).
 DEFAULT_INCL_BIAS_PRIOR_MG: Final[float] = 0.5
+#: Default 1σ relative error of the logger's time scale (a crystal's): the table of inputs'
+#: ``gc.sigma_clock`` range (a test checks that they agree; read here without importing the
+#: table, which loads paper RSF's package).
+DEFAULT_CLOCK_TOLERANCE: Final[float] = 1e-4

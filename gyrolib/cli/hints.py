@@ -82,9 +82,46 @@ REASONS: Final[dict[str, Reason]] = {
                      "failed with the params given", 60),
     "drift_changes": Reason("--t0", "the split-record test says the drift estimate moves "
                             "within the record: calibrate a later part of it", 61),
+    # the library's own codes (gyrolib.gc.CalibrationResult.reason_codes, the noise fit's
+    # checks, gyrolib.rsf's uncertainty checks), each with the option its evidence points to
+    "latitude": Reason("--latitude", "the Earth rate given is not the one at the record's "
+                       "stated latitude", 11),
+    "prior_latitude": Reason("--latitude", "the drift estimate is what a site at another "
+                             "latitude would give: check the latitude", 13),
+    "prior_drift": Reason("--drift-prior", "the drift estimate lies far outside its prior: "
+                          "widen the prior if the gyro really drifts this much", 30),
+    "prior_scale": Reason("--scale-tolerance", "H/f or the angle sensor's gain is off by more "
+                          "than its tolerance: check H/f, or state a wider tolerance", 31),
+    "prior_offset": Reason("--offset-prior", "the angle sensor's offset lies far outside its "
+                           "prior", 32),
+    "prior_incl_bias": Reason("--inclinometer-bias-prior", "an inclinometer's bias lies far "
+                              "outside its prior", 33),
+    "prior_clock": Reason("--clock-tolerance", "the logger's time scale is off by more than "
+                          "its tolerance", 34),
+    "prior_tilt": Reason("--params", "a tilt or the azimuth lies far outside its prior: "
+                         "state the priors of the stand in --params", 35),
+    "fit_absorbs_misfit": Reason("--params", "the fit moved the noise levels by one common "
+                                 "factor, a time base's signature: check the logger's rate "
+                                 "(--clock-tolerance) rather than fitting it away", 42),
+    "fit_implausible": Reason("--params", "a fitted noise level lies outside its plausible "
+                              "range in the table of inputs", 43),
+    "lost_lock_gate": Reason("--params", "the gate rejected too many samples: check the "
+                             "units and the instrument's noise in --params", 50),
+    "lost_lock_nis": Reason("--params", "a sensor's mean NIS is far off: check the units "
+                            "and the instrument's noise in --params", 51),
+    "misfit_nis": Reason("--fit-noise", "a mean-NIS test failed: fit the sensor noises to "
+                         "the record", 60),
+    "misfit_whiteness": Reason("--fit-noise", "a whiteness test failed: fit the noise "
+                               "model to the record", 60),
+    "misfit_split": Reason("--t0", "the split-record test says the drift estimate moves "
+                           "within the record: calibrate a later part of it", 61),
     # paper RSF's checks
     "rsf_scatter": Reason("--params", "the intervals scatter more than the error model "
                           "predicts: check the sensor models in --params", 70),
+    "rsf_bias": Reason("--sins-bias-tolerance", "the SINS and GS biases over the roll rate "
+                       "exceed their tolerances: state them, or fly a reversing roll", 71),
+    "rsf_prior": Reason("--sf-tolerance", "the SF error estimate lies far outside its prior",
+                        72),
     # bad input (exit 2)
     "bad_option": Reason("--help", "an option's value is out of its range", 90),
     "bad_input": Reason("--columns", "the file cannot be read as a record: check its "

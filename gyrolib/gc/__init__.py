@@ -111,9 +111,11 @@ from gyrolib.gc.logs import (
     calibrate,
     convention_study,
     earth_rate_mismatch,
+    fit_checks,
     fit_noise,
     fit_uncertainty,
     innovation_log_likelihood,
+    profile_intervals,
     simulate_record,
 )
 from gyrolib.gc.model import (
@@ -267,6 +269,7 @@ __all__ = [
     "discretize",
     "earth_rate_mismatch",
     "error_budget",
+    "fit_checks",
     "fit_noise",
     "fit_uncertainty",
     "float_acceleration",
@@ -310,6 +313,7 @@ __all__ = [
     "plot_sweep",
     "procedure_for_time",
     "process_noise_intensity",
+    "profile_intervals",
     "psd",
     "psd_integral",
     "psd_two_sided",

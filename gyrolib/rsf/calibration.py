@@ -81,7 +81,11 @@ class CalibrationResult:
     than 1.5 nominal intervals), ``gap_time`` (s without rows in them), ``dt`` (nominal
     interval, the median step).  Per interval also ``abs_rate`` (mean |ω|, rad/s: the
     absolute SINS turn over the time used) and ``reversal`` (its net turn is less than half
-    its absolute turn: the roll rate reverses inside).  ``slips_repaired`` (whole-turn jumps
+    its absolute turn: the roll rate reverses inside) and ``gs_gyro_turn`` (the GS gyro's
+    own turn over the spans used, rad: the platform's uncompensated turn, whose scale error
+    ε1,GS reads into ε̂1; ``None`` when the record has no ``gs_gyro_angle``) and
+    ``counts_per_rev`` (the record's encoder counts per turn; ``None`` for a ``gs_angle``).
+    ``slips_repaired`` (whole-turn jumps
     of the GS angle removed; a wrapped angle's wraps not counted) and ``notes`` (one
     sentence per wrap, slip or gap).
     """
@@ -109,6 +113,8 @@ class CalibrationResult:
     gap_time: float = 0.0
     slips_repaired: int = 0
     notes: tuple[str, ...] = ()
+    gs_gyro_turn: np.ndarray | None = None
+    counts_per_rev: int | None = None
 
     def __post_init__(self) -> None:
         n_int = v.check_ndarray("eps1_hat", self.eps1_hat, ndim=1).size
@@ -131,6 +137,8 @@ class CalibrationResult:
             raise ValueError(f"reversal must have shape ({n_int},); got "
                              f"{np.shape(self.reversal)}")
         object.__setattr__(self, "reversal", np.asarray(self.reversal, dtype=bool))
+        if self.gs_gyro_turn is not None:
+            v.check_ndarray("gs_gyro_turn", self.gs_gyro_turn, shape=(n_int,))
         object.__setattr__(self, "notes", tuple(str(x) for x in self.notes))
 
     @property
@@ -411,6 +419,11 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
     raw_inc = np.zeros(t.size)
     np.add.at(res_inc, j1, (corrected[j1] - corrected[j0]) - gs_span)
     np.add.at(raw_inc, j1, sins_span - gs_span)
+    gyro_turn = None
+    if record.gs_gyro_angle is not None:
+        gyro = record.gs_gyro_angle
+        gyro_turn = np.bincount(sidx, weights=np.nan_to_num(gyro[j1] - gyro[j0]),
+                                minlength=n_int + 1)[:n_int][keep]
     return CalibrationResult(
         period=period, k_form=k_form, t_start=t[0] + keep * period,
         t_end=t[0] + (keep + 1) * period, eps1_hat=est.eps1_hat[0, keep], k=est.k[0, keep],
@@ -421,7 +434,8 @@ def calibrate(record: RSFRecord, period: float, *, k_form: str = "linear",
         gaps=int(np.count_nonzero(h > 1.5 * dt)), dt=dt,
         abs_rate=abs_turn[keep] / (cnt[keep] * dt),
         reversal=np.abs(est.turn[0, keep]) < 0.5 * abs_turn[keep], gap_time=gap_time,
-        slips_repaired=n_slips, notes=tuple(notes))
+        slips_repaired=n_slips, notes=tuple(notes), gs_gyro_turn=gyro_turn,
+        counts_per_rev=record.counts_per_rev)
 
 
 def record_from_simulation(sim: SensorRecord, run: int = 0, *,

@@ -28,8 +28,10 @@ from gyrolib.gc.logs.convention import (
 from gyrolib.gc.logs.noise_fit import (
     NOISE_FIT_NAMES,
     NoiseFit,
+    fit_checks,
     fit_noise,
     fit_uncertainty,
+    profile_intervals,
 )
 from gyrolib.gc.logs.record import (
     MEASUREMENT_COLUMNS,
@@ -54,8 +56,10 @@ __all__ = [
     "calibrate",
     "convention_study",
     "earth_rate_mismatch",
+    "fit_checks",
     "fit_noise",
     "fit_uncertainty",
     "innovation_log_likelihood",
+    "profile_intervals",
     "simulate_record",
 ]

@@ -42,12 +42,14 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
+from gyrolib.filtering.consistency import chi2_ppf
 from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.model.nominal import nominal_motion_aperiodic
 from gyrolib.gc.model.params import GyrocompassParams
 
 __all__ = ["AllanDeviation", "AllanSeries", "NoiseTerm", "allan_deviation",
-           "allan_model_vibration", "allan_noise_terms", "edf_oadev", "noise_terms", "oadev"]
+           "allan_model_vibration", "allan_noise_terms", "allan_series", "edf_oadev",
+           "noise_terms", "oadev"]
 
 #: The series of :class:`AllanDeviation`, in order.
 SERIES: Final[tuple[str, ...]] = ("angle_sensor", "inclinometer_y", "inclinometer_z")
@@ -297,8 +299,9 @@ _TERMS: Final[tuple[tuple[str, float], ...]] = (
 def allan_noise_terms(result: AllanDeviation) -> dict[str, tuple[NoiseTerm, ...]]:
     """:func:`noise_terms` of each series of an :class:`AllanDeviation`: for the
     angle-sensor rate the angle random walk, bias instability and rate random walk; for an
-    inclinometer the same three terms of a specific-force sensor (velocity random walk,
-    bias instability, acceleration random walk).
+    inclinometer the velocity random walk, the bias instability and the +½ slope, which
+    on paper GC's platform is the vibration filter N1 of Eq. (6) rising over the record's τ
+    (named so: not an acceleration random walk).
 
     Examples
     --------
@@ -306,10 +309,12 @@ def allan_noise_terms(result: AllanDeviation) -> dict[str, tuple[NoiseTerm, ...]
     >>> rec = gc.simulate_record(gc.GyrocompassParams(), 20.0, seed=3).record
     >>> terms = gc.allan_noise_terms(gc.allan_deviation(rec))
     >>> [t.name for t in terms["inclinometer_y"]]
-    ['velocity random walk', 'bias instability', 'acceleration random walk']
+    ['velocity random walk', 'bias instability', 'vibration N1 (+1/2 slope)']
     """
     v.check_instance("result", result, AllanDeviation)
-    accel = ("velocity random walk", "bias instability", "acceleration random walk")
+    # an inclinometer's +½ slope is the vibration filter N1 of Eq. (6) (its spectrum rises
+    # over the τ of the record), not a random walk of acceleration
+    accel = ("velocity random walk", "bias instability", "vibration N1 (+1/2 slope)")
     return {s.name: noise_terms(s, None if s.name == "angle_sensor" else accel)
             for s in result.series}
 
@@ -383,6 +388,8 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
     free = np.diag(_nnls_cov(A * w[:, None], y * w)[1]) * inflate
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
     factor = {-0.5: 1.0, 0.0: 0.664**2, 0.5: 1.0 / 3.0}    # a_p = factor · term²
+    a_tau = 1.0 - 0.99 ** (1.0 / tau.size)
+    upper = y * edf / chi2_ppf(a_tau, edf)        # the measured σ²'s upper bound per τ
     out = []
     for (_, slope), label in zip(_TERMS, names):
         p = round(2 * slope)
@@ -390,6 +397,16 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
         ai, si = float(a[i]), float(sd[i])
         identified = ai > 2.0 * si and si > 0
         hi_a = ai + si if identified else ai + 2.0 * max(si, math.sqrt(max(free[i], 0.0)))
+        # never above the data: the term's line a τ^p must stay below the measured
+        # deviation's upper bound at every τ (χ² with each point's edf, at a 1 % rate for
+        # all the τ together, Šidák), within the term's own 1σ; a term whose lower bound
+        # crosses it is only an upper bound, the largest line that does not (issue 34)
+        cap = float(np.min(upper / tau**p))
+        if identified and ai - si > cap:
+            identified = False
+        if not identified:
+            hi_a = min(hi_a, cap)
+            ai = min(ai, hi_a)
         value = math.sqrt(ai / factor[slope]) if identified else math.sqrt(hi_a / factor[slope])
         lo = math.sqrt(max(ai - si, 0.0) / factor[slope]) if identified else 0.0
         unit = {-0.5: f"{series.unit}·√s", 0.0: series.unit,
@@ -401,6 +418,27 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
                              tau=float(tau[int(np.argmax(share))]), identified=identified,
                              slope=slope))
     return tuple(out)
+
+
+def allan_series(rate: np.ndarray, sample_rate: float, *, name: str = "rate",
+                 unit: str = "rad/s", taus: str | np.ndarray = "octave") -> AllanSeries:
+    """The overlapping Allan deviation of a plain rate series (any gyro's output, evenly
+    sampled at ``sample_rate`` Hz), with its 68 % interval (white-frequency edf, NIST SP
+    1065), as an :class:`AllanSeries` for :func:`noise_terms` (``model`` is the measured
+    deviation: there is no model curve).  The series of ``python -m gyrolib allan``.
+
+    Examples
+    --------
+    >>> y = np.random.default_rng(2).standard_normal(2**14) * 0.01   # N = 0.001 at 100 Hz
+    >>> s = allan_series(y, 100.0)
+    >>> f"{noise_terms(s)[0].value:.4f}"
+    '0.0010'
+    """
+    sample_rate = v.check_positive("sample_rate", sample_rate)
+    y = v.check_array("rate", rate, ndim=1, min_size=10)
+    tau, ad, lo, hi, edf, n = _oadev(y, sample_rate, "freq", taus, 0)
+    return AllanSeries(name=v.check_str("name", name), unit=v.check_str("unit", unit),
+                       tau=tau, adev=ad, lo=lo, hi=hi, edf=edf, model=ad, n=n)
 
 
 def allan_deviation(record: GCRecord, params: GyrocompassParams | None = None, *,

@@ -313,21 +313,92 @@ class CalibrationResult:
             out.append((float(self.t[k]), float((self.x[k, i] - wt) / math.sqrt(dv))))
         return out
 
+    def prior_tests(self) -> list[dict]:
+        """The estimate of each constant with a prior against that prior: ψ, ω_gc, δ, γ
+        (Eq. (8): constant states, prior ``initial_covariance(params)``) and each instrument
+        term with a prior > 0 (:data:`gyrolib.gc.TERMS`).  For a constant ``x`` with prior
+        ``N(0, P₀)`` and posterior variance ``P``, the estimate ``x̂`` is ``N(0, P₀ − P)``
+        when the model holds (the law of total variance: the estimate's spread is what the
+        data removed from the prior), so ``z = x̂/√(P₀ − P)`` is standard normal: one
+        two-sided test per constant (equivalent, per constant, to the normalized posterior
+        ``d = x̂ᵀ(P₀ − P)⁻¹x̂`` against χ²₁; the per-constant form names the constant at
+        fault).  A constant the record does not inform (``P₀ − P < 10⁻⁶ P₀``) has no test.
+        Each entry: ``constant``, ``z``, ``estimate``, ``prior`` (σ, SI)."""
+        p0 = initial_covariance(self.params)
+        out = []
+        for name in ("psi", "omega_gc", "delta", "gamma"):
+            i = state_index(name)
+            out.append((name, float(self.x_final[i]), float(p0[i, i]),
+                         float(self.P_final[i, i])))
+        for c, name in enumerate(self.bias_names):
+            if self.bias_prior[c] > 0.0:
+                out.append((name, float(self.bias_estimate[c]), float(self.bias_prior[c]) ** 2,
+                            float(self.bias_cov[c, c])))
+        tests = []
+        for name, est, prior_var, post_var in out:
+            dv = prior_var - post_var
+            if not dv > 1e-6 * prior_var:
+                continue
+            tests.append({"constant": name, "z": est / math.sqrt(dv), "estimate": est,
+                          "prior": math.sqrt(prior_var)})
+        return tests
+
+    def _prior_cause(self, name: str, est: float) -> tuple[str, str]:
+        """The reason code and the likely cause of a constant far outside its prior."""
+        p = self.params
+        if name == "omega_gc":
+            # Ω_h reads as drift: the latitude whose Ω_h would explain ω̂ (φ from the
+            # parameters' own Earth rate)
+            cos_lat = (p.Omega_h + est) / EARTH_RATE
+            lat = math.degrees(math.acos(cos_lat)) if abs(cos_lat) <= 1.0 else None
+            stated = math.degrees(math.atan2(p.Omega_v, p.Omega_h))
+            text = (f"omega_gc far outside its prior {from_si(p.sigma_gc0, 'arcsec_paper/s'):.3g}"
+                    " arcsec/s (paper's arcsec): a site rate for another latitude reads as "
+                    f"drift (stated {stated:.4g} deg N"
+                    + (f"; about {lat:.3g} deg would explain it: --latitude" if lat is not None
+                       else "") + "), or the gyro drifts more than the prior allows "
+                    "(--drift-prior), or H/f, the gain or the logger's clock is off by about "
+                    f"{est / p.Omega_h:.2g} (--scale-tolerance, --clock-tolerance)")
+            return ("prior_latitude" if lat is not None else "prior_drift"), text
+        causes = {
+            "psi": ("prior_tilt", "the azimuth misalignment psi beyond its prior sigma_psi0"),
+            "delta": ("prior_tilt", "the platform tilt delta beyond its prior sigma_delta0 "
+                      "(an unlevelled platform, or an inclinometer bias beyond its prior: "
+                      "--inclinometer-bias-prior)"),
+            "gamma": ("prior_tilt", "the platform tilt gamma beyond its prior sigma_gamma0 "
+                      "(an unlevelled platform, or an inclinometer bias beyond its prior: "
+                      "--inclinometer-bias-prior)"),
+            "angle_offset": ("prior_offset", "the angle sensor's null offset beyond its prior "
+                             "(--offset-prior; a logger that starts late, --t0)"),
+            "inclinometer_y_bias": ("prior_incl_bias", "inclinometer_y's bias beyond its "
+                                    "prior (--inclinometer-bias-prior; wrong unit or sign?)"),
+            "inclinometer_z_bias": ("prior_incl_bias", "inclinometer_z's bias beyond its "
+                                    "prior (--inclinometer-bias-prior; wrong unit or sign?)"),
+            "scale": ("prior_scale", "H/f or the angle sensor's gain off by more than its "
+                      "tolerance (--scale-tolerance)"),
+            "clock": ("prior_clock", "the logger's time scale off by more than its tolerance "
+                      "(--clock-tolerance; a logger rate labelled wrong?)"),
+        }
+        return causes.get(name, ("prior_" + name, f"{name} beyond its prior"))
+
     def model_tests(self) -> list[dict]:
         """Every check of the model on the record, each at the level that makes their
         family-wise false-alarm rate :attr:`false_alarm` (Šidák: ``1 − (1 − a)^(1/n)`` for
         ``n`` tests): per sensor the two-sided band of the mean NIS and the portmanteau
-        whiteness test of the normalized innovations over ``lags`` lags (χ²(lags)), and the
-        split-record tests (:meth:`split_tests`, two-sided normal).  The NIS band is widened
+        whiteness test of the normalized innovations over ``lags`` lags (χ²(lags)), the
+        split-record tests (:meth:`split_tests`, two-sided normal) and the prior of each
+        constant (:meth:`prior_tests`, two-sided normal).  The NIS band is widened
         by the relative :attr:`nis_tolerance` (default 0.5 %): the filter's linearized,
         discretized model predicts the innovation variance to a few 10⁻³ (on the truth
         model's records the angle sensor's mean NIS is 0.996), which a record of an hour
         resolves; a variance off by 0.5 % changes σ by 0.25 %, harmless, while the defects
         that matter move it by more (a 1 % gain error: 2 %).  Each entry: ``test``,
-        ``sensor``, ``statistic``, ``low``, ``high``, ``passed``."""
+        ``sensor``, ``statistic``, ``low``, ``high``, ``passed``, ``reason_code`` (and, for
+        a prior, ``constant`` and ``cause``)."""
         used = [q for q in range(M) if self.used[q] > 0]
         splits = self.split_tests()
-        n = 2 * len(used) + len(splits)
+        priors = self.prior_tests()
+        n = 2 * len(used) + len(splits) + len(priors)
         if n == 0:
             return []
         a = 1.0 - (1.0 - self.false_alarm) ** (1.0 / n)
@@ -339,17 +410,25 @@ class CalibrationResult:
             hi = float(chi2_ppf(1.0 - 0.5 * a, nq)) / nq * (1.0 + self.nis_tolerance)
             nis = float(self.nis_mean[q])
             out.append({"test": "mean NIS", "sensor": MEASUREMENT_NAMES[q], "statistic": nis,
-                        "low": lo, "high": hi, "passed": bool(lo <= nis <= hi)})
+                        "low": lo, "high": hi, "passed": bool(lo <= nis <= hi),
+                        "reason_code": "misfit_nis"})
             w = float(self.whiteness[q])
             lim = float(chi2_ppf(1.0 - a, lags))
             out.append({"test": f"whiteness (portmanteau, {lags} lags)",
                         "sensor": MEASUREMENT_NAMES[q], "statistic": w, "low": 0.0,
-                        "high": lim, "passed": bool(w <= lim)})
+                        "high": lim, "passed": bool(w <= lim),
+                        "reason_code": "misfit_whiteness"})
         zlim = math.sqrt(float(chi2_ppf(1.0 - a, 1)))     # P(|z| > zlim) = a, z ~ N(0, 1)
         for t_s, z in splits:
             out.append({"test": f"split-record omega_gc (t = {t_s:.4g} s vs end)",
                         "sensor": "angle_sensor", "statistic": z, "low": -zlim, "high": zlim,
-                        "passed": bool(abs(z) <= zlim)})
+                        "passed": bool(abs(z) <= zlim), "reason_code": "misfit_split"})
+        for pt in priors:
+            code, cause = self._prior_cause(pt["constant"], pt["estimate"])
+            out.append({"test": f"prior of {pt['constant']} (estimate/sqrt(P0 - P))",
+                        "sensor": "prior", "statistic": pt["z"], "low": -zlim, "high": zlim,
+                        "passed": bool(abs(pt["z"]) <= zlim), "reason_code": code,
+                        "constant": pt["constant"], "cause": cause})
         return out
 
     def _misfit_parts(self) -> list[str]:
@@ -357,10 +436,37 @@ class CalibrationResult:
         for tst in self.model_tests():
             if tst["passed"]:
                 continue
+            if tst["sensor"] == "prior":
+                parts.append(f"prior of {tst['constant']}: the estimate is "
+                             f"{tst['statistic']:+.3g} sigma from it (limit {tst['high']:.3g}): "
+                             f"{tst['cause']}")
+                continue
             parts.append(f"{tst['sensor']}: {tst['test']} failed: {tst['statistic']:.4g} "
                          f"outside [{tst['low']:.4g}, {tst['high']:.4g}] (family "
                          f"false-alarm rate {100 * self.false_alarm:.3g} %)")
         return parts
+
+    @property
+    def reason_codes(self) -> tuple[str, ...]:
+        """Stable codes of what makes the run not valid, in the order of :attr:`reason`
+        (each once): ``latitude`` (the Earth rate is not the record's latitude's),
+        ``lost_lock_gate``, ``lost_lock_nis``, then the codes of the failed model checks
+        (``misfit_nis``, ``misfit_whiteness``, ``misfit_split``, ``prior_latitude``,
+        ``prior_drift``, ``prior_scale``, ``prior_clock``, ``prior_offset``,
+        ``prior_incl_bias``, ``prior_tilt``); empty when valid."""
+        codes = []
+        if self.record_latitude is not None and earth_rate_mismatch(self.params,
+                                                                    self.record_latitude):
+            codes.append("latitude")
+        share = self.rejected_share
+        lo, hi = self.nis_range
+        for q in range(M):
+            if share[q] > self.max_rejected:
+                codes.append("lost_lock_gate")
+            if self.used[q] > 0 and not lo <= self.nis_mean[q] <= hi:
+                codes.append("lost_lock_nis")
+        codes += [t["reason_code"] for t in self.model_tests() if not t["passed"]]
+        return tuple(dict.fromkeys(codes))
 
     @property
     def misfit(self) -> bool:
@@ -498,6 +604,7 @@ class CalibrationResult:
         return {
             "valid": self.valid,
             "reason": self.reason,
+            "reason_codes": list(self.reason_codes),
             "lost_lock": self.lost_lock,
             "misfit": self.misfit,
             "omega_gc": self.omega_gc,
@@ -1482,11 +1589,13 @@ class SimulatedRecord:
         return float(self.truth[0, state_index("omega_gc")])
 
 
-def simulate_record(params: GyrocompassParams, t_end: float, seed: int) -> SimulatedRecord:
+def simulate_record(params: GyrocompassParams, t_end: float, seed: int, *,
+                    omega_gc: float | None = None) -> SimulatedRecord:
     """A seeded record of paper GC's truth model (nonlinear Eq. (3) with the shaping filters)
     over ``(0, t_end]`` at ``params.dt``, in the columns of a :class:`GCRecord`.
 
-    The initial state is drawn from ``P(0)`` (:func:`gyrolib.gc.initial_covariance`); the
+    The initial state is drawn from ``P(0)`` (:func:`gyrolib.gc.initial_covariance`; with
+    ``omega_gc`` given, the drift is that value, rad/s, the other states drawn); the
     angle sensor reads ``β = β_n + Δβ`` plus white noise of variance ``R₁₁``, the
     inclinometers ``g δ + N1`` and ``g γ + N1`` plus noise of variances ``R₂₂``, ``R₃₃``
     (Eq. (8), :func:`gyrolib.gc.measurement_noise_covariance`).
@@ -1502,6 +1611,8 @@ def simulate_record(params: GyrocompassParams, t_end: float, seed: int) -> Simul
     seed = v.check_int("seed", seed, 0)
     rng = np.random.default_rng(seed)
     x0 = covariance_factor(initial_covariance(p)) @ rng.standard_normal(N)
+    if omega_gc is not None:
+        x0[state_index("omega_gc")] = v.check_real("omega_gc", omega_gc)
     truth_seed = int(rng.integers(0, 2**62))
     t, X = simulate_truth(p, t_end, x0, seed=truth_seed)
     beta_n = nominal_half_steps(p, t.size - 1)[::2]

@@ -25,7 +25,11 @@ The terms (priors from the parameters; 0 by default):
   prior ``sigma_incl_bias`` (both);
 * ``scale`` (dimensionless): the relative error κ of the scale common to ``H/f`` and the angle
   sensor's gain, prior ``sigma_hf_scale``; the angle sensor reads ``κ β_n`` more (the float's
-  steady rate ``(H/f) Ω_h`` scaled by ``1 + κ``, read through the gain).
+  steady rate ``(H/f) Ω_h`` scaled by ``1 + κ``, read through the gain);
+* ``clock`` (dimensionless): the relative error ε of the logger's time scale, prior
+  ``sigma_clock``; time stamps that run fast by ε read ``ε β_n`` less (to first order; the
+  same column as ``scale`` with the other sign: the record cannot tell the two apart, and
+  σ(ω_gc) carries both).
 """
 
 from __future__ import annotations
@@ -127,6 +131,7 @@ TERMS: tuple[InstrumentTerm, ...] = (
     InstrumentTerm("inclinometer_z_bias", "sigma_incl_bias", H0=(0.0, 0.0, 1.0),
                    unit="m/s²"),
     InstrumentTerm("scale", "sigma_hf_scale", H1=(1.0, 0.0, 0.0), group="scale", unit="1"),
+    InstrumentTerm("clock", "sigma_clock", H1=(-1.0, 0.0, 0.0), group="scale", unit="1"),
 )
 
 

@@ -96,7 +96,7 @@ _REAL = ("omega_ub",)
 
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
                 "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale",
-                "sigma_as_offset", "sigma_incl_bias")
+                "sigma_as_offset", "sigma_incl_bias", "sigma_clock")
 
 
 _DAMPING = ("xi1", "xi2")
@@ -159,7 +159,12 @@ class GyrocompassParams:
       about ``(H/f) Ω_h τ``);
     * ``sigma_incl_bias``: the 1σ prior (m/s²) of a constant bias of each inclinometer
       (0.1–1 mg for real ones); a bias reads like a tilt of ``b/g``, which the data cannot
-      tell from one, so this prior enters σ(ω_gc) through the tilt's coupling ``Ω_v``.
+      tell from one, so this prior enters σ(ω_gc) through the tilt's coupling ``Ω_v``;
+    * ``sigma_clock``: the 1σ relative error ε of the logger's time scale (dimensionless; a
+      crystal's 10⁻⁵ to 10⁻⁴, a logger rate labelled wrong 2.4 %: 1024 Hz read as 1 kHz).
+      Time stamps that run fast by ε read the float's motion ``β_n`` at ``t/(1 + ε)``, i.e.
+      ``(1 − ε) β_n`` to first order (``β_n`` grows in proportion to t after the first few
+      ms): the scale term's column with the opposite sign, carried like the scale.
 
     These constants are declared once, in :mod:`gyrolib.gc.model.instrument`
     (:data:`gyrolib.gc.TERMS`); a prior > 0 switches one ON, and then the covariance analysis
@@ -215,6 +220,7 @@ class GyrocompassParams:
     sigma_hf_scale: float = 0.0
     sigma_as_offset: float = 0.0
     sigma_incl_bias: float = 0.0
+    sigma_clock: float = 0.0
 
     def __post_init__(self) -> None:
         for f_ in fields(self):

@@ -1,0 +1,107 @@
+#!/usr/bin/env python3
+"""Benchmark: does every σ the tool prints cover the truth? (issue 34, item 7).  Statistics
+over seeds, never asserted in tests (the tests run two fixed seeds of each case:
+``tests/test_coverage_seeds.py``).  The records are made by ``tests/coverage_cases.py``
+with every constant drawn from its prior, so the prior is part of the truth.
+
+1. **RSF** (``--rsf``, default 100 flights of 30 s, sensors' errors drawn from their
+   tolerances): z = (eps1_hat_mean − ε1/(1+ε1)) / eps1_hat_mean_std.
+2. **GC** (``--gc``, default 100 records of 100 s, ψ, ω_gc, δ, γ from P(0), an angle
+   offset, inclinometer biases and a gain error from the command's priors): z of ω̂_gc.
+   For both: passes when the spread (SD) of z lies in [0.8, 1.25] and the 95 % Wilson
+   interval of the share |z| <= 1 contains 68.27 %.
+3. **Fitted noise** (``--fit``, default 100 records of ``--fit-duration`` s with α1 × 5,
+   σ1² × 4): the share of each fitted parameter's 95 % interval
+   (``gc.profile_intervals``) that holds the truth; passes when its Wilson interval
+   contains 95 %.
+
+Each part's CPU time per record is recorded; the CPU class with the machine.
+
+    nice -n 10 .venv/bin/python benchmarks/bench_coverage.py [--rsf 100] [--gc 100]
+        [--fit 100] [--fit-duration 100] [--name coverage]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(ROOT / "tests"))
+from _results import Recorder  # noqa: E402
+from coverage_cases import fit_case, gc_case, rsf_case, wilson  # noqa: E402
+
+
+def z_verdict(z: np.ndarray) -> dict:
+    """SD of z, the share |z| <= 1 with its Wilson interval, and the pass/fail of each."""
+    n = int(z.size)
+    k = int(np.sum(np.abs(z) <= 1.0))
+    lo, hi = wilson(k, n)
+    sd = float(np.std(z, ddof=1)) if n > 1 else float("nan")
+    return {"n": n, "sd_z": sd, "sd_in_band": bool(0.8 <= sd <= 1.25),
+            "share_abs_z_le_1": k / n if n else None, "wilson_95": [lo, hi],
+            "contains_68": bool(lo <= 0.6827 <= hi), "max_abs_z": float(np.max(np.abs(z)))}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rsf", type=int, default=100)
+    ap.add_argument("--gc", type=int, default=100)
+    ap.add_argument("--fit", type=int, default=100)
+    ap.add_argument("--fit-duration", type=float, default=100.0)
+    ap.add_argument("--name", default="coverage",
+                    help="results file benchmarks/results/NAME.json (a part run alone)")
+    args = ap.parse_args()
+    rec = Recorder(args.name)
+    stats: dict = {}
+    for name, n, case in (("rsf", args.rsf, rsf_case), ("gc", args.gc, gc_case)):
+        if n <= 0:
+            continue
+        t0 = time.process_time()
+        rows = [case(1000 + s) for s in range(n)]
+        cpu = (time.process_time() - t0) / n
+        z = np.array([r["z"] for r in rows])
+        v = z_verdict(z)
+        v["refused"] = int(sum(not r["valid"] for r in rows))
+        stats[name] = v
+        rec.case(f"{name}: {n} records, z spread and 1-sigma coverage", cpu,
+                 note=f"SD(z) {v['sd_z']:.3f} ({'in' if v['sd_in_band'] else 'OUTSIDE'} "
+                      f"[0.8, 1.25]); |z| <= 1: {100 * v['share_abs_z_le_1']:.1f} %, Wilson "
+                      f"[{100 * v['wilson_95'][0]:.1f}, {100 * v['wilson_95'][1]:.1f}] % "
+                      f"({'contains' if v['contains_68'] else 'MISSES'} 68 %); refused "
+                      f"{v['refused']}; CPU s per record")
+    if args.fit > 0:
+        t0 = time.process_time()
+        rows = [fit_case(2000 + s, args.fit_duration) for s in range(args.fit)]
+        cpu = (time.process_time() - t0) / args.fit
+        done = [r for r in rows if r["covered"]]
+        cover = {}
+        for nm in ("alpha1", "sigma1_sq", "C_as", "C_in"):
+            hits = [r["covered"][nm] for r in done if nm in r["covered"]]
+            lo, hi = wilson(sum(hits), len(hits))
+            cover[nm] = {"n": len(hits), "share": sum(hits) / len(hits) if hits else None,
+                         "wilson_95": [lo, hi], "contains_95": bool(lo <= 0.95 <= hi)}
+        z = np.array([r["z"] for r in done])
+        stats["fit"] = {"records": args.fit, "duration_s": args.fit_duration,
+                        "not_converged": sum(not r["converged"] for r in rows),
+                        "coverage": cover, "omega_gc": z_verdict(z) if z.size > 1 else None}
+        rec.case(f"fit: {args.fit} records of {args.fit_duration:g} s, alpha1 x 5, "
+                 "sigma1^2 x 4", cpu,
+                 note="95 % interval coverage: " + ", ".join(
+                     f"{nm} {100 * c['share']:.0f} % [{100 * c['wilson_95'][0]:.0f}, "
+                     f"{100 * c['wilson_95'][1]:.0f}]" for nm, c in cover.items()
+                     if c["share"] is not None)
+                 + f"; not converged {stats['fit']['not_converged']}; CPU s per record")
+    rec.doc["stats"] = stats
+    rec.write()
+    print(json.dumps(stats, indent=1))
+
+
+if __name__ == "__main__":
+    main()

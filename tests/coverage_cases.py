@@ -1,0 +1,90 @@
+"""One record of each coverage study (issue 34, item 7), shared by the tests (two fixed seeds
+each) and ``benchmarks/bench_coverage.py`` (at least 100 seeds each): made with every
+constant drawn from its prior, so that the prior is part of the truth, and judged by the
+σ the tool prints."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from gyrolib import gc, rsf
+from gyrolib.units import ARCSEC_PAPER, G0
+
+#: The command line's default priors of ``calibrate gc`` (gyrolib.inputs' rows).
+GC_PRIORS = {"sigma_hf_scale": 1e-3, "sigma_as_offset": 20.0 * ARCSEC_PAPER,
+             "sigma_incl_bias": 0.5e-3 * G0}
+
+#: The fitted-noise study's truth: the paper's vibration with α1 × 5 and σ1² × 4.
+FIT_TRUTH = {"alpha1": 5.0, "sigma1_sq": 4.0}
+
+
+def rsf_case(seed: int, duration: float = 30.0, period: float = 1.0) -> dict:
+    """A flight of paper RSF's simulation with the sensors' errors drawn from their
+    tolerances (``errors="random"``), calibrated from its record; ``z`` of eps1_hat_mean
+    by its total standard uncertainty (:func:`gyrolib.rsf.eps1_uncertainty`)."""
+    cfg = rsf.SimulationConfig(errors="random", duration=duration)
+    sim = rsf.simulate_flight(cfg, seed=seed)
+    res = rsf.calibrate(rsf.record_from_simulation(sim), period)
+    u = rsf.eps1_uncertainty(res, cfg)
+    e1 = float(sim.eps1_sins[0])
+    return {"z": (u.mean - e1 / (1.0 + e1)) / u.std, "valid": u.valid,
+            "z_sem": (u.mean - e1 / (1.0 + e1)) / res.eps1_stats()["sem"]}
+
+
+def gc_case(seed: int, t_end: float = 100.0) -> dict:
+    """A record of paper GC's truth model (ψ, ω_gc, δ, γ drawn from P(0)) with an angle
+    offset, inclinometer biases and a gain error drawn from the command's priors, calibrated
+    with those priors; ``z`` of ω̂_gc by its σ."""
+    p = dataclasses.replace(gc.GyrocompassParams(), **GC_PRIORS)
+    sim = gc.simulate_record(p, t_end, seed)
+    rng = np.random.default_rng(10_000 + seed)
+    r = sim.record
+    kappa = rng.normal(0.0, p.sigma_hf_scale)
+    rec = gc.GCRecord(t=r.t, angle_sensor=(1.0 + kappa) * r.angle_sensor
+                      + rng.normal(0.0, p.sigma_as_offset),
+                      inclinometer_y=r.inclinometer_y + rng.normal(0.0, p.sigma_incl_bias),
+                      inclinometer_z=r.inclinometer_z + rng.normal(0.0, p.sigma_incl_bias))
+    res = gc.calibrate(rec, p)
+    truth = float(sim.truth[-1, 3])
+    return {"z": (res.omega_gc - truth) / res.omega_gc_std, "valid": bool(res.valid),
+            "codes": list(res.reason_codes)}
+
+
+def fit_case(seed: int, t_end: float = 100.0, fit: tuple[str, ...] = (
+        "alpha1", "sigma1_sq", "C_as", "C_in")) -> dict:
+    """A record made with α1 × 5 and σ1² × 4 (:data:`FIT_TRUTH`), the noise fitted from the
+    paper's values (:func:`gyrolib.gc.fit_noise`) with its 95 % intervals
+    (:func:`gyrolib.gc.profile_intervals`): per fitted name, whether the interval holds the
+    truth; and ω_gc's ``z`` with σ from :func:`gyrolib.gc.fit_uncertainty`."""
+    p = gc.GyrocompassParams()
+    truth = dataclasses.replace(p, alpha1=FIT_TRUTH["alpha1"] * p.alpha1,
+                                sigma1_sq=FIT_TRUTH["sigma1_sq"] * p.sigma1_sq)
+    sim = gc.simulate_record(truth, t_end, seed)
+    f = gc.fit_noise(sim.record, p, fit=fit)
+    out: dict = {"converged": f.converged, "message": f.message, "covered": {}}
+    if f.not_identified(t_end):
+        return out
+    f = gc.profile_intervals(sim.record, f)
+    for nm in f.names:
+        lo, hi = f.interval(nm)
+        value = truth.C_incl_y if nm == "C_in" else getattr(truth, nm)
+        out["covered"][nm] = bool(lo <= value <= hi)
+    res = gc.calibrate(sim.record, f.params)
+    total = gc.fit_uncertainty(sim.record, f)
+    out["z"] = (res.omega_gc - float(sim.truth[-1, 3])) / total
+    out["valid"] = bool(res.valid)
+    return out
+
+
+def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """95 % Wilson score interval of a binomial share ``k/n``."""
+    if n == 0:
+        return (math.nan, math.nan)
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
