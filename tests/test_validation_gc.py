@@ -875,6 +875,16 @@ case("gc.CalibrationResult.split_tests",
 case("gc.fit_uncertainty", lambda: gc.fit_uncertainty(_GREC, _FIT, samples=1), ValueError,
      "samples")
 case("gc.NoiseFit.not_identified", lambda: _FIT.not_identified(-1.0), ValueError, "duration")
+case("gc.NoiseFit.nuisance", lambda: _FIT.nuisance(-1.0), ValueError, "duration")
+case("gc.NoiseFit.interval", lambda: _FIT.interval("xi1"), ValueError, "name",
+     "fitted names")
+case("gc.fit_checks", lambda: gc.fit_checks("fit"), TypeError, "fit", "NoiseFit")
+case("gc.fit_checks", lambda: gc.fit_checks(_FIT, clock_tolerance=-1.0), ValueError,
+     "clock_tolerance")
+case("gc.fit_checks", lambda: gc.fit_checks(_FIT, false_alarm=1.5), ValueError, "false_alarm")
+case("gc.profile_intervals", lambda: gc.profile_intervals("rec", _FIT), TypeError, "record")
+case("gc.profile_intervals", lambda: gc.profile_intervals(_GREC, _FIT, level=1.5), ValueError,
+     "level")
 case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch("paper", 0.5), TypeError,
      "params", "GyrocompassParams")
 case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch(gc.GyrocompassParams(), 2.0),

@@ -201,6 +201,13 @@ case("rsf.RSFRecord", lambda: rsf.RSFRecord(t=[0.0, 1.0], sins_increment=[0.0, 1
      ValueError, "counts_per_rev", ">= 2")
 case("rsf.RSFRecord", lambda: replace(_RREC, t=[0.0, 0.0, 1.0]), ValueError, "t",
      "strictly increasing")
+case("rsf.eps1_uncertainty", lambda: rsf.eps1_uncertainty("result"), TypeError, "result")
+case("rsf.eps1_uncertainty", lambda: rsf.eps1_uncertainty(_RRES, sins_bias=-1.0), ValueError,
+     "sins_bias")
+case("rsf.eps1_uncertainty", lambda: rsf.eps1_uncertainty(_RRES, false_alarm=1.5), ValueError,
+     "false_alarm")
+case("rsf.eps1_uncertainty", lambda: rsf.eps1_uncertainty(_RRES, counts_per_rev=1), ValueError,
+     "counts_per_rev")
 case("rsf.calibrate", lambda: rsf.calibrate(_RREC, 0.0), ValueError, "period", POS)
 case("rsf.calibrate", lambda: rsf.calibrate({"t": [0.0]}, 1.0), TypeError, "record",
      "RSFRecord")
@@ -343,6 +350,8 @@ case("rsf.sweep_roll_rate", lambda: rsf.sweep_roll_rate([10.0], 0, executor=1), 
      "executor")
 
 EXEMPT: dict[str, str] = {
+    "rsf.Eps1Uncertainty": "result object made by rsf.eps1_uncertainty, whose inputs are "
+                           "checked at its door",
     "rsf.plot_figure3": "plot function: takes result objects, no validation by design",
     "rsf.plot_flight": "plot function: takes result objects, no validation by design",
     "rsf.plot_delta_k_distribution": "plot function: takes result objects, no validation by design",
