@@ -178,3 +178,6 @@ def test_a_nan_anywhere_in_a_unit_conversion_is_rejected(values, where):
 def test_finite_and_infinite_values_still_convert_exactly(x, unit):
     assert units.to_si(x, unit) == x * units.UNITS[unit]
     assert units.from_si(INF, unit) == INF
+
+case("ledger.claim_map_markdown", lambda: ledger.claim_map_markdown("gc.faster_percent"),
+     TypeError, "item", "LedgerItem")

@@ -889,3 +889,20 @@ case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch("paper", 0.5), Typ
      "params", "GyrocompassParams")
 case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch(gc.GyrocompassParams(), 2.0),
      ValueError, "latitude")
+
+# the race's margin and its verdict grid (issue 33)
+case("gc.race_margin", lambda: gc.race_margin(P, percent=100.0), ValueError, "percent")
+case("gc.race_margin", lambda: gc.race_margin("paper"), TypeError, "params")
+case("gc.race_verdict_grid", lambda: gc.race_verdict_grid(sigma1_factors=(0.0,)), ValueError,
+     "sigma1_factors", "positive")
+case("gc.race_verdict_grid", lambda: gc.race_verdict_grid(readings=("C/dt",)), ValueError,
+     "readings", "intensity_over_dt")
+_GRID = dict(readings=("variance",), cas_factors=np.ones(1), sigma1_factors=np.ones(2),
+             margin=np.zeros((1, 1, 2)), times=np.ones((1, 3)), C_as=1e-13, sigma1_sq=1e-6)
+case("gc.RaceVerdictGrid", lambda: gc.RaceVerdictGrid(**{**_GRID, "margin": np.zeros(3)}),
+     ValueError, "margin")
+case("gc.RaceVerdictGrid", lambda: gc.RaceVerdictGrid(**{**_GRID, "cas_factors": -np.ones(1)}),
+     ValueError, "cas_factors", "positive")
+case("gc.RaceVerdictGrid.from_dict", lambda: gc.RaceVerdictGrid.from_dict({"readings": []}),
+     ValueError, "d", "keys")
+case("gc.plot_race_verdict", lambda: gc.plot_race_verdict("grid"), TypeError, "grid")

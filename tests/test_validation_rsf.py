@@ -421,4 +421,16 @@ def test_durations_off_the_sample_grid_are_rejected(duration, sample_rate):
         rsf.SimulationConfig(duration=duration, sample_rate=sample_rate)
 
 
+# the worked example's operating point and readings (issue 33)
+case("rsf.WorkedExample", lambda: rsf.WorkedExample(omega_x=-1.0), ValueError, "omega_x", POS)
+case("rsf.WorkedExample", lambda: rsf.WorkedExample(eps1_gs_unit="%"), ValueError,
+     "eps1_gs_unit", "one of")
+case("rsf.WorkedExample.omega_unc_at", lambda: rsf.WorkedExample().omega_unc_at(NAN),
+     ValueError, "omega")
+case("rsf.WorkedExample.eps0_gs", lambda: rsf.WorkedExample().eps0_gs("GYPRO"), TypeError,
+     "gyro", "MemsGyroSpec")
+case("rsf.WorkedExample.eps1_gs", lambda: rsf.WorkedExample().eps1_gs(None), TypeError,
+     "gyro", "MemsGyroSpec")
+
+
 # Valid input is untouched ------------------------------------------------------------------------

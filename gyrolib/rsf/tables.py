@@ -112,6 +112,7 @@ class WorkedExample:
 
     def omega_unc_at(self, omega: float) -> float:
         """ω_unc (rad/s) at the roll rate ``omega`` (rad/s), by :attr:`omega_unc_model`."""
+        omega = v.check_positive("omega", omega)
         if self.omega_unc_model == "constant":
             return self.omega_unc
         if self.omega_unc_model == "motor_limited":
@@ -120,6 +121,7 @@ class WorkedExample:
 
     def eps0_gs(self, gyro: MemsGyroSpec) -> float:
         """ε0,GS (rad/s) of ``gyro`` by the reading: as computed, or cut to two digits in °/s."""
+        v.check_instance("gyro", gyro, MemsGyroSpec)
         e0 = gyro.bias_total
         if self.eps0_gs_reading == "two_digit":
             deg = float(from_si(e0, "deg/s"))
@@ -129,6 +131,7 @@ class WorkedExample:
 
     def eps1_gs(self, gyro: MemsGyroSpec) -> float:
         """ε1,GS of ``gyro`` by the reading: as given, or its ppm read as 10⁻³."""
+        v.check_instance("gyro", gyro, MemsGyroSpec)
         return gyro.sf_error * (1e3 if self.eps1_gs_unit == "1e-3" else 1.0)
 
 

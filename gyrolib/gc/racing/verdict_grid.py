@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.gc.racing.comparison import race, race_margin
@@ -41,6 +42,20 @@ class RaceVerdictGrid:
     C_as: float
     sigma1_sq: float
 
+    def __post_init__(self) -> None:
+        if not self.readings or not all(isinstance(r, str) for r in self.readings):
+            raise TypeError("readings must be a non-empty tuple of str")
+        for name in ("cas_factors", "sigma1_factors"):
+            a = v.check_ndarray(name, getattr(self, name), ndim=1)
+            if not np.all(a > 0):
+                raise ValueError(f"{name} must be positive factors")
+        v.check_ndarray("margin", self.margin, shape=(len(self.readings),
+                                                      self.cas_factors.size,
+                                                      self.sigma1_factors.size))
+        v.check_ndarray("times", self.times, shape=(len(self.readings), 3))
+        v.check_positive("C_as", self.C_as)
+        v.check_positive("sigma1_sq", self.sigma1_sq)
+
     def to_dict(self) -> dict[str, Any]:
         return {"readings": list(self.readings), "cas_factors": self.cas_factors.tolist(),
                 "sigma1_factors": self.sigma1_factors.tolist(),
@@ -49,6 +64,11 @@ class RaceVerdictGrid:
 
     @classmethod
     def from_dict(cls, d: dict[str, Any]) -> RaceVerdictGrid:
+        """The grid from :meth:`to_dict`'s plain data."""
+        keys = ("readings", "cas_factors", "sigma1_factors", "margin", "times", "C_as",
+                "sigma1_sq")
+        if not isinstance(d, dict) or any(k not in d for k in keys):
+            raise ValueError(f"d must be a dict with the keys {keys}")
         return cls(tuple(d["readings"]), np.asarray(d["cas_factors"], float),
                    np.asarray(d["sigma1_factors"], float), np.asarray(d["margin"], float),
                    np.asarray(d["times"], float), float(d["C_as"]), float(d["sigma1_sq"]))
@@ -84,9 +104,13 @@ def race_verdict_grid(params: GyrocompassParams | None = None,
     ex = check_executor(executor)
     s1 = np.asarray(sigma1_factors, float)
     ca = np.asarray(cas_factors, float)
-    if s1.ndim != 1 or ca.ndim != 1 or not (np.all(s1 > 0) and np.all(ca > 0)):
-        raise ValueError("sigma1_factors and cas_factors must be 1-D sequences of positive "
-                         "factors")
+    for name, a in (("sigma1_factors", s1), ("cas_factors", ca)):
+        if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a) & (a > 0)):
+            raise ValueError(f"{name} must be a non-empty 1-D sequence of positive factors")
+    readings = tuple(readings)
+    if not readings or any(r not in ("intensity_over_dt", "variance") for r in readings):
+        raise ValueError("readings must be readings of measurement_noise: "
+                         "'intensity_over_dt' or 'variance'")
     args = [(replace(p, measurement_noise=r, C_as=c * p.C_as, sigma1_sq=f * p.sigma1_sq), proc)
             for r in readings for c in ca for f in s1]
     m = np.array(map_ordered(_margin, args, ex)).reshape(len(readings), ca.size, s1.size)
