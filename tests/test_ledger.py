@@ -15,6 +15,7 @@ import gyrolib
 from gyrolib.book import cite
 from gyrolib.book.ledger import (
     KINDS,
+    SCHEMA_VERSION,
     STATUSES_BY_KIND,
     LedgerItem,
     anchor,
@@ -179,7 +180,9 @@ def test_json_and_markdown_of_a_known_item():
                     kind="printed number", evidence="a computation", precision=4)
     assert json.loads(to_json([it]))["items"][0]["reproduced_value"] == 0.4927  # 4 digits
     csv_text = to_csv([it])
-    assert csv_text.startswith(f"# Gyro calibration, reproduced {gyrolib.__version__}\n")
+    assert csv_text.startswith(f"# Gyro calibration, reproduced {gyrolib.__version__} "
+                               f"(schema {SCHEMA_VERSION})\n")
+    assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 2
     assert "gc.test" in csv_text and ",0.4927," in csv_text
     md = table_markdown([it], "GC")
     assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md

@@ -25,9 +25,10 @@ def _changed(old: list[dict], new: list[dict]) -> set[str]:
 
 
 def _unreleased() -> str:
+    """The CHANGELOG's sections above release 0.3.0's (the releases since)."""
     text = (ROOT / "CHANGELOG.md").read_text(encoding="utf-8")
-    m = re.search(r"^## Unreleased\n(.*?)^## ", text, flags=re.S | re.M)
-    assert m, "CHANGELOG.md has no '## Unreleased' section above the last release"
+    m = re.search(r"^(## .*?)^## 0\.3\.0 ", text, flags=re.S | re.M)
+    assert m, "CHANGELOG.md has no section above release 0.3.0's"
     return m.group(1)
 
 

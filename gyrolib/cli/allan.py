@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 
 __all__ = ["add_parser", "run"]
@@ -24,7 +25,8 @@ RATE_UNITS = ("rad/s", "deg/s", "deg/h")
 
 def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     p = sub.add_parser("allan", help="Allan deviation and noise terms of a (t, rate) series",
-                       description=__doc__.split("\n\n")[1].replace("\n", " "))
+                       description=re.sub(r":\w+:`~?([^`]+)`", r"\1", __doc__.split("\n\n")[1])
+                       .replace("``", "").replace("\n", " "))
     p.add_argument("file", metavar="FILE", help="CSV with columns t (s) and rate")
     p.add_argument("--rate-unit", choices=RATE_UNITS, default="rad/s",
                    help="unit of the rate column (default rad/s)")

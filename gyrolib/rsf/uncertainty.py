@@ -221,11 +221,11 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
     >>> res = rsf.calibrate(rsf.record_from_simulation(sim), 1.0)
     >>> u = rsf.eps1_uncertainty(res, cfg)
     >>> {k: f"{x * 1e6:.1f}" for k, x in u.parts.items()}    # ppm
-    {'random': '0.6', 'encoder': '6.1', 'biases': '31.1', 'gs_scale': '0.0'}
+    {'random': '0.6', 'encoder': '8.7', 'biases': '31.1', 'gs_scale': '0.0'}
     >>> err = u.mean - sim.eps1_sins[0] / (1 + sim.eps1_sins[0])
     >>> sem = res.eps1_stats()["sem"]
     >>> f"error {err * 1e6:.1f} ppm, σ {u.std * 1e6:.1f} ppm, SEM {sem * 1e6:.0f} ppm", u.valid
-    ('error 27.3 ppm, σ 31.7 ppm, SEM 95 ppm', True)
+    ('error 27.3 ppm, σ 32.3 ppm, SEM 95 ppm', True)
     """
     v.check_instance("result", result, CalibrationResult)
     config = SimulationConfig() if config is None else v.check_instance(

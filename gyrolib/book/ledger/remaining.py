@@ -19,6 +19,7 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib import stats
+from gyrolib._repr import compact_repr
 from gyrolib.book.ledger.gc import SIGMA_C, T_BOUND, TREND_FACTORS
 from gyrolib.book.ledger.item import LedgerItem, judge_claim
 from gyrolib.book.ledger.rsf import RANDOM_RUNS, SIM_SEED
@@ -66,6 +67,7 @@ def _arcsec_s(x: float) -> float:
 
 
 # Paper GC: the west gyro ------------------------------------------------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class WestGyro:
     """The filter of paper GC run on the west gyro: ``t`` (s) and ``sigma`` (rad/s) the
@@ -210,6 +212,7 @@ def items_gc(params: GyrocompassParams | None = None) -> list[LedgerItem]:
 
 
 # Paper RSF: flights with and without the correction, over seeds ---------------------------------
+@compact_repr
 @dataclass(frozen=True)
 class FlightLateral:
     """Per flight (``n`` flights, seed ``seed``, errors drawn per flight): the lateral error

@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
+from gyrolib._repr import compact_repr
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.gc.racing.comparison import race, race_margin
 from gyrolib.gc.racing.rate_sensor import RateSensorProcedure, check_procedure
@@ -27,6 +28,7 @@ from gyrolib.gc.racing.rate_sensor import RateSensorProcedure, check_procedure
 __all__ = ["RaceVerdictGrid", "race_verdict_grid"]
 
 
+@compact_repr
 @dataclass(frozen=True)
 class RaceVerdictGrid:
     """``margin[r, i, j]`` (%): the claim's margin under reading ``readings[r]`` at
