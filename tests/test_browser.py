@@ -705,7 +705,9 @@ def test_ledger_page_shows_its_table(site, browser):
                 "t => (t.closest('section')?.querySelector('h1,h2,h3')?.textContent || '')"
                 ".replace('#', '').trim()")
             n = table.locator("tbody tr").count()
-            rows += n
+            # the ledger's own tables (the results, the inputs); the table of inputs of the
+            # one rule and each claim's compact map table are other tables
+            rows += n if section.startswith("The papers") else 0
             if n == 0:
                 problems.append(f"table {i + 1} (section {section!r}) has a header but no rows")
             collapsed = table.evaluate("t => !!t.closest('details.gyrolib-collapsed')")

@@ -31,7 +31,8 @@ from gyrolib.book.ledger.remaining import UNDECIDABLE
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
-          "status", "note", "chapter", "kind", "evidence", "conditions", "precision"}
+          "status", "note", "chapter", "kind", "evidence", "conditions", "precision",
+          "reference", "thresholds", "share_holding", "readings", "margin", "mapped"}
 REQUIRED_IDS = [
     "gc.fig1", "gc.fig4", "gc.claim.trend_holds", "rsf.fig1", "rsf.fig2", "rsf.fig3",
     "gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.fig2.var_N3",
@@ -180,8 +181,8 @@ def test_json_and_markdown_of_a_known_item():
                     kind="printed number", evidence="a computation", precision=4)
     assert json.loads(to_json([it]))["items"][0]["reproduced_value"] == 0.4927  # 4 digits
     csv_text = to_csv([it])
-    assert csv_text.startswith(f"# Gyro calibration, reproduced {gyrolib.__version__} "
-                               f"(schema {SCHEMA_VERSION})\n")
+    assert csv_text.startswith(f"# Gyro calibration, reproduced (ledger schema "
+                               f"{SCHEMA_VERSION}) {gyrolib.__version__}\n")
     assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 2
     assert "gc.test" in csv_text and ",0.4927," in csv_text
     md = table_markdown([it], "GC")

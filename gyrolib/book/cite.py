@@ -80,8 +80,8 @@ def ledger_location(anchor: str, pyproject: Path | None = None,
     """Where a ledger item is found: its absolute URL when the book has one, else
     ``unpublished build, version X of DATE``.
 
-    >>> ledger_location("gc-x", pyproject=Path("/nonexistent"))[:31]
-    'unpublished build, version 0.3.'
+    >>> ledger_location("gc-x", pyproject=Path("/nonexistent"))[:27]
+    'unpublished build, version '
     """
     if not re.fullmatch(r"[A-Za-z0-9][\w.-]*", str(anchor)):
         raise ValueError(f"anchor must be a ledger item's anchor (letters, digits, '-', "

@@ -182,12 +182,12 @@ def to_json(items: list[LedgerItem]) -> str:
 
 
 def to_csv(items: list[LedgerItem]) -> str:
-    """The ledger as CSV: a ``# <title> <version> (schema N)`` comment line, a header, one
-    row per item (values rounded to each item's precision; a claim's map fields as JSON
+    """The ledger as CSV: a ``# <title> (ledger schema N) <version>`` comment line, a
+    header, one row per item (values rounded to each item's precision; a claim's map fields as JSON
     text)."""
     items = _check_items(items)
     buf = io.StringIO()
-    buf.write(f"# {TITLE} {gyrolib.__version__} (schema {SCHEMA_VERSION})\n")
+    buf.write(f"# {TITLE} (ledger schema {SCHEMA_VERSION}) {gyrolib.__version__}\n")
     records = [_record(it) for it in items]
     for r in records:  # a claim's map as JSON text in its cell (empty for the other kinds)
         for key in MAP_FIELDS:
