@@ -103,6 +103,7 @@ def fresh_clone(rec: Recorder, clone: Path, commit: str) -> None:
     load_test = load()
     t_test, log = timed(["bash", ".ci/run"], clone, CI="true")
     load_end = load()
+    (clone.parent / "test_command.log").write_text(log)
     pytest_note = record_pytest(rec, log)
     loads = f"{quiet(load_setup, [load_test, load_end])}; {machine_label(machine())}"
     rec.case("set-up on a fresh clone: python3 tasks.py setup (.venv, pinned environment)",
