@@ -206,14 +206,23 @@ def _rate_part(model: RateSensorModel) -> _RatePart:
     return _RatePart(t_c, t_opt if np.isfinite(t_opt) else math.nan, n1, n2, n1_opt)
 
 
+@functools.lru_cache(maxsize=1024)
 def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) -> float:
-    """The rate-sensor method's time to σ_c with one estimator (``inf``: not reached)."""
-    model = rate_sensor_model(p, proc)
+    """The rate-sensor method's time to σ_c with one estimator (``inf``: not reached), kept
+    per inputs (frozen dataclasses; a float result): a race's conditions, its claim map and
+    the command line ask for the same points again (issue 36: work done twice)."""
     if estimator == "classical":
-        found = _classical_samples(model)
+        found = _classical_samples(rate_sensor_model(p, proc))
         return math.inf if found is None else sum(found) * proc.sample_dt + proc.overhead
-    t = _rate_part(model).t_c_optimal
+    t = _rate_part_at(p, proc).t_c_optimal
     return math.inf if math.isnan(t) else t
+
+
+@functools.lru_cache(maxsize=1024)
+def _rate_part_at(p: GyrocompassParams, proc: RateSensorProcedure) -> _RatePart:
+    """:func:`_rate_part` of the rate-sensor model at ``(p, proc)``, kept per inputs (a
+    frozen result), like :func:`_rate_time`."""
+    return _rate_part(rate_sensor_model(p, proc))
 
 
 # Result ---------------------------------------------------------------------------------------
@@ -480,7 +489,7 @@ class RaceResult:
         # horizon (_gc_part), and its covariance analyses (σ curves unused here) are skipped
         w_gc = (math.nan if wp.scale_drift_sigma >= proc.sigma_c
                 else _gc_part(wp, proc.sigma_c, proc.t_max)[0])
-        w_part = _rate_part(rate_sensor_model(p, wproc))
+        w_part = _rate_part_at(p, wproc)
         w_opt = w_part.t_c_optimal if np.isfinite(w_part.t_c_optimal) else math.inf
         w_holds = bool(np.isfinite(w_gc) and (not np.isfinite(w_opt) or w_opt > w_gc / keep))
         # κ: GC's filter must reach sqrt(σ_c² − κ² Ω_h²) before the optimal rival's time × keep
@@ -544,7 +553,7 @@ def race_margin(params: GyrocompassParams | None = None,
     t_gc = _gc_time(p, proc.sigma_c, proc.t_max)
     if not np.isfinite(t_gc):
         return -100.0 - percent
-    part = _rate_part(rate_sensor_model(p, proc))
+    part = _rate_part_at(p, proc)
     savings = [_percent(t_gc, t if np.isfinite(t) else math.inf)
                for t in (part.t_c, part.t_c_optimal)]
     return float(min(savings)) - percent
@@ -574,10 +583,12 @@ def _with(proc: RateSensorProcedure, field: str, value: float) -> RateSensorProc
     return replace(proc, **{field: value})
 
 
+@functools.lru_cache(maxsize=256)
 def _boundary(p: GyrocompassParams, proc: RateSensorProcedure, field: str, need: float,
               estimator: str) -> float:
     """Smallest value of ``field`` for which the rate-sensor time exceeds ``need`` (0 if it
-    does at the field's lower end; ``inf`` if never)."""
+    does at the field's lower end; ``inf`` if never); kept per inputs, like
+    :func:`_rate_time`."""
     value = procedure_for_time(p, proc, field, need, estimator=estimator)
     return float(value)
 
@@ -818,7 +829,7 @@ def race_sweep(params: GyrocompassParams | None = None,
         key = (q, pr.sigma_c, pr.t_max)
         if key not in cache:
             cache[key] = _gc_part(q, pr.sigma_c, pr.t_max)[0]
-        part = _rate_part(rate_sensor_model(q, pr))
+        part = _rate_part_at(q, pr)
         out[i] = cache[key], part.t_c, part.t_c_optimal
     return RaceSweep(params=p, procedure=proc, cases=cases, t_c_gc=out[:, 0],
                      t_c_rate_sensor=out[:, 1], t_c_rate_sensor_optimal=out[:, 2])
