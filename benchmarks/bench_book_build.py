@@ -139,8 +139,10 @@ def main() -> None:
         n_exec = len(executed(log))
         per_chapter = chapter_seconds(log)
         jobs = os.environ.get("GYROLIB_BUILD_JOBS") or str(len(os.sched_getaffinity(0)))
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=SOURCE, text=True,
+                                capture_output=True, check=False).stdout.strip() or "?"
         rec.case("full clean build, every chapter executed", t_clean, target_s=90.0,
-                 note=f"ratio = ours/target; {jobs} chapters at a time "
+                 note=f"commit {commit}; ratio = ours/target; {jobs} chapters at a time "
                       f"(_ext/parallel_execute.py); {n_exec} chapters executed in "
                       f"{sum(per_chapter.values()):.0f} s of kernel time; peak memory of the "
                       f"build's process tree {peak[1] / 1e6:.0f} MB PSS, "
