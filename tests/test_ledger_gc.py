@@ -252,10 +252,11 @@ def test_sigma_and_speed_items_quote_the_committed_sensitivity_study(base):
     import json
 
     data = json.loads(gc.STUDY_FILE.read_text(encoding="utf-8"))
-    sig = [row[0] / ARCSEC_PAPER for row in data["values"]]
-    t_c = [row[1] for row in data["values"]]
+    k_sig, k_tc = (data["outputs"].index(o) for o in ("sigma_gc_100s", "gc.time_to_sigma_c"))
+    sig = [row[k_sig] / ARCSEC_PAPER for row in data["values"]]
+    t_c = [min(510.0 * (1.0 - row[k_tc]), 510.0) for row in data["values"]]  # 1 - t_c/510 s
     ev = base["gc.sigma_gc_100s"].evidence
-    assert "gc.sensitivity" in ev and f"N = {data['n']}" in ev
+    assert "margin_study gc-claims" in ev and f"N = {data['n']}" in ev
     assert f"[{min(sig):.5f}, {max(sig):.5f}]" in ev
     top = max(data["total"]["sigma_gc_100s"].items(), key=lambda kv: kv[1]["value"])
     assert f"{top[1]['value']:.2f} ± {top[1]['conf']:.2f}" in ev

@@ -15,6 +15,7 @@ Bad arguments exit with status 2 and one line; a scheduler that cannot be reache
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import logging
 import os
@@ -154,7 +155,11 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     models = sen.add_subparsers(dest="model", required=True, parser_class=parser_class)
     for name, text in (("gc", "paper GC: sigma_gc(100 s) and t_c over {gc_inputs} inputs"),
                        ("rsf", "paper RSF: delta K and the share removed over {rsf_inputs} "
-                               "inputs")):
+                               "inputs"),
+                       ("gc-claims", "paper GC's claims' margins (the race's rival included) "
+                                     "over the table of inputs' uncertain rows"),
+                       ("rsf-claims", "paper RSF's claims' margins over the table of inputs' "
+                                      "uncertain rows")):
         p = models.add_parser(name, help=_Counted(text), description=_Counted(text))
         p.add_argument("--n", type=_power_of_two, required=True, metavar="N",
                        help="base sample size, a power of 2 (N (2D + 2) model runs)")
@@ -226,8 +231,14 @@ def run(args: argparse.Namespace) -> int:
     from gyrolib.rsf.sensitivity_study import sensitivity_inputs as rsf_inputs
 
     # the number of sampled inputs, from the studies themselves
-    study = {"gc": (gc_sensitivity, len(gc_inputs())),
-             "rsf": (rsf_sensitivity, len(rsf_inputs()))}[args.model]
+    if args.model in ("gc-claims", "rsf-claims"):
+        from gyrolib.book.ledger import margin_study
+
+        study = (functools.partial(margin_study.margin_study, args.model),
+                 len(margin_study.study_inputs(args.model)))
+    else:
+        study = {"gc": (gc_sensitivity, len(gc_inputs())),
+                 "rsf": (rsf_sensitivity, len(rsf_inputs()))}[args.model]
     total = args.n * ((2 if args.second_order else 1) * study[1] + 2)
     try:
         with optional("SALib", "sensitivity", "python -m gyrolib sensitivity"):
@@ -253,8 +264,12 @@ def run(args: argparse.Namespace) -> int:
         started = datetime.now(UTC).isoformat(timespec="seconds")
         result = study[0](args.n, seed=args.seed, executor=executor, progress=bar.update,
                           second_order=args.second_order, previous=previous)
+        extra: dict[str, Any] = {}
+        if args.model in ("gc-claims", "rsf-claims"):   # the margins' slopes at the reference
+            extra = {"at": margin_study.reference_outputs(args.model),
+                     "slopes": margin_study.margin_slopes(args.model, executor=executor)}
         wall = time.perf_counter() - t0
-    record = result.to_dict()
+    record = {**result.to_dict(), **extra}
     record["run"] = {"command": " ".join(["python -m gyrolib sensitivity", args.model, "--n",
                                           str(args.n), "--seed", str(args.seed)]
                                          + ([] if args.second_order else ["--no-second-order"])),

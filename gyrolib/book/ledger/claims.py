@@ -25,6 +25,7 @@ from typing import Any, Final
 import numpy as np
 
 from gyrolib import inputs as _inputs
+from gyrolib.book.ledger import levels
 from gyrolib.claim_map import Claim, ClaimMap, check_fingerprint, map_claim
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.observability import information_psi_omega
@@ -37,7 +38,6 @@ from gyrolib.rsf.equations import (
     lateral_deviation_exact,
     sins_roll_error,
 )
-from gyrolib.units import ARCSEC_PAPER
 
 __all__ = ["CLAIMS", "MAPS_FILE", "MAPS_SCHEMA", "Verdict", "check_stored", "compensated_margin",
            "drop_2s_margin", "drz_cubic_margin", "drz_kilometres_margin", "gs_vs_sins_margin",
@@ -49,13 +49,11 @@ __all__ = ["CLAIMS", "MAPS_FILE", "MAPS_SCHEMA", "Verdict", "check_stored", "com
 MAPS_FILE: Final[Path] = Path(__file__).resolve().parents[2] / "data" / "claim_maps.json"
 MAPS_SCHEMA: Final[int] = 1
 
-#: σ_c = 2·10⁻³ ″/s (paper GC, after ref. [2]) and the speed claim's bound, 510 s (half of
-#: ref. [2]'s 17 min): the same numbers as :mod:`gyrolib.book.ledger.gc`.
-_SIGMA_C: Final[float] = 2e-3 * ARCSEC_PAPER
-_T_BOUND: Final[float] = 0.5 * 17.0 * 60.0
-#: Paper RSF's printed times (Tables 2 and 3) and levels.
-_TIMES: Final[tuple[float, ...]] = (10.0, 60.0, 120.0)
-_CUBIC_EXPONENT: Final[float] = 2.9
+#: σ_c, the speed claim's bound (510 s), paper RSF's printed times and levels: one leaf module
+#: (:mod:`gyrolib.book.ledger.levels`) that the ledger's items read too.
+_SIGMA_C: Final[float] = levels.SIGMA_C
+_T_BOUND: Final[float] = levels.T_BOUND
+_TIMES: Final[tuple[int, ...]] = levels.TIMES
 
 
 # paper GC ------------------------------------------------------------------------------------
@@ -82,7 +80,10 @@ def time_to_sigma_c_margin(o: Mapping[str, Any]) -> float:
     return -1.0 if not np.isfinite(t_c) else 1.0 - float(t_c) / _T_BOUND
 
 
+@functools.lru_cache(maxsize=64)
 def _sigmas(p: Any) -> tuple[float, float, float]:
+    """σ of ω_gc at 0, 2 and 100 s (rad/s) under ``p`` (kept per parameters: the sensitivity
+    study reads σ(100 s) at the same point as the trend's margin)."""
     n100 = round(100.0 / p.dt)
     cov = covariance_analysis(p, 100.0, store_every=n100)
     s = cov.std("omega_gc")
@@ -111,7 +112,7 @@ def compensated_margin(o: Mapping[str, Any]) -> float:
                          o["RollGyroSpec"])
     dk = delta_k(ex.eps0_gs(gs), enc.position_error, ex.omega_x, ex.period, ex.eps1_gs(gs),
                  ex.omega_unc_at(ex.omega_x))
-    return float(fraction_compensated(roll.sf_error, dk)) - 0.90
+    return float(fraction_compensated(roll.sf_error, dk)) - levels.COMPENSATED_PERCENT / 100.0
 
 
 def gs_vs_sins_margin(o: Mapping[str, Any]) -> float:
@@ -124,7 +125,7 @@ def gs_vs_sins_margin(o: Mapping[str, Any]) -> float:
     sins = np.asarray(sins_roll_error(roll.sf_error, ex.table_rate, t), dtype=float)
     ideal = np.asarray(gs_roll_error_ideal(ex.eps0_gs(gs), t, enc.position_error),
                        dtype=float)
-    return float(np.log10(np.min(sins / ideal))) - 2.0
+    return float(np.log10(np.min(sins / ideal))) - math.log10(levels.GS_VS_SINS_RATIO)
 
 
 def _exponent(eps1: float, omega: float, t: float, h: float = 1e-3) -> float:
@@ -136,7 +137,8 @@ def drz_cubic_margin(o: Mapping[str, Any]) -> float:
     """"The lateral deviation grows as t³" (Eq. (8)): the smallest local exponent
     d ln Δr_z/d ln t of the exact double integral over the printed times, minus 2.9."""
     ex, roll = o["WorkedExample"], o["RollGyroSpec"]
-    return min(_exponent(roll.sf_error, ex.table_rate, t) for t in _TIMES) - _CUBIC_EXPONENT
+    return (min(_exponent(roll.sf_error, ex.table_rate, t) for t in _TIMES)
+            - levels.CUBIC_EXPONENT)
 
 
 def drz_kilometres_margin(o: Mapping[str, Any]) -> float:

@@ -22,6 +22,7 @@ import numpy as np
 
 import gyrolib
 from gyrolib import inputs as _table
+from gyrolib.book.ledger import levels
 from gyrolib.book.ledger.claims import verdict
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict
 from gyrolib.book.report import sci as _sci
@@ -32,7 +33,7 @@ from gyrolib.gc.model.discretization import nominal_half_steps
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.gc.racing.comparison import RaceConditions, RaceResult, race
 from gyrolib.sensitivity import SensitivityResult, result_from_dict
-from gyrolib.units import ARCSEC_PAPER, from_si
+from gyrolib.units import from_si
 
 __all__ = ["BETA_FROZEN", "PRINTED", "SIGMA_C", "STUDY_FILE", "TREND_FACTORS", "T_BOUND",
            "items", "study_evidence"]
@@ -44,10 +45,10 @@ PRINTED: Final[dict[str, float]] = {
     "sigma_gc_100s": 0.0011,
     "fig2.var_N1": 1.86e-6,
     "fig2.var_N3": 2.35e-15,
-    "ref2_minutes": 17.0,
+    "ref2_minutes": levels.REF2_MINUTES,
     "ref3_minutes": 20.0,
-    "faster_percent": 50.0,
-    "input.sigma_c": 2e-3,
+    "faster_percent": levels.FASTER_PERCENT,
+    "input.sigma_c": levels.SIGMA_C_PRINTED,
     "input.I": 4.0e-5,
     "input.H": 0.05,
     "input.f": 0.025,
@@ -67,12 +68,12 @@ PRINTED: Final[dict[str, float]] = {
 }
 
 #: The required calibration accuracy of the north gyro, σ_c = 2·10⁻³ ″/s (paper GC, ref. [2]).
-SIGMA_C: Final[float] = PRINTED["input.sigma_c"] * ARCSEC_PAPER
+SIGMA_C: Final[float] = levels.SIGMA_C
 
 #: The book's reading of "more than 50 % faster" than ref. [2]'s 17 min: σ_c reached in less
 #: than half of 17 min, in seconds (510 s).  An inference from two printed numbers, not a
 #: printed value.
-T_BOUND: Final[float] = (1.0 - PRINTED["faster_percent"] / 100.0) * PRINTED["ref2_minutes"] * 60.0
+T_BOUND: Final[float] = levels.T_BOUND
 
 #: Factors applied, one parameter at a time, to the shaping filters' frequencies and variances
 #: (damping ratios capped at 1) in the chapter's sweep of "the same trend": the table of
@@ -83,10 +84,11 @@ TREND_FACTORS: Final[tuple[float, ...]] = _table.row("gc.alpha1").factors
 #: which ψ and ω_gc cannot be separated.
 BETA_FROZEN: Final[float] = 0.005
 
-#: The committed global sensitivity study of paper GC (``python -m gyrolib sensitivity gc``),
-#: which the chapter "What the verdicts are sensitive to" shows and re-checks; the ledger
-#: quotes it in the evidence of σ_gc(100 s) and of the speed claims.
-STUDY_FILE: Final[Path] = Path(gyrolib.__file__).resolve().parents[1] / "data" / \
+#: The global sensitivity study of paper GC's claims' margins over the table of inputs
+#: (``python -m gyrolib sensitivity gc-claims``, package data), which the chapter "What the
+#: verdicts are sensitive to" shows and re-checks; the ledger quotes it in the evidence of
+#: σ_gc(100 s) and of the speed claims.
+STUDY_FILE: Final[Path] = Path(gyrolib.__file__).resolve().parent / "data" / \
     "sensitivity_gc.json"
 
 _MODEL = "chapters/gc_model"
@@ -389,35 +391,40 @@ def _top(study: SensitivityResult, output: str, k: int = 2) -> str:
 def study_evidence(params: GyrocompassParams, path: Path = STUDY_FILE) -> StudyEvidence:
     """The sentences the ledger quotes from the global sensitivity study in ``path``.
 
-    The study varies twelve inputs around the paper's parameters, so it is quoted only for
-    those (``p == GyrocompassParams()``); otherwise, or when the file is not there (an
-    installed package without the repository's ``data/``), the sentence says so.
+    The study draws the table of inputs' uncertain rows around the reference point, so it is
+    quoted only there (``p == GyrocompassParams()``); otherwise, or when the file is not
+    there, the sentence says so.  GC's t_c is read from the speed claim's margin,
+    ``t_c = 510 s × (1 − margin)``, censored at 510 s (the margin's −1: not reached).
     """
     if not isinstance(params, GyrocompassParams):
         raise TypeError("params must be a GyrocompassParams")
     path = Path(path)
     if params != GyrocompassParams():
-        none = "the global sensitivity study (gc.sensitivity) is at the paper's parameters, " \
-               "not these"
+        none = "the global sensitivity study (margin_study gc-claims) is at the reference " \
+               "point, not these parameters"
         return StudyEvidence(none, none, none)
     if not path.is_file():
         none = f"the global sensitivity study ({path.name}) is not in this installation"
         return StudyEvidence(none, none, none)
     study = result_from_dict(json.loads(path.read_text(encoding="utf-8")))
-    head = (f"the global sensitivity study (gc.sensitivity, N = {study.n}, "
-            f"{len(study.values)} covariance analyses over the ranges of chapters/sensitivity, "
-            f"{study.conditions.get('shaping_p0', '?')} P0 of N1..N4)")
+    head = (f"the global sensitivity study of the claims' margins (margin_study gc-claims, "
+            f"N = {study.n}, {len(study.values)} points drawn over the table of inputs' "
+            f"{len(study.inputs)} uncertain rows, the rival's included, under the book's "
+            "readings)")
     sig = from_si(study.values[:, study.outputs.index("sigma_gc_100s")], "arcsec_paper/s")
-    t_c = study.values[:, study.outputs.index("t_c")]
+    t_c = np.minimum(T_BOUND * (1.0 - study.values[:, study.outputs.index(
+        "gc.time_to_sigma_c")]), T_BOUND)      # the margin's −1: not reached, censored
+    race = study.values[:, study.outputs.index("gc.faster_percent")]
     return StudyEvidence(
         f"{head}: sigma_gc(100 s) stays in [{sig.min():.5f}, {sig.max():.5f}], the printed "
         f"{PRINTED['sigma_gc_100s']:g} "
         f"{'inside' if sig.min() <= PRINTED['sigma_gc_100s'] <= sig.max() else 'outside'}; "
         f"largest total indices {_top(study, 'sigma_gc_100s')}",
         f"{head}: t_c stays in [{t_c.min():.0f}, {t_c.max():.0f}] s (the bound {T_BOUND:.0f} "
-        f"s), largest total indices {_top(study, 't_c')}",
+        f"s), largest total indices of the margin {_top(study, 'gc.time_to_sigma_c')}",
         f"{head}: GC's t_c stays in [{t_c.min():.0f}, {t_c.max():.0f}] s over those ranges; "
-        "the rate-sensor side of the race is not in that study (its ranges are RACE_RANGES)")
+        f"the race's margin in [{race.min():.0f}, {race.max():.0f}] percentage points, "
+        f"largest total indices {_top(study, 'gc.faster_percent')}")
 
 
 def _sigma_gc_100s(base: Baseline, study: StudyEvidence) -> LedgerItem:

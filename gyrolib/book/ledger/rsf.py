@@ -23,6 +23,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import inputs as _inputs
+from gyrolib.book.ledger import levels
 from gyrolib.book.ledger.claims import verdict
 from gyrolib.book.ledger.item import (
     Candidate,
@@ -66,7 +67,7 @@ __all__ = ["CLAIM_RATES", "CUBIC_EXPONENT", "DRZ_TOLERANCE", "PRINTED", "RANDOM_
            "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "items"]
 
 #: Table columns of the paper, s.
-TIMES: Final[tuple[int, ...]] = (10, 60, 120)
+TIMES: Final[tuple[int, ...]] = levels.TIMES
 
 #: Roll rates (°/s) over which the conclusion's "90 %" is judged: the worked example's 900 °/s
 #: and the paper's own range, 1800 to 5400 °/s (5 to 15 Hz).
@@ -104,8 +105,8 @@ PRINTED: Final[dict[str, float]] = {
     "table3.dgamma_gs_60": 0.528,
     "table3.dgamma_gs_120": 0.726,
     "example.delta_K": 0.093,
-    "example.compensated": 90.0,
-    "claim.gs_vs_sins": 100.0,   # "hundreds of times": at least 100
+    "example.compensated": levels.COMPENSATED_PERCENT,
+    "claim.gs_vs_sins": levels.GS_VS_SINS_RATIO,   # "hundreds of times": at least 100
     "input.spin_min_hz": 5.0,
     "input.spin_max_hz": 15.0,
     "input.omega_table2": 3600.0,
@@ -328,7 +329,7 @@ def _drz_kilometres(roll_gyro: RollGyroSpec, t2: Table2) -> LedgerItem:
 
 
 #: The local exponent d ln Δr_z / d ln t from which "grows as t³" is taken to hold.
-CUBIC_EXPONENT: Final[float] = 2.9
+CUBIC_EXPONENT: Final[float] = levels.CUBIC_EXPONENT
 
 
 def _drz_cubic_law(roll_gyro: RollGyroSpec) -> LedgerItem:

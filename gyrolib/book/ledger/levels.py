@@ -1,0 +1,50 @@
+"""The printed levels the ledger judges the papers' claims against, in one leaf module.
+
+Both the ledger's item builders (:mod:`gyrolib.book.ledger.gc`, :mod:`gyrolib.book.ledger.rsf`)
+and the claims' margins (:mod:`gyrolib.book.ledger.claims`) read them from here, so that no
+level is typed twice; the module imports nothing of gyrolib but :mod:`gyrolib.units` (itself a
+leaf), so that no import cycle can form (``gc.py`` imports ``claims.py``).
+
+Examples
+--------
+>>> from gyrolib.book.ledger import levels
+>>> round(levels.T_BOUND), levels.TIMES, levels.CUBIC_EXPONENT
+(510, (10, 60, 120), 2.9)
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+from gyrolib.units import ARCSEC_PAPER
+
+__all__ = ["COMPENSATED_PERCENT", "CUBIC_EXPONENT", "FASTER_PERCENT", "GS_VS_SINS_RATIO",
+           "REF2_MINUTES", "SIGMA_C", "SIGMA_C_PRINTED", "TIMES", "T_BOUND"]
+
+# paper GC ------------------------------------------------------------------------------------
+#: The required calibration accuracy of the north gyro as printed, σ_c = 2·10⁻³ ″/s (paper
+#: GC, after its ref. [2]; the paper's 1″ = 0.485·10⁻⁵ rad), and in rad/s.
+SIGMA_C_PRINTED: Final[float] = 2e-3
+SIGMA_C: Final[float] = SIGMA_C_PRINTED * ARCSEC_PAPER
+
+#: Ref. [2]'s calibration time (min) and the claim "more than 50 % faster" (%).
+REF2_MINUTES: Final[float] = 17.0
+FASTER_PERCENT: Final[float] = 50.0
+
+#: The book's reading of "more than 50 % faster" than ref. [2]'s 17 min: σ_c reached in less
+#: than half of 17 min, in seconds (510 s).  An inference from two printed numbers, not a
+#: printed value.
+T_BOUND: Final[float] = (1.0 - FASTER_PERCENT / 100.0) * REF2_MINUTES * 60.0
+
+# paper RSF -----------------------------------------------------------------------------------
+#: The times of Tables 2 and 3 (s).
+TIMES: Final[tuple[int, ...]] = (10, 60, 120)
+
+#: "Grows as t³" (Eq. (8)): the local exponent the book requires at every printed time.
+CUBIC_EXPONENT: Final[float] = 2.9
+
+#: "Compensates 90 %" (the conclusion), in %.
+COMPENSATED_PERCENT: Final[float] = 90.0
+
+#: "Hundreds of times smaller" (after Table 3): at least 100.
+GS_VS_SINS_RATIO: Final[float] = 100.0
