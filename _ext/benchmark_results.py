@@ -84,8 +84,9 @@ def _machine(m: dict) -> str:
 
 def figure_html(doc: dict) -> str:
     """A bar chart of how many times faster each case is than its peer (peer/ours), as an
-    ``<img>`` with the PNG inline (2x pixels, shown at half; text 10 pt on a 5-in figure);
-    empty when no case has a peer."""
+    ``<img>`` with the PNG inline (2x pixels, shown at half; text 10 pt on a 5-in figure;
+    its text measured in the PNG, as the chapters' figures); empty when no case has a
+    peer."""
     rows = [(" ".join(str(r["case"]).split()), float(r["peer_s"]) / float(r["ours_s"]))
             for r in doc["results"] if r.get("peer_s") and r.get("ours_s")]
     if not rows:
@@ -107,7 +108,10 @@ def figure_html(doc: dict) -> str:
     ax.tick_params(axis="x", labelsize=10)
     ax.set_xlabel("peer time / our time", fontsize=10)  # > 1: ours faster (the page says)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=192)
+    from gyrolib._page_figures import PNG_KEY, page_record
+
+    # the measurement as the page shows it, read back by tests/test_page_figures.py
+    fig.savefig(buf, format="png", dpi=192, metadata={PNG_KEY: page_record(fig)})
     width, height = (round(x * 96) for x in fig.get_size_inches())
     alt = ("Bar chart of how many times faster each case runs than its peer: "
            + "; ".join(f"{c}: {r:.3g}" for c, r in rows))

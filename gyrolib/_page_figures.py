@@ -2,22 +2,26 @@
 
 The book shows a figure at ``width_in × dpi`` CSS pixels, shrunk to the column when wider
 (the chapters output 2x "retina" PNGs: twice the pixels, the width attribute half of them, see
-:func:`gyrolib.book.report.hidpi_figures`).  A legend of ``f`` points then shows at
-``f × display_scale(fig)`` points, so on a figure wider than the column a legend must be drawn
-larger to be readable.  :func:`for_the_page` does that for every legend of a figure, and caps a
-figure's width so that its other text does not shrink much below its size either; it changes
-sizes only, never what a figure shows.
+:func:`gyrolib.book.report.hidpi_figures`).  One image serves the desk (a 672-px column), the
+phone (342 px) and the PDF, so every figure is at most :data:`MAX_WIDTH_IN` wide, its panels
+stacked, and every text at least :func:`smallest_pt` points: :func:`for_the_page`, applied to
+every ``plot_*`` function by :func:`page_figure`, makes it so (sizes only, never what a
+figure shows).
 
 :func:`text_problems` measures every visible text artist of a figure (tick labels, axis
 labels, titles, annotations, legends) as the reader sees it, against two rules: at least
 :data:`MIN_LEGEND_PT` points at the desk's column (:data:`COLUMN_PX`), and at least
 :data:`MIN_PHONE_PX` CSS pixels at a phone's column (:data:`PHONE_COLUMN_PX`, a 390-px window;
-issue 35, item 3).
+issue 35, item 3); and it lists the texts that collide (:func:`text_collisions`).  The book's
+figures carry that measurement in their PNG (:func:`page_record`, :data:`PNG_KEY`), so that a
+test of the built pages can check every figure the reader sees.
 """
 
 from __future__ import annotations
 
 import functools
+import json
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -27,12 +31,18 @@ CSS_DPI = 96.0
 COLUMN_PX = 672.0
 #: The smallest legend text on the page, in points at display size (issue 29).
 MIN_LEGEND_PT = 9.0
-#: Figures wider than this are scaled down to it (their fonts keep their point size).
-MAX_WIDTH_IN = 8.0
+#: Every figure of the book is at most this wide (issue 35, item 3: one image serves the phone,
+#: the desk and the PDF; multi-panel figures are stacked, not set side by side).  A wider
+#: figure is scaled down to it, its fonts keeping their point size.
+MAX_WIDTH_IN = 5.0
 #: The output column on a phone (a 390-px window; measured by ``tests/test_browser.py``), and
 #: the smallest text there, in CSS pixels (issue 35).
 PHONE_COLUMN_PX = 342.0
 MIN_PHONE_PX = 9.0
+#: The size the plot functions give their small texts (legends, notes, tick labels they set):
+#: the smallest that reads at both columns on a figure of :data:`MAX_WIDTH_IN` (9.48 pt,
+#: :func:`smallest_pt`), rounded up.
+SMALL_PT = 9.5
 
 
 def display_scale(fig: Any, column_px: float = COLUMN_PX) -> float:
@@ -57,32 +67,62 @@ def _legends(fig: Any) -> list[Any]:
     return found
 
 
+def smallest_pt(fig: Any) -> float:
+    """The smallest font size (points) of ``fig`` that reads at both columns: at least
+    :data:`MIN_LEGEND_PT` points at the desk's :data:`COLUMN_PX` and :data:`MIN_PHONE_PX`
+    CSS pixels at the phone's :data:`PHONE_COLUMN_PX` (rounded up to 0.01 pt).
+
+    >>> from matplotlib.figure import Figure
+    >>> smallest_pt(Figure(figsize=(5.0, 3.0), dpi=96.0))  # 9 px / (4/3 px/pt x 342/480)
+    9.48
+    >>> smallest_pt(Figure(figsize=(3.0, 3.0), dpi=96.0))  # fits the phone: the desk's 9 pt
+    9.0
+    """
+    desk = MIN_LEGEND_PT / (shown_px(fig, 1.0, COLUMN_PX) * 72.0 / CSS_DPI)
+    phone = MIN_PHONE_PX / shown_px(fig, 1.0, PHONE_COLUMN_PX)
+    return math.ceil(round(max(desk, phone) * 100.0, 6)) / 100.0
+
+
 def for_the_page(fig: Any) -> Any:
     """``fig`` made for the page: drawn at :data:`CSS_DPI` (so its width attribute is its
-    width in inches), no wider than :data:`MAX_WIDTH_IN`, and every legend's text at least
-    :data:`MIN_LEGEND_PT` points at display size.  Returns the same figure.
+    width in inches), no wider than :data:`MAX_WIDTH_IN`, and every text (tick labels, axis
+    labels, titles, annotations, legends) at least :func:`smallest_pt` points, so that it
+    reads at the desk's column and at a phone's.  Returns the same figure.
+
+    It changes sizes only, never what a figure shows; the layout of a constrained-layout
+    figure follows at drawing time.  The plot functions lay their figures out for
+    :data:`MAX_WIDTH_IN` (panels stacked), so that this is a safety net, not a shrink.
 
     >>> from matplotlib.figure import Figure
     >>> fig = Figure(figsize=(10.0, 4.0))
     >>> ax = fig.subplots()
     >>> _ = ax.plot([0, 1], label="a curve")
     >>> _ = ax.legend(fontsize=7)
+    >>> _ = ax.tick_params(labelsize=6)
     >>> fig = for_the_page(fig)
     >>> [round(float(x), 6) for x in (fig.get_figwidth(), fig.get_figheight(), fig.dpi)]
-    [8.0, 3.2, 96.0]
-    >>> size = ax.get_legend().get_texts()[0].get_fontsize()
-    >>> round(size * display_scale(fig), 2) >= MIN_LEGEND_PT
-    True
+    [5.0, 2.0, 96.0]
+    >>> ax.get_legend().get_texts()[0].get_fontsize(), smallest_pt(fig)
+    (9.48, 9.48)
+    >>> ax.xaxis.get_major_ticks()[0].label1.get_fontsize()
+    9.48
     """
+    from matplotlib.text import Text
+
     width, height = fig.get_size_inches()
     if width > MAX_WIDTH_IN:
         fig.set_size_inches(MAX_WIDTH_IN, height * MAX_WIDTH_IN / width)
     fig.set_dpi(CSS_DPI)
-    smallest = MIN_LEGEND_PT / display_scale(fig)
-    for leg in _legends(fig):
-        for text in [*leg.get_texts(), leg.get_title()]:
-            if text.get_text() and text.get_fontsize() < smallest:
-                text.set_fontsize(smallest)
+    smallest = smallest_pt(fig)
+    for ax in fig.axes:  # tick labels made later (at drawing) take the axis' tick settings
+        for axis in (ax.xaxis, ax.yaxis):
+            for which, ticks in (("major", axis.get_major_ticks()),
+                                 ("minor", axis.get_minor_ticks())):
+                if any(t.label1.get_fontsize() < smallest for t in ticks[:1]):
+                    axis.set_tick_params(which=which, labelsize=smallest)
+    for text in fig.findobj(Text):
+        if text.get_fontsize() < smallest:
+            text.set_fontsize(smallest)
     return fig
 
 
@@ -112,11 +152,31 @@ def visible_texts(fig: Any) -> list[Any]:
                 artist, "axes", None) else None
         return True
 
+    undrawn = _undrawn_tick_labels(fig)
     texts = []
     for t in fig.findobj(Text):
-        if t.get_text().strip() and t.get_visible() and shown(t) and t.get_figure() is fig:
+        if (t.get_text().strip() and t.get_visible() and shown(t) and t.get_figure() is fig
+                and id(t) not in undrawn):
             texts.append(t)
     return texts
+
+
+def _undrawn_tick_labels(fig: Any) -> set[int]:
+    """The ``id`` of every tick label of ``fig`` that is not drawn: an axis keeps ticks at
+    locations outside its view limits (and spare ones), whose labels are visible artists at
+    places the reader never sees.  The ticks drawn are those the axis draws
+    (``Axis._update_ticks``, what ``Axis.draw`` calls); an axes turned off draws none, nor
+    its axis labels."""
+    undrawn: set[int] = set()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            every = [*axis.majorTicks, *axis.minorTicks]
+            if not ax.axison:  # ax.axis("off"): no axis is drawn, nor its labels
+                undrawn.update({id(axis.label), id(axis.get_offset_text())})
+            drawn = {id(t) for t in axis._update_ticks()} if ax.axison else set()
+            undrawn.update(id(label) for t in every if id(t) not in drawn
+                           for label in (t.label1, t.label2))
+    return undrawn
 
 
 def shown_px(fig: Any, size_pt: float, column_px: float) -> float:
@@ -132,13 +192,14 @@ def shown_px(fig: Any, size_pt: float, column_px: float) -> float:
     return float(size_pt * fig.dpi / 72.0 * min(1.0, column_px / width_px))
 
 
-def text_problems(fig: Any) -> list[str]:
-    """The visible texts of ``fig`` (:func:`visible_texts`) below :data:`MIN_LEGEND_PT` points
-    at the desk's column or :data:`MIN_PHONE_PX` pixels at the phone's, one line each (empty:
-    every text reads).
+def text_problems(fig: Any, *, texts: list[Any] | None = None) -> list[str]:
+    """What does not read in ``fig``, one line each (empty: every text reads): the visible
+    texts (:func:`visible_texts`) below :data:`MIN_LEGEND_PT` points at the desk's column or
+    :data:`MIN_PHONE_PX` pixels at the phone's, and the texts that collide
+    (:func:`text_collisions`).  ``texts``: :func:`visible_texts` of ``fig``, when known.
 
     >>> from matplotlib.figure import Figure
-    >>> fig = Figure(figsize=(4.0, 3.0), dpi=96.0)
+    >>> fig = Figure(figsize=(4.0, 3.0), dpi=96.0, layout="constrained")
     >>> ax = fig.subplots()
     >>> _ = ax.set_title("title", fontsize=12)
     >>> _ = ax.tick_params(labelsize=11)
@@ -150,7 +211,7 @@ def text_problems(fig: Any) -> list[str]:
     ['legend text "curve": 4.5 pt at 672 px (< 9), 5.34 px at 342 px (< 9)']
     """
     problems = []
-    texts = visible_texts(fig)
+    texts = visible_texts(fig) if texts is None else texts
     kinds = _kinds(fig)
     for t in texts:
         size = t.get_fontsize()
@@ -158,10 +219,101 @@ def text_problems(fig: Any) -> list[str]:
         phone = shown_px(fig, size, PHONE_COLUMN_PX)
         if desk < MIN_LEGEND_PT - 1e-9 or phone < MIN_PHONE_PX - 1e-9:
             kind = _kind(t, kinds)
-            problems.append(f'{kind} "{" ".join(t.get_text().split())[:40]}": {desk:.3g} pt at '
+            problems.append(f'{kind} "{_short(t)}": {desk:.3g} pt at '
                             f"{COLUMN_PX:.0f} px (< {MIN_LEGEND_PT:g}), {phone:.3g} px at "
                             f"{PHONE_COLUMN_PX:.0f} px (< {MIN_PHONE_PX:g})")
-    return problems
+    return problems + text_collisions(fig, texts=texts, kinds=kinds)
+
+
+#: Two texts collide when their boxes overlap by more than this, in CSS pixels of the figure
+#: (at :data:`CSS_DPI`) along both axes; a text leaves the figure when it reaches this far
+#: past its edge.  One pixel: glyph boxes include the font's ascent and descent, so texts set
+#: on neighbouring lines touch without overlapping.
+COLLISION_PX = 1.0
+
+
+def _short(text: Any) -> str:
+    return " ".join(text.get_text().split())[:40]
+
+
+def text_collisions(fig: Any, *, texts: list[Any] | None = None,
+                    kinds: dict[int, str] | None = None) -> list[str]:
+    """The texts of ``fig`` that collide, one line each (empty: none): two visible texts
+    whose boxes overlap, a text under a legend it does not belong to, and a text that
+    reaches past the figure's edge (saved with a tight box, it widens the image beyond the
+    width it was laid out for).  Boxes are the renderer's extents of the laid-out figure;
+    overlaps up to :data:`COLLISION_PX` are allowed.
+
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(4.0, 3.0), dpi=96.0, layout="constrained")
+    >>> ax = fig.subplots()
+    >>> _ = ax.set_xlabel("time (s)"); _ = ax.set_title("a title")
+    >>> text_collisions(fig)
+    []
+    >>> _ = ax.text(0.5, 1.0, "a label on the title", transform=ax.transAxes, ha="center")
+    >>> text_collisions(fig)
+    ['text "a label on the title" overlaps title "a title"']
+    """
+    texts = visible_texts(fig) if texts is None else texts
+    kinds = _kinds(fig) if kinds is None else kinds
+    scale = CSS_DPI / fig.dpi  # figure pixels to CSS pixels of the figure
+    tol = COLLISION_PX / scale
+    boxes = [t.get_window_extent() for t in texts]  # the figure's own renderer, at its dpi
+    owner: dict[int, int] = {}  # text -> the legend it belongs to
+    legends = [leg for leg in _legends(fig) if leg.get_visible()]
+    for i, leg in enumerate(legends):
+        owner.update({id(t): i for t in [*leg.get_texts(), leg.get_title()]})
+
+    def name(t: Any) -> str:
+        return f'{_kind(t, kinds)} "{_short(t)}"'
+
+    found = []
+    edge = fig.bbox
+    for t, b in zip(texts, boxes):
+        if (b.x0 < edge.x0 - tol or b.x1 > edge.x1 + tol or b.y0 < edge.y0 - tol
+                or b.y1 > edge.y1 + tol):
+            found.append(f"{name(t)} reaches past the figure's edge")
+    for i in range(len(texts)):
+        for j in range(i + 1, len(texts)):
+            a, b = boxes[i], boxes[j]
+            w = min(a.x1, b.x1) - max(a.x0, b.x0)
+            h = min(a.y1, b.y1) - max(a.y0, b.y0)
+            if w > tol and h > tol:
+                found.append(f"{name(texts[i])} overlaps {name(texts[j])}")
+    for k, leg in enumerate(legends):
+        frame = leg.get_window_extent()
+        for t, b in zip(texts, boxes):
+            if owner.get(id(t)) == k:
+                continue
+            w = min(frame.x1, b.x1) - max(frame.x0, b.x0)
+            h = min(frame.y1, b.y1) - max(frame.y0, b.y0)
+            if w > tol and h > tol:
+                found.append(f"{name(t)} lies under the legend")
+    return found
+
+
+#: The key of the PNG text chunk in which the book's figures carry their measurement
+#: (:func:`page_record`), read back from the built pages by ``tests/test_page_figures.py``.
+PNG_KEY = "gyrolib-figure-text"
+
+
+def page_record(fig: Any) -> str:
+    """The measurement of ``fig`` as the page shows it, as JSON for a PNG text chunk
+    (:data:`PNG_KEY`): how many visible texts it has, the smallest font size (points) and
+    the figure's width (inches) they were measured at, and :func:`text_problems`.
+
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(5.0, 3.0), dpi=96.0, layout="constrained")
+    >>> _ = fig.subplots().set_title("a title", fontsize=10)
+    >>> rec = json.loads(page_record(fig))
+    >>> rec["smallest_pt"], rec["width_in"], rec["problems"], rec["texts"] > 1
+    (10.0, 5.0, [], True)
+    """
+    texts = visible_texts(fig)
+    sizes = [float(t.get_fontsize()) for t in texts]
+    return json.dumps({"texts": len(texts), "smallest_pt": min(sizes, default=None),
+                       "width_in": round(float(fig.get_figwidth()), 4),
+                       "problems": text_problems(fig, texts=texts)}, ensure_ascii=True)
 
 
 def _kinds(fig: Any) -> dict[int, str]:
