@@ -165,38 +165,43 @@ def _undrawn_tick_labels(fig: Any) -> set[int]:
     """The ``id`` of every tick label of ``fig`` that is not drawn: an axis keeps ticks at
     locations outside its view limits (and spare ones), whose labels are visible artists at
     places the reader never sees.  The ticks drawn are those the axis draws
-    (``Axis._update_ticks``, what ``Axis.draw`` calls); an axes turned off draws none, nor
-    its axis labels."""
+    (``Axis._update_ticks``, what ``Axis.draw`` calls); an axes turned off, or an axis
+    hidden (a twin's shared one), draws none, nor its axis labels."""
     undrawn: set[int] = set()
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
             every = [*axis.majorTicks, *axis.minorTicks]
-            if not ax.axison:  # ax.axis("off"): no axis is drawn, nor its labels
+            shown = ax.axison and axis.get_visible()  # ax.axis("off"), a twin's shared axis
+            if not shown:  # the axis is not drawn, nor its labels
                 undrawn.update({id(axis.label), id(axis.get_offset_text())})
-            drawn = {id(t) for t in axis._update_ticks()} if ax.axison else set()
+            drawn = {id(t) for t in axis._update_ticks()} if shown else set()
             undrawn.update(id(label) for t in every if id(t) not in drawn
                            for label in (t.label1, t.label2))
     return undrawn
 
 
-def shown_px(fig: Any, size_pt: float, column_px: float) -> float:
+def shown_px(fig: Any, size_pt: float, column_px: float, dpi: float | None = None) -> float:
     """CSS pixels on the page of text of ``size_pt`` points in ``fig``, in a column of
     ``column_px`` (the figure drawn at its dpi, shown at half its 2x pixels, shrunk to the
-    column when wider).
+    column when wider).  ``dpi``: the figure's dpi on the page, when it is drawn at another
+    for the moment (default: its dpi).
 
     >>> from matplotlib.figure import Figure
     >>> round(shown_px(Figure(figsize=(5.0, 3.0), dpi=96.0), 9.0, 342.0), 2)
     8.55
     """
-    width_px = fig.get_figwidth() * fig.dpi
-    return float(size_pt * fig.dpi / 72.0 * min(1.0, column_px / width_px))
+    dpi = fig.dpi if dpi is None else dpi
+    width_px = fig.get_figwidth() * dpi
+    return float(size_pt * dpi / 72.0 * min(1.0, column_px / width_px))
 
 
-def text_problems(fig: Any, *, texts: list[Any] | None = None) -> list[str]:
+def text_problems(fig: Any, *, texts: list[Any] | None = None,
+                  dpi: float | None = None) -> list[str]:
     """What does not read in ``fig``, one line each (empty: every text reads): the visible
     texts (:func:`visible_texts`) below :data:`MIN_LEGEND_PT` points at the desk's column or
     :data:`MIN_PHONE_PX` pixels at the phone's, and the texts that collide
-    (:func:`text_collisions`).  ``texts``: :func:`visible_texts` of ``fig``, when known.
+    (:func:`text_collisions`).  ``texts``: :func:`visible_texts` of ``fig``, when known;
+    ``dpi``: as for :func:`shown_px`.
 
     >>> from matplotlib.figure import Figure
     >>> fig = Figure(figsize=(4.0, 3.0), dpi=96.0, layout="constrained")
@@ -215,8 +220,8 @@ def text_problems(fig: Any, *, texts: list[Any] | None = None) -> list[str]:
     kinds = _kinds(fig)
     for t in texts:
         size = t.get_fontsize()
-        desk = shown_px(fig, size, COLUMN_PX) * 72.0 / CSS_DPI
-        phone = shown_px(fig, size, PHONE_COLUMN_PX)
+        desk = shown_px(fig, size, COLUMN_PX, dpi) * 72.0 / CSS_DPI
+        phone = shown_px(fig, size, PHONE_COLUMN_PX, dpi)
         if desk < MIN_LEGEND_PT - 1e-9 or phone < MIN_PHONE_PX - 1e-9:
             kind = _kind(t, kinds)
             problems.append(f'{kind} "{_short(t)}": {desk:.3g} pt at '
@@ -311,9 +316,10 @@ def page_record(fig: Any) -> str:
     """
     texts = visible_texts(fig)
     sizes = [float(t.get_fontsize()) for t in texts]
+    problems = text_problems(fig, texts=texts)
     return json.dumps({"texts": len(texts), "smallest_pt": min(sizes, default=None),
                        "width_in": round(float(fig.get_figwidth()), 4),
-                       "problems": text_problems(fig, texts=texts)}, ensure_ascii=True)
+                       "problems": problems}, ensure_ascii=True)
 
 
 def _kinds(fig: Any) -> dict[int, str]:

@@ -488,7 +488,7 @@ def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
     t, var, sources = budget.t, budget.var, budget.sources
     scale = float(from_si(1.0, unit)) ** -1
     unit = unit_label
-    fig = Figure(figsize=(5.0, 9.0), layout="constrained")
+    fig = Figure(figsize=(5.0, 10.0), layout="constrained")
     ax_bar, ax_share = fig.subplots(2, 1, height_ratios=[1.0, 1.0])  # stacked for the page
     end = np.sqrt(np.clip(var[:, -1], 0.0, None)) / scale
     order = np.argsort(end)
@@ -509,9 +509,9 @@ def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
     ax_share.set_xlabel("time (s)")
     ax_share.set_ylabel("share of the variance of ω_gc's error")
     ax_share.set_ylim(0, 1)
-    # below the panel, in columns: beside it, it would take half the width
+    # below the panel: beside it, it would take half the width
     ax_share.legend(fontsize=SMALL_PT, loc="upper center", bbox_to_anchor=(0.5, -0.22),
-                    ncols=3)
+                    ncols=1)
     return fig
 
 
@@ -872,17 +872,17 @@ def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = Non
     for name, a, b in r.phases:
         if a < t_end:
             ax.axvspan(a, min(b, t_end), color=_PHASE_COLORS.get(name, "0.9"), zorder=0)
+            # upright: on a 5-in figure a band is narrower than its name set across it
             ax.text(0.5 * (a + min(b, t_end)), 0.98, name, transform=ax.get_xaxis_transform(),
-                    ha="center", va="top", fontsize=SMALL_PT, rotation=90 if b - a < 0.06 * t_end
-                    else 0)
+                    ha="center", va="top", fontsize=SMALL_PT, rotation=90)
     sc = from_si(r.procedure.sigma_c, unit)
     # (label, t, σ, colour, line style, offset of the time label in points)
     curves = (("GC's method (gyrocompass, Kalman filter)", r.t_gc, r.sigma_gc, "C0", "-",
-               (3, -14)),
+               (-38, -15)),
               ("rate sensor, classical half-sum", r.t_classical, r.sigma_classical, "C3", "-",
                (4, 6)),
               ("rate sensor, optimal (Kalman) estimator", r.t_optimal, r.sigma_optimal, "C2",
-               "--", (-34, -14)))
+               "--", (4, -15)))
     for (label, t, s, c, ls, off), tc in zip(curves, (r.t_c_gc, r.t_c_rate_sensor,
                                                        r.t_c_rate_sensor_optimal)):
         keep = t <= t_end

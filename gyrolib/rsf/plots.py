@@ -225,7 +225,7 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
                           fc="k"))
     ax0.set_xlim(-1.2, 2.1)
     ax0.set_ylim(-2.0, 1.2)
-    ax0.set_title("(a) gravity and a roll error", fontsize=10)
+    ax0.set_title("(a) gravity and a roll error", fontsize=10, loc="left")
     # (b) lateral acceleration error.
     ax1.plot(t, acc_small, "--", color="#7f8c8d", label=r"$g\,\Delta\gamma$ (first approximation)")
     ax1.plot(t, acc_exact, color="#2e86c1", label=r"$g\,\sin\Delta\gamma$")
@@ -237,8 +237,8 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
     ax1.set_xlabel("t (s)")
     ax1.set_ylabel(r"$\Delta a_z$ (m/s²)")
     ax1.legend(fontsize=SMALL_PT, loc="lower left")  # under the rising curve, clear of it
-    # the top axis carries Δγ: the panel's name goes to the left of the plot, not above it
-    ax1.set_title("(b) gravity mis-resolved onto z", fontsize=10, loc="left", pad=28)
+    # the top axis carries Δγ: the panel's name goes above its label
+    ax1.set_title("(b) gravity mis-resolved onto z", fontsize=10, loc="left", pad=22)
     # (c) lateral deviation.
     pos = t >= 1.0
     ax2.loglog(t[pos], dr_cubic[pos], "--", color="#7f8c8d",
@@ -253,7 +253,7 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
     # below the panel: in it, it would cover the curves or the printed values
     ax2.legend(fontsize=SMALL_PT, loc="upper center", bbox_to_anchor=(0.5, -0.2))
     ax2.grid(True, which="both", alpha=0.3)
-    ax2.set_title("(c) lateral deviation", fontsize=10)
+    ax2.set_title("(c) lateral deviation", fontsize=10, loc="left")
     return fig
 
 
