@@ -126,6 +126,14 @@ def for_the_page(fig: Any) -> Any:
     return fig
 
 
+def legend_below(fig: Any, ax: Any, ncols: int = 1) -> Any:
+    """The legend of ``ax`` under the figure's axes (constrained layout makes room): on a
+    figure :data:`MAX_WIDTH_IN` wide a legend of several entries inside the axes covers
+    the curves.  Returns the legend."""
+    return fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center",
+                      ncols=ncols, fontsize=SMALL_PT)
+
+
 def page_figure(plot: Callable[..., Any]) -> Callable[..., Any]:
     """Decorate a ``plot_*`` function so that the figure it returns is :func:`for_the_page`."""
 
@@ -244,8 +252,8 @@ def _short(text: Any) -> str:
 def text_collisions(fig: Any, *, texts: list[Any] | None = None,
                     kinds: dict[int, str] | None = None) -> list[str]:
     """The texts of ``fig`` that collide, one line each (empty: none): two visible texts
-    whose boxes overlap, a text under a legend it does not belong to, and a text that
-    reaches past the figure's edge (saved with a tight box, it widens the image beyond the
+    whose boxes overlap, a text under a legend it does not belong to, a legend over a
+    labelled curve of its axes, and a text that reaches past the figure's edge (saved with a tight box, it widens the image beyond the
     width it was laid out for).  Boxes are the renderer's extents of the laid-out figure;
     overlaps up to :data:`COLLISION_PX` are allowed.
 
@@ -294,7 +302,58 @@ def text_collisions(fig: Any, *, texts: list[Any] | None = None,
             h = min(frame.y1, b.y1) - max(frame.y0, b.y0)
             if w > tol and h > tol:
                 found.append(f"{name(t)} lies under the legend")
+    found += _legends_over_curves(fig, legends, tol)
     return found
+
+
+def _legends_over_curves(fig: Any, legends: list[Any], tol: float) -> list[str]:
+    """A legend inside its axes that covers a curve the reader is told about (a line with a
+    label of its own): a segment of the line crosses the legend's box, shrunk by ``tol``."""
+    import numpy as np
+
+    found = []
+    for leg in legends:
+        ax = leg.axes
+        if ax is None or not leg.get_visible():
+            continue
+        box = leg.get_window_extent()
+        x0, y0, x1, y1 = box.x0 + tol, box.y0 + tol, box.x1 - tol, box.y1 - tol
+        if x0 >= x1 or y0 >= y1:
+            continue
+        for line in ax.get_lines():
+            label = str(line.get_label())
+            if not line.get_visible() or label.startswith("_") or line.get_linestyle() in (
+                    "None", "none", "", " "):
+                continue
+            xy = line.get_transform().transform(np.asarray(line.get_xydata(), dtype=float))
+            xy = xy[np.all(np.isfinite(xy), axis=1)]
+            if len(xy) < 2 or not _crosses(xy, x0, y0, x1, y1):
+                continue
+            found.append(f'the legend covers the curve "{" ".join(label.split())[:40]}"')
+    return found
+
+
+def _crosses(xy: Any, x0: float, y0: float, x1: float, y1: float) -> bool:
+    """Whether the polyline ``xy`` (n × 2, display pixels) enters the box: a vertex inside,
+    or a segment crossing it (Liang–Barsky clipping of every segment at once)."""
+    import numpy as np
+
+    inside = (xy[:, 0] > x0) & (xy[:, 0] < x1) & (xy[:, 1] > y0) & (xy[:, 1] < y1)
+    if inside.any():
+        return True
+    p, q = xy[:-1], xy[1:]
+    d = q - p
+    t0, t1 = np.zeros(len(p)), np.ones(len(p))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for k, lo, hi in ((0, x0, x1), (1, y0, y1)):
+            for num, den in ((lo - p[:, k], d[:, k]), (p[:, k] - hi, -d[:, k])):
+                # the segment's parameter where it meets the edge: entering when den > 0
+                r = num / den
+                parallel_out = (den == 0) & (num > 0)
+                t0 = np.where(den > 0, np.maximum(t0, r), t0)
+                t1 = np.where(den < 0, np.minimum(t1, r), t1)
+                t1 = np.where(parallel_out, -1.0, t1)
+    return bool(np.any(t0 < t1))
 
 
 #: The key of the PNG text chunk in which the book's figures carry their measurement

@@ -262,6 +262,18 @@ def test_the_collision_check_finds_injected_overlaps_and_passes_a_clean_figure()
     fig2 = _readable_figure()
     fig2.text(0.98, 0.5, "a label that runs off the right edge", fontsize=10)
     assert any("past the figure's edge" in f for f in text_collisions(fig2))
+    # a legend over a labelled curve: a level line through the legend's box (no vertex in
+    # it: the segment is clipped against the box), then the legend moved off it
+    fig3 = Figure(figsize=(5.0, 3.0), dpi=96.0, layout="constrained")
+    ax3 = fig3.subplots()
+    x = np.linspace(0.0, 1.0, 50)
+    ax3.plot(x, x, label="rising")
+    ax3.axhline(0.9, label="level")
+    ax3.tick_params(labelsize=10)
+    ax3.legend(loc="upper left", fontsize=10)
+    assert text_collisions(fig3) == ['the legend covers the curve "level"']
+    ax3.legend(loc="lower right", fontsize=10)
+    assert text_collisions(fig3) == []
 
 
 # ------------------------------------------------------------------ every figure of the book

@@ -54,7 +54,7 @@ from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
-from gyrolib._page_figures import SMALL_PT, page_figure
+from gyrolib._page_figures import SMALL_PT, legend_below, page_figure
 from gyrolib.filtering.consistency import chi2_ppf, nees_bounds
 from gyrolib.gc.analysis.budget import ErrorBudget
 from gyrolib.gc.analysis.covariance import CovarianceAnalysis, CovarianceSweep
@@ -813,7 +813,7 @@ def plot_mismatch(results: Mapping[str, object], *, state: str = "omega_gc",
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(5.0, 4.2), layout="constrained")
+    fig = Figure(figsize=(5.0, 5.4), layout="constrained")
     ax = fig.subplots()
     for i, (label, mc) in enumerate(results.items()):
         c = f"C{i}"
@@ -824,7 +824,7 @@ def plot_mismatch(results: Mapping[str, object], *, state: str = "omega_gc",
     ax.set_xlabel("time (s)")
     ax.set_ylabel(f"{state} ({_unit_label(unit)})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=SMALL_PT)
+    legend_below(fig, ax)  # two entries per result: inside, they cover the curves
     return fig
 
 
@@ -902,8 +902,7 @@ def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = Non
     ax.set_ylabel(f"σ of the ω_gc estimate ({ul})")
     ax.grid(True, which="both", alpha=0.3)
     # below the axes: in them, on a 5-in figure, it would cover the curves
-    fig.legend(*ax.get_legend_handles_labels(), fontsize=SMALL_PT, loc="outside lower center",
-               ncols=1)
+    legend_below(fig, ax)
     return fig
 
 
@@ -943,7 +942,7 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
         raise ValueError(f"field must be set by every case of the sweep; got {field!r}")
     x = np.array([float(c[field]) for c in sw.cases])
     order = np.argsort(x)
-    fig = Figure(figsize=(5.0, 4.2), layout="constrained")
+    fig = Figure(figsize=(5.0, 5.0), layout="constrained")
     ax = fig.subplots()
     for t, lab, c, ls in ((sw.t_c_gc, "GC's method", "C0", "-"),
                           (sw.t_c_rate_sensor, "rate sensor, classical", "C3", "-"),
@@ -959,7 +958,7 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     ax.set_xlabel(label or field)
     ax.set_ylabel("time to σ_c (s)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=SMALL_PT)
+    legend_below(fig, ax)
     return fig
 
 

@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Polygon
 
 from gyrolib import _validation as v
-from gyrolib._page_figures import SMALL_PT, page_figure
+from gyrolib._page_figures import SMALL_PT, legend_below, page_figure
 from gyrolib.rsf.calibration import CalibrationResult
 from gyrolib.rsf.claims import CompensationShare
 from gyrolib.rsf.correction import CorrectionRun, DeltaKPrediction
@@ -357,7 +357,7 @@ def plot_period_sweep(sweep: PeriodSweep, *, net_floor: bool = True) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(5.0, 3.8), layout="constrained")
+    fig = Figure(figsize=(5.0, 5.0), layout="constrained")
     ax = fig.subplots()
     p = sweep.periods
     ax.loglog(p, from_si(sweep.rms, "ppm"), "o", color="#2e86c1", label="simulation, rms δK")
@@ -373,7 +373,7 @@ def plot_period_sweep(sweep: PeriodSweep, *, net_floor: bool = True) -> Figure:
     ax.set_xlabel("correction period Δt (s)")
     ax.set_ylabel("residual SF error δK (ppm)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=SMALL_PT)
+    legend_below(fig, ax)  # six entries: inside, they cover the curves
     return fig
 
 
