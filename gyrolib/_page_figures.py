@@ -291,7 +291,7 @@ def text_collisions(fig: Any, *, texts: list[Any] | None = None,
             a, b = boxes[i], boxes[j]
             w = min(a.x1, b.x1) - max(a.x0, b.x0)
             h = min(a.y1, b.y1) - max(a.y0, b.y0)
-            if w > tol and h > tol:
+            if w > tol and h > tol and _rotated_overlap(texts[i], a, texts[j], b, tol):
                 found.append(f"{name(texts[i])} overlaps {name(texts[j])}")
     for k, leg in enumerate(legends):
         frame = leg.get_window_extent()
@@ -304,6 +304,48 @@ def text_collisions(fig: Any, *, texts: list[Any] | None = None,
                 found.append(f"{name(t)} lies under the legend")
     found += _legends_over_curves(fig, legends, tol)
     return found
+
+
+def _corners(text: Any, box: Any) -> Any:
+    """The four corners (4 × 2, display pixels) of ``text``'s own rectangle: for a text
+    turned by an angle, not the upright box around it (``box``) but the text's box turned
+    about that box's centre, which is the turned rectangle's centre."""
+    import numpy as np
+
+    angle = float(text.get_rotation()) % 180.0
+    if angle in (0.0, 90.0):
+        return np.array([[box.x0, box.y0], [box.x1, box.y0], [box.x1, box.y1],
+                         [box.x0, box.y1]])
+    rotation = text.get_rotation()
+    try:  # the text's own size, upright (set back at once)
+        text.set_rotation(0.0)
+        upright = text.get_window_extent()
+    finally:
+        text.set_rotation(rotation)
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    half = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * [upright.width / 2,
+                                                                upright.height / 2]
+    centre = np.array([(box.x0 + box.x1) / 2, (box.y0 + box.y1) / 2])
+    return centre + half @ np.array([[c, s], [-s, c]])
+
+
+def _rotated_overlap(ta: Any, a: Any, tb: Any, b: Any, tol: float) -> bool:
+    """Whether two texts whose upright boxes ``a``, ``b`` overlap also overlap as turned
+    rectangles, by more than ``tol`` along every separating axis (the separating axis
+    theorem; upright texts: their boxes, already known to overlap)."""
+    import numpy as np
+
+    if float(ta.get_rotation()) % 90.0 == 0.0 and float(tb.get_rotation()) % 90.0 == 0.0:
+        return True
+    pa, pb = _corners(ta, a), _corners(tb, b)
+    for poly in (pa, pb):
+        for k in range(2):
+            edge = poly[k + 1] - poly[k]
+            axis = np.array([-edge[1], edge[0]]) / (np.hypot(*edge) or 1.0)
+            ra, rb = pa @ axis, pb @ axis
+            if min(ra.max(), rb.max()) - max(ra.min(), rb.min()) <= tol:
+                return False
+    return True
 
 
 def _legends_over_curves(fig: Any, legends: list[Any], tol: float) -> list[str]:

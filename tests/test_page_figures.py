@@ -274,6 +274,17 @@ def test_the_collision_check_finds_injected_overlaps_and_passes_a_clean_figure()
     assert text_collisions(fig3) == ['the legend covers the curve "level"']
     ax3.legend(loc="lower right", fontsize=10)
     assert text_collisions(fig3) == []
+    # turned tick labels are compared as turned rectangles: twelve long labels at 45° do not
+    # touch (their upright boxes do), at 10° they overprint
+    for angle, collide in ((45, False), (10, True)):
+        fig4 = Figure(figsize=(5.0, 3.4), dpi=96.0, layout="constrained")
+        ax4 = fig4.subplots()
+        ax4.bar(range(12), np.arange(12))
+        ax4.set_xticks(range(12), [f"label σ_{k}(0)" for k in range(12)], rotation=angle,
+                       fontsize=10)
+        ax4.tick_params(labelsize=10)
+        found = text_collisions(fig4)
+        assert bool(found) == collide and all("tick label" in f for f in found), (angle, found)
 
 
 # ------------------------------------------------------------------ every figure of the book
