@@ -103,6 +103,18 @@ def figure_html(doc: dict) -> str:
     ax.barh(range(len(rows)), ratios, color=["#1f77b4" if r >= 1 else "#d62728" for r in ratios])
     ax.axvline(1.0, color="0.2", lw=1)
     ax.set_xscale("log")
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    # over less than a decade the log axis labels its minor ticks (1.2×10⁰, 1.4×10⁰, …), which
+    # overprint: a few labels, as plain numbers
+    import math
+
+    low, high = ax.get_xlim()
+    decades = math.log10(high / low) if low > 0 and high > low else 2.0
+    subs = (1.0, 2.0, 5.0) if decades > 1.0 else (1.0, 1.2, 1.5, 2.0, 3.0, 5.0, 7.0)
+    ax.xaxis.set_major_locator(LogLocator(base=10.0, subs=subs))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_yticks(range(len(rows)), labels, fontsize=10)
     ax.invert_yaxis()
     ax.tick_params(axis="x", labelsize=10)
