@@ -127,7 +127,7 @@ def test_notebook_figures_are_2x_pngs_shown_at_half_their_pixels():
         from PIL import Image
 
         from gyrolib._page_figures import PNG_KEY
-        record = json.loads(Image.open(io.BytesIO(png)).text[PNG_KEY])
+        record = json.loads(Image.open(io.BytesIO(png)).info[PNG_KEY])
         assert record["problems"] == [] and record["texts"] >= 4, record
     finally:
         InteractiveShell.clear_instance()
@@ -365,7 +365,8 @@ def _measure_page(name: str, path: Path, html: str) -> tuple[int, int, list[str]
         where = f"{name}, figure {n} ({(img.get('alt') or '')[:50]!r})"
         data = _png_of(img.get("src") or "", path)
         image = Image.open(io.BytesIO(data)) if data and data[:4] == b"\x89PNG" else None
-        record = getattr(image, "text", {}).get(PNG_KEY) if image else None
+        # read before the pixels (the chunk precedes them): .text would decode the image
+        record = image.info.get(PNG_KEY) if image else None
         if record is None:
             problems.append(f"{where}: not measured (no {PNG_KEY} in its PNG)")
             continue
