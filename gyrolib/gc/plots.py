@@ -659,7 +659,7 @@ def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_p
     n = len(sweep.fields)
     cols = 2 if n > 1 else 1  # two narrow panels a row: 5 in wide for the page
     rows = -(-n // cols)
-    fig = Figure(figsize=(5.0, 2.4 * rows + 0.3), layout="constrained")
+    fig = Figure(figsize=(5.0, 2.4 * rows + 0.6), layout="constrained")
     axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
     for a, (ax, field) in enumerate(zip(axes, sweep.fields)):
         ax.loglog(sweep.values[a], from_si(sweep.sigma_end[a], unit), "o-")
@@ -677,7 +677,7 @@ def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_p
             ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:.6g}"))
             ax.yaxis.set_minor_formatter(NullFormatter())
             ax.set_ylim(lo, hi)
-    axes[0].legend(fontsize=SMALL_PT)
+    legend_below(fig, axes[0], ncols=2)  # in a panel it covers the lines it names
     for ax in axes[n:]:
         ax.set_visible(False)
     return fig
