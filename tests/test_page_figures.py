@@ -1,5 +1,8 @@
 """Figures sized for the page (issue 29, item 4): the book's figures are 2x PNGs with legends
-of at least 9 pt at display size, and curves that overlap stay distinguishable.
+of at least 9 pt at display size, and curves that overlap stay distinguishable.  Issue 35,
+item 3: every figure is at most 5 in wide with every text readable at the desk's 672-px
+column (9 pt) and a phone's 342-px column (9 px), and no text collides; the built book's
+every figure is measured (its PNG carries the measurement) and counted against the pages.
 
 The display size is computed here from first principles (a figure of ``w`` inches drawn at
 96 px/in is shown at ``min(w·96, 672)`` CSS px, 672 px being the output column the browser
