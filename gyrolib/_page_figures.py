@@ -40,9 +40,13 @@ MAX_WIDTH_IN = 5.0
 PHONE_COLUMN_PX = 342.0
 MIN_PHONE_PX = 9.0
 #: The size the plot functions give their small texts (legends, notes, tick labels they set):
-#: the smallest that reads at both columns on a figure of :data:`MAX_WIDTH_IN` (9.48 pt,
-#: :func:`smallest_pt`), rounded up.
-SMALL_PT = 9.5
+#: the smallest that reads at both columns on a figure of :data:`MAX_WIDTH_IN` saved with a
+#: tight box (9.86 pt, :func:`smallest_pt`), rounded up.
+SMALL_PT = 10.0
+#: What a tight box adds on each side of a figure's drawing when it is saved
+#: (``bbox_inches="tight"``, matplotlib's ``savefig.pad_inches``): a 5-in figure whose drawing
+#: fills it makes a 5.2-in image, shown smaller on a phone than the figure's width says.
+TIGHT_PAD_IN = 0.1
 
 
 def display_scale(fig: Any, column_px: float = COLUMN_PX) -> float:
@@ -70,16 +74,18 @@ def _legends(fig: Any) -> list[Any]:
 def smallest_pt(fig: Any) -> float:
     """The smallest font size (points) of ``fig`` that reads at both columns: at least
     :data:`MIN_LEGEND_PT` points at the desk's :data:`COLUMN_PX` and :data:`MIN_PHONE_PX`
-    CSS pixels at the phone's :data:`PHONE_COLUMN_PX` (rounded up to 0.01 pt).
+    CSS pixels at the phone's :data:`PHONE_COLUMN_PX`, the figure saved with a tight box
+    (:data:`TIGHT_PAD_IN` more on each side), rounded up to 0.01 pt.
 
     >>> from matplotlib.figure import Figure
-    >>> smallest_pt(Figure(figsize=(5.0, 3.0), dpi=96.0))  # 9 px / (4/3 px/pt x 342/480)
-    9.48
+    >>> smallest_pt(Figure(figsize=(5.0, 3.0), dpi=96.0))  # 9 px / (4/3 px/pt x 342/499.2)
+    9.86
     >>> smallest_pt(Figure(figsize=(3.0, 3.0), dpi=96.0))  # fits the phone: the desk's 9 pt
     9.0
     """
-    desk = MIN_LEGEND_PT / (shown_px(fig, 1.0, COLUMN_PX) * 72.0 / CSS_DPI)
-    phone = MIN_PHONE_PX / shown_px(fig, 1.0, PHONE_COLUMN_PX)
+    width = fig.get_figwidth() + 2.0 * TIGHT_PAD_IN
+    desk = MIN_LEGEND_PT / (shown_px(fig, 1.0, COLUMN_PX, width) * 72.0 / CSS_DPI)
+    phone = MIN_PHONE_PX / shown_px(fig, 1.0, PHONE_COLUMN_PX, width)
     return math.ceil(round(max(desk, phone) * 100.0, 6)) / 100.0
 
 
@@ -103,9 +109,9 @@ def for_the_page(fig: Any) -> Any:
     >>> [round(float(x), 6) for x in (fig.get_figwidth(), fig.get_figheight(), fig.dpi)]
     [5.0, 2.0, 96.0]
     >>> ax.get_legend().get_texts()[0].get_fontsize(), smallest_pt(fig)
-    (9.48, 9.48)
+    (9.86, 9.86)
     >>> ax.xaxis.get_major_ticks()[0].label1.get_fontsize()
-    9.48
+    9.86
     """
     from matplotlib.text import Text
 
@@ -188,28 +194,27 @@ def _undrawn_tick_labels(fig: Any) -> set[int]:
     return undrawn
 
 
-def shown_px(fig: Any, size_pt: float, column_px: float, dpi: float | None = None) -> float:
+def shown_px(fig: Any, size_pt: float, column_px: float,
+             width_in: float | None = None) -> float:
     """CSS pixels on the page of text of ``size_pt`` points in ``fig``, in a column of
     ``column_px`` (the figure drawn at its dpi, shown at half its 2x pixels, shrunk to the
-    column when wider).  ``dpi``: the figure's dpi on the page, when it is drawn at another
-    for the moment (default: its dpi).
+    column when wider).  ``width_in``: the width of the image as saved (default: the
+    figure's).
 
     >>> from matplotlib.figure import Figure
     >>> round(shown_px(Figure(figsize=(5.0, 3.0), dpi=96.0), 9.0, 342.0), 2)
     8.55
     """
-    dpi = fig.dpi if dpi is None else dpi
-    width_px = fig.get_figwidth() * dpi
-    return float(size_pt * dpi / 72.0 * min(1.0, column_px / width_px))
+    width_px = (fig.get_figwidth() if width_in is None else width_in) * fig.dpi
+    return float(size_pt * fig.dpi / 72.0 * min(1.0, column_px / width_px))
 
 
-def text_problems(fig: Any, *, texts: list[Any] | None = None,
-                  dpi: float | None = None) -> list[str]:
+def text_problems(fig: Any, *, texts: list[Any] | None = None) -> list[str]:
     """What does not read in ``fig``, one line each (empty: every text reads): the visible
     texts (:func:`visible_texts`) below :data:`MIN_LEGEND_PT` points at the desk's column or
     :data:`MIN_PHONE_PX` pixels at the phone's, and the texts that collide
-    (:func:`text_collisions`).  ``texts``: :func:`visible_texts` of ``fig``, when known;
-    ``dpi``: as for :func:`shown_px`.
+    (:func:`text_collisions`); each text measured on the image as saved
+    (:func:`saved_width_in`).  ``texts``: :func:`visible_texts` of ``fig``, when known.
 
     >>> from matplotlib.figure import Figure
     >>> fig = Figure(figsize=(4.0, 3.0), dpi=96.0, layout="constrained")
@@ -221,21 +226,31 @@ def text_problems(fig: Any, *, texts: list[Any] | None = None,
     []
     >>> _ = ax.plot([0, 1], label="curve"); _ = ax.legend(fontsize=4.5)
     >>> text_problems(fig)
-    ['legend text "curve": 4.5 pt at 672 px (< 9), 5.34 px at 342 px (< 9)']
+    ['legend text "curve": 4.5 pt at 672 px (< 9), 5.19 px at 342 px (< 9)']
     """
     problems = []
     texts = visible_texts(fig) if texts is None else texts
     kinds = _kinds(fig)
+    width = saved_width_in(fig)
     for t in texts:
         size = t.get_fontsize()
-        desk = shown_px(fig, size, COLUMN_PX, dpi) * 72.0 / CSS_DPI
-        phone = shown_px(fig, size, PHONE_COLUMN_PX, dpi)
+        desk = shown_px(fig, size, COLUMN_PX, width) * 72.0 / CSS_DPI
+        phone = shown_px(fig, size, PHONE_COLUMN_PX, width)
         if desk < MIN_LEGEND_PT - 1e-9 or phone < MIN_PHONE_PX - 1e-9:
             kind = _kind(t, kinds)
             problems.append(f'{kind} "{_short(t)}": {desk:.3g} pt at '
                             f"{COLUMN_PX:.0f} px (< {MIN_LEGEND_PT:g}), {phone:.3g} px at "
                             f"{PHONE_COLUMN_PX:.0f} px (< {MIN_PHONE_PX:g})")
     return problems + text_collisions(fig, texts=texts, kinds=kinds)
+
+
+def saved_width_in(fig: Any) -> float:
+    """The width (inches) at which the page may show ``fig``: its own, or, saved with a tight
+    box, its drawing's with :data:`TIGHT_PAD_IN` on each side, whichever is wider (a
+    drawing narrower than the figure only shows its text larger)."""
+    tight = fig.get_tightbbox()
+    drawn = (tight.width if tight is not None else 0.0) + 2.0 * TIGHT_PAD_IN
+    return max(float(fig.get_figwidth()), float(drawn))
 
 
 #: Two texts collide when their boxes overlap by more than this, in CSS pixels of the figure
