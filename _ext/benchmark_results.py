@@ -103,11 +103,11 @@ def figure_html(doc: dict) -> str:
     ax.barh(range(len(rows)), ratios, color=["#1f77b4" if r >= 1 else "#d62728" for r in ratios])
     ax.axvline(1.0, color="0.2", lw=1)
     ax.set_xscale("log")
-    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
-
     # over less than a decade the log axis labels its minor ticks (1.2×10⁰, 1.4×10⁰, …), which
     # overprint: a few labels, as plain numbers
     import math
+
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     low, high = ax.get_xlim()
     decades = math.log10(high / low) if low > 0 and high > low else 2.0

@@ -267,9 +267,10 @@ def _short(text: Any) -> str:
 def text_collisions(fig: Any, *, texts: list[Any] | None = None,
                     kinds: dict[int, str] | None = None) -> list[str]:
     """The texts of ``fig`` that collide, one line each (empty: none): two visible texts
-    whose boxes overlap, a text under a legend it does not belong to, a legend over a
-    labelled curve of its axes, and a text that reaches past the figure's edge (saved with a tight box, it widens the image beyond the
-    width it was laid out for).  Boxes are the renderer's extents of the laid-out figure;
+    whose boxes overlap (turned texts as turned rectangles), a text under a legend it does
+    not belong to, a legend over a labelled curve of its axes, and a text that reaches past
+    the figure's edge (saved with a tight box, it widens the image beyond the width it was
+    laid out for).  Boxes are the renderer's extents of the laid-out figure;
     overlaps up to :data:`COLLISION_PX` are allowed.
 
     >>> from matplotlib.figure import Figure

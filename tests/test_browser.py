@@ -749,9 +749,11 @@ JS_SIDEWAYS = """() => {
         && getComputedStyle(el).overflowX !== 'visible') {
       const what = el.tagName.toLowerCase() + (el.className ? '.' + String(el.className)
         .split(' ')[0] : '');
-      out.push(`<${what}> scrolls sideways: ${el.scrollWidth} px of content in ${el.clientWidth} px`);
+      out.push(`<${what}> scrolls sideways: ${el.scrollWidth} px of content in `
+               + `${el.clientWidth} px`);
     } else if (box.right > window.innerWidth + 1) {
-      out.push(`<${el.tagName.toLowerCase()}> reaches ${Math.round(box.right)} px, past the ${window.innerWidth}-px window`);
+      out.push(`<${el.tagName.toLowerCase()}> reaches ${Math.round(box.right)} px, `
+               + `past the ${window.innerWidth}-px window`);
     }
   }
   return out.slice(0, 20);

@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import require_built_book
 from matplotlib.figure import Figure
 
-from conftest import require_built_book
 from gyrolib import gc
 from gyrolib._page_figures import MIN_LEGEND_PT, for_the_page
 

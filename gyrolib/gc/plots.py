@@ -334,7 +334,8 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
         axs = fig.add_subplot(gs[row + 1])
         a = sgn * math.radians(tilt_deg)
         axs.plot([-0.25, 1.15], [0, 0], color="0.6", lw=1, ls="--")
-        axs.text(-0.72, 0.02, "horizon", color="0.5", fontsize=SMALL_PT, va="bottom")  # in the panel
+        axs.text(-0.72, 0.02, "horizon", color="0.5", fontsize=SMALL_PT,
+                 va="bottom")  # in the panel
         _arrow(axs, 0, 0, math.cos(a), math.sin(a), base)
         axs.text(1.03 * math.cos(a), 1.03 * math.sin(a), rf"${axis_name}$", fontsize=12,
                  color=base, va="center")
@@ -1017,13 +1018,13 @@ def plot_race_verdict(grid, *, thresholds: Mapping[str, float] | None = None) ->
 @page_figure
 def plot_linearization(effect) -> Figure:
     """Where the full-state NEES of the nonlinear truth goes out of its band, and why
-    (:func:`gyrolib.gc.linearization_effect`), three panels stacked.  Top: the full-state NEES with the nonlinear
-    and with the linearized truth (same runs), and the nonlinear one less the excess that
-    the ω_gc shift predicts, against the per-time chi-square band.  Below it: the paired
-    change of each state's error at the last time, RMS over the runs, in units of that
-    state's σ.  At the bottom: the paired shift of the ω_gc estimate per run at the last time against the
-    remainder drift of Eq. (3)'s linearization (paper GC, Eqs. (3), (5)), in units of the
-    filter's σ of ω_gc.
+    (:func:`gyrolib.gc.linearization_effect`), three panels stacked.  Top: the full-state
+    NEES with the nonlinear and with the linearized truth (same runs), and the nonlinear
+    one less the excess that the ω_gc shift predicts, against the per-time chi-square
+    band.  Below it: the paired change of each state's error at the last time, RMS over the
+    runs, in units of that state's σ.  At the bottom: the paired shift of the ω_gc
+    estimate per run at the last time against the remainder drift of Eq. (3)'s
+    linearization (paper GC, Eqs. (3), (5)), in units of the filter's σ of ω_gc.
 
     Parameters
     ----------

@@ -336,7 +336,7 @@ def plot_delta_k_distribution(run: CorrectionRun, prediction: DeltaKPrediction) 
     ax.set_xlabel("δK (ppm)")
     ax.set_ylabel("count")
     # below the axes: the histogram fills the whole width of its panel
-    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=1, fontsize=SMALL_PT)
+    legend_below(fig, ax)
     return fig
 
 
