@@ -231,7 +231,7 @@ def text_problems(fig: Any, *, texts: list[Any] | None = None) -> list[str]:
     problems = []
     texts = visible_texts(fig) if texts is None else texts
     kinds = _kinds(fig)
-    width = saved_width_in(fig)
+    width = saved_width_in(fig, texts)
     for t in texts:
         size = t.get_fontsize()
         desk = shown_px(fig, size, COLUMN_PX, width) * 72.0 / CSS_DPI
@@ -244,12 +244,19 @@ def text_problems(fig: Any, *, texts: list[Any] | None = None) -> list[str]:
     return problems + text_collisions(fig, texts=texts, kinds=kinds)
 
 
-def saved_width_in(fig: Any) -> float:
+def saved_width_in(fig: Any, texts: list[Any] | None = None) -> float:
     """The width (inches) at which the page may show ``fig``: its own, or, saved with a tight
     box, its drawing's with :data:`TIGHT_PAD_IN` on each side, whichever is wider (a
-    drawing narrower than the figure only shows its text larger)."""
-    tight = fig.get_tightbbox()
-    drawn = (tight.width if tight is not None else 0.0) + 2.0 * TIGHT_PAD_IN
+    drawing narrower than the figure only shows its text larger).  The drawing's extent is
+    that of its axes, legends and visible texts (``texts``: :func:`visible_texts`), what
+    reaches furthest in the book's figures."""
+    texts = visible_texts(fig) if texts is None else texts
+    boxes = [t.get_window_extent() for t in texts] + [ax.bbox for ax in fig.axes]
+    boxes += [leg.get_window_extent() for leg in _legends(fig) if leg.get_visible()]
+    if not boxes:
+        return float(fig.get_figwidth())
+    left, right = min(b.x0 for b in boxes), max(b.x1 for b in boxes)
+    drawn = (right - left) / fig.dpi + 2.0 * TIGHT_PAD_IN
     return max(float(fig.get_figwidth()), float(drawn))
 
 
