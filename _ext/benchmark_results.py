@@ -84,8 +84,9 @@ def _machine(m: dict) -> str:
 
 def figure_html(doc: dict) -> str:
     """A bar chart of how many times faster each case is than its peer (peer/ours), as an
-    ``<img>`` with the PNG inline (2x pixels, shown at half; text 10 pt on a 5-in figure);
-    empty when no case has a peer."""
+    ``<img>`` with the PNG inline (2x pixels, shown at half; text 10 pt on a 5-in figure;
+    its text measured in the PNG, as the chapters' figures); empty when no case has a
+    peer."""
     rows = [(" ".join(str(r["case"]).split()), float(r["peer_s"]) / float(r["ours_s"]))
             for r in doc["results"] if r.get("peer_s") and r.get("ours_s")]
     if not rows:
@@ -102,12 +103,27 @@ def figure_html(doc: dict) -> str:
     ax.barh(range(len(rows)), ratios, color=["#1f77b4" if r >= 1 else "#d62728" for r in ratios])
     ax.axvline(1.0, color="0.2", lw=1)
     ax.set_xscale("log")
+    # over less than a decade the log axis labels its minor ticks (1.2×10⁰, 1.4×10⁰, …), which
+    # overprint: a few labels, as plain numbers
+    import math
+
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    low, high = ax.get_xlim()
+    decades = math.log10(high / low) if low > 0 and high > low else 2.0
+    subs = (1.0, 2.0, 5.0) if decades > 1.0 else (1.0, 1.2, 1.5, 2.0, 3.0, 5.0, 7.0)
+    ax.xaxis.set_major_locator(LogLocator(base=10.0, subs=subs))
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_yticks(range(len(rows)), labels, fontsize=10)
     ax.invert_yaxis()
     ax.tick_params(axis="x", labelsize=10)
     ax.set_xlabel("peer time / our time", fontsize=10)  # > 1: ours faster (the page says)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=192)
+    from gyrolib._page_figures import PNG_KEY, page_record
+
+    # the measurement as the page shows it, read back by tests/test_page_figures.py
+    fig.savefig(buf, format="png", dpi=192, metadata={PNG_KEY: page_record(fig)})
     width, height = (round(x * 96) for x in fig.get_size_inches())
     alt = ("Bar chart of how many times faster each case runs than its peer: "
            + "; ".join(f"{c}: {r:.3g}" for c, r in rows))

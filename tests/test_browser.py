@@ -876,6 +876,60 @@ def test_ledger_page_shows_its_table(site, browser):
         page.close()
 
 
+#: What is wider than its box in a page's article at a phone's width: a scroll container that
+#: scrolls sideways (a table in its scrollable wrapper), an element reaching past the window,
+#: or the page itself; code (a cell's input), which keeps its layout and scrolls in its box
+#: by design, is left out.  Power: the six-column ledger table of the build before issue 35,
+#: in its scrollable wrapper, is found.
+JS_SIDEWAYS = """() => {
+  const out = [];
+  const root = document.documentElement;
+  if (root.scrollWidth > window.innerWidth + 1)
+    out.push(`the page is ${root.scrollWidth} px wide in a ${window.innerWidth}-px window`);
+  const article = document.querySelector('article.bd-article') || document.body;
+  for (const el of article.querySelectorAll('*')) {
+    if (!el.offsetParent && getComputedStyle(el).position !== 'fixed') continue;  /* hidden */
+    if (el.closest('details:not([open])')) continue;
+    /* code keeps its layout and scrolls in its box (gyrolib-layout.css): not the reader's text */
+    if (el.closest('div.highlight, .cell_input')) continue;
+    const box = el.getBoundingClientRect();
+    if (box.width === 0) continue;
+    if (el.scrollWidth > el.clientWidth + 1 && el.clientWidth > 0
+        && getComputedStyle(el).overflowX !== 'visible') {
+      const what = el.tagName.toLowerCase() + (el.className ? '.' + String(el.className)
+        .split(' ')[0] : '');
+      out.push(`<${what}> scrolls sideways: ${el.scrollWidth} px of content in `
+               + `${el.clientWidth} px`);
+    } else if (box.right > window.innerWidth + 1) {
+      out.push(`<${el.tagName.toLowerCase()}> reaches ${Math.round(box.right)} px, `
+               + `past the ${window.innerWidth}-px window`);
+    }
+  }
+  return out.slice(0, 20);
+}"""
+
+
+def test_the_ledger_reads_on_a_phone_without_sideways_scrolling(site, browser):
+    """At 390 x 844 (a phone) the ledger's tables fit the screen: nothing in the article
+    scrolls sideways or reaches past the window, and the results table shows each item as
+    a card, every cell labelled with its column's header (issue 35, item 3)."""
+    page = browser.open(site + "chapters/ledger.html")
+    try:
+        page.set_viewport_size({"width": 390, "height": 844})
+        page.goto(site + "chapters/ledger.html", wait_until="load")
+        browser.settle(page)
+        found = page.evaluate(JS_SIDEWAYS)
+        assert not found, "ledger page at 390 px:\n  " + "\n  ".join(found)
+        first = page.locator("article.bd-article table").first
+        labels = first.evaluate("t => Array.from(t.querySelectorAll('tbody tr:first-child td'))"
+                                ".map(td => getComputedStyle(td, '::before').content)")
+        heads = first.evaluate("t => Array.from(t.querySelectorAll('thead th'))"
+                               ".map(th => th.textContent.trim())")
+        assert [x.strip('"') for x in labels] == heads, (labels, heads)
+    finally:
+        page.close()
+
+
 def test_search_finds_a_term(site, browser):
     page = _visit(browser, site + f"search.html?q={SEARCH_TERM}")
     try:

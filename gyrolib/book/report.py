@@ -9,11 +9,12 @@ space (``grouped``), small Markdown tables that a notebook displays as tables
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
+from typing import Any
 
 from gyrolib import _validation as v
 
 __all__ = ["MarkdownText", "format_number", "gluer", "grouped", "hidpi_figures", "markdown_table",
-           "sci"]
+           "page_png", "sci"]
 
 _SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
@@ -78,10 +79,26 @@ def markdown_table(header: Sequence[object], rows: Iterable[Sequence[object]]) -
     return MarkdownText("\n".join(lines))
 
 
+def page_png(fig: Any, **kwargs: Any) -> tuple[str, dict[str, int]] | None:
+    """``fig`` as a 2x "retina" PNG (base64) and its width/height metadata, as IPython's
+    ``retina_figure``, with the figure's measurement as the page shows it in a text chunk
+    (:func:`gyrolib._page_figures.page_record` under ``PNG_KEY``): a test of the built book
+    reads it back from every figure on the pages.  ``kwargs`` go to ``print_figure``."""
+    from IPython.core.pylabtools import retina_figure
+
+    from gyrolib._page_figures import PNG_KEY, page_record
+
+    if not fig.axes and not fig.lines:  # as print_figure: an empty figure shows nothing
+        return None
+    metadata = {**kwargs.pop("metadata", {}), PNG_KEY: page_record(fig)}
+    return retina_figure(fig, base64=True, metadata=metadata, **kwargs)
+
+
 def hidpi_figures() -> bool:
     """Make the notebook output (and glue) matplotlib figures as 2x "retina" PNGs: twice the
     figure's pixels, with a width attribute of half of them, so that a figure is shown at
     two image pixels per CSS pixel or more (sharp on high-density screens and in the PDF).
+    Each PNG carries the figure's text measurement (:func:`page_png`).
     Returns whether it could (``False`` outside an IPython kernel, where it does nothing).
 
     The setting goes to the inline backend's configuration, so a later ``%matplotlib inline``
@@ -97,12 +114,17 @@ def hidpi_figures() -> bool:
     shell = get_ipython()
     if shell is None or not hasattr(shell, "display_formatter"):
         return False
+    from functools import partial
+
     from IPython.core.pylabtools import select_figure_formats
+    from matplotlib.figure import Figure
     from matplotlib_inline.config import InlineBackend
 
     config = InlineBackend.instance()
     config.figure_formats = {"retina"}
     select_figure_formats(shell, {"retina"}, **config.print_figure_kwargs)
+    shell.display_formatter.formatters["image/png"].for_type(
+        Figure, partial(page_png, **config.print_figure_kwargs))
     return True
 
 

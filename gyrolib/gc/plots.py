@@ -54,7 +54,7 @@ from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
-from gyrolib._page_figures import page_figure
+from gyrolib._page_figures import SMALL_PT, legend_below, page_figure
 from gyrolib.filtering.consistency import chi2_ppf, nees_bounds
 from gyrolib.gc.analysis.budget import ErrorBudget
 from gyrolib.gc.analysis.covariance import CovarianceAnalysis, CovarianceSweep
@@ -109,8 +109,9 @@ def plot_shaping_psd(omega: ArrayLike, psd_n1: ArrayLike, psd_n3: ArrayLike, *,
     Returns
     -------
     Figure
-        Top row: ``Φ(ω)`` on log–log axes.  Bottom row: ``ω Φ(ω)`` against ``log ω``, where
-        equal areas are equal variance (``∫ Φ dω = ∫ ω Φ d ln ω``), shaded.
+        Four stacked panels, N1's then N3's: ``Φ(ω)`` on log–log axes, then ``ω Φ(ω)``
+        against ``log ω``, where equal areas are equal variance
+        (``∫ Φ dω = ∫ ω Φ d ln ω``), shaded.
 
     Examples
     --------
@@ -126,8 +127,9 @@ def plot_shaping_psd(omega: ArrayLike, psd_n1: ArrayLike, psd_n3: ArrayLike, *,
     """
     omega, p1, p3 = (np.asarray(x, dtype=float) for x in (omega, psd_n1, psd_n3))
     a1, a2, var1, var3 = alpha1, alpha2, var_n1, var_n3
-    fig = Figure(figsize=(10.0, 6.4), layout="constrained")
-    axes = fig.subplots(2, 2, sharex="col")
+    fig = Figure(figsize=(5.0, 10.0), layout="constrained")
+    # stacked for the page: N1's two panels, then N3's (each pair shares its ω axis)
+    axes = fig.subplots(4, 1, sharex=True).reshape(2, 2).T
     specs = (
         (0, p1, a1, var1, r"$N_1$, vibration acceleration", r"(m/s$^2$)$^2$/(rad/s)",
          r"m$^2$/s$^4$", "C0", r"\alpha_1"),
@@ -139,7 +141,7 @@ def plot_shaping_psd(omega: ArrayLike, psd_n1: ArrayLike, psd_n3: ArrayLike, *,
         ax.loglog(omega, p, color=color)
         ax.axvline(a, color="0.5", ls=":", lw=1)
         ax.text(a, ax.get_ylim()[0], f" ${aname}$ = {a:g} rad/s", rotation=90,
-                va="bottom", ha="right", color="0.3", fontsize=8)
+                va="bottom", ha="right", color="0.3", fontsize=SMALL_PT)
         ax.set_title(title)
         ax.set_ylabel(r"$\Phi(\omega)$, " + unit)
         ax.minorticks_off()
@@ -149,10 +151,11 @@ def plot_shaping_psd(omega: ArrayLike, psd_n1: ArrayLike, psd_n3: ArrayLike, *,
         ax.fill_between(omega, omega * p, color=color, alpha=0.25)
         ax.axvline(a, color="0.5", ls=":", lw=1)
         ax.set_ylabel(r"$\omega\,\Phi(\omega)$, " + var_unit)
-        ax.set_xlabel(r"angular frequency $\omega$, rad/s")
+        if col == 1:  # the bottom panel: the four share the ω axis
+            ax.set_xlabel(r"angular frequency $\omega$, rad/s")
         ax.minorticks_off()  # eight decades of minor ticks cost seconds of drawing
         ax.text(0.03, 0.9, f"shaded area = variance\n= {var:.4g} {var_unit}",
-                transform=ax.transAxes, va="top", fontsize=9)
+                transform=ax.transAxes, va="top", fontsize=SMALL_PT)
         ax.grid(True, which="major", alpha=0.3)
     return fig
 
@@ -178,7 +181,7 @@ def plot_nominal_motion(nominal: NominalMotion, aperiodic: NominalMotion,
     Returns
     -------
     Figure
-        Three panels: the angle in degrees; the rate over the first few ``τ``; the
+        Three stacked panels: the angle in degrees; the rate over the first few ``τ``; the
         difference ``β_n − β_ap`` in arcseconds on a logarithmic time axis.
 
     Examples
@@ -197,24 +200,22 @@ def plot_nominal_motion(nominal: NominalMotion, aperiodic: NominalMotion,
     t, b, bap = nominal.t, nominal.beta, aperiodic.beta
     tf, bd, bdap = nominal_start.t, nominal_start.beta_dot, aperiodic_start.beta_dot
     arcsec = ARCSEC
-    fig = Figure(figsize=(11.0, 3.6), layout="constrained")
-    ax1, ax2, ax3 = fig.subplots(1, 3)
+    fig = Figure(figsize=(5.0, 8.4), layout="constrained")
+    ax1, ax2, ax3 = fig.subplots(3, 1)  # stacked for the page
     ax1.plot(t, np.degrees(b), color="C0", label=r"$\beta_n(t)$, Eq. (4)")
     ax1.plot(t, np.degrees(bap), color="C1", ls="--", label="aperiodic approximation")
     ax1.set_xlabel("t, s")
     ax1.set_ylabel("float angle, deg")
     ax1.set_title("(a) nominal float angle")
-    # below the panels: at display size the legend is as wide as panel (a)
-    fig.legend(*ax1.get_legend_handles_labels(), loc="outside lower left", ncols=2,
-               fontsize=9)
+    ax1.legend(loc="lower right", fontsize=SMALL_PT)
     ax2.plot(tf * 1e3, bd / arcsec, color="C0", label=r"$\dot\beta_n$")
     ax2.plot(tf * 1e3, bdap / arcsec, color="C1", ls="--", label="aperiodic")
     ax2.axvline(tau * 1e3, color="0.5", ls=":", lw=1)
-    ax2.text(tau * 1e3, 0.05 * float(np.max(bd)) / arcsec, r" $\tau = I/f$", fontsize=9)
+    ax2.text(tau * 1e3, 0.05 * float(np.max(bd)) / arcsec, r" $\tau = I/f$", fontsize=SMALL_PT)
     ax2.set_xlabel("t, ms")
     ax2.set_ylabel("float rate, arcsec/s")
     ax2.set_title("(b) start: rate builds up in τ")
-    ax2.legend(loc="lower right", fontsize=8)
+    ax2.legend(loc="lower right", fontsize=SMALL_PT)
     pos = t > 0
     ax3.semilogx(t[pos], (b[pos] - bap[pos]) / arcsec, color="C2",
                  label=r"$\beta_n - \beta_{\rm ap}$")
@@ -224,7 +225,7 @@ def plot_nominal_motion(nominal: NominalMotion, aperiodic: NominalMotion,
     ax3.set_ylabel("difference, arcsec")
     ax3.set_title("(c) full minus aperiodic")
     ax3.ticklabel_format(axis="y", useOffset=False)
-    ax3.legend(loc="upper right", fontsize=8)
+    ax3.legend(loc="upper right", fontsize=SMALL_PT)
     for ax in (ax1, ax2, ax3):
         ax.grid(True, alpha=0.3)
     return fig
@@ -275,7 +276,7 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
     Returns
     -------
     Figure
-        Panel (a) and the two side views (b), (c).
+        Panel (a) and, under it, the two side views (b), (c).
 
     Examples
     --------
@@ -283,9 +284,9 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
     >>> len(gc.plot_figure1().axes)
     3
     """
-    fig = Figure(figsize=(11.0, 4.8), layout="constrained")
-    gs = fig.add_gridspec(2, 2, width_ratios=(1.3, 1.0))
-    ax = fig.add_subplot(gs[:, 0])
+    fig = Figure(figsize=(5.0, 9.0), layout="constrained")
+    gs = fig.add_gridspec(3, 1, height_ratios=(2.2, 1.0, 1.0))  # stacked for the page
+    ax = fig.add_subplot(gs[0])
     base, flt, earth = "0.15", "C0", "C3"
     # Base frame: x, y in the plane of the page, z (output axis) towards the reader.
     _arrow(ax, 0, 0, 1.0, 0, base)
@@ -295,8 +296,7 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
             ha="right")
     ax.add_patch(Circle((0, 0), 0.045, fill=False, color=base, lw=1.3))
     ax.add_patch(Circle((0, 0), 0.012, color=base))
-    ax.text(-0.08, -0.1, r"$O$;  $z = \zeta$: output axis, towards the reader", fontsize=9.5,
-            color=base, ha="right")
+    ax.text(-0.08, -0.1, r"$O$", fontsize=11, color=base, ha="right")
     # Float frame: η at β from y (towards x), ξ = η × ζ at β below x.
     ex, ey = _dir(beta_deg)
     _arrow(ax, 0, 0, 0.95 * ex, 0.95 * ey, flt)
@@ -316,23 +316,26 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
     ax.annotate(r"$\beta-\psi$", xy=(0.26 * math.cos(mid), 0.26 * math.sin(mid)),
                 xytext=(0.55, 0.22), fontsize=11, color="0.35",
                 arrowprops={"arrowstyle": "-", "color": "0.5", "lw": 0.8})
-    # below the origin's label, clear of the axes and arcs
-    ax.text(-0.98, -0.24, r"$\Omega_v$: along the vertical $\approx z$;" "\n"
-            r"a rate about $z$ gives no torque" "\n" r"about the output axis $z$",
-            fontsize=9.5, color=earth, va="top")
+    # the notes under the drawing, clear of the axes and the arcs
+    ax.text(-0.98, -0.3, r"$z = \zeta$: the output axis, towards the reader", fontsize=SMALL_PT,
+            color=base, va="top")
+    ax.text(-0.98, -0.48, r"$\Omega_v$: along the vertical $\approx z$; a rate about $z$" "\n"
+            r"gives no torque about the output axis $z$", fontsize=SMALL_PT, color=earth,
+            va="top")
     ax.set_xlim(-1.0, 1.3)
-    ax.set_ylim(-0.62, 1.15)
+    ax.set_ylim(-0.85, 1.15)
     ax.set_aspect("equal")
     ax.axis("off")
-    ax.set_title(r"(a) down the output axis: frames $Oxyz$ and $O\xi\eta\zeta$", fontsize=11)
+    ax.set_title(r"(a) down the output axis: frames $Oxyz$, $O\xi\eta\zeta$", fontsize=11)
     # Side views of the tilts: (axis, angle, tilt sign, rotation axis, projected rate).
     views = ((r"y", r"\delta", -1.0, r"x", r"$\omega_y = -\Omega_v\,\delta$"),
              (r"x", r"\gamma", 1.0, r"y", r"$\omega_x = \Omega_v\,\gamma$"))
     for row, (axis_name, angle_name, sgn, about, proj) in enumerate(views):
-        axs = fig.add_subplot(gs[row, 1])
+        axs = fig.add_subplot(gs[row + 1])
         a = sgn * math.radians(tilt_deg)
         axs.plot([-0.25, 1.15], [0, 0], color="0.6", lw=1, ls="--")
-        axs.text(-0.72, 0.02, "horizon", color="0.5", fontsize=9, va="bottom")  # in the panel
+        axs.text(-0.72, 0.02, "horizon", color="0.5", fontsize=SMALL_PT,
+                 va="bottom")  # in the panel
         _arrow(axs, 0, 0, math.cos(a), math.sin(a), base)
         axs.text(1.03 * math.cos(a), 1.03 * math.sin(a), rf"${axis_name}$", fontsize=12,
                  color=base, va="center")
@@ -345,7 +348,7 @@ def plot_figure1(*, beta_deg: float = 40.0, psi_deg: float = 12.0,
         axs.add_patch(Arc((0, 0), 1.3, 1.3, theta1=lo, theta2=hi, color="C2", lw=1.3))
         axs.text(0.7 * math.cos(a / 2) + 0.03, 0.7 * math.sin(a / 2), rf"${angle_name}$",
                  color="C2", fontsize=13, va="center")
-        axs.text(0.5, 0.42, rf"tilt about ${about}$", fontsize=9, color="0.3")
+        axs.text(0.5, 0.42, rf"tilt about ${about}$", fontsize=SMALL_PT, color="0.3")
         axs.set_xlim(-0.75, 1.45)
         axs.set_ylim(-0.32, 0.72)
         axs.set_aspect("equal")
@@ -380,7 +383,7 @@ def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: f
     Returns
     -------
     Figure
-        Left: linear time; right: log time.
+        Top: linear time; bottom: log time.
 
     Examples
     --------
@@ -393,8 +396,8 @@ def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: f
     pv = paper_value
     curves = {label: (r.t, from_si(r.std(name), unit)) for label, r in runs.items()}
     unit = unit_label
-    fig = Figure(figsize=(9.0, 4.2), layout="constrained")
-    ax_lin, ax_log = fig.subplots(1, 2)
+    fig = Figure(figsize=(5.0, 7.0), layout="constrained")
+    ax_lin, ax_log = fig.subplots(2, 1)  # stacked for the page
     for i, (label, (tt, ss)) in enumerate(curves.items()):
         lw = 2.0 if i == 0 else 1.2
         ax_lin.semilogy(tt, ss, lw=lw, label=label)
@@ -407,9 +410,9 @@ def plot_sigma_history(runs: Mapping[str, CovarianceAnalysis], *, paper_value: f
     ax_lin.axvspan(0.0, drop_time, color="0.85", zorder=0)
     ax_lin.set_title("linear time")
     ax_log.set_title("log time")
-    # below the panels: at display size the legend would cover the curves near 100 s
-    fig.legend(*ax_log.get_legend_handles_labels(), loc="outside lower center", ncols=2,
-               fontsize=9)
+    # below the panels: in a panel the legend would cover the curves near 100 s
+    fig.legend(*ax_log.get_legend_handles_labels(), loc="outside lower center", ncols=1,
+               fontsize=SMALL_PT)
     return fig
 
 
@@ -447,11 +450,11 @@ def plot_p0_scale(sweep: CovarianceSweep, *, paper_value: float,
     s = from_si(sweep.final_std(), unit)
     pv, unit = paper_value, unit_label
     t_end = float(sweep.analyses[0].t[-1])
-    fig = Figure(figsize=(6.0, 3.6), layout="constrained")
+    fig = Figure(figsize=(5.0, 3.4), layout="constrained")
     ax = fig.subplots()
     ax.plot(k, s, "o-")
     ax.axhline(pv, color="k", ls="--", label=f"paper: {pv:g} {unit}")
-    ax.set_xlabel("κ: P(0) of N1…N4 = κ × stationary covariance")
+    ax.set_xlabel("κ: P(0) of N1…N4 = κ × stationary cov.")
     ax.set_ylabel(f"σ of ω_gc at {t_end:g} s ({unit})")
     ax.grid(True, alpha=0.3)
     ax.legend()
@@ -473,8 +476,8 @@ def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
     Returns
     -------
     Figure
-        Left: σ at the last time per source (log axis); right: each source's share of the
-        total variance over time (stacked).
+        Top: σ at the last time per source (log axis); bottom: each source's share of the
+        total variance over time (stacked), its legend below.
 
     Examples
     --------
@@ -486,15 +489,15 @@ def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
     t, var, sources = budget.t, budget.var, budget.sources
     scale = float(from_si(1.0, unit)) ** -1
     unit = unit_label
-    fig = Figure(figsize=(10.0, 4.4), layout="constrained")
-    ax_bar, ax_share = fig.subplots(1, 2, width_ratios=[1.0, 1.2])
+    fig = Figure(figsize=(5.0, 10.0), layout="constrained")
+    ax_bar, ax_share = fig.subplots(2, 1, height_ratios=[1.0, 1.0])  # stacked for the page
     end = np.sqrt(np.clip(var[:, -1], 0.0, None)) / scale
     order = np.argsort(end)
     keep = [i for i in order if end[i] > 0]
     ax_bar.barh([sources[i] for i in keep], [end[i] for i in keep], color="C0")
     ax_bar.set_xscale("log")
-    ax_bar.set_xlabel(f"σ of ω_gc at {t[-1]:g} s from this source alone ({unit})")
-    ax_bar.tick_params(axis="y", labelsize=8)
+    ax_bar.set_xlabel(f"σ of ω_gc at {t[-1]:g} s, this source alone ({unit})")
+    ax_bar.tick_params(axis="y", labelsize=SMALL_PT)
     ax_bar.grid(True, axis="x", which="both", alpha=0.3)
     total = var.sum(axis=0)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -507,7 +510,9 @@ def plot_error_budget(budget: ErrorBudget, *, unit: str = "arcsec_paper/s",
     ax_share.set_xlabel("time (s)")
     ax_share.set_ylabel("share of the variance of ω_gc's error")
     ax_share.set_ylim(0, 1)
-    ax_share.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    # below the panel: beside it, it would take half the width
+    ax_share.legend(fontsize=SMALL_PT, loc="upper center", bbox_to_anchor=(0.5, -0.22),
+                    ncols=1)
     return fig
 
 
@@ -554,8 +559,8 @@ def plot_estimates(mc, *, runs: tuple[int, ...] = (0, 1), state: str = "omega_gc
     tru = from_si(mc.truth(state)[list(runs), 0], unit)
     sig = from_si(mc.std(state), unit)
     ul = _unit_label(unit)
-    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
-    axes = fig.subplots(1, 2 if t_zoom else 1, squeeze=False)[0]
+    fig = Figure(figsize=(5.0, 7.0 if t_zoom else 3.6), layout="constrained")
+    axes = fig.subplots(2 if t_zoom else 1, 1, squeeze=False)[:, 0]  # stacked for the page
     for ax, tmax in zip(axes, (t[-1], t_zoom)):
         sel = t <= tmax
         for i, run in enumerate(runs):
@@ -567,15 +572,15 @@ def plot_estimates(mc, *, runs: tuple[int, ...] = (0, 1), state: str = "omega_gc
         ax.set_ylabel(f"{state} ({ul})")
         ax.grid(True, alpha=0.3)
         ax.set_title(f"0 – {tmax:g} s")
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=SMALL_PT)
     return fig
 
 
 @page_figure
 def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s",
                      confidence: float = 0.95) -> Figure:
-    """Left: ensemble RMS error of ``state`` and the filter's σ, with the band of an RMS of
-    ``n_runs`` runs of a consistent filter.  Right: ensemble-average NEES of ``state`` (1 dof)
+    """Top: ensemble RMS error of ``state`` and the filter's σ, with the band of an RMS of
+    ``n_runs`` runs of a consistent filter.  Bottom: ensemble-average NEES of ``state`` (1 dof)
     and of the full state (10 dof) with their chi-square bands {cite:p}`BarShalom2001`.
 
     Parameters
@@ -602,8 +607,8 @@ def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s
     nees = {f"{state} (1 dof)": (mc.nees((state,)).mean(axis=0), b1),
             f"full state ({dof} dof)": (mc.nees().mean(axis=0), bn)}
     pct = f"{100 * confidence:g} %"
-    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
-    ax_r, ax_n = fig.subplots(1, 2)
+    fig = Figure(figsize=(5.0, 7.4), layout="constrained")
+    ax_r, ax_n = fig.subplots(2, 1)  # stacked for the page
     ax_r.loglog(t[1:], s[1:], "k", lw=2, label="filter σ")
     ax_r.fill_between(t[1:], np.sqrt(b1[0]) * s[1:], np.sqrt(b1[1]) * s[1:], color="0.8",
                       label=f"{pct} band for the RMS")
@@ -611,7 +616,7 @@ def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s
     ax_r.set_xlabel("time (s)")
     ax_r.set_ylabel(f"{state} error ({_unit_label(unit)})")
     ax_r.grid(True, which="both", alpha=0.3)
-    ax_r.legend(fontsize=8)
+    ax_r.legend(fontsize=SMALL_PT)
     for i, (label, (vals, (blo, bhi))) in enumerate(nees.items()):
         c = f"C{i}"
         ax_n.semilogx(t[1:], np.nan_to_num(vals[1:], nan=0.0), color=c, lw=1,
@@ -619,9 +624,10 @@ def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s
         ax_n.axhspan(blo, bhi, color=c, alpha=0.15)
     ax_n.set_yscale("log")
     ax_n.set_xlabel("time (s)")
-    ax_n.set_ylabel(f"ensemble-average NEES (bands: {pct} chi-square)")
+    ax_n.set_ylabel("ensemble-average NEES")
+    ax_n.set_title(f"bands: {pct} chi-square", fontsize=SMALL_PT)
     ax_n.grid(True, which="both", alpha=0.3)
-    ax_n.legend(fontsize=8)
+    ax_n.legend(fontsize=SMALL_PT)
     return fig
 
 
@@ -652,9 +658,9 @@ def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_p
 
     ul = _unit_label(unit)
     n = len(sweep.fields)
-    cols = 3
+    cols = 2 if n > 1 else 1  # two narrow panels a row: 5 in wide for the page
     rows = -(-n // cols)
-    fig = Figure(figsize=(10.0, 3.0 * rows), layout="constrained")
+    fig = Figure(figsize=(5.0, 2.4 * rows + 0.6), layout="constrained")
     axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
     for a, (ax, field) in enumerate(zip(axes, sweep.fields)):
         ax.loglog(sweep.values[a], from_si(sweep.sigma_end[a], unit), "o-")
@@ -672,7 +678,7 @@ def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_p
             ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: f"{y:.6g}"))
             ax.yaxis.set_minor_formatter(NullFormatter())
             ax.set_ylim(lo, hi)
-    axes[0].legend(fontsize=7)
+    legend_below(fig, axes[0], ncols=2)  # in a panel it covers the lines it names
     for ax in axes[n:]:
         ax.set_visible(False)
     return fig
@@ -682,8 +688,8 @@ def plot_sweep(sweep, *, paper_value: float | None = None, unit: str = "arcsec_p
 def plot_information(info, frozen=None, *, unit: str = "arcsec_paper/s",
                      beta_frozen: float | None = None,
                      rounding_floor: float | None = 1e-12) -> Figure:
-    """Left: σ of ω_gc from the angle sensor's information alone with ψ known and unknown.
-    Right: ``1 − |correlation|`` of the ψ and ω_gc information for the turning float and (if
+    """Top: σ of ω_gc from the angle sensor's information alone with ψ known and unknown.
+    Bottom: ``1 − |correlation|`` of the ψ and ω_gc information for the turning float and (if
     ``frozen`` is given) for a float frozen at ``beta_frozen``, the value ``1 − √15/4`` of
     the regressors ``t`` and ``t²``, and a grey band below ``rounding_floor`` (double-
     precision rounding; ``None``: none).  The first stored time (no information yet) is
@@ -706,15 +712,16 @@ def plot_information(info, frozen=None, *, unit: str = "arcsec_paper/s",
     """
     t = info.t[1:]
     ul = _unit_label(unit)
-    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
-    ax_s, ax_c = fig.subplots(1, 2)
+    fig = Figure(figsize=(5.0, 7.6), layout="constrained")
+    ax_s, ax_c = fig.subplots(2, 1)  # stacked for the page
     ax_s.loglog(t, from_si(info.sigma_gc_psi_known()[1:], unit), label="ψ known")
     ax_s.loglog(t, from_si(info.sigma_gc_psi_unknown()[1:], unit),
                 label="ψ unknown (no prior)")
     ax_s.set_xlabel("time (s)")
-    ax_s.set_ylabel(f"σ of ω_gc, angle-sensor information only ({ul})")
+    ax_s.set_ylabel(f"σ of ω_gc ({ul})")
+    ax_s.set_title("angle-sensor information only", fontsize=SMALL_PT)
     ax_s.grid(True, which="both", alpha=0.3)
-    ax_s.legend(fontsize=8)
+    ax_s.legend(fontsize=SMALL_PT)
     ax_c.semilogx(t, 1.0 - np.abs(info.correlation()[1:]),
                   label="float turning (sin β_n grows)")
     if frozen is not None:
@@ -729,9 +736,10 @@ def plot_information(info, frozen=None, *, unit: str = "arcsec_paper/s",
         ax_c.axhspan(ax_c.get_ylim()[0], rounding_floor, color="0.85", zorder=0,
                      label="double-precision rounding")
     ax_c.set_xlabel("time (s)")
-    ax_c.set_ylabel("1 − |correlation of ψ and ω_gc information|")
+    ax_c.set_ylabel("1 − |correlation|")
+    ax_c.set_title("correlation of the ψ and ω_gc information", fontsize=SMALL_PT)
     ax_c.grid(True, which="both", alpha=0.3)
-    ax_c.legend(fontsize=8)
+    ax_c.legend(fontsize=SMALL_PT)
     return fig
 
 
@@ -761,14 +769,14 @@ def plot_speed_claim(claim_map) -> Figure:
     norm = LogNorm(vmin=max(1.0, float(finite.min()) if finite.size else 1.0),
                    vmax=2.0 * m.t_max)
     n = len(m.readings)
-    fig = Figure(figsize=(5.0 * n, 4.2), layout="constrained")
-    axes = np.atleast_1d(fig.subplots(1, n, squeeze=False)).ravel()
+    fig = Figure(figsize=(5.0, 3.4 * n + 0.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(n, 1, squeeze=False)).ravel()  # stacked for the page
     mesh = None
     for ax, reading, tc, raw in zip(axes, m.readings, shown, m.t_c):
         mesh = ax.pcolormesh(x, y, tc, norm=norm, shading="nearest", cmap="viridis")
         if np.nanmin(tc) < m.bound < np.nanmax(tc):
             cs = ax.contour(x, y, tc, levels=[m.bound], colors="k", linewidths=2)
-            ax.clabel(cs, fmt=lambda _: f"{m.bound:g} s", fontsize=8)
+            ax.clabel(cs, fmt=lambda _: f"{m.bound:g} s", fontsize=SMALL_PT)
         miss = ~np.isfinite(raw)
         if np.any(miss):
             ax.contourf(x, y, miss.astype(float), levels=[0.5, 1.5], colors="none",
@@ -780,8 +788,9 @@ def plot_speed_claim(claim_map) -> Figure:
         ax.set_xlabel(FIELD_LABELS.get(m.x_field, m.x_field))
         ax.set_ylabel(FIELD_LABELS.get(m.y_field, m.y_field))
         ax.set_title(f"P0 of N1…N4: {reading}")
-        ax.legend(fontsize=8, loc="lower left")
-    fig.colorbar(mesh, ax=list(axes), label="time to reach σ_c (s)")
+        ax.legend(fontsize=SMALL_PT, loc="lower left")
+    fig.colorbar(mesh, ax=list(axes), label="time to reach σ_c (s)", location="bottom",
+                 shrink=0.9)
     return fig
 
 
@@ -805,7 +814,7 @@ def plot_mismatch(results: Mapping[str, object], *, state: str = "omega_gc",
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(7.0, 4.2), layout="constrained")
+    fig = Figure(figsize=(5.0, 5.4), layout="constrained")
     ax = fig.subplots()
     for i, (label, mc) in enumerate(results.items()):
         c = f"C{i}"
@@ -816,7 +825,7 @@ def plot_mismatch(results: Mapping[str, object], *, state: str = "omega_gc",
     ax.set_xlabel("time (s)")
     ax.set_ylabel(f"{state} ({_unit_label(unit)})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    legend_below(fig, ax)  # two entries per result: inside, they cover the curves
     return fig
 
 
@@ -859,22 +868,22 @@ def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = Non
         t_end = 1.25 * max([*times, r.phases[-1][1]])
     t_end = v.check_positive("t_end", t_end)
     ul = _unit_label(unit)
-    fig = Figure(figsize=(8.0, 4.6), layout="constrained")
+    fig = Figure(figsize=(5.0, 5.2), layout="constrained")
     ax = fig.subplots()
     for name, a, b in r.phases:
         if a < t_end:
             ax.axvspan(a, min(b, t_end), color=_PHASE_COLORS.get(name, "0.9"), zorder=0)
+            # upright: on a 5-in figure a band is narrower than its name set across it
             ax.text(0.5 * (a + min(b, t_end)), 0.98, name, transform=ax.get_xaxis_transform(),
-                    ha="center", va="top", fontsize=8, rotation=90 if b - a < 0.06 * t_end
-                    else 0)
+                    ha="center", va="top", fontsize=SMALL_PT, rotation=90)
     sc = from_si(r.procedure.sigma_c, unit)
     # (label, t, σ, colour, line style, offset of the time label in points)
     curves = (("GC's method (gyrocompass, Kalman filter)", r.t_gc, r.sigma_gc, "C0", "-",
-               (3, -14)),
+               (-38, -15)),
               ("rate sensor, classical half-sum", r.t_classical, r.sigma_classical, "C3", "-",
                (4, 6)),
               ("rate sensor, optimal (Kalman) estimator", r.t_optimal, r.sigma_optimal, "C2",
-               "--", (-34, -14)))
+               "--", (4, -15)))
     for (label, t, s, c, ls, off), tc in zip(curves, (r.t_c_gc, r.t_c_rate_sensor,
                                                        r.t_c_rate_sensor_optimal)):
         keep = t <= t_end
@@ -882,14 +891,19 @@ def plot_race(result, *, unit: str = "arcsec_paper/s", t_end: float | None = Non
             ax.semilogy(t[keep], from_si(s[keep], unit), color=c, ls=ls, lw=1.8, label=label)
         if np.isfinite(tc) and tc <= t_end:
             ax.plot([tc], [sc], "o", color=c, ms=7, mec="k")
+            # on a white ground: a label in a curve's colour on a band of the same hue
+            # (green on "position 2") would not read
             ax.annotate(f"{tc:.1f} s", (tc, sc), textcoords="offset points", xytext=off,
-                        color=c, fontsize=8)
+                        color=c, fontsize=SMALL_PT,
+                        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none",
+                              "alpha": 0.9})
     ax.axhline(sc, color="k", lw=1, ls=":", label=f"σ_c = {sc:g} {ul}")
     ax.set_xlim(0.0, t_end)
     ax.set_xlabel("elapsed time (s)")
     ax.set_ylabel(f"σ of the ω_gc estimate ({ul})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, loc="upper right", bbox_to_anchor=(1.0, 0.9))
+    # below the axes: in them, on a 5-in figure, it would cover the curves
+    legend_below(fig, ax)
     return fig
 
 
@@ -929,7 +943,7 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
         raise ValueError(f"field must be set by every case of the sweep; got {field!r}")
     x = np.array([float(c[field]) for c in sw.cases])
     order = np.argsort(x)
-    fig = Figure(figsize=(6.4, 4.2), layout="constrained")
+    fig = Figure(figsize=(5.0, 5.0), layout="constrained")
     ax = fig.subplots()
     for t, lab, c, ls in ((sw.t_c_gc, "GC's method", "C0", "-"),
                           (sw.t_c_rate_sensor, "rate sensor, classical", "C3", "-"),
@@ -945,7 +959,7 @@ def plot_race_sweep(sweep, field: str, *, log_x: bool = False,
     ax.set_xlabel(label or field)
     ax.set_ylabel("time to σ_c (s)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    legend_below(fig, ax)
     return fig
 
 
@@ -996,7 +1010,7 @@ def plot_race_verdict(grid, *, thresholds: Mapping[str, float] | None = None) ->
         ax.set_ylabel("saving − 50 (%)")
         ax.set_title(names.get(r, r), fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8, loc="lower left")
+        ax.legend(fontsize=SMALL_PT, loc="lower left")
     axes[-1].set_xlabel("σ1² as a factor of the paper's")
     return fig
 
@@ -1004,13 +1018,13 @@ def plot_race_verdict(grid, *, thresholds: Mapping[str, float] | None = None) ->
 @page_figure
 def plot_linearization(effect) -> Figure:
     """Where the full-state NEES of the nonlinear truth goes out of its band, and why
-    (:func:`gyrolib.gc.linearization_effect`).  Left: the full-state NEES with the nonlinear
-    and with the linearized truth (same runs), and the nonlinear one less the excess that
-    the ω_gc shift predicts, against the per-time chi-square band.  Middle: the paired change
-    of each state's error at the last time, RMS over the runs, in units of that state's σ.
-    Right: the paired shift of the ω_gc estimate per run at the last time against the
-    remainder drift of Eq. (3)'s linearization (paper GC, Eqs. (3), (5)), in units of the
-    filter's σ of ω_gc.
+    (:func:`gyrolib.gc.linearization_effect`), three panels stacked.  Top: the full-state
+    NEES with the nonlinear and with the linearized truth (same runs), and the nonlinear
+    one less the excess that the ω_gc shift predicts, against the per-time chi-square
+    band.  Below it: the paired change of each state's error at the last time, RMS over the
+    runs, in units of that state's σ.  At the bottom: the paired shift of the ω_gc
+    estimate per run at the last time against the remainder drift of Eq. (3)'s
+    linearization (paper GC, Eqs. (3), (5)), in units of the filter's σ of ω_gc.
 
     Parameters
     ----------
@@ -1024,8 +1038,10 @@ def plot_linearization(effect) -> Figure:
     from gyrolib.gc.model.params import STATE_NAMES
 
     t = effect.t
-    fig = Figure(figsize=(12.0, 4.0), layout="constrained")
-    ax_n, ax_s, ax_w = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.4, 1.0, 1.0]})
+    fig = Figure(figsize=(5.0, 12.0), layout="constrained")
+    # stacked for the page; the NEES panel's legend sits under it (in it, it would cover
+    # the curves)
+    ax_n, ax_s, ax_w = fig.subplots(3, 1, height_ratios=[1.2, 1.0, 1.2])
     ax_n.axhspan(*effect.band, color="0.85", label="95 % band per time")
     ax_n.semilogx(t, effect.nees_nonlinear, "C3", lw=1,
                   label=f"nonlinear truth ({100 * effect.inside('nonlinear'):.0f} % inside)")
@@ -1034,18 +1050,18 @@ def plot_linearization(effect) -> Figure:
     ax_n.semilogx(t, effect.nees_nonlinear - effect.excess_predicted, "k", lw=0.8, ls=":",
                   label="nonlinear less the predicted excess")
     ax_n.set_xlabel("time (s)")
-    ax_n.set_ylabel(f"full-state NEES, average of {effect.n_runs} runs")
+    ax_n.set_ylabel("full-state NEES")
+    ax_n.set_title(f"average of {effect.n_runs} runs", fontsize=SMALL_PT)
     ax_n.grid(True, which="both", alpha=0.3)
-    # below the panels: at display size the legend would cover the NEES curves
-    fig.legend(*ax_n.get_legend_handles_labels(), loc="outside lower left", ncols=2,
-               fontsize=9)
+    ax_n.legend(loc="upper center", bbox_to_anchor=(0.5, -0.25), ncols=1, fontsize=SMALL_PT)
     shift = np.maximum(effect.state_shift[-1], 1e-12)
     ax_s.barh(np.arange(shift.size), shift, color="C1")
-    ax_s.set_yticks(np.arange(shift.size), STATE_NAMES, fontsize=8)
+    ax_s.set_yticks(np.arange(shift.size), STATE_NAMES, fontsize=SMALL_PT)
     ax_s.invert_yaxis()
     ax_s.set_xscale("log")
     ax_s.set_xlim(1e-8, 1.0)
     ax_s.set_xlabel(f"paired change of the error at {t[-1]:g} s (σ)")
+    ax_s.set_ylabel("state")
     ax_s.grid(True, axis="x", which="both", alpha=0.3)
     sig = effect.omega_sigma[-1]
     pred = effect.omega_shift_predicted[:, -1] / sig
@@ -1056,22 +1072,23 @@ def plot_linearization(effect) -> Figure:
     ax_w.set_xlim(-lim, 0.05 * lim)
     ax_w.set_ylim(-lim, 0.05 * lim)
     ax_w.set_xlabel("remainder −Ω_h cos β_n ψ²/2 (σ of ω_gc)")
-    ax_w.set_ylabel(f"shift of the ω_gc estimate at {t[-1]:g} s (σ)")
+    ax_w.set_ylabel(f"shift of ω̂_gc at {t[-1]:g} s (σ)")
+    ax_w.set_aspect("equal", adjustable="box")
     ax_w.grid(True, alpha=0.3)
-    ax_w.legend(fontsize=7)
+    ax_w.legend(fontsize=SMALL_PT, loc="upper left")
     return fig
 
 
 @page_figure
 def plot_allan(result: AllanDeviation, *, title: str | None = None):
-    """Left: the Allan deviation of the angle-sensor rate (rad/s); right: of the two
+    """Top: the Allan deviation of the angle-sensor rate (rad/s); bottom: of the two
     inclinometers (m/s²); each with its error bars and, dashed, paper GC's model.  Returns a
     :class:`matplotlib.figure.Figure`."""
     import matplotlib.pyplot as plt
 
     if not isinstance(result, AllanDeviation):
         raise TypeError(f"result must be an AllanDeviation; got {type(result).__name__}")
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8))
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(5.0, 7.0), layout="constrained")  # stacked
     s = result.series[0]
     ax.errorbar(s.tau, s.adev, yerr=[s.adev - s.lo, s.hi - s.adev], fmt="o-", ms=3, lw=1,
                 color="C0",
@@ -1093,17 +1110,16 @@ def plot_allan(result: AllanDeviation, *, title: str | None = None):
         a.set_yscale("log")
         a.set_xlabel("τ (s)")
         a.grid(True, which="both", lw=0.3, alpha=0.5)
-        a.legend(fontsize=7)
+        a.legend(fontsize=SMALL_PT)
     if title:
         fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
     return fig
 
 
 @page_figure
 def plot_convention_study(study: ConventionStudy):
-    """Left: the error of ω̂_gc in σ per run, as logged and wrongly wired, marked by whether
-    the diagnostics pass.  Right: the shift of the estimate the wiring causes against the
+    """Top: the error of ω̂_gc in σ per run, as logged and wrongly wired, marked by whether
+    the diagnostics pass.  Bottom: the shift of the estimate the wiring causes against the
     shift Eq. (5) predicts from the true tilts.  Returns a :class:`matplotlib.figure.Figure`."""
     import matplotlib.pyplot as plt
 
@@ -1111,7 +1127,7 @@ def plot_convention_study(study: ConventionStudy):
 
     if not isinstance(study, ConventionStudy):
         raise TypeError(f"study must be a ConventionStudy; got {type(study).__name__}")
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(9.0, 3.8))
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(5.0, 8.4), layout="constrained")  # stacked
     k = np.arange(study.seeds.size)
     for z, fits, x0, color, label in ((study.z_right, study.fits_right, -0.15, "C0",
                                        "columns as logged"),
@@ -1124,9 +1140,10 @@ def plot_convention_study(study: ConventionStudy):
     ax.axhspan(-3, 3, color="0.9", zorder=0, label="±3σ")
     ax.axhline(0, color="k", lw=0.6)
     ax.set_xlabel("run (seed)")
-    ax.set_xticks(k, [str(s) for s in study.seeds], fontsize=7)
+    ax.set_xticks(k, [str(s) for s in study.seeds], fontsize=SMALL_PT)
     ax.set_ylabel("(ω̂_gc − ω_gc) / σ")
-    ax.legend(fontsize=7, loc="best")
+    # below the panel: in it, it would cover the runs
+    ax.legend(fontsize=SMALL_PT, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncols=2)
     pred = np.asarray(from_si(study.predicted_shift, "arcsec_paper/s"))
     got = np.asarray(from_si(study.shift, "arcsec_paper/s"))
     lim = 1.1 * float(max(np.max(np.abs(pred)), np.max(np.abs(got)), 1e-12))
@@ -1136,8 +1153,10 @@ def plot_convention_study(study: ConventionStudy):
     bx.set_ylabel("shift of ω̂_gc, wired − logged (″/s)")
     bx.set_xlim(-lim, lim)
     bx.set_ylim(-lim, lim)
-    bx.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
+    from matplotlib.ticker import MaxNLocator
+
+    bx.xaxis.set_major_locator(MaxNLocator(5))  # "−0.015" a tick: more overprint at 5 in
+    bx.legend(fontsize=SMALL_PT, loc="upper left")
     return fig
 
 
@@ -1181,7 +1200,7 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
     conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True, high_open=True)
     if label is not None and not isinstance(label, str):
         raise TypeError(f"label must be a str or None; got {type(label).__name__}")
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 5.6), sharex=True,
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(5.0, 7.0), sharex=True, layout="constrained",
                                  gridspec_kw={"height_ratios": [3, 2]})
     est = np.asarray(from_si(result.estimate("omega_gc"), "arcsec_paper/s"))
     sig = np.asarray(from_si(result.sigma("omega_gc"), "arcsec_paper/s"))
@@ -1198,7 +1217,7 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
         tr = float(from_si(truth, "arcsec_paper/s"))
         lo, hi = min(lo, tr - (hi - lo) * 0.1), max(hi, tr + (hi - lo) * 0.1)
     ax.set_ylim(lo, hi)
-    ax.legend(loc="upper right", fontsize=8)
+    ax.legend(loc="upper right", fontsize=SMALL_PT)
     ax.set_title((f"{label}\n" if label else "")
                  + f"ω_gc = {from_si(result.omega_gc, 'arcsec_paper/s'):.4g} ± "
                  f"{from_si(result.omega_gc_std, 'arcsec_paper/s'):.2g} ″/s", fontsize=10)
@@ -1214,6 +1233,5 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
     bx.set_ylabel("mean NIS per window" if tb.size == result.t.size else
                   f"mean NIS per bin of {math.ceil(result.t.size / MAX_NIS_BINS)} windows")
     bx.set_xlabel("t (s)")
-    bx.legend(loc="upper right", fontsize=7, ncol=2)
-    fig.tight_layout()
+    legend_below(fig, bx, ncols=2)  # in the panel it would cover the NIS curves
     return fig

@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, FancyArrowPatch, FancyBboxPatch, Polygon
 
 from gyrolib import _validation as v
-from gyrolib._page_figures import page_figure
+from gyrolib._page_figures import SMALL_PT, legend_below, page_figure
 from gyrolib.rsf.calibration import CalibrationResult
 from gyrolib.rsf.claims import CompensationShare
 from gyrolib.rsf.correction import CorrectionRun, DeltaKPrediction
@@ -41,133 +41,148 @@ __all__ = [
 
 # Block-diagram primitives ----------------------------------------------------------------------
 class _Diagram:
-    """Boxes, summing junctions and arrows on an axes in data coordinates."""
+    """Boxes, summing junctions and arrows on an axes whose unit is the inch, laid out from
+    the top: a point is ``(x, d)``, ``x`` from the left edge and ``d`` down from the top edge
+    of a figure :data:`~gyrolib._page_figures.MAX_WIDTH_IN` wide (the signal flows down the
+    page, so that the text reads at the page's size on a phone)."""
 
-    def __init__(self, width: float, height: float, figsize: tuple[float, float]):
-        self.fig = Figure(figsize=figsize)
+    def __init__(self, height: float, width: float = 5.0):
+        self.height = height
+        self.fig = Figure(figsize=(width, height))
         self.ax = self.fig.add_axes((0.0, 0.0, 1.0, 1.0))
         self.ax.set_xlim(0, width)
         self.ax.set_ylim(0, height)
         self.ax.set_aspect("equal")
         self.ax.axis("off")
 
-    def box(self, x: float, y: float, w: float, h: float, text: str, *,
-            color: str = "#e8f0fb", fontsize: float = 9) -> dict[str, tuple[float, float]]:
-        """A rounded box centred at (x, y); returns its side midpoints."""
-        self.ax.add_patch(FancyBboxPatch((x - w / 2, y - h / 2), w, h,
+    def xy(self, p: tuple[float, float]) -> tuple[float, float]:
+        return p[0], self.height - p[1]
+
+    def text(self, x: float, d: float, text: str, **kw) -> None:
+        self.ax.text(*self.xy((x, d)), text, fontsize=kw.pop("fontsize", SMALL_PT), **kw)
+
+    def box(self, x: float, d: float, w: float, h: float, text: str, *,
+            color: str = "#e8f0fb") -> dict[str, tuple[float, float]]:
+        """A rounded box centred at (x, d); returns its side midpoints (x, d)."""
+        x0, y0 = self.xy((x - w / 2, d + h / 2))
+        self.ax.add_patch(FancyBboxPatch((x0, y0), w, h,
                                          boxstyle="round,pad=0.02,rounding_size=0.08",
                                          fc=color, ec="#1f3b63", lw=1.2))
-        self.ax.text(x, y, text, ha="center", va="center", fontsize=fontsize)
-        return {"l": (x - w / 2, y), "r": (x + w / 2, y), "t": (x, y + h / 2),
-                "b": (x, y - h / 2)}
+        self.text(x, d, text, ha="center", va="center")
+        return {"l": (x - w / 2, d), "r": (x + w / 2, d), "t": (x, d - h / 2),
+                "b": (x, d + h / 2)}
 
-    def junction(self, x: float, y: float, r: float = 0.22,
+    def junction(self, x: float, d: float, r: float = 0.19, symbol: str = "Σ",
                  signs: dict[str, str] | None = None) -> dict[str, tuple[float, float]]:
-        """A summing junction; ``signs`` maps sides ("l", "t", "b") to "+" or "−"."""
-        self.ax.add_patch(Circle((x, y), r, fc="white", ec="#1f3b63", lw=1.2))
-        self.ax.text(x, y, "Σ", ha="center", va="center", fontsize=9)
-        offsets = {"l": (-1.6 * r, 0.9 * r), "t": (0.9 * r, 1.6 * r), "b": (0.9 * r, -1.6 * r),
-                   "r": (1.6 * r, 0.9 * r)}
+        """A summing junction; ``signs`` maps sides ("l", "r", "t", "b") to "+" or "−"."""
+        self.ax.add_patch(Circle(self.xy((x, d)), r, fc="white", ec="#1f3b63", lw=1.2))
+        self.text(x, d, symbol, ha="center", va="center")
+        offsets = {"l": (-1.7 * r, -0.9 * r), "t": (0.9 * r, -1.7 * r),
+                   "b": (0.9 * r, 1.7 * r), "r": (1.7 * r, -0.9 * r)}
         for side, sign in (signs or {}).items():
-            dx, dy = offsets[side]
-            self.ax.text(x + dx, y + dy, sign, ha="center", va="center", fontsize=10,
-                         fontweight="bold")
-        return {"l": (x - r, y), "r": (x + r, y), "t": (x, y + r), "b": (x, y - r)}
+            dx, dd = offsets[side]
+            self.text(x + dx, d + dd, sign, ha="center", va="center", fontweight="bold")
+        return {"l": (x - r, d), "r": (x + r, d), "t": (x, d - r), "b": (x, d + r)}
 
-    def arrow(self, points: Sequence[tuple[float, float]], label: str = "", *,
-              where: int = 0, offset: tuple[float, float] = (0.0, 0.15),
-              fontsize: float = 9, ha: str = "center") -> None:
-        """A polyline ending in an arrowhead; ``label`` near segment ``where``."""
-        pts = list(points)
+    def arrow(self, points: Sequence[tuple[float, float]]) -> None:
+        """A polyline through ``points`` (x, d) ending in an arrowhead."""
+        pts = [self.xy(p) for p in points]
         for p, q in pairwise(pts[:-1]):
             self.ax.plot([p[0], q[0]], [p[1], q[1]], color="#1f3b63", lw=1.2)
         self.ax.add_patch(FancyArrowPatch(pts[-2], pts[-1], arrowstyle="-|>",
                                           mutation_scale=12, color="#1f3b63", lw=1.2,
                                           shrinkA=0, shrinkB=0))
-        if label:
-            p, q = pts[where], pts[where + 1]
-            self.ax.text((p[0] + q[0]) / 2 + offset[0], (p[1] + q[1]) / 2 + offset[1], label,
-                         ha=ha, va="bottom", fontsize=fontsize)
 
-    def dot(self, x: float, y: float) -> None:
-        self.ax.plot([x], [y], "o", color="#1f3b63", ms=4)
+    def line(self, points: Sequence[tuple[float, float]]) -> None:
+        pts = [self.xy(p) for p in points]
+        self.ax.plot([p[0] for p in pts], [p[1] for p in pts], color="#1f3b63", lw=1.2)
+
+    def dot(self, x: float, d: float) -> None:
+        self.ax.plot(*self.xy((x, d)), "o", color="#1f3b63", ms=4)
 
 
 @page_figure
 def plot_method_scheme() -> Figure:
-    """Paper RSF, Figure 1: functional scheme of the correction method."""
-    d = _Diagram(12.0, 6.2, (10.0, 5.2))
-    veh = d.box(1.0, 3.4, 1.5, 1.0, r"vehicle" "\n" r"roll rate $\omega$")
-    gyro = d.box(3.7, 4.9, 2.3, 1.0, r"SINS roll gyro" "\n"
+    """Paper RSF, Figure 1: functional scheme of the correction method, drawn top to bottom
+    (the vehicle's rate at the top, the coefficient ``K_i`` fed back at the bottom)."""
+    d = _Diagram(6.0)
+    veh = d.box(2.4, 0.35, 2.3, 0.45, r"vehicle: roll rate $\omega$")
+    gyro = d.box(1.2, 1.45, 2.2, 0.7, "SINS roll gyro\n"
                  r"$\omega_x = (1+\varepsilon_1)\,\omega + \varepsilon_0$")
-    gs = d.box(3.7, 1.5, 2.2, 1.1, "indicator GS\n(MEMS gyro\n+ encoder)")
-    mult = d.junction(6.6, 4.9, signs={})
-    d.ax.texts[-1].set_text("×")
-    nav = d.box(10.4, 4.9, 2.2, 1.0, "SINS navigation\nalgorithm")
-    integ = d.box(6.6, 3.2, 1.6, 0.8, r"$\int\omega_x\,dt$" "\n" r"over $\Delta t$")
-    summ = d.junction(8.6, 2.3, signs={"t": "+", "b": "−"})
-    est = d.box(10.4, 2.3, 2.0, 0.9, r"$\hat\varepsilon_1 = \Delta\gamma_i/(\omega_x\Delta t)$"
-                "\nEq. (2)", fontsize=8.5)
-    coef = d.box(10.4, 0.7, 2.0, 0.8, r"$K_i = 1 - \hat\varepsilon_1$" "\n"
-                 r"held for the next $\Delta t$", fontsize=8.5)
-    split = (2.2, 3.4)
-    d.arrow([veh["r"], split], "")
-    d.dot(*split)
-    d.arrow([split, (split[0], gyro["l"][1]), gyro["l"]])
-    d.arrow([split, (split[0], gs["l"][1]), gs["l"]])
-    d.arrow([gyro["r"], mult["l"]], r"$\omega_x$ (measurement 1)", offset=(0.0, 0.12),
-            fontsize=8)
-    tap = (5.3, 4.9)
+    gs = d.box(3.65, 1.45, 2.1, 0.7, "indicator GS\n(MEMS gyro + encoder)")
+    d.dot(2.4, 0.85)
+    d.line([veh["b"], (2.4, 0.85)])
+    d.arrow([(2.4, 0.85), (gyro["t"][0], 0.85), gyro["t"]])
+    d.arrow([(2.4, 0.85), (gs["t"][0], 0.85), gs["t"]])
+    tap = (1.2, 2.55)
+    integ = d.box(2.6, 2.55, 1.3, 0.6, r"$\int\omega_x\,dt$" "\n" r"over $\Delta t$")
+    d.line([gyro["b"], tap])
     d.dot(*tap)
-    d.arrow([tap, (tap[0], integ["l"][1]), integ["l"]])
-    d.arrow([mult["r"], nav["l"]], r"$\hat\omega_x = K_i\,\omega_x$  (Eq. 3)",
-            offset=(0.05, 0.12), fontsize=8)
-    d.arrow([integ["r"], (summ["t"][0], integ["r"][1]), summ["t"]], r"$\gamma_{SINS}$",
-            offset=(0.1, 0.1))
-    d.arrow([gs["r"], (summ["b"][0], gs["r"][1]), summ["b"]], r"$\gamma_{GS}$ (measurement 2)",
-            offset=(0.2, 0.1), fontsize=8)
-    d.arrow([summ["r"], est["l"]], r"$\Delta\gamma_i$", offset=(0.0, 0.08))
+    d.text(1.3, 2.05, r"$\omega_x$ (measurement 1)", ha="left", va="center")
+    d.arrow([tap, integ["l"]])
+    summ = d.junction(3.65, 3.25, signs={"l": "+", "t": "−"})
+    d.text(3.95, 3.35, "Eq. (1)", ha="left", va="center")
+    d.arrow([integ["b"], (integ["b"][0], summ["l"][1]), summ["l"]])
+    d.text(2.7, 3.12, r"$\gamma_{SINS}$", ha="left", va="bottom")
+    d.arrow([gs["b"], summ["t"]])
+    d.text(3.75, 2.3, r"$\gamma_{GS}$" "\n(measurement 2)", ha="left", va="center")
+    est = d.box(3.65, 4.15, 2.4, 0.7,
+                r"$\hat\varepsilon_1 = \Delta\gamma_i/(\omega_x\Delta t)$" "\nEq. (2)")
+    d.arrow([summ["b"], est["t"]])
+    d.text(3.75, 3.62, r"$\Delta\gamma_i$", ha="left", va="center")
+    coef = d.box(3.65, 5.2, 2.4, 0.7, r"$K_i = 1 - \hat\varepsilon_1$" "\n"
+                 r"held for the next $\Delta t$")
     d.arrow([est["b"], coef["t"]])
-    d.arrow([coef["r"], (11.75, coef["r"][1]), (11.75, 3.9), (mult["b"][0], 3.9), mult["b"]],
-            r"$K_i$", where=2, offset=(0.0, 0.08))
-    d.ax.text(8.95, 1.95, "Eq. (1)", ha="left", va="top", fontsize=8)
+    mult = d.junction(1.2, 3.75, symbol="×")
+    d.arrow([tap, mult["t"]])
+    nav = d.box(1.2, 5.05, 1.7, 0.7, "SINS navigation\nalgorithm")
+    d.arrow([mult["b"], nav["t"]])
+    d.text(1.3, 4.3, r"$\hat\omega_x = K_i\,\omega_x$" "\n(Eq. 3)", ha="left", va="center")
+    d.arrow([coef["b"], (coef["b"][0], 5.8), (0.15, 5.8), (0.15, mult["l"][1]), mult["l"]])
+    d.text(2.0, 5.75, r"$K_i$", ha="center", va="bottom")
     return d.fig
 
 
 @page_figure
 def plot_gs_scheme() -> Figure:
-    """Paper RSF, Figure 2: functional scheme of the indicator gyrostabilizer (GS)."""
-    d = _Diagram(12.6, 5.0, (10.0, 4.0))
-    sum1 = d.junction(2.0, 3.8, signs={"l": "+", "b": "+"})
-    plat = d.box(4.0, 3.8, 1.6, 0.8, "platform")
-    mems = d.box(6.7, 3.8, 2.5, 0.9, r"MEMS gyro" "\n"
+    """Paper RSF, Figure 2: functional scheme of the indicator gyrostabilizer (GS), drawn top
+    to bottom (the vehicle's rate at the top, the GS's angle estimate at the bottom)."""
+    d = _Diagram(5.45)
+    sum1 = d.junction(1.2, 0.75, signs={"t": "+", "r": "+"})
+    d.arrow([(1.2, 0.05), sum1["t"]])
+    d.text(1.3, 0.28, r"$\omega$ (vehicle)", ha="left", va="center")
+    plat = d.box(1.2, 1.55, 1.5, 0.45, "platform")
+    d.arrow([sum1["b"], plat["t"]])
+    d.text(1.1, 1.13, r"$\omega_{unc}$", ha="right", va="center")
+    mems = d.box(1.2, 2.45, 2.2, 0.7, "MEMS gyro\n"
                  r"$(1+\varepsilon_{1GS})\,\omega_{unc} + \varepsilon_{0GS}$")
-    pi = d.box(6.7, 2.0, 1.8, 0.8, "PI controller")
-    motor = d.box(4.0, 2.0, 1.8, 0.8, "motor\n(speed limit)")
-    enc = d.box(2.0, 0.7, 2.0, 0.8, r"encoder" "\n" r"$\gamma_{enc} = -\int W_r\,dt$")
-    integ = d.box(9.4, 3.8, 1.2, 0.8, r"$\int dt$")
-    sum2 = d.junction(11.0, 2.2, signs={"t": "+", "b": "+"})
-    d.arrow([(0.3, 3.8), sum1["l"]], r"$\omega$ (vehicle)", offset=(0.0, 0.1))
-    d.arrow([sum1["r"], plat["l"]], r"$\omega_{unc}$", offset=(0.0, 0.08))
-    d.arrow([plat["r"], mems["l"]])
-    d.arrow([mems["r"], integ["l"]], r"$\hat\omega_{unc}$", offset=(0.0, 0.08), fontsize=8.5)
-    tap = (8.35, 3.8)
+    d.arrow([plat["b"], mems["t"]])
+    tap = (1.2, 3.2)
+    d.line([mems["b"], tap])
     d.dot(*tap)
-    d.arrow([tap, (tap[0], pi["r"][1]), pi["r"]])
-    d.arrow([pi["l"], motor["r"]], "u", offset=(0.0, 0.08))
-    tap2 = (2.0, 2.0)
+    d.text(1.1, 3.0, r"$\hat\omega_{unc}$", ha="right", va="center")
+    integ = d.box(1.2, 3.75, 1.0, 0.45, r"$\int dt$")
+    d.arrow([tap, integ["t"]])
+    pi = d.box(3.5, 3.2, 1.7, 0.45, "PI controller")
+    d.arrow([tap, pi["l"]])
+    motor = d.box(3.5, 2.1, 1.7, 0.6, "motor\n(speed limit)")
+    d.arrow([pi["t"], motor["b"]])
+    d.text(3.6, 2.62, "u", ha="left", va="center")
+    tap2 = (3.5, 0.75)
+    d.line([motor["t"], tap2])
     d.dot(*tap2)
-    d.ax.plot([motor["l"][0], tap2[0]], [2.0, 2.0], color="#1f3b63", lw=1.2)
-    d.ax.text(2.55, 2.08, r"$W_r$", ha="center", va="bottom", fontsize=9)
-    d.arrow([tap2, sum1["b"]])
-    d.arrow([tap2, enc["t"]])
-    d.arrow([integ["r"], (sum2["t"][0], integ["r"][1]), sum2["t"]], r"$\gamma_{unc}$",
-            offset=(0.25, 0.05))
-    d.arrow([enc["r"], (sum2["b"][0], enc["r"][1]), sum2["b"]], r"$\gamma_{enc}$",
-            offset=(0.0, 0.08))
-    d.arrow([sum2["r"], (12.5, 2.2)], "")
-    d.ax.text(12.5, 2.4, r"$\hat\gamma = \gamma_{enc} + \gamma_{unc}$", ha="right",
-              va="bottom", fontsize=9)
+    d.text(3.6, 1.3, r"$W_r$", ha="left", va="center")
+    d.arrow([tap2, sum1["r"]])
+    enc = d.box(3.5, 4.55, 2.1, 0.65, "encoder\n" r"$\gamma_{enc} = -\int W_r\,dt$")
+    d.arrow([tap2, (4.75, 0.75), (4.75, 4.55), enc["r"]])
+    sum2 = d.junction(1.2, 4.55, signs={"t": "+", "r": "+"})
+    d.arrow([integ["b"], sum2["t"]])
+    d.text(1.1, 4.17, r"$\gamma_{unc}$", ha="right", va="center")
+    d.arrow([enc["l"], sum2["r"]])
+    d.text(1.9, 4.47, r"$\gamma_{enc}$", ha="center", va="bottom")
+    d.arrow([sum2["b"], (1.2, 5.4)])
+    d.text(1.3, 5.1, r"$\hat\gamma = \gamma_{enc} + \gamma_{unc}$", ha="left",
+           va="center")
     return d.fig
 
 
@@ -179,11 +194,13 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
                  printed_dr: Sequence[float] = ()) -> Figure:
     """Paper RSF, Figure 3 and Eq. (8): (a) gravity resolved with a roll error
     ``dgamma_example`` (rad); (b) Δa_z = g sin Δγ against g Δγ; (c) Δr_z, exact double
-    integral against the cubic, with the printed Table 2 values (unit lost) as markers."""
+    integral against the cubic, with the printed Table 2 values (unit lost) as markers.
+    The three panels are stacked."""
     t, roll_error, dr_exact, dr_cubic = (np.asarray(a, dtype=float)
                                          for a in (t, roll_error, dr_exact, dr_cubic))
-    fig = Figure(figsize=(11.0, 3.8), layout="constrained")
-    ax0, ax1, ax2 = fig.subplots(1, 3, gridspec_kw={"width_ratios": [0.8, 1.0, 1.0]})
+    fig = Figure(figsize=(5.0, 11.0), layout="constrained")
+    # stacked for the page: the sketch, then the two plots
+    ax0, ax1, ax2 = fig.subplots(3, 1, height_ratios=[0.8, 1.0, 1.0])
     # (a) geometry: body cross-section, true vertical and the vertical the SINS believes.
     ax0.set_aspect("equal")
     ax0.axis("off")
@@ -195,32 +212,33 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
     ax0.annotate("", tip, (0, 0), arrowprops={"arrowstyle": "-|>", "color": "#c0392b",
                                               "ls": "--"})
     ax0.text(tip[0] + 0.1, tip[1] + 0.35, "g as resolved\nby the SINS", color="#c0392b",
-             fontsize=8, va="center", ha="left")
+             fontsize=SMALL_PT, va="center", ha="left")
     ax0.plot([0, tip[0]], [tip[1], tip[1]], color="#2e86c1", lw=0.8, ls=":")
     ax0.annotate("", tip, (0, tip[1]),
                  arrowprops={"arrowstyle": "-|>", "color": "#2e86c1", "lw": 2})
     ax0.text(0.5 * tip[0], tip[1] - 0.15, r"$\Delta a_z = g\,\sin\Delta\gamma$",
-             color="#2e86c1", fontsize=8, ha="center", va="top")
+             color="#2e86c1", fontsize=SMALL_PT, ha="center", va="top")
     arc = np.linspace(-np.pi / 2, -np.pi / 2 + dg, 30)
     ax0.plot(0.55 * np.cos(arc), 0.55 * np.sin(arc), color="k", lw=0.8)
-    ax0.text(0.22, -0.72, r"$\Delta\gamma$", fontsize=9)
+    ax0.text(0.22, -0.72, r"$\Delta\gamma$", fontsize=SMALL_PT)
     ax0.add_patch(Polygon([[-0.06, 0.06], [0.06, 0.06], [0.06, -0.06], [-0.06, -0.06]],
                           fc="k"))
     ax0.set_xlim(-1.2, 2.1)
     ax0.set_ylim(-2.0, 1.2)
-    ax0.set_title("(a) gravity and a roll error", fontsize=10)
+    ax0.set_title("(a) gravity and a roll error", fontsize=10, loc="left")
     # (b) lateral acceleration error.
     ax1.plot(t, acc_small, "--", color="#7f8c8d", label=r"$g\,\Delta\gamma$ (first approximation)")
     ax1.plot(t, acc_exact, color="#2e86c1", label=r"$g\,\sin\Delta\gamma$")
     ax1.axhline(0, color="k", lw=0.5)
     twin = ax1.twiny()
     twin.set_xlim(from_si(roll_error[0], "deg"), from_si(roll_error[-1], "deg"))
-    twin.set_xlabel(r"$\Delta\gamma_{SINS}$ (°)", fontsize=9)
+    twin.set_xlabel(r"$\Delta\gamma_{SINS}$ (°)", fontsize=SMALL_PT)
     ax1.set_xlim(t[0], t[-1])
     ax1.set_xlabel("t (s)")
     ax1.set_ylabel(r"$\Delta a_z$ (m/s²)")
-    ax1.legend(fontsize=8, loc="upper left")
-    ax1.set_title("(b) gravity mis-resolved onto z", fontsize=10)
+    ax1.legend(fontsize=SMALL_PT, loc="lower left")  # under the rising curve, clear of it
+    # the top axis carries Δγ: the panel's name goes above its label
+    ax1.set_title("(b) gravity mis-resolved onto z", fontsize=10, loc="left", pad=22)
     # (c) lateral deviation.
     pos = t >= 1.0
     ax2.loglog(t[pos], dr_cubic[pos], "--", color="#7f8c8d",
@@ -232,9 +250,10 @@ def plot_figure3(dgamma_example: float, t: np.ndarray, roll_error: np.ndarray,
                    label="Table 2 as printed (unit lost)")
     ax2.set_xlabel("t (s)")
     ax2.set_ylabel(r"$\Delta r_z$ (m)")
-    ax2.legend(fontsize=8, loc="lower right")  # below the rising curves, clear of the print
+    # below the panel: in it, it would cover the curves or the printed values
+    ax2.legend(fontsize=SMALL_PT, loc="upper center", bbox_to_anchor=(0.5, -0.2))
     ax2.grid(True, which="both", alpha=0.3)
-    ax2.set_title("(c) lateral deviation", fontsize=10)
+    ax2.set_title("(c) lateral deviation", fontsize=10, loc="left")
     return fig
 
 
@@ -261,8 +280,8 @@ def plot_flight(run: CorrectionRun, reset: CorrectionRun | None = None, *,
     matplotlib.figure.Figure
     """
     t = run.t
-    fig = Figure(figsize=(10.0, 3.8), layout="constrained")
-    ax0, ax1 = fig.subplots(1, 2)
+    fig = Figure(figsize=(5.0, 7.6), layout="constrained")
+    ax0, ax1 = fig.subplots(2, 1, sharex=True)  # stacked for the page
     ax0.plot(t, from_si(run.roll_error_raw[index], "deg"), color="#c0392b",
              label="SINS, uncorrected")
     ax0.plot(t, from_si(run.roll_error_corrected[index], "deg"), color="#2e86c1",
@@ -275,9 +294,8 @@ def plot_flight(run: CorrectionRun, reset: CorrectionRun | None = None, *,
     for tb in run.t_boundaries:
         ax0.axvline(tb, color="k", lw=0.3, alpha=0.4)
     ax0.set_yscale("symlog", linthresh=0.1)
-    ax0.set_xlabel("t (s)")
     ax0.set_ylabel("roll-angle error (°)")
-    ax0.legend(fontsize=8)
+    ax0.legend(fontsize=SMALL_PT)
     ax1.plot(t, run.lateral_raw[index], color="#c0392b", label="uncorrected")
     ax1.plot(t, run.lateral_corrected[index], color="#2e86c1", label="corrected")
     if reset is not None:
@@ -286,7 +304,7 @@ def plot_flight(run: CorrectionRun, reset: CorrectionRun | None = None, *,
     ax1.set_yscale("symlog", linthresh=1.0)
     ax1.set_xlabel("t (s)")
     ax1.set_ylabel("lateral error Δr_z (m)")
-    ax1.legend(fontsize=8)
+    ax1.legend(fontsize=SMALL_PT)
     return fig
 
 
@@ -306,7 +324,7 @@ def plot_delta_k_distribution(run: CorrectionRun, prediction: DeltaKPrediction) 
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(7.5, 3.6), layout="constrained")
+    fig = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = fig.subplots()
     ax.hist(from_si(run.delta_k.ravel(), "ppm"), bins=40, color="#aed6f1", ec="#2e86c1",
             label="simulation (per run and interval)")
@@ -318,7 +336,7 @@ def plot_delta_k_distribution(run: CorrectionRun, prediction: DeltaKPrediction) 
     ax.set_xlabel("δK (ppm)")
     ax.set_ylabel("count")
     # below the axes: the histogram fills the whole width of its panel
-    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=9)
+    legend_below(fig, ax)
     return fig
 
 
@@ -339,7 +357,7 @@ def plot_period_sweep(sweep: PeriodSweep, *, net_floor: bool = True) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(7.5, 3.8), layout="constrained")
+    fig = Figure(figsize=(5.0, 5.0), layout="constrained")
     ax = fig.subplots()
     p = sweep.periods
     ax.loglog(p, from_si(sweep.rms, "ppm"), "o", color="#2e86c1", label="simulation, rms δK")
@@ -355,7 +373,7 @@ def plot_period_sweep(sweep: PeriodSweep, *, net_floor: bool = True) -> Figure:
     ax.set_xlabel("correction period Δt (s)")
     ax.set_ylabel("residual SF error δK (ppm)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    legend_below(fig, ax)  # six entries: inside, they cover the curves
     return fig
 
 
@@ -373,7 +391,7 @@ def plot_encoder_sweep(with_error: ResolutionSweep, without_error: ResolutionSwe
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(7.5, 3.8), layout="constrained")
+    fig = Figure(figsize=(5.0, 3.8), layout="constrained")
     ax = fig.subplots()
     c = with_error.counts_per_rev
     ax.loglog(c, from_si(with_error.rms, "ppm"), "o", color="#2e86c1",
@@ -387,7 +405,7 @@ def plot_encoder_sweep(with_error: ResolutionSweep, without_error: ResolutionSwe
     ax.set_xlabel("encoder counts per revolution")
     ax.set_ylabel("rms δK (ppm)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=SMALL_PT)
     return fig
 
 
@@ -405,7 +423,7 @@ def plot_rate_sweep(sweep: RateSweep) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(7.5, 3.6), layout="constrained")
+    fig = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = fig.subplots()
     r = from_si(sweep.rates, "deg/s")
     ax.plot(r, from_si(sweep.rms, "ppm"), "o", color="#2e86c1", label="simulation, rms δK")
@@ -415,7 +433,7 @@ def plot_rate_sweep(sweep: RateSweep) -> Figure:
     ax.set_xlabel("vehicle roll rate (°/s)")
     ax.set_ylabel("δK (ppm)")
     ax.set_ylim(bottom=0)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=SMALL_PT)
     return fig
 
 
@@ -438,7 +456,7 @@ def plot_spin_up(limited: SensorRecord, unlimited: SensorRecord, *, index: int =
     cfg = limited.config
     t = limited.t[:-1]
     rate = cfg.roll.rate(t + 0.5 * cfg.dt, cfg.duration)
-    fig = Figure(figsize=(7.5, 3.4), layout="constrained")
+    fig = Figure(figsize=(5.0, 3.4), layout="constrained")
     ax = fig.subplots()
     ax.plot(t, from_si(rate, "deg/s"), color="k", label="vehicle roll rate ω")
     ax.plot(t, from_si(limited.omega_unc[index], "deg/s"), color="#c0392b",
@@ -448,7 +466,7 @@ def plot_spin_up(limited: SensorRecord, unlimited: SensorRecord, *, index: int =
     ax.set_xlabel("t (s)")
     ax.set_ylabel("rate (°/s)")
     ax.set_yscale("symlog", linthresh=10.0)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=SMALL_PT)
     return fig
 
 
@@ -467,7 +485,7 @@ def plot_compensation_share(result: CompensationShare) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    fig = Figure(figsize=(7.5, 3.6), layout="constrained")
+    fig = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = fig.subplots()
     r = from_si(result.rates, "deg/s")
     ax.plot(r, 100 * result.share, "-", color="#c0392b", label="Eq. (7): 1 − δK/ε1")
@@ -481,7 +499,7 @@ def plot_compensation_share(result: CompensationShare) -> Figure:
                label="rate from which Eq. (7) gives it")
     ax.set_xlabel("vehicle roll rate (°/s)")
     ax.set_ylabel("share of ε1 removed (%)")
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=SMALL_PT, loc="lower right")
     ax.grid(True, alpha=0.3)
     return fig
 
@@ -499,7 +517,7 @@ def plot_correction(result: CalibrationResult, prediction: DeltaKPrediction | No
         v.check_instance("prediction", prediction, DeltaKPrediction)
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(7.5, 5.4), layout="tight")
+    fig = Figure(figsize=(5.0, 6.0), layout="constrained")
     ax, bx = fig.subplots(2, 1)
     mid = 0.5 * (result.t_start + result.t_end)
     e = np.asarray(from_si(result.eps1_hat, "ppm"))
@@ -517,12 +535,12 @@ def plot_correction(result: CalibrationResult, prediction: DeltaKPrediction | No
         ax.axhline(float(from_si(c, "ppm")), color="k", lw=0.8, ls="--")
     ax.set_ylabel("ε̂1 (ppm)")
     ax.set_xlabel("t (s), middle of the interval")
-    ax.legend(loc="lower right", fontsize=8, framealpha=0.9)
+    ax.legend(loc="lower right", fontsize=SMALL_PT, framealpha=0.9)
     bx.plot(result.t, from_si(result.residual_raw, "deg"), color="C3", lw=1,
             label="uncorrected SINS − GS")
     bx.plot(result.t, from_si(result.residual, "deg"), color="C0", lw=1,
             label="corrected SINS − GS")
     bx.set_ylabel("roll angle difference (°)")
     bx.set_xlabel("t (s)")
-    bx.legend(loc="upper left", fontsize=8)
+    bx.legend(loc="upper left", fontsize=SMALL_PT)
     return fig

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib._page_figures import for_the_page
+from gyrolib._page_figures import SMALL_PT, for_the_page
 from gyrolib.sensitivity.study import SensitivityResult
 
 __all__ = ["plot_indices"]
@@ -32,7 +32,7 @@ def plot_indices(result: SensitivityResult, output: str, ax: Any = None) -> Any:
     v.check_choice("output", output, result.outputs)
     own = ax is None  # a figure of its own is made for the page; a caller's axes are not
     if own:
-        fig, ax = plt.subplots(figsize=(7.0, 3.2))
+        fig, ax = plt.subplots(figsize=(5.0, 3.4), layout="constrained")
     else:
         fig = ax.figure
     x = np.arange(len(result.inputs))
@@ -47,6 +47,5 @@ def plot_indices(result: SensitivityResult, output: str, ax: Any = None) -> Any:
     ax.axhline(0.0, color="0.5", lw=0.6)
     ax.set_ylabel("Sobol' index")
     ax.set_ylim(min(-0.05, ax.get_ylim()[0]), max(1.0, ax.get_ylim()[1]))
-    ax.legend(frameon=False, fontsize="small")
-    fig.tight_layout()
+    ax.legend(frameon=False, fontsize=SMALL_PT)
     return for_the_page(fig) if own else fig
