@@ -276,6 +276,28 @@ def _wait_for(proc, text: str, timeout: float = 120.0) -> str:
     return seen
 
 
+#: ``python -m gyrolib ARGS`` with SIGINT's default Python handler, whatever the parent had.
+_DEFAULT_SIGINT_MAIN = ("import runpy, signal, sys; "
+                        "signal.signal(signal.SIGINT, signal.default_int_handler); "
+                        "sys.argv[0] = 'gyrolib'; runpy.run_module('gyrolib', run_name='__main__')")
+
+
+def test_a_child_inherits_an_ignored_sigint_and_the_wrapper_restores_it():
+    """Why the Ctrl-C test starts its command through :data:`_DEFAULT_SIGINT_MAIN`: a
+    parent that ignores SIGINT passes that on (the child's handler is SIG_IGN, power), and
+    the wrapper's child has Python's handler all the same."""
+    probe = "import signal; print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)"
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        plain = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+        wrapped = subprocess.run([sys.executable, "-c", _DEFAULT_SIGINT_MAIN.replace(
+            "runpy.run_module('gyrolib', run_name='__main__')", probe)], capture_output=True,
+            text=True)
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert plain.stdout.strip() == "True" and wrapped.stdout.strip() == "False"
+
+
 @pytest.mark.parametrize("workers", ["1", "2"])
 def test_ctrl_c_during_a_batch(gc_files, tmp_path, workers):
     """SIGINT to a batch of 60 files after the first result: exit 130, one line on stderr
@@ -290,8 +312,12 @@ def test_ctrl_c_during_a_batch(gc_files, tmp_path, workers):
     summary = tmp_path / "summary.csv"
     summary.write_text("kept\n")
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    proc = subprocess.Popen([sys.executable, "-m", "gyrolib", "calibrate", "gc", *map(str, files),
-                             "--summary", str(summary), "--workers", workers],
+    # The command as a terminal starts it: with Python's own Ctrl-C handler.  A child inherits
+    # an ignored SIGINT (POSIX), and Python then installs none: after test_timestamp_jitter
+    # this pytest process has SIGINT and SIGQUIT ignored (SigIgn 0x...1006), so the command
+    # ran its 60 files to the end and exited 0 when the whole file ran (it passed alone).
+    proc = subprocess.Popen([sys.executable, "-c", _DEFAULT_SIGINT_MAIN, "calibrate", "gc",
+                             *map(str, files), "--summary", str(summary), "--workers", workers],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
                             env=env)
     try:
