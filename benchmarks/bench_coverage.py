@@ -15,10 +15,14 @@ with every constant drawn from its prior, so the prior is part of the truth.
    (``gc.profile_intervals``) that holds the truth; passes when its Wilson interval
    contains 95 %.
 
-Each part's CPU time per record is recorded; the CPU class with the machine.
+Each part's CPU time per record is recorded (measured in the process that ran it); the CPU
+class with the machine.  ``--workers N`` runs the records on a process pool (any
+``concurrent.futures.Executor`` serves :func:`run_cases`); ``--rows FILE`` appends each
+finished record to a JSON-lines file as it completes (a long run keeps what it has done, and
+``--rows FILE --resume`` skips the seeds already there).
 
-    nice -n 10 .venv/bin/python benchmarks/bench_coverage.py [--rsf 100] [--gc 100]
-        [--fit 100] [--fit-duration 100] [--name coverage]
+    nice -n 15 .venv/bin/python benchmarks/bench_coverage.py [--rsf 100] [--gc 100]
+        [--fit 100] [--fit-duration 100] [--name coverage] [--workers 2] [--rows FILE]
 """
 
 from __future__ import annotations
@@ -27,6 +31,8 @@ import argparse
 import json
 import sys
 import time
+from collections.abc import Callable
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +55,42 @@ def z_verdict(z: np.ndarray) -> dict:
             "contains_68": bool(lo <= 0.6827 <= hi), "max_abs_z": float(np.max(np.abs(z)))}
 
 
+def _timed(case: Callable[..., dict], seed: int, *args) -> dict:
+    """``case(seed, *args)`` with the seed and the CPU seconds of the process that ran it."""
+    t0 = time.process_time()
+    row = case(seed, *args)
+    return {**row, "seed": seed, "cpu_s": time.process_time() - t0}
+
+
+def run_cases(part: str, case: Callable[..., dict], seeds: list[int], *args,
+              executor: Executor | None = None, rows_file: Path | None = None,
+              resume: bool = False) -> list[dict]:
+    """``case(seed, *args)`` for every seed, on ``executor`` (``None``: in this process), in
+    seed order; each finished record is appended to ``rows_file`` (JSON lines, with its
+    ``part``) as it completes, and with ``resume`` the seeds already there are not run."""
+    done: dict[int, dict] = {}
+    if rows_file is not None and resume and rows_file.is_file():
+        for line in rows_file.read_text().splitlines():
+            r = json.loads(line)
+            if r.get("part") == part and r["seed"] in seeds:
+                done[r["seed"]] = r
+
+    def keep(r: dict) -> None:
+        done[r["seed"]] = r
+        if rows_file is not None:
+            with rows_file.open("a") as fh:
+                fh.write(json.dumps({"part": part, **r}) + "\n")
+
+    todo = [s for s in seeds if s not in done]
+    if executor is None:
+        for s in todo:
+            keep(_timed(case, s, *args))
+    else:
+        for fut in as_completed([executor.submit(_timed, case, s, *args) for s in todo]):
+            keep(fut.result())
+    return [done[s] for s in seeds]
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rsf", type=int, default=100)
@@ -57,15 +99,22 @@ def main() -> None:
     ap.add_argument("--fit-duration", type=float, default=100.0)
     ap.add_argument("--name", default="coverage",
                     help="results file benchmarks/results/NAME.json (a part run alone)")
+    ap.add_argument("--workers", type=int, default=1,
+                    help="processes (a ProcessPoolExecutor when > 1)")
+    ap.add_argument("--rows", type=Path, default=None,
+                    help="append each finished record to this JSON-lines file")
+    ap.add_argument("--resume", action="store_true",
+                    help="with --rows: skip the seeds already in the file")
     args = ap.parse_args()
+    executor = ProcessPoolExecutor(args.workers) if args.workers > 1 else None
+    run = {"executor": executor, "rows_file": args.rows, "resume": args.resume}
     rec = Recorder(args.name)
     stats: dict = {}
     for name, n, case in (("rsf", args.rsf, rsf_case), ("gc", args.gc, gc_case)):
         if n <= 0:
             continue
-        t0 = time.process_time()
-        rows = [case(1000 + s) for s in range(n)]
-        cpu = (time.process_time() - t0) / n
+        rows = run_cases(name, case, [1000 + s for s in range(n)], **run)
+        cpu = sum(r["cpu_s"] for r in rows) / n
         z = np.array([r["z"] for r in rows])
         v = z_verdict(z)
         v["refused"] = int(sum(not r["valid"] for r in rows))
@@ -77,19 +126,22 @@ def main() -> None:
                       f"({'contains' if v['contains_68'] else 'MISSES'} 68 %); refused "
                       f"{v['refused']}; CPU s per record")
     if args.fit > 0:
-        t0 = time.process_time()
-        rows = [fit_case(2000 + s, args.fit_duration) for s in range(args.fit)]
-        cpu = (time.process_time() - t0) / args.fit
+        rows = run_cases("fit", fit_case, [2000 + s for s in range(args.fit)],
+                         args.fit_duration, **run)
+        cpu = sum(r["cpu_s"] for r in rows) / args.fit
         done = [r for r in rows if r["covered"]]
         cover = {}
         for nm in ("alpha1", "sigma1_sq", "C_as", "C_in"):
             hits = [r["covered"][nm] for r in done if nm in r["covered"]]
             lo, hi = wilson(sum(hits), len(hits))
             cover[nm] = {"n": len(hits), "share": sum(hits) / len(hits) if hits else None,
-                         "wilson_95": [lo, hi], "contains_95": bool(lo <= 0.95 <= hi)}
+                         "wilson_95": [lo, hi], "contains_95": bool(lo <= 0.95 <= hi),
+                         "missed_seeds": [r["seed"] for r in done
+                                          if nm in r["covered"] and not r["covered"][nm]]}
         z = np.array([r["z"] for r in done])
         stats["fit"] = {"records": args.fit, "duration_s": args.fit_duration,
                         "not_converged": sum(not r["converged"] for r in rows),
+                        "no_interval": sum(not r["covered"] for r in rows),
                         "coverage": cover, "omega_gc": z_verdict(z) if z.size > 1 else None}
         rec.case(f"fit: {args.fit} records of {args.fit_duration:g} s, alpha1 x 5, "
                  "sigma1^2 x 4", cpu,
@@ -97,7 +149,8 @@ def main() -> None:
                      f"{nm} {100 * c['share']:.0f} % [{100 * c['wilson_95'][0]:.0f}, "
                      f"{100 * c['wilson_95'][1]:.0f}]" for nm, c in cover.items()
                      if c["share"] is not None)
-                 + f"; not converged {stats['fit']['not_converged']}; CPU s per record")
+                 + f"; not converged {stats['fit']['not_converged']}, without intervals "
+                   f"{stats['fit']['no_interval']}; CPU s per record")
     rec.doc["stats"] = stats
     rec.write()
     print(json.dumps(stats, indent=1))

@@ -289,15 +289,34 @@ def _sigint_state(pid) -> str:
 
 
 def _sigint_deliverable() -> None:
-    """In the command's process before it starts: SIGINT at its default and not blocked.
-
-    A process inherits an ignored disposition and the blocked mask of the thread that
-    started it; the test session's worker may carry either (a library that spawns a helper
-    process blocks SIGINT in the spawning thread meanwhile, and a process started under
-    ``nohup`` ignores it), and a command that never sees the signal ends normally: the flake
-    of this test in a full run (exit 0 after the whole batch)."""
+    """In the command's process before it starts: SIGINT at its default and not blocked
+    (with :data:`_DEFAULT_SIGINT_MAIN`, which installs Python's handler whatever the
+    disposition: a blocked mask, which a thread that spawns a helper process holds meanwhile,
+    is inherited too)."""
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+#: ``python -m gyrolib ARGS`` with SIGINT's default Python handler, whatever the parent had.
+_DEFAULT_SIGINT_MAIN = ("import runpy, signal, sys; "
+                        "signal.signal(signal.SIGINT, signal.default_int_handler); "
+                        "sys.argv[0] = 'gyrolib'; runpy.run_module('gyrolib', run_name='__main__')")
+
+
+def test_a_child_inherits_an_ignored_sigint_and_the_wrapper_restores_it():
+    """Why the Ctrl-C test starts its command through :data:`_DEFAULT_SIGINT_MAIN`: a
+    parent that ignores SIGINT passes that on (the child's handler is SIG_IGN, power), and
+    the wrapper's child has Python's handler all the same."""
+    probe = "import signal; print(signal.getsignal(signal.SIGINT) is signal.SIG_IGN)"
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        plain = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+        wrapped = subprocess.run([sys.executable, "-c", _DEFAULT_SIGINT_MAIN.replace(
+            "runpy.run_module('gyrolib', run_name='__main__')", probe)], capture_output=True,
+            text=True)
+    finally:
+        signal.signal(signal.SIGINT, old)
+    assert plain.stdout.strip() == "True" and wrapped.stdout.strip() == "False"
 
 
 @pytest.mark.parametrize("workers", ["1", "2"])
@@ -315,8 +334,12 @@ def test_ctrl_c_during_a_batch(gc_files, tmp_path, workers):
     summary.write_text("kept\n")
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     inherited = _sigint_state("self")   # what a child of this test process would inherit
-    proc = subprocess.Popen([sys.executable, "-m", "gyrolib", "calibrate", "gc", *map(str, files),
-                             "--summary", str(summary), "--workers", workers],
+    # The command as a terminal starts it: with Python's own Ctrl-C handler.  A child inherits
+    # an ignored SIGINT (POSIX), and Python then installs none: after test_timestamp_jitter
+    # this pytest process has SIGINT and SIGQUIT ignored (SigIgn 0x...1006), so the command
+    # ran its 60 files to the end and exited 0 when the whole file ran (it passed alone).
+    proc = subprocess.Popen([sys.executable, "-c", _DEFAULT_SIGINT_MAIN, "calibrate", "gc",
+                             *map(str, files), "--summary", str(summary), "--workers", workers],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT,
                             env=env, preexec_fn=_sigint_deliverable)
     try:

@@ -346,3 +346,23 @@ def test_instrument_file_values_are_judged_against_the_input_table(tmp_path):
     assert instrument_notes(path, "calibrate rsf") == [
         f"{path}: 'C_as' ignored by calibrate rsf (read by calibrate gc, race)",
         f"{path}: 'alpha1' ignored by calibrate rsf (read by calibrate gc, race)"]
+
+
+def test_rsf_instrument_file_values_are_judged_against_the_input_table(tmp_path):
+    """calibrate rsf reads [sins], [gs], [encoder]: a value outside its row's plausible range
+    (the SINS gyro's ε1 ten times the top of rsf.eps1's) is named with the row; a negative
+    GS bias whose magnitude is the reference, and the encoder's reference, are not (power
+    of the sign rule and of the range); calibrate gc names the tables it ignores only."""
+    from gyrolib import inputs
+    from gyrolib.records.params import instrument_notes
+
+    _lo, hi = inputs.row("rsf.eps1").bounds()
+    path = tmp_path / "r.toml"
+    path.write_text(f"[sins]\neps1 = {10 * hi!r}\n[gs]\neps0 = "
+                    f"{-inputs.row('rsf.gs_bias').reference!r}\n[encoder]\nposition_error = "
+                    f"{inputs.row('rsf.encoder_error').reference!r}\n")
+    notes = instrument_notes(path, "calibrate rsf")
+    assert len(notes) == 1 and "[sins] eps1 = " in notes[0] and "row rsf.eps1" in notes[0]
+    assert all("ignored by calibrate gc" in n for n in instrument_notes(path, "calibrate gc"))
+    path.write_text(f"[sins]\neps1 = {hi / 2!r}\n")
+    assert instrument_notes(path, "calibrate rsf") == []

@@ -222,3 +222,45 @@ def test_iso_date_time_stamps(rows, tmp_path):
     bad[7] = "2024-05-14 xx," + bad[7].split(",", 1)[1]
     with pytest.raises(records.RecordError, match="line 9, column 't'"):
         records.read_gc(_write(tmp_path / "bad.csv", HEADER, bad))
+
+
+def test_iso_stamps_with_a_zone_are_read_as_utc(rows, tmp_path):
+    """ISO 8601 stamps with a zone ("2024-05-14T10:32:01.251+02:00", "Z"): read as UTC, so a
+    logger whose local clock switches from +02:00 to +01:00 half-way (the clock reads an
+    hour earlier) gives the same record as plain seconds; read without its zones the same
+    stamps jump back by 3600 s and are refused (power).  A file mixing zoned and local
+    stamps is refused at the first stamp of the other kind."""
+    import datetime
+
+    base = datetime.datetime(2024, 5, 14, 8, 32, 1, 251000, tzinfo=datetime.UTC)
+    half = len(rows) // 2
+
+    def iso(k: int, r: str, fmt) -> str:
+        f = r.split(",")
+        stamp = base + datetime.timedelta(milliseconds=round(float(f[0]) * 1000))
+        return ",".join([fmt(k, stamp), *f[1:]])
+
+    def local(k, stamp):   # +02:00 for the first half, then +01:00 (the clock set back)
+        tz = datetime.timezone(datetime.timedelta(hours=2 if k < half else 1))
+        return stamp.astimezone(tz).isoformat(timespec="milliseconds")
+
+    ref = records.read_gc(_write(tmp_path / "ref.csv", HEADER, rows))
+    for name, fmt in (("dst", local),
+                      ("z", lambda k, st: st.strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3] + "Z"),
+                      ("hhmm", lambda k, st: local(k, st).replace("+02:00", "+0200")
+                       .replace("+01:00", "+01"))):
+        lines = [iso(k, r, fmt) for k, r in enumerate(rows)]
+        rec, info = records.read_gc(_write(tmp_path / f"{name}.csv", HEADER, lines),
+                                    return_info=True)
+        np.testing.assert_allclose(rec.t, ref.t - ref.t[0], rtol=0, atol=1e-12)
+        assert np.array_equal(rec.angle_sensor, ref.angle_sensor)
+        assert info.time_note.startswith("ISO date-time stamps with a zone, read as UTC")
+    assert lines[half - 1].split(",")[0].endswith("+0200")      # the zones really change
+    naive = [iso(k, r, local)[:23] + "," + r.split(",", 1)[1] for k, r in enumerate(rows)]
+    with pytest.raises(records.RecordError, match=f"line {half + 2}"):
+        records.read_gc(_write(tmp_path / "naive.csv", HEADER, naive))
+    mixed = [iso(k, r, local) for k, r in enumerate(rows)]
+    mixed[9] = naive[9]
+    with pytest.raises(records.RecordError, match=r"line 11, column 't': expected an ISO "
+                                                  r"date-time stamp with a zone"):
+        records.read_gc(_write(tmp_path / "mixed.csv", HEADER, mixed))

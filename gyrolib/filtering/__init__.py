@@ -14,13 +14,17 @@ module                      what it holds
 ``covariance``              :class:`AffineDiscreteModel`, :func:`covariance_fast`,
                             :func:`covariance_reference`, :func:`propagate_fixed_gains`
 ``square_root``             :func:`covariance_square_root` (QR + Potter), an independent check
-``consistency``             :func:`nees_bounds` (chi-square bands of the NEES)
+``consistency``             :func:`nees_bounds` (chi-square bands of the NEES),
+                            :func:`gated_nis_moments`, :func:`gated_nis_band` (the mean
+                            NIS behind a χ² gate)
 ==========================  ===========================================================
 
 Use as ``from gyrolib import filtering`` then ``filtering.van_loan(F, G, Q, dt)``.
 """
 
 from gyrolib.filtering.consistency import (
+    gated_nis_band,
+    gated_nis_moments,
     nees_bounds,
 )
 from gyrolib.filtering.covariance import (
@@ -61,6 +65,8 @@ __all__ = [
     "covariance_fast",
     "covariance_reference",
     "covariance_square_root",
+    "gated_nis_band",
+    "gated_nis_moments",
     "joseph_scalar_update",
     "joseph_update",
     "kalman_kernels",

@@ -55,7 +55,7 @@ from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
 from gyrolib._page_figures import SMALL_PT, legend_below, page_figure
-from gyrolib.filtering.consistency import chi2_ppf, nees_bounds
+from gyrolib.filtering.consistency import chi2_ppf, gated_nis_band, nees_bounds
 from gyrolib.gc.analysis.budget import ErrorBudget
 from gyrolib.gc.analysis.covariance import CovarianceAnalysis, CovarianceSweep
 from gyrolib.gc.logs.allan import AllanDeviation
@@ -1226,8 +1226,8 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
         bx.plot(tb, nis[:, q], lw=0.8, color=f"C{q + 1}", label=name)
     n = np.maximum(np.median(cnt, axis=0), 1.0)
     nn = float(np.max(n))
-    bx.axhspan(chi2_ppf(0.5 * (1 - conf), nn) / nn,
-               chi2_ppf(0.5 * (1 + conf), nn) / nn, color="0.85",
+    band = gated_nis_band(nn, result.gate, 0.5 * (1 - conf), 0.5 * (1 + conf))
+    bx.axhspan(float(band[0]), float(band[1]), color="0.85",   # the gate's band, as the checks'
                label=f"{conf:.0%} band, {nn:.0f} samples")
     bx.axhline(1.0, color="k", lw=0.6)
     bx.set_ylabel("mean NIS per window" if tb.size == result.t.size else

@@ -25,8 +25,8 @@ from typing import Final
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 
-__all__ = ["INSTRUMENT_TABLES", "NORTHERN_ONLY", "gc_params_from_toml", "instrument_notes",
-           "load_toml", "race_inputs", "rsf_config_from_toml"]
+__all__ = ["INSTRUMENT_TABLES", "NORTHERN_ONLY", "RSF_ROWS", "gc_params_from_toml",
+           "instrument_notes", "load_toml", "race_inputs", "rsf_config_from_toml"]
 
 #: Why a site south of the equator (or on it) is refused, in every message that refuses one.
 NORTHERN_ONLY: Final[str] = (
@@ -43,6 +43,14 @@ INSTRUMENT_TABLES: Final[dict[str, tuple[str, ...]]] = {
     "procedure": ("race",), "sins": ("calibrate rsf",), "gs": ("calibrate rsf",),
     "encoder": ("calibrate rsf",)}
 _TOP_READERS: Final[tuple[str, ...]] = ("calibrate gc", "race")
+
+#: The fields of paper RSF's tables that a row of the input table (:mod:`gyrolib.inputs`)
+#: ranges, by (table, field): the SINS roll gyro's and the GS gyro's scale-factor error and
+#: bias, and the encoder's position error (each model's default is its row's reference).
+RSF_ROWS: Final[dict[tuple[str, str], str]] = {
+    ("sins", "eps1"): "rsf.eps1", ("sins", "eps0"): "rsf.eps0",
+    ("gs", "eps1"): "rsf.eps1_gs", ("gs", "eps0"): "rsf.gs_bias",
+    ("encoder", "position_error"): "rsf.encoder_error"}
 
 
 def load_toml(path: object) -> dict:
@@ -127,8 +135,24 @@ def instrument_notes(path: object | None, command: str) -> list[str]:
 def _range_notes(path: object, doc: dict, command: str) -> list[str]:
     """A note for each number the command reads from the instrument file that lies outside
     the plausible range of its row in the input table (:mod:`gyrolib.inputs`): top-level
-    fields of GyrocompassParams, and RateSensorProcedure's in ``[procedure]`` for race."""
+    fields of GyrocompassParams, RateSensorProcedure's in ``[procedure]`` for race, and
+    for calibrate rsf the fields of ``[sins]``, ``[gs]``, ``[encoder]`` that a row ranges
+    (:data:`RSF_ROWS`; an error's magnitude, its sign being no matter of plausibility)."""
     from gyrolib import inputs  # only with a file: it loads both papers' dataclasses
+
+    if command == "calibrate rsf":
+        out = []
+        for (table, field), name in RSF_ROWS.items():
+            val = doc.get(table, {}).get(field) if isinstance(doc.get(table), dict) else None
+            if isinstance(val, bool) or not isinstance(val, int | float):
+                continue
+            r = inputs.row(name)
+            lo, hi = r.bounds()
+            if not lo <= abs(val) <= hi:
+                out.append(f"{path}: [{table}] {field} = {val:g} lies outside the plausible "
+                           f"range [{lo:.3g}, {hi:.3g}] (magnitude) of the input table's row "
+                           f"{r.name} ({' '.join(r.reason.split())[:120]})")
+        return out
 
     parts = [("GyrocompassParams", {k: v for k, v in doc.items() if not isinstance(v, dict)})]
     if command == "race" and isinstance(doc.get("procedure"), dict):

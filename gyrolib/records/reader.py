@@ -122,9 +122,35 @@ NULL_VALUES: Final[tuple[str, ...]] = (
 
 _BOM: Final[bytes] = b"\xef\xbb\xbf"
 _LATITUDE: Final[re.Pattern] = re.compile(r"#\s*latitude_deg\s*[:=]\s*(.*?)\s*$")
-#: An ISO 8601 date-time stamp without a zone (``2024-05-14 10:32:01.251``, or with a T).
+#: An ISO 8601 date-time stamp (``2024-05-14 10:32:01.251``, or with a T), with or without a
+#: zone: ``Z`` or an offset from UTC (``+02:00``, ``+0200``, ``+02``).
 _ISO_TIME: Final[re.Pattern] = re.compile(
-    r"\d{4}-\d{2}-\d{2}[ T]\d{2}:\d{2}(?::\d{2}(?:[.,]\d{1,9})?)?")
+    r"(\d{4}-\d{2}-\d{2}[ T]\d{2}:\d{2}(?::\d{2}(?:[.,]\d{1,9})?)?)"
+    r"(Z|[+-]\d{2}(?::?\d{2})?)?")
+
+
+def _iso_ns(cell: str) -> tuple[int, bool]:
+    """An ISO 8601 stamp (:data:`_ISO_TIME`) as integer ns since the epoch (UTC when it has
+    a zone), and whether it has one.
+
+    >>> _iso_ns("2024-05-14T10:32:01.251+02:00") == _iso_ns("2024-05-14 08:32:01.251Z")
+    True
+    >>> _iso_ns("1970-01-01 00:00:01.5")
+    (1500000000, False)
+    """
+    m = _ISO_TIME.fullmatch(cell)
+    if m is None:
+        raise ValueError(f"not an ISO 8601 date-time stamp: {cell!r}")
+    ns = int(np.datetime64(m.group(1).replace(" ", "T").replace(",", "."), "ns")
+             .astype(np.int64))
+    zone = m.group(2)
+    if zone is None:
+        return ns, False
+    if zone != "Z":
+        digits = zone[1:].replace(":", "")
+        minutes = 60 * int(digits[:2]) + (int(digits[2:]) if len(digits) > 2 else 0)
+        ns -= (-1 if zone[0] == "-" else 1) * minutes * 60 * 10**9
+    return ns, True
 #: The file's end made of rows of separators only (and blank lines), after a line end.
 _EMPTY_TAIL: Final[re.Pattern] = re.compile(rb"(?:(?:\r\n|\r|\n)[ \t,;\"]*)+\Z")
 _DECIMAL_COMMA: Final[re.Pattern] = re.compile(r"-?\d+,\d+(?:[eE][-+]?\d+)?")
@@ -166,8 +192,11 @@ class RecordInfo:
         if self.t_offset_source == "none":
             return None
         if self.t_offset_source == "iso" or self.t_offset_text.startswith("iso "):
-            return (f"ISO date-time stamps, taken relative to the first row "
-                    f"({self.t_offset_text.removeprefix('iso ')}), exact to 1 ns"
+            text = self.t_offset_text.removeprefix("iso ")
+            zoned = _ISO_TIME.fullmatch(text) is not None and bool(
+                _ISO_TIME.fullmatch(text).group(2))
+            return (f"ISO date-time stamps{' with a zone, read as UTC' if zoned else ''}, "
+                    f"taken relative to the first row ({text}), exact to 1 ns"
                     + (f"; the {self.rows_dropped} row(s) before t0 dropped"
                        if self.rows_dropped else ""))
         why = ("an absolute clock (first time stamp >= "
@@ -379,6 +408,7 @@ class _Reader:
         self.units_row: dict[str, str] | None = None
         self.units_line: int | None = None
         self._iso_ns: int | None = None     # ISO stamps: the offset (ns since the epoch)
+        self._iso_zone = False              # ... and whether they carry a zone (read as UTC)
         self.col_factor: dict[str, float] = {}
         self.fraction = 0.0
         self.first_line: str | None = None
@@ -663,8 +693,14 @@ class _Reader:
                 if self._comma:
                     cell = cell.replace(",", ".")
                 if name == use[0] and self._iso_ns is not None and _ISO_TIME.fullmatch(cell):
-                    ns = int(np.datetime64(cell.replace(" ", "T").replace(",", "."), "ns")
-                             .astype(np.int64))
+                    ns, zoned = _iso_ns(cell)
+                    if zoned != self._iso_zone:
+                        raise self._error(
+                            "expected an ISO date-time stamp " + (
+                                "with a zone (Z or +hh:mm), as in the first row" if
+                                self._iso_zone else "without a zone, as in the first row")
+                            + f"; got {cell[:40]!r} (a mix of local and zoned stamps has no "
+                            "one time scale)", row=line_no, column=name)
                     values.append((ns - self._iso_ns) / 1e9)
                     continue
                 if name == use[0] and self._decimal_t and _is_number(cell):
@@ -745,8 +781,8 @@ class _Reader:
         types = {c: pa.float64() for c in keep}
         if offset is not None:
             types[keep[0]] = dec
-        if self._iso_ns is not None:
-            types[keep[0]] = pa.timestamp("ns")
+        if self._iso_ns is not None:     # stamps with a zone read as UTC
+            types[keep[0]] = pa.timestamp("ns", tz="UTC" if self._iso_zone else None)
 
         def invalid(row) -> str:       # a comment or blank line inside the data
             s = row.text.strip()
@@ -790,8 +826,7 @@ class _Reader:
         cell = cells[i_t].strip().strip('"') if i_t < len(cells) else ""
         if not _ISO_TIME.fullmatch(cell):
             return None
-        first = int(np.datetime64(cell.replace(" ", "T").replace(",", "."), "ns")
-                    .astype(np.int64))
+        first, self._iso_zone = _iso_ns(cell)
         self._iso_ns = first + (round(self.t0 * 1e9) if self.t0 is not None else 0)
         self._iso_text = cell
         return (decimal.Decimal(self._iso_ns) / decimal.Decimal(10**9),

@@ -48,7 +48,7 @@ from numpy.typing import NDArray
 from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
-from gyrolib.filtering.consistency import chi2_ppf
+from gyrolib.filtering.consistency import chi2_ppf, gated_nis_band
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.filtering.kernels import kalman_kernels
 from gyrolib.gc.analysis.montecarlo import simulate_truth
@@ -181,7 +181,7 @@ class CalibrationResult:
     max_rejected: float = 0.01
     nis_range: tuple[float, float] = (0.5, 2.0)
     false_alarm: float = 0.01
-    nis_tolerance: float = 0.005
+    nis_tolerance: float = 0.0
     bias_prior: np.ndarray | None = None
     bias_estimate: np.ndarray | None = None
     bias_cov: np.ndarray | None = None
@@ -387,12 +387,15 @@ class CalibrationResult:
         ``n`` tests): per sensor the two-sided band of the mean NIS and the portmanteau
         whiteness test of the normalized innovations over ``lags`` lags (χ²(lags)), the
         split-record tests (:meth:`split_tests`, two-sided normal) and the prior of each
-        constant (:meth:`prior_tests`, two-sided normal).  The NIS band is widened
-        by the relative :attr:`nis_tolerance` (default 0.5 %): the filter's linearized,
-        discretized model predicts the innovation variance to a few 10⁻³ (on the truth
-        model's records the angle sensor's mean NIS is 0.996), which a record of an hour
-        resolves; a variance off by 0.5 % changes σ by 0.25 %, harmless, while the defects
-        that matter move it by more (a 1 % gain error: 2 %).  Each entry: ``test``,
+        constant (:meth:`prior_tests`, two-sided normal).  The NIS band is that of the
+        mean of ``used`` NIS values the χ² gate let through
+        (:func:`gyrolib.filtering.gated_nis_band`: centred on 0.998396, not 1, at the
+        99.99 % gate), widened by the relative :attr:`nis_tolerance` only when one is
+        given (default 0: none is needed; the angle sensor's mean NIS of about 0.996 on
+        an hour of the truth model, which a tolerance of 0.5 % used to hide, is the gate's
+        0.9984 times the record's own measurement noise, whose sample variance scatters
+        by ``√(2/n)``, 0.075 % over an hour: tests/test_gc_nis_expectation.py).  Each
+        entry: ``test``,
         ``sensor``, ``statistic``, ``low``, ``high``, ``passed``, ``reason_code`` (and, for
         a prior, ``constant`` and ``cause``)."""
         used = [q for q in range(M) if self.used[q] > 0]
@@ -405,9 +408,9 @@ class CalibrationResult:
         lags = self.acf.shape[1]
         out = []
         for q in used:
-            nq = float(self.used[q])
-            lo = float(chi2_ppf(0.5 * a, nq)) / nq * (1.0 - self.nis_tolerance)
-            hi = float(chi2_ppf(1.0 - 0.5 * a, nq)) / nq * (1.0 + self.nis_tolerance)
+            lo, hi = gated_nis_band(float(self.used[q]), self.gate, 0.5 * a, 1.0 - 0.5 * a)
+            lo = float(lo) * (1.0 - self.nis_tolerance)
+            hi = float(hi) * (1.0 + self.nis_tolerance)
             nis = float(self.nis_mean[q])
             out.append({"test": "mean NIS", "sensor": MEASUREMENT_NAMES[q], "statistic": nis,
                         "low": lo, "high": hi, "passed": bool(lo <= nis <= hi),
@@ -489,12 +492,12 @@ class CalibrationResult:
 
     def nis_band(self, confidence: float = 0.99) -> np.ndarray:
         """(3, 2): two-sided ``confidence`` band of the mean NIS of ``used[q]`` independent
-        χ²(1) values, ``χ²_{(1∓c)/2}(n)/n``."""
+        χ²(1) values that the gate let through (:func:`gyrolib.filtering.gated_nis_band`;
+        without a gate ``χ²_{(1∓c)/2}(n)/n``)."""
         c = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
                              high_open=True)
         n = np.maximum(self.used, 1).astype(float)
-        lo = chi2_ppf(0.5 * (1.0 - c), n) / n
-        hi = chi2_ppf(0.5 * (1.0 + c), n) / n
+        lo, hi = gated_nis_band(n, self.gate, 0.5 * (1.0 - c), 0.5 * (1.0 + c))
         return np.column_stack([lo, hi])
 
     @property
@@ -1328,7 +1331,7 @@ class _Calibrator:
             return np.where(wcnt > 0, wsum / np.maximum(wcnt, 1), np.nan), wcnt
 
     def result(self, max_rejected: float, nis_range: tuple[float, float],
-               false_alarm: float = 0.01, nis_tolerance: float = 0.005
+               false_alarm: float = 0.01, nis_tolerance: float = 0.0
                ) -> CalibrationResult:
         if self.rows == 0:
             raise ValueError("record must hold at least one row")
@@ -1412,7 +1415,7 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
               lags: int = 10, time_tolerance: float = 1e-6,
               progress: Callable[[int], None] | None = None, max_rejected: float = 0.01,
               nis_range: tuple[float, float] = (0.5, 2.0), false_alarm: float = 0.01,
-              nis_tolerance: float = 0.005, executor: Executor | None = None
+              nis_tolerance: float = 0.0, executor: Executor | None = None
               ) -> CalibrationResult:
     """Calibrate the systematic drift ω_gc of a floated gyro from a record (paper GC).
 
@@ -1455,8 +1458,8 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         split-record tests; Šidák-corrected): the share of records of a model that fits
         which are declared invalid (default 1 %).
     nis_tolerance : float
-        Relative widening of the mean-NIS band of that gate (default 0.5 %, see
-        :meth:`CalibrationResult.model_tests`).
+        Relative widening of the mean-NIS band of that gate (default 0: the band is the
+        gated mean NIS's own, see :meth:`CalibrationResult.model_tests`).
     executor : concurrent.futures.Executor, optional
         Prepares the next chunk through it (reads it, for an iterable ``record`` such as a
         file read in chunks; its steps, nominal motion and step tables) while the current
