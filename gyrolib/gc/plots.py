@@ -55,7 +55,7 @@ from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
 from gyrolib._page_figures import SMALL_PT, legend_below, page_figure
-from gyrolib.filtering.consistency import chi2_ppf, gated_nis_band, nees_bounds
+from gyrolib.filtering.consistency import gated_nis_band, nees_bounds
 from gyrolib.gc.analysis.budget import ErrorBudget
 from gyrolib.gc.analysis.covariance import CovarianceAnalysis, CovarianceSweep
 from gyrolib.gc.logs.allan import AllanDeviation
