@@ -179,7 +179,7 @@ def _undrawn_tick_labels(fig: Any) -> set[int]:
     """The ``id`` of every tick label of ``fig`` that is not drawn: an axis keeps ticks at
     locations outside its view limits (and spare ones), whose labels are visible artists at
     places the reader never sees.  The ticks drawn are those the axis draws
-    (``Axis._update_ticks``, what ``Axis.draw`` calls); an axes turned off, or an axis
+    (:func:`_drawn_ticks`); an axes turned off, or an axis
     hidden (a twin's shared one), draws none, nor its axis labels."""
     undrawn: set[int] = set()
     for ax in fig.axes:
@@ -188,10 +188,26 @@ def _undrawn_tick_labels(fig: Any) -> set[int]:
             shown = ax.axison and axis.get_visible()  # ax.axis("off"), a twin's shared axis
             if not shown:  # the axis is not drawn, nor its labels
                 undrawn.update({id(axis.label), id(axis.get_offset_text())})
-            drawn = {id(t) for t in axis._update_ticks()} if shown else set()
+            drawn = _drawn_ticks(axis) if shown else set()
             undrawn.update(id(label) for t in every if id(t) not in drawn
                            for label in (t.label1, t.label2))
     return undrawn
+
+
+def _drawn_ticks(axis: Any) -> set[int]:
+    """The ``id`` of the ticks ``axis`` draws, through matplotlib's public API: the first
+    ``len(locs)`` ticks of each kind carry the locator's locations (the rest are spares), and
+    of those only the ones inside the view interval are drawn (as ``Axis.draw`` does)."""
+    lo, hi = sorted(axis.get_view_interval())
+    eps = 1e-10 * max(abs(hi - lo), abs(hi), abs(lo), 1e-300)
+    drawn = set()
+    for locs, ticks in ((axis.get_majorticklocs(), axis.get_major_ticks),
+                        (axis.get_minorticklocs(), axis.get_minor_ticks)):
+        locs = list(locs)
+        for tick, loc in zip(ticks(len(locs)), locs):
+            if lo - eps <= loc <= hi + eps:
+                drawn.add(id(tick))
+    return drawn
 
 
 def shown_px(fig: Any, size_pt: float, column_px: float,

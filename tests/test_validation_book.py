@@ -86,6 +86,7 @@ case("ledger.format_value", lambda: ledger.format_value([1.0]), TypeError, "valu
 case("ledger.format_value", lambda: ledger.format_value(NAN), ValueError, "value", FINITE)
 
 # report
+case("report.page_png", lambda: report.page_png("not a figure"), TypeError, "fig", "Figure")
 case("report.sci", lambda: report.sci(NAN), ValueError, "x", FINITE)
 case("report.sci", lambda: report.sci("1e-4"), TypeError, "x", "real")
 case("report.sci", lambda: report.sci(1.0, 0), ValueError, "digits", ">= 1")

@@ -145,6 +145,13 @@ case("filtering.covariance_square_root", lambda: filtering.covariance_square_roo
 
 
 # consistency
+case("filtering.gated_nis_moments", lambda: filtering.gated_nis_moments(-1.0), ValueError,
+     "gate", "(0.0, 1.0)")
+case("filtering.gated_nis_moments", lambda: filtering.gated_nis_moments("x"), TypeError, "gate")
+case("filtering.gated_nis_band", lambda: filtering.gated_nis_band(0, 0.9999, 0.005, 0.995),
+     ValueError, "n", "positive")
+case("filtering.gated_nis_band", lambda: filtering.gated_nis_band(10, 16.0, 0.005, 0.995),
+     ValueError, "gate", "(0.0, 1.0)")
 case("filtering.nees_bounds", lambda: filtering.nees_bounds(0, 10), ValueError, "dof", ">= 1")
 case("filtering.nees_bounds", lambda: filtering.nees_bounds(1, 1.0), TypeError, "n_runs")
 case("filtering.nees_bounds", lambda: filtering.nees_bounds(1, 10, 1.0), ValueError, "confidence",

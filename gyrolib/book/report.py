@@ -86,7 +86,12 @@ def page_png(fig: Any, **kwargs: Any) -> tuple[str, dict[str, int]] | None:
     reads it back from every figure on the pages.  ``kwargs`` go to ``print_figure``."""
     from IPython.core.pylabtools import retina_figure
 
+    from matplotlib.figure import Figure
+
     from gyrolib._page_figures import PNG_KEY, page_record
+
+    if not isinstance(fig, Figure):
+        raise TypeError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
 
     if not fig.axes and not fig.lines:  # as print_figure: an empty figure shows nothing
         return None

@@ -81,7 +81,7 @@ def time_to_sigma_c_margin(o: Mapping[str, Any]) -> float:
 
 
 @functools.lru_cache(maxsize=64)
-def _sigmas(p: Any) -> tuple[float, float, float]:
+def sigmas(p: Any) -> tuple[float, float, float]:
     """σ of ω_gc at 0, 2 and 100 s (rad/s) under ``p`` (kept per parameters: the sensitivity
     study reads σ(100 s) at the same point as the trend's margin)."""
     n100 = round(100.0 / p.dt)
@@ -93,7 +93,7 @@ def _sigmas(p: Any) -> tuple[float, float, float]:
 def drop_2s_margin(o: Mapping[str, Any]) -> float:
     """"σ drops sharply in the first 2 s" (Fig. 3 and the text after it): the share of the
     100-s reduction of σ(ω_gc) achieved in the first 2 s, minus one half."""
-    s0, s2, s100 = _sigmas(o["GyrocompassParams"])
+    s0, s2, s100 = sigmas(o["GyrocompassParams"])
     return (s0 - s2) / (s0 - s100) - 0.5 if s0 > s100 else -0.5
 
 

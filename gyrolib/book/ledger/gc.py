@@ -21,8 +21,8 @@ from typing import Final
 import numpy as np
 
 import gyrolib
+import gyrolib.book.ledger.levels as levels
 from gyrolib import inputs as _table
-from gyrolib.book.ledger import levels
 from gyrolib.book.ledger.claims import verdict
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict
 from gyrolib.book.report import sci as _sci

@@ -50,7 +50,7 @@ from numpy.typing import NDArray
 
 from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
-from gyrolib.book.ledger.claims import CLAIMS, _sigmas
+from gyrolib.book.ledger.claims import CLAIMS, sigmas
 from gyrolib.sensitivity import (
     Recheck,
     SensitivityResult,
@@ -122,7 +122,7 @@ def _units(model: str) -> tuple[str, ...]:
 
 def _quantities(model: str, objs: Mapping[str, Any]) -> list[float]:
     if model == "gc-claims":   # σ(100 s) of the trend's own covariance analysis (kept)
-        return [_sigmas(objs["GyrocompassParams"])[2]]
+        return [sigmas(objs["GyrocompassParams"])[2]]
     from gyrolib.rsf.equations import delta_k
 
     ex, gs, enc = objs["WorkedExample"], objs["MemsGyroSpec"], objs["EncoderSpec"]

@@ -22,8 +22,8 @@ from typing import Final
 
 import numpy as np
 
+import gyrolib.book.ledger.levels as levels
 from gyrolib import inputs as _inputs
-from gyrolib.book.ledger import levels
 from gyrolib.book.ledger.claims import verdict
 from gyrolib.book.ledger.item import (
     Candidate,
