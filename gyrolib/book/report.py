@@ -85,7 +85,6 @@ def page_png(fig: Any, **kwargs: Any) -> tuple[str, dict[str, int]] | None:
     (:func:`gyrolib._page_figures.page_record` under ``PNG_KEY``): a test of the built book
     reads it back from every figure on the pages.  ``kwargs`` go to ``print_figure``."""
     from IPython.core.pylabtools import retina_figure
-
     from matplotlib.figure import Figure
 
     from gyrolib._page_figures import PNG_KEY, page_record
