@@ -195,17 +195,22 @@ def _undrawn_tick_labels(fig: Any) -> set[int]:
 
 
 def _drawn_ticks(axis: Any) -> set[int]:
-    """The ``id`` of the ticks ``axis`` draws, through matplotlib's public API: the first
-    ``len(locs)`` ticks of each kind carry the locator's locations (the rest are spares), and
-    of those only the ones inside the view interval are drawn (as ``Axis.draw`` does)."""
-    lo, hi = sorted(axis.get_view_interval())
-    eps = 1e-10 * max(abs(hi - lo), abs(hi), abs(lo), 1e-300)
+    """The ``id`` of the ticks ``axis`` draws, through matplotlib's public API, as
+    ``Axis.draw`` chooses them: the first ``len(locs)`` ticks of each kind carry the
+    locator's locations (the rest are spares), and of those only the ones inside the view
+    interval, compared in the axis's transformed coordinates (a log axis: in decades) with
+    a tolerance of 10⁻¹⁰ of the interval."""
+    tr = axis.get_transform()
+    a, b = sorted(float(x) for x in tr.transform(list(axis.get_view_interval())))
+    tol = 1e-10 * (b - a)
     drawn = set()
     for locs, ticks in ((axis.get_majorticklocs(), axis.get_major_ticks),
                         (axis.get_minorticklocs(), axis.get_minor_ticks)):
         locs = list(locs)
-        for tick, loc in zip(ticks(len(locs)), locs):
-            if lo - eps <= loc <= hi + eps:
+        if not locs:
+            continue
+        for tick, loc_t in zip(ticks(len(locs)), tr.transform(locs)):
+            if a - tol <= float(loc_t) <= b + tol:
                 drawn.add(id(tick))
     return drawn
 
