@@ -579,33 +579,94 @@ def test_optimal_run_and_time_to_match_a_fresh_run_per_n1(p, proc):
                       m.optimal_run_samples(900, n2_max).time_to(level))
 
 
-def test_race_and_conditions_match_the_straightforward_search(monkeypatch):
-    """race(), conditions(), procedure_for_time and race_sweep with the optimal search's
-    fast time (position 2 stopped early, position 1 resumed) against the same search on
-    fresh full runs (the model's caches off for the optimal run)."""
+def test_race_and_sweep_match_the_straightforward_search(monkeypatch):
+    """race() and race_sweep with the optimal search's fast time (position 2 stopped early,
+    position 1 resumed, a window that cannot beat the best so far given up) against the
+    same search on fresh full runs (the model's caches off for the optimal run), at the
+    reference and five other points, the worst corner of the table's ranges among them
+    (conditions() and procedure_for_time call the same search; their bisections are
+    checked against the claim's own status in test_claim_map)."""
+    r0 = gc.RACE_RANGES
+    worst = {"loop_bandwidth": r0["loop_bandwidth"][0], "rate_noise": r0["rate_noise"][0]}
+
     def fast():
         r = gc.race(BASE, PROC)
-        c = r.conditions()
         sw = gc.race_sweep(BASE, PROC, cases=[{"T_settle": 60.0}, {"split": 0.3},
-                                              {"rate_noise": 6e-15, "loop_bandwidth": 3.0}])
-        pft = gc.procedure_for_time(BASE, PROC, "rate_noise", 150.0, estimator="optimal")
-        return ([r.t_c_rate_sensor, r.t_c_rate_sensor_optimal, r.t1, r.t2, r.t1_optimal,
-                 c.loop_bandwidth_min, c.overhead_min, c.rate_noise_min, c.worst_t_optimal,
-                 c.worst_t_classical, pft], [sw.t_c_rate_sensor, sw.t_c_rate_sensor_optimal],
+                                              {"rate_noise": 6e-15, "loop_bandwidth": 3.0},
+                                              worst])
+        return ([r.t_c_rate_sensor, r.t_c_rate_sensor_optimal, r.t1, r.t2, r.t1_optimal],
+                [sw.t_c_rate_sensor, sw.t_c_rate_sensor_optimal],
                 r.sigma_optimal, r.sigma_classical)
 
+    _forget_races()
     ours = fast()
 
-    def plain_time_to(self, n1, n2_max, level):
+    def plain_time_to(self, n1, n2_max, level, *, give_up_after=math.inf):
+        # the whole window, never given up: the search's pruning is checked too
         ref = _ref_optimal_sigma(self, n1, n2_max)
         run = self.optimal_run_samples(n1, n2_max)
         return gc.OptimalRun(t=run.t, sigma=ref, phases=run.phases).time_to(level)
 
     monkeypatch.setattr(gc.RateSensorModel, "optimal_time_to_samples", plain_time_to)
-    ref = fast()
+    _forget_races()   # the race's memo would hand back `ours` (a check that cannot fail)
+    try:
+        ref = fast()
+    finally:
+        _forget_races()
     assert _close(ours[0], ref[0]), (ours[0], ref[0])
     assert all(_close(a, b) for a, b in zip(ours[1], ref[1]))
     assert _close(ours[2], ref[2]) and _close(ours[3], ref[3])
+
+
+def _forget_races() -> None:
+    """Empty the race's memo (``functools.lru_cache`` per inputs in
+    :mod:`gyrolib.gc.racing.comparison`), so that the next call computes."""
+    from gyrolib.gc.racing import comparison
+
+    for f in (comparison._rate_time, comparison._rate_part_at, comparison._boundary,
+              comparison._gc_time):
+        f.cache_clear()
+
+
+def test_the_memo_is_emptied_for_the_reference_search():
+    """Power of the reference test above: without emptying the memo, a changed
+    optimal-time method is not even called."""
+    calls = []
+    gc.race_margin(BASE, PROC)
+
+    def spy(self, *a, **k):
+        calls.append(1)
+        return math.nan
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(gc.RateSensorModel, "optimal_time_to_samples", spy)
+        gc.race_margin(BASE, PROC)
+        assert calls == []
+        _forget_races()
+        try:
+            gc.race_margin(BASE, PROC)
+        finally:
+            _forget_races()
+    assert calls
+
+
+@pytest.mark.parametrize("change", [
+    {}, {"sigma1_sq": 3.0}, {"sigma1_sq": 8.0}, {"sigma1_sq": 0.5},
+    {"sigma_as_offset": 5e-6}, {"sigma_hf_scale": 5e-5}, {"measurement_noise": "variance"}])
+def test_gc_time_stopped_at_the_crossing_is_the_full_analysis(change):
+    """GC's time as the margins compute it (each covariance analysis stopped after σ has
+    crossed) against the full analyses over 100 s and 1000 s read by time_to_sigma: the
+    same number (the crossing between 100 s and 1000 s, an instrument state and the
+    scale's drift included)."""
+    from gyrolib.gc.racing.comparison import _gc_part, _gc_time
+
+    p = replace(BASE, **{k: (x * getattr(BASE, k) if k == "sigma1_sq" else x)
+                         for k, x in change.items()})
+    full = _gc_part(p, PROC.sigma_c, PROC.t_max)[0]
+    _forget_races()
+    fast = _gc_time(p, PROC.sigma_c, PROC.t_max)
+    assert (math.isnan(full) and math.isnan(fast)) or fast == pytest.approx(full, rel=1e-12)
+    assert math.isfinite(full) and full > 0.0
 
 
 @pytest.mark.parametrize("factor", [0.5, 2.0])

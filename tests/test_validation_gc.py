@@ -643,6 +643,13 @@ case("gc.RateSensorModel.optimal_time_to_samples",
      lambda: _RMODEL.optimal_time_to_samples(10, 20, -1e-8), ValueError, "level", "> 0")
 case("gc.RateSensorModel.optimal_time_to_samples",
      lambda: _RMODEL.optimal_time_to_samples(10, 0, 1e-8), ValueError, "n2_max", ">= 1")
+case("gc.RateSensorModel.optimal_time_to_samples",
+     lambda: _RMODEL.optimal_time_to_samples(10, 20, 1e-8, give_up_after=-1.0), ValueError,
+     "give_up_after", "> 0")
+case("gc.RateSensorModel.optimal_time_to_samples",
+     lambda: _RMODEL.optimal_time_to_samples(10, 20, 1e-8, give_up_after=float("nan")),
+     ValueError,
+     "give_up_after", "> 0")
 case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(procedure=P), TypeError,
      "procedure", "RateSensorProcedure")
 case("gc.rate_sensor_model", lambda: gc.rate_sensor_model(_RPROC), TypeError, "params",

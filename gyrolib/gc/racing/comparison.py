@@ -25,7 +25,14 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
+from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
+from gyrolib.gc.model.discretization import (
+    augmented_initial_covariance,
+    discretize_steps,
+    steps_in,
+)
+from gyrolib.gc.model.instrument import augmented_index, build_instrument_model
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.gc.racing.rate_sensor import (
     RateSensorModel,
@@ -150,10 +157,13 @@ def _classical_samples(model: RateSensorModel) -> tuple[int, int] | None:
     return n1, hi - n1
 
 
-def _optimal_time(model: RateSensorModel, n1: int, n2_max: int) -> float:
+def _optimal_time(model: RateSensorModel, n1: int, n2_max: int,
+                  beat: float = math.inf) -> float:
     """The optimal estimator's time to σ_c with position 1 lasting ``n1`` samples and
-    position 2 ended as soon as σ reaches σ_c (``inf``: not within ``n2_max`` samples)."""
-    t = model.optimal_time_to_samples(n1, n2_max, model.procedure.sigma_c)
+    position 2 ended as soon as σ reaches σ_c (``inf``: not within ``n2_max`` samples, or
+    not by ``beat``, a time to beat: that window is then not finished)."""
+    t = model.optimal_time_to_samples(n1, n2_max, model.procedure.sigma_c,
+                                      give_up_after=beat)
     return math.inf if math.isnan(t) else t
 
 
@@ -164,11 +174,15 @@ def _optimal_windows(model: RateSensorModel, n1_hint: int, n2_max: int) -> tuple
     if model.procedure.split is not None:
         return _optimal_time(model, n1_hint, n2_max), n1_hint
     cache: dict[int, float] = {}
+    shortest = [math.inf]   # the shortest time so far: a window that cannot beat it is given up
 
     def t(n1: int) -> float:
         n1 = max(1, n1)
         if n1 not in cache:
-            cache[n1] = _optimal_time(model, n1, n2_max)
+            # a window given up is later than the best so far (its value here, inf, only
+            # has to lose every comparison, as its true time would: the result is the same)
+            cache[n1] = _optimal_time(model, n1, n2_max, shortest[0])
+            shortest[0] = min(shortest[0], cache[n1])
         return cache[n1]
     grid = sorted({max(1, round(f * n1_hint)) for f in np.linspace(0.1, 2.0, 20)})
     best = min(grid, key=t)
@@ -485,10 +499,8 @@ class RaceResult:
         wp = replace(p, sigma_hf_scale=r["sigma_hf_scale"][1])
         wproc = _with(replace(proc, loop_bandwidth=r["loop_bandwidth"][0],
                               rate_noise=r["rate_noise"][0]), "overhead", r["overhead"][0])
-        # GC's time there; when the scale's drift alone reaches σ_c it is nan at every
-        # horizon (_gc_part), and its covariance analyses (σ curves unused here) are skipped
-        w_gc = (math.nan if wp.scale_drift_sigma >= proc.sigma_c
-                else _gc_part(wp, proc.sigma_c, proc.t_max)[0])
+        # GC's time there (nan when the scale's drift alone reaches σ_c)
+        w_gc = _gc_time(wp, proc.sigma_c, proc.t_max)
         w_part = _rate_part_at(p, wproc)
         w_opt = w_part.t_c_optimal if np.isfinite(w_part.t_c_optimal) else math.inf
         w_holds = bool(np.isfinite(w_gc) and (not np.isfinite(w_opt) or w_opt > w_gc / keep))
@@ -562,10 +574,65 @@ def race_margin(params: GyrocompassParams | None = None,
 @functools.lru_cache(maxsize=256)
 def _gc_time(p: GyrocompassParams, level: float, t_max: float) -> float:
     """GC's time to ``level`` (``nan``: not reached), kept per parameters: the rival's rows
-    of a map do not change it."""
-    if p.scale_drift_sigma >= level:
+    of a map do not change it.  The same number as ``_gc_part(p, level, t_max)[0]``, with
+    each covariance analysis stopped once σ has crossed (:func:`_filter_crossing`)."""
+    s_scale = p.scale_drift_sigma
+    if s_scale >= level:
         return math.nan
-    return _gc_part(p, level, t_max)[0]
+    p_filter = replace(p, sigma_hf_scale=0.0) if p.sigma_hf_scale else p
+    for horizon in sorted({min(h, t_max) for h in _GC_HORIZONS}):
+        n = max(1, round(horizon / p.dt))
+        t_end = horizon if abs(n * p.dt - horizon) < 1e-12 * horizon else n * p.dt
+        t_c = _filter_crossing(p_filter, t_end, math.sqrt(level**2 - s_scale**2))
+        if np.isfinite(t_c):
+            return t_c
+    return math.nan
+
+
+def _filter_crossing(p: GyrocompassParams, t_end: float, level: float) -> float:
+    """``time_to_sigma(covariance_analysis(p, t_end), "omega_gc", level)``, with the
+    recursion run in growing chunks, each resumed from the last's covariance (the same
+    floating-point operations as one run), and stopped after the chunk in which the variance
+    of ω_gc falls below ``level² (1 − 10⁻⁶)``.  When ω_gc is a constant of the discrete model
+    (its row of every ``Φ`` the unit row, no process noise reaching it; checked, otherwise
+    the whole run) its variance never grows, so no later step is above ``level`` again and
+    the crossing found is that of the whole run (issue 36: the race's margins ran GC's
+    filter over all of 100 s, or 1000 s, to read a time of about 25 s)."""
+    inst = build_instrument_model(p)
+    disc = discretize_steps(p, steps_in(p, t_end), "van_loan", inst)
+    m = disc.model
+    P = augmented_initial_covariance(p, inst)
+    k = augmented_index(disc.state_names, "omega_gc")
+    unit = np.zeros(m.n)
+    unit[k] = 1.0
+    constant = (all(np.array_equal(A[:, k], np.broadcast_to(unit, A[:, k].shape))
+                    for A in (m.Phi0,)) and not m.PhiA[:, k].any() and not m.PhiB[:, k].any()
+                and not any(Q[:, k].any() or Q[:, :, k].any() for Q in (m.Qd0, m.QdA, m.QdB)))
+    safe = level**2 * (1.0 - 1e-6)
+    parts, done, chunk = [P[k, k:k + 1]], 0, 4096
+    while done < m.n_steps:
+        n = m.n_steps - done if not constant else min(chunk, m.n_steps - done)
+        sl = slice(done, done + n)
+        sub = AffineDiscreteModel(
+            seg=m.seg[sl], a=m.a[sl], b=m.b[sl], Phi0=m.Phi0, PhiA=m.PhiA, PhiB=m.PhiB,
+            Qd0=m.Qd0, QdA=m.QdA, QdB=m.QdB, H=m.H, r=m.r, H1=m.H1,
+            h=None if m.h is None else m.h[sl])
+        run = covariance_fast(sub, P, n)
+        parts.append(run.var[1:, k])
+        done += n
+        if constant and run.var[-1, k] <= safe:
+            break
+        P, chunk = run.P_stored[-1], 2 * chunk
+    s = np.sqrt(np.clip(np.concatenate(parts), 0.0, None))
+    above = np.nonzero(s > level)[0]
+    if above.size == 0:
+        return 0.0
+    last = above[-1]
+    if last == s.size - 1:
+        return math.nan
+    t = disc.t
+    t0, t1, s0, s1 = t[last], t[last + 1], s[last], s[last + 1]
+    return float(t0 + (s0 - level) / (s0 - s1) * (t1 - t0))
 
 
 def _percent(t_gc: float, t_other: float) -> float:
@@ -821,15 +888,11 @@ def race_sweep(params: GyrocompassParams | None = None,
             if name not in _PARAM_FIELDS and name not in _PROC_FIELDS:
                 raise ValueError("cases must name GyrocompassParams or RateSensorProcedure "
                                  f"fields; got {name!r}")
-    cache: dict[tuple[GyrocompassParams, float, float], float] = {}
     out = np.empty((len(cases), 3))
     for i, c in enumerate(cases):
         q = replace(p, **{k: x for k, x in c.items() if k in _PARAM_FIELDS})
         pr = replace(proc, **{k: x for k, x in c.items() if k in _PROC_FIELDS})
-        key = (q, pr.sigma_c, pr.t_max)
-        if key not in cache:
-            cache[key] = _gc_part(q, pr.sigma_c, pr.t_max)[0]
         part = _rate_part_at(q, pr)
-        out[i] = cache[key], part.t_c, part.t_c_optimal
+        out[i] = _gc_time(q, pr.sigma_c, pr.t_max), part.t_c, part.t_c_optimal
     return RaceSweep(params=p, procedure=proc, cases=cases, t_c_gc=out[:, 0],
                      t_c_rate_sensor=out[:, 1], t_c_rate_sensor_optimal=out[:, 2])

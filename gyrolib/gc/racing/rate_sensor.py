@@ -676,7 +676,8 @@ class RateSensorModel:
         return bool(np.array_equal(self.Phi[_OMEGA], unit) and not self.Qd[_OMEGA].any()
                     and not self.Qd[:, _OMEGA].any())
 
-    def optimal_time_to_samples(self, n1: int, n2_max: int, level: float) -> float:
+    def optimal_time_to_samples(self, n1: int, n2_max: int, level: float, *,
+                                give_up_after: float = math.inf) -> float:
         """The optimal estimator's first time (s) at which σ of ω_gc falls to ``level`` and
         stays below it, position 1 lasting ``n1`` samples and position 2 at most ``n2_max``:
         ``optimal_run_samples(n1, n2_max).time_to(level)``, with position 2 run only as far
@@ -697,11 +698,18 @@ class RateSensorModel:
             Samples in position 1, and at most in position 2 (>= 1).
         level : float
             The σ of ω_gc to reach (rad/s, > 0).
+        give_up_after : float, default inf
+            An elapsed time (s, > 0) beyond which the answer is not wanted: when ω_gc is a
+            constant of the model and ``level`` is not reached by then (a sample to
+            spare), ``nan`` is returned without running further (a search over ``n1``
+            passes its best time so far: a window that cannot beat it is not finished).
+            Otherwise it changes nothing.
 
         Returns
         -------
         float
-            Elapsed time (s) since the start of position 1, or ``nan``.
+            Elapsed time (s) since the start of position 1, or ``nan`` (not reached within
+            ``n2_max`` samples, or by ``give_up_after``).
 
         Examples
         --------
@@ -714,8 +722,17 @@ class RateSensorModel:
         """
         n1, n2_max = v.check_int("n1", n1, 1), v.check_int("n2_max", n2_max, 1)
         level = v.check_positive("level", level)
-        ts, ss, phases, P, t = self._optimal_to_position2(n1)
+        if not (isinstance(give_up_after, float | int) and give_up_after == math.inf):
+            give_up_after = v.check_positive("give_up_after", give_up_after)  # or inf
         dt = self.procedure.sample_dt
+        if math.isfinite(give_up_after) and self._omega_constant:
+            # position 2 starts at n1 dt + T_rot + T_settle; its sample j (1, 2, ...) is at
+            # that start + j dt: samples beyond give_up_after + dt are not needed
+            start = n1 * dt + self.procedure.overhead
+            n2_max = min(n2_max, math.ceil((give_up_after - start) / dt) + 1)
+            if n2_max < 1:
+                return math.nan
+        ts, ss, phases, P, t = self._optimal_to_position2(n1)
         safe = level**2 * (1.0 - 1e-6)
         done, chunk, sym = 0, 64, True
         while done < n2_max:
