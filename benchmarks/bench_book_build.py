@@ -21,9 +21,9 @@ The peer of the no-op rebuild is the clean build of the same run (how much the j
 saves); the other cases have a target only.  The builds run in a temporary copy of the
 project (so ``_build/`` of the working tree is left alone), with the project's environment.
 Writes ``benchmarks/results/book_build.json``.  ``--clean-only`` runs cases 1 and 2 only (a
-few minutes instead of six builds).
+few minutes instead of six builds); ``--no-peer`` leaves out the one-at-a-time build.
 
-    .venv/bin/python benchmarks/bench_book_build.py [--clean-only]
+    .venv/bin/python benchmarks/bench_book_build.py [--clean-only] [--no-peer]
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ from __future__ import annotations
 import argparse
 import os
 import re
+import resource
 import shutil
 import subprocess
 import sys
@@ -66,9 +67,21 @@ def _tree_memory(proc: psutil.Process) -> tuple[int, int]:
     return rss, pss
 
 
+#: CPU seconds (user + system) of the last build's process tree (its reaped descendants:
+#: Sphinx and the chapters' kernels).
+LAST_CPU = [0.0]
+
+
+def _children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def build(builder: str = "html", **extra_env: str) -> tuple[float, tuple[int, int], str]:
-    """Run one build; return (seconds, peak (RSS, PSS) of the process tree in bytes, log)."""
+    """Run one build; return (seconds, peak (RSS, PSS) of the process tree in bytes, log)
+    (its CPU seconds in :data:`LAST_CPU`)."""
     env = dict(os.environ, MPLBACKEND="Agg", **extra_env)
+    cpu0 = _children_cpu()
     t0 = time.perf_counter()
     popen = subprocess.Popen(cmd(builder), cwd=ROOT, env=env, stdout=subprocess.PIPE,
                              stderr=subprocess.STDOUT, text=True)
@@ -89,6 +102,7 @@ def build(builder: str = "html", **extra_env: str) -> tuple[float, tuple[int, in
     thread.start()
     log, _ = popen.communicate()
     elapsed = time.perf_counter() - t0
+    LAST_CPU[0] = _children_cpu() - cpu0
     stop.set()
     thread.join()
     if popen.returncode != 0:
@@ -127,31 +141,37 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--clean-only", action="store_true",
                         help="only the clean build and its chapters' execution times")
+    parser.add_argument("--no-peer", action="store_true",
+                        help="without the one-chapter-at-a-time peer build (half the time)")
     args = parser.parse_args()
     rec = Recorder("book_build")
     with tempfile.TemporaryDirectory(prefix="gyrolib-bench-build-") as tmp:
         ROOT = Path(tmp) / "book"
         shutil.copytree(SOURCE, ROOT, ignore=IGNORE)
         # the peer first: one chapter at a time (GYROLIB_BUILD_JOBS=1), then the default
-        t_serial, peak_serial, _ = build(GYROLIB_BUILD_JOBS="1")
-        shutil.rmtree(ROOT / "_build")
+        if not args.no_peer:
+            t_serial, peak_serial, _ = build(GYROLIB_BUILD_JOBS="1")
+            shutil.rmtree(ROOT / "_build")
         t_clean, peak, log = build()
+        cpu_clean = LAST_CPU[0]
         n_exec = len(executed(log))
         per_chapter = chapter_seconds(log)
         jobs = os.environ.get("GYROLIB_BUILD_JOBS") or str(len(os.sched_getaffinity(0)))
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=SOURCE, text=True,
                                 capture_output=True, check=False).stdout.strip() or "?"
         rec.case("full clean build, every chapter executed", t_clean, target_s=90.0,
-                 note=f"commit {commit}; ratio = ours/target; {jobs} chapters at a time "
+                 note=f"commit {commit}; ratio = ours/target; {cpu_clean:.0f} CPU-s in all; "
+                      f"{jobs} chapters at a time "
                       f"(_ext/parallel_execute.py); {n_exec} chapters executed in "
                       f"{sum(per_chapter.values()):.0f} s of kernel time; peak memory of the "
                       f"build's process tree {peak[1] / 1e6:.0f} MB PSS, "
                       f"{peak[0] / 1e6:.0f} MB RSS (target 600 MB)")
-        rec.case(f"full clean build: {jobs} chapters at a time vs one at a time", t_clean,
-                 peer="GYROLIB_BUILD_JOBS=1", peer_s=t_serial,
-                 note=f"ratio = peer/ours; peak memory {peak[1] / 1e6:.0f} MB PSS vs "
-                      f"{peak_serial[1] / 1e6:.0f} MB PSS one at a time (RSS "
-                      f"{peak[0] / 1e6:.0f} vs {peak_serial[0] / 1e6:.0f} MB)")
+        if not args.no_peer:
+            rec.case(f"full clean build: {jobs} chapters at a time vs one at a time", t_clean,
+                     peer="GYROLIB_BUILD_JOBS=1", peer_s=t_serial,
+                     note=f"ratio = peer/ours; peak memory {peak[1] / 1e6:.0f} MB PSS vs "
+                          f"{peak_serial[1] / 1e6:.0f} MB PSS one at a time (RSS "
+                          f"{peak[0] / 1e6:.0f} vs {peak_serial[0] / 1e6:.0f} MB)")
         for doc, seconds in sorted(per_chapter.items(), key=lambda kv: -kv[1]):
             rec.case(f"execution of {doc} in the clean build", seconds,
                      note="execution time in the clean build, chapters running concurrently "
