@@ -115,6 +115,8 @@ def test_cli_json_parses_with_every_field_and_is_byte_identical(items, tmp_path,
     book = session_book()
     built = _book_memo(book, monkeypatch)
     assert Path(os.environ[LEDGER_MEMO_ENV]) != built.parent  # the session's is another
+    # the session's own build (the test command) computed the ledger from today's sources
+    assert built.is_file() or not book.fresh, f"the book build left no {built}"
     memo = None
     if built.is_file():  # not the session's memo: a copy, so the build's stays untouched
         memo = tmp_path / "book-memo"
