@@ -398,8 +398,8 @@ def _xdist_controller(config) -> bool:
 #: share one computation per session instead of computing the ledger (about 6.5 s of CPU)
 #: in each of a dozen tests, processes and workers.  The book build keeps a memo of its own
 #: (``_ext/gyrolib_cache.py`` sets the variable for its kernels), so the book's ledger and
-#: the tests' stay two independent computations; the tests of the computation itself and of
-#: the command line's determinism compute without it (``tests/test_ledger.py``).
+#: the tests' stay two independent computations: the command line's JSON, read from the
+#: build's memo, is compared with the session's (``tests/test_ledger.py``).
 LEDGER_MEMO_ENV = "GYROLIB_LEDGER_MEMO"
 
 

@@ -1,6 +1,7 @@
 """gyrolib.gc.model.shaping_filters against closed forms (sympy), a second algorithm (PSD quadrature
 vs Lyapunov) and statistical bounds (seeded exact simulation), paper GC Eqs. (6), (7)."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -67,8 +68,10 @@ def test_drift_variance_lyapunov(alpha, xi, s2):
 
 
 def test_psd_equals_the_closed_form_spectrum():
-    """python-control's |H(jω)|² PSD equals the closed-form rational spectrum; the two-sided PSD
-    is even."""
+    """The |H(jω)|² PSD equals the closed-form rational spectrum; the two-sided PSD is even;
+    the frequencies may come in any order (python-control's ``frequency_response``, which
+    gyrolib called until 0.5.0, returns them sorted: the values came back in another order
+    than the frequencies asked for); a pole on the axis gives python-control's inf."""
     a, xi, s2 = VIB_CASES[0]
     filt = vibration_filter(a, xi, s2)
     w = np.logspace(-5, 3, 57)
@@ -81,6 +84,16 @@ def test_psd_equals_the_closed_form_spectrum():
     np.testing.assert_allclose(psd_two_sided(filt, w), closed, rtol=1e-12)
     # The two-sided spectrum is even.
     np.testing.assert_allclose(psd_two_sided(filt, -w), psd_two_sided(filt, w), rtol=0)
+    # In the order asked for: each value is its frequency's (sorted, the check fails).
+    order = np.random.default_rng(7).permutation(w.size)
+    np.testing.assert_allclose(psd_two_sided(filt, w[order]), closed[order], rtol=1e-12)
+    assert not np.allclose(np.sort(w[order]), w[order])
+    # an undamped filter (ξ = 0, α = 1 rad/s: its matrix singular at ω = 1 in exact
+    # arithmetic, on any CPU) has its poles at ±j: infinite there, finite elsewhere
+    undamped = dataclasses.replace(filt, A=np.array([[0.0, 1.0], [-1.0, 0.0]]))
+    with pytest.warns(RuntimeWarning, match="singular"):
+        at_pole = psd_two_sided(undamped, [0.5, 1.0])
+    assert np.isfinite(at_pole[0]) and np.isinf(at_pole[1])
     with pytest.raises(ValueError, match="omega"):
         psd(filt, -w)
 

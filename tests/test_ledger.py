@@ -3,13 +3,14 @@
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
-from conftest import require_built_book
+from conftest import LEDGER_MEMO_ENV, require_built_book, session_book
 
 import gyrolib
 from gyrolib.book import cite
@@ -61,13 +62,27 @@ def items():
     return collect()
 
 
-def _cli_json() -> str:
-    """The command's JSON, computed by the command (not read from the session's memo of the
-    ledger, ``tests/conftest.py``)."""
-    env = {k: v for k, v in os.environ.items() if k != "GYROLIB_LEDGER_MEMO"}
+def _cli_json(memo: Path | None = None) -> str:
+    """The command's JSON: its items read from the folder ``memo`` (a memo of the ledger,
+    ``gyrolib.book.ledger.MEMO_ENV``) or, without one, computed by the command; never read
+    from the session's memo (``tests/conftest.py``)."""
+    env = {k: v for k, v in os.environ.items() if k != LEDGER_MEMO_ENV}
+    if memo is not None:
+        env[LEDGER_MEMO_ENV] = str(memo)
     out = subprocess.run([sys.executable, "-m", "gyrolib", "ledger", "--json"], check=True,
                          capture_output=True, text=True, cwd=ROOT, env=env)
     return out.stdout
+
+
+def _book_memo(book, monkeypatch) -> Path:
+    """Where the book build keeps its memo of the ledger for today's gyrolib sources: its
+    kernels computed the items there, in processes of their own (``_ext/gyrolib_cache.py``
+    gives the build a memo folder in its jupyter cache)."""
+    import gyrolib.book.ledger as ledger_module
+
+    with monkeypatch.context() as m:
+        m.setenv(LEDGER_MEMO_ENV, str(book.cache / "ledger"))
+        return ledger_module._memo_file()
 
 
 def test_every_required_id_is_present(items):
@@ -90,12 +105,35 @@ def test_statuses_and_fields(items):
                     or it.evidence.startswith(UNDECIDABLE)), it.id
 
 
-def test_cli_json_parses_with_every_field_and_is_byte_identical(items):
-    """The command's JSON, computed by the command, is byte for byte the JSON of the test
-    session's ledger (``items``: the session's memo, computed once in another process or
-    in this one, never by the command): two independent computations agree."""
-    first, second = _cli_json(), to_json(items)
-    assert first == second
+def test_cli_json_parses_with_every_field_and_is_byte_identical(items, tmp_path, monkeypatch):
+    """The command's JSON is byte for byte the JSON of the test session's ledger (``items``:
+    the session's memo, computed once in a test process, ``tests/conftest.py``) and the
+    book's ``ledger.json``; the command's items are another computation than the session's:
+    the book build's (its kernels computed them, with a memo of their own), or, when the
+    build was made from other sources (``GYROLIB_REUSE_BOOK``), the command's own.  Two
+    independent computations agree, and the command prints what the book publishes."""
+    book = session_book()
+    built = _book_memo(book, monkeypatch)
+    assert Path(os.environ[LEDGER_MEMO_ENV]) != built.parent  # the session's is another
+    # the session's own build (the test command) computed the ledger from today's sources
+    assert built.is_file() or not book.fresh, f"the book build left no {built}"
+    memo = None
+    if built.is_file():  # not the session's memo: a copy, so the build's stays untouched
+        memo = tmp_path / "book-memo"
+        memo.mkdir()
+        shutil.copy2(built, memo / built.name)
+    first, second = _cli_json(memo), to_json(items)
+    source = "the book build's" if memo else "the command's own"
+    assert first == second, f"the command's JSON ({source} computation) != the session's"
+    if memo is not None:
+        assert (book.html / "ledger.json").read_text(encoding="utf-8") == second
+        # power, and proof that the command printed the build's items: one value changed in
+        # the build's memo changes the command's JSON
+        data = json.loads((memo / built.name).read_text(encoding="utf-8"))
+        changed = next(d for d in data if isinstance(d["reproduced_value"], float))
+        changed["reproduced_value"] *= 1.5
+        (memo / built.name).write_text(json.dumps(data), encoding="utf-8")
+        assert _cli_json(memo) != second
     doc = json.loads(first)
     assert doc["version"] == gyrolib.__version__ and doc["title"]
     data = doc["items"]
@@ -212,15 +250,18 @@ class _Ids(HTMLParser):
 def test_every_item_links_to_a_page_and_anchor_of_the_built_book(items):
     html = require_built_book()
     problems = []
+    ids: dict[Path, set[str]] = {}  # each page parsed once (a few pages hold every item)
     for it in items:
         page = html / f"{it.chapter}.html"
         if not page.is_file():
             problems.append(f"{it.id}: no page {page.relative_to(html)}")
             continue
         if it.anchor:
-            parser = _Ids()
-            parser.feed(page.read_text(encoding="utf-8"))
-            if it.anchor not in parser.ids:
+            if page not in ids:
+                parser = _Ids()
+                parser.feed(page.read_text(encoding="utf-8"))
+                ids[page] = parser.ids
+            if it.anchor not in ids[page]:
                 problems.append(f"{it.id}: no anchor #{it.anchor} in {page.name}")
     assert not problems, "\n".join(problems)
 

@@ -324,8 +324,13 @@ def _check_filter(filt: object) -> ShapingFilter:
 
 
 def psd_two_sided(filt: ShapingFilter, omega: ArrayLike) -> NDArray[np.float64]:
-    """Two-sided PSD of the output per rad/s, ``S(ω) = Q |H(jω)|²`` (python-control
-    frequency response), so that ``var = (1/2π) ∫_{−∞}^{∞} S(ω) dω``.
+    """Two-sided PSD of the output per rad/s, ``S(ω) = Q |H(jω)|²`` with
+    ``H(jω) = C (jωI − A)⁻¹ B``, so that ``var = (1/2π) ∫_{−∞}^{∞} S(ω) dω``.
+
+    ``H`` is evaluated as python-control's ``frequency_response`` does it (one linear solve
+    per frequency, the same LAPACK solve), all frequencies in one call; at a pole on the
+    imaginary axis (an unstable filter), by python-control itself, which warns and returns
+    ``inf`` there.
 
     ``omega`` (rad/s) is a 1-D array; ``S`` is even in ``ω``.
 
@@ -348,10 +353,18 @@ def psd_two_sided(filt: ShapingFilter, omega: ArrayLike) -> NDArray[np.float64]:
     """
     filt = _check_filter(filt)
     omega = check_array("omega", omega, ndim=1)
-    import control
+    n = filt.A.shape[0]
+    s = 1j * np.abs(omega)
+    try:  # (jωI − A) X = B at every ω: python-control's loop, as one batched solve
+        x = np.linalg.solve(s[:, None, None] * np.eye(n) - filt.A,
+                            np.broadcast_to(filt.B.astype(complex), (s.size, n, 1)))
+    except np.linalg.LinAlgError:  # a pole on the axis: python-control's inf and warning
+        import control
 
-    resp = control.frequency_response(filt.as_control(), np.abs(omega))
-    mag = np.asarray(resp.magnitude, dtype=float).reshape(omega.shape)
+        resp = control.frequency_response(filt.as_control(), np.abs(omega))
+        mag = np.asarray(resp.magnitude, dtype=float).reshape(omega.shape)
+        return filt.Q * mag**2
+    mag = np.abs((filt.C @ x)[:, 0, 0])
     return filt.Q * mag**2
 
 
