@@ -66,7 +66,8 @@ def run_one(name: str) -> None:
         with redirect_stdout(io.StringIO()):
             result = shell.run_cell(source, store_history=False)
         if not result.success:
-            raise SystemExit(f"{name}: cell {i} failed: {result.error_in_exec!r}")
+            raise SystemExit(f"{name}: cell {i} failed: "
+                             f"{result.error_before_exec or result.error_in_exec!r}")
         first = next((line for line in cell.source.splitlines()
                       if line.strip() and not line.lstrip().startswith(("#", "%", ":"))), "")
         cells.append({"cell": i, "cpu_s": _own_cpu() + _children_cpu() - c0,
@@ -82,7 +83,9 @@ def main() -> None:
     if args.one:
         run_one(args.one)
         return
-    names = args.only or sorted(p.stem for p in CHAPTERS.glob("*.md"))
+    # the chapters that are notebooks (the build executes them); a plain page has no code cell
+    names = args.only or sorted(p.stem for p in CHAPTERS.glob("*.md")
+                                if "```{code-cell}" in p.read_text(encoding="utf-8"))
     rec = Recorder("chapters")
     with tempfile.TemporaryDirectory(prefix="gyrolib-bench-chapters-") as memo:
         env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_LEDGER_MEMO=memo)
