@@ -25,14 +25,8 @@ from numpy.typing import NDArray
 
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
-from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
-from gyrolib.gc.model.discretization import (
-    augmented_initial_covariance,
-    discretize_steps,
-    steps_in,
-)
-from gyrolib.gc.model.instrument import augmented_index, build_instrument_model
+from gyrolib.gc.analysis.speed_claim import time_to_level
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.gc.racing.rate_sensor import (
     RateSensorModel,
@@ -574,65 +568,18 @@ def race_margin(params: GyrocompassParams | None = None,
 @functools.lru_cache(maxsize=256)
 def _gc_time(p: GyrocompassParams, level: float, t_max: float) -> float:
     """GC's time to ``level`` (``nan``: not reached), kept per parameters: the rival's rows
-    of a map do not change it.  The same number as ``_gc_part(p, level, t_max)[0]``, with
-    each covariance analysis stopped once σ has crossed (:func:`_filter_crossing`)."""
+    of a map do not change it.  The same number as ``_gc_part(p, level, t_max)[0]``, from
+    :func:`gyrolib.gc.time_to_level` (the filter's covariance stopped at the crossing, over
+    the same horizons; issue 36: the margins ran all of 100 s, or 1000 s, to read a time of
+    about 25 s)."""
     s_scale = p.scale_drift_sigma
     if s_scale >= level:
         return math.nan
     p_filter = replace(p, sigma_hf_scale=0.0) if p.sigma_hf_scale else p
-    for horizon in sorted({min(h, t_max) for h in _GC_HORIZONS}):
-        n = max(1, round(horizon / p.dt))
-        t_end = horizon if abs(n * p.dt - horizon) < 1e-12 * horizon else n * p.dt
-        t_c = _filter_crossing(p_filter, t_end, math.sqrt(level**2 - s_scale**2))
-        if np.isfinite(t_c):
-            return t_c
-    return math.nan
-
-
-def _filter_crossing(p: GyrocompassParams, t_end: float, level: float) -> float:
-    """``time_to_sigma(covariance_analysis(p, t_end), "omega_gc", level)``, with the
-    recursion run in growing chunks, each resumed from the last's covariance (the same
-    floating-point operations as one run), and stopped after the chunk in which the variance
-    of ω_gc falls below ``level² (1 − 10⁻⁶)``.  When ω_gc is a constant of the discrete model
-    (its row of every ``Φ`` the unit row, no process noise reaching it; checked, otherwise
-    the whole run) its variance never grows, so no later step is above ``level`` again and
-    the crossing found is that of the whole run (issue 36: the race's margins ran GC's
-    filter over all of 100 s, or 1000 s, to read a time of about 25 s)."""
-    inst = build_instrument_model(p)
-    disc = discretize_steps(p, steps_in(p, t_end), "van_loan", inst)
-    m = disc.model
-    P = augmented_initial_covariance(p, inst)
-    k = augmented_index(disc.state_names, "omega_gc")
-    unit = np.zeros(m.n)
-    unit[k] = 1.0
-    constant = (all(np.array_equal(A[:, k], np.broadcast_to(unit, A[:, k].shape))
-                    for A in (m.Phi0,)) and not m.PhiA[:, k].any() and not m.PhiB[:, k].any()
-                and not any(Q[:, k].any() or Q[:, :, k].any() for Q in (m.Qd0, m.QdA, m.QdB)))
-    safe = level**2 * (1.0 - 1e-6)
-    parts, done, chunk = [P[k, k:k + 1]], 0, 4096
-    while done < m.n_steps:
-        n = m.n_steps - done if not constant else min(chunk, m.n_steps - done)
-        sl = slice(done, done + n)
-        sub = AffineDiscreteModel(
-            seg=m.seg[sl], a=m.a[sl], b=m.b[sl], Phi0=m.Phi0, PhiA=m.PhiA, PhiB=m.PhiB,
-            Qd0=m.Qd0, QdA=m.QdA, QdB=m.QdB, H=m.H, r=m.r, H1=m.H1,
-            h=None if m.h is None else m.h[sl])
-        run = covariance_fast(sub, P, n)
-        parts.append(run.var[1:, k])
-        done += n
-        if constant and run.var[-1, k] <= safe:
-            break
-        P, chunk = run.P_stored[-1], 2 * chunk
-    s = np.sqrt(np.clip(np.concatenate(parts), 0.0, None))
-    above = np.nonzero(s > level)[0]
-    if above.size == 0:
-        return 0.0
-    last = above[-1]
-    if last == s.size - 1:
-        return math.nan
-    t = disc.t
-    t0, t1, s0, s1 = t[last], t[last + 1], s[last], s[last + 1]
-    return float(t0 + (s0 - level) / (s0 - s1) * (t1 - t0))
+    horizon = min(max(_GC_HORIZONS), t_max)
+    n = max(1, round(horizon / p.dt))
+    t_end = horizon if abs(n * p.dt - horizon) < 1e-12 * horizon else n * p.dt
+    return time_to_level(p_filter, math.sqrt(level**2 - s_scale**2), t_end)
 
 
 def _percent(t_gc: float, t_other: float) -> float:
