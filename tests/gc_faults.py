@@ -108,6 +108,15 @@ def make(fault: str | None, size: float, seed: int, t_end: float = 100.0) -> Fau
     return FaultRecord(record=rec, omega_gc=w0, omega_gc_end=w1, params=params)
 
 
+def make_clean(seed: int, n: int, t_end: float = 100.0) -> tuple[FaultRecord, ...]:
+    """``n`` clean records of ``t_end`` at once (:func:`gyrolib.gc.simulate_records`: the
+    truth model runs them together, for about the price of one); the first is
+    ``make(None, 0.0, seed, t_end)``."""
+    return tuple(FaultRecord(record=sim.record, omega_gc=sim.omega_gc,
+                             omega_gc_end=sim.omega_gc, params=P)
+                 for sim in gc.simulate_records(P, t_end, seed, n))
+
+
 def cli_params(**priors: float) -> gc.GyrocompassParams:
     """The paper's model with the priors of ``python -m gyrolib calibrate gc``'s defaults
     (scale 10⁻³, angle offset 20″, inclinometer bias 0.5 mg), each overridable."""
