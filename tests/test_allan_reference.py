@@ -164,8 +164,9 @@ def test_terms_of_the_clock_records_never_above_the_data(which, request):
     stays below the measured σ²'s upper bound at every τ; on the GPS record no term is
     identified (each is an upper bound) and the Cs clock's white frequency noise is,
     1.05·10⁻¹¹/√τ (0.80–1.24): Stable32's table reads σ·√τ = 1.5·10⁻¹¹ and 1.3·10⁻¹¹ at
-    1000 s and 4000 s, where the other terms add to it.  Power: each of the GPS record's bounds is the largest such
-    line — 1.1 times it crosses the measured upper bound at some τ."""
+    1000 s and 4000 s, where the other terms add to it.  Power: each of the GPS record's
+    bounds is the largest such line — 1.1 times it crosses the measured upper bound at
+    some τ."""
     x, _ = request.getfixturevalue(which)
     s = _phase_series(x, which)
     upper = _upper(s)
