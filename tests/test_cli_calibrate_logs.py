@@ -198,9 +198,10 @@ def test_bad_mapping_one_line(bad, logs, capsys, tmp_path):
 @pytest.fixture(scope="module")
 def wrong_spectrum(tmp_path_factory):
     """100 s of a gyro whose vibration filter has ten times the paper's α1 (seed 5151), and
-    its first 10 s.  (Not shorter for the fit's recovery: on 30 s or 50 s the fitted α1's
-    standard error is 70 % and 50 % of it and σ1²'s interval has no upper end, so "within
-    two standard errors" would hold for the paper's α1 as well.)"""
+    its first 10 s.  (Not shorter for the fit's recovery: the paper's α1 lies 2.3 standard
+    errors from the α1 fitted on 100 s, 1.7 on 50 s and 1.2 on 30 s, where σ1²'s interval
+    has no upper end: "within two standard errors of the truth" would not tell the truth
+    from the paper's value on a shorter record.)"""
     p = gc.GyrocompassParams(alpha1=10 * P.alpha1)
     sim = gc.simulate_record(p, 100.0, seed=5151)
     d = tmp_path_factory.mktemp("wrong")
