@@ -60,6 +60,12 @@ class FaultRecord:
     params: gc.GyrocompassParams
 
 
+#: The faults put on the readings of a clean record of the paper's gyro (the others change
+#: the gyro simulated or the record's length).
+ON_THE_READINGS = ("null_offset", "gain", "incl_y_bias", "incl_z_bias", "drift_change",
+                   "angle_step", "incl_step")
+
+
 def make(fault: str | None, size: float, seed: int, t_end: float = 100.0) -> FaultRecord:
     """A ``t_end`` record (1 kHz) of seed ``seed`` with ``fault`` of ``size`` (units of
     :data:`FAULTS`; ``None``: clean)."""
@@ -71,7 +77,27 @@ def make(fault: str | None, size: float, seed: int, t_end: float = 100.0) -> Fau
         params = gc.GyrocompassParams.at_latitude(math.radians(size))
     elif fault == "late_start":
         lead = size
-    sim = gc.simulate_record(params, t_end + lead, seed=seed)
+    return _with_fault(fault, size, gc.simulate_record(params, t_end + lead, seed=seed),
+                       t_end, lead)
+
+
+def make_cases(cases: list[tuple[str, float]], seed: int,
+               t_end: float = 100.0) -> list[FaultRecord]:
+    """:func:`make`'s records of ``cases`` (pairs fault, size), case ``i`` with seed
+    ``seed + i``, except that the faults put on the readings of a clean record
+    (:data:`ON_THE_READINGS`) are put on records made together
+    (:func:`gyrolib.gc.simulate_records` of ``seed``: case ``i`` on its record ``i``, the
+    first of them the record of ``seed`` itself), for about the price of one."""
+    on = [i for i, (f, _) in enumerate(cases) if f in ON_THE_READINGS]
+    sims = gc.simulate_records(P, t_end, seed, max(on) + 1) if on else ()
+    return [_with_fault(f, s, sims[i], t_end, 0.0) if i in on else make(f, s, seed + i, t_end)
+            for i, (f, s) in enumerate(cases)]
+
+
+def _with_fault(fault: str | None, size: float, sim, t_end: float,
+                lead: float) -> FaultRecord:
+    """``fault`` of ``size`` put on the simulated record ``sim`` (see :func:`make`)."""
+    params = sim.params
     r = sim.record
     t = np.array(r.t)
     a, y, z = (np.array(c, dtype=float) for c in (r.angle_sensor, r.inclinometer_y,
@@ -106,6 +132,15 @@ def make(fault: str | None, size: float, seed: int, t_end: float = 100.0) -> Fau
         raise ValueError(f"unknown fault {fault!r}")
     rec = gc.GCRecord(t=t, angle_sensor=a, inclinometer_y=y, inclinometer_z=z)
     return FaultRecord(record=rec, omega_gc=w0, omega_gc_end=w1, params=params)
+
+
+def make_clean(seed: int, n: int, t_end: float = 100.0) -> tuple[FaultRecord, ...]:
+    """``n`` clean records of ``t_end`` at once (:func:`gyrolib.gc.simulate_records`: the
+    truth model runs them together, for about the price of one); the first is
+    ``make(None, 0.0, seed, t_end)``."""
+    return tuple(FaultRecord(record=sim.record, omega_gc=sim.omega_gc,
+                             omega_gc_end=sim.omega_gc, params=P)
+                 for sim in gc.simulate_records(P, t_end, seed, n))
 
 
 def cli_params(**priors: float) -> gc.GyrocompassParams:

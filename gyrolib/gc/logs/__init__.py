@@ -19,6 +19,7 @@ from gyrolib.gc.logs.calibration import (
     earth_rate_mismatch,
     innovation_log_likelihood,
     simulate_record,
+    simulate_records,
 )
 from gyrolib.gc.logs.convention import (
     ConventionStudy,
@@ -62,4 +63,5 @@ __all__ = [
     "innovation_log_likelihood",
     "profile_intervals",
     "simulate_record",
+    "simulate_records",
 ]
