@@ -210,6 +210,27 @@ class Input:
             return np.exp(np.log(lo) + u * (np.log(hi) - np.log(lo)))
         return lo + u * (hi - lo)
 
+    def sobol_input(self, reference: float | None = None, name: str | None = None) -> Any:
+        """The row as a :class:`gyrolib.sensitivity.SobolInput` over its range around
+        ``reference`` (default: the row's reference), drawn on the row's scale (log-uniform
+        on a log row, uniform on a linear one), named ``name`` (default: the row's name).
+
+        Examples
+        --------
+        >>> from gyrolib import inputs
+        >>> x = inputs.row("gc.C_as").sobol_input(2.0, name="C_as")
+        >>> x.name, x.distribution, (x.low, x.high)
+        ('C_as', 'loguniform', (0.2, 20.0))
+        """
+        from gyrolib.sensitivity import SobolInput
+
+        if self.kind == "reading":
+            raise ValueError(f"{self.name} is a reading: it has values, not a range")
+        ref = float(self.reference if reference is None else reference)
+        return SobolInput(self.name if name is None else name, self.symbol, ref,
+                          *self.bounds(ref), "loguniform" if self.scale == "log" else "uniform",
+                          self.reason)
+
     def show(self, value: float) -> str:
         """``value`` (SI) as text in the row's :attr:`shown` unit, with the unit."""
         if self.kind == "reading":

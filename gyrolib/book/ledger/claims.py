@@ -25,7 +25,7 @@ from typing import Any, Final
 import numpy as np
 
 from gyrolib import inputs as _inputs
-from gyrolib.book.ledger import levels
+from gyrolib import levels
 from gyrolib.claim_map import Claim, ClaimMap, check_fingerprint, map_claim
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.observability import information_psi_omega
@@ -50,7 +50,7 @@ MAPS_FILE: Final[Path] = Path(__file__).resolve().parents[2] / "data" / "claim_m
 MAPS_SCHEMA: Final[int] = 1
 
 #: σ_c, the speed claim's bound (510 s), paper RSF's printed times and levels: one leaf module
-#: (:mod:`gyrolib.book.ledger.levels`) that the ledger's items read too.
+#: (:mod:`gyrolib.levels`) that the ledger's items read too.
 _SIGMA_C: Final[float] = levels.SIGMA_C
 _T_BOUND: Final[float] = levels.T_BOUND
 _TIMES: Final[tuple[int, ...]] = levels.TIMES

@@ -104,9 +104,8 @@ def study_inputs(model: str) -> tuple[SobolInput, ...]:
     over the table's ranges (the reference is the row's ``nominal``)."""
     s = _study(model)
     read = {n for c in s.claims for n in CLAIMS[c].inputs}
-    return tuple(SobolInput(r.name, r.symbol, float(r.reference), *r.bounds(),
-                            "loguniform" if r.scale == "log" else "uniform", r.reason)
-                 for r in _inputs.INPUTS if r.name in read and r.kind == "uncertain")
+    return tuple(r.sobol_input() for r in _inputs.INPUTS
+                 if r.name in read and r.kind == "uncertain")
 
 
 def study_outputs(model: str) -> tuple[str, ...]:

@@ -1,13 +1,15 @@
-"""The printed levels the ledger judges the papers' claims against, in one leaf module.
+"""The printed levels the papers' claims are judged against, in one leaf module.
 
-Both the ledger's item builders (:mod:`gyrolib.book.ledger.gc`, :mod:`gyrolib.book.ledger.rsf`)
-and the claims' margins (:mod:`gyrolib.book.ledger.claims`) read them from here, so that no
-level is typed twice; the module imports nothing of gyrolib but :mod:`gyrolib.units` (itself a
-leaf), so that no import cycle can form (``gc.py`` imports ``claims.py``).
+The ledger's item builders (:mod:`gyrolib.book.ledger.gc`, :mod:`gyrolib.book.ledger.rsf`),
+the claims' margins (:mod:`gyrolib.book.ledger.claims`), the race's rival
+(:class:`gyrolib.gc.RateSensorProcedure`'s ``sigma_c``) and paper GC's study of σ_gc and t_c
+(:func:`gyrolib.gc.sensitivity`) read them from here, so that no level is typed twice.  The
+module imports nothing of gyrolib but :mod:`gyrolib.units` (itself a leaf), so that the library
+below the book can import it without a cycle.
 
 Examples
 --------
->>> from gyrolib.book.ledger import levels
+>>> from gyrolib import levels
 >>> round(levels.T_BOUND), levels.TIMES, levels.CUBIC_EXPONENT
 (510, (10, 60, 120), 2.9)
 """
