@@ -64,7 +64,8 @@ from gyrolib.rsf.sensors import EncoderSpec, MemsGyroSpec, RollGyroSpec
 from gyrolib.rsf.tables import WorkedExample
 from gyrolib.units import ARCSEC_PAPER, G0, from_si
 
-__all__ = ["INPUTS", "KINDS", "OWNERS", "Input", "apply", "default_prior", "reference_objects",
+__all__ = ["INPUTS", "KINDS", "OWNERS", "Input", "apply", "default_prior", "factor_grid",
+           "reference_objects",
            "row", "rows", "table_fingerprint", "value_of"]
 
 #: The kinds of input (see the module docstring).
@@ -415,6 +416,25 @@ def default_prior(name: str) -> float:
     if r.kind != "uncertain" or r.relative or r.reference != 0.0:
         raise ValueError(f"{name} is not an instrument error with a zero reference")
     return float(r.high)
+
+
+def factor_grid(name: str, n: int = 3) -> tuple[float, ...]:
+    """``n`` factors spanning the range of the scale-type row ``name`` on its scale (for a
+    grid or a sweep around any reference: the library's default grids are these).
+
+    Examples
+    --------
+    >>> from gyrolib import inputs
+    >>> inputs.factor_grid("gc.sigma1_sq")
+    (0.1, 1.0, 10.0)
+    """
+    r = row(name)
+    if r.kind == "reading" or not r.relative:
+        raise ValueError(f"{name} has no range as factors of its reference")
+    if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+        raise ValueError(f"n must be an integer >= 2; got {n!r}")
+    g = np.geomspace(r.low, r.high, n) if r.scale == "log" else np.linspace(r.low, r.high, n)
+    return tuple(float(x) for x in g)
 
 
 def reference_objects() -> dict[str, Any]:
