@@ -146,7 +146,7 @@ def test_command_refuses_a_wrong_header_with_its_code_and_takes_drift_prior(at_5
     assert code == 0 and out["reason_codes"] == [], out["reason"]
     assert out["priors"]["drift_rad_s"] == pytest.approx(float(to_si(0.3, "deg/h")))
     assert out["priors"]["clock_tolerance"] == 2e-4
-    from gyrolib import inputs      # the defaults: the table of inputs' (one source)
+    from gyrolib import inputs  # the defaults: the table of inputs' (one source)
     for key, row in (("scale_tolerance", "gc.sigma_hf_scale"),
                      ("angle_offset_rad", "gc.sigma_as_offset"),
                      ("inclinometer_bias_m_s2", "gc.sigma_incl_bias")):

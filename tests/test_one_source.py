@@ -41,7 +41,6 @@ NAMED = re.compile(r"range|factor|spread|tolerance|prior|level|sigma_c|t_max|bou
 
 #: Named numbers that are no input's range or level, by ``file: name``, with the reason.
 ALLOWED: dict[str, str] = {
-    "book/ledger/remaining.py: AREA_TOLERANCE": "a quadrature's relative tolerance",
     "gc/analysis/montecarlo.py: _SHORT_MAX": "a step-size limit of the truth simulation",
     "gc/analysis/speed_claim.py: y_factor": "a plot's axis scaling",
     "gc/logs/calibration.py: time_tolerance": "a time stamp's rounding tolerance",

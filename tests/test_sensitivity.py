@@ -274,8 +274,9 @@ def test_rsf_elasticities_closed_form():
 
 def test_gc_elasticities_fixed_inputs_and_ranking():
     """The elasticities of t_c at the paper's values: per relative change σ1² moves t_c about
-    four times as much as C_as; the fixed inputs (the filter's priors among them) are included, H and f through H/f nearly
-    opposite; a second, independent estimate from ±10 % secants agrees."""
+    four times as much as C_as; the fixed inputs (the filter's priors among them) are
+    included, H and f through H/f nearly opposite; a second, independent estimate from ±10 %
+    secants agrees."""
     e = gc.sensitivity_elasticities()
     assert set(sensitivity_study.FIXED_INPUTS) <= set(e.inputs)
     ratio = e.of("t_c", "sigma1_sq") / e.of("t_c", "C_as")

@@ -1,14 +1,16 @@
 """Constants of the ``calibrate`` command shared by its modules: the exit statuses, the
-summary's columns and the default priors of paper GC's instrument constants (from the table
-of inputs, on first use).  A leaf: it imports nothing at its start, so the parser (:mod:`gyrolib.cli.calibrate`) and the runs
-(:mod:`gyrolib.cli.calibrate_gc`, :mod:`gyrolib.cli.calibrate_rsf`,
-:mod:`gyrolib.cli.outputs`) read the same values without importing each other."""
+summary's columns and the default priors of paper GC's instrument constants (from the
+table of inputs, on first use).  A leaf: it imports nothing at its start, so the parser
+(:mod:`gyrolib.cli.calibrate`) and the runs (:mod:`gyrolib.cli.calibrate_gc`,
+:mod:`gyrolib.cli.calibrate_rsf`, :mod:`gyrolib.cli.outputs`) read the same values without
+importing each other."""
 
 from __future__ import annotations
 
 from typing import Final
 
-__all__ = ["DEFAULT_CLOCK_TOLERANCE", "DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
+__all__ = [  # noqa: F822 - the DEFAULT_* priors are read from the table on first use
+           "DEFAULT_CLOCK_TOLERANCE", "DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
            "DEFAULT_SCALE_TOLERANCE", "EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_INVALID",
            "FIT_DEFAULT", "FIT_UNITS", "PLOT_SUFFIXES", "SUMMARY_COLUMNS"]
 

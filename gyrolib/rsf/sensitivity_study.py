@@ -37,6 +37,11 @@ from gyrolib.rsf.sensors import (
     MemsGyroSpec,
     RollGyroSpec,
 )
+from gyrolib.rsf.tables import (
+    WORKED_EXAMPLE_OMEGA_UNC,
+    WORKED_EXAMPLE_OMEGA_X,
+    WORKED_EXAMPLE_PERIOD,
+)
 from gyrolib.sensitivity import (
     Elasticities,
     Recheck,
@@ -45,11 +50,6 @@ from gyrolib.sensitivity import (
     elasticities,
     recheck,
     run_study,
-)
-from gyrolib.rsf.tables import (
-    WORKED_EXAMPLE_OMEGA_UNC,
-    WORKED_EXAMPLE_OMEGA_X,
-    WORKED_EXAMPLE_PERIOD,
 )
 
 __all__ = [
