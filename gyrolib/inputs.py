@@ -64,7 +64,8 @@ from gyrolib.rsf.sensors import EncoderSpec, MemsGyroSpec, RollGyroSpec
 from gyrolib.rsf.tables import WorkedExample
 from gyrolib.units import ARCSEC_PAPER, G0, from_si
 
-__all__ = ["INPUTS", "KINDS", "OWNERS", "Input", "apply", "default_prior", "reference_objects",
+__all__ = ["INPUTS", "KINDS", "OWNERS", "Input", "apply", "default_prior", "factor_grid",
+           "reference_objects",
            "row", "rows", "table_fingerprint", "value_of"]
 
 #: The kinds of input (see the module docstring).
@@ -209,6 +210,27 @@ class Input:
         if self.scale == "log":
             return np.exp(np.log(lo) + u * (np.log(hi) - np.log(lo)))
         return lo + u * (hi - lo)
+
+    def sobol_input(self, reference: float | None = None, name: str | None = None) -> Any:
+        """The row as a :class:`gyrolib.sensitivity.SobolInput` over its range around
+        ``reference`` (default: the row's reference), drawn on the row's scale (log-uniform
+        on a log row, uniform on a linear one), named ``name`` (default: the row's name).
+
+        Examples
+        --------
+        >>> from gyrolib import inputs
+        >>> x = inputs.row("gc.C_as").sobol_input(2.0, name="C_as")
+        >>> x.name, x.distribution, (x.low, x.high)
+        ('C_as', 'loguniform', (0.2, 20.0))
+        """
+        from gyrolib.sensitivity import SobolInput
+
+        if self.kind == "reading":
+            raise ValueError(f"{self.name} is a reading: it has values, not a range")
+        ref = float(self.reference if reference is None else reference)
+        return SobolInput(self.name if name is None else name, self.symbol, ref,
+                          *self.bounds(ref), "loguniform" if self.scale == "log" else "uniform",
+                          self.reason)
 
     def show(self, value: float) -> str:
         """``value`` (SI) as text in the row's :attr:`shown` unit, with the unit."""
@@ -394,6 +416,25 @@ def default_prior(name: str) -> float:
     if r.kind != "uncertain" or r.relative or r.reference != 0.0:
         raise ValueError(f"{name} is not an instrument error with a zero reference")
     return float(r.high)
+
+
+def factor_grid(name: str, n: int = 3) -> tuple[float, ...]:
+    """``n`` factors spanning the range of the scale-type row ``name`` on its scale (for a
+    grid or a sweep around any reference: the library's default grids are these).
+
+    Examples
+    --------
+    >>> from gyrolib import inputs
+    >>> inputs.factor_grid("gc.sigma1_sq")
+    (0.1, 1.0, 10.0)
+    """
+    r = row(name)
+    if r.kind == "reading" or not r.relative:
+        raise ValueError(f"{name} has no range as factors of its reference")
+    if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+        raise ValueError(f"n must be an integer >= 2; got {n!r}")
+    g = np.geomspace(r.low, r.high, n) if r.scale == "log" else np.linspace(r.low, r.high, n)
+    return tuple(float(x) for x in g)
 
 
 def reference_objects() -> dict[str, Any]:

@@ -179,9 +179,57 @@ def test_race_thresholds_agree_with_bisecting_the_race_itself(name, field):
 
     def holds(x):
         return _race_holds(dataclasses.replace(p0, **{field: x}), proc)
-    root = _bisect(holds, t.value / 1.01, t.value * 1.01)
-    assert root == pytest.approx(t.value, rel=2e-3)
-    assert holds(t.value * 0.99) == (t.holds_when == "below")
+    # the race's own status differs at 0.999 and 1.001 of the map's threshold: its root lies
+    # within 10⁻³ of it (the bisection's tolerance), on the side the map states (two races,
+    # where bisecting from ±1 % took seven)
+    assert holds(t.value * (1 - 1e-3)) == (t.holds_when == "below")
+    assert holds(t.value * (1 + 1e-3)) != (t.holds_when == "below")
+
+
+def test_west_gyro_threshold_agrees_with_its_filter_and_the_floor():
+    """gc.claim.corresponding_gyro fails at the reference, and the map names σ_ψ(0) alone as
+    the input below which it would hold: the west gyro's own filter (remaining.west_gyro)
+    reaches σ_c at 510 s at 0.999 of the threshold and not at 1.001; and the threshold lies
+    below the closed-form bound of the floor, σ_ψ at which σ_c is reached only as t → ∞."""
+    from gyrolib.book.ledger import remaining
+
+    m = claims.stored_maps()["gc.claim.corresponding_gyro"]
+    assert m.status == "fails"
+    (t,) = m.thresholds
+    assert (t.input, t.holds_when) == ("gc.sigma_psi0", "below")
+    p = gc.GyrocompassParams()
+    below, above = (remaining.west_gyro(dataclasses.replace(p, sigma_psi0=t.value * f))
+                    for f in (1 - 1e-3, 1 + 1e-3))
+    assert below.sigma[-1] <= claims.levels.SIGMA_C < above.sigma[-1]
+    assert t.value < above.psi_max
+
+
+def test_longer_finer_fails_at_whole_gs_turns_so_it_is_not_mapped():
+    """rsf.claim.longer_finer is judged on the simulation chapter's sweeps, not mapped: its
+    encoder part fails at isolated intervals, each a whole number of the GS's turns (2π/ω_unc
+    = 1.2 s at 300 °/s), where the encoder's error cancels between the interval's ends, which
+    no threshold can state.  On the chapter's own sweeps: at 6 s (5 turns) a finer encoder
+    leaves rms δK as it is (to 10⁻⁹), at the worked example's 5 s it lowers it."""
+    from dataclasses import replace
+
+    from gyrolib.book.ledger import rsf as lrsf
+    from gyrolib.rsf.simulation import EncoderModel, simulate_flight
+    from gyrolib.rsf.sweeps import sweep_encoder
+
+    assert "rsf.claim.longer_finer" not in claims.CLAIMS
+    o = inputs.reference_objects()
+    ex, enc = o["WorkedExample"], o["EncoderSpec"]
+    turn = 2 * math.pi / ex.omega_unc
+    assert turn == pytest.approx(1.2, rel=1e-12)
+    cfg = replace(lrsf._sim_config(o["RollGyroSpec"], o["MemsGyroSpec"], enc),
+                  n_runs=lrsf.SIM_RUNS)
+    record = simulate_flight(cfg, seed=lrsf.SIM_SEED)
+    encs = [EncoderModel.from_spec(replace(enc, cycles_per_rev=c))
+            for c in (lrsf.SIM_CYCLES[0], lrsf.SIM_CYCLES[-1])]
+    whole = sweep_encoder(record, encs, 5 * round(turn, 9)).rms
+    assert whole[-1] == pytest.approx(whole[0], rel=1e-9)
+    example = sweep_encoder(record, encs, ex.period).rms
+    assert example[-1] < 0.9 * example[0]
 
 
 def test_compensation_threshold_agrees_with_eq7_bisected():

@@ -77,7 +77,8 @@ def test_a_run_writes_the_indices_and_the_run_record(tmp_path, capsys):
     out = tmp_path / "s.json"
     assert main(["sensitivity", "rsf", "--n", "64", "--seed", "3", "--out", str(out)]) == 0
     err = capsys.readouterr().err
-    assert "sensitivity rsf" in err and "1024/1024" in err          # the tqdm bar on stderr
+    runs = 64 * (2 * len(rsf.sensitivity_inputs()) + 2)
+    assert "sensitivity rsf" in err and f"{runs}/{runs}" in err     # the tqdm bar on stderr
     data = json.loads(out.read_text())
     ref = rsf.sensitivity(64, seed=3)
     assert data["n"] == 64 and data["seed"] == 3
@@ -99,7 +100,7 @@ def test_extend_reuses_a_smaller_study_and_refuses_another(tmp_path, capsys):
     assert main(["sensitivity", "rsf", "--n", "64", "--extend", str(small),
                  "--out", str(grown)]) == 0
     data = json.loads(grown.read_text())
-    assert data["run"]["model_runs_computed"] == (64 - 16) * (2 * 7 + 2)
+    assert data["run"]["model_runs_computed"] == (64 - 16) * (2 * len(rsf.sensitivity_inputs()) + 2)
     assert data["run"]["extends"]["n"] == 16
     ref = rsf.sensitivity(64)
     assert data["values"] == ref.values.tolist()

@@ -146,14 +146,31 @@ def test_command_refuses_a_wrong_header_with_its_code_and_takes_drift_prior(at_5
     assert code == 0 and out["reason_codes"] == [], out["reason"]
     assert out["priors"]["drift_rad_s"] == pytest.approx(float(to_si(0.3, "deg/h")))
     assert out["priors"]["clock_tolerance"] == 2e-4
+    from gyrolib import inputs  # the defaults: the table of inputs' (one source)
+    for key, row in (("scale_tolerance", "gc.sigma_hf_scale"),
+                     ("angle_offset_rad", "gc.sigma_as_offset"),
+                     ("inclinometer_bias_m_s2", "gc.sigma_incl_bias")):
+        assert out["priors"][key] == pytest.approx(inputs.default_prior(row), rel=1e-12), key
     assert main(["calibrate", "gc", path, "--drift-prior", "-1"]) == 2
 
 
 def test_command_default_priors_are_the_table_of_inputs():
-    """The command's default clock tolerance and drift prior are the table of inputs' rows
-    (gc.sigma_clock's plausible maximum, gc.sigma_gc0's reference)."""
-    from gyrolib import inputs
-    from gyrolib.cli.constants import DEFAULT_CLOCK_TOLERANCE
+    """The command's default priors are read from the table of inputs' rows (each instrument
+    error's plausible maximum, in its option's unit; gc.sigma_gc0's reference): a changed
+    row moves them (power: a table whose κ row tops at 2·10⁻³ moves the scale tolerance)."""
+    import dataclasses
 
-    assert DEFAULT_CLOCK_TOLERANCE == inputs.default_prior("gc.sigma_clock")
+    from gyrolib import inputs, units
+    from gyrolib.cli import constants
+
+    for name, (row, unit) in constants._FROM_TABLE.items():
+        assert getattr(constants, name) == pytest.approx(
+            float(units.from_si(inputs.default_prior(row), unit)), rel=1e-12), name
+    assert constants.DEFAULT_OFFSET_PRIOR_ARCSEC == pytest.approx(20.0, rel=1e-12)
+    assert constants.DEFAULT_INCL_BIAS_PRIOR_MG == pytest.approx(0.5, rel=1e-12)
+    wider = dataclasses.replace(inputs.row("gc.sigma_hf_scale"), high=2e-3)
+    rows = {**inputs._BY_NAME, "gc.sigma_hf_scale": wider}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(inputs, "_BY_NAME", rows)
+        assert constants.DEFAULT_SCALE_TOLERANCE == 2e-3
     assert gc.GyrocompassParams().sigma_gc0 == inputs.row("gc.sigma_gc0").reference

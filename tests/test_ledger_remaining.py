@@ -46,10 +46,14 @@ def test_the_west_gyro_item_fails_and_names_the_psi_that_would_make_it_hold():
     s_g = p.sigma_gc0
     psi_max = SIGMA_C * s_g / math.sqrt(s_g**2 - SIGMA_C**2) / p.Omega_h
     assert f"σ_ψ < {psi_max / ARCSEC_PAPER:.0f}″" in it.conditions
-    # power of the threshold: with ψ known to half of it the claim holds
+    # power of the threshold: with ψ known to half of it the claim holds (judged at those
+    # parameters only: "holds under conditions", the inputs that may flip it not searched)
     better = dataclasses.replace(p, sigma_psi0=0.5 * psi_max)
     it_b = {i.id: i for i in remaining.items_gc(better)}["gc.claim.corresponding_gyro"]
-    assert it_b.status == "holds"
+    assert it_b.status == "holds under conditions"
+    # the map's threshold (the filter at 510 s) is below the closed-form floor's bound
+    (t,) = it.judged["thresholds"]
+    assert t["input"] == "gc.sigma_psi0" and t["value"] < psi_max
 
 
 def test_figure_2_areas_hold_and_a_wrong_intensity_would_fail():
@@ -92,9 +96,9 @@ def test_only_small_eps1_fails_against_the_angle_reset(flights):
     assert _median_interval(ratio)[1] < 1.0
     it = remaining._only_remedy_item(flights)
     assert (it.kind, it.status) == ("claim", "fails")
-    # power: a reset that did not help leaves the claim standing
+    # power: a reset that did not help leaves the claim standing (on these flights only)
     useless = dataclasses.replace(flights, reset=flights.raw.copy())
-    assert remaining._only_remedy_item(useless).status == "holds"
+    assert remaining._only_remedy_item(useless).status == "holds under conditions"
 
 
 def test_undecidable_items_say_why():

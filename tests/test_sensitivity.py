@@ -18,7 +18,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from gyrolib import gc, rsf, sensitivity
+from gyrolib import gc, inputs, rsf, sensitivity
 from gyrolib.book.ledger import gc as lgc
 from gyrolib.gc.analysis import sensitivity_study
 from gyrolib.units import to_si
@@ -94,16 +94,18 @@ def test_unit_sample_is_saltelli_layout_and_prefix_stable():
     np.testing.assert_allclose(sensitivity.unit_sample(3, 16, seed=1)[:64], u, rtol=1e-15, atol=0)
 
 
-def test_sobol_input_ranges():
-    """±10 % uniform for a printed value; a factor of 3 either way, log-uniform (median at the
-    nominal) for an unstated one."""
-    p = sensitivity.SobolInput.printed("a", "a", 2.0)
-    assert (p.low, p.high) == pytest.approx((1.8, 2.2))
-    assert p.value(0.5) == pytest.approx(2.0)
-    q = sensitivity.SobolInput.unstated("b", "b", 5.0)
-    assert (q.low, q.high) == pytest.approx((5 / 3, 15.0))
-    assert q.value(0.5) == pytest.approx(5.0)
-    assert q.value(0.25) == pytest.approx(5.0 / math.sqrt(3.0))
+def test_sobol_input_ranges_are_the_tables():
+    """A row of the table of inputs as a Sobol' input: a scale-type row a factor of the given
+    value on its scale (log-uniform, median at the value), an absolute row its own range
+    (uniform); a wrong scale (uniform on a log row) would put the median elsewhere."""
+    a = inputs.row("gc.alpha1")
+    p = a.sobol_input(2.0)
+    assert (p.low, p.high) == pytest.approx((2.0 * a.low, 2.0 * a.high))
+    assert p.distribution == "loguniform" and p.value(0.5) == pytest.approx(2.0)
+    assert p.value(0.25) == pytest.approx(2.0 / math.sqrt(math.sqrt(a.high / a.low)))
+    assert 0.5 * (p.low + p.high) != pytest.approx(2.0, rel=0.1)    # uniform would miss
+    x = inputs.row("gc.xi1").sobol_input(0.7)
+    assert (x.low, x.high, x.distribution) == (0.1, 1.0, "uniform") and x.nominal == 0.7
 
 
 @pytest.mark.parametrize("call, exc, name", [
@@ -111,7 +113,7 @@ def test_sobol_input_ranges():
     (lambda: sensitivity.SobolInput("a", "a", 1.0, 2.0, 1.0), ValueError, "low must be < high"),
     (lambda: sensitivity.SobolInput("a", "a", 1.0, -1.0, 1.0, "loguniform"), ValueError,
      "low must"),
-    (lambda: sensitivity.SobolInput.unstated("a", "a", 1.0, 0.5), ValueError, "factor must be > 1"),
+    (lambda: inputs.row("gc.eq1_sign").sobol_input(), ValueError, "gc.eq1_sign is a reading"),
     (lambda: sensitivity.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
                            executor="dask"), TypeError, "executor must be"),
     (lambda: sensitivity.run_study("m", ISH_INPUTS, ("y",), ("1",), ishigami, None, 4, 0,
@@ -125,7 +127,7 @@ def test_bad_input_is_rejected_by_name(call, exc, name):
 
 # GC and RSF studies ------------------------------------------------------------------------
 def small_gc(executor=None, chunk_size=5) -> sensitivity.SensitivityResult:
-    """A small GC study: 4 base points (104 runs) of 2-s analyses, t_c to a level reached
+    """A small GC study: 4 base points (112 runs) of 2-s analyses, t_c to a level reached
     within them (so that both outputs vary)."""
     return gc.sensitivity(4, seed=2, executor=executor, t_end=2.0, t_max=4.0,
                           level=float(to_si(0.05, "arcsec_paper/s")), chunk_size=chunk_size)
@@ -192,44 +194,55 @@ def test_gc_t_c_beyond_the_horizon_is_looked_for_then_censored():
     assert 20.0 < t_long == pytest.approx(gc.time_to_level(p, lvl, 40.0), rel=1e-12)
 
 
-def test_gc_inputs_follow_the_transcription():
-    """Printed values ±10 % uniform; the garbled sensor intensities a factor of 3, log-uniform;
-    centred on the paper's values."""
+def test_gc_inputs_are_the_tables_uncertain_rows():
+    """Paper GC's uncertain rows of the table, each over its row's range around the given
+    parameters (a user's σ1² twice the paper's moves the range with it; ξ1 keeps its
+    absolute range), on its row's scale; no operating row (the filter's priors) is
+    sampled."""
+    rows = inputs.rows(prefix="gc.", kind="uncertain")
+    got = {x.name: x for x in gc.sensitivity_inputs()}
+    assert list(got) == [r.name.removeprefix("gc.") for r in rows]
+    assert not {"sigma_psi0", "sigma_gc0", "sigma_tilt0"} & set(got)
+    for r in rows:
+        x = got[r.name.removeprefix("gc.")]
+        assert (x.low, x.high) == pytest.approx(r.bounds(x.nominal)), r.name
+        assert x.distribution == ("loguniform" if r.scale == "log" else "uniform"), r.name
     p = gc.GyrocompassParams()
-    inputs = {x.name: x for x in gc.sensitivity_inputs()}
-    assert len(inputs) == 12
-    for name, x in inputs.items():
-        if name in ("C_as", "C_incl"):
-            assert x.distribution == "loguniform"
-            assert x.high / x.low == pytest.approx(9.0)
-        else:
-            assert x.distribution == "uniform"
-            assert x.nominal == getattr(p, name)
-            assert (x.low, x.high) == pytest.approx((0.9 * x.nominal, 1.1 * x.nominal))
+    mine = {x.name: x for x in gc.sensitivity_inputs(replace(p, sigma1_sq=2 * p.sigma1_sq,
+                                                             xi1=0.5))}
+    assert mine["sigma1_sq"].high == pytest.approx(2 * got["sigma1_sq"].high, rel=1e-12)
+    assert (mine["xi1"].low, mine["xi1"].high) == (got["xi1"].low, got["xi1"].high)
+    q = sensitivity_study._at(p, ("C_incl", "sigma_psi0"), np.array([3.0, 1e-4]))
+    assert (q.C_incl_y, q.C_incl_z, q.sigma_psi0) == (3.0, 3.0, 1e-4)
 
 
 def test_rsf_outputs_are_eq7_and_the_claims_share():
-    """δK of Eq. (7) and the share as rsf.compensation_share computes it; with ε1 sampled
-    too (printed, ±10 %), the share's indices differ from δK's only through ε1."""
+    """δK of Eq. (7) and the share as rsf.compensation_share computes it, at the worked
+    example; with ε1 sampled too, the share's indices differ from δK's only through ε1."""
     w = float(to_si(900.0, "deg/s"))
     x = {i.name: i.nominal for i in rsf.sensitivity_inputs()}
-    dk, share = rsf.sensitivity_outputs(**x)
+    op = {"period": 5.0, "omega_x": w, "omega_unc": float(to_si(300.0, "deg/s"))}
+    dk, share = rsf.sensitivity_outputs(**x, **op)
     assert share == pytest.approx(float(rsf.compensation_share([w]).share[0]), rel=1e-12)
     assert dk == pytest.approx(rsf.delta_k(x["eps0_gs"], x["encoder_error"], w, 5.0,
-                                           x["eps1_gs"], x["omega_unc"]))
+                                           x["eps1_gs"], op["omega_unc"]))
     r = rsf.sensitivity(256, seed=1)
     assert r.total["delta_k"]["eps1"].value == pytest.approx(0.0, abs=1e-9)
     assert r.total["share"]["eps1"].value > 0.2
+    assert dict(r.conditions) == pytest.approx(op)
 
 
-def test_rsf_ranges_follow_the_one_rule():
-    """Every RSF input is printed (Δγ_enc in the worked example's Eq. (7)), so every range is
-    ±10 % uniform; ε1,GS and ε1 are sampled, not fixed."""
-    inputs = rsf.sensitivity_inputs()
-    assert {x.name for x in inputs} >= {"encoder_error", "eps1_gs", "eps1"}
-    for x in inputs:
-        assert x.distribution == "uniform", x.name
-        assert (x.low, x.high) == pytest.approx((0.9 * x.nominal, 1.1 * x.nominal))
+def test_rsf_ranges_are_the_tables():
+    """The four uncertain rows Eq. (7) and the share read, each over its row's range (half
+    to twice a data sheet's value, log-uniform); the operating point is not sampled."""
+    got = {x.name: x for x in rsf.sensitivity_inputs()}
+    assert set(got) == {"eps0_gs", "encoder_error", "eps1_gs", "eps1"}
+    for name, key in (("rsf.gs_bias", "eps0_gs"), ("rsf.encoder_error", "encoder_error"),
+                      ("rsf.eps1_gs", "eps1_gs"), ("rsf.eps1", "eps1")):
+        r, x = inputs.row(name), got[key]
+        assert x.nominal == pytest.approx(r.reference, rel=1e-12)
+        assert (x.low, x.high) == pytest.approx(r.bounds()), name
+        assert x.distribution == "loguniform"
 
 
 def test_rsf_elasticities_closed_form():
@@ -238,6 +251,8 @@ def test_rsf_elasticities_closed_form():
     ω_unc alike), Δγ_enc/N (and −Δγ_enc/N for Δt); the share 1 − δK/ε1 moves by
     −(δK/(ε1 − δK)) times δK's elasticity, and +δK/(ε1 − δK) with ε1."""
     x = {i.name: i.nominal for i in rsf.sensitivity_inputs()}
+    x |= {"period": 5.0, "omega_x": float(to_si(900.0, "deg/s")),
+          "omega_unc": float(to_si(300.0, "deg/s"))}
     e = rsf.sensitivity_elasticities()
     n = (x["eps0_gs"] + x["eps1_gs"] * x["omega_unc"]) * x["period"] + x["encoder_error"]
     want = {"omega_x": -1.0, "eps0_gs": x["eps0_gs"] * x["period"] / n,
@@ -259,9 +274,9 @@ def test_rsf_elasticities_closed_form():
 
 def test_gc_elasticities_fixed_inputs_and_ranking():
     """The elasticities of t_c at the paper's values: per relative change σ1² moves t_c about
-    four times as much as C_as (the total indices rank them the other way round because C_as
-    ranges ×9 and σ1² ±10 %); the fixed inputs are included, H and f through H/f nearly
-    opposite; a second, independent estimate from ±10 % secants agrees."""
+    four times as much as C_as; the fixed inputs (the filter's priors among them) are
+    included, H and f through H/f nearly opposite; a second, independent estimate from ±10 %
+    secants agrees."""
     e = gc.sensitivity_elasticities()
     assert set(sensitivity_study.FIXED_INPUTS) <= set(e.inputs)
     ratio = e.of("t_c", "sigma1_sq") / e.of("t_c", "C_as")

@@ -9,6 +9,7 @@ methods; hypothesis properties cover continuous ranges.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from types import SimpleNamespace
 
 import pytest
@@ -17,6 +18,7 @@ from hypothesis import strategies as st
 from validation_table import *
 
 from gyrolib import gc, stats
+from gyrolib.book.ledger import margin_study as ms
 from gyrolib.book.ledger import remaining
 
 TABLE = Table()
@@ -127,6 +129,10 @@ case("ledger.remaining.flight_lateral", lambda: remaining.flight_lateral(-1), Va
      "seed")
 case("ledger.remaining.flight_lateral", lambda: remaining.flight_lateral(1, 1), ValueError,
      "n_runs")
+case("ledger.remaining.flight_lateral",
+     lambda: remaining.flight_lateral(1, 2, gs_gyro="GYPRO4300"), TypeError, "gs_gyro")
+case("ledger.remaining.flight_lateral", lambda: remaining.flight_lateral(1, 2, omega_x=0.0),
+     ValueError, "omega_x", POS)
 case("ledger.remaining.items_gc", lambda: remaining.items_gc("x"), TypeError, "params")
 case("ledger.remaining.items_rsf", lambda: remaining.items_rsf(seed=-1), ValueError, "seed")
 _WEST = remaining.WestGyro(t=np.array([0.0, 1.0]), sigma=np.ones(2), floor=1.0, psi_max=1.0,
@@ -149,14 +155,49 @@ def test_bad_input_is_rejected_by_name(call, exc, pattern):
 
 #: Public callables without a bad-input case, and why.
 EXEMPT: dict[str, str] = {"report.MarkdownText": "a str subclass: any text is valid",
+                          "ledger.margin_study.Study": "a record of the module's two studies "
+                          "(STUDIES), not built from a caller's input",
                           "ledger.remaining.FlightLateral": "result object, built by "
                           "flight_lateral (checked there)",
                           "ledger.remaining.WestGyro": "result object, built by west_gyro "
                           "(checked there)"}
 
 
+# the studies of the claims' margins (issue 33)
+case("ledger.margin_study.study_inputs", lambda: ms.study_inputs("gc"), ValueError, "model",
+     "one of")
+case("ledger.margin_study.study_outputs", lambda: ms.study_outputs(None), ValueError, "model")
+case("ledger.margin_study.reference_outputs", lambda: ms.reference_outputs("rsf"), ValueError,
+     "model")
+case("ledger.margin_study.study_file", lambda: ms.study_file("gc-claim"), ValueError, "model")
+case("ledger.margin_study.margin_study", lambda: ms.margin_study("x", 4), ValueError, "model")
+case("ledger.margin_study.margin_study", lambda: ms.margin_study("rsf-claims", 6), ValueError,
+     "n must be a power of 2")
+case("ledger.margin_study.margin_study",
+     lambda: ms.margin_study("rsf-claims", 4, executor="dask"), TypeError, "executor")
+case("ledger.margin_study.margin_study",
+     lambda: ms.margin_study("rsf-claims", 4, chunk_size=0), ValueError, "chunk_size")
+case("ledger.margin_study.margin_slopes", lambda: ms.margin_slopes("rsf-claims", 0.5),
+     ValueError, "rel_step")
+case("ledger.margin_study.margin_slopes", lambda: ms.margin_slopes("rsf-claims", "0.01"),
+     TypeError, "rel_step")
+case("ledger.margin_study.margin_slopes", lambda: ms.margin_slopes("rsf-claims", NAN),
+     ValueError, "rel_step")
+case("ledger.margin_study.stored_study", lambda: ms.stored_study("rsf-claims", 3.0),
+     TypeError, "path", "file path")
+case("ledger.margin_study.stored_study",
+     lambda: ms.stored_study("rsf-claims", "/nonexistent/s.json"), ValueError, "path",
+     "existing file")
+case("ledger.margin_study.recheck_study", lambda: ms.recheck_study({"model": "gc-claims"}),
+     TypeError, "result")
+case("ledger.margin_study.recheck_study",
+     lambda: ms.recheck_study(replace(ms.stored_study("rsf-claims")[0], model="rsf")),
+     ValueError, "result",
+     "study of")
+
+
 def test_table_covers_every_public_callable():
-    TABLE.check_coverage({"cli": SimpleNamespace(__all__=["main"], main=cli.main), "units": units, "ledger": ledger, "ledger.gc": lgc, "ledger.rsf": lrsf, "ledger.remaining": remaining, "report": report, "stats": stats}, EXEMPT)
+    TABLE.check_coverage({"cli": SimpleNamespace(__all__=["main"], main=cli.main), "units": units, "ledger": ledger, "ledger.gc": lgc, "ledger.rsf": lrsf, "ledger.remaining": remaining, "ledger.margin_study": ms, "report": report, "stats": stats}, EXEMPT)
 
 
 def test_cli_rejects_an_unknown_command_with_usage(capsys):

@@ -57,10 +57,8 @@ from __future__ import annotations
 import argparse
 
 import gyrolib
+from gyrolib.cli import constants as _constants
 from gyrolib.cli.constants import (
-    DEFAULT_INCL_BIAS_PRIOR_MG,
-    DEFAULT_OFFSET_PRIOR_ARCSEC,
-    DEFAULT_SCALE_TOLERANCE,
     EXIT_BAD_INPUT,
     EXIT_INTERRUPTED,
     EXIT_INVALID,
@@ -69,9 +67,28 @@ from gyrolib.cli.constants import (
 )
 from gyrolib.records.options import add_format_options
 
-__all__ = ["DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
+__all__ = [  # noqa: F822 - the DEFAULT_* priors are read from the table on first use
+           "DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
            "DEFAULT_SCALE_TOLERANCE", "EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_INVALID",
            "SUMMARY_COLUMNS", "add_parser", "process", "run"]
+
+
+def __getattr__(name: str) -> float:
+    """The default priors (:mod:`gyrolib.cli.constants`), from the table of inputs."""
+    if name.startswith("DEFAULT_"):
+        return getattr(_constants, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+class _FromTable(str):
+    """A help text whose ``{DEFAULT_*}`` are filled in from the table of inputs when argparse
+    formats it (its ``%`` formatting), so that building the parser reads no table."""
+
+    def __mod__(self, params: object) -> str:
+        text = str(self)
+        for name in _constants._FROM_TABLE:
+            text = text.replace("{" + name + "}", f"{getattr(_constants, name):g}")
+        return str.__mod__(text, params)
 
 
 # Parser ----------------------------------------------------------------------------------
@@ -122,27 +139,34 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                           "any there is no valid estimate, exit 3); 'paper' assumes paper "
                           "GC's Omega_h, Omega_v (about 53.9 N) and says so")
     gcp.add_argument("--scale-tolerance", type=float, default=None, metavar="REL",
-                     help="1-sigma relative uncertainty of the scale common to H/f and the "
-                          f"angle sensor's gain (default {DEFAULT_SCALE_TOLERANCE:g}); it "
-                          "reads as a drift of REL*Omega_h and enters sigma(omega_gc)")
+                     help=_FromTable("1-sigma relative uncertainty of the scale common to H/f "
+                                     "and the angle sensor's gain (default "
+                                     "{DEFAULT_SCALE_TOLERANCE}, the table of inputs' largest "
+                                     "plausible value); it reads as a drift of REL*Omega_h "
+                                     "and enters sigma(omega_gc)"))
     gcp.add_argument("--offset-prior", type=float, default=None, metavar="ARCSEC",
-                     help="1-sigma prior of the angle sensor's null offset, estimated with the "
-                          f"state (default {DEFAULT_OFFSET_PRIOR_ARCSEC:g} arcsec; a logger "
-                          "that starts late reads as an offset)")
+                     help=_FromTable("1-sigma prior of the angle sensor's null offset, "
+                                     "estimated with the state (default "
+                                     "{DEFAULT_OFFSET_PRIOR_ARCSEC} arcsec, the table of "
+                                     "inputs' largest plausible value; a logger that starts "
+                                     "late reads as an offset)"))
     gcp.add_argument("--inclinometer-bias-prior", type=float, default=None, metavar="MG",
-                     help="1-sigma prior of each inclinometer's bias in mg, estimated with "
-                          f"the state (default {DEFAULT_INCL_BIAS_PRIOR_MG:g} mg); a bias "
-                          "cannot be told from a tilt, so it enters sigma(omega_gc)")
+                     help=_FromTable("1-sigma prior of each inclinometer's bias in mg, "
+                                     "estimated with the state (default "
+                                     "{DEFAULT_INCL_BIAS_PRIOR_MG} mg, the table of inputs' "
+                                     "largest plausible value); a bias cannot be told from a "
+                                     "tilt, so it enters sigma(omega_gc)"))
     gcp.add_argument("--drift-prior", type=float, default=None, metavar="DEG/H",
                      help="1-sigma prior of the drift omega_gc in deg/h (default: the params "
                           "file's sigma_gc0, paper GC's 0.15 arcsec/s = 0.15 deg/h); an "
                           "estimate far outside it is not valid, so a gyro that really drifts "
                           "more needs a wider prior")
     gcp.add_argument("--clock-tolerance", type=float, default=None, metavar="REL",
-                     help="1-sigma relative error of the logger's time scale (default: the "
-                          "table of inputs' gc.sigma_clock, 1e-4, a crystal's tolerance); "
-                          "carried like the scale (a logger of 1024 Hz labelled 1 kHz is "
-                          "2.4e-2)")
+                     help=_FromTable("1-sigma relative error of the logger's time scale "
+                                     "(default {DEFAULT_CLOCK_TOLERANCE}, the table of inputs' "
+                                     "largest plausible value, a crystal's tolerance); carried "
+                                     "like the scale (a logger of 1024 Hz labelled 1 kHz is "
+                                     "2.4e-2)"))
     gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
                      help="family-wise false-alarm rate of the model checks that make a "
                           "record invalid (default 0.01)")

@@ -16,14 +16,7 @@ import numpy as np
 
 from gyrolib import gc, units
 from gyrolib.cli import hints
-from gyrolib.cli.constants import (
-    DEFAULT_CLOCK_TOLERANCE,
-    DEFAULT_INCL_BIAS_PRIOR_MG,
-    DEFAULT_OFFSET_PRIOR_ARCSEC,
-    DEFAULT_SCALE_TOLERANCE,
-    FIT_UNITS,
-    PLOT_SUFFIXES,
-)
+from gyrolib.cli.constants import FIT_UNITS, PLOT_SUFFIXES
 from gyrolib.cli.outputs import Outcome, bar_enabled, check_out_path, fmt, progress
 from gyrolib.gc.model.params import PAPER_LATITUDE
 from gyrolib.records.errors import OptionError
@@ -73,28 +66,25 @@ def options(args: argparse.Namespace) -> dict:
     if not (math.isfinite(args.false_alarm) and 0.0 < args.false_alarm < 1.0):
         raise OptionError(f"--false-alarm must be a probability in (0, 1); got "
                          f"{args.false_alarm}")
+    from gyrolib import inputs
+
+    # defaults: the table of inputs' (an instrument error's largest plausible value; the
+    # drift prior's reference, the field's default), in SI; an option in its unit
     priors = {}
     for opt, field, val, default, unit in (
             ("--scale-tolerance", "sigma_hf_scale", args.scale_tolerance,
-             DEFAULT_SCALE_TOLERANCE, 1.0),
+             inputs.default_prior("gc.sigma_hf_scale"), 1.0),
             ("--offset-prior", "sigma_as_offset", args.offset_prior,
-             DEFAULT_OFFSET_PRIOR_ARCSEC, units.ARCSEC_PAPER),
+             inputs.default_prior("gc.sigma_as_offset"), units.ARCSEC_PAPER),
             ("--inclinometer-bias-prior", "sigma_incl_bias", args.inclinometer_bias_prior,
-             DEFAULT_INCL_BIAS_PRIOR_MG, 1e-3 * units.G0)):
+             inputs.default_prior("gc.sigma_incl_bias"), 1e-3 * units.G0),
+            ("--drift-prior", "sigma_gc0", args.drift_prior,
+             inputs.row("gc.sigma_gc0").reference, units.DEG_PER_HOUR),
+            ("--clock-tolerance", "sigma_clock", args.clock_tolerance,
+             inputs.default_prior("gc.sigma_clock"), 1.0)):
         if val is not None and not (math.isfinite(val) and val >= 0.0):
             raise OptionError(f"{opt} must be a number >= 0; got {val}")
         if val is None and field in toml:     # the params file states it
-            continue
-        priors[field] = (default if val is None else val) * unit
-    # defaults: the table of inputs' (gc.sigma_gc0's reference is the field's default)
-    for opt, field, val, default, unit in (
-            ("--drift-prior", "sigma_gc0", args.drift_prior,
-             gc.GyrocompassParams().sigma_gc0, units.DEG_PER_HOUR),
-            ("--clock-tolerance", "sigma_clock", args.clock_tolerance,
-             DEFAULT_CLOCK_TOLERANCE, 1.0)):
-        if val is not None and not (math.isfinite(val) and val >= 0.0):
-            raise OptionError(f"{opt} must be a number >= 0; got {val}")
-        if val is None and field in toml:
             continue
         priors[field] = default if val is None else val * unit
     if priors.get("sigma_gc0", 1.0) <= 0.0:

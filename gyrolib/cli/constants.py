@@ -1,14 +1,16 @@
 """Constants of the ``calibrate`` command shared by its modules: the exit statuses, the
-summary's columns and the default priors of paper GC's instrument constants.  A leaf: it
-imports nothing, so the parser (:mod:`gyrolib.cli.calibrate`) and the runs
-(:mod:`gyrolib.cli.calibrate_gc`, :mod:`gyrolib.cli.calibrate_rsf`,
-:mod:`gyrolib.cli.outputs`) read the same values without importing each other."""
+summary's columns and the default priors of paper GC's instrument constants (from the
+table of inputs, on first use).  A leaf: it imports nothing at its start, so the parser
+(:mod:`gyrolib.cli.calibrate`) and the runs (:mod:`gyrolib.cli.calibrate_gc`,
+:mod:`gyrolib.cli.calibrate_rsf`, :mod:`gyrolib.cli.outputs`) read the same values without
+importing each other."""
 
 from __future__ import annotations
 
 from typing import Final
 
-__all__ = ["DEFAULT_CLOCK_TOLERANCE", "DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
+__all__ = [  # noqa: F822 - the DEFAULT_* priors are read from the table on first use
+           "DEFAULT_CLOCK_TOLERANCE", "DEFAULT_INCL_BIAS_PRIOR_MG", "DEFAULT_OFFSET_PRIOR_ARCSEC",
            "DEFAULT_SCALE_TOLERANCE", "EXIT_BAD_INPUT", "EXIT_INTERRUPTED", "EXIT_INVALID",
            "FIT_DEFAULT", "FIT_UNITS", "PLOT_SUFFIXES", "SUMMARY_COLUMNS"]
 
@@ -34,15 +36,25 @@ FIT_UNITS: Final[dict[str, str]] = {
 #: The parameters ``--fit-noise`` fits unless ``--fit`` names others.
 FIT_DEFAULT: Final[str] = "alpha1,sigma1_sq,C_as,C_in"
 
-#: Default 1σ relative uncertainty of the scale common to H/f and the angle sensor's gain
-#: (a floated gyro whose H/f and pick-off gain are known to 0.1 %).
-DEFAULT_SCALE_TOLERANCE: Final[float] = 1e-3
-#: Default 1σ prior of the angle sensor's null offset (arcsec): covers a logger that starts
-#: 1 s late ((H/f) Ω_h · 1 s ≈ 18″).
-DEFAULT_OFFSET_PRIOR_ARCSEC: Final[float] = 20.0
-#: Default 1σ prior of each inclinometer's bias (mg; real ones: 0.1–1 mg).
-DEFAULT_INCL_BIAS_PRIOR_MG: Final[float] = 0.5
-#: Default 1σ relative error of the logger's time scale (a crystal's): the table of inputs'
-#: ``gc.sigma_clock`` range (a test checks that they agree; read here without importing the
-#: table, which loads paper RSF's package).
-DEFAULT_CLOCK_TOLERANCE: Final[float] = 1e-4
+#: The default priors of paper GC's instrument errors, in the units of their options: each
+#: the largest plausible value of its row of the table of inputs
+#: (:func:`gyrolib.inputs.default_prior`), read on first use (the table imports both papers'
+#: packages, which the command line's start does not): ``DEFAULT_SCALE_TOLERANCE`` (relative,
+#: H/f and the angle sensor's gain), ``DEFAULT_OFFSET_PRIOR_ARCSEC`` (the angle sensor's null
+#: offset, paper arcsec), ``DEFAULT_INCL_BIAS_PRIOR_MG`` (each inclinometer's bias, mg),
+#: ``DEFAULT_CLOCK_TOLERANCE`` (the logger's time scale, relative).
+_FROM_TABLE: Final[dict[str, tuple[str, str]]] = {
+    "DEFAULT_SCALE_TOLERANCE": ("gc.sigma_hf_scale", "1"),
+    "DEFAULT_OFFSET_PRIOR_ARCSEC": ("gc.sigma_as_offset", "arcsec_paper"),
+    "DEFAULT_INCL_BIAS_PRIOR_MG": ("gc.sigma_incl_bias", "mg"),
+    "DEFAULT_CLOCK_TOLERANCE": ("gc.sigma_clock", "1"),
+}
+
+
+def __getattr__(name: str) -> float:
+    if name in _FROM_TABLE:
+        from gyrolib import inputs, units
+
+        row, unit = _FROM_TABLE[name]
+        return float(units.from_si(inputs.default_prior(row), unit))
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

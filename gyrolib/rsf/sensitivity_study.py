@@ -7,10 +7,14 @@ Outputs, from Eq. (7) of paper RSF (:func:`gyrolib.rsf.delta_k`) as
 * ``delta_k``: δK = [(ε0,GS + ε1,GS ω_unc) Δt + Δγ_enc] / (ω_x Δt);
 * ``share``: the share of the roll gyro's SF error removed, 1 − δK/ε1.
 
-Inputs (:func:`sensitivity_inputs`), all printed, so all by the one rule ±10 % uniform:
-ε0,GS, the encoder's position error Δγ_enc (printed in the worked example's Eq. (7)), the
-correction period Δt, the roll rate ω_x, the uncompensated rate ω_unc, the GS gyro's scale
-error ε1,GS and the roll gyro's ε1 (which only the share depends on).
+Inputs (:func:`sensitivity_inputs`): paper RSF's *uncertain* rows of the table of inputs
+(:mod:`gyrolib.inputs`) that Eq. (7) and the share read — ε0,GS (the GS gyro's biases, root sum
+of squares), the encoder's position error Δγ_enc, the GS gyro's scale error ε1,GS and the roll
+gyro's ε1 (which only the share depends on) — each over its row's range around the given
+sensors' values (a data sheet's typical value: half to twice it, log-uniform): no range is
+typed here.  The operating point (the correction interval Δt, the roll rate ω_x and the
+uncompensated rate ω_uncs; the worked example's by default) is the user's choice, not
+uncertain: it is held fixed (the study's condition) and gets elasticities only.
 :func:`sensitivity_elasticities` gives ∂ ln y/∂ ln x of both outputs at the worked example,
 to read beside the indices.
 """
@@ -33,6 +37,11 @@ from gyrolib.rsf.sensors import (
     MemsGyroSpec,
     RollGyroSpec,
 )
+from gyrolib.rsf.tables import (
+    WORKED_EXAMPLE_OMEGA_UNC,
+    WORKED_EXAMPLE_OMEGA_X,
+    WORKED_EXAMPLE_PERIOD,
+)
 from gyrolib.sensitivity import (
     Elasticities,
     Recheck,
@@ -42,7 +51,6 @@ from gyrolib.sensitivity import (
     recheck,
     run_study,
 )
-from gyrolib.units import to_si
 
 __all__ = [
     "SENSITIVITY_OUTPUTS",
@@ -57,11 +65,17 @@ __all__ = [
 SENSITIVITY_OUTPUTS: Final[tuple[str, ...]] = ("delta_k", "share")
 _UNITS: Final[tuple[str, ...]] = ("1", "1")
 
-#: The worked example's conditions (paper RSF, after Eq. (7)): Δt = 5 s, ω_x = 900 °/s,
-#: ω_unc = 300 °/s.
-_PERIOD: Final[float] = 5.0
-_OMEGA_X: Final[float] = float(to_si(900.0, "deg/s"))
-_OMEGA_UNC: Final[float] = float(to_si(300.0, "deg/s"))
+#: The worked example's operating point (paper RSF, after Eq. (7)), the table's reference.
+_PERIOD: Final[float] = WORKED_EXAMPLE_PERIOD
+_OMEGA_X: Final[float] = WORKED_EXAMPLE_OMEGA_X
+_OMEGA_UNC: Final[float] = WORKED_EXAMPLE_OMEGA_UNC
+
+#: The table's rows the study samples, with the argument of :func:`sensitivity_outputs`
+#: each sets (its name in the study).
+_ROWS: Final[dict[str, str]] = {"rsf.gs_bias": "eps0_gs", "rsf.encoder_error": "encoder_error",
+                                "rsf.eps1_gs": "eps1_gs", "rsf.eps1": "eps1"}
+#: The operating point's arguments (held fixed).
+_OPERATING: Final[tuple[str, ...]] = ("period", "omega_x", "omega_unc")
 
 #: Sample points per chunk: Eq. (7) costs microseconds, so a chunk holds many thousands of
 #: points (a tenth of a second of work) for a worker's hand-over to cost under 5 %.
@@ -69,44 +83,33 @@ _CHUNK: Final[int] = 8192
 
 
 def sensitivity_inputs(gs_gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
-                       period: float = _PERIOD, omega_x: float = _OMEGA_X,
-                       omega_unc: float = _OMEGA_UNC,
                        roll_gyro: RollGyroSpec = SIIMU02_ROLL) -> tuple[SobolInput, ...]:
-    """The study's uncertain inputs with their ranges, centred on the paper's values.
-
-    The book's one range rule: a printed value varies ±10 % (uniform), an unstated one over
-    a defended wide range.  Every input here is printed: ε0,GS = √(σ_rep² + σ_stab²) and
-    ε1,GS from the GS gyro's table, ε1 from Table 1, and the worked example's Δγ_enc = 0.33°
-    (its Eq. (7); lost only in the encoder's data line), Δt = 5 s, ω_x = 900 °/s and
-    ω_unc = 300 °/s.
+    """The study's uncertain inputs: paper RSF's uncertain rows of the table of inputs that
+    Eq. (7) and the share read, each over its row's range around the given sensors' values.
 
     Examples
     --------
     >>> from gyrolib import rsf
     >>> [(x.name, x.distribution) for x in rsf.sensitivity_inputs()][:2]
-    [('eps0_gs', 'uniform'), ('encoder_error', 'uniform')]
-    >>> len(rsf.sensitivity_inputs())
-    7
+    [('eps1', 'loguniform'), ('eps0_gs', 'loguniform')]
+    >>> x = rsf.sensitivity_inputs()[0]
+    >>> round(x.low / x.nominal, 3), round(x.high / x.nominal, 3)
+    (0.5, 2.0)
     """
+    from gyrolib import inputs
+
     v.check_instance("gs_gyro", gs_gyro, MemsGyroSpec)
     v.check_instance("encoder", encoder, EncoderSpec)
     v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
-    pr = SobolInput.printed
-    example = "printed (the worked example after Eq. (7))"
-    return (
-        pr("eps0_gs", "ε0,GS", gs_gyro.bias_total,
-           reading="printed: √(σ_rep² + σ_stab²) from the GS gyro's table"),
-        pr("encoder_error", "Δγ_enc", encoder.position_error,
-           reading="printed in the worked example's Eq. (7) (0.33°; lost only in the "
-           "encoder's data line)"),
-        pr("period", "Δt", v.check_positive("period", period), reading=example),
-        pr("omega_x", "ω_x", v.check_positive("omega_x", omega_x), reading=example),
-        pr("omega_unc", "ω_unc", v.check_positive("omega_unc", omega_unc), reading=example),
-        pr("eps1_gs", "ε1,GS", gs_gyro.sf_error,
-           reading="printed: the GS gyro's scale-factor error (280 ppm)"),
-        pr("eps1", "ε1", roll_gyro.sf_error,
-           reading="printed: the roll gyro's scale-factor error (Table 1, 600 ppm)"),
-    )
+    objs = {"MemsGyroSpec": gs_gyro, "EncoderSpec": encoder, "RollGyroSpec": roll_gyro}
+    return tuple(r.sobol_input(float(inputs.value_of(objs, r)), name=_ROWS[r.name])
+                 for r in inputs.INPUTS if r.name in _ROWS)
+
+
+def _operating(period: float, omega_x: float, omega_unc: float) -> dict[str, float]:
+    return {"period": v.check_positive("period", period),
+            "omega_x": v.check_positive("omega_x", omega_x),
+            "omega_unc": v.check_positive("omega_unc", omega_unc)}
 
 
 def sensitivity_outputs(eps0_gs: float, encoder_error: float, period: float, omega_x: float,
@@ -129,10 +132,9 @@ def sensitivity_outputs(eps0_gs: float, encoder_error: float, period: float, ome
 
 
 def _evaluate(points: NDArray[np.float64], context: tuple) -> NDArray[np.float64]:
-    """The outputs at each row of ``points`` (a chunk; module level: it is pickled); ε1,GS
-    and ε1 from the context unless sampled."""
-    names, eps1_gs, eps1 = context
-    fixed = {k: x for k, x in (("eps1_gs", eps1_gs), ("eps1", eps1)) if k not in names}
+    """The outputs at each row of ``points`` (a chunk; module level: it is pickled); the
+    operating point from the context."""
+    names, fixed = context
     return np.array([sensitivity_outputs(**dict(zip(names, map(float, row), strict=True)),
                                          **fixed)
                      for row in points]).reshape(-1, 2)
@@ -140,9 +142,12 @@ def _evaluate(points: NDArray[np.float64], context: tuple) -> NDArray[np.float64
 
 def sensitivity_elasticities(roll_gyro: RollGyroSpec = SIIMU02_ROLL,
                              gs_gyro: MemsGyroSpec = GYPRO4300,
-                             encoder: EncoderSpec = AEDB9340) -> Elasticities:
-    """∂ ln y/∂ ln x of δK and of the share at the worked example, for every input of
-    :func:`sensitivity_inputs` (central differences of ±1 %).
+                             encoder: EncoderSpec = AEDB9340, *, period: float = _PERIOD,
+                             omega_x: float = _OMEGA_X,
+                             omega_unc: float = _OMEGA_UNC) -> Elasticities:
+    """∂ ln y/∂ ln x of δK and of the share at the operating point (default: the worked
+    example's), for every input of :func:`sensitivity_inputs` and the operating point's
+    Δt, ω_x and ω_unc (central differences of ±1 %).
 
     Returns
     -------
@@ -157,29 +162,35 @@ def sensitivity_elasticities(roll_gyro: RollGyroSpec = SIIMU02_ROLL,
     """
     v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
     inputs = sensitivity_inputs(gs_gyro, encoder, roll_gyro=roll_gyro)
-    return elasticities({x.name: x.nominal for x in inputs}, sensitivity_outputs,
-                        SENSITIVITY_OUTPUTS)
+    nominal = {x.name: x.nominal for x in inputs} | _operating(period, omega_x, omega_unc)
+    return elasticities(nominal, sensitivity_outputs, SENSITIVITY_OUTPUTS)
 
 
 def sensitivity(n: int, seed: int = 0, executor: object = None, *,
                 roll_gyro: RollGyroSpec = SIIMU02_ROLL, gs_gyro: MemsGyroSpec = GYPRO4300,
-                encoder: EncoderSpec = AEDB9340, chunk_size: int = _CHUNK,
+                encoder: EncoderSpec = AEDB9340, period: float = _PERIOD,
+                omega_x: float = _OMEGA_X, omega_unc: float = _OMEGA_UNC,
+                chunk_size: int = _CHUNK,
                 progress: Callable[[int], None] | None = None,
                 second_order: bool = True,
                 previous: SensitivityResult | None = None) -> SensitivityResult:
     """Sobol' indices of δK and of the share of the SF error removed (paper RSF, Eq. (7)
-    and its "90 %") with respect to the five inputs of :func:`sensitivity_inputs`.
+    and its "90 %") with respect to the four inputs of :func:`sensitivity_inputs`, at
+    one operating point.
 
     Parameters
     ----------
     n : int
-        Base sample size, a power of 2 (``12 n`` evaluations of Eq. (7)).
+        Base sample size, a power of 2 (``10 n`` evaluations of Eq. (7)).
     seed : int, default 0
         Seed of the sample's scrambling and of the bootstrap intervals.
     executor : concurrent.futures.Executor, optional
         Where the chunks run (``None``: in this process).
     roll_gyro, gs_gyro, encoder : sensor records, optional
         The paper's sensors by default (the centres of the ranges).
+    period, omega_x, omega_unc : float, optional
+        The operating point (s, rad/s, rad/s; default: the worked example's 5 s, 900 °/s,
+        300 °/s), held fixed.
     chunk_size : int, default 8192
         Sample points per chunk.
     progress : callable, optional
@@ -202,16 +213,16 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     >>> r = rsf.sensitivity(1024, seed=0)
     >>> top = r.ranked("delta_k")[0]
     >>> top[0], f"{top[1].value:.2f}"
-    ('omega_x', '0.51')
+    ('eps1_gs', '0.62')
     """
     v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
     inputs = sensitivity_inputs(gs_gyro, encoder, roll_gyro=roll_gyro)
     names = tuple(x.name for x in inputs)
+    fixed = _operating(period, omega_x, omega_unc)
     return run_study("rsf", inputs, SENSITIVITY_OUTPUTS, _UNITS, _evaluate,
-                     (names, gs_gyro.sf_error, roll_gyro.sf_error), n, seed,
+                     (names, fixed), n, seed,
                      executor=executor, chunk_size=chunk_size, progress=progress,
-                     second_order=second_order, previous=previous,
-                     conditions={"eps1_gs": gs_gyro.sf_error, "eps1": roll_gyro.sf_error},
+                     second_order=second_order, previous=previous, conditions=fixed,
                      settings={"equation": "Eq. (7)"})
 
 
@@ -228,5 +239,5 @@ def recheck_sensitivity(result: SensitivityResult, k: int = 5, seed: int = 0) ->
     if result.model != "rsf":
         raise ValueError(f"result must be an RSF study (model 'rsf'); got {result.model!r}")
     c = result.conditions
-    return recheck(result, _evaluate, (result.input_names, float(c["eps1_gs"]),
-                                       float(c["eps1"])), k=k, seed=seed)
+    return recheck(result, _evaluate, (result.input_names,
+                                       {k_: float(c[k_]) for k_ in _OPERATING}), k=k, seed=seed)

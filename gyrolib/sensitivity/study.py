@@ -77,11 +77,11 @@ class SobolInput:
 
     Examples
     --------
+    The ranges of the papers' inputs are the table of inputs' (:meth:`gyrolib.inputs.Input.
+    sobol_input`); a caller's own input states its range:
+
     >>> from gyrolib.sensitivity import SobolInput
-    >>> x = SobolInput.printed("alpha1", "α1", 2.0)
-    >>> x.low, x.high, x.distribution
-    (1.8, 2.2, 'uniform')
-    >>> y = SobolInput.unstated("C_as", "C_as", 1.0)
+    >>> y = SobolInput("C_as", "C_as", 1.0, 1 / 3, 3.0, "loguniform", "a factor of 3")
     >>> f"{y.value(0.5):.3f}", f"{y.value(1.0):.3f}"
     ('1.000', '3.000')
     """
@@ -107,27 +107,6 @@ class SobolInput:
         if self.distribution == "loguniform" and not self.low > 0.0:
             raise ValueError(f"low must be > 0 for a loguniform input; got {self.low} for "
                              f"{self.name!r}")
-
-    @classmethod
-    def printed(cls, name: str, symbol: str, nominal: float, spread: float = 0.1,
-                reading: str = "printed") -> SobolInput:
-        """A value the paper prints: uniform within ``±spread`` (relative) of it."""
-        nominal = v.check_real("nominal", nominal)
-        spread = v.check_in_range("spread", spread, 0.0, 1.0, low_open=True, high_open=True)
-        a, b = sorted((nominal * (1 - spread), nominal * (1 + spread)))
-        return cls(name, symbol, nominal, a, b, "uniform", reading)
-
-    @classmethod
-    def unstated(cls, name: str, symbol: str, nominal: float, factor: float = 3.0,
-                 reading: str = "unstated") -> SobolInput:
-        """A value the paper does not state (or garbles): log-uniform within a ``factor``
-        either way of the book's reading ``nominal`` (> 0)."""
-        nominal = v.check_positive("nominal", nominal)
-        factor = v.check_real("factor", factor)
-        if not factor > 1.0:
-            raise ValueError(f"factor must be > 1; got {factor}")
-        return cls(name, symbol, nominal, nominal / factor, nominal * factor, "loguniform",
-                   reading)
 
     def value(self, u: float | NDArray[np.float64]) -> float | NDArray[np.float64]:
         """The input at unit coordinate(s) ``u`` in [0, 1] (inverse distribution function)."""

@@ -21,7 +21,7 @@ from typing import Final
 import numpy as np
 
 import gyrolib
-import gyrolib.book.ledger.levels as levels
+import gyrolib.levels as levels
 from gyrolib import inputs as _table
 from gyrolib.book.ledger.claims import verdict
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,6 +49,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrolib import _validation as v
 from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
 from gyrolib.book.ledger.claims import CLAIMS, sigmas
@@ -104,9 +106,8 @@ def study_inputs(model: str) -> tuple[SobolInput, ...]:
     over the table's ranges (the reference is the row's ``nominal``)."""
     s = _study(model)
     read = {n for c in s.claims for n in CLAIMS[c].inputs}
-    return tuple(SobolInput(r.name, r.symbol, float(r.reference), *r.bounds(),
-                            "loguniform" if r.scale == "log" else "uniform", r.reason)
-                 for r in _inputs.INPUTS if r.name in read and r.kind == "uncertain")
+    return tuple(r.sobol_input() for r in _inputs.INPUTS
+                 if r.name in read and r.kind == "uncertain")
 
 
 def study_outputs(model: str) -> tuple[str, ...]:
@@ -187,8 +188,8 @@ def margin_slopes(model: str, rel_step: float = 0.01,
     ``{output: {input: slope}}``.  A margin's slope says how far a relative change of the
     input moves the verdict's quantity, whatever the input's range; the Sobol' index says
     how much of its variance the range causes."""
-    if not 0.0 < rel_step < 0.5:
-        raise ValueError(f"rel_step must be in (0, 0.5); got {rel_step!r}")
+    rel_step = v.check_in_range("rel_step", rel_step, 0.0, 0.5, low_open=True,
+                                high_open=True)
     xs = [x for x in study_inputs(model) if x.nominal != 0.0]
     calls = [(model, {x.name: x.nominal * (1.0 + s * rel_step)})
              for x in xs for s in (1.0, -1.0)]
@@ -219,7 +220,12 @@ def stored_study(model: str, path: Path | None = None) -> tuple[SensitivityResul
     Raises ``ValueError`` naming the file when it holds another study, or one computed over
     another table of inputs (other rows, ranges, scales or references) or other claims:
     recompute it (``python -m gyrolib sensitivity MODEL --out FILE``)."""
+    if path is not None and not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a file path (str or os.PathLike); got "
+                        f"{type(path).__name__}")
     path = study_file(model) if path is None else Path(path)
+    if not path.is_file():
+        raise ValueError(f"path must be an existing file; got {path}")
     data = json.loads(path.read_text(encoding="utf-8"))
     again = f"recompute it: python -m gyrolib sensitivity {model} --out {path}"
     if data.get("model") != model:
@@ -240,5 +246,9 @@ def stored_study(model: str, path: Path | None = None) -> tuple[SensitivityResul
 
 def recheck_study(result: SensitivityResult, k: int = 3, seed: int = 0) -> Recheck:
     """Compute ``k`` points of a stored study again (rows drawn with ``seed``)."""
+    v.check_instance("result", result, SensitivityResult)
+    if result.model not in STUDIES:
+        raise ValueError(f"result must be a study of {tuple(STUDIES)}; got model "
+                         f"{result.model!r}")
     names = result.input_names
     return recheck(result, _evaluate, (result.model, names), k=k, seed=seed)

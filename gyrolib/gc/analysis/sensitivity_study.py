@@ -10,20 +10,24 @@ Outputs, both from :func:`gyrolib.gc.covariance_analysis` as the ledger computes
   up to ``t_max`` beyond; a point that has not crossed by ``t_max`` is recorded as
   ``t_max``, censored).
 
-Inputs (:func:`sensitivity_inputs`): the shaping-filter parameters α1, ξ1, σ1² (Eq. (6)) and
-α2, ξ2, σ2² (Eq. (7)), the sensor-noise intensities C_as and C_in (both inclinometers
-together), the unbalance drift ω_ub and the prior σ of ψ, δ and γ.  A printed value varies
-uniformly within ±10 %; a garbled one (the sensor intensities, whose unit the extraction
-garbles) log-uniformly within a factor of 3 either way.  The open discrete choices
-(``shaping_p0``, ``measurement_noise``, ``eq1_sign``, ``vertical_coupling``) are fixed by
-``params``: each is a separate condition, never mixed into the sample.
+Inputs (:func:`sensitivity_inputs`): paper GC's *uncertain* rows of the table of inputs
+(:mod:`gyrolib.inputs`) — the shaping-filter parameters α1, ξ1, σ1² (Eq. (6)) and α2, ξ2, σ2²
+(Eq. (7)), the unbalance drift ω_ub, the sensor-noise intensities C_as and C_in (both
+inclinometers together), and the instrument errors the paper's model leaves at zero (κ,
+σ_off, σ_b, ε_t) — each over its row's range around ``params`` (a factor of the value for a
+scale-type row, the row's absolute range otherwise) on its row's scale: no range is typed
+here.  The *operating* rows (the filter's priors) are the user's choice, not uncertain: they
+are held at ``params`` and get elasticities only.  The readings (``shaping_p0``,
+``measurement_noise``, ``eq1_sign``, ``vertical_coupling``) are fixed by ``params``: each is
+a separate condition, never mixed into the sample.  σ_c and the bound of t_c are the printed
+levels of :mod:`gyrolib.levels`, the ledger's.
 
-The inputs the paper prints but the study holds fixed (:data:`FIXED_INPUTS`: I, H, f, Ω_v,
-Ω_h and the prior σ of ω_gc, P(4,4)) are not sampled: they are the instrument's and the
-site's values rather than uncertain modelling choices, and the committed study (N = 2048,
-about an hour of CPU) is not rerun for them.  :func:`sensitivity_elasticities` gives
-∂ ln y/∂ ln x of both outputs at the defaults for the sampled and the fixed inputs alike, so
-that a ranking set by the ranges shows beside the indices.
+The inputs the paper prints and the study holds fixed (:data:`FIXED_INPUTS`: I, H, f, Ω_v,
+Ω_h and the filter's priors) are not sampled: they are the instrument's and the site's values
+or the user's choices rather than uncertain modelling choices.
+:func:`sensitivity_elasticities` gives ∂ ln y/∂ ln x of both outputs at the defaults for the
+sampled inputs with a non-zero value and the fixed inputs alike, so that a ranking set by the
+ranges shows beside the indices.
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
+from gyrolib import levels
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.speed_claim import time_to_level
 from gyrolib.gc.model.params import GyrocompassParams, check_params
@@ -48,7 +53,6 @@ from gyrolib.sensitivity import (
     recheck,
     run_study,
 )
-from gyrolib.units import to_si
 
 __all__ = [
     "FIXED_INPUTS",
@@ -68,26 +72,31 @@ _UNITS: Final[tuple[str, ...]] = ("rad/s", "s")
 _CONDITIONS: Final[tuple[str, ...]] = ("shaping_p0", "measurement_noise", "vertical_coupling",
                                        "eq1_sign")
 
-#: σ_c = 2·10⁻³″/s (paper GC, ref. [2]), in rad/s; the ledger's level.
-_LEVEL: Final[float] = float(to_si(2e-3, "arcsec_paper/s"))
-
-#: How far t_c is looked for (s): the ledger's bound, half of ref. [2]'s 17 min.
-_T_MAX: Final[float] = 0.5 * 17.0 * 60.0
+#: σ_c (rad/s) and how far t_c is looked for (s): the ledger's level and bound.
+_LEVEL: Final[float] = levels.SIGMA_C
+_T_MAX: Final[float] = levels.T_BOUND
 
 #: Sample points per chunk: about 3 s of work at 0.3 s a point, so that handing a chunk to a
 #: worker (milliseconds) costs well under 5 % and the last chunk leaves a worker idle briefly.
 _CHUNK: Final[int] = 8
 
 
-def sensitivity_inputs(params: GyrocompassParams | None = None) -> tuple[SobolInput, ...]:
-    """The study's uncertain inputs with their ranges, centred on ``params`` (default: the
-    paper's values).
+def _rows() -> tuple:
+    """Paper GC's uncertain rows of the table (read when called: :mod:`gyrolib.inputs`
+    imports this package's dataclasses)."""
+    from gyrolib import inputs
 
-    Printed values (±10 %, uniform): α1, ξ1, σ1² (paper GC after Eq. (6)), α2, ξ2, σ2²
-    (after Eq. (7); σ2² taken from its ref. [2]), ω_ub, the prior σ of ψ, δ and γ (its
-    parameter table).  Garbled (a factor of 3 either way, log-uniform): C_as and C_in, the
-    sensor-noise intensities, printed as "rad² [·s]" and m²/s³ with the extraction losing
-    part of the unit and the paper not saying whether they are intensities or variances.
+    return inputs.rows(prefix="gc.", kind="uncertain")
+
+
+def sensitivity_inputs(params: GyrocompassParams | None = None) -> tuple[SobolInput, ...]:
+    """The study's uncertain inputs: paper GC's uncertain rows of the table of inputs, each
+    over its row's range around its value in ``params`` (default: the paper's values).
+
+    A scale-type row's range is a factor of the value (α1, σ1², α2, σ2², ω_ub, C_as, C_in:
+    a decade either way, log-uniform); ξ1, ξ2 and the instrument errors whose reference is
+    zero (κ, σ_off, σ_b, ε_t) have the row's absolute range, uniform.  Each input is named
+    by its row without the ``gc.`` prefix (``"C_incl"`` sets both inclinometers).
 
     Parameters
     ----------
@@ -103,37 +112,25 @@ def sensitivity_inputs(params: GyrocompassParams | None = None) -> tuple[SobolIn
     >>> from gyrolib import gc
     >>> [x.symbol for x in gc.sensitivity_inputs()][:3]
     ['α1', 'ξ1', 'σ1²']
-    >>> c = gc.sensitivity_inputs()[6]
+    >>> c = gc.sensitivity_inputs()[7]
     >>> c.name, c.distribution, f"{c.high / c.nominal:.0f}"
-    ('C_as', 'loguniform', '3')
+    ('C_as', 'loguniform', '10')
     """
+    from gyrolib import inputs
+
     p = GyrocompassParams() if params is None else check_params(params)
-    pr, un = SobolInput.printed, SobolInput.unstated
-    eq6, eq7 = "printed after Eq. (6)", "printed after Eq. (7)"
-    table = "printed (parameter table)"
-    garbled = ("garbled: unit partly lost ('rad² [·s]'); intensity or variance not said")
-    return (
-        pr("alpha1", "α1", p.alpha1, reading=eq6),
-        pr("xi1", "ξ1", p.xi1, reading=eq6),
-        pr("sigma1_sq", "σ1²", p.sigma1_sq, reading=eq6),
-        pr("alpha2", "α2", p.alpha2, reading=eq7),
-        pr("xi2", "ξ2", p.xi2, reading=eq7),
-        pr("sigma2_sq", "σ2²", p.sigma2_sq, reading="printed after Eq. (7), from ref. [2]"),
-        un("C_as", "C_as", p.C_as, reading=garbled),
-        un("C_incl", "C_in", p.C_incl_y, reading="garbled: continuous intensity (m²/s³), "
-           "intensity or variance not said; both inclinometers together"),
-        pr("omega_ub", "ω_ub", p.omega_ub, reading="printed after Eq. (6), from ref. [6]"),
-        pr("sigma_psi0", "σ_ψ(0)", p.sigma_psi0, reading=table),
-        pr("sigma_delta0", "σ_δ(0)", p.sigma_delta0, reading=table),
-        pr("sigma_gamma0", "σ_γ(0)", p.sigma_gamma0, reading=table),
-    )
+    objs = {"GyrocompassParams": p}
+    return tuple(r.sobol_input(float(inputs.value_of(objs, r)),
+                               name=r.name.removeprefix("gc."))
+                 for r in _rows())
 
 
 #: Inputs the paper prints and the study holds fixed, with their symbols: the float's moment
 #: of inertia, angular momentum and friction, the Earth-rate components at the site, and the
-#: prior σ of ω_gc (P(4,4)).
+#: filter's priors (the table's operating rows: P(4,4), ψ, δ, γ).
 FIXED_INPUTS: Final[dict[str, str]] = {
     "I": "I", "H": "H", "f": "f", "Omega_v": "Ω_v", "Omega_h": "Ω_h", "sigma_gc0": "σ_ω(0)",
+    "sigma_psi0": "σ_ψ(0)", "sigma_delta0": "σ_δ(0)", "sigma_gamma0": "σ_γ(0)",
 }
 
 
@@ -164,7 +161,7 @@ def sensitivity_elasticities(params: GyrocompassParams | None = None, *,
     """
     p = GyrocompassParams() if params is None else check_params(params)
     v.check_bool("fixed", fixed)
-    nominal = {x.name: x.nominal for x in sensitivity_inputs(p)}
+    nominal = {x.name: x.nominal for x in sensitivity_inputs(p) if x.nominal != 0.0}
     if fixed:
         nominal.update({name: float(getattr(p, name)) for name in FIXED_INPUTS})
 
@@ -175,14 +172,15 @@ def sensitivity_elasticities(params: GyrocompassParams | None = None, *,
 
 def _at(base: GyrocompassParams, names: tuple[str, ...],
         row: NDArray[np.float64]) -> GyrocompassParams:
-    """``base`` with the sampled inputs set (``C_incl`` sets both inclinometers)."""
-    changes: dict[str, float] = {}
-    for name, x in zip(names, row, strict=True):
-        if name == "C_incl":
-            changes["C_incl_y"] = changes["C_incl_z"] = float(x)
-        else:
-            changes[name] = float(x)
-    return replace(base, **changes)
+    """``base`` with the inputs set: a row of the table by its rule (``C_incl`` sets both
+    inclinometers), a fixed input (:data:`FIXED_INPUTS`) by its field."""
+    from gyrolib import inputs
+
+    by_row = {r.name.removeprefix("gc."): r.name for r in _rows()}
+    changes = {by_row[n]: float(x) for n, x in zip(names, row, strict=True) if n in by_row}
+    p = inputs.apply({"GyrocompassParams": base}, changes)["GyrocompassParams"]
+    return replace(p, **{n: float(x) for n, x in zip(names, row, strict=True)
+                         if n not in by_row})
 
 
 def sensitivity_outputs(params: GyrocompassParams, *, t_end: float = 100.0,
@@ -240,7 +238,7 @@ def _conditions(p: GyrocompassParams, sampled: tuple[str, ...]) -> dict[str, obj
     """The fixed part of ``p``: the discrete choices, and every other field that differs
     from the paper's value (so that the condition can be rebuilt)."""
     default = GyrocompassParams()
-    skip = set(sampled) | ({"C_incl_y", "C_incl_z"} if "C_incl" in sampled else set())
+    skip = {f for r in _rows() if r.name.removeprefix("gc.") in sampled for f in r.fields}
     return {f.name: getattr(p, f.name) for f in fields(p)
             if f.name in _CONDITIONS
             or (f.name not in skip and getattr(p, f.name) != getattr(default, f.name))}
@@ -252,10 +250,10 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
                 progress: Callable[[int], None] | None = None,
                 second_order: bool = True,
                 previous: SensitivityResult | None = None) -> SensitivityResult:
-    """Sobol' indices of σ_gc(100 s) and of t_c with respect to the twelve inputs of
+    """Sobol' indices of σ_gc(100 s) and of t_c with respect to the thirteen inputs of
     :func:`sensitivity_inputs` (paper GC, Figure 3 and its Conclusion).
 
-    ``n (2·12 + 2) = 26 n`` covariance analyses of ``t_end`` seconds each (a few tenths of
+    ``n (2·13 + 2) = 28 n`` covariance analyses of ``t_end`` seconds each (a few tenths of
     a second apiece), in chunks of ``chunk_size`` points on ``executor``.
 
     Parameters
@@ -299,7 +297,7 @@ def sensitivity(n: int, seed: int = 0, executor: object = None, *,
     >>> from gyrolib.units import to_si
     >>> r = gc.sensitivity(2, seed=0, t_end=2.0, t_max=2.0, level=to_si(0.05, "arcsec_paper/s"))
     >>> r.values.shape, r.outputs
-    ((52, 2), ('sigma_gc_100s', 't_c'))
+    ((56, 2), ('sigma_gc_100s', 't_c'))
     """
     p = GyrocompassParams() if params is None else check_params(params)
     inputs = sensitivity_inputs(p)

@@ -147,6 +147,24 @@ def _check_field(name: str, field: object) -> str:
     return field
 
 
+def inputs_factor_grid(name: str, n: int = 3) -> tuple[float, ...]:
+    """:func:`gyrolib.inputs.factor_grid` (read when called: the table imports this
+    package's dataclasses)."""
+    from gyrolib import inputs
+
+    return inputs.factor_grid(name, n)
+
+
+def _decade(field: str) -> tuple[float, ...]:
+    """The default factors of ``field``: its row's range in the table of inputs when the row
+    is a scale-type one, else the printed shaping parameters' (``gc.alpha1``'s)."""
+    from gyrolib import inputs
+
+    rows = [r for r in inputs.rows(owner="GyrocompassParams") if field in r.fields
+            and r.kind != "reading" and r.relative]
+    return inputs.factor_grid(rows[0].name if rows else "gc.alpha1")
+
+
 def _scaled(p: GyrocompassParams, field: str, factor: float) -> GyrocompassParams:
     """``p`` with ``field`` multiplied by ``factor`` (a damping ratio capped at 1)."""
     value = getattr(p, field) * factor
@@ -242,8 +260,8 @@ class SpeedClaimMap:
 
 
 def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
-                    x_field: str = "sigma1_sq", x_factors: ArrayLike = (0.1, 1.0, 10.0),
-                    y_field: str = "alpha1", y_factors: ArrayLike = (0.1, 1.0, 10.0),
+                    x_field: str = "sigma1_sq", x_factors: ArrayLike | None = None,
+                    y_field: str = "alpha1", y_factors: ArrayLike | None = None,
                     readings: tuple[str, ...] = ("stationary", "zero"),
                     t_max: float | None = None,
                     executor: Executor | None = None) -> SpeedClaimMap:
@@ -261,8 +279,9 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
         The time (s) the claim requires (the book's reading: half of ref. [2]'s 17 min).
     x_field, y_field : str
         Parameters scaled (damping ratios capped at 1).
-    x_factors, y_factors : array_like
-        Factors (> 0) on the baseline values.
+    x_factors, y_factors : array_like, optional
+        Factors (> 0) on the baseline values (default: each field's range in the table of
+        inputs, :func:`gyrolib.inputs.factor_grid`; a decade either way).
     readings : tuple of str
         Values of ``shaping_p0``.
     t_max : float, optional
@@ -290,8 +309,10 @@ def speed_claim_map(params: GyrocompassParams, level: float, bound: float, *,
     bound = v.check_positive("bound", bound)
     xf = _check_field("x_field", x_field)
     yf = _check_field("y_field", y_field)
-    xs = v.check_array("x_factors", x_factors, ndim=1, min_size=1)
-    ys = v.check_array("y_factors", y_factors, ndim=1, min_size=1)
+    xs = v.check_array("x_factors", _decade(xf) if x_factors is None else x_factors, ndim=1,
+                       min_size=1)
+    ys = v.check_array("y_factors", _decade(yf) if y_factors is None else y_factors, ndim=1,
+                       min_size=1)
     for name, arr in (("x_factors", xs), ("y_factors", ys)):
         if np.any(arr <= 0.0):
             raise ValueError(f"{name} must be > 0 (factors on the baseline values)")
@@ -331,7 +352,7 @@ class ClaimBoundary:
 
 
 def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
-                   field: str = "sigma1_sq", factors: ArrayLike = (5.0, 10.0),
+                   field: str = "sigma1_sq", factors: ArrayLike | None = None,
                    executor: Executor | None = None) -> ClaimBoundary:
     """The factor on ``field`` at which the time for σ of ω_gc to reach ``level`` equals
     ``bound``: σ at ``bound`` computed at each of ``factors`` and interpolated log–log.
@@ -346,8 +367,9 @@ def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
         The time (s), a multiple of ``params.dt``.
     field : str
         The parameter scaled.
-    factors : array_like
-        Increasing factors (> 0), at least two.
+    factors : array_like, optional
+        Increasing factors (> 0), at least two (default: 1 and the top of the field's range
+        in the table of inputs).
     executor : concurrent.futures.Executor, optional
         Runs the factors concurrently; the numbers do not depend on it.
 
@@ -368,7 +390,8 @@ def claim_boundary(params: GyrocompassParams, level: float, bound: float, *,
     level = v.check_positive("level", level)
     bound = v.check_positive("bound", bound)
     field = _check_field("field", field)
-    fs = v.check_array("factors", factors, ndim=1, min_size=2)
+    fs = v.check_array("factors", (1.0, _decade(field)[-1]) if factors is None else factors,
+                       ndim=1, min_size=2)
     if np.any(fs <= 0.0) or np.any(np.diff(fs) <= 0.0):
         raise ValueError("factors must be > 0 and increasing")
     steps_in(p, bound)
@@ -420,7 +443,7 @@ def _sweep_case(q: GyrocompassParams, field: str, t_end: float,
 
 def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
                   fields: tuple[str, ...] = SHAPING_FIELDS,
-                  factors: ArrayLike = (0.1, 1.0, 10.0), t_drop: float = 2.0,
+                  factors: ArrayLike | None = None, t_drop: float = 2.0,
                   executor: Executor | None = None) -> ShapingSweep:
     """Paper GC's "same trend when the parameters of the shaping filters vary widely": each
     of ``fields`` scaled by each of ``factors`` (damping ratios capped at 1), the others at
@@ -434,8 +457,9 @@ def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
         Length of each analysis (s).
     fields : tuple of str
         Parameters varied one at a time.
-    factors : array_like
-        Factors (> 0).
+    factors : array_like, optional
+        Factors (> 0) (default: the shaping parameters' range in the table of inputs, a
+        decade either way, :func:`gyrolib.inputs.factor_grid`).
     t_drop : float
         Time (s, ``<= t_end``) of the "sharp drop" ratio σ(t_drop)/σ(0).
     executor : concurrent.futures.Executor, optional
@@ -459,7 +483,8 @@ def shaping_sweep(params: GyrocompassParams, t_end: float = 100.0, *,
         raise TypeError("fields must be a non-empty tuple of GyrocompassParams fields")
     for f in fields:
         _check_field("fields", f)
-    fs = v.check_array("factors", factors, ndim=1, min_size=1)
+    fs = v.check_array("factors", inputs_factor_grid("gc.alpha1") if factors is None
+                       else factors, ndim=1, min_size=1)
     if np.any(fs <= 0.0):
         raise ValueError("factors must be > 0")
     steps_in(p, t_end)

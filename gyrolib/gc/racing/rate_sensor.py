@@ -79,6 +79,7 @@ import scipy.linalg
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
+from gyrolib import levels
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.consistency import nees_bounds
 from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
@@ -190,7 +191,7 @@ class RateSensorProcedure:
     split: float | None = None
     vibration_frame: str = "carrier"
     sample_dt: float = 0.1
-    sigma_c: float = 2.0e-3 * ARCSEC_PAPER
+    sigma_c: float = levels.SIGMA_C
     t_max: float = 7200.0
     loop_bandwidth: float = 10.0
     quantization: float = 0.01 * ARCSEC_PAPER
@@ -893,7 +894,7 @@ def _angle_intensity(p: GyrocompassParams, proc: RateSensorProcedure) -> float:
 
 
 def turn_accuracy_limit(params: GyrocompassParams | None = None,
-                        level: float = 2.0e-3 * ARCSEC_PAPER) -> float:
+                        level: float = levels.SIGMA_C) -> float:
     """The turning error σ_ε (rad) at which the turn alone leaves ``level`` (rad/s) in the
     classical estimate: ``Ω_h² (σ_ψ² σ_ε² + 3 σ_ε⁴/4) / 4 = level²`` solved for σ_ε — what
     "turn by 180° with the required accuracy" (paper GC, p. 52) has to mean.

@@ -87,11 +87,15 @@ def _times(p: GyrocompassParams, proc: RateSensorProcedure) -> list[float]:
 
 def race_verdict_grid(params: GyrocompassParams | None = None,
                       procedure: RateSensorProcedure | None = None, *,
-                      sigma1_factors: Sequence[float] = tuple(np.geomspace(0.1, 10.0, 13)),
-                      cas_factors: Sequence[float] = (0.1, 1.0, 10.0),
-                      readings: Sequence[str] = ("intensity_over_dt", "variance"),
+                      sigma1_factors: Sequence[float] | None = None,
+                      cas_factors: Sequence[float] | None = None,
+                      readings: Sequence[str] | None = None,
                       executor: object = None) -> RaceVerdictGrid:
     """The race's margin over σ1² × C_as under each reading (see the module docstring).
+
+    The defaults are the table of inputs' (:mod:`gyrolib.inputs`): 13 factors over σ1²'s
+    range and 3 over C_as's (:func:`gyrolib.inputs.factor_grid`), every reading of
+    ``measurement_noise``.
 
     Examples
     --------
@@ -101,18 +105,22 @@ def race_verdict_grid(params: GyrocompassParams | None = None,
     >>> f"{g.margin[0, 0, 0]:.1f}", [f"{t:.1f}" for t in g.times[0]]
     ('7.3', ['24.1', '141.6', '56.4'])
     """
+    from gyrolib import inputs
+
     p = GyrocompassParams() if params is None else check_params(params)
     proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
     ex = check_executor(executor)
-    s1 = np.asarray(sigma1_factors, float)
-    ca = np.asarray(cas_factors, float)
+    s1 = np.asarray(inputs.factor_grid("gc.sigma1_sq", 13) if sigma1_factors is None
+                    else sigma1_factors, float)
+    ca = np.asarray(inputs.factor_grid("gc.C_as") if cas_factors is None else cas_factors,
+                    float)
+    known = inputs.row("gc.measurement_noise").values
     for name, a in (("sigma1_factors", s1), ("cas_factors", ca)):
         if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a) & (a > 0)):
             raise ValueError(f"{name} must be a non-empty 1-D sequence of positive factors")
-    readings = tuple(readings)
-    if not readings or any(r not in ("intensity_over_dt", "variance") for r in readings):
-        raise ValueError("readings must be readings of measurement_noise: "
-                         "'intensity_over_dt' or 'variance'")
+    readings = known if readings is None else tuple(readings)
+    if not readings or any(r not in known for r in readings):
+        raise ValueError(f"readings must be readings of measurement_noise: {known}")
     args = [(replace(p, measurement_noise=r, C_as=c * p.C_as, sigma1_sq=f * p.sigma1_sq), proc)
             for r in readings for c in ca for f in s1]
     m = np.array(map_ordered(_margin, args, ex)).reshape(len(readings), ca.size, s1.size)

@@ -1,13 +1,15 @@
-"""The printed levels the ledger judges the papers' claims against, in one leaf module.
+"""The printed levels the papers' claims are judged against, in one leaf module.
 
-Both the ledger's item builders (:mod:`gyrolib.book.ledger.gc`, :mod:`gyrolib.book.ledger.rsf`)
-and the claims' margins (:mod:`gyrolib.book.ledger.claims`) read them from here, so that no
-level is typed twice; the module imports nothing of gyrolib but :mod:`gyrolib.units` (itself a
-leaf), so that no import cycle can form (``gc.py`` imports ``claims.py``).
+The ledger's item builders (:mod:`gyrolib.book.ledger.gc`, :mod:`gyrolib.book.ledger.rsf`),
+the claims' margins (:mod:`gyrolib.book.ledger.claims`), the race's rival
+(:class:`gyrolib.gc.RateSensorProcedure`'s ``sigma_c``) and paper GC's study of σ_gc and t_c
+(:func:`gyrolib.gc.sensitivity`) read them from here, so that no level is typed twice.  The
+module imports nothing of gyrolib but :mod:`gyrolib.units` (itself a leaf), so that the library
+below the book can import it without a cycle.
 
 Examples
 --------
->>> from gyrolib.book.ledger import levels
+>>> from gyrolib import levels
 >>> round(levels.T_BOUND), levels.TIMES, levels.CUBIC_EXPONENT
 (510, (10, 60, 120), 2.9)
 """
@@ -18,8 +20,8 @@ from typing import Final
 
 from gyrolib.units import ARCSEC_PAPER
 
-__all__ = ["COMPENSATED_PERCENT", "CUBIC_EXPONENT", "FASTER_PERCENT", "GS_VS_SINS_RATIO",
-           "REF2_MINUTES", "SIGMA_C", "SIGMA_C_PRINTED", "TIMES", "T_BOUND"]
+__all__ = ["AREA_TOLERANCE", "COMPENSATED_PERCENT", "CUBIC_EXPONENT", "FASTER_PERCENT",
+           "GS_VS_SINS_RATIO", "REF2_MINUTES", "SIGMA_C", "SIGMA_C_PRINTED", "TIMES", "T_BOUND"]
 
 # paper GC ------------------------------------------------------------------------------------
 #: The required calibration accuracy of the north gyro as printed, σ_c = 2·10⁻³ ″/s (paper
@@ -35,6 +37,11 @@ FASTER_PERCENT: Final[float] = 50.0
 #: than half of 17 min, in seconds (510 s).  An inference from two printed numbers, not a
 #: printed value.
 T_BOUND: Final[float] = (1.0 - FASTER_PERCENT / 100.0) * REF2_MINUTES * 60.0
+
+#: Relative tolerance of Fig. 2's "the area under the PSD equals σ²" (the quadrature's own
+#: accuracy is far better; the claim is an identity of the shaping filters, not a print to
+#: digits).
+AREA_TOLERANCE: Final[float] = 1e-6
 
 # paper RSF -----------------------------------------------------------------------------------
 #: The times of Tables 2 and 3 (s).
