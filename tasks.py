@@ -254,6 +254,8 @@ calls = [
         "t", "angle_sensor", "inclinometer_y", "inclinometer_z"))), P, max_evaluations=40),
     lambda: gc.simulate_truth(P, 0.05, np.zeros(10), seed=1),
     lambda: gc.information_psi_omega(P, 0.05),
+    # the rival's 15-state kernel (its own compile: 3.6 CPU-s at a race's first call)
+    lambda: gc.rate_sensor_model(P, gc.RateSensorProcedure()).optimal_run(1.0, 1.0),
 ]
 share, shares = (int(x) for x in os.environ.get("GYROLIB_WARM_SHARE", "0/1").split("/"))
 rec = records.read_gc("data/gc_record.csv.gz")
