@@ -155,22 +155,29 @@ def test_command_refuses_a_wrong_header_with_its_code_and_takes_drift_prior(at_5
 
 
 def test_command_default_priors_are_the_table_of_inputs():
-    """The command's default priors are read from the table of inputs' rows (each instrument
-    error's plausible maximum, in its option's unit; gc.sigma_gc0's reference): a changed
-    row moves them (power: a table whose κ row tops at 2·10⁻³ moves the scale tolerance)."""
+    """The command's default priors, stored with the package (``gyrolib/data/
+    cli_defaults.json``, read without importing the table), are the table of inputs' rows
+    (each instrument error's plausible maximum, in its option's unit; gc.sigma_gc0's
+    reference).  Power: a table whose κ row tops at 2·10⁻³ gives another scale tolerance,
+    which the stored file then no longer equals (the check above would fail: write the file
+    again with ``python -m gyrolib.cli.constants``)."""
     import dataclasses
 
     from gyrolib import inputs, units
     from gyrolib.cli import constants
 
-    for name, (row, unit) in constants._FROM_TABLE.items():
-        assert getattr(constants, name) == pytest.approx(
+    table = constants.table_defaults()
+    for name, (row, unit) in constants.FROM_TABLE.items():
+        assert table[name] == pytest.approx(
             float(units.from_si(inputs.default_prior(row), unit)), rel=1e-12), name
+        assert getattr(constants, name) == pytest.approx(table[name], rel=1e-12), (
+            f"{constants.DEFAULTS_FILE} is stale: run python -m gyrolib.cli.constants")
     assert constants.DEFAULT_OFFSET_PRIOR_ARCSEC == pytest.approx(20.0, rel=1e-12)
     assert constants.DEFAULT_INCL_BIAS_PRIOR_MG == pytest.approx(0.5, rel=1e-12)
     wider = dataclasses.replace(inputs.row("gc.sigma_hf_scale"), high=2e-3)
     rows = {**inputs._BY_NAME, "gc.sigma_hf_scale": wider}
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(inputs, "_BY_NAME", rows)
-        assert constants.DEFAULT_SCALE_TOLERANCE == 2e-3
+        moved = constants.table_defaults()["DEFAULT_SCALE_TOLERANCE"]
+    assert moved == 2e-3 and constants.DEFAULT_SCALE_TOLERANCE != pytest.approx(moved)
     assert gc.GyrocompassParams().sigma_gc0 == inputs.row("gc.sigma_gc0").reference

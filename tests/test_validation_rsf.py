@@ -331,8 +331,9 @@ case("rsf.sensitivity_elasticities", lambda: rsf.sensitivity_elasticities(roll_g
      TypeError, "roll_gyro")
 case("rsf.sensitivity_elasticities", lambda: rsf.sensitivity_elasticities(encoder=1),
      TypeError, "encoder")
-case("rsf.sensitivity_inputs", lambda: rsf.sensitivity_inputs(period=0.0), ValueError,
-     "period", POS)
+case("rsf.sensitivity_elasticities", lambda: rsf.sensitivity_elasticities(period=0.0),
+     ValueError, "period", POS)
+case("rsf.sensitivity", lambda: rsf.sensitivity(4, period=0.0), ValueError, "period", POS)
 case("rsf.sensitivity_inputs", lambda: rsf.sensitivity_inputs(encoder=ENC), TypeError,
      "encoder", "EncoderSpec")
 case("rsf.sensitivity_outputs", lambda: rsf.sensitivity_outputs(-1.0, 0.0, 1.0, 1.0, 0.0),

@@ -86,7 +86,7 @@ class _FromTable(str):
 
     def __mod__(self, params: object) -> str:
         text = str(self)
-        for name in _constants._FROM_TABLE:
+        for name in _constants.FROM_TABLE:
             text = text.replace("{" + name + "}", f"{getattr(_constants, name):g}")
         return str.__mod__(text, params)
 

@@ -15,7 +15,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import gc, units
-from gyrolib.cli import hints
+from gyrolib.cli import constants, hints
 from gyrolib.cli.constants import FIT_UNITS, PLOT_SUFFIXES
 from gyrolib.cli.outputs import Outcome, bar_enabled, check_out_path, fmt, progress
 from gyrolib.gc.model.params import PAPER_LATITUDE
@@ -66,22 +66,22 @@ def options(args: argparse.Namespace) -> dict:
     if not (math.isfinite(args.false_alarm) and 0.0 < args.false_alarm < 1.0):
         raise OptionError(f"--false-alarm must be a probability in (0, 1); got "
                          f"{args.false_alarm}")
-    from gyrolib import inputs
-
-    # defaults: the table of inputs' (an instrument error's largest plausible value; the
-    # drift prior's reference, the field's default), in SI; an option in its unit
+    # defaults: the table of inputs' (an instrument error's largest plausible value, stored
+    # with the package: gyrolib.cli.constants; the drift prior's reference, the field's
+    # default), in SI; an option in its unit
+    mg = 1e-3 * units.G0
     priors = {}
     for opt, field, val, default, unit in (
             ("--scale-tolerance", "sigma_hf_scale", args.scale_tolerance,
-             inputs.default_prior("gc.sigma_hf_scale"), 1.0),
+             constants.DEFAULT_SCALE_TOLERANCE, 1.0),
             ("--offset-prior", "sigma_as_offset", args.offset_prior,
-             inputs.default_prior("gc.sigma_as_offset"), units.ARCSEC_PAPER),
+             constants.DEFAULT_OFFSET_PRIOR_ARCSEC * units.ARCSEC_PAPER, units.ARCSEC_PAPER),
             ("--inclinometer-bias-prior", "sigma_incl_bias", args.inclinometer_bias_prior,
-             inputs.default_prior("gc.sigma_incl_bias"), 1e-3 * units.G0),
+             constants.DEFAULT_INCL_BIAS_PRIOR_MG * mg, mg),
             ("--drift-prior", "sigma_gc0", args.drift_prior,
-             inputs.row("gc.sigma_gc0").reference, units.DEG_PER_HOUR),
+             gc.GyrocompassParams().sigma_gc0, units.DEG_PER_HOUR),
             ("--clock-tolerance", "sigma_clock", args.clock_tolerance,
-             inputs.default_prior("gc.sigma_clock"), 1.0)):
+             constants.DEFAULT_CLOCK_TOLERANCE, 1.0)):
         if val is not None and not (math.isfinite(val) and val >= 0.0):
             raise OptionError(f"{opt} must be a number >= 0; got {val}")
         if val is None and field in toml:     # the params file states it

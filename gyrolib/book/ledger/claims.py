@@ -15,10 +15,9 @@ holds at every printed point: its margin is the smallest over them.
 from __future__ import annotations
 
 import functools
-import importlib
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Final
@@ -173,23 +172,35 @@ def drz_kilometres_margin(o: Mapping[str, Any]) -> float:
 
 # the remaining items (their margins live with their items, read when called: those modules
 # import this one) ------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class _Deferred:
-    """The margin ``name`` of module ``module``, imported when first called (picklable, for
-    an executor's workers)."""
+#: The margins registered by the modules that define them (:func:`register_margin`).
+_MARGINS: dict[str, Callable[[Mapping[str, Any]], float]] = {}
 
-    module: str
+
+def register_margin(fn: Callable[[Mapping[str, Any]], float]
+                    ) -> Callable[[Mapping[str, Any]], float]:
+    """Register ``fn`` as the margin of its name (a decorator): the remaining items'
+    margins live in :mod:`gyrolib.book.ledger.remaining`, which imports this module, so this
+    one names them (:class:`_Registered`) instead of importing them.  The package's
+    ``__init__`` imports that module, so any import of this one (an executor's worker
+    unpickling a claim too) has them registered."""
+    _MARGINS[fn.__name__] = fn
+    return fn
+
+
+@dataclass(frozen=True)
+class _Registered:
+    """The margin registered under ``name`` (picklable, for an executor's workers)."""
+
     name: str
 
     def __call__(self, o: Mapping[str, Any]) -> float:
-        return float(getattr(importlib.import_module(self.module), self.name)(o))
+        return float(_MARGINS[self.name](o))
 
 
-west_gyro_margin = _Deferred("gyrolib.book.ledger.remaining", "west_gyro_margin")
-area_margin = _Deferred("gyrolib.book.ledger.remaining", "area_margin")
-coordinate_accuracy_margin = _Deferred("gyrolib.book.ledger.remaining",
-                                       "coordinate_accuracy_margin")
-only_small_eps1_margin = _Deferred("gyrolib.book.ledger.remaining", "only_small_eps1_margin")
+west_gyro_margin = _Registered("west_gyro_margin")
+area_margin = _Registered("area_margin")
+coordinate_accuracy_margin = _Registered("coordinate_accuracy_margin")
+only_small_eps1_margin = _Registered("only_small_eps1_margin")
 
 
 def _names(*prefixes: str, kinds: tuple[str, ...] = _inputs.KINDS,

@@ -24,7 +24,7 @@ import numpy as np
 from gyrolib import _validation as v
 from gyrolib import levels, stats
 from gyrolib._repr import compact_repr
-from gyrolib.book.ledger.claims import Verdict, verdict
+from gyrolib.book.ledger.claims import Verdict, register_margin, verdict
 from gyrolib.book.ledger.gc import SIGMA_C, T_BOUND
 from gyrolib.book.ledger.item import LedgerItem
 from gyrolib.book.ledger.rsf import RANDOM_RUNS, SIM_SEED
@@ -152,12 +152,14 @@ def west_gyro(params: GyrocompassParams, t_end: float = T_BOUND, *,
     return WestGyro(t=t, sigma=sig, floor=floor, psi_max=psi_max, beta_n=beta_n)
 
 
+@register_margin
 def west_gyro_margin(o: Mapping[str, Any]) -> float:
     """'The method finds the drift of the corresponding gyro' read as the west gyro:
     ``log10(σ_c / σ_gc(510 s))`` of :func:`west_gyro` (> 0: σ_c reached within the bound)."""
     return math.log10(SIGMA_C / float(west_gyro(o["GyrocompassParams"]).sigma[-1]))
 
 
+@register_margin
 def area_margin(o: Mapping[str, Any]) -> float:
     """Fig. 2's areas: ``log10(tolerance / area error)`` (> 0: every area equals its σ²
     within :data:`AREA_TOLERANCE`)."""
@@ -309,6 +311,7 @@ def flights_at(o: Mapping[str, Any]) -> FlightLateral:
                     float(ex.omega_x), whole_samples(ex.period))
 
 
+@register_margin
 def coordinate_accuracy_margin(o: Mapping[str, Any]) -> float:
     """'Significantly enhances coordinate accuracy': ``−log10`` of the upper end of the 95 %
     interval of the median flight's |corrected lateral error| over its uncorrected one (> 0:
@@ -316,6 +319,7 @@ def coordinate_accuracy_margin(o: Mapping[str, Any]) -> float:
     return -math.log10(flights_at(o).ratio("corrected").hi)
 
 
+@register_margin
 def only_small_eps1_margin(o: Mapping[str, Any]) -> float:
     """'The only remedy is a small ε1': ``log10`` of the upper end of the 95 % interval of the
     median flight's lateral error with the SINS angle reset over uncorrected (> 0: the reset,
