@@ -70,8 +70,10 @@ def run_one(name: str) -> None:
                              f"{result.error_before_exec or result.error_in_exec!r}")
         first = next((line for line in cell.source.splitlines()
                       if line.strip() and not line.lstrip().startswith(("#", "%", ":"))), "")
+        # backticks and stars would read as markup on the Performance page
+        first = first[:80].replace("`", "'").replace("*", "×")
         cells.append({"cell": i, "cpu_s": _own_cpu() + _children_cpu() - c0,
-                      "wall_s": time.perf_counter() - w0, "first_line": first[:80]})
+                      "wall_s": time.perf_counter() - w0, "first_line": first})
     print(json.dumps({"cells": cells}))
 
 
