@@ -359,6 +359,34 @@ def test_procedure_for_time_hits_the_target():
     assert sw.t_c_rate_sensor_optimal[0] == pytest.approx(100.0, rel=0.01)
 
 
+@pytest.mark.parametrize("proc", [PROC, replace(PROC, loop_bandwidth=0.5)])
+def test_bisections_short_answer_is_the_full_search(proc):
+    """The bisections' question "does the optimal rival take longer than the target?"
+    (``_optimal_exceeds``, which stops its searches early) answered as the full time from
+    ``_rate_time`` answers it, at targets on both sides of the time, at the time itself and
+    at the classical time (where its shortcut begins to answer); power: an early stop that
+    took the first window tried as the answer gets some of them wrong."""
+    from gyrolib.gc.racing import comparison as C
+
+    part = C._rate_part_at(BASE, proc)
+    t_opt, t_cl = part.t_c_optimal, part.t_c
+    targets = [0.5 * t_opt, t_opt * (1 - 1e-9), t_opt, t_opt * (1 + 1e-9),
+               0.5 * (t_opt + t_cl), t_cl, 2.0 * t_cl]
+    full = [C._rate_time(BASE, proc, "optimal") > x for x in targets]
+    assert full[:2] == [True, True] and full[3:] == [False] * 4
+    assert [C._optimal_exceeds(BASE, proc, x) for x in targets] == full
+
+    def first_window(model, n1_hint, n2_max, enough=-math.inf):
+        t = C._optimal_time(model, n1_hint, n2_max)
+        if t <= enough:
+            raise C._Reached
+        return t, n1_hint
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(C, "_optimal_windows", first_window)
+        wrong = [C._optimal_exceeds(BASE, proc, x) for x in targets]
+    assert wrong != full
+
+
 def test_sweep_case_equals_the_race():
     r = gc.race(BASE, replace(PROC, T_settle=30.0))
     sw = gc.race_sweep(cases=[{"T_settle": 30.0}])
