@@ -24,7 +24,8 @@ and in every case's note: the targets are for the common 2-core AVX2 class (issu
 ratio is the share of the time budget used.  ``--after-book`` instead times
 ``python3 tasks.py book`` and then ``python3 tasks.py test`` (the previous measurement, where
 the determinism test compares with the project's build).  Writes
-``benchmarks/results/test_command.json``.
+``benchmarks/results/test_command.json``, and where the core-seconds go (the session's
+timeline: every test's CPU, the book's steps) to ``benchmarks/results/test_command_cpu.json``.
 
     .venv/bin/python benchmarks/bench_test_command.py [--after-book] [--keep]
 """
@@ -32,8 +33,10 @@ the determinism test compares with the project's build).  Writes
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import re
+import resource
 import shutil
 import subprocess
 import sys
@@ -51,15 +54,25 @@ TARGET_S = 360.0
 #: Above this 1-minute load average before the first step the machine is not quiet.
 QUIET_LOAD = 1.0
 
+#: The CPU seconds of the last :func:`timed` command, its processes' and theirs.
+LAST_CPU = [0.0]
+
+
+def children_cpu() -> float:
+    """CPU seconds of every child process waited for so far (and of theirs)."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
 
 def timed(cmd: list[str], cwd: Path, **extra_env: str) -> tuple[float, str]:
     env = {k: v for k, v in os.environ.items() if not k.startswith(("VIRTUAL_ENV", "GYROLIB_"))}
     env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep)
                                   if ".venv" not in p)
     env.update(extra_env)
-    t0 = time.perf_counter()
+    t0, cpu0 = time.perf_counter(), children_cpu()
     proc = subprocess.run(cmd, cwd=cwd, env=env, text=True, capture_output=True, check=False)
     elapsed = time.perf_counter() - t0
+    LAST_CPU[0] = children_cpu() - cpu0
     log = proc.stdout + proc.stderr
     if proc.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed (exit {proc.returncode}) after {elapsed:.0f} s:\n"
@@ -97,14 +110,55 @@ def record_pytest(rec: Recorder, log: str) -> str:
             f"{slow or 'see --durations'}")
 
 
+def record_cpu(timeline: Path, wall: float, cpu: float, commit: str) -> None:
+    """Where the test command's core-seconds go (``benchmarks/results/test_command_cpu.json``):
+    the whole command's CPU (every process it waited for) against what the cores could
+    give in its wall time, the book's build steps, the tests that read the built book and
+    the others, and the files that cost most.  From the session's timeline
+    (``GYROLIB_TEST_TIMELINE``, tests/conftest.py): each test's CPU is its worker's own and
+    that of the processes it waited for; the browser's is in no test's (Chromium outlives
+    them) and is part of the remainder."""
+    rows = [json.loads(line) for line in timeline.read_text().splitlines() if line.strip()]
+    tests = [r for r in rows if "test" in r]
+    steps = [r for r in rows if "book_step" in r]
+    rec = Recorder("test_command_cpu")
+    cores = os.cpu_count() or 1
+    label = f"commit {commit}; {machine_label(machine())}"
+    rec.case("the test command: CPU-s of all its processes", cpu, target_s=None,
+             note=f"{cores} cores x {wall:.0f} s wall = {cores * wall:.0f} core-s: "
+                  f"{100 * cpu / (cores * wall):.0f} % used; {label}")
+    for r in steps:
+        rec.case(f"book build step: {r['book_step']}", r["cpu"],
+                 note=f"CPU-s of the step's processes; wall {r['end'] - r['start']:.0f} s")
+    reads_book = {r["test"].split("::")[0] for r in tests
+                  if r["start"] >= max((x["end"] for x in steps), default=0.0) - 1.0}
+    per_file: dict[str, float] = {}
+    for r in tests:
+        name = r["test"].split("::")[0]
+        per_file[name] = per_file.get(name, 0.0) + r["cpu"] + r["cpu_children"]
+    total_tests = sum(per_file.values())
+    rec.case("the tests: CPU-s of the workers and the processes they waited for", total_tests,
+             note=f"{len(tests)} tests in {len(per_file)} files; the rest of the command's "
+                  f"CPU ({cpu - total_tests - sum(r['cpu'] for r in steps):.0f} s) is the "
+                  "browser, pytest's collection and start-up, lint and the set-up checks")
+    for name, c in sorted(per_file.items(), key=lambda kv: -kv[1])[:15]:
+        rec.case(f"test file: {name}", c, note="ran after the book was built"
+                 if name in reads_book else "")
+    rec.write()
+
+
 def fresh_clone(rec: Recorder, clone: Path, commit: str) -> None:
     load_setup = load()
     t_setup, _ = timed(["python3", "tasks.py", "setup"], clone)
     load_test = load()
-    t_test, log = timed(["bash", ".ci/run"], clone, CI="true")
+    timeline = clone.parent / "timeline.jsonl"
+    t_test, log = timed(["bash", ".ci/run"], clone, CI="true",
+                        GYROLIB_TEST_TIMELINE=str(timeline))
+    cpu_test = LAST_CPU[0]
     load_end = load()
     (clone.parent / "test_command.log").write_text(log)
     pytest_note = record_pytest(rec, log)
+    record_cpu(timeline, t_test, cpu_test, commit)
     loads = f"{quiet(load_setup, [load_test, load_end])}; {machine_label(machine())}"
     rec.case("set-up on a fresh clone: python3 tasks.py setup (.venv, pinned environment)",
              t_setup, note=f"commit {commit}; {loads}")

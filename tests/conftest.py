@@ -138,7 +138,7 @@ class _BookBuild:
     def _step(self, name: str, cmd: list[str], seconds: list) -> str | None:
         env = dict(os.environ, MPLBACKEND="Agg", PYDEVD_DISABLE_FILE_VALIDATION="1",
                    NO_COLOR="1")
-        t0 = time.perf_counter()
+        t0, start, cpu0 = time.perf_counter(), time.time(), _children_cpu()
         with self._lock:
             if self._cancelled:
                 return f"{name}: cancelled"
@@ -153,6 +153,8 @@ class _BookBuild:
             self._proc.communicate()
             return f"{name}: more than {BUILD_TIMEOUT_S} s"
         seconds.append((name, round(time.perf_counter() - t0, 1)))
+        _timeline_write({"book_step": name, "start": start, "end": time.time(),
+                         "cpu": round(_children_cpu() - cpu0, 2)})
         self.logs[name] = output
         if self._proc.returncode != 0:
             return f"{name} failed (exit {self._proc.returncode}):\n{output[-6000:]}"
@@ -411,6 +413,7 @@ def pytest_configure(config) -> None:
         memo = tempfile.mkdtemp(prefix="gyrolib-test-ledger-")
         os.environ[LEDGER_MEMO_ENV] = memo          # the workers inherit it
         config.gyrolib_ledger_memo = Path(memo)
+    _RUNS_TESTS[0] = not _xdist_controller(config)
     if _xdist_controller(config) and not os.environ.get("GYROLIB_REUSE_BOOK"):
         folder = tempfile.mkdtemp(prefix="gyrolib-test-book-")
         os.environ[SHARED_ENV] = folder
@@ -453,6 +456,56 @@ def pytest_terminal_summary(terminalreporter, exitstatus: int, config) -> None:
         terminalreporter.write_line(f"the session's book: {steps}")
         terminalreporter.write_line("chapters executed: " + ", ".join(
             f"{doc} {s:.1f} s" for doc, s in book.chapters))
+
+
+#: ``GYROLIB_TEST_TIMELINE=FILE`` appends to ``FILE`` one JSON line per test (its worker's
+#: pid, start and end, wall and CPU seconds: the worker's own and those of the child
+#: processes it waited for, e.g. a command-line run) and one per book build step (CPU of the
+#: step's processes, jupyter-book and its kernels): where the test command's core-seconds go
+#: (``benchmarks/bench_test_command.py`` sets it; issue 36).  The browser's CPU is not in any
+#: test's: Chromium outlives the tests that drive it.
+TIMELINE_ENV = "GYROLIB_TEST_TIMELINE"
+
+
+def _self_cpu() -> float:
+    import resource
+
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
+def _children_cpu() -> float:
+    import resource
+
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def _timeline_write(record: dict) -> None:
+    path = os.environ.get(TIMELINE_ENV)
+    if path:
+        with open(path, "a", encoding="utf-8") as f:   # one short line: an atomic append
+            f.write(json.dumps(record) + "\n")
+
+
+_TEST_START: dict[str, tuple[float, float, float]] = {}
+#: Whether this process runs tests (not an xdist controller, which only reports them).
+_RUNS_TESTS = [True]
+
+
+def pytest_runtest_logstart(nodeid: str, location) -> None:
+    if os.environ.get(TIMELINE_ENV) and _RUNS_TESTS[0]:
+        _TEST_START[nodeid] = (time.time(), _self_cpu(), _children_cpu())
+
+
+def pytest_runtest_logfinish(nodeid: str, location) -> None:
+    if nodeid in _TEST_START:
+        start, own, children = _TEST_START.pop(nodeid)
+        end = time.time()
+        _timeline_write({"test": nodeid, "pid": os.getpid(), "start": start, "end": end,
+                         "wall": round(end - start, 3),
+                         "cpu": round(_self_cpu() - own, 3),
+                         "cpu_children": round(_children_cpu() - children, 3)})
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
