@@ -256,6 +256,8 @@ calls = [
     lambda: gc.information_psi_omega(P, 0.05),
     # the rival's 15-state kernel (its own compile: 3.6 CPU-s at a race's first call)
     lambda: gc.rate_sensor_model(P, gc.RateSensorProcedure()).optimal_run(1.0, 1.0),
+    # the rival's truth (its lane kernels)
+    lambda: gc.rate_sensor_monte_carlo(P, t1=0.2, t2=0.2, n_runs=2, seed=1),
 ]
 share, shares = (int(x) for x in os.environ.get("GYROLIB_WARM_SHARE", "0/1").split("/"))
 rec = records.read_gc("data/gc_record.csv.gz")

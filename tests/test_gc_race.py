@@ -286,6 +286,87 @@ def test_monte_carlo_runs_do_not_depend_on_n_runs():
     np.testing.assert_allclose(a.errors, b.errors[:70], rtol=1e-12, atol=0)
 
 
+def _numpy_truth_errors(truth, rng, n1: int, n2: int, B: int) -> np.ndarray:
+    """The rival's truth as it was written before its numba kernels (issue 36): the same
+    equations stepped with numpy over the lanes, a second implementation of
+    ``_Truth.errors`` (the same random draws in the same order)."""
+    tp, proc = truth.tp, truth.proc
+    dt, q = proc.sample_dt, proc.quantization
+    psi = tp.sigma_psi0 * rng.standard_normal(B)
+    omega = tp.sigma_gc0 * rng.standard_normal(B)
+    gamma = tp.sigma_gamma0 * rng.standard_normal(B)
+    k = proc.sigma_scale * rng.standard_normal(B)
+    eps = proc.sigma_rot * rng.standard_normal(B)
+    x = truth.L @ rng.standard_normal((truth.L.shape[1], B))
+
+    def advance(loop, n_fine, steps, rate_in):
+        phi1, gam1, phi2, gam2, phil, gaml, h = steps
+        w = rng.standard_normal((n_fine, 3, B))
+        sd_n = math.sqrt(truth.c_as / h)
+        integral = np.zeros(B)
+        for i in range(n_fine):
+            w_in = rate_in(x)
+            torque = tp.H * w_in - tp.H * truth.k_b * sd_n * w[i, 2]
+            loop[:] = phil @ loop + np.outer(gaml, torque)
+            integral += h * w_in
+            x[0:2] = phi1 @ x[0:2] + np.outer(gam1, w[i, 0])
+            x[2:4] = phi2 @ x[2:4] + np.outer(gam2, w[i, 1])
+        return integral
+
+    def rate_in_at(theta, s):
+        return lambda x_: (tp.Omega_h * np.cos(theta - psi) + tp.Omega_v * gamma + omega
+                           + s * truth.ub * x_[0] + x_[2])
+
+    rate1 = rate_in_at(np.zeros(B), 1.0)
+    loop = np.vstack([rate1(x) / truth.k_b, np.zeros(B)])
+    advance(loop, math.ceil(10.0 / (proc.loop_bandwidth * truth.h)), truth.fine, rate1)
+
+    def window(n, rate_in, s):
+        sum_r, sum_z = np.zeros(B), np.zeros(B)
+        for _ in range(n):
+            b0 = loop.copy()
+            integral = advance(loop, truth.substeps, truth.fine, rate_in)
+            e = rng.standard_normal((2, B))
+            u = (integral - (tp.f * (loop[0] - b0[0]) + tp.I * (loop[1] - b0[1])) / tp.H) / dt
+            sum_r += (1.0 + k) * u + truth.sd_rate * e[0]
+            sum_z += tp.g * gamma + s * x[0] + truth.sd_z * e[1]
+        if q > 0.0:
+            a0 = q * rng.random(B)
+            sum_r = q * (np.floor((a0 + dt * sum_r) / q) - np.floor(a0 / q)) / dt
+        return sum_r / n, sum_z / n
+
+    m1, z1 = window(n1, rate1, 1.0)
+    rate2 = rate_in_at(np.pi + eps, truth.s2)
+    advance(loop, truth.n_gap, truth.fine, rate2)
+    if truth.rest is not None:
+        advance(loop, 1, truth.rest, rate2)
+    m2, z2 = window(n2, rate2, truth.s2)
+    return 0.5 * (m1 + m2) - tp.Omega_v * (z1 + z2) / (2.0 * tp.g) - omega
+
+
+@pytest.mark.parametrize(("proc", "truth_params"), [
+    (PROC, BASE),
+    (replace(PROC, T_settle=PROC.T_settle + 0.013, vibration_frame="carrier"),
+     replace(BASE, sigma1_sq=9.0 * BASE.sigma1_sq))])
+def test_monte_carlo_kernel_is_the_numpy_truth(proc, truth_params):
+    """The rival's truth (numba kernels over the lanes) against the same equations stepped
+    with numpy, on the same draws: every run's error to 1e-9 of their spread (rounding
+    only: 2e-14 seen), with a part-of-a-step gap and the carrier frame in the second case;
+    power: the same check fails on a numpy truth whose inclinometer noise is 1 % larger
+    (the smallest term of the error: about 1e-8 of the spread)."""
+    from gyrolib.gc.racing.rate_sensor import _Truth
+
+    truth = _Truth(truth_params, proc, 10)
+    assert (truth.rest is not None) == (proc is not PROC)
+    kernel = truth.errors(np.random.default_rng(5), 30, 20, 16)
+    ref = _numpy_truth_errors(truth, np.random.default_rng(5), 30, 20, 16)
+    assert np.max(np.abs(kernel - ref)) < 1e-9 * np.std(ref)
+    wrong = _Truth(truth_params, proc, 10)
+    wrong.sd_z *= 1.01
+    assert not np.max(np.abs(_numpy_truth_errors(wrong, np.random.default_rng(5), 30, 20, 16)
+                             - kernel)) < 1e-9 * np.std(ref)
+
+
 # Conditions and sweeps ---------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def cond(result) -> gc.RaceConditions:

@@ -76,6 +76,7 @@ from typing import Final
 
 import numpy as np
 import scipy.linalg
+from numba import njit
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
@@ -1088,24 +1089,16 @@ class _Truth:
 
     def advance(self, x: np.ndarray, loop: np.ndarray, n_fine: int,
                 steps: tuple[np.ndarray, ...], rng: np.random.Generator,
-                rate_in) -> np.ndarray:
+                base: np.ndarray, s: float) -> None:
         """``n_fine`` fine steps of N1…N4 (rows of ``x``) and of the float ``(β, β')``
-        (rows of ``loop``), white noise held over each; returns ``∫ ω_in dt`` over them
-        (``rate_in(x)`` the input rate with the shaping states at the step's start)."""
+        (rows of ``loop``), white noise held over each (:func:`_advance_lanes`); the input
+        rate ``base + s ω_ub N1/g + N3`` with the shaping states at each step's start."""
         phi1, gam1, phi2, gam2, phil, gaml, h = steps
-        w = rng.standard_normal((n_fine, 3, x.shape[1]))
-        sd_n = math.sqrt(self.c_as / h)
-        tp = self.tp
-        integral = np.zeros(x.shape[1])
-        for i in range(n_fine):
-            w_in = rate_in(x)
-            # the feedback on β is in the loop's own step; the inputs: rate and pickoff noise
-            torque = tp.H * w_in - tp.H * self.k_b * sd_n * w[i, 2]
-            loop[:] = phil @ loop + np.outer(gaml, torque)
-            integral += h * w_in
-            x[0:2] = phi1 @ x[0:2] + np.outer(gam1, w[i, 0])
-            x[2:4] = phi2 @ x[2:4] + np.outer(gam2, w[i, 1])
-        return integral
+        # the fine steps' noises in the order drawn: step i's three in row 3 i … 3 i + 2
+        w = rng.standard_normal((n_fine, 3, x.shape[1])).reshape(1, 3 * n_fine, x.shape[1])
+        hks = self.tp.H * self.k_b * math.sqrt(self.c_as / h)
+        _advance_lanes(x, loop, w, 0, n_fine, phi1, gam1, phi2, gam2, phil, gaml, h, hks,
+                       self.tp.H, base, s * self.ub, np.zeros(x.shape[1]))
 
     def errors(self, rng: np.random.Generator, n1: int, n2: int, B: int) -> np.ndarray:
         """Classical-estimate errors of ``B`` runs drawn from ``rng``."""
@@ -1119,44 +1112,96 @@ class _Truth:
         eps = proc.sigma_rot * rng.standard_normal(B)
         x = self.L @ rng.standard_normal((self.L.shape[1], B))      # N1, N2, N3, N4
 
-        def rate_in_at(theta: np.ndarray, s: float):
-            # the input rate of Eq. (3) at the float's null, the base at azimuth θ, in full
-            return lambda x_: (tp.Omega_h * np.cos(theta - psi) + tp.Omega_v * gamma + omega
-                               + s * self.ub * x_[0] + x_[2])
+        def base_at(theta: np.ndarray) -> np.ndarray:
+            # the input rate of Eq. (3) at the float's null, the base at azimuth θ, in full,
+            # but the shaping states' part (s ω_ub N1/g + N3, added step by step)
+            return tp.Omega_h * np.cos(theta - psi) + tp.Omega_v * gamma + omega
 
         # the float in its loop: at rest at its steady offset ω_in/k_b, then settled a while
-        rate1 = rate_in_at(np.zeros(B), 1.0)
-        loop = np.vstack([rate1(x) / self.k_b, np.zeros(B)])
+        base1 = base_at(np.zeros(B))
+        loop = np.vstack([(base1 + self.ub * x[0] + x[2]) / self.k_b, np.zeros(B)])
         self.advance(x, loop, math.ceil(10.0 / (proc.loop_bandwidth * self.h)), self.fine,
-                     rng, rate1)
+                     rng, base1, 1.0)
+        phi1, gam1, phi2, gam2, phil, gaml, h = self.fine
+        hks = tp.H * self.k_b * math.sqrt(self.c_as / h)
+        M = self.substeps
 
-        def window(n: int, rate_in) -> tuple[np.ndarray, np.ndarray]:
+        def window(n: int, base: np.ndarray, s: float) -> tuple[np.ndarray, np.ndarray]:
+            # per sample, the fine steps' noises (M × 3) then the rate sensor's and the
+            # inclinometer's (2): one draw for the window, in the order of the samples
+            w = rng.standard_normal((n, 3 * M + 2, B))
             sum_r = np.zeros(B)
             sum_z = np.zeros(B)
-            for _ in range(n):
-                b0 = loop.copy()
-                integral = self.advance(x, loop, self.substeps, self.fine, rng, rate_in)
-                e = rng.standard_normal((2, B))
-                # the output's mean over the sample, from the float's equation integrated:
-                # ∫ u = ∫ ω_in − (f Δβ + I Δβ') / H
-                u = (integral - (tp.f * (loop[0] - b0[0]) + tp.I * (loop[1] - b0[1])) / tp.H) / dt
-                sum_r += (1.0 + k) * u + self.sd_rate * e[0]
-                sum_z += tp.g * gamma + s_now[0] * x[0] + self.sd_z * e[1]
+            _window_lanes(x, loop, w, M, phi1, gam1, phi2, gam2, phil, gaml, h, hks, tp.H,
+                          base, s * self.ub, s, tp.f, tp.I, dt, k, self.sd_rate, self.sd_z,
+                          tp.g, gamma, sum_r, sum_z)
             if q > 0.0:   # pulses of q counted over the window, from a random phase
                 a0 = q * rng.random(B)
                 sum_r = q * (np.floor((a0 + dt * sum_r) / q) - np.floor(a0 / q)) / dt
             return sum_r / n, sum_z / n
 
-        s_now = [1.0]
-        m1, z1 = window(n1, rate1)
-        rate2 = rate_in_at(np.pi + eps, self.s2)
-        s_now[0] = self.s2
-        self.advance(x, loop, self.n_gap, self.fine, rng, rate2)      # the turn, the settling
+        m1, z1 = window(n1, base1, 1.0)
+        base2 = base_at(np.pi + eps)
+        self.advance(x, loop, self.n_gap, self.fine, rng, base2, self.s2)  # turn, settling
         if self.rest is not None:
-            self.advance(x, loop, 1, self.rest, rng, rate2)
-        m2, z2 = window(n2, rate2)
+            self.advance(x, loop, 1, self.rest, rng, base2, self.s2)
+        m2, z2 = window(n2, base2, self.s2)
         est = 0.5 * (m1 + m2) - tp.Omega_v * (z1 + z2) / (2.0 * tp.g)
         return est - omega
+
+
+@njit(cache=True, nogil=True)
+def _advance_lanes(x, loop, w, j, n_fine, phi1, gam1, phi2, gam2, phil, gaml, h, hks, H, base,
+                   s_ub, integral):
+    """``n_fine`` fine steps of every lane (column) of the rival's truth, the noises of fine
+    step ``i`` in ``w[j, 3 i:3 i + 3]`` (``w`` a window's (samples, 3 M + 2, lanes) array,
+    :func:`_window_lanes`, or one row of 3 ``n_fine``): the shaping
+    filters N1, N2 (rows 0, 1 of ``x``) and N3, N4 (rows 2, 3), the float ``(β, β')`` in its
+    loop (``loop``), the input rate ``base + s_ub N1 + N3`` at each step's start, its
+    integral added to ``integral``.  Each lane runs the steps of the numpy loop it replaces
+    (issue 36: that loop's small array operations were the rival's Monte Carlo's time)."""
+    B = x.shape[1]
+    for r in range(B):
+        n1, n2, n3, n4 = x[0, r], x[1, r], x[2, r], x[3, r]
+        l0, l1 = loop[0, r], loop[1, r]
+        acc = integral[r]
+        for i in range(n_fine):
+            wa, wb, wc = w[j, 3 * i, r], w[j, 3 * i + 1, r], w[j, 3 * i + 2, r]
+            w_in = base[r] + s_ub * n1 + n3
+            # the feedback on β is in the loop's own step; the inputs: rate and pickoff noise
+            torque = H * w_in - hks * wc
+            l0, l1 = (phil[0, 0] * l0 + phil[0, 1] * l1 + gaml[0] * torque,
+                      phil[1, 0] * l0 + phil[1, 1] * l1 + gaml[1] * torque)
+            acc += h * w_in
+            n1, n2 = (phi1[0, 0] * n1 + phi1[0, 1] * n2 + gam1[0] * wa,
+                      phi1[1, 0] * n1 + phi1[1, 1] * n2 + gam1[1] * wa)
+            n3, n4 = (phi2[0, 0] * n3 + phi2[0, 1] * n4 + gam2[0] * wb,
+                      phi2[1, 0] * n3 + phi2[1, 1] * n4 + gam2[1] * wb)
+        x[0, r], x[1, r], x[2, r], x[3, r] = n1, n2, n3, n4
+        loop[0, r], loop[1, r] = l0, l1
+        integral[r] = acc
+
+
+@njit(cache=True, nogil=True)
+def _window_lanes(x, loop, w, M, phi1, gam1, phi2, gam2, phil, gaml, h, hks, H, base, s_ub,
+                  s, f, inertia, dt, k, sd_rate, sd_z, g, gamma, sum_r, sum_z):
+    """The samples of one measurement window (``w``: per sample the ``M`` fine steps' noises,
+    then the rate sensor's and the inclinometer's): each sample's output, the commanded
+    rate's mean from the float's equation integrated, ``∫ u = ∫ ω_in − (f Δβ + I Δβ') / H``,
+    scaled by ``1 + k``, plus the torquer's noise, summed into ``sum_r``; the inclinometer z
+    into ``sum_z``."""
+    B = x.shape[1]
+    integral = np.zeros(B)
+    for j in range(w.shape[0]):
+        b0 = loop.copy()
+        integral[:] = 0.0
+        _advance_lanes(x, loop, w, j, M, phi1, gam1, phi2, gam2, phil, gaml, h, hks, H, base,
+                       s_ub, integral)
+        for r in range(B):
+            u = (integral[r] - (f * (loop[0, r] - b0[0, r])
+                                + inertia * (loop[1, r] - b0[1, r])) / H) / dt
+            sum_r[r] += (1.0 + k[r]) * u + sd_rate * w[j, 3 * M, r]
+            sum_z[r] += g * gamma[r] + s * x[0, r] + sd_z * w[j, 3 * M + 1, r]
 
 
 def _truth_classical_errors(tp: GyrocompassParams, proc: RateSensorProcedure, n1: int,
