@@ -403,6 +403,34 @@ def _xdist_controller(config) -> bool:
 #: the tests' stay two independent computations: the command line's JSON, read from the
 #: build's memo, is compared with the session's (``tests/test_ledger.py``).
 LEDGER_MEMO_ENV = "GYROLIB_LEDGER_MEMO"
+#: A folder the session's processes share for results that more than one test computes the
+#: same way in whichever worker it runs (``session_memo``; e.g. the independent reference of
+#: paper GC's σ curve, about 30 CPU-s, read by two test files).
+TEST_MEMO_ENV = "GYROLIB_TEST_MEMO"
+
+
+def session_memo(key: str, compute):
+    """``compute()``'s numpy array, computed once per test session: the first process to take
+    the key's file lock computes and stores it, the others wait and read it (without a
+    session folder, as when a test module is imported on its own: computed here)."""
+    import fcntl
+
+    import numpy as np
+
+    folder = os.environ.get(TEST_MEMO_ENV)
+    if not folder or not Path(folder).is_dir():
+        return compute()
+    path = Path(folder) / f"{key}.npy"
+    with open(path.with_suffix(".lock"), "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            if path.is_file():
+                return np.load(path)
+            value = np.asarray(compute())
+            np.save(path, value)
+            return value
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 def pytest_configure(config) -> None:
@@ -413,6 +441,10 @@ def pytest_configure(config) -> None:
         memo = tempfile.mkdtemp(prefix="gyrolib-test-ledger-")
         os.environ[LEDGER_MEMO_ENV] = memo          # the workers inherit it
         config.gyrolib_ledger_memo = Path(memo)
+    if not hasattr(config, "workerinput") and not os.environ.get(TEST_MEMO_ENV):
+        memo = tempfile.mkdtemp(prefix="gyrolib-test-memo-")
+        os.environ[TEST_MEMO_ENV] = memo
+        config.gyrolib_test_memo = Path(memo)
     _RUNS_TESTS[0] = not _xdist_controller(config)
     if _xdist_controller(config) and not os.environ.get("GYROLIB_REUSE_BOOK"):
         folder = tempfile.mkdtemp(prefix="gyrolib-test-book-")
@@ -430,10 +462,12 @@ def pytest_configure(config) -> None:
 
 
 def pytest_unconfigure(config) -> None:
-    memo = getattr(config, "gyrolib_ledger_memo", None)
-    if memo is not None:
-        os.environ.pop(LEDGER_MEMO_ENV, None)
-        shutil.rmtree(memo, ignore_errors=True)
+    for attr, env in (("gyrolib_ledger_memo", LEDGER_MEMO_ENV),
+                      ("gyrolib_test_memo", TEST_MEMO_ENV)):
+        memo = getattr(config, attr, None)
+        if memo is not None:
+            os.environ.pop(env, None)
+            shutil.rmtree(memo, ignore_errors=True)
     folder = getattr(config, "gyrolib_book_folder", None)
     if folder is None:
         return

@@ -137,8 +137,15 @@ READINGS = ("zero", "stationary")
 @functools.cache
 def reference_sigma_gc(wrong=None, t_end=100.0):
     """σ of ω_gc (rad/s) at the :data:`TIMES` up to ``t_end``, both :data:`READINGS`,
-    for the default ``GyrocompassParams`` (computed once per process: ~30–60 s for 100 s)."""
+    for the default ``GyrocompassParams`` (computed once per process, and the right one once
+    per test session, ``conftest.session_memo``: ~30–60 s for 100 s)."""
     from gyrolib.gc.model.params import GyrocompassParams  # the paper's numbers only
 
     times = tuple(t for t in TIMES if t <= t_end)
-    return times, sigma_gc_reference(GyrocompassParams(), times, READINGS, wrong=wrong)
+    if wrong is not None:
+        return times, sigma_gc_reference(GyrocompassParams(), times, READINGS, wrong=wrong)
+    # the right reference is read by two test files, maybe in two workers: once a session
+    from conftest import session_memo
+
+    return times, session_memo(f"gc_reference_{t_end!r}", lambda: sigma_gc_reference(
+        GyrocompassParams(), times, READINGS))
