@@ -445,8 +445,10 @@ def test_bisections_short_answer_is_the_full_search(proc):
     """The bisections' question "does the optimal rival take longer than the target?"
     (``_optimal_exceeds``, which stops its searches early) answered as the full time from
     ``_rate_time`` answers it, at targets on both sides of the time, at the time itself and
-    at the classical time (where its shortcut begins to answer); power: an early stop that
-    took the first window tried as the answer gets some of them wrong."""
+    at the classical time (where its shortcut begins to answer); the same for the classical
+    estimator's question (one search of the longest total within the target).  Power: an
+    early stop that took the first window tried as the answer, and a total one sample short,
+    get some of them wrong."""
     from gyrolib.gc.racing import comparison as C
 
     part = C._rate_part_at(BASE, proc)
@@ -456,6 +458,17 @@ def test_bisections_short_answer_is_the_full_search(proc):
     full = [C._rate_time(BASE, proc, "optimal") > x for x in targets]
     assert full[:2] == [True, True] and full[3:] == [False] * 4
     assert [C._optimal_exceeds(BASE, proc, x) for x in targets] == full
+    # the classical estimator's question, at targets about its own time
+    dt = proc.sample_dt
+    cl_targets = [0.5 * t_cl, t_cl - dt, t_cl * (1 - 1e-12), t_cl, t_cl + 0.5 * dt, 2 * t_cl]
+    cl_full = [C._rate_time(BASE, proc, "classical") > x for x in cl_targets]
+    assert cl_full == [True, True, True, False, False, False]
+    model = gc.rate_sensor_model(BASE, proc)
+    assert [C._classical_exceeds_on(model, x) for x in cl_targets] == cl_full
+    with pytest.MonkeyPatch.context() as mp:   # power: one sample short of the longest total
+        reaches = C._split_reaches
+        mp.setattr(C, "_split_reaches", lambda m, n: reaches(m, n - 1))
+        assert [C._classical_exceeds_on(model, x) for x in cl_targets] != cl_full
 
     def first_window(model, n1_hint, n2_max, enough=-math.inf):
         t = C._optimal_time(model, n1_hint, n2_max)

@@ -286,6 +286,18 @@ def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) 
     return math.inf if math.isnan(t) else t
 
 
+def _classical_exceeds_on(model: RateSensorModel, target: float) -> bool:
+    """Whether the classical estimator's time to σ_c (:func:`_rate_time`) exceeds ``target``:
+    the same answer (σ falls with the total, as :func:`_classical_samples`' bisection takes
+    it) from one question, whether the longest total within ``target`` (and ``t_max``)
+    reaches σ_c (issue 36: a bisection asks only this)."""
+    proc = model.procedure
+    n_cap = math.floor((min(target, proc.t_max) - proc.overhead) / proc.sample_dt + 1e-9)
+    while n_cap >= 2 and n_cap * proc.sample_dt + proc.overhead > target:
+        n_cap -= 1   # the time as _rate_time sums it, within the target
+    return not (n_cap >= 2 and _split_reaches(model, n_cap))
+
+
 def _optimal_exceeds(p: GyrocompassParams, proc: RateSensorProcedure, target: float) -> bool:
     """Whether the optimal estimator's time to σ_c (:func:`_rate_time`) exceeds ``target``,
     with the same answer and less work (issue 36: a bisection asks only this):
@@ -295,8 +307,7 @@ def _optimal_exceeds(p: GyrocompassParams, proc: RateSensorProcedure, target: fl
       and whose σ is never larger there, is within ``target`` too;
     * otherwise the optimal search stops at its first window within ``target``."""
     model = rate_sensor_model(p, proc)
-    n_cap = math.floor((min(target, proc.t_max) - proc.overhead) / proc.sample_dt + 1e-9)
-    if n_cap >= 2 and _split_reaches(model, n_cap):
+    if not _classical_exceeds_on(model, target):
         return False
     found = _classical_samples(model)
     n_all = math.floor((proc.t_max - proc.overhead) / proc.sample_dt + 1e-9)
@@ -745,7 +756,7 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
     def too_slow(x: float) -> bool:
         if estimator == "optimal":
             return _optimal_exceeds(p, _with(proc, field, x), target)
-        return _rate_time(p, _with(proc, field, x), estimator) > target
+        return _classical_exceeds_on(rate_sensor_model(p, _with(proc, field, x)), target)
 
     if field in ("rate_noise", "loop_bandwidth"):
         # bracket by decades from the procedure's value, then bisect on a log scale
