@@ -25,10 +25,10 @@ def test_the_data_readme_is_the_one_make_records_writes():
     text = (ROOT / "data" / "README.md").read_text()
     assert text == mod.readme_text(truth)
     # what it says of each study is the file's own: its size and the command that wrote it
-    for name in ("gc", "rsf"):
-        study = json.loads((ROOT / "gyrolib" / "data" / f"sensitivity_{name}.json").read_text())
+    studies = {name: json.loads((ROOT / "gyrolib" / "data" / f"sensitivity_{name}.json")
+                                .read_text()) for name in ("gc", "rsf")}
+    for study in studies.values():
         assert f"N = {study['n']} " in text and study["run"]["command"] in text
     # power: the 0.2.0 description (N = 2048 over 12 inputs, written to data/) is not it
-    stale = text.replace(f"N = {json.loads((ROOT / 'gyrolib/data/sensitivity_gc.json').read_text())['n']} ",
-                         "N = 2048 ")
+    stale = text.replace(f"N = {studies['gc']['n']} ", "N = 2048 ")
     assert stale != mod.readme_text(truth)

@@ -143,11 +143,13 @@ def rounded(value: float | str | None, precision: int) -> float | str | None:
 
 #: The version of the ledger's file format (JSON and CSV).  2: each claim carries
 #: ``reference``, ``thresholds``, ``share_holding`` and ``readings`` (release 0.3.0's files,
-#: without these fields, are version 1).
-SCHEMA_VERSION = 2
+#: without these fields, are version 1); 3 (release 0.5.2): and ``isolated``, the statements
+#: of the isolated points where a claim fails (:class:`gyrolib.claim_map.IsolatedFailures`).
+SCHEMA_VERSION = 3
 
 #: The fields a claim's map adds to its record (``None`` for the other kinds).
-MAP_FIELDS = ("reference", "thresholds", "share_holding", "readings", "margin", "mapped")
+MAP_FIELDS = ("reference", "thresholds", "share_holding", "readings", "margin", "mapped",
+              "isolated")
 
 
 def _sig(x: object, digits: int = 4) -> object:

@@ -582,24 +582,27 @@ def _longer_finer(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
             f"{int(es.counts_per_rev[0])}, {es.rms[flat[0]] * ppm:.0f} ppm at {counts}, "
             f"{es.rms[-1] * ppm:.0f} ppm at {int(es.counts_per_rev[-1])}); beyond, the "
             "encoder's position error (its accuracy, not its resolution) limits")
-    # Not mapped over the table (issue 33): the encoder part fails at isolated intervals,
-    # each a whole number of the GS's turns, where the encoder's error cancels between the
-    # interval's ends and a finer encoder changes nothing; the one rule's thresholds (a grid,
-    # then bisection) cannot state a set of points, and a map made with them named one such
-    # point (26.4 s) as a boundary.  The sweeps judge it, as before.
-    turn = 2.0 * math.pi / WORKED_EXAMPLE_OMEGA_UNC
-    whole = [p for p in SIM_PERIODS if abs(p / turn - round(p / turn)) < 1e-9]
-    context += (f"; at an interval of a whole number of the GS's turns ({turn:.2g} s at "
-                f"ω_unc = {from_si(WORKED_EXAMPLE_OMEGA_UNC, 'deg/s'):.0f} °/s: "
+    # The finer-encoder part is mapped over the table of inputs (claims.CLAIMS): it fails at
+    # isolated intervals, each a whole number of the encoder's revolutions (the GS motor turns
+    # it at its speed limit), where the encoder's error cancels between the interval's ends and
+    # a finer encoder changes nothing.  No threshold states a set of points, so the map
+    # searches Δt point by point and states the failing points (claim_map.IsolatedFailures).
+    rev = 2.0 * math.pi / _sim_config(roll_gyro, gs_gyro, encoder).gs.motor_rate_max
+    whole = [p for p in SIM_PERIODS if abs(p / rev - round(p / rev)) < 1e-9]
+    context += (f"; at an interval of a whole number of the encoder's revolutions (the GS "
+                f"motor turns it at its speed limit, one revolution every {rev:.2g} s: "
                 f"{', '.join(f'{p:g}' for p in whole) or 'none'} s of the sweep) the encoder's "
                 "error cancels between the interval's ends and a finer encoder changes "
-                "nothing: isolated intervals, which no threshold states, so the claim is "
-                "judged on the sweeps, not mapped over the table of inputs")
-    status, conditions = judge_claim(
-        bool(longer_helps and finer_helps),
-        bool(longer_helps and finer_helps and not ups and counts == int(es.counts_per_rev[-1])
-             and not whole),
-        context)
+                "nothing")
+    both = bool(longer_helps and finer_helps)
+    v = verdict("rsf.claim.longer_finer", _objects(roll_gyro, gs_gyro, encoder),
+                context=context[0].upper() + context[1:] + ".")
+    if not both:
+        status, conditions = judge_claim(False, False, context)
+    else:        # the longer-interval part holds on the sweep: the finer part's map decides,
+        status, conditions = v.status, v.conditions      # unless only the sweep flips it
+        if not conditions and (ups or counts != int(es.counts_per_rev[-1])):
+            status, conditions = judge_claim(True, False, context)
     return _item(
         "claim.longer_finer", "text after Eq. (7)",
         "encoder counts per revolution beyond which a finer encoder improves rms δK by less "
@@ -607,7 +610,7 @@ def _longer_finer(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
         "the paper: increasing the interval between corrections and choosing an encoder of "
         "higher resolution make the correction more effective; the simulation agrees only in "
         "part", "rsf-sim-sweeps", paper_value="more effective", kind="claim", precision=4,
-        conditions=conditions, chapter=_SIM,
+        conditions=conditions, chapter=_SIM, judged=v.judged,
         evidence=f"{SIM_RUNS} seeded flights (seed {SIM_SEED}) at 900 °/s: rsf.sweep_correction_"
         f"period over {SIM_PERIODS[0]:g}–{SIM_PERIODS[-1]:g} s and rsf.sweep_encoder over "
         f"{int(es.counts_per_rev[0])}–{int(es.counts_per_rev[-1])} counts per revolution")
