@@ -333,7 +333,8 @@ def citation(item: LedgerItem) -> str:
 
 def claim_map_markdown(item: LedgerItem) -> str:
     """A claim's map over the table of inputs as a compact MyST table: each input that flips
-    it (the threshold, on which side it holds), the status under each reading, and the share
+    it (the threshold, on which side it holds; or the isolated points where it fails), the
+    status under each reading, and the share
     of the box of uncertain inputs that holds (with its 95 % interval).  Empty for an item
     that is not a mapped claim."""
     from gyrolib import inputs as _inputs
@@ -348,6 +349,15 @@ def claim_map_markdown(item: LedgerItem) -> str:
         fac = "" if t["factor"] is None else f" (× {t['factor']:.3g})"
         rows.append(f"| {_md_escape(r.symbol)} `{t['input']}` | {r.show(t['value'])}{fac} | "
                     f"{t['holds_when']} |")
+    for f in j.get("isolated") or []:
+        if f["points"]:
+            r = _inputs.row(f["input"])
+            pts = f["points"]
+            shown = ", ".join(r.show(x) for x in pts[:3]) + (f", …, {r.show(pts[-1])}"
+                                                             if len(pts) > 3 else "")
+            rows.append(f"| {_md_escape(r.symbol)} `{f['input']}` | at {len(pts)} isolated "
+                        f"points ({_md_escape(shown)}; {f['searched']} searched, resolution "
+                        f"{r.show(f['resolution'])}) | between them |")
     for name, st in j["readings"].items():
         r = _inputs.row(name)
         rows.append(f"| {_md_escape(r.symbol)} `{name}` (reading) | "
