@@ -268,7 +268,6 @@ def test_longer_finer_fails_at_whole_encoder_revolutions_as_its_map_states():
     names Δt when the statement is dropped (30 s, the range's end, is 50 revolutions)."""
     from dataclasses import replace
 
-    from gyrolib.book.ledger import remaining
     from gyrolib.book.ledger import rsf as lrsf
     from gyrolib.rsf.simulation import EncoderModel, GsModel
     from gyrolib.rsf.sweeps import sweep_encoder
@@ -287,8 +286,8 @@ def test_longer_finer_fails_at_whole_encoder_revolutions_as_its_map_states():
     assert "holds at every other point searched" in m.conditions()
     enc = o["EncoderSpec"]
     # the sweep's seeded flights (the same the margin reads: simulated once, kept)
-    record = remaining._sweep_record(o["RollGyroSpec"], o["MemsGyroSpec"], enc,
-                                     float(o["WorkedExample"].omega_x))
+    record = lrsf.sweep_flights(o["RollGyroSpec"], o["MemsGyroSpec"], enc,
+                                float(o["WorkedExample"].omega_x))
     encs = [EncoderModel.from_spec(replace(enc, cycles_per_rev=c))
             for c in (lrsf.SIM_CYCLES[0], lrsf.SIM_CYCLES[-1])]
     whole = sweep_encoder(record, encs, 10 * rev).rms

@@ -311,21 +311,6 @@ def flights_at(o: Mapping[str, Any]) -> FlightLateral:
                     float(ex.omega_x), whole_samples(ex.period))
 
 
-@functools.lru_cache(maxsize=16)
-def _sweep_record(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec, encoder: EncoderSpec,
-                  omega_x: float) -> Any:
-    """The flights of the simulation chapter's sweeps (:func:`gyrolib.book.ledger.rsf.
-    longer_finer_sweeps`: ``SIM_RUNS`` flights, seed ``SIM_SEED``) at the roll rate
-    ``omega_x`` with these sensors."""
-    from dataclasses import replace
-
-    from gyrolib.book.ledger.rsf import SIM_RUNS, _sim_config
-
-    cfg = replace(_sim_config(roll_gyro, gs_gyro, encoder), n_runs=SIM_RUNS,
-                  roll=RollProfile(rate_start=omega_x))
-    return simulate_flight(cfg, seed=SIM_SEED)
-
-
 @register_margin
 def finer_encoder_margin(o: Mapping[str, Any]) -> float:
     """'An encoder of higher resolution makes the correction more effective' (text after
@@ -337,11 +322,11 @@ def finer_encoder_margin(o: Mapping[str, Any]) -> float:
     0.6 s): the encoder's error then cancels between the interval's ends."""
     from dataclasses import replace
 
-    from gyrolib.book.ledger.rsf import SIM_CYCLES
+    from gyrolib.book.ledger.rsf import SIM_CYCLES, sweep_flights
     from gyrolib.rsf.sweeps import sweep_encoder
 
     ex, enc = o["WorkedExample"], o["EncoderSpec"]
-    rec = _sweep_record(o["RollGyroSpec"], o["MemsGyroSpec"], enc, float(ex.omega_x))
+    rec = sweep_flights(o["RollGyroSpec"], o["MemsGyroSpec"], enc, float(ex.omega_x))
     encs = [EncoderModel.from_spec(replace(enc, cycles_per_rev=c))
             for c in (SIM_CYCLES[0], SIM_CYCLES[-1])]
     rms = sweep_encoder(rec, encs, whole_samples(ex.period)).rms

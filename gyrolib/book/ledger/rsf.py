@@ -66,7 +66,8 @@ from gyrolib.rsf.tables import (
 from gyrolib.units import from_si, to_si
 
 __all__ = ["CLAIM_RATES", "CUBIC_EXPONENT", "DRZ_TOLERANCE", "PRINTED", "RANDOM_RUNS",
-           "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "items"]
+           "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "encoder_revolution",
+           "items", "sweep_flights"]
 
 #: Table columns of the paper, s.
 TIMES: Final[tuple[int, ...]] = levels.TIMES
@@ -536,6 +537,31 @@ def _compensated(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
         f"{100 * target:.0f} %; simulation: {sim}")
 
 
+@functools.lru_cache(maxsize=16)
+def sweep_flights(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec, encoder: EncoderSpec,
+                  omega_x: float = WORKED_EXAMPLE_OMEGA_X) -> Any:
+    """The :data:`SIM_RUNS` seeded flights (seed :data:`SIM_SEED`) behind the simulation
+    chapter's sweeps, at the roll rate ``omega_x`` with these sensors (kept: the sweeps and
+    the finer encoder's margin read the same flights)."""
+    for name, value, cls in (("roll_gyro", roll_gyro, RollGyroSpec),
+                             ("gs_gyro", gs_gyro, MemsGyroSpec),
+                             ("encoder", encoder, EncoderSpec)):
+        if not isinstance(value, cls):
+            raise TypeError(f"{name} must be a {cls.__name__}; got {type(value).__name__}")
+    cfg = replace(_sim_config(roll_gyro, gs_gyro, encoder), n_runs=SIM_RUNS,
+                  roll=RollProfile(rate_start=omega_x))
+    return simulate_flight(cfg, seed=SIM_SEED)
+
+
+def encoder_revolution(gs_gyro: MemsGyroSpec) -> float:
+    """The time (s) of one revolution of the encoder, which the GS motor turns at its speed
+    limit in the simulation (a correction interval of a whole number of them cancels the
+    encoder's error between its ends)."""
+    if not isinstance(gs_gyro, MemsGyroSpec):
+        raise TypeError(f"gs_gyro must be a MemsGyroSpec; got {type(gs_gyro).__name__}")
+    return 2.0 * math.pi / GsModel.from_spec(gs_gyro).motor_rate_max
+
+
 @functools.lru_cache(maxsize=8)
 def longer_finer_sweeps(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec, encoder: EncoderSpec,
                         omega_x: float = WORKED_EXAMPLE_OMEGA_X,
@@ -544,9 +570,7 @@ def longer_finer_sweeps(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec, encoder:
     rms δK of :data:`SIM_RUNS` seeded flights at ``omega_x`` against the correction interval
     (:data:`SIM_PERIODS`) and, at ``period``, against the encoder's resolution
     (:data:`SIM_CYCLES`)."""
-    cfg = replace(_sim_config(roll_gyro, gs_gyro, encoder), n_runs=SIM_RUNS,
-                  roll=RollProfile(rate_start=omega_x))
-    record = simulate_flight(cfg, seed=SIM_SEED)
+    record = sweep_flights(roll_gyro, gs_gyro, encoder, omega_x)
     ps = sweep_correction_period(record, np.array(SIM_PERIODS))
     encs = [EncoderModel.from_spec(replace(encoder, cycles_per_rev=c)) for c in SIM_CYCLES]
     return ps, sweep_encoder(record, encs, period)
@@ -587,7 +611,7 @@ def _longer_finer(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
     # it at its speed limit), where the encoder's error cancels between the interval's ends and
     # a finer encoder changes nothing.  No threshold states a set of points, so the map
     # searches Δt point by point and states the failing points (claim_map.IsolatedFailures).
-    rev = 2.0 * math.pi / _sim_config(roll_gyro, gs_gyro, encoder).gs.motor_rate_max
+    rev = encoder_revolution(gs_gyro)
     whole = [p for p in SIM_PERIODS if abs(p / rev - round(p / rev)) < 1e-9]
     context += (f"; at an interval of a whole number of the encoder's revolutions (the GS "
                 f"motor turns it at its speed limit, one revolution every {rev:.2g} s: "
