@@ -222,11 +222,13 @@ CHAPTER_ALLOWED: dict[str, str] = {
     "gc_claims.md: N_RUNS, SEED": "a Monte Carlo's size and seed",
     "gc_race.md: N_RUNS, SEED, WRONG": "a Monte Carlo's size, seed and the factor of the "
                                        "deliberately wrong truth of its power check",
-    # sweeps that go beyond an input's range on purpose, each said so in the prose
-    "gc_claims.md: psi_priors": "ψ's prior from known exactly to degrees: the separability "
-                                "question, beyond σ_ψ(0)'s range as the prose says",
-    "gc_race.md: T_ROT": "the procedure from no turn at all to ref. [3]'s pace: what GC's "
-                         "lead is made of, beyond the overhead's range (the prose says so)",
+    # sweeps that go beyond an input's range on purpose
+    "gc_claims.md: psi_priors": "ψ's prior from known exactly (0) to 3°, the prose's "
+                                "'uncertainty of degrees': the separability question, "
+                                "deliberately beyond σ_ψ(0)'s plausible range",
+    "gc_race.md: T_ROT": "the procedure from no turn at all (the prose's 'instant turn') to "
+                         "ref. [3]'s pace: what GC's lead is made of, deliberately beyond "
+                         "the overhead row's range",
     "gc_race.md: T_SETTLE": "as T_ROT, the settling",
     "gc_race.md: NOISE": "the torquer noise's range (0.1-10) and two decades beyond, to show "
                          "the asymptote; the prose glues where the plausible range ends",
