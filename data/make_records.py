@@ -1,7 +1,8 @@
 """Make the sample records of ``data/`` with gyrolib's simulators (seeded) and write
 ``data/truth.json`` and ``data/README.md`` (the truth beside them).
 
-    .venv/bin/python data/make_records.py
+    .venv/bin/python data/make_records.py            # the records, truth.json, README.md
+    .venv/bin/python data/make_records.py --readme   # README.md only (from truth.json)
 
 Deterministic: the same seeds give the same files (gzip without a time stamp).
 """
@@ -20,6 +21,7 @@ from gyrolib.records import write_csv
 from gyrolib.units import from_si
 
 HERE = Path(__file__).resolve().parent
+PACKAGE_DATA = HERE.parent / "gyrolib" / "data"
 
 GC_SEED = 2026
 GC_WRONG_SEED = 2027
@@ -133,7 +135,46 @@ def main() -> dict:
     return truth
 
 
+def _sensitivity_section() -> str:
+    """What ``gyrolib/data/`` holds of the sensitivity studies, read from the files themselves
+    (their model, size, inputs, outputs and the command that wrote them)."""
+    lines = ["## Sensitivity studies", "",
+             "The chapter *What the verdicts are sensitive to* reads two Sobol' studies of the "
+             "claims'",
+             "margins; they are not written by `make_records.py` but by the `sensitivity` "
+             "command, once,",
+             "offline, and ship with the package beside the claims' maps (the README's section",
+             "*Sensitivity studies* tells how to spread them over workers).  Their inputs are "
+             "the table of",
+             "inputs' uncertain rows that a paper's claims read, over the table's ranges "
+             "(`gyrolib.inputs`);",
+             "each file names the table's fingerprint, and the chapter recomputes a few of its "
+             "points:", ""]
+    for name in ("gc", "rsf"):
+        path = PACKAGE_DATA / f"sensitivity_{name}.json"
+        d = json.loads(path.read_text())
+        run = d["run"]
+        outs = ", ".join(f"`{o}`" for o in d["outputs"])
+        order = ("first-order and total indices" if d.get("second_order") in (None, {}) or
+                 not any(d["second_order"].values()) else "with the second-order indices")
+        lines += [f"* `gyrolib/data/{path.name}`: {d['model']}, N = {d['n']} (seed "
+                  f"{d['seed']}), {len(d['inputs'])} inputs, {run['model_runs']} model runs, "
+                  f"{order};", f"  outputs {outs};",
+                  f"  written by gyrolib {run['version']}: `{run['command']}`"]
+    lines += ["", "Until version 0.4.0 this folder held the studies of σ_gc(100 s), t_c, δK "
+              "and the share over",
+              "ranges of their own (±10 % of a printed value, operating points drawn as "
+              "uncertain, no rival);",
+              "they were replaced by the studies over the table of inputs.", ""]
+    return "\n".join(lines)
+
+
 def _readme(truth: dict) -> None:
+    (HERE / "README.md").write_text(readme_text(truth))
+
+
+def readme_text(truth: dict) -> str:
+    """``data/README.md`` for ``truth`` (the records' sizes read from the files)."""
     rows = []
     for name, tr in truth.items():
         size = (HERE / name).stat().st_size
@@ -177,27 +218,14 @@ simulated with the Earth's rate at {LATITUDE_DEG}° N (`gc.GyrocompassParams.at_
 latitude whose components paper GC prints rounded (Ω_h = 4.3·10⁻⁵, Ω_v = 5.9·10⁻⁵ rad/s), so
 the command, which reads that line, uses the Earth-rate components the records were made with.
 
-## Sensitivity studies
-
-The chapter *What the verdicts are sensitive to* reads two results files written by the
-`sensitivity` command (not by `make_records.py`); each carries the inputs and their ranges,
-the condition, the model's outputs at every sample point (one point a line, in the order of
-the Saltelli sample that `n` and `seed` regenerate), the Sobol' indices with their 95 %
-bootstrap intervals, and a `run` record (command, version, machine, executor, number of
-workers, wall time; `extends` when the study grew from a smaller one with `--extend`).  The
-chapter computes five of the points again and stops the build if any differs by more than
-10⁻⁹ (relative).
-
-* `sensitivity_gc.json`: paper GC, σ_gc(100 s) and t_c over 12 inputs, first-order and total
-  indices (`--no-second-order`), N = 2048:
-  `python -m gyrolib sensitivity gc --n 2048 --no-second-order --out data/sensitivity_gc.json`
-  (grown with `--extend` from N = 512);
-* `sensitivity_rsf.json`: paper RSF, δK and the share removed over its 7 printed inputs (each
-  ±10 %), N = 8192 with the second-order indices:
-  `python -m gyrolib sensitivity rsf --n 8192 --out data/sensitivity_rsf.json`.
-"""
-    (HERE / "README.md").write_text(text)
+{_sensitivity_section()}"""
+    return text
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    if sys.argv[1:] == ["--readme"]:     # the README only, from the records and truth.json
+        _readme(json.loads((HERE / "truth.json").read_text()))
+    else:
+        main()

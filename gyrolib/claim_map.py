@@ -13,7 +13,15 @@ counts as failing), and the rows of the table it reads.  :func:`map_claim` judge
 * **over the box** of the uncertain rows: ``n_box`` points drawn independently on each row's
   scale (operating rows and readings at their reference), with the seed stored; the share
   that holds, with its 95 % Wilson interval (:class:`Share`) — descriptive, never the status;
-* **under each reading**, alone, the others at the reference.
+* **under each reading**, alone, the others at the reference;
+* **at isolated points**, for a row the claim names in ``searches`` (:class:`PointSearch`):
+  a claim that fails only at isolated values of an input (paper RSF's finer encoder, which
+  gains nothing where the interval is a whole number of the GS's half-turns) has no
+  threshold a grid and a bisection could find (a bisection converges on one such point and
+  calls it a boundary).  Its margin is evaluated at each of the search's points instead, and
+  the result is a statement of its own (:class:`IsolatedFailures`): the failing points found,
+  how they were searched, the search's resolution (the largest step between searched
+  points), and that it holds at every other searched point.
 
 The status (:data:`STATUS_RULE`): *holds* when the claim holds at the reference, at every
 one-at-a-time point, at every box point and under every reading; *holds under conditions*
@@ -45,7 +53,8 @@ import numpy as np
 from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
 
-__all__ = ["STATUS_RULE", "Claim", "ClaimMap", "Share", "Threshold", "check_fingerprint",
+__all__ = ["STATUS_RULE", "Claim", "ClaimMap", "IsolatedFailures", "PointSearch", "Share",
+           "Threshold", "check_fingerprint",
            "demo_margin", "flip_share", "map_claim", "margin_at", "predicted_holds",
            "wilson_interval"]
 
@@ -80,6 +89,71 @@ def wilson_interval(k: int, n: int, z: float = _Z95) -> tuple[float, float]:
 
 
 @dataclass(frozen=True)
+class PointSearch:
+    """A search of one numeric row for the isolated points where a claim fails.
+
+    ``input`` (the row), ``points`` (a module-level function of the owners' mapping giving the
+    values, SI, to evaluate: picklable for an executor), ``how`` (how they were chosen, in
+    words, for the statement) and ``quantum`` (the resolution to which the margin itself reads
+    the input, e.g. a correction interval in whole samples; 0: exactly): a value within half a
+    quantum of a failing point is that point.
+    """
+
+    input: str
+    points: Callable[[Mapping[str, Any]], Sequence[float]]
+    how: str
+    quantum: float = 0.0
+
+
+@dataclass(frozen=True)
+class IsolatedFailures:
+    """Where a claim fails at isolated values of one input (:class:`PointSearch`), the others
+    at the reference: ``points`` (SI) where it fails, ``searched`` (how many points were
+    evaluated), ``how`` (how they were chosen), ``resolution`` (the largest step between
+    searched points, SI), ``quantum`` (see :class:`PointSearch`), ``unit``, and
+    ``isolated`` (each failing point's neighbours in the search hold: no failing interval,
+    which a threshold would state)."""
+
+    input: str
+    points: tuple[float, ...]
+    searched: int
+    how: str
+    resolution: float
+    quantum: float
+    unit: str
+    isolated: bool
+
+    def fails_at(self, value: float) -> bool:
+        """Whether ``value`` (SI) is one of the failing points (to half a quantum)."""
+        tol = 0.5 * self.quantum if self.quantum else 0.0
+        return any(abs(value - p) <= tol + 1e-12 * max(abs(p), abs(value))
+                   for p in self.points)
+
+    def text(self, limit: int = 8) -> str:
+        """The statement in words."""
+        r = _inputs.row(self.input)
+        shown = [r.show(p) for p in self.points[:limit]]
+        more = (f", … ({len(self.points)} points in all, the last {r.show(self.points[-1])})"
+                if len(self.points) > limit else "")
+        where = (f"{'only at the isolated' if self.isolated else 'at the'} values "
+                 f"{', '.join(shown)}{more}" if self.points else "at none of them")
+        return (f"Varied alone, {r.symbol} was searched at {self.searched} points ({self.how}; "
+                f"resolution {r.show(self.resolution)}): the claim fails {where}, and holds at "
+                f"every other point searched.")
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"input": self.input, "points": list(self.points), "searched": self.searched,
+                "how": self.how, "resolution": self.resolution, "quantum": self.quantum,
+                "unit": self.unit, "isolated": self.isolated}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> IsolatedFailures:
+        return cls(d["input"], tuple(float(x) for x in d["points"]), int(d["searched"]),
+                   d["how"], float(d["resolution"]), float(d["quantum"]), d["unit"],
+                   bool(d["isolated"]))
+
+
+@dataclass(frozen=True)
 class Claim:
     """A claim as a margin over the table of inputs.
 
@@ -88,7 +162,8 @@ class Claim:
     rows it reads: every row that can move the margin), ``meaning`` (what the margin is, in
     words), ``unit`` (of the margin) and ``per_reading`` (also find every threshold under
     each other reading: for claims cheap enough, so that a threshold's dependence on a
-    reading is stated).
+    reading is stated) and ``searches`` (:class:`PointSearch`: the rows at whose isolated
+    values the claim may fail, searched point by point instead of bracketed and bisected).
     """
 
     id: str
@@ -97,10 +172,16 @@ class Claim:
     meaning: str
     unit: str = "1"
     per_reading: bool = False
+    searches: tuple[PointSearch, ...] = ()
 
     def __post_init__(self) -> None:
         for name in self.inputs:
             _inputs.row(name)  # KeyError naming the known rows
+        for sr in self.searches:
+            if not isinstance(sr, PointSearch) or sr.input not in self.inputs \
+                    or _inputs.row(sr.input).kind == "reading":
+                raise ValueError(f"{self.id}: a search must be a PointSearch of one of the "
+                                 f"claim's numeric inputs; got {sr!r}")
 
 
 @dataclass(frozen=True)
@@ -168,12 +249,14 @@ class ClaimMap:
     settings: dict[str, Any] = field(default_factory=dict)
     reading_thresholds: dict[str, dict[str, list[dict[str, Any]]]] = field(
         default_factory=dict)
+    isolated: tuple[IsolatedFailures, ...] = ()
 
     def flipping_inputs(self) -> tuple[str, ...]:
         """Every input that flips the claim: the thresholds' rows and the readings under
         which the status differs from the reference's."""
         ref = "holds" if self.margin > 0 else "fails"
         out = [t.input for t in self.thresholds]
+        out += [f.input for f in self.isolated if f.points]
         out += [r for r, st in self.readings.items() if any(s != ref for s in st.values())]
         return tuple(dict.fromkeys(out))
 
@@ -189,6 +272,9 @@ class ClaimMap:
             verb = "It holds, the others at the reference, for " if self.margin > 0 else \
                 "It would hold, the others at the reference, for "
             text = verb + "; ".join(parts) + "."
+        for f in self.isolated:
+            if f.points:
+                text += " " + f.text()
         flips = [(r, st) for r, st in self.readings.items()
                  if any(s != ("holds" if self.margin > 0 else "fails") for s in st.values())]
         for r, st in flips:
@@ -218,7 +304,8 @@ class ClaimMap:
                                   else self.share_holding.as_dict()),
                 "readings": self.readings, "sweeps": self.sweeps,
                 "box_fails": self.box_fails, "fingerprint": list(self.fingerprint),
-                "settings": self.settings, "reading_thresholds": self.reading_thresholds}
+                "settings": self.settings, "reading_thresholds": self.reading_thresholds,
+                "isolated": [f.as_dict() for f in self.isolated]}
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> ClaimMap:
@@ -236,7 +323,9 @@ class ClaimMap:
                    box_fails=int(d.get("box_fails", 0)),
                    fingerprint=tuple(d.get("fingerprint", ())),
                    settings=dict(d.get("settings", {})),
-                   reading_thresholds=dict(d.get("reading_thresholds", {})))
+                   reading_thresholds=dict(d.get("reading_thresholds", {})),
+                   isolated=tuple(IsolatedFailures.from_dict(f)
+                                  for f in d.get("isolated", ())))
 
 
 def _holds(m: float) -> bool:
@@ -281,6 +370,22 @@ def _sweep(claim: Claim, objects: Mapping[str, Any], name: str, n_grid: int,
             out.append(Threshold(name, x, x / ref if ref else math.nan, r.unit,
                                  "below" if h0 else "above"))
     return [[float(x), float(m)] for x, m in zip(xs, ms, strict=True)], out
+
+
+def _search(claim: Claim, objects: Mapping[str, Any], name: str,
+            xs: Sequence[float]) -> list[float]:
+    return [margin_at(claim, objects, {name: float(x)}) for x in xs]
+
+
+def _isolated(sr: PointSearch, xs: np.ndarray, ms: Sequence[float]) -> IsolatedFailures:
+    """The statement of a search: the failing points among ``xs`` (sorted) and whether each
+    is isolated (its neighbours in the search hold)."""
+    bad = [i for i, m in enumerate(ms) if not _holds(m)]
+    isolated = all((i == 0 or _holds(ms[i - 1])) and (i == len(ms) - 1 or _holds(ms[i + 1]))
+                   for i in bad)
+    step = float(np.max(np.diff(xs))) if len(xs) > 1 else 0.0
+    return IsolatedFailures(sr.input, tuple(float(xs[i]) for i in bad), len(xs), sr.how, step,
+                            float(sr.quantum), _inputs.row(sr.input).unit, isolated)
 
 
 def _box(claim: Claim, objects: Mapping[str, Any], names: Sequence[str],
@@ -333,7 +438,9 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
     objs = dict(_inputs.reference_objects() if objects is None else objects)
     rows = [_inputs.row(n) for n in claim.inputs]
     ref_margin = float(claim.margin(objs))
-    numeric = [r.name for r in rows if r.kind != "reading"]
+    searched = {sr.input: sr for sr in claim.searches}
+    # a searched row is not bracketed: its statement is the search's (see the docstring)
+    numeric = [r.name for r in rows if r.kind != "reading" and r.name not in searched]
     uncertain = [r.name for r in rows if r.kind == "uncertain"]
     readings = [r for r in rows if r.kind == "reading"]
     # the box's draws, on each uncertain row's scale around these instances
@@ -350,6 +457,11 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
     tasks += [(_box, (claim, objs, uncertain, box[i:i + chunk]))
               for i in range(0, box.shape[0], chunk)]
     tasks += [(_reading, (claim, objs, r.name, val)) for r in readings for val in r.values[1:]]
+    search_xs = {n: np.unique(np.asarray(sr.points(objs), dtype=float))
+                 for n, sr in searched.items()}
+    for n, xs in search_xs.items():
+        tasks += [(_search, (claim, objs, n, xs[i:i + 4 * chunk]))
+                  for i in range(0, xs.size, 4 * chunk)]
     alts = ([(r.name, val) for r in readings for val in r.values[1:]]
             if claim.per_reading else [])
     for name, val in alts:
@@ -377,6 +489,13 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
             st[val] = "holds" if _holds(results[k]) else "fails"
             k += 1
         read_status[r.name] = st
+    isolated: list[IsolatedFailures] = []
+    for n, xs in search_xs.items():
+        ms: list[float] = []
+        for _ in range(0, xs.size, 4 * chunk):
+            ms += results[k]
+            k += 1
+        isolated.append(_isolated(searched[n], xs, ms))
     per_reading: dict[str, dict[str, list[dict[str, Any]]]] = {}
     for name, val in alts:
         ths2: list[Threshold] = []
@@ -391,7 +510,7 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
         n_fail = len(box_margins) - ok
         lo, hi = wilson_interval(ok, len(box_margins))
         share = Share(ok / len(box_margins), lo, hi, len(box_margins), seed)
-    flips = bool(thresholds) or n_fail > 0 or any(
+    flips = bool(thresholds) or n_fail > 0 or any(f.points for f in isolated) or any(
         s != ref_status for st in read_status.values() for s in st.values())
     status = ("fails" if ref_status == "fails" else
               "holds under conditions" if flips else "holds")
@@ -399,6 +518,10 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
     for i in range(min(2, box.shape[0])):
         fp.append({"changes": dict(zip(uncertain, map(float, box[i]), strict=True)),
                    "margin": float(box_margins[i])})
+    for f in isolated:       # the first failing point of each search: the statement's check
+        if f.points:
+            fp.append({"changes": {f.input: f.points[0]},
+                       "margin": margin_at(claim, objs, {f.input: f.points[0]})})
     reference = {r.name: _inputs.value_of(objs, r) for r in rows}
     return ClaimMap(claim=claim.id, meaning=claim.meaning, status=status, margin=ref_margin,
                     reference=reference, thresholds=tuple(thresholds), share_holding=share,
@@ -406,7 +529,7 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
                     fingerprint=tuple(fp),
                     settings={"n_grid": n_grid, "rtol": rtol, "n_box": n_box, "seed": seed,
                               "table": _inputs.table_fingerprint(claim.inputs)},
-                    reading_thresholds=per_reading)
+                    reading_thresholds=per_reading, isolated=tuple(isolated))
 
 
 def _call(fn: Callable[..., Any], args: tuple[Any, ...]) -> Any:
@@ -416,7 +539,10 @@ def _call(fn: Callable[..., Any], args: tuple[Any, ...]) -> Any:
 def predicted_holds(m: ClaimMap, name: str, value: float) -> bool:
     """Whether the map says the claim holds with row ``name`` at ``value`` (SI) and every
     other input at the reference: the thresholds of ``name`` split its range into pieces,
-    and each threshold says on which side the claim holds."""
+    and each threshold says on which side the claim holds; at a failing point of a search
+    (:class:`IsolatedFailures`) the claim fails."""
+    if any(f.input == name and f.fails_at(value) for f in m.isolated):
+        return False
     ths = sorted((t for t in m.thresholds if t.input == name), key=lambda t: t.value)
     if not ths:
         return bool(m.margin > 0)

@@ -43,6 +43,21 @@ def by_reading(o):           # holds only under the book's reading of the noise 
 
 
 TWO = ("gc.sigma1_sq", "gc.C_as")
+XI_STEP = 0.01
+
+
+def at_fifths(o):            # fails only where ξ1 is a multiple of 0.2 (to its 0.01 quantum)
+    return -1.0 if round(o["GyrocompassParams"].xi1 / XI_STEP) % 20 == 0 else 1.0
+
+
+def xi1_points(o):           # every quantum of ξ1's range
+    lo, hi = inputs.row("gc.xi1").bounds()
+    return np.round(np.arange(lo, hi + XI_STEP / 2, XI_STEP) / XI_STEP) * XI_STEP
+
+
+ISOLATED = cm.Claim("t.isolated", at_fifths, ("gc.xi1", "gc.C_as"), "fifths",
+                    searches=(cm.PointSearch("gc.xi1", xi1_points, "every 0.01 of its range",
+                                             quantum=XI_STEP),))
 
 
 def test_synthetic_holds_has_no_threshold():
@@ -84,6 +99,38 @@ def test_synthetic_two_flips_and_a_reading():
     assert r.flipping_inputs() == ("gc.measurement_noise",)
 
 
+def test_synthetic_claim_failing_at_isolated_points_is_stated_as_such():
+    """A claim that fails only at isolated values of ξ1 (0.2, 0.4, …, 1.0): the map states
+    the failing points, how they were searched and the search's resolution, and that it holds
+    between them; no threshold.  Without the search, grid and bisection call the last point
+    a boundary (the defect the statement replaces)."""
+    m = cm.map_claim(ISOLATED, n_box=8)
+    assert m.status == "holds under conditions" and m.thresholds == ()
+    (f,) = m.isolated
+    assert f.input == "gc.xi1" and f.isolated
+    assert f.points == pytest.approx((0.2, 0.4, 0.6, 0.8, 1.0), abs=1e-12)
+    assert f.searched == 91 and f.resolution == pytest.approx(XI_STEP, rel=1e-9)
+    text = m.conditions()
+    for words in ("searched at 91 points", "every 0.01 of its range", "resolution 0.01",
+                  "only at the isolated values 0.2, 0.4, 0.6, 0.8, 1",
+                  "holds at every other point searched"):
+        assert words in text, words
+    assert m.flipping_inputs() == ("gc.xi1",)
+    assert cm.ClaimMap.from_dict(json.loads(json.dumps(m.to_dict()))) == m
+    assert not cm.predicted_holds(m, "gc.xi1", 0.6004) and cm.predicted_holds(m, "gc.xi1", 0.5)
+    plain = cm.map_claim(dataclasses.replace(ISOLATED, searches=()), n_box=0)
+    assert [t.holds_when for t in plain.thresholds] == ["below"]     # a false boundary
+    assert cm.predicted_holds(plain, "gc.xi1", 0.4)                   # where it fails
+
+
+def test_completeness_names_a_dropped_isolated_statement():
+    """Power: the completeness check (each input alone across its range, its ends included)
+    passes with the statement and names ξ1 when the statement is dropped."""
+    m = cm.map_claim(ISOLATED, n_box=0)
+    assert completeness_violations(ISOLATED, m) == set()
+    assert completeness_violations(ISOLATED, dataclasses.replace(m, isolated=())) == {"gc.xi1"}
+
+
 def test_map_is_the_same_with_an_executor():
     from concurrent.futures import ThreadPoolExecutor
 
@@ -104,27 +151,33 @@ def test_wilson_interval_covers_at_its_rate():
 
 
 # completeness: every input that flips a claim is in its thresholds ----------------------
-def completeness_violations(claim, m, n=13):
-    """Each input of ``claim`` varied alone on a grid of ``n`` points other than the map's;
-    the inputs at which the live status differs from what the map's thresholds predict."""
+@functools.cache
+def _live_holds(claim, name, x):
+    """The claim's status with row ``name`` alone at ``x`` (kept: a check and its power
+    check evaluate the same places)."""
+    return cm.margin_at(claim, inputs.reference_objects(), {name: x}) > 0
+
+
+def completeness_violations(claim, m, n=13, names=None):
+    """Each input of ``claim`` (or of ``names``) varied alone on a grid of ``n`` points other
+    than the map's, and at its range's two ends; the inputs at which the live status differs
+    from what the map's thresholds and isolated failing points predict."""
     bad = set()
-    objs = inputs.reference_objects()
-    for name in claim.inputs:
+    for name in claim.inputs if names is None else names:
         r = inputs.row(name)
         if r.kind == "reading":
             for val in r.values:
-                live = cm.margin_at(claim, objs, {name: val}) > 0
+                live = _live_holds(claim, name, val)
                 if live != (m.readings[name][val] == "holds"):
                     bad.add(name)
             continue
-        u = (np.arange(n) + 0.37) / n          # not the map's grid
+        u = np.append((np.arange(n) + 0.37) / n, [0.0, 1.0])   # not the map's grid; the ends
         for x in r.to_unit(u):
             near = [t for t in m.thresholds if t.input == name
                     and abs(x / t.value - 1.0) < 5e-3]
             if near:
                 continue
-            if (cm.margin_at(claim, objs, {name: float(x)}) > 0) != cm.predicted_holds(
-                    m, name, float(x)):
+            if _live_holds(claim, name, float(x)) != cm.predicted_holds(m, name, float(x)):
                 bad.add(name)
     return bad
 
@@ -204,32 +257,48 @@ def test_west_gyro_threshold_agrees_with_its_filter_and_the_floor():
     assert t.value < above.psi_max
 
 
-def test_longer_finer_fails_at_whole_gs_turns_so_it_is_not_mapped():
-    """rsf.claim.longer_finer is judged on the simulation chapter's sweeps, not mapped: its
-    encoder part fails at isolated intervals, each a whole number of the GS's turns (2π/ω_unc
-    = 1.2 s at 300 °/s), where the encoder's error cancels between the interval's ends, which
-    no threshold can state.  On the chapter's own sweeps: at 6 s (5 turns) a finer encoder
-    leaves rms δK as it is (to 10⁻⁹), at the worked example's 5 s it lowers it."""
+def test_longer_finer_fails_at_whole_encoder_revolutions_as_its_map_states():
+    """rsf.claim.longer_finer's encoder part fails at isolated intervals, each a whole number
+    of the encoder's revolutions (the GS motor turns it at its speed limit: 2π/W_max = 0.6 s),
+    where the encoder's error cancels between the interval's ends.  The stored map states
+    exactly those points of Δt's range (a closed form, independent of the search), searched
+    at every fifth sample; on the chapter's own sweep function a finer encoder leaves rms δK
+    as it is (to 10⁻⁹) at one of them and lowers it at the midpoint to the next.  The
+    completeness check passes on Δt (7 off-grid places and the ends) and on ω_x's ends, and
+    names Δt when the statement is dropped (30 s, the range's end, is 50 revolutions)."""
     from dataclasses import replace
 
     from gyrolib.book.ledger import rsf as lrsf
-    from gyrolib.rsf.simulation import EncoderModel, simulate_flight
+    from gyrolib.rsf.simulation import EncoderModel, GsModel
     from gyrolib.rsf.sweeps import sweep_encoder
 
-    assert "rsf.claim.longer_finer" not in claims.CLAIMS
+    m = claims.stored_maps()["rsf.claim.longer_finer"]
+    assert m.status == "holds under conditions" and m.margin > 0
+    (f,) = m.isolated
     o = inputs.reference_objects()
-    ex, enc = o["WorkedExample"], o["EncoderSpec"]
-    turn = 2 * math.pi / ex.omega_unc
-    assert turn == pytest.approx(1.2, rel=1e-12)
-    cfg = replace(lrsf._sim_config(o["RollGyroSpec"], o["MemsGyroSpec"], enc),
-                  n_runs=lrsf.SIM_RUNS)
-    record = simulate_flight(cfg, seed=lrsf.SIM_SEED)
+    rev = 2 * math.pi / GsModel.from_spec(o["MemsGyroSpec"]).motor_rate_max
+    assert rev == pytest.approx(0.6, rel=1e-12)
+    lo, hi = inputs.row("rsf.period").bounds()
+    expected = [k * rev for k in range(math.ceil(lo / rev), math.floor(hi / rev + 1e-9) + 1)]
+    assert f.input == "rsf.period" and f.isolated
+    assert f.points == pytest.approx(expected, abs=1e-9)
+    assert f.resolution == pytest.approx(0.05, rel=1e-9) and f.quantum == pytest.approx(0.01)
+    assert "holds at every other point searched" in m.conditions()
+    enc = o["EncoderSpec"]
+    # the sweep's seeded flights (the same the margin reads: simulated once, kept)
+    record = lrsf.sweep_flights(o["RollGyroSpec"], o["MemsGyroSpec"], enc,
+                                float(o["WorkedExample"].omega_x))
     encs = [EncoderModel.from_spec(replace(enc, cycles_per_rev=c))
             for c in (lrsf.SIM_CYCLES[0], lrsf.SIM_CYCLES[-1])]
-    whole = sweep_encoder(record, encs, 5 * round(turn, 9)).rms
+    whole = sweep_encoder(record, encs, 10 * rev).rms
     assert whole[-1] == pytest.approx(whole[0], rel=1e-9)
-    example = sweep_encoder(record, encs, ex.period).rms
-    assert example[-1] < 0.9 * example[0]
+    between = sweep_encoder(record, encs, 10.5 * rev).rms
+    assert between[-1] < 0.9 * between[0]
+    claim = claims.CLAIMS["rsf.claim.longer_finer"]
+    assert completeness_violations(claim, m, n=7, names=("rsf.period",)) == set()
+    assert completeness_violations(claim, m, n=0, names=("rsf.omega_x",)) == set()
+    assert completeness_violations(claim, dataclasses.replace(m, isolated=()), n=7,
+                                   names=("rsf.period",)) == {"rsf.period"}
 
 
 def test_compensation_threshold_agrees_with_eq7_bisected():
@@ -247,18 +316,19 @@ def test_compensation_threshold_agrees_with_eq7_bisected():
 
 
 def test_race_kappa_threshold_agrees_with_the_closed_form():
-    """GC's scale adds κ Ω_h in quadrature: RaceConditions.kappa_max solves for it from the
-    σ curve (a second algorithm); the map's κ threshold must agree."""
+    """GC's scale adds κ Ω_h in quadrature: RaceResult.kappa_max (what RaceConditions
+    reports) solves for it from the σ curve (a second algorithm); the map's κ threshold must
+    agree.  (The method alone: the conditions' three boundary searches are not this check's.)"""
     m = claims.stored_maps()["gc.faster_percent"]
     (t,) = [t for t in m.thresholds if t.input == "gc.sigma_hf_scale"]
-    assert gc.race().conditions().kappa_max == pytest.approx(t.value, rel=2e-2)
+    assert gc.race().kappa_max() == pytest.approx(t.value, rel=2e-2)
 
 
 def test_race_status_and_readings_are_in_the_ledger_json():
     from gyrolib.book.ledger import collect, to_json
 
     doc = json.loads(to_json(collect()))
-    assert doc["schema_version"] == 2
+    assert doc["schema_version"] == 3
     it = next(i for i in doc["items"] if i["id"] == "gc.faster_percent")
     names = {t["input"] for t in it["thresholds"]}
     assert {"gc.sigma1_sq", "gc.sigma_hf_scale"} <= names
@@ -322,9 +392,12 @@ def test_time_to_level_carries_the_instrument_terms():
 
     level = claims._SIGMA_C
     p = replace(gc.GyrocompassParams(), sigma_incl_bias=0.05e-3 * G0)
-    cov = covariance_analysis(p, 510.0, store_every=10)
-    assert time_to_level(p, level, 510.0) == pytest.approx(
-        time_to_sigma(cov, "omega_gc", level), abs=0.02)
+    t_c = time_to_level(p, level, 510.0)
+    # the covariance analysis over 2 s past that time (not the whole 510 s: σ falls
+    # monotonically, so a later crossing cannot be the first, and an earlier one or none
+    # within the span fails the comparison just the same)
+    cov = covariance_analysis(p, math.ceil(t_c) + 2.0, store_every=10)
+    assert t_c == pytest.approx(time_to_sigma(cov, "omega_gc", level), abs=0.02)
     big = replace(p, sigma_incl_bias=0.5e-3 * G0)
     assert math.isnan(time_to_level(big, level, 100.0))
     with pytest.raises(ValueError, match="instrument terms"):
@@ -383,7 +456,8 @@ def test_thresholds_agree_with_bisecting_the_claims_own_status(cid):
 
 # completeness of paper GC's claims, within a small CPU budget ------------------------------
 GC_CLAIMS = ("gc.faster_percent", "gc.time_to_sigma_c", "gc.claim.trend_holds",
-             "gc.claim.psi_separable", "gc.fig3.drop_2s")
+             "gc.claim.psi_separable", "gc.fig3.drop_2s", "gc.fig2.areas",
+             "gc.claim.corresponding_gyro")
 
 
 def _far_place(r):

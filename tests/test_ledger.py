@@ -33,7 +33,8 @@ from gyrolib.book.ledger.remaining import UNDECIDABLE
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
           "status", "note", "chapter", "kind", "evidence", "conditions", "precision",
-          "reference", "thresholds", "share_holding", "readings", "margin", "mapped"}
+          "reference", "thresholds", "share_holding", "readings", "margin", "mapped",
+          "isolated"}
 REQUIRED_IDS = [
     "gc.fig1", "gc.fig4", "gc.claim.trend_holds", "rsf.fig1", "rsf.fig2", "rsf.fig3",
     "gc.float_rotation_100s", "gc.sigma_gc_100s", "gc.fig2.var_N1", "gc.fig2.var_N3",
@@ -221,7 +222,7 @@ def test_json_and_markdown_of_a_known_item():
     csv_text = to_csv([it])
     assert csv_text.startswith(f"# Gyro calibration, reproduced (ledger schema "
                                f"{SCHEMA_VERSION}) {gyrolib.__version__}\n")
-    assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 2
+    assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 3
     assert "gc.test" in csv_text and ",0.4927," in csv_text
     md = table_markdown([it], "GC")
     assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md

@@ -12,7 +12,7 @@ import pytest
 from scipy.stats import binom
 
 from gyrolib import rsf
-from gyrolib.book.ledger import STATUSES, collect
+from gyrolib.book.ledger import STATUSES, claim_map_markdown, collect
 from gyrolib.book.ledger import rsf as ledger_rsf
 from gyrolib.book.ledger.remaining import UNDECIDABLE
 
@@ -392,6 +392,11 @@ def test_longer_interval_and_finer_encoder_hold_only_in_part(items):
     assert it.status == "holds under conditions" and it.chapter == "chapters/rsf_simulation"
     assert it.reproduced_value == 1024
     assert "not monotonically" in it.conditions and "position error" in it.conditions
+    # the finer encoder's isolated failures: stated in the conditions, the JSON and the table
+    (iso,) = it.judged["isolated"]
+    assert iso["input"] == "rsf.period" and len(iso["points"]) == 50 and iso["isolated"]
+    assert "holds at every other point searched" in it.conditions
+    assert "at 50 isolated points" in claim_map_markdown(it)
     exact_encoder = dataclasses.replace(rsf.AEDB9340, position_error=0.0)
     moved = _by_id(ledger_rsf.items(encoder=exact_encoder))["rsf.claim.longer_finer"]
     assert moved.reproduced_value > it.reproduced_value

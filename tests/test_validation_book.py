@@ -74,6 +74,8 @@ case("ledger.gc.study_evidence", lambda: lgc.study_evidence("x"), TypeError, "pa
 case("ledger.rsf.items", lambda: lrsf.items(roll_gyro=None), TypeError, "roll_gyro",
      "RollGyroSpec")
 case("ledger.rsf.items", lambda: lrsf.items(gs_gyro="x"), TypeError, "gs_gyro", "MemsGyroSpec")
+case("ledger.rsf.encoder_revolution", lambda: lrsf.encoder_revolution(rsf.AEDB9340), TypeError,
+     "gs_gyro", "MemsGyroSpec")
 case("ledger.rsf.items", lambda: lrsf.items(encoder=rsf.EncoderModel()), TypeError, "encoder",
      "EncoderSpec")
 case("ledger.agrees", lambda: ledger.agrees(1.0, "about 0.5"), ValueError, "printed")

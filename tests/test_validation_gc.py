@@ -699,6 +699,8 @@ case("gc.RaceResult", lambda: replace(_race(), t_gc=np.zeros(2)), ValueError, "s
      "shape")
 case("gc.RaceResult.conditions", lambda: _race().conditions(100.0), ValueError, "percent",
      r"\(0.0, 100.0\)")
+case("gc.RaceResult.kappa_max", lambda: _race().kappa_max(0.0), ValueError, "percent",
+     r"\(0.0, 100.0\)")
 case("gc.race_sweep", lambda: gc.race_sweep(cases=[{"T_turn": 1.0}]), ValueError, "cases",
      "fields")
 case("gc.race_sweep", lambda: gc.race_sweep(cases={"T_rot": 1.0}), TypeError, "cases")

@@ -143,11 +143,13 @@ def rounded(value: float | str | None, precision: int) -> float | str | None:
 
 #: The version of the ledger's file format (JSON and CSV).  2: each claim carries
 #: ``reference``, ``thresholds``, ``share_holding`` and ``readings`` (release 0.3.0's files,
-#: without these fields, are version 1).
-SCHEMA_VERSION = 2
+#: without these fields, are version 1); 3 (release 0.5.2): and ``isolated``, the statements
+#: of the isolated points where a claim fails (:class:`gyrolib.claim_map.IsolatedFailures`).
+SCHEMA_VERSION = 3
 
 #: The fields a claim's map adds to its record (``None`` for the other kinds).
-MAP_FIELDS = ("reference", "thresholds", "share_holding", "readings", "margin", "mapped")
+MAP_FIELDS = ("reference", "thresholds", "share_holding", "readings", "margin", "mapped",
+              "isolated")
 
 
 def _sig(x: object, digits: int = 4) -> object:
@@ -331,7 +333,8 @@ def citation(item: LedgerItem) -> str:
 
 def claim_map_markdown(item: LedgerItem) -> str:
     """A claim's map over the table of inputs as a compact MyST table: each input that flips
-    it (the threshold, on which side it holds), the status under each reading, and the share
+    it (the threshold, on which side it holds; or the isolated points where it fails), the
+    status under each reading, and the share
     of the box of uncertain inputs that holds (with its 95 % interval).  Empty for an item
     that is not a mapped claim."""
     from gyrolib import inputs as _inputs
@@ -346,6 +349,15 @@ def claim_map_markdown(item: LedgerItem) -> str:
         fac = "" if t["factor"] is None else f" (× {t['factor']:.3g})"
         rows.append(f"| {_md_escape(r.symbol)} `{t['input']}` | {r.show(t['value'])}{fac} | "
                     f"{t['holds_when']} |")
+    for f in j.get("isolated") or []:
+        if f["points"]:
+            r = _inputs.row(f["input"])
+            pts = f["points"]
+            shown = ", ".join(r.show(x) for x in pts[:3]) + (f", …, {r.show(pts[-1])}"
+                                                             if len(pts) > 3 else "")
+            rows.append(f"| {_md_escape(r.symbol)} `{f['input']}` | at {len(pts)} isolated "
+                        f"points ({_md_escape(shown)}; {f['searched']} searched, resolution "
+                        f"{r.show(f['resolution'])}) | between them |")
     for name, st in j["readings"].items():
         r = _inputs.row(name)
         rows.append(f"| {_md_escape(r.symbol)} `{name}` (reading) | "

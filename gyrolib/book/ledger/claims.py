@@ -26,7 +26,7 @@ import numpy as np
 
 from gyrolib import inputs as _inputs
 from gyrolib import levels
-from gyrolib.claim_map import Claim, ClaimMap, check_fingerprint, map_claim
+from gyrolib.claim_map import Claim, ClaimMap, PointSearch, check_fingerprint, map_claim
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.observability import information_psi_omega
 from gyrolib.gc.analysis.speed_claim import time_to_level
@@ -38,6 +38,7 @@ from gyrolib.rsf.equations import (
     lateral_deviation_exact,
     sins_roll_error,
 )
+from gyrolib.rsf.simulation import SimulationConfig
 
 __all__ = [
     "CLAIMS",
@@ -197,10 +198,23 @@ class _Registered:
         return float(_MARGINS[self.name](o))
 
 
+@dataclass(frozen=True)
+class _RegisteredPoints:
+    """The search points registered under ``name`` (:class:`gyrolib.claim_map.PointSearch`;
+    picklable, as :class:`_Registered`)."""
+
+    name: str
+
+    def __call__(self, o: Mapping[str, Any]) -> np.ndarray:
+        return np.asarray(_MARGINS[self.name](o), dtype=float)
+
+
 west_gyro_margin = _Registered("west_gyro_margin")
 area_margin = _Registered("area_margin")
 coordinate_accuracy_margin = _Registered("coordinate_accuracy_margin")
 only_small_eps1_margin = _Registered("only_small_eps1_margin")
+finer_encoder_margin = _Registered("finer_encoder_margin")
+_period_search_points = _RegisteredPoints("period_search_points")
 
 
 def _names(*prefixes: str, kinds: tuple[str, ...] = _inputs.KINDS,
@@ -257,6 +271,14 @@ CLAIMS: Final[dict[str, Claim]] = {c.id: c for c in (
     Claim("rsf.claim.coordinate_accuracy", coordinate_accuracy_margin, _RSF_FLIGHTS,
           "−log10 of the upper 95 % bound of the median flight's corrected/uncorrected "
           "lateral error (the ledger's seeded flights)"),
+    Claim("rsf.claim.longer_finer", finer_encoder_margin, _RSF_FLIGHTS,
+          "ln of the rms δK with the coarsest encoder of the sweep over the finest, minus 1e-9 "
+          "(the sweep's seeded flights; the 'longer interval' part is judged on the sweep)",
+          searches=(
+              PointSearch("rsf.period", _period_search_points,
+                          "every fifth sample of its range; the simulation's interval is a "
+                          "whole number of samples",
+                          quantum=1.0 / SimulationConfig().sample_rate),)),
     Claim("rsf.claim.only_small_eps1", only_small_eps1_margin, _RSF_FLIGHTS,
           "log10 of the upper 95 % bound of the median flight's lateral error with the angle "
           "reset over uncorrected (the ledger's seeded flights)"),
@@ -359,7 +381,7 @@ class Verdict:
 #: The parts of a map the ledger's JSON carries (the sweeps and fingerprint stay in the file).
 _JUDGED_KEYS: Final[tuple[str, ...]] = ("meaning", "margin", "reference", "thresholds",
                                         "share_holding", "readings", "settings",
-                                        "reading_thresholds")
+                                        "reading_thresholds", "isolated")
 
 
 def _is_reference(objects: Mapping[str, Any]) -> bool:
@@ -395,5 +417,5 @@ def verdict(claim_id: str, objects: Mapping[str, Any] | None = None, *,
     judged = {"meaning": claim.meaning, "margin": margin,
               "reference": {n: _inputs.value_of(objs, _inputs.row(n)) for n in claim.inputs},
               "thresholds": None, "share_holding": None, "readings": None, "settings": {},
-              "mapped": False}
+              "isolated": None, "mapped": False}
     return Verdict(status, conditions, judged)

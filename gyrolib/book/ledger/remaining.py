@@ -312,6 +312,51 @@ def flights_at(o: Mapping[str, Any]) -> FlightLateral:
 
 
 @register_margin
+def finer_encoder_margin(o: Mapping[str, Any]) -> float:
+    """'An encoder of higher resolution makes the correction more effective' (text after
+    Eq. (7)): ``ln`` of the rms δK of the sweep's flights with its coarsest encoder over that
+    with its finest, at the worked example's interval (to the simulation's whole samples, its
+    resolution) and roll rate, minus 10⁻⁹ (> 0: the finer encoder lowers rms δK beyond
+    rounding).  It fails, exactly, where the interval is a whole number of the encoder's
+    revolutions (the GS motor turns it at its speed limit, 600 °/s: one revolution every
+    0.6 s): the encoder's error then cancels between the interval's ends."""
+    from dataclasses import replace
+
+    from gyrolib.book.ledger.rsf import SIM_CYCLES, sweep_flights
+    from gyrolib.rsf.sweeps import sweep_encoder
+
+    ex, enc = o["WorkedExample"], o["EncoderSpec"]
+    rec = sweep_flights(o["RollGyroSpec"], o["MemsGyroSpec"], enc, float(ex.omega_x))
+    encs = [EncoderModel.from_spec(replace(enc, cycles_per_rev=c))
+            for c in (SIM_CYCLES[0], SIM_CYCLES[-1])]
+    rms = sweep_encoder(rec, encs, whole_samples(ex.period)).rms
+    return float(math.log(rms[0] / rms[1])) - 1e-9
+
+
+#: The step (s) of the search of Δt for the finer encoder's failing points: every fifth
+#: sample of the simulation (its own resolution is one sample).
+PERIOD_SEARCH_STEP: Final[float] = 5 / SimulationConfig().sample_rate
+
+
+@register_margin
+def period_search_points(o: Mapping[str, Any]) -> np.ndarray:
+    """The correction intervals searched for the finer encoder's failing points: every
+    :data:`PERIOD_SEARCH_STEP` of Δt's range in the table of inputs (each a whole number of
+    samples)."""
+    r = _row("rsf.period")
+    lo, hi = r.bounds(float(o["WorkedExample"].period))
+    k = np.arange(math.ceil(lo / PERIOD_SEARCH_STEP - 1e-9),
+                  math.floor(hi / PERIOD_SEARCH_STEP + 1e-9) + 1)
+    return np.array([whole_samples(x) for x in k * PERIOD_SEARCH_STEP])
+
+
+def _row(name: str) -> Any:
+    from gyrolib import inputs
+
+    return inputs.row(name)
+
+
+@register_margin
 def coordinate_accuracy_margin(o: Mapping[str, Any]) -> float:
     """'Significantly enhances coordinate accuracy': ``−log10`` of the upper end of the 95 %
     interval of the median flight's |corrected lateral error| over its uncorrected one (> 0:

@@ -66,7 +66,8 @@ from gyrolib.rsf.tables import (
 from gyrolib.units import from_si, to_si
 
 __all__ = ["CLAIM_RATES", "CUBIC_EXPONENT", "DRZ_TOLERANCE", "PRINTED", "RANDOM_RUNS",
-           "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "items"]
+           "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "encoder_revolution",
+           "items", "sweep_flights"]
 
 #: Table columns of the paper, s.
 TIMES: Final[tuple[int, ...]] = levels.TIMES
@@ -536,6 +537,31 @@ def _compensated(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
         f"{100 * target:.0f} %; simulation: {sim}")
 
 
+@functools.lru_cache(maxsize=16)
+def sweep_flights(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec, encoder: EncoderSpec,
+                  omega_x: float = WORKED_EXAMPLE_OMEGA_X) -> Any:
+    """The :data:`SIM_RUNS` seeded flights (seed :data:`SIM_SEED`) behind the simulation
+    chapter's sweeps, at the roll rate ``omega_x`` with these sensors (kept: the sweeps and
+    the finer encoder's margin read the same flights)."""
+    for name, value, cls in (("roll_gyro", roll_gyro, RollGyroSpec),
+                             ("gs_gyro", gs_gyro, MemsGyroSpec),
+                             ("encoder", encoder, EncoderSpec)):
+        if not isinstance(value, cls):
+            raise TypeError(f"{name} must be a {cls.__name__}; got {type(value).__name__}")
+    cfg = replace(_sim_config(roll_gyro, gs_gyro, encoder), n_runs=SIM_RUNS,
+                  roll=RollProfile(rate_start=omega_x))
+    return simulate_flight(cfg, seed=SIM_SEED)
+
+
+def encoder_revolution(gs_gyro: MemsGyroSpec) -> float:
+    """The time (s) of one revolution of the encoder, which the GS motor turns at its speed
+    limit in the simulation (a correction interval of a whole number of them cancels the
+    encoder's error between its ends)."""
+    if not isinstance(gs_gyro, MemsGyroSpec):
+        raise TypeError(f"gs_gyro must be a MemsGyroSpec; got {type(gs_gyro).__name__}")
+    return 2.0 * math.pi / GsModel.from_spec(gs_gyro).motor_rate_max
+
+
 @functools.lru_cache(maxsize=8)
 def longer_finer_sweeps(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec, encoder: EncoderSpec,
                         omega_x: float = WORKED_EXAMPLE_OMEGA_X,
@@ -544,9 +570,7 @@ def longer_finer_sweeps(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec, encoder:
     rms δK of :data:`SIM_RUNS` seeded flights at ``omega_x`` against the correction interval
     (:data:`SIM_PERIODS`) and, at ``period``, against the encoder's resolution
     (:data:`SIM_CYCLES`)."""
-    cfg = replace(_sim_config(roll_gyro, gs_gyro, encoder), n_runs=SIM_RUNS,
-                  roll=RollProfile(rate_start=omega_x))
-    record = simulate_flight(cfg, seed=SIM_SEED)
+    record = sweep_flights(roll_gyro, gs_gyro, encoder, omega_x)
     ps = sweep_correction_period(record, np.array(SIM_PERIODS))
     encs = [EncoderModel.from_spec(replace(encoder, cycles_per_rev=c)) for c in SIM_CYCLES]
     return ps, sweep_encoder(record, encs, period)
@@ -582,24 +606,27 @@ def _longer_finer(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
             f"{int(es.counts_per_rev[0])}, {es.rms[flat[0]] * ppm:.0f} ppm at {counts}, "
             f"{es.rms[-1] * ppm:.0f} ppm at {int(es.counts_per_rev[-1])}); beyond, the "
             "encoder's position error (its accuracy, not its resolution) limits")
-    # Not mapped over the table (issue 33): the encoder part fails at isolated intervals,
-    # each a whole number of the GS's turns, where the encoder's error cancels between the
-    # interval's ends and a finer encoder changes nothing; the one rule's thresholds (a grid,
-    # then bisection) cannot state a set of points, and a map made with them named one such
-    # point (26.4 s) as a boundary.  The sweeps judge it, as before.
-    turn = 2.0 * math.pi / WORKED_EXAMPLE_OMEGA_UNC
-    whole = [p for p in SIM_PERIODS if abs(p / turn - round(p / turn)) < 1e-9]
-    context += (f"; at an interval of a whole number of the GS's turns ({turn:.2g} s at "
-                f"ω_unc = {from_si(WORKED_EXAMPLE_OMEGA_UNC, 'deg/s'):.0f} °/s: "
+    # The finer-encoder part is mapped over the table of inputs (claims.CLAIMS): it fails at
+    # isolated intervals, each a whole number of the encoder's revolutions (the GS motor turns
+    # it at its speed limit), where the encoder's error cancels between the interval's ends and
+    # a finer encoder changes nothing.  No threshold states a set of points, so the map
+    # searches Δt point by point and states the failing points (claim_map.IsolatedFailures).
+    rev = encoder_revolution(gs_gyro)
+    whole = [p for p in SIM_PERIODS if abs(p / rev - round(p / rev)) < 1e-9]
+    context += (f"; at an interval of a whole number of the encoder's revolutions (the GS "
+                f"motor turns it at its speed limit, one revolution every {rev:.2g} s: "
                 f"{', '.join(f'{p:g}' for p in whole) or 'none'} s of the sweep) the encoder's "
                 "error cancels between the interval's ends and a finer encoder changes "
-                "nothing: isolated intervals, which no threshold states, so the claim is "
-                "judged on the sweeps, not mapped over the table of inputs")
-    status, conditions = judge_claim(
-        bool(longer_helps and finer_helps),
-        bool(longer_helps and finer_helps and not ups and counts == int(es.counts_per_rev[-1])
-             and not whole),
-        context)
+                "nothing")
+    both = bool(longer_helps and finer_helps)
+    v = verdict("rsf.claim.longer_finer", _objects(roll_gyro, gs_gyro, encoder),
+                context=context[0].upper() + context[1:] + ".")
+    if not both:
+        status, conditions = judge_claim(False, False, context)
+    else:        # the longer-interval part holds on the sweep: the finer part's map decides,
+        status, conditions = v.status, v.conditions      # unless only the sweep flips it
+        if not conditions and (ups or counts != int(es.counts_per_rev[-1])):
+            status, conditions = judge_claim(True, False, context)
     return _item(
         "claim.longer_finer", "text after Eq. (7)",
         "encoder counts per revolution beyond which a finer encoder improves rms δK by less "
@@ -607,7 +634,7 @@ def _longer_finer(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
         "the paper: increasing the interval between corrections and choosing an encoder of "
         "higher resolution make the correction more effective; the simulation agrees only in "
         "part", "rsf-sim-sweeps", paper_value="more effective", kind="claim", precision=4,
-        conditions=conditions, chapter=_SIM,
+        conditions=conditions, chapter=_SIM, judged=v.judged,
         evidence=f"{SIM_RUNS} seeded flights (seed {SIM_SEED}) at 900 °/s: rsf.sweep_correction_"
         f"period over {SIM_PERIODS[0]:g}–{SIM_PERIODS[-1]:g} s and rsf.sweep_encoder over "
         f"{int(es.counts_per_rev[0])}–{int(es.counts_per_rev[-1])} counts per revolution")

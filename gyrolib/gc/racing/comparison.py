@@ -548,6 +548,29 @@ class RaceResult:
         """
         return _percent(self.t_c_gc, self.t_c_rate_sensor_optimal)
 
+    def kappa_max(self, percent: float = 50.0) -> float:
+        """The largest relative error κ of GC's scale ``H/f`` for which GC stays more than
+        ``percent`` % faster than the optimal rival, the rest as raced: GC's filter must reach
+        sqrt(σ_c² − κ² Ω_h²) before the rival's time × (1 − percent/100) (0 when it cannot;
+        read from the race's σ curve: :meth:`conditions` reports it with the rest).
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> f"{gc.race().kappa_max():.2e}"
+        '7.19e-05'
+        """
+        percent = v.check_in_range("percent", percent, 0.0, 100.0, low_open=True,
+                                   high_open=True)
+        p, proc = self.params, self.procedure
+        keep = 1.0 - percent / 100.0
+        t_gc_max = (self.t_c_rate_sensor_optimal if np.isfinite(self.t_c_rate_sensor_optimal)
+                    else proc.t_max) * keep
+        s_f = np.sqrt(np.clip(self.sigma_gc**2 - p.scale_drift_sigma**2, 0.0, None))
+        s_at = float(np.interp(t_gc_max, self.t_gc, s_f))
+        return (math.sqrt(proc.sigma_c**2 - s_at**2) / p.Omega_h
+                if s_at < proc.sigma_c else 0.0)
+
     def conditions(self, percent: float = 50.0) -> RaceConditions:
         """The claim "GC more than ``percent`` % faster" at the race's parameters and
         procedure (the reference point), at the worst corner of :data:`RACE_RANGES`, and the
@@ -597,13 +620,7 @@ class RaceResult:
         w_part = _rate_part_at(p, wproc)
         w_opt = w_part.t_c_optimal if np.isfinite(w_part.t_c_optimal) else math.inf
         w_holds = bool(np.isfinite(w_gc) and (not np.isfinite(w_opt) or w_opt > w_gc / keep))
-        # κ: GC's filter must reach sqrt(σ_c² − κ² Ω_h²) before the optimal rival's time × keep
-        t_gc_max = (self.t_c_rate_sensor_optimal if np.isfinite(self.t_c_rate_sensor_optimal)
-                    else proc.t_max) * keep
-        s_f = np.sqrt(np.clip(self.sigma_gc**2 - p.scale_drift_sigma**2, 0.0, None))
-        s_at = float(np.interp(t_gc_max, self.t_gc, s_f))
-        kappa_max = (math.sqrt(proc.sigma_c**2 - s_at**2) / p.Omega_h
-                     if s_at < proc.sigma_c else 0.0)
+        kappa_max = self.kappa_max(percent)
         bounds = {f"{field}_min": _boundary(p, proc, field, need, "optimal")
                   for field in ("loop_bandwidth", "overhead", "rate_noise")}
         return RaceConditions(**base, t_needed=need, holds_classical=held["classical"],
