@@ -18,22 +18,32 @@ another issue's budget is one more entry:
 * ``changed``: test functions that existed at the base and that the issue changed: the same
   node ids at the base and here, the difference.
 
-Every run is one pytest process (``-n 0 -p no:cacheprovider``), its CPU-s those of the process
-tree (``resource.getrusage(RUSAGE_CHILDREN)`` around the child), rounds alternating the base
+Every run is one pytest process (``-n 0 -p no:cacheprovider``), its CPU-s those of its process
+tree (below), rounds alternating the base
 and this tree.  The base is checked out with ``git worktree add`` into a temporary folder and
 run with this tree's ``.venv`` (its pins may differ from the base's own: the result says so).
 Tests of the built book get one prebuilt book (``GYROLIB_REUSE_BOOK``, conftest.py), built by
 ``_book_once.py`` as the test session builds it (``--book`` reuses one): no test's CPU
 includes the build; likewise the ledger, which the test command computes once per session for
 the dozen tests that read it (``GYROLIB_LEDGER_MEMO``), is computed once per tree before the
-rounds (its CPU-s reported, counted in no test).  The plugin ``_cpu_per_test.py`` adds each test's set-up, call and
-tear-down CPU-s (per-test figures); the verdict uses the process totals.
+rounds (its CPU-s reported, counted in no test).  A run's CPU-s are the larger of the reaped
+children's (``RUSAGE_CHILDREN``) and the sum over every process seen below it, read every
+0.1 s (``psutil``): Chromium's renderers are not all reaped inside the tree, so
+``RUSAGE_CHILDREN`` alone misses part of a browser test (about a quarter of one navigation
+test).  The plugin ``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s
+(per-test figures, not reliable for the browser tests, whose renderers end between
+readings); the verdict uses the process totals.
 
 The build's share: in that build every figure's measurement (``page_record``: the layout pass,
 text metrics and the checks that the PNG carries) appends its own ``time.process_time()`` to
 ``figure_cpu.jsonl`` (``GYROLIB_FIGURE_CPU_LOG``).  Its CPU-s are summed per chapter; the
-wall-s it adds are estimated by replaying the build's schedule (``_ext/parallel_execute.py``:
-chapters longest first on as many kernels as cores) with and without each chapter's share.
+wall-s it adds to a clean build are estimated by replaying the build's schedule
+(``_ext/parallel_execute.py``: chapters longest first on as many kernels as cores) over the
+last quiet clean build's execution times (``results/book_build.json``) with and without each
+chapter's share (on a quiet machine a kernel has a core: its wall-s are its CPU-s), plus the
+Sphinx process's own figures (the Performance page's charts, drawn in each Sphinx step: twice
+in the test session's build, once in ``tasks.py book``).  The same replay over this build's
+own (loaded) times is recorded too.
 
 Writes ``benchmarks/results/budget_<issue>.json``.  The machine is shared: the 1-minute load
 is recorded at the start, per round and at the end; the spread over rounds is in the notes.
@@ -56,7 +66,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _results import RESULTS, Recorder, load, machine_label
+from _results import Recorder, load, machine_label
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = Path(__file__).resolve().parent
@@ -135,17 +145,55 @@ def pytest_run(tree: Path, args: list[str], book: Path | None) -> dict:
     cmd = [str(PY), "-m", "pytest", *args, "-q", "-n", "0", "-p", "no:cacheprovider",
            "-p", "_cpu_per_test"]
     cpu0, t0 = child_cpu(), time.perf_counter()
-    proc = subprocess.run(cmd, cwd=tree, env=env, capture_output=True, text=True, check=False)
-    wall, cpu = time.perf_counter() - t0, child_cpu() - cpu0
+    with tempfile.TemporaryFile("w+") as out:
+        child = subprocess.Popen(cmd, cwd=tree, env=env, stdout=out, stderr=subprocess.STDOUT,
+                                 text=True)
+        sampled = sample_tree(child)
+        out.seek(0)
+        stdout = out.read()
+    proc = subprocess.CompletedProcess(cmd, child.returncode, stdout, "")
+    wall, reaped = time.perf_counter() - t0, child_cpu() - cpu0
+    # the larger of the two: Chromium's renderers are not all reaped inside the tree
+    # (RUSAGE_CHILDREN misses their CPU), a process shorter than a sampling period is missed
+    # by the sampling (RUSAGE_CHILDREN has it)
+    cpu = max(reaped, sampled)
     try:
         tests = json.loads(per_test.read_text() or "{}")
     except (OSError, ValueError):
         tests = {}
     per_test.unlink(missing_ok=True)
     tail = proc.stdout.strip().splitlines()[-1:] if proc.stdout.strip() else []
-    return {"cpu_s": cpu, "wall_s": wall, "exit": proc.returncode, "summary": " ".join(tail),
+    return {"cpu_s": cpu, "reaped_cpu_s": reaped, "sampled_cpu_s": sampled, "wall_s": wall,
+            "exit": proc.returncode, "summary": " ".join(tail),
             "tests": tests, "output_tail": proc.stdout[-1500:] if proc.returncode not in (0, 5)
             else ""}
+
+
+def sample_tree(child: subprocess.Popen, period: float = 0.1) -> float:
+    """Wait for ``child``; every ``period`` s read the CPU-s (user + system) of it and of
+    every process below it; return the sum over the processes seen of the last reading."""
+    import psutil
+
+    seen: dict[tuple[int, float], float] = {}
+    try:
+        root = psutil.Process(child.pid)
+    except psutil.Error:
+        child.wait()
+        return 0.0
+    while child.poll() is None:
+        try:
+            procs = [root, *root.children(recursive=True)]
+        except psutil.Error:
+            procs = [root]
+        for q in procs:
+            try:
+                t = q.cpu_times()
+                key = (q.pid, q.create_time())
+                seen[key] = max(seen.get(key, 0.0), t.user + t.system)
+            except psutil.Error:
+                pass
+        time.sleep(period)
+    return sum(seen.values())
 
 
 def node_ids(tree: Path, file: str, names: list[str] | None) -> list[str]:
@@ -243,6 +291,11 @@ def unit_figures(u: dict, results: dict) -> dict:
     return {"file": u["file"], "how": u["how"], "tests_named": u.get("tests"),
             "cpu_s": round(med(deltas), 2), "cpu_s_rounds": [round(d, 2) for d in deltas],
             "plus_cpu_s": round(med(plus), 2), "minus_cpu_s": round(med(minus), 2),
+            "runs": {f"{side}: {key}": {
+                "cpu_s": [round(r["cpu_s"], 2) for r in results[(side, key)]],
+                "reaped_cpu_s": [round(r["reaped_cpu_s"], 2) for r in results[(side, key)]],
+                "sampled_cpu_s": [round(r["sampled_cpu_s"], 2) for r in results[(side, key)]]}
+                for side, key, _ in u["plus"] + u["minus"]},
             "exit_status": exits,
             "per_test_cpu_s": {n: {"cpu_s": round(med(v["cpu"]), 2),
                                    "outcome": sorted(v["outcome"])}
@@ -293,10 +346,18 @@ def build_share(book: Path, jobs: int) -> dict:
             heapq.heappush(heap, heapq.heappop(heap) + t)
         return max(heap)
 
+    # this build's own times (a busy machine: the kernels' wall-s are stretched by the load)
     with_fig = makespan(exec_s)
     without = makespan({c: s - per.get(c, {}).get("wall_s", 0.0) for c, s in exec_s.items()})
     kernels = {c: r for c, r in per.items() if c in exec_s}
     sphinx = {c: r for c, r in per.items() if c not in exec_s}
+    # a quiet machine: the last quiet clean build's execution times (the ones parallel_execute
+    # orders by), each less its chapter's figure CPU-s (a kernel alone on a core: wall = CPU)
+    quiet = measured_seconds()
+    q_with = makespan(quiet) if quiet else None
+    q_without = makespan({c: s - per.get(c, {}).get("cpu_s", 0.0) for c, s in quiet.items()})
+    sphinx_steps = max(len(sphinx), 1)  # the test session's build runs Sphinx twice, book once
+    sphinx_per_build = sum(r["cpu_s"] for r in sphinx.values()) / sphinx_steps
     return {
         "build_wall_s": record["wall_s"], "build_cpu_s": record["cpu_s"],
         "build_steps_s": record["steps"], "jobs": jobs,
@@ -304,14 +365,33 @@ def build_share(book: Path, jobs: int) -> dict:
         "cpu_s": round(sum(r["cpu_s"] for r in per.values()), 2),
         "kernels_cpu_s": round(sum(r["cpu_s"] for r in kernels.values()), 2),
         "sphinx_cpu_s": round(sum(r["cpu_s"] for r in sphinx.values()), 2),
+        "sphinx_steps": len(sphinx),
+        "clean_build_cpu_s": round(sum(r["cpu_s"] for r in kernels.values())
+                                   + sphinx_per_build, 2),
         "execution_makespan_s": round(with_fig, 1),
         "execution_makespan_without_s": round(without, 1),
-        "wall_s_estimate": round(with_fig - without + sum(r["wall_s"] for r in sphinx.values()),
-                                 2),
+        "wall_s_this_build": round(with_fig - without
+                                   + sum(r["wall_s"] for r in sphinx.values()) / sphinx_steps,
+                                   2),
+        "quiet_execution_makespan_s": None if q_with is None else round(q_with, 1),
+        "quiet_execution_makespan_without_s": None if q_with is None else round(q_without, 1),
+        "wall_s_estimate": None if q_with is None else round(q_with - q_without
+                                                              + sphinx_per_build, 2),
         "per_chapter": {c: {"figures": r["figures"], "cpu_s": round(r["cpu_s"], 2),
                             "wall_s": round(r["wall_s"], 2),
                             "execution_s": exec_s.get(c)} for c, r in sorted(per.items())},
     }
+
+
+def measured_seconds() -> dict[str, float]:
+    """Each chapter's execution time in the last measured (quiet) clean build, by chapter
+    name (``benchmarks/results/book_build.json``, as ``_ext/parallel_execute.py`` reads it)."""
+    sys.path.insert(0, str(ROOT / "_ext"))
+    try:
+        from parallel_execute import measured_seconds as read
+    except ImportError:  # Sphinx missing: no estimate
+        return {}
+    return {Path(k).stem: v for k, v in read(ROOT).items()}
 
 
 def main() -> None:
@@ -321,7 +401,12 @@ def main() -> None:
     ap.add_argument("--book", type=Path, help="a book built by _book_once.py (its _build)")
     ap.add_argument("--base", help="the commit to compare with (default: the issue's base)")
     ap.add_argument("--compare", nargs="+", metavar="FILE",
-                    help="only these files, whole, at --base and here (a cut's before/after)")
+                    help="only these files or node ids (A+B: one process for both), at "
+                         "--base and here (a cut's before/after)")
+    ap.add_argument("--cuts", nargs="+", metavar="TEST", default=[],
+                    help="with --cuts-base: these tests (A+B: one process) at that commit and "
+                         "here too, in the same rounds (cuts' before/after; not in the sum)")
+    ap.add_argument("--cuts-base", help="the commit before the cuts")
     ap.add_argument("--out", help="results name (default budget_<issue>)")
     args = ap.parse_args()
     issue = ISSUES[args.issue]
@@ -345,19 +430,33 @@ def main() -> None:
             dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "-uno"],
                                    capture_output=True, text=True).stdout.strip()
             if args.compare:
-                units = [{"file": f, "how": "whole file, here less at the base",
-                          "plus": [("head", f, [f])], "minus": [("base", f, [f])]}
+                units = [{"file": f, "how": "the same tests, here less at the base",
+                          "plus": [("head", f, f.split("+"))],
+                          "minus": [("base", f, f.split("+"))]}
                          for f in args.compare]
             else:
                 units = plan(issue, base, ROOT)
+            trees = {"base": base, "head": ROOT}
+            if args.cuts:
+                trees["before"] = before = tmp / "before"
+                subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach",
+                                str(before), args.cuts_base], check=True, capture_output=True)
+                units += [{"file": f, "cut": True,
+                           "how": f"cut: the same tests here less at {args.cuts_base}",
+                           "plus": [("head", f"cut {f}", f.split("+"))],
+                           "minus": [("before", f"cut {f}", f.split("+"))]}
+                          for f in args.cuts]
             memo_cpu = {side: round(ledger_memo(tree, tmp / f"ledger-{side}"), 1)
-                        for side, tree in (("base", base), ("head", ROOT))}
+                        for side, tree in trees.items()}
             loads: list = []
-            results = measure(units, {"base": base, "head": ROOT}, book, args.rounds, loads)
+            results = measure(units, trees, book, args.rounds, loads)
         finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)],
-                           capture_output=True)
-    figures = [unit_figures(u, results) for u in units]
+            for tree in (base, tmp / "before"):
+                if tree.exists():
+                    subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
+                                    str(tree)], capture_output=True)
+    figures = [unit_figures(u, results) for u in units if not u.get("cut")]
+    cuts = [unit_figures(u, results) for u in units if u.get("cut")]
     total = round(sum(f["cpu_s"] for f in figures), 2)
     name = args.out or (f"budget_{args.issue}" if not args.compare else
                         f"budget_{args.issue}_compare")
@@ -373,6 +472,11 @@ def main() -> None:
         rec.case(f"{f['file']}: CPU-s added ({f['how'].split(':')[0]})", max(f["cpu_s"], 1e-4)
                  if f["cpu_s"] > 0 else 1e-4,
                  note=f"{f['how']}; rounds {f['cpu_s_rounds']}; {note}")
+    for f in cuts:
+        rec.case(f"{f['file']}: CPU-s of a cut, after less before", abs(f["cpu_s"]) or 1e-4,
+                 note=f"{'saves' if f['cpu_s'] < 0 else 'adds'} {abs(f['cpu_s'])} CPU-s: "
+                      f"{f['plus_cpu_s']} after, {f['minus_cpu_s']} before "
+                      f"({args.cuts_base}); rounds {f['cpu_s_rounds']}; {note}")
     verdict = "within" if total <= allowance else "over"
     rec.case(f"issue {args.issue}: CPU-s added to the test command", max(total, 1e-4),
              target_s=allowance, note=f"allowance {allowance} CPU-s: {verdict}; {note}")
@@ -382,7 +486,8 @@ def main() -> None:
               "ledger_memo_cpu_s": memo_cpu,
               "load_start": start_load, "load_rounds": loads, "load_end": load(),
               "benchmark_wall_s": round(time.perf_counter() - t_start, 1),
-              "tests": figures, "test_cpu_s": total, "test_allowance_cpu_s": allowance,
+              "tests": figures, "cuts": cuts, "cuts_base": args.cuts_base,
+              "test_cpu_s": total, "test_allowance_cpu_s": allowance,
               "test_verdict": verdict}
     if not args.compare and (book / "budget_build.json").is_file():
         share = build_share(book, jobs=os.cpu_count() or 1)

@@ -467,7 +467,7 @@ def page_record(fig: Any) -> str:
     sizes = [float(t.get_fontsize()) for t in texts]
     problems = text_problems(fig, texts=texts)
     if log:
-        _log_cpu(log, cpu=time.process_time() - cpu0, start=wall0, end=time.time())
+        log_figure_cpu(log, cpu=time.process_time() - cpu0, start=wall0, end=time.time())
     return json.dumps({"texts": len(texts), "smallest_pt": min(sizes, default=None),
                        "width_in": round(float(fig.get_figwidth()), 4),
                        "problems": problems}, ensure_ascii=True)
@@ -481,7 +481,7 @@ def page_record(fig: Any) -> str:
 CPU_LOG_ENV = "GYROLIB_FIGURE_CPU_LOG"
 
 
-def _log_cpu(path: str, **fields: Any) -> None:
+def log_figure_cpu(path: str, **fields: Any) -> None:
     """Append one JSON line (``pid`` and ``fields``) to ``path`` (:data:`CPU_LOG_ENV`)."""
     with open(path, "a", encoding="utf-8") as f:  # one write per line: lines never interleave
         f.write(json.dumps({"pid": os.getpid(), **fields}) + "\n")

@@ -140,11 +140,11 @@ def gluer(prefix: str, default_fmt: Formatter = ".4g") -> Callable[..., None]:
     also sets the notebook's figures to 2x PNGs (:func:`hidpi_figures`)."""
     v.check_str("prefix", prefix)
     if hidpi_figures():
-        from gyrolib import _page_figures
+        from gyrolib._page_figures import CPU_LOG_ENV, log_figure_cpu
 
-        log = os.environ.get(_page_figures.CPU_LOG_ENV, "")
+        log = os.environ.get(CPU_LOG_ENV, "")
         if log:  # which chapter this kernel runs, for the figure measurement's CPU log
-            _page_figures._log_cpu(log, gluer=prefix)
+            log_figure_cpu(log, gluer=prefix)
 
     def gl(key: str, value: float, fmt: Formatter = default_fmt) -> None:
         from myst_nb import glue  # only the chapters need myst-nb
