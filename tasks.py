@@ -323,15 +323,13 @@ def chapter(name: str, out: str | os.PathLike | None = None) -> None:
     out = Path(out).resolve() if out else BUILD / "chapters"
     out.mkdir(parents=True, exist_ok=True)
     ipynb = out / f"{src.stem}.ipynb"
-    run(BIN / "jupytext", "--to", "ipynb", "--output", ipynb, src)
     # the kernel's environment as in the book build (_ext/gyrolib_cache.py): OpenBLAS on one
     # thread, since its threads only spin on the chapters' small matrices
     env = python_env(MPLBACKEND="Agg")
     env.setdefault("OPENBLAS_NUM_THREADS", "1")
-    run(BIN / "jupyter", "nbconvert", "--to", "notebook", "--execute", "--inplace",
-        "--ExecutePreprocessor.timeout=600", ipynb, env=env)
-    run(PY, ROOT / "_ext" / "rerun_notebook.py", ipynb, src.stem)
-    print(f"executed {ipynb}")
+    # read (jupytext), executed in a kernel in OUT (nbclient, as `jupyter nbconvert
+    # --execute`), rendered: one process (_ext/rerun_notebook.py's execute_chapter)
+    run(PY, ROOT / "_ext" / "rerun_notebook.py", "--execute", src, ipynb, env=env)
 
 
 def clean() -> None:

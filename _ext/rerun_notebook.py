@@ -30,9 +30,11 @@ how to refresh them.  The numbers of figures and equations are those of the book
 and equations are numbered through the book in the order of ``_toc.yml``
 (:func:`label_index`; ``tests/test_rerun_notebook.py`` checks both against the built HTML).
 
-Used by ``python3 tasks.py chapter NAME`` (``python _ext/rerun_notebook.py NOTEBOOK``) and by
+Used by ``python3 tasks.py chapter NAME`` (:func:`execute_chapter`: ``python
+_ext/rerun_notebook.py --execute CHAPTER.md NOTEBOOK``) and by
 ``_ext/book_release.py`` for the ``.ipynb`` of each page's download menu.  Needs only the
-standard library, nbformat and (for the references) pybtex, all in the book's environment.
+standard library, nbformat and (for the references) pybtex, all in the book's environment
+(:func:`execute_chapter` also jupytext and nbclient, there too).
 """
 
 from __future__ import annotations
@@ -537,7 +539,33 @@ def render_file(path: Path, name: str | None = None, root: Path = ROOT,
     return Path(target)
 
 
-if __name__ == "__main__":  # python _ext/rerun_notebook.py NOTEBOOK.ipynb [NAME]
-    if len(sys.argv) not in (2, 3):
-        sys.exit("usage: rerun_notebook.py NOTEBOOK.ipynb [CHAPTER_NAME]")
-    print(f"rendered {render_file(Path(sys.argv[1]), *sys.argv[2:3])}")
+def execute_chapter(src: Path, ipynb: Path, timeout: int = 600) -> Path:
+    """Execute the chapter ``src`` (MyST Markdown) as a notebook and write it, rendered, to
+    ``ipynb``: jupytext reads it, nbclient executes it in a kernel started in ``ipynb``'s
+    folder (as ``jupyter nbconvert --execute`` does, with the same client), and
+    :func:`render_notebook` renders it.  One process for the three steps, where three
+    commands (``jupytext``, ``jupyter nbconvert``, this script) each started an interpreter
+    and imported nbformat and its schema: about 2 CPU-s less per chapter.  The kernel
+    inherits this process's environment (``tasks.py chapter`` sets it)."""
+    import jupytext
+    import nbformat
+    from nbclient import NotebookClient
+
+    nb = jupytext.read(str(src))
+    NotebookClient(nb, timeout=timeout,
+                   resources={"metadata": {"path": str(Path(ipynb).parent)}}).execute()
+    render_notebook(nb, Path(src).stem)
+    nbformat.write(nb, str(ipynb))
+    return Path(ipynb)
+
+
+if __name__ == "__main__":
+    # python _ext/rerun_notebook.py NOTEBOOK.ipynb [NAME]: render an executed notebook
+    # python _ext/rerun_notebook.py --execute CHAPTER.md NOTEBOOK.ipynb: execute and render
+    if len(sys.argv) == 4 and sys.argv[1] == "--execute":
+        print(f"executed {execute_chapter(Path(sys.argv[2]), Path(sys.argv[3]))}")
+    elif len(sys.argv) in (2, 3) and not sys.argv[1].startswith("-"):
+        print(f"rendered {render_file(Path(sys.argv[1]), *sys.argv[2:3])}")
+    else:
+        sys.exit("usage: rerun_notebook.py NOTEBOOK.ipynb [CHAPTER_NAME] | "
+                 "--execute CHAPTER.md NOTEBOOK.ipynb")

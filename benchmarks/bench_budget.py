@@ -1,0 +1,511 @@
+"""An issue's CPU budget: the CPU-s its tests add to the test command, measured before (the
+commit the round started from) and after (this tree) on the same machine, and the figure
+measurement's share of a clean book build (issue 35's allowance: 30 CPU-s of tests, 10 s of
+build).
+
+Which tests are an issue's is written in :data:`ISSUES` (file -> how it is measured), so that
+another issue's budget is one more entry:
+
+* ``new``: a file the issue added: measured here only (before = 0), its cost the run of the
+  whole file less the start-up of pytest with no test file (interpreter, plugins, conftest);
+* ``whole``: a file that existed at the base and that only this issue changed: the whole file
+  at the base and here, the difference;
+* ``added`` (with an ``anchor``): test functions the issue added to a file that others changed
+  too: the run of anchor + added less the run of the anchor alone, here only; the anchor is
+  a cheap test of the same file that sets up the same module and session fixtures (a
+  browser, a served site), or, when none, the file's collection (``--collect-only``): what
+  the test command pays for that file anyway;
+* ``changed``: test functions that existed at the base and that the issue changed: the same
+  node ids at the base and here, the difference.
+
+Every run is one pytest process (``-n 0 -p no:cacheprovider``), its CPU-s those of its process
+tree (below), rounds alternating the base
+and this tree.  The base is checked out with ``git worktree add`` into a temporary folder and
+run with this tree's ``.venv`` (its pins may differ from the base's own: the result says so).
+Tests of the built book get one prebuilt book (``GYROLIB_REUSE_BOOK``, conftest.py), built by
+``_book_once.py`` as the test session builds it (``--book`` reuses one): no test's CPU
+includes the build; likewise the ledger, which the test command computes once per session for
+the dozen tests that read it (``GYROLIB_LEDGER_MEMO``), is computed once per tree before the
+rounds (its CPU-s reported, counted in no test).  A run's CPU-s are the larger of the reaped
+children's (``RUSAGE_CHILDREN``) and the sum over every process seen below it, read every
+0.1 s (``psutil``): Chromium's renderers are not all reaped inside the tree, so
+``RUSAGE_CHILDREN`` alone misses part of a browser test (about a quarter of one navigation
+test).  The plugin ``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s
+(per-test figures, not reliable for the browser tests, whose renderers end between
+readings); the verdict uses the process totals.
+
+The build's share: in that build every figure's measurement (``page_record``: the layout pass,
+text metrics and the checks that the PNG carries) appends its own ``time.process_time()`` to
+``figure_cpu.jsonl`` (``GYROLIB_FIGURE_CPU_LOG``).  Its CPU-s are summed per chapter; the
+wall-s it adds to a clean build are estimated by replaying the build's schedule
+(``_ext/parallel_execute.py``: chapters longest first on as many kernels as cores) over the
+last quiet clean build's execution times (``results/book_build.json``) with and without each
+chapter's share (on a quiet machine a kernel has a core: its wall-s are its CPU-s), plus the
+Sphinx process's own figures (the Performance page's charts, drawn in each Sphinx step: twice
+in the test session's build, once in ``tasks.py book``).  The same replay over this build's
+own (loaded) times is recorded too.
+
+Writes ``benchmarks/results/budget_<issue>.json``.  The machine is shared: the 1-minute load
+is recorded at the start, per round and at the end; the spread over rounds is in the notes.
+
+    .venv/bin/python benchmarks/bench_budget.py --issue 35 [--rounds 3] [--book DIR/_build]
+    .venv/bin/python benchmarks/bench_budget.py --compare main tests/test_x.py [...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import heapq
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from _results import Recorder, load, machine_label
+
+ROOT = Path(__file__).resolve().parents[1]
+BENCH = Path(__file__).resolve().parent
+PY = Path(sys.executable)
+
+#: issue -> its base commit, its allowances, and file -> how it is measured (module docstring).
+ISSUES: dict[int, dict] = {
+    35: {
+        "title": "Rerun, read anywhere",
+        "base": "5ddf2b6",
+        "test_allowance_cpu_s": 30.0,
+        "build_allowance_s": 10.0,
+        "files": {
+            "tests/test_rerun_notebook.py": {"new": True},
+            "tests/test_cite.py": {"new": True},
+            "tests/test_raw_markup.py": {"new": True},
+            "gyrolib/book/cite.py": {"new": True},  # its doctests
+            "tests/test_page_figures.py": {"whole": True},
+            "gyrolib/_page_figures.py": {"whole": True},  # its doctests
+            "tests/test_browser.py": {
+                "added": ["test_the_ledger_reads_on_a_phone_without_sideways_scrolling",
+                          "test_navigation_panels_open_and_close_on_a_phone_and_a_tablet",
+                          "test_navigation_sidebar_collapses_and_returns_on_a_desk"],
+                "anchor": "test_search_finds_a_term"},
+            "tests/test_lab.py": {
+                "added": ["test_the_pinned_lab_extensions_load"],
+                "changed": ["test_lab_requirements_are_exact_pins_compatible_with_the_book"]},
+            "tests/test_ledger.py": {"changed": ["test_json_and_markdown_of_a_known_item"]},
+        },
+    },
+}
+
+
+def child_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def clean_env(tree: Path) -> dict[str, str]:
+    """The environment of a run in ``tree``: no ``GYROLIB_*`` of the caller's but the
+    ledger's memo of that tree (:func:`ledger_memo`), the plugin found on ``PYTHONPATH``."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("GYROLIB_")}
+    env.update(MPLBACKEND="Agg", PYTHONPATH=str(BENCH), PYDEVD_DISABLE_FILE_VALIDATION="1")
+    memo = MEMOS.get(tree)
+    if memo is not None:
+        env["GYROLIB_LEDGER_MEMO"] = str(memo)
+    return env
+
+
+#: tree -> the folder of its ledger memo (:func:`ledger_memo`).
+MEMOS: dict[Path, Path] = {}
+
+
+def ledger_memo(tree: Path, folder: Path) -> float:
+    """Compute the ledger of ``tree`` once into a memo in ``folder``, which every run in that
+    tree then reads: the test command computes it once per session for the dozen tests that
+    call ``ledger.collect()`` (``tests/conftest.py``), as it builds the book once.  Returns
+    the CPU-s it took (reported, not counted in any test)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    MEMOS[tree] = folder
+    cpu0 = child_cpu()
+    subprocess.run([str(PY), "-c", "from gyrolib.book import ledger; ledger.collect()"],
+                   cwd=tree, env=clean_env(tree), check=True)
+    return child_cpu() - cpu0
+
+
+def pytest_run(tree: Path, args: list[str], book: Path | None) -> dict:
+    """One pytest process in ``tree`` (this tree's interpreter): CPU-s of its process tree,
+    wall-s, exit status, and each test's phases (``_cpu_per_test``)."""
+    env = clean_env(tree)
+    if book is not None:
+        env["GYROLIB_REUSE_BOOK"] = str(book)
+    with tempfile.NamedTemporaryFile(suffix=".json", delete=False) as f:
+        per_test = Path(f.name)
+    env["GYROLIB_CPU_PER_TEST"] = str(per_test)
+    cmd = [str(PY), "-m", "pytest", *args, "-q", "-n", "0", "-p", "no:cacheprovider",
+           "-p", "_cpu_per_test"]
+    cpu0, t0 = child_cpu(), time.perf_counter()
+    with tempfile.TemporaryFile("w+") as out:
+        child = subprocess.Popen(cmd, cwd=tree, env=env, stdout=out, stderr=subprocess.STDOUT,
+                                 text=True)
+        sampled = sample_tree(child)
+        out.seek(0)
+        stdout = out.read()
+    proc = subprocess.CompletedProcess(cmd, child.returncode, stdout, "")
+    wall, reaped = time.perf_counter() - t0, child_cpu() - cpu0
+    # the larger of the two: Chromium's renderers are not all reaped inside the tree
+    # (RUSAGE_CHILDREN misses their CPU), a process shorter than a sampling period is missed
+    # by the sampling (RUSAGE_CHILDREN has it)
+    cpu = max(reaped, sampled)
+    try:
+        tests = json.loads(per_test.read_text() or "{}")
+    except (OSError, ValueError):
+        tests = {}
+    per_test.unlink(missing_ok=True)
+    tail = proc.stdout.strip().splitlines()[-1:] if proc.stdout.strip() else []
+    return {"cpu_s": cpu, "reaped_cpu_s": reaped, "sampled_cpu_s": sampled, "wall_s": wall,
+            "exit": proc.returncode, "summary": " ".join(tail),
+            "tests": tests, "output_tail": proc.stdout[-1500:] if proc.returncode not in (0, 5)
+            else ""}
+
+
+def sample_tree(child: subprocess.Popen, period: float = 0.1) -> float:
+    """Wait for ``child``; every ``period`` s read the CPU-s (user + system) of it and of
+    every process below it; return the sum over the processes seen of the last reading."""
+    import psutil
+
+    seen: dict[tuple[int, float], float] = {}
+    try:
+        root = psutil.Process(child.pid)
+    except psutil.Error:
+        child.wait()
+        return 0.0
+    while child.poll() is None:
+        try:
+            procs = [root, *root.children(recursive=True)]
+        except psutil.Error:
+            procs = [root]
+        for q in procs:
+            try:
+                t = q.cpu_times()
+                key = (q.pid, q.create_time())
+                seen[key] = max(seen.get(key, 0.0), t.user + t.system)
+            except psutil.Error:
+                pass
+        time.sleep(period)
+    return sum(seen.values())
+
+
+def node_ids(tree: Path, file: str, names: list[str] | None) -> list[str]:
+    """The node ids of ``file`` in ``tree`` whose function is one of ``names`` (all: None)."""
+    proc = subprocess.run([str(PY), "-m", "pytest", file, "--collect-only", "-q", "-n", "0",
+                           "-p", "no:cacheprovider"], cwd=tree, capture_output=True, text=True,
+                          env={**os.environ, "PYTHONPATH": str(BENCH)}, check=False)
+    ids = [line.strip() for line in proc.stdout.splitlines() if "::" in line]
+    if names is None:
+        return ids
+    got = [i for i in ids if i.split("::")[-1].split("[")[0] in names]
+    missing = set(names) - {i.split("::")[-1].split("[")[0] for i in got}
+    if missing:
+        raise SystemExit(f"{tree}: {file} has no test {sorted(missing)}")
+    return got
+
+
+def plan(issue: dict, base: Path, head: Path) -> list[dict]:
+    """The runs to make, as units: each names the runs at the base and here whose CPU-s are
+    added (``plus``) and subtracted (``minus``)."""
+    startup = ("startup", ["tests/conftest.py"])  # no test file: pytest and conftest alone
+    units = []
+    for file, how in issue["files"].items():
+        if how.get("new"):
+            units.append({"file": file, "how": "new: the file here less pytest's start-up",
+                          "plus": [("head", file, [file])],
+                          "minus": [("head", *startup)]})
+        if how.get("whole"):
+            units.append({"file": file, "how": "whole file, here less at the base",
+                          "plus": [("head", file, [file])],
+                          "minus": [("base", file, [file])]})
+        if how.get("added"):
+            anchor = how.get("anchor")
+            a_ids = (node_ids(head, file, [anchor]) if anchor
+                     else [file, "--collect-only"])
+            added = node_ids(head, file, how["added"])
+            units.append({"file": file, "tests": how["added"],
+                          "how": f"added: with the anchor {anchor or 'collection'} less the "
+                                 "anchor alone, here",
+                          "plus": [("head", f"{file} anchor+added", a_ids + added
+                                    if anchor else added)],
+                          "minus": [("head", f"{file} anchor", a_ids)]})
+        if how.get("changed"):
+            units.append({"file": file, "tests": how["changed"],
+                          "how": "changed: the same tests here less at the base",
+                          "plus": [("head", f"{file} changed", node_ids(head, file,
+                                                                        how["changed"]))],
+                          "minus": [("base", f"{file} changed", node_ids(base, file,
+                                                                         how["changed"]))]})
+    return units
+
+
+def measure(units: list[dict], trees: dict[str, Path], book: Path | None, rounds: int,
+            loads: list) -> dict[tuple[str, str], list[dict]]:
+    """Every distinct run of ``units``, ``rounds`` times, the base's and this tree's runs
+    alternating in order from round to round."""
+    runs: dict[tuple[str, str], list[str]] = {}
+    for u in units:
+        for side, key, args in u["plus"] + u["minus"]:
+            runs[(side, key)] = args
+    results: dict[tuple[str, str], list[dict]] = {k: [] for k in runs}
+    for r in range(rounds):
+        order = sorted(runs, key=lambda k: (k[1], (k[0] == "head") == (r % 2 == 0)))
+        loads.append(load())
+        for side, key in order:
+            res = pytest_run(trees[side], runs[(side, key)], book)
+            results[(side, key)].append(res)
+            print(f"round {r + 1} {side:4s} {res['cpu_s']:7.2f} CPU-s {res['wall_s']:6.1f} s "
+                  f"exit {res['exit']} {key}: {res['summary']}", flush=True)
+    return results
+
+
+def med(xs: list[float]) -> float:
+    return statistics.median(xs) if xs else 0.0
+
+
+def unit_figures(u: dict, results: dict) -> dict:
+    """A unit's CPU-s: median over rounds of plus − minus, with its spread, and the tests'
+    phases (median per test) of its runs here."""
+    def cpu(side_key):
+        return [r["cpu_s"] for r in results[side_key]]
+
+    plus = [sum(x) for x in zip(*(cpu(k[:2]) for k in u["plus"]), strict=True)]
+    minus = [sum(x) for x in zip(*(cpu(k[:2]) for k in u["minus"]), strict=True)]
+    deltas = [p - m for p, m in zip(plus, minus, strict=True)]
+    tests: dict[str, dict] = {}
+    for side, key, _ in u["plus"] + u["minus"]:
+        for res in results[(side, key)]:
+            for node, ph in res["tests"].items():
+                row = tests.setdefault(f"{side}: {node}", {"cpu": [], "outcome": set()})
+                row["cpu"].append(sum(v for k, v in ph.items() if k != "outcome"))
+                row["outcome"].add(ph.get("outcome", "?"))
+    exits = {f"{side}: {key}": sorted({r["exit"] for r in results[(side, key)]})
+             for side, key, _ in u["plus"] + u["minus"]}
+    return {"file": u["file"], "how": u["how"], "tests_named": u.get("tests"),
+            "cpu_s": round(med(deltas), 2), "cpu_s_rounds": [round(d, 2) for d in deltas],
+            "plus_cpu_s": round(med(plus), 2), "minus_cpu_s": round(med(minus), 2),
+            "runs": {f"{side}: {key}": {
+                "cpu_s": [round(r["cpu_s"], 2) for r in results[(side, key)]],
+                "reaped_cpu_s": [round(r["reaped_cpu_s"], 2) for r in results[(side, key)]],
+                "sampled_cpu_s": [round(r["sampled_cpu_s"], 2) for r in results[(side, key)]]}
+                for side, key, _ in u["plus"] + u["minus"]},
+            "exit_status": exits,
+            "per_test_cpu_s": {n: {"cpu_s": round(med(v["cpu"]), 2),
+                                   "outcome": sorted(v["outcome"])}
+                               for n, v in sorted(tests.items())}}
+
+
+def base_tree(commit: str, folder: Path) -> Path:
+    path = folder / "base"
+    subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(path), commit],
+                   check=True, capture_output=True)
+    return path
+
+
+# ----------------------------------------------------------------------------- the build
+
+
+def build_share(book: Path, jobs: int) -> dict:
+    """The figure measurement's CPU-s in the build of ``book`` (its ``figure_cpu.jsonl``),
+    per chapter (the kernel's glue prefix -> chapter), and the wall-s it adds, estimated by
+    replaying the parallel execution (longest chapter first on ``jobs`` kernels) with each
+    chapter's execution time less its share."""
+    folder = book.parent
+    lines = [json.loads(x) for x in (folder / "figure_cpu.jsonl").read_text().splitlines()
+             if x.strip()]
+    prefix_of = {x["pid"]: x["gluer"] for x in lines if "gluer" in x}
+    chapter_of_prefix = {}
+    for md in (ROOT / "chapters").glob("*.md"):
+        text = md.read_text(encoding="utf-8")
+        for p in set(prefix_of.values()):
+            if f'gluer("{p}"' in text:
+                chapter_of_prefix[p] = md.stem
+    per: dict[str, dict] = {}
+    for x in lines:
+        if "cpu" not in x:
+            continue
+        name = chapter_of_prefix.get(prefix_of.get(x["pid"], ""), f"pid {x['pid']} (Sphinx)")
+        row = per.setdefault(name, {"figures": 0, "cpu_s": 0.0, "wall_s": 0.0, "pids": set()})
+        row["figures"] += 1
+        row["cpu_s"] += x["cpu"]
+        row["wall_s"] += x["end"] - x["start"]
+        row["pids"].add(x["pid"])
+    record = json.loads((book / "budget_build.json").read_text())
+    exec_s = {Path(c).stem: s for c, s in record["chapters"]}
+
+    def makespan(times: dict[str, float]) -> float:
+        heap = [0.0] * jobs
+        for t in sorted(times.values(), reverse=True):
+            heapq.heappush(heap, heapq.heappop(heap) + t)
+        return max(heap)
+
+    # this build's own times (a busy machine: the kernels' wall-s are stretched by the load)
+    with_fig = makespan(exec_s)
+    without = makespan({c: s - per.get(c, {}).get("wall_s", 0.0) for c, s in exec_s.items()})
+    kernels = {c: r for c, r in per.items() if c in exec_s}
+    sphinx = {c: r for c, r in per.items() if c not in exec_s}
+    # a quiet machine: the last quiet clean build's execution times (the ones parallel_execute
+    # orders by), each less its chapter's figure CPU-s (a kernel alone on a core: wall = CPU)
+    quiet = measured_seconds()
+    q_with = makespan(quiet) if quiet else None
+    q_without = makespan({c: s - per.get(c, {}).get("cpu_s", 0.0) for c, s in quiet.items()})
+    sphinx_steps = max(len(sphinx), 1)  # the test session's build runs Sphinx twice, book once
+    sphinx_per_build = sum(r["cpu_s"] for r in sphinx.values()) / sphinx_steps
+    return {
+        "build_wall_s": record["wall_s"], "build_cpu_s": record["cpu_s"],
+        "build_steps_s": record["steps"], "jobs": jobs,
+        "figures": sum(r["figures"] for r in per.values()),
+        "cpu_s": round(sum(r["cpu_s"] for r in per.values()), 2),
+        "kernels_cpu_s": round(sum(r["cpu_s"] for r in kernels.values()), 2),
+        "sphinx_cpu_s": round(sum(r["cpu_s"] for r in sphinx.values()), 2),
+        "sphinx_steps": len(sphinx),
+        "clean_build_cpu_s": round(sum(r["cpu_s"] for r in kernels.values())
+                                   + sphinx_per_build, 2),
+        "execution_makespan_s": round(with_fig, 1),
+        "execution_makespan_without_s": round(without, 1),
+        "wall_s_this_build": round(with_fig - without
+                                   + sum(r["wall_s"] for r in sphinx.values()) / sphinx_steps,
+                                   2),
+        "quiet_execution_makespan_s": None if q_with is None else round(q_with, 1),
+        "quiet_execution_makespan_without_s": None if q_with is None else round(q_without, 1),
+        "wall_s_estimate": None if q_with is None else round(q_with - q_without
+                                                              + sphinx_per_build, 2),
+        "per_chapter": {c: {"figures": r["figures"], "cpu_s": round(r["cpu_s"], 2),
+                            "wall_s": round(r["wall_s"], 2),
+                            "execution_s": exec_s.get(c)} for c, r in sorted(per.items())},
+    }
+
+
+def measured_seconds() -> dict[str, float]:
+    """Each chapter's execution time in the last measured (quiet) clean build, by chapter
+    name (``benchmarks/results/book_build.json``, as ``_ext/parallel_execute.py`` reads it)."""
+    sys.path.insert(0, str(ROOT / "_ext"))
+    try:
+        from parallel_execute import measured_seconds as read
+    except ImportError:  # Sphinx missing: no estimate
+        return {}
+    return {Path(k).stem: v for k, v in read(ROOT).items()}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--issue", type=int, default=35, choices=sorted(ISSUES))
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--book", type=Path, help="a book built by _book_once.py (its _build)")
+    ap.add_argument("--base", help="the commit to compare with (default: the issue's base)")
+    ap.add_argument("--compare", nargs="+", metavar="FILE",
+                    help="only these files or node ids (A+B: one process for both), at "
+                         "--base and here (a cut's before/after)")
+    ap.add_argument("--cuts", nargs="+", metavar="TEST", default=[],
+                    help="with --cuts-base: these tests (A+B: one process) at that commit and "
+                         "here too, in the same rounds (cuts' before/after; not in the sum)")
+    ap.add_argument("--cuts-base", help="the commit before the cuts")
+    ap.add_argument("--out", help="results name (default budget_<issue>)")
+    args = ap.parse_args()
+    issue = ISSUES[args.issue]
+    start_load = load()
+    t_start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="gyrolib-budget-") as tmp:
+        tmp = Path(tmp)
+        book = args.book
+        if book is None:
+            sys.path.insert(0, str(BENCH))
+            from _book_once import build
+            record = build(tmp / "book")
+            if record["error"]:
+                raise SystemExit(record["error"][-3000:])
+            book = tmp / "book" / "_build"
+        base_commit = args.base or issue["base"]
+        base = base_tree(base_commit, tmp)
+        try:
+            head_commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short",
+                                          "HEAD"], capture_output=True, text=True).stdout.strip()
+            dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "-uno"],
+                                   capture_output=True, text=True).stdout.strip()
+            if args.compare:
+                units = [{"file": f, "how": "the same tests, here less at the base",
+                          "plus": [("head", f, f.split("+"))],
+                          "minus": [("base", f, f.split("+"))]}
+                         for f in args.compare]
+            else:
+                units = plan(issue, base, ROOT)
+            trees = {"base": base, "head": ROOT}
+            if args.cuts:
+                trees["before"] = before = tmp / "before"
+                subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach",
+                                str(before), args.cuts_base], check=True, capture_output=True)
+                units += [{"file": f, "cut": True,
+                           "how": f"cut: the same tests here less at {args.cuts_base}",
+                           "plus": [("head", f"cut {f}", f.split("+"))],
+                           "minus": [("before", f"cut {f}", f.split("+"))]}
+                          for f in args.cuts]
+            memo_cpu = {side: round(ledger_memo(tree, tmp / f"ledger-{side}"), 1)
+                        for side, tree in trees.items()}
+            loads: list = []
+            results = measure(units, trees, book, args.rounds, loads)
+        finally:
+            for tree in (base, tmp / "before"):
+                if tree.exists():
+                    subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
+                                    str(tree)], capture_output=True)
+    figures = [unit_figures(u, results) for u in units if not u.get("cut")]
+    cuts = [unit_figures(u, results) for u in units if u.get("cut")]
+    total = round(sum(f["cpu_s"] for f in figures), 2)
+    name = args.out or (f"budget_{args.issue}" if not args.compare else
+                        f"budget_{args.issue}_compare")
+    rec = Recorder(name)
+    rec.doc["load"] = start_load
+    allowance = issue["test_allowance_cpu_s"]
+    note = (f"{machine_label(rec.doc['machine'])}; base {base_commit} (git worktree, run with "
+            f"this tree's .venv: the base's own pins may differ) against {head_commit}"
+            f"{' with uncommitted changes' if dirty else ''}; {args.rounds} rounds alternating, "
+            f"median; 1-min load {start_load} at the start, {load()} at the end (shared "
+            "machine: CPU-s vary by about 20 %)")
+    for f in figures:
+        rec.case(f"{f['file']}: CPU-s added ({f['how'].split(':')[0]})", max(f["cpu_s"], 1e-4)
+                 if f["cpu_s"] > 0 else 1e-4,
+                 note=f"{f['how']}; rounds {f['cpu_s_rounds']}; {note}")
+    for f in cuts:
+        rec.case(f"{f['file']}: CPU-s of a cut, after less before", abs(f["cpu_s"]) or 1e-4,
+                 note=f"{'saves' if f['cpu_s'] < 0 else 'adds'} {abs(f['cpu_s'])} CPU-s: "
+                      f"{f['plus_cpu_s']} after, {f['minus_cpu_s']} before "
+                      f"({args.cuts_base}); rounds {f['cpu_s_rounds']}; {note}")
+    verdict = "within" if total <= allowance else "over"
+    rec.case(f"issue {args.issue}: CPU-s added to the test command", max(total, 1e-4),
+             target_s=allowance, note=f"allowance {allowance} CPU-s: {verdict}; {note}")
+    budget = {"issue": args.issue, "title": issue["title"], "base": base_commit,
+              "head": head_commit, "dirty": bool(dirty), "rounds": args.rounds,
+              "base_run_with": f"this tree's .venv ({PY})", "book": str(book),
+              "ledger_memo_cpu_s": memo_cpu,
+              "load_start": start_load, "load_rounds": loads, "load_end": load(),
+              "benchmark_wall_s": round(time.perf_counter() - t_start, 1),
+              "tests": figures, "cuts": cuts, "cuts_base": args.cuts_base,
+              "test_cpu_s": total, "test_allowance_cpu_s": allowance,
+              "test_verdict": verdict}
+    if not args.compare and (book / "budget_build.json").is_file():
+        share = build_share(book, jobs=os.cpu_count() or 1)
+        share["allowance_s"] = issue["build_allowance_s"]
+        share["verdict"] = ("within" if share["wall_s_estimate"] <= issue["build_allowance_s"]
+                            else "over")
+        budget["build"] = share
+        rec.case(f"issue {args.issue}: the figure measurement in a clean build (wall-s, "
+                 "estimated)", max(share["wall_s_estimate"], 1e-4),
+                 target_s=issue["build_allowance_s"],
+                 note=f"{share['cpu_s']} CPU-s over {share['figures']} figures; wall estimated "
+                      f"by replaying the execution on {share['jobs']} kernels; allowance "
+                      f"{issue['build_allowance_s']} s: {share['verdict']}; {note}")
+    rec.doc["budget"] = budget
+    rec.write()
+    print(json.dumps({"test_cpu_s": total, "verdict": verdict,
+                      "build": budget.get("build", {}).get("wall_s_estimate")}))
+
+
+if __name__ == "__main__":
+    main()
