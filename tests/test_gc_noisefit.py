@@ -256,3 +256,39 @@ def test_common_factor_is_the_records_realized_noise():
         inclinometer_z=r.inclinometer_z))
     fitted, realized, se, _ = _common_factor(off, p, truth.dt)
     assert fitted - realized > np.log(1.005) - 0.25 * se, (fitted, realized, se)
+
+
+# issue 34, item 2: the standard errors the fit carries are what the record supports -------
+def test_carried_standard_error_reaches_where_the_profile_likelihood_falls():
+    """20 s with α1 × 5 and σ1² × 4 (seed 1), α1 and σ1² fitted: the likelihood is far from
+    quadratic (α1's 95 % interval reaches 8 curvature SE below α̂1 and 1.3 above).  Against
+    a profile likelihood computed here by brute force (σ1² re-maximized by scipy at each
+    α1), the carried standard error's 1.96 σ on each side reaches where twice the log-
+    likelihood has fallen by χ²₁(95 %) = 3.84, within 20 % (the interval's secant search
+    stops within a few percent of its end).  Power: the curvature's SE alone, the same
+    check, falls short below α̂1 (there 2ΔlnL is about 1.2), so the carried σ is wider."""
+    made = dataclasses.replace(P, alpha1=5 * P.alpha1, sigma1_sq=4 * P.sigma1_sq)
+    rec = gc.simulate_record(made, 20.0, seed=1).record
+    fit = gc.profile_intervals(rec, gc.fit_noise(rec, P, fit=("alpha1", "sigma1_sq")))
+    ll0 = gc.innovation_log_likelihood(rec, fit.params)
+
+    def profile_drop(log_a: float) -> float:
+        """2 (ln L̂ − max over σ1² of ln L at α1 = exp(log_a))."""
+        def neg(log_s: float) -> float:
+            q = dataclasses.replace(fit.params, alpha1=np.exp(log_a), sigma1_sq=np.exp(log_s))
+            return -gc.innovation_log_likelihood(rec, q)
+        # σ1² starts on the ridge α1 σ1² = const (the vibration's white-noise intensity)
+        x0 = np.log(fit.params.sigma1_sq) - (log_a - np.log(fit.params.alpha1))
+        best = scipy.optimize.minimize_scalar(neg, bounds=(x0 - 2.0, x0 + 2.0),
+                                              method="bounded", options={"xatol": 1e-3})
+        return 2.0 * (ll0 + float(best.fun))
+
+    target = scipy.stats.chi2.ppf(0.95, 1)
+    th, se = np.log(fit.value("alpha1")), fit.relative_std_errors[0]
+    below, above = 1.96 * fit.carried_log_std[0]
+    assert below > 3.0 * 1.96 * se                 # the profile widened the low side
+    assert fit.std_error_source("alpha1") == "profile likelihood interval"
+    assert fit.carried_std_error("alpha1") > 3.0 * fit.std_error("alpha1")
+    for d in (-below, above):
+        assert profile_drop(th + d) >= 0.8 * target, d
+    assert profile_drop(th - 1.96 * se) < 0.5 * target      # power: the curvature alone

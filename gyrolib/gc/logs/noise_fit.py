@@ -100,8 +100,10 @@ class NoiseFit:
     start is not counted); ``outliers`` the measurements left out as outliers;
     ``intervals`` (n, 2) the 95 % likelihood-ratio interval of each (:func:`profile_intervals`;
     ``None`` until computed, an end ``inf`` or 0 where the likelihood does not fall by
-    χ²₁(95 %)/2 inside the plausible range).  The standard errors are NaN when the Hessian
-    at the end is not positive definite.
+    χ²₁(95 %)/2 inside the plausible range), ``level`` their confidence level.  The
+    standard errors are NaN when the Hessian at the end is not positive definite.  What the
+    fit carries (:attr:`carried_log_std`, :meth:`carried_std_error`) is the curvature's
+    standard error widened to the interval where the likelihood is not quadratic.
     """
 
     params: GyrocompassParams
@@ -117,6 +119,7 @@ class NoiseFit:
     n_evaluations: int
     outliers: int
     intervals: NDArray[np.float64] | None = None
+    level: float = 0.95
 
     def __post_init__(self) -> None:
         v.check_instance("params", self.params, GyrocompassParams)
@@ -141,6 +144,7 @@ class NoiseFit:
             arr = self.intervals
             if not isinstance(arr, np.ndarray) or arr.shape != (n, 2):
                 raise ValueError(f"intervals must be a float array of shape ({n}, 2)")
+        v.check_in_range("level", self.level, 0.0, 1.0, low_open=True, high_open=True)
 
     def interval(self, name: str) -> tuple[float, float]:
         """The 95 % likelihood-ratio interval of ``name`` (SI; :func:`profile_intervals`),
@@ -163,6 +167,49 @@ class NoiseFit:
     def std_error(self, name: str) -> float:
         """Its standard error (SI), from the curvature of ``ln L`` at the optimum."""
         return float(self.std_errors[self._index(name)])
+
+    @property
+    def carried_log_std(self) -> NDArray[np.float64]:
+        """(n, 2): the standard deviation of ``ln θ`` below and above ``θ̂`` that the fit
+        carries (into σ(ω_gc) by :func:`fit_uncertainty`, and as the reported standard
+        error): the curvature's ``SE(ln θ)``, widened on each side to the half-width of the
+        likelihood-ratio interval (:attr:`intervals`, :func:`profile_intervals`) over its
+        normal quantile (1.96 at 95 %) where that is wider.  The likelihood of ``α1``,
+        ``σ1²`` is not quadratic at the scale of one standard error: on 20 s with α1 × 5 its
+        interval reaches 8 curvature SE below ``α̂1`` (tests/test_gc_noisefit.py).  An end
+        the likelihood does not reach (0 or ``inf``) counts at the search's limit (the
+        plausible range ×/÷ 10).  Without intervals, or where the curvature is wider (it
+        overstates a side), the curvature's on that side.  NaN without curvature.
+        """
+        se = self.relative_std_errors
+        out = np.column_stack([se, se])
+        if self.intervals is None:
+            return out
+        from gyrolib.filtering.consistency import chi2_ppf
+
+        z = math.sqrt(float(chi2_ppf(self.level, 1)))
+        theta = np.log(self.values)
+        for i in range(len(self.names)):
+            lo_lim, hi_lim = _search_limits(self, i)
+            lo, hi = self.intervals[i]
+            below = theta[i] - (math.log(lo) if lo > 0 else lo_lim)
+            above = (math.log(hi) if math.isfinite(hi) else hi_lim) - theta[i]
+            out[i] = np.fmax(out[i], np.array([below, above]) / z)
+        return out
+
+    def carried_std_error(self, name: str) -> float:
+        """The standard error of ``name`` (SI) the fit reports and carries: ``θ̂`` times the
+        larger side of :attr:`carried_log_std` (the curvature's where no interval is
+        wider)."""
+        i = self._index(name)
+        return float(self.values[i] * np.max(self.carried_log_std[i]))
+
+    def std_error_source(self, name: str) -> str:
+        """Where :meth:`carried_std_error` comes from: ``"profile likelihood interval"``
+        where the interval is wider than the curvature's, else ``"curvature"``."""
+        i = self._index(name)
+        wider = np.max(self.carried_log_std[i]) > self.relative_std_errors[i] * (1 + 1e-12)
+        return "profile likelihood interval" if wider else "curvature"
 
     @property
     def relative_std_errors(self) -> NDArray[np.float64]:
@@ -236,7 +283,11 @@ class NoiseFit:
         """The fit as a JSON-ready dict (SI)."""
         return {
             "fitted": {nm: {"value": float(self.values[i]),
-                            "std_error": float(self.std_errors[i]),
+                            "std_error": self.carried_std_error(nm),
+                            "std_error_from": self.std_error_source(nm),
+                            "std_error_curvature": float(self.std_errors[i]),
+                            "log_std_below_above": [float(x)
+                                                    for x in self.carried_log_std[i]],
                             "interval": [_finite_or_none(x) for x in self.interval(nm)]}
                        for i, nm in enumerate(self.names)},
             "loglik": self.loglik, "loglik_start": self.loglik_start,
@@ -254,9 +305,9 @@ class NoiseFit:
         lines = ["# paper GC model with noise parameters fitted from a record "
                  "(gyrolib.gc.fit_noise:",
                  "# maximum of the innovations log-likelihood; standard errors from its "
-                 "curvature, 95 % intervals",
-                 "# from the likelihood ratio); SI units; no dt or site rates (each record "
-                 "gives its own)",
+                 "curvature, widened to",
+                 "# the 95 % likelihood-ratio interval where that is wider); SI units; no dt "
+                 "or site rates (each record gives its own)",
                  f"# log-likelihood {self.loglik:.6f} (start {self.loglik_start:.6f}); "
                  f"converged: {str(self.converged).lower()}", ""]
         for i, nm in enumerate(self.names):
@@ -264,8 +315,9 @@ class NoiseFit:
             for field in _fields_of(nm):
                 fitted.add(field)
                 lines.append(f"{field} = {_toml_value(getattr(self.params, field))}   "
-                             f"# fitted: +- {self.std_errors[i]:.3g} (standard error), "
-                             f"interval [{lo:.4g}, {hi:.4g}]")
+                             f"# fitted: +- {self.carried_std_error(nm):.3g} (standard "
+                             f"error, from the {self.std_error_source(nm)}; curvature "
+                             f"{self.std_errors[i]:.3g}), interval [{lo:.4g}, {hi:.4g}]")
         default = GyrocompassParams()
         rest = [f.name for f in dataclasses.fields(self.params)
                 if f.name not in fitted and f.name not in _RECORD_FIELDS
@@ -456,7 +508,6 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     >>> bool(lo < 4e-13 < hi), bool(lo < fit.value("C_as") < hi)
     (True, True)
     """
-    from gyrolib import inputs
     from gyrolib.filtering.consistency import chi2_ppf
 
     v.check_instance("record", record, GCRecord)
@@ -474,11 +525,7 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
         finite = bool(np.all(np.isfinite(C))) and C[i, i] > 0
         u = C[:, i] / C[i, i] if finite else np.eye(n)[i]
         s = math.sqrt(C[i, i]) if finite else 0.5
-        row = inputs.row(FIT_ROWS[nm])
-        lo_b, hi_b = row.bounds(float(np.mean([getattr(fit.start, f)
-                                               for f in _fields_of(nm)]))
-                                if row.relative else None)
-        limits = (math.log(max(lo_b, 1e-300)) - math.log(10.0), math.log(hi_b) + math.log(10.0))
+        limits = _search_limits(fit, i)
         for side, j in ((-1.0, 0), (1.0, 1)):
             room = (theta[i] - limits[0]) if side < 0 else (limits[1] - theta[i])
             d = min(math.sqrt(2.0 * target) * s, room)
@@ -507,7 +554,19 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
                 out[i, j] = 0.0 if side < 0 else math.inf
             else:
                 out[i, j] = math.exp(theta[i] + side * end)
-    return dataclasses.replace(fit, intervals=out)
+    return dataclasses.replace(fit, intervals=out, level=level)
+
+
+def _search_limits(fit: NoiseFit, i: int) -> tuple[float, float]:
+    """The ``ln θ`` range :func:`profile_intervals` searches for parameter ``i``: its row's
+    plausible range (:mod:`gyrolib.inputs`) ×/÷ 10."""
+    from gyrolib import inputs
+
+    nm = fit.names[i]
+    row = inputs.row(FIT_ROWS[nm])
+    lo_b, hi_b = row.bounds(float(np.mean([getattr(fit.start, f) for f in _fields_of(nm)]))
+                            if row.relative else None)
+    return (math.log(max(lo_b, 1e-300)) - math.log(10.0), math.log(hi_b) + math.log(10.0))
 
 
 def _toml_value(x: object) -> str:
@@ -570,7 +629,10 @@ def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
 def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed: int = 0,
                     **calibrate_options: object) -> float:
     """σ(ω_gc) (rad/s) with the fitted noise parameters' own uncertainty: ``samples`` draws
-    of their logarithms from ``N(ln θ̂, C)`` (:attr:`NoiseFit.cov_log`), a calibration
+    of their logarithms from ``N(ln θ̂, C)`` (:attr:`NoiseFit.cov_log`), each side of each
+    parameter stretched to what the record supports (:attr:`NoiseFit.carried_log_std`: the
+    likelihood-ratio interval where the curvature understates it; a split normal), a
+    calibration
     (:func:`gyrolib.gc.calibrate`, ``calibrate_options``) with each, and the law of total
     variance, ``√(mean_k σ_k² + var_k ω̂_k)``: the filter's σ at θ̂ treats the fitted values
     as exact, and it shrinks where the fit overestimates the vibration's bandwidth
@@ -609,10 +671,16 @@ def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed:
     # a symmetric square root (C may be singular: a parameter held exactly)
     w, U = np.linalg.eigh(0.5 * (C + C.T))
     root = U * np.sqrt(np.clip(w, 0.0, None))
+    # each side of each parameter widened to what the record supports (carried_log_std:
+    # the likelihood-ratio interval where the curvature understates it)
+    se = np.sqrt(np.clip(np.diag(C), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        widen = np.where(se > 0, fit.carried_log_std / se[:, None], 1.0)
     rng = np.random.default_rng(seed)
     est, var = [], []
     for _ in range(samples):
-        th = theta + root @ rng.standard_normal(theta.size)
+        d = root @ rng.standard_normal(theta.size)
+        th = theta + d * np.where(d < 0, widen[:, 0], widen[:, 1])
         res = calibrate(record, _with(fit.params, fit.names, th), **calibrate_options)
         est.append(res.omega_gc)
         var.append(res.omega_gc_std ** 2)
