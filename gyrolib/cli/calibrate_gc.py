@@ -357,7 +357,7 @@ def run_file(file: str, o: dict) -> Outcome:
         if why:
             valid, reason = False, "; ".join(x for x in (reason, f"noise fit: {why}") if x)
         else:
-            total = gc.fit_uncertainty(record, fit, gate=o["gate"],
+            total = gc.fit_uncertainty(record, fit, at_fit=res, gate=o["gate"],
                                        max_rejected=o["max_rejected"],
                                        false_alarm=o["false_alarm"])
             fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))

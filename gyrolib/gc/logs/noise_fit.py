@@ -84,6 +84,11 @@ _STEP: Final[float] = 1e-3
 #: Rounds of (fit, find the outliers under the fit) at most.
 _MAX_ROUNDS: Final[int] = 3
 
+#: A likelihood-ratio interval's half-width replaces the curvature's standard error (times
+#: the normal quantile) when it is wider by more than this factor (its search's precision).
+_WIDER: Final[float] = 1.05
+
+
 
 # Result ---------------------------------------------------------------------------------
 @compact_repr
@@ -174,7 +179,8 @@ class NoiseFit:
         carries (into σ(ω_gc) by :func:`fit_uncertainty`, and as the reported standard
         error): the curvature's ``SE(ln θ)``, widened on each side to the half-width of the
         likelihood-ratio interval (:attr:`intervals`, :func:`profile_intervals`) over its
-        normal quantile (1.96 at 95 %) where that is wider.  The likelihood of ``α1``,
+        normal quantile (1.96 at 95 %) where that is wider by more than 5 % (the interval's
+        search stops within 2 % of its ends: a smaller excess is its rounding).  The likelihood of ``α1``,
         ``σ1²`` is not quadratic at the scale of one standard error: on 20 s with α1 × 5 its
         interval reaches 8 curvature SE below ``α̂1`` (tests/test_gc_noisefit.py).  An end
         the likelihood does not reach (0 or ``inf``) counts at the search's limit (the
@@ -194,7 +200,9 @@ class NoiseFit:
             lo, hi = self.intervals[i]
             below = theta[i] - (math.log(lo) if lo > 0 else lo_lim)
             above = (math.log(hi) if math.isfinite(hi) else hi_lim) - theta[i]
-            out[i] = np.fmax(out[i], np.array([below, above]) / z)
+            half = np.array([below, above]) / z
+            # wider beyond the search's own precision (it stops within 2 % of an end)
+            out[i] = np.where(half > _WIDER * out[i], half, out[i])
         return out
 
     def carried_std_error(self, name: str) -> float:
@@ -208,7 +216,7 @@ class NoiseFit:
         """Where :meth:`carried_std_error` comes from: ``"profile likelihood interval"``
         where the interval is wider than the curvature's, else ``"curvature"``."""
         i = self._index(name)
-        wider = np.max(self.carried_log_std[i]) > self.relative_std_errors[i] * (1 + 1e-12)
+        wider = np.max(self.carried_log_std[i]) > self.relative_std_errors[i]
         return "profile likelihood interval" if wider else "curvature"
 
     @property
@@ -517,7 +525,7 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     names = fit.names
     theta = _log_values(fit.params, names)
     target = 0.5 * float(chi2_ppf(level, 1))
-    ll0 = innovation_log_likelihood(record, fit.params)
+    ll0 = _loglik_at_fit(record, fit)
     C = fit.cov_log
     n = len(names)
     out = np.full((n, 2), np.nan)
@@ -600,6 +608,15 @@ def _check_names(fit: object) -> tuple[str, ...]:
     return names
 
 
+def _loglik_at_fit(record: GCRecord, fit: NoiseFit) -> float:
+    """``ln L`` of ``record`` at the fitted model: the fit's own maximum when it left no
+    outlier out (the same measurements; it differs only by the rounding of the
+    log-parameters' round trip, ~1e-12 relative), else one more run over the record."""
+    if fit.outliers == 0:
+        return float(fit.loglik)
+    return innovation_log_likelihood(record, fit.params)
+
+
 def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
                     ) -> GyrocompassParams | None:
     """A vibration correlated over the whole record, ``α1 = 1/(ξ1 · duration)`` with ``σ1²``
@@ -611,7 +628,7 @@ def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
     slow = 1.0 / (p.xi1 * duration)
     if "alpha1" not in fit.names or slow >= p.alpha1:
         return None
-    ll_fit = innovation_log_likelihood(record, p)
+    ll_fit = _loglik_at_fit(record, fit)
 
     def neg(log_s1: float) -> float:
         q = dataclasses.replace(p, alpha1=slow, sigma1_sq=math.exp(log_s1))
@@ -627,7 +644,7 @@ def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
 
 
 def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed: int = 0,
-                    **calibrate_options: object) -> float:
+                    at_fit: object | None = None, **calibrate_options: object) -> float:
     """σ(ω_gc) (rad/s) with the fitted noise parameters' own uncertainty: ``samples`` draws
     of their logarithms from ``N(ln θ̂, C)`` (:attr:`NoiseFit.cov_log`), each side of each
     parameter stretched to what the record supports (:attr:`NoiseFit.carried_log_std`: the
@@ -641,7 +658,9 @@ def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed:
     (``α1 = 1/(ξ1 T)``, ``σ1²`` refitted) that the likelihood cannot reject (likelihood
     ratio below χ²₁'s 95 % point) enters as an alternative model: the variance becomes the
     larger of the two models' plus the square of the difference of their estimates.
-    Seeded: the same ``seed`` gives the same value.
+    Seeded: the same ``seed`` gives the same value.  ``at_fit``: the caller's
+    :func:`gyrolib.gc.calibrate` of ``record`` with ``fit.params`` and the same
+    ``calibrate_options`` (its ``omega_gc`` and ``omega_gc_std`` are used; saves a run).
 
     Examples
     --------
@@ -675,7 +694,7 @@ def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed:
     # the likelihood-ratio interval where the curvature understates it)
     se = np.sqrt(np.clip(np.diag(C), 0.0, None))
     with np.errstate(invalid="ignore", divide="ignore"):
-        widen = np.where(se > 0, fit.carried_log_std / se[:, None], 1.0)
+        widen = np.where(se[:, None] > 0, fit.carried_log_std / se[:, None], 1.0)
     rng = np.random.default_rng(seed)
     est, var = [], []
     for _ in range(samples):
@@ -688,7 +707,8 @@ def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed:
     if record.n > 1:
         slow = _slow_vibration(fit, record, float(record.t[-1] - record.t[0]))
         if slow is not None:
-            at_fit = calibrate(record, fit.params, **calibrate_options)
+            if at_fit is None:
+                at_fit = calibrate(record, fit.params, **calibrate_options)
             alt = calibrate(record, slow, **calibrate_options)
             total = max(total, alt.omega_gc_std ** 2) + (at_fit.omega_gc - alt.omega_gc) ** 2
     return float(math.sqrt(total))
