@@ -73,7 +73,7 @@ def fit_case(seed: int, t_end: float = 100.0, fit: tuple[str, ...] = (
         value = truth.C_incl_y if nm == "C_in" else getattr(truth, nm)
         out["covered"][nm] = bool(lo <= value <= hi)
     res = gc.calibrate(sim.record, f.params)
-    total = gc.fit_uncertainty(sim.record, f)
+    total = gc.fit_uncertainty(sim.record, f, at_fit=res)
     out["z"] = (res.omega_gc - float(sim.truth[-1, 3])) / total
     out["valid"] = bool(res.valid)
     return out

@@ -46,7 +46,6 @@ ALLOWED: dict[str, str] = {
     "gc/logs/calibration.py: time_tolerance": "a time stamp's rounding tolerance",
     "gc/logs/calibration.py: EARTH_RATE_TOLERANCE": "a consistency check's tolerance",
     "gc/logs/calibration.py: nis_range": "the NIS band's plotting limits",
-    "gc/logs/noise_fit.py: model_tolerance": "the fit's numerical model tolerance",
     "gc/logs/noise_fit.py: level": "a confidence level",
     "gc/logs/noise_fit.py: _RETRY_FACTORS": "an optimizer's restarts, no input's range",
     "gc/racing/rate_sensor.py: t_max": "the rival's search horizon (s), no claim's bound",

@@ -584,6 +584,11 @@ case("gc.NoiseFit.value", lambda: _nfit().value("alpha1"), ValueError, "name",
      "fitted names")
 case("gc.NoiseFit.std_error", lambda: _nfit().std_error(3), ValueError, "name",
      "fitted names")
+case("gc.NoiseFit.carried_std_error", lambda: _nfit().carried_std_error("alpha1"), ValueError,
+     "name", "fitted")
+case("gc.NoiseFit.std_error_source", lambda: _nfit().std_error_source(None), ValueError, "name",
+     "fitted")
+case("gc.NoiseFit", lambda: replace(_nfit(), level=1.5), ValueError, "level")
 case("gc.NominalIntegrator", lambda: gc.NominalIntegrator(None), TypeError, "params",
      "GyrocompassParams")
 case("gc.NominalIntegrator.advance", lambda: gc.NominalIntegrator(P).advance(-1),

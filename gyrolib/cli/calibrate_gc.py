@@ -357,7 +357,7 @@ def run_file(file: str, o: dict) -> Outcome:
         if why:
             valid, reason = False, "; ".join(x for x in (reason, f"noise fit: {why}") if x)
         else:
-            total = gc.fit_uncertainty(record, fit, gate=o["gate"],
+            total = gc.fit_uncertainty(record, fit, at_fit=res, gate=o["gate"],
                                        max_rejected=o["max_rejected"],
                                        false_alarm=o["false_alarm"])
             fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))
@@ -594,11 +594,13 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
         f"  inclinometers (--inclinometers {mapping}): {mapping.describe()}",
     ] + ([_earth_line(earth)] if earth is not None else [])
     if fit is not None:
-        parts = [f"{n} = {fmt(fit.value(n))} ± {fmt(fit.std_error(n), 2)} "
+        parts = [f"{n} = {fmt(fit.value(n))} ± {fmt(fit.carried_std_error(n), 2)}"
+                 + (" (profile)" if fit.std_error_source(n).startswith("profile") else "")
+                 + " "
                  f"[{fmt(fit.interval(n)[0], 3)}, {fmt(fit.interval(n)[1], 3)}]"
                  + (f" {FIT_UNITS[n]}" if FIT_UNITS.get(n) else "") for n in fit.names]
-        lines.append("  noise fitted (maximum likelihood, ± standard error [95 % "
-                     "likelihood-ratio interval]): " + ", ".join(parts))
+        lines.append("  noise fitted (maximum likelihood, ± standard error (profile: widened "
+                     "to the interval) [95 % likelihood-ratio interval]): " + ", ".join(parts))
         lines.append(f"  log-likelihood {fit.loglik:.6g} (start {fit.loglik_start:.6g}), "
                      f"{fit.n_evaluations} evaluations, "
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")
