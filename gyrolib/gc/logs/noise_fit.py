@@ -180,8 +180,8 @@ class NoiseFit:
         error): the curvature's ``SE(ln θ)``, widened on each side to the half-width of the
         likelihood-ratio interval (:attr:`intervals`, :func:`profile_intervals`) over its
         normal quantile (1.96 at 95 %) where that is wider by more than 5 % (the interval's
-        search stops within 2 % of its ends: a smaller excess is its rounding).  The likelihood of ``α1``,
-        ``σ1²`` is not quadratic at the scale of one standard error: on 20 s with α1 × 5 its
+        search stops within 2 % of its ends: a smaller excess is its rounding).  The
+        likelihood of ``α1``, ``σ1²`` is not quadratic at the scale of one standard error: on 20 s with α1 × 5 its
         interval reaches 8 curvature SE below ``α̂1`` (tests/test_gc_noisefit.py).  An end
         the likelihood does not reach (0 or ``inf``) counts at the search's limit (the
         plausible range ×/÷ 10).  Without intervals, or where the curvature is wider (it
@@ -535,7 +535,7 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     out = np.full((n, 2), np.nan)
     sd = np.sqrt(np.abs(np.diag(C))) if np.all(np.isfinite(C)) else None
     seen: list[tuple[np.ndarray, float]] = []      # (θ − θ̂, ln L̂ − ln L) evaluated
-    for i, nm in enumerate(names):
+    for i in range(len(names)):
         finite = bool(np.all(np.isfinite(C))) and C[i, i] > 0
         u = C[:, i] / C[i, i] if finite else np.eye(n)[i]
         s = math.sqrt(C[i, i]) if finite else 0.5
