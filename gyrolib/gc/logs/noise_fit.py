@@ -184,8 +184,9 @@ class NoiseFit:
         likelihood of ``α1``, ``σ1²`` is not quadratic at the scale of one standard error:
         on 20 s with α1 × 5 its interval reaches 8 curvature SE below ``α̂1``
         (tests/test_gc_noisefit.py).  An end the likelihood does not reach (0 or ``inf``)
-        counts at the search's limit (the plausible range ×/÷ 10).  Without intervals, or where the curvature is wider (it
-        overstates a side), the curvature's on that side.  NaN without curvature.
+        counts at the search's limit (the plausible range ×/÷ 10).  Without intervals, or
+        where the curvature is wider (it overstates a side), the curvature's on that side.
+        NaN without curvature.
         """
         se = self.relative_std_errors
         out = np.column_stack([se, se])
