@@ -34,11 +34,22 @@ from pathlib import Path
 STAMP = "gyrolib.sha256"
 
 
+def _bytecode(path: Path) -> bool:
+    """Python's compiled cache (``__pycache__``, ``.pyc``): written by whatever imports a
+    script of ``data/`` (a test of ``data/make_records.py`` does, while the test session
+    builds the book), never read by a chapter.  Counted, it changed the fingerprint between
+    the session's two builds, and the HTML build executed every chapter again (263 CPU-s;
+    issue 36's timeline found it)."""
+    return "__pycache__" in path.parts or path.suffix in (".pyc", ".pyo")
+
+
 def library_fingerprint(root: Path) -> str:
-    """SHA-256 over the library sources and the pinned requirements, in a fixed order."""
+    """SHA-256 over the library sources, the committed data the chapters read and the pinned
+    requirements, in a fixed order (Python's bytecode caches left out)."""
     h = hashlib.sha256()
     files = sorted((root / "gyrolib").rglob("*.py"))
-    files += sorted(p for p in (root / "data").rglob("*") if p.is_file())  # read by chapters
+    files += sorted(p for p in (root / "data").rglob("*")   # read by chapters
+                    if p.is_file() and not _bytecode(p.relative_to(root)))
     files += [root / "requirements.txt"]
     for path in files:
         if path.is_file():

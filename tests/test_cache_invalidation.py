@@ -71,6 +71,26 @@ def test_new_module_changes_fingerprint(tmp_path):
     assert ext.library_fingerprint(root) != before
 
 
+def test_bytecode_of_a_data_script_leaves_the_fingerprint(tmp_path):
+    """Importing a script of data/ (as tests/test_data_records.py does while the test session
+    builds the book) writes data/__pycache__: the cache must survive it, or the session's
+    second build executes every chapter again.  Power: a changed data file does change it."""
+    ext = _load_extension()
+    root = _project(tmp_path)
+    (root / "data").mkdir()
+    (root / "data" / "make_records.py").write_text("X = 1\n")
+    (root / "data" / "record.csv").write_text("t,x\n0,1\n")
+    before = ext.library_fingerprint(root)
+    spec = importlib.util.spec_from_file_location("make_records",
+                                                  root / "data" / "make_records.py")
+    spec.loader.exec_module(importlib.util.module_from_spec(spec))
+    (root / "data" / "__pycache__").mkdir(exist_ok=True)
+    (root / "data" / "__pycache__" / "make_records.cpython-311.pyc").write_bytes(b"\0" * 16)
+    assert ext.library_fingerprint(root) == before
+    (root / "data" / "record.csv").write_text("t,x\n0,2\n")
+    assert ext.library_fingerprint(root) != before
+
+
 def test_book_config_wires_the_extension_and_loud_failures():
     import yaml
 
