@@ -237,9 +237,15 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
     for name, made in (("alpha1", truth["alpha1"]), ("sigma1_sq", P.sigma1_sq)):
         assert abs(fitted[name]["value"] - made) <= 2.0 * fitted[name]["std_error"], name
     assert abs(d["omega_gc"] - truth["omega_gc_rad_s"]) <= 3.0 * d["omega_gc_std"]
-    for name in fitted:       # each value inside its 95 % interval (issue 34)
+    for name in fitted:       # each value inside its 95 % interval (issue 34); an end the
+        # likelihood does not reach within the search is null (here σ1²'s upper one: with α1
+        # near 0 the record does not bound the vibration's variance) and the standard error
+        # carried is then the interval's, not the curvature's
         lo, hi = fitted[name]["interval"]
-        assert lo < fitted[name]["value"] < hi, name
+        assert (0.0 if lo is None else lo) < fitted[name]["value"] < (
+            math.inf if hi is None else hi), name
+        if lo is None or hi is None:
+            assert fitted[name]["std_error_from"].startswith("profile"), name
     # the TOML holds nothing of the record (no dt, no Omega_h, Omega_v: issue 34): the
     # latitude comes with the record or the option, as for any record
     text = toml.read_text()
