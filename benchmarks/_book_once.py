@@ -14,18 +14,14 @@ from __future__ import annotations
 
 import json
 import os
-import resource
 import sys
 import time
 from pathlib import Path
 
+from _results import children_cpu
+
 ROOT = Path(__file__).resolve().parents[1]
 LOG_NAME = "figure_cpu.jsonl"
-
-
-def children_cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
 
 
 def build(folder: Path) -> dict:

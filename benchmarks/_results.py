@@ -25,6 +25,7 @@ import datetime as dt
 import json
 import os
 import platform
+import resource
 import subprocess
 from functools import cache
 from pathlib import Path
@@ -35,6 +36,19 @@ FIELDS = ("case", "ours_s", "peer", "peer_s", "ratio", "target_s", "note")
 
 #: What a results file written before the CPU class was recorded says in its place.
 UNKNOWN = "class unknown"
+
+
+def children_cpu() -> float:
+    """CPU seconds (user + system) of every child process waited for so far, and of theirs
+    (``RUSAGE_CHILDREN``: a process still running, or never reaped, is not in it)."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def own_cpu() -> float:
+    """CPU seconds (user + system) of this process."""
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
 
 
 def cpu_class(flags: set[str]) -> str:

@@ -31,7 +31,6 @@ from __future__ import annotations
 import argparse
 import os
 import re
-import resource
 import shutil
 import subprocess
 import sys
@@ -41,7 +40,7 @@ import time
 from pathlib import Path
 
 import psutil
-from _results import Recorder
+from _results import Recorder, children_cpu
 
 SOURCE = Path(__file__).resolve().parents[1]
 ROOT = SOURCE  # the copy being built (set in main)
@@ -72,16 +71,11 @@ def _tree_memory(proc: psutil.Process) -> tuple[int, int]:
 LAST_CPU = [0.0]
 
 
-def _children_cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
-
-
 def build(builder: str = "html", **extra_env: str) -> tuple[float, tuple[int, int], str]:
     """Run one build; return (seconds, peak (RSS, PSS) of the process tree in bytes, log)
     (its CPU seconds in :data:`LAST_CPU`)."""
     env = dict(os.environ, MPLBACKEND="Agg", **extra_env)
-    cpu0 = _children_cpu()
+    cpu0 = children_cpu()
     t0 = time.perf_counter()
     popen = subprocess.Popen(cmd(builder), cwd=ROOT, env=env, stdout=subprocess.PIPE,
                              stderr=subprocess.STDOUT, text=True)
@@ -102,7 +96,7 @@ def build(builder: str = "html", **extra_env: str) -> tuple[float, tuple[int, in
     thread.start()
     log, _ = popen.communicate()
     elapsed = time.perf_counter() - t0
-    LAST_CPU[0] = _children_cpu() - cpu0
+    LAST_CPU[0] = children_cpu() - cpu0
     stop.set()
     thread.join()
     if popen.returncode != 0:

@@ -58,7 +58,6 @@ import argparse
 import heapq
 import json
 import os
-import resource
 import statistics
 import subprocess
 import sys
@@ -66,7 +65,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _results import Recorder, load, machine_label
+from _results import Recorder, children_cpu, load, machine_label
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = Path(__file__).resolve().parent
@@ -100,11 +99,6 @@ ISSUES: dict[int, dict] = {
 }
 
 
-def child_cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
-
-
 def clean_env(tree: Path) -> dict[str, str]:
     """The environment of a run in ``tree``: no ``GYROLIB_*`` of the caller's but the
     ledger's memo of that tree (:func:`ledger_memo`), the plugin found on ``PYTHONPATH``."""
@@ -127,10 +121,10 @@ def ledger_memo(tree: Path, folder: Path) -> float:
     the CPU-s it took (reported, not counted in any test)."""
     folder.mkdir(parents=True, exist_ok=True)
     MEMOS[tree] = folder
-    cpu0 = child_cpu()
+    cpu0 = children_cpu()
     subprocess.run([str(PY), "-c", "from gyrolib.book import ledger; ledger.collect()"],
                    cwd=tree, env=clean_env(tree), check=True)
-    return child_cpu() - cpu0
+    return children_cpu() - cpu0
 
 
 def pytest_run(tree: Path, args: list[str], book: Path | None) -> dict:
@@ -144,7 +138,7 @@ def pytest_run(tree: Path, args: list[str], book: Path | None) -> dict:
     env["GYROLIB_CPU_PER_TEST"] = str(per_test)
     cmd = [str(PY), "-m", "pytest", *args, "-q", "-n", "0", "-p", "no:cacheprovider",
            "-p", "_cpu_per_test"]
-    cpu0, t0 = child_cpu(), time.perf_counter()
+    cpu0, t0 = children_cpu(), time.perf_counter()
     with tempfile.TemporaryFile("w+") as out:
         child = subprocess.Popen(cmd, cwd=tree, env=env, stdout=out, stderr=subprocess.STDOUT,
                                  text=True)
@@ -152,7 +146,7 @@ def pytest_run(tree: Path, args: list[str], book: Path | None) -> dict:
         out.seek(0)
         stdout = out.read()
     proc = subprocess.CompletedProcess(cmd, child.returncode, stdout, "")
-    wall, reaped = time.perf_counter() - t0, child_cpu() - cpu0
+    wall, reaped = time.perf_counter() - t0, children_cpu() - cpu0
     # the larger of the two: Chromium's renderers are not all reaped inside the tree
     # (RUSAGE_CHILDREN misses their CPU), a process shorter than a sampling period is missed
     # by the sampling (RUSAGE_CHILDREN has it)

@@ -19,27 +19,16 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-from _results import Recorder
+from _results import Recorder, children_cpu, own_cpu
 
 ROOT = Path(__file__).resolve().parents[1]
 CHAPTERS = ROOT / "chapters"
-
-
-def _children_cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
-
-
-def _own_cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_SELF)
-    return r.ru_utime + r.ru_stime
 
 
 def run_one(name: str) -> None:
@@ -62,7 +51,7 @@ def run_one(name: str) -> None:
         # line magics (%matplotlib inline) need a kernel; the backend is set above
         source = "\n".join(line for line in cell.source.splitlines()
                            if not line.lstrip().startswith("%"))
-        c0, w0 = _own_cpu() + _children_cpu(), time.perf_counter()
+        c0, w0 = own_cpu() + children_cpu(), time.perf_counter()
         with redirect_stdout(io.StringIO()):
             result = shell.run_cell(source, store_history=False)
         if not result.success:
@@ -72,7 +61,7 @@ def run_one(name: str) -> None:
                       if line.strip() and not line.lstrip().startswith(("#", "%", ":"))), "")
         # backticks and stars would read as markup on the Performance page
         first = first[:80].replace("`", "'").replace("*", "×")
-        cells.append({"cell": i, "cpu_s": _own_cpu() + _children_cpu() - c0,
+        cells.append({"cell": i, "cpu_s": own_cpu() + children_cpu() - c0,
                       "wall_s": time.perf_counter() - w0, "first_line": first})
     print(json.dumps({"cells": cells}))
 
@@ -92,19 +81,19 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="gyrolib-bench-chapters-") as memo:
         env = dict(os.environ, MPLBACKEND="Agg", GYROLIB_LEDGER_MEMO=memo)
         env.setdefault("OPENBLAS_NUM_THREADS", "1")
-        c0, w0 = _children_cpu(), time.perf_counter()
+        c0, w0 = children_cpu(), time.perf_counter()
         subprocess.run([sys.executable, "-c", "from gyrolib.book import ledger; "
                         "ledger.collect()"], env=env, check=True, cwd=ROOT)
         rec.case("ledger.collect(), once per build (the chapters read its memo)",
-                 _children_cpu() - c0,
+                 children_cpu() - c0,
                  note=f"CPU-s of the whole process (imports included); wall "
                       f"{time.perf_counter() - w0:.1f} s")
         total = 0.0
         for name in names:
-            c0, w0 = _children_cpu(), time.perf_counter()
+            c0, w0 = children_cpu(), time.perf_counter()
             out = subprocess.run([sys.executable, __file__, "--one", name], env=env,
                                  capture_output=True, text=True, cwd=ROOT)
-            cpu, wall = _children_cpu() - c0, time.perf_counter() - w0
+            cpu, wall = children_cpu() - c0, time.perf_counter() - w0
             if out.returncode != 0:
                 sys.exit(f"{name} failed:\n{out.stderr[-2000:]}")
             cells = json.loads(out.stdout.strip().splitlines()[-1])["cells"]

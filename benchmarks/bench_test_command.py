@@ -36,7 +36,6 @@ import argparse
 import json
 import os
 import re
-import resource
 import shutil
 import subprocess
 import sys
@@ -44,7 +43,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from _results import Recorder, load, machine, machine_label
+from _results import Recorder, children_cpu, load, machine, machine_label
 
 SOURCE = Path(__file__).resolve().parents[1]
 
@@ -56,12 +55,6 @@ QUIET_LOAD = 1.0
 
 #: The CPU seconds of the last :func:`timed` command, its processes' and theirs.
 LAST_CPU = [0.0]
-
-
-def children_cpu() -> float:
-    """CPU seconds of every child process waited for so far (and of theirs)."""
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
 
 
 def timed(cmd: list[str], cwd: Path, **extra_env: str) -> tuple[float, str]:
