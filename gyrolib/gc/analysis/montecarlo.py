@@ -380,7 +380,7 @@ def _truth_substeps(k, kk, tm, noise, x, u):
     """Advance the truth ``x`` (n×B; rows 0, 1 the deviation from the truth's nominal) over
     the fine steps of sample interval ``k``: one pass over the lanes per fine step (SIMD),
     ``u`` (B) a scratch for the rare lanes far from the nominal."""
-    B = _RUN_BLOCK  # a constant: the lane loops unroll into whole SIMD registers
+    B = x.shape[1]  # the block's lanes (_RUN_BLOCK; 1 for simulate_truth's one run)
     M = tm.substeps
     lin_h = tm.linear == 1 or tm.linear == 2
     lin_v = tm.linear == 1 or tm.linear == 3
@@ -458,8 +458,7 @@ def _filter_and_store(k, kk, noise, tm, fm, x, xh, y, u, store_every, est, tru, 
                       run_filter):
     """The filter's step ``k`` on the truth's samples (``run_filter``), then, at a stored
     time, estimates and truth of the block's runs into ``est``, ``tru`` (from row ``run0``)."""
-    n = x.shape[0]
-    B = _RUN_BLOCK
+    n, B = x.shape   # the block's lanes (_RUN_BLOCK; 1 for simulate_truth's one run)
     n_runs = est.shape[0]
     m = fm.H.shape[0] // 2
     nw = 2 * tm.substeps
@@ -861,8 +860,9 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
     (per fine step the two shaping-filter noises, then the three sensor noises) chunk after
     chunk from its own generator, so both methods and any number of threads consume the
     same numbers.  ``kernel_normals``: drawn by :func:`_fill_stream_lanes` (numpy's numbers,
-    to the ziggurat tables' 1e-14), which keeps only the lanes that hold runs (the others
-    get zeros); else by numpy.
+    to the ziggurat tables' 1e-14), which keeps only the lanes that hold runs, and the
+    kernels advance only those (one lane for :func:`simulate_truth`'s one run, not 32);
+    else by numpy.
     """
     n_runs = X0.shape[0]
     B = _RUN_BLOCK
@@ -876,20 +876,22 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
     Xp[:n_runs] = X0
     rngs = None if rng is None else _block_rngs(rng, n_runs)
 
+    def lanes_of(b: int) -> int:
+        """The lanes block ``b`` advances: all ``B``, or with ``kernel_normals`` only those
+        that hold runs (the kernels take the lane count from ``x``)."""
+        return min(B, n_runs - b * B) if (rngs is not None and kernel_normals) else B
+
     def noise_chunks(b: int):
         if rngs is not None and kernel_normals:
-            kept = min(B, n_runs - b * B)
             state = rngs[b].bit_generator.state["state"]["state"].reshape(4, 1).copy()
-            kept_buf = np.empty((_CHUNK, width, kept))
-            noise = np.zeros((_CHUNK, width, B))   # the empty lanes' noise stays zero
+            kept_buf = np.empty((_CHUNK, width, lanes_of(b)))
         for k0 in range(0, n_steps, _CHUNK):
             steps = min(_CHUNK, n_steps - k0)
             if rngs is None:
                 yield k0, np.zeros((steps, width, B))
             elif kernel_normals:
                 _fill_stream_lanes(state, kept_buf[:steps], B, _ZKI, _ZWI, _ZFI)
-                noise[:steps, :, :kept] = kept_buf[:steps]
-                yield k0, noise[:steps]
+                yield k0, kept_buf[:steps]
             else:
                 yield k0, rngs[b].standard_normal((steps, width, B))
 
@@ -902,12 +904,12 @@ def _run_batch(tm: TruthModel, n_steps: int, X0: np.ndarray, rng: np.random.Gene
                              np.zeros((n_steps, 3, N)), np.zeros(n_steps))
 
         def task(b: int) -> None:
-            x = np.ascontiguousarray(Xp[b * B:(b + 1) * B].T)
+            x = np.ascontiguousarray(Xp[b * B:b * B + lanes_of(b)].T)
             x[0] -= tm.off_b[0]
             x[1] -= tm.off_bd[0]
             xh = np.zeros_like(x)
             y = np.zeros_like(x)
-            u = np.zeros(B)
+            u = np.zeros(x.shape[1])
             for k0, noise in noise_chunks(b):
                 _mc_block_kernel(k0, noise, tm, fm, x, xh, y, u, store_every, est, tru,
                                  b * B, run_filter)
