@@ -91,7 +91,8 @@ ISSUES: dict[int, dict] = {
                           "test_navigation_sidebar_collapses_and_returns_on_a_desk"],
                 "anchor": "test_search_finds_a_term"},
             "tests/test_lab.py": {
-                "added": ["test_the_pinned_lab_extensions_load"],
+                "added": ["test_the_pinned_lab_extensions_load",
+                          "test_the_lab_extension_check_flags_an_incompatible_extension"],
                 "changed": ["test_lab_requirements_are_exact_pins_compatible_with_the_book"]},
             "tests/test_ledger.py": {"changed": ["test_json_and_markdown_of_a_known_item"]},
         },
