@@ -223,20 +223,10 @@ def test_the_phone_rule_passes_a_readable_figure_and_fails_an_injected_6_px_lege
     assert len(text_problems(fig)) == 1
 
 
-def test_the_figures_drawn_without_data_read_on_a_phone():
-    """The figures drawn without data (the diagrams) are 5 in wide, read at both columns and
-    have no text that collides; the checks' power: the injected 6-px legend and the injected
-    overlaps of the tests around this one."""
-    from gyrolib import rsf
-    from gyrolib._page_figures import text_problems
-
-    figures = {"gc.plot_figure1": gc.plot_figure1(),
-               "rsf.plot_method_scheme": rsf.plot_method_scheme(),
-               "rsf.plot_gs_scheme": rsf.plot_gs_scheme()}
-    problems = {name: text_problems(fig) for name, fig in figures.items()}
-    assert not any(problems.values()), problems
-    for name, fig in figures.items():
-        assert fig.get_figwidth() <= 5.0 + 1e-9, name
+# The figures drawn without data (gc.plot_figure1, rsf.plot_method_scheme, rsf.plot_gs_scheme)
+# are checked where the book draws them: test_every_figure_of_the_book_reads_at_the_desk_and_
+# on_a_phone reads each one's measurement (both columns, collisions, and its width) from its
+# PNG, as every other figure's; drawing them again here repeated the build's measurement.
 
 
 # ------------------------------------------------------------------------- text that collides
@@ -300,6 +290,8 @@ def test_the_collision_check_finds_injected_overlaps_and_passes_a_clean_figure()
 # pixels and dpi) and the size the page declares for it, not by the code under test.
 
 PHONE_COLUMN_PX = 342.0
+#: Issue 35, item 3: every figure at most 5 in wide (one image for phone, desk and PDF).
+MAX_WIDTH_IN = 5.0
 
 
 def _png_of(src: str, page: Path) -> bytes | None:
@@ -377,6 +369,8 @@ def _measure_page(name: str, path: Path, html: str) -> tuple[int, int, list[str]
         measured += 1
         rec = json.loads(record)
         problems += [f"{where}: {p}" for p in rec["problems"]]
+        if rec["width_in"] > MAX_WIDTH_IN + 1e-9:
+            problems.append(f"{where}: {rec['width_in']:g} in wide (> {MAX_WIDTH_IN:g} in)")
         if not rec["texts"]:
             problems.append(f"{where}: no text measured")
             continue
@@ -409,12 +403,16 @@ def _glue_figures_in_the_chapters() -> int:
 def _six_px_legend_png() -> str:
     """A 5-in figure, readable but for a legend of 6 px at the phone's column, as the book
     writes its figures (:func:`gyrolib.book.report.page_png`)."""
-    from gyrolib.book.report import page_png
-
     fig = _readable_figure()
     fig.axes[0].legend(fontsize=6.0 / (96.0 / 72.0 * PHONE_COLUMN_PX / 480.0))
+    return _img_tag(fig, "injected")
+
+
+def _img_tag(fig, alt: str) -> str:
+    from gyrolib.book.report import page_png
+
     data, meta = page_png(fig, bbox_inches="tight")
-    return (f'<img alt="injected" src="data:image/png;base64,{data}" '
+    return (f'<img alt="{alt}" src="data:image/png;base64,{data}" '
             f'width="{meta["width"]}" height="{meta["height"]}">')
 
 
@@ -427,8 +425,9 @@ def test_every_figure_of_the_book_reads_at_the_desk_and_on_a_phone():
 
 
 def test_the_book_check_fails_on_an_injected_6_px_legend_and_an_unmeasured_figure():
-    """Power: one built page with a figure whose legend shows at 6 px on a phone, and one with
-    a figure saved without its measurement: each is found, and nothing else."""
+    """Power: one built page with a figure whose legend shows at 6 px on a phone, one with a
+    figure saved without its measurement, and one with a readable figure 6 in wide: each is
+    found, and nothing else."""
     import base64
     import io
 
@@ -455,3 +454,18 @@ def test_the_book_check_fails_on_an_injected_6_px_legend_and_an_unmeasured_figur
     assert (s3, m3) == (shown + 1, measured)
     new = [p for p in p3 if p not in problems]
     assert len(new) == 1 and "'plain'" in new[0] and "not measured" in new[0], new
+    # a figure 6 in wide, its texts 12.5 pt (readable at both columns): too wide, and
+    # nothing else
+    from matplotlib.text import Text
+
+    wide = _readable_figure()
+    wide.set_figwidth(6.0)
+    wide.axes[0].tick_params(labelsize=12.5)
+    for t in wide.findobj(Text):
+        t.set_fontsize(12.5)
+    injected[name] = (path, html.replace("</article>", _img_tag(wide, "wide") + "</article>",
+                                         1))
+    s4, m4, p4 = measure_figures(injected)
+    assert (s4, m4) == (shown + 1, measured + 1)
+    new = [p for p in p4 if p not in problems]
+    assert len(new) == 1 and "'wide'" in new[0] and "6 in wide (> 5 in)" in new[0], new
