@@ -26,9 +26,10 @@ Tests of the built book get one prebuilt book (``GYROLIB_REUSE_BOOK``, conftest.
 ``_book_once.py`` as the test session builds it (``--book`` reuses one): no test's CPU
 includes the build; likewise the ledger, which the test command computes once per session for
 the dozen tests that read it (``GYROLIB_LEDGER_MEMO``), is computed once per tree before the
-rounds (its CPU-s reported, counted in no test).  A run's CPU-s are the larger of the reaped
-children's (``RUSAGE_CHILDREN``) and the sum over every process seen below it, read every
-0.1 s (``psutil``): Chromium's renderers are not all reaped inside the tree, so
+rounds (its CPU-s reported, counted in no test); numba's kernels are compiled into each
+tree's cache before the rounds too, as the test command does (``WARM_NUMBA``, tasks.py).
+A run's CPU-s are the larger of the reaped children's (``RUSAGE_CHILDREN``) and the sum over
+every process seen below it, read every 0.1 s (``psutil``): Chromium's renderers are not all reaped inside the tree, so
 ``RUSAGE_CHILDREN`` alone misses part of a browser test (about a quarter of one navigation
 test).  The plugin ``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s
 (per-test figures, not reliable for the browser tests, whose renderers end between
@@ -185,6 +186,22 @@ def ledger_memo(tree: Path, folder: Path) -> float:
     cpu0 = children_cpu()
     subprocess.run([str(PY), "-c", "from gyrolib.book import ledger; ledger.collect()"],
                    cwd=tree, env=clean_env(tree), check=True)
+    return children_cpu() - cpu0
+
+
+def warm_numba(tree: Path) -> float:
+    """Compile ``tree``'s numba kernels into its cache as the test command does before its
+    session (``WARM_NUMBA`` of that tree's ``tasks.py``), so that no measured run pays a
+    compilation the test command does not (a fresh base worktree has no cache: its first run
+    of each kernel would).  Returns the CPU-s it took (reported, not counted in any test)."""
+    import ast
+
+    source = next(ast.literal_eval(node.value) for node in
+                  ast.parse((tree / "tasks.py").read_text(encoding="utf-8")).body
+                  if isinstance(node, ast.Assign)
+                  and any(getattr(t, "id", "") == "WARM_NUMBA" for t in node.targets))
+    cpu0 = children_cpu()
+    subprocess.run([str(PY), "-c", source], cwd=tree, env=clean_env(tree), check=True)
     return children_cpu() - cpu0
 
 
@@ -501,6 +518,7 @@ def main() -> None:
                            "plus": [("head", f"cut {f}", f.split("+"))],
                            "minus": [("before", f"cut {f}", f.split("+"))]}
                           for f in args.cuts]
+            warm_cpu = {side: round(warm_numba(tree), 1) for side, tree in trees.items()}
             memo_cpu = {side: round(ledger_memo(tree, tmp / f"ledger-{side}"), 1)
                         for side, tree in trees.items()}
             loads: list = []
@@ -538,7 +556,7 @@ def main() -> None:
     budget = {"issue": args.issue, "title": issue["title"], "base": base_commit,
               "head": head_commit, "dirty": bool(dirty), "rounds": args.rounds,
               "base_run_with": f"this tree's .venv ({PY})", "book": book and str(book),
-              "ledger_memo_cpu_s": memo_cpu,
+              "numba_warm_cpu_s": warm_cpu, "ledger_memo_cpu_s": memo_cpu,
               "load_start": start_load, "load_rounds": loads, "load_end": load(),
               "benchmark_wall_s": round(time.perf_counter() - t_start, 1),
               "tests": figures, "cuts": cuts, "cuts_base": args.cuts_base,
