@@ -19,20 +19,21 @@ another issue's budget is one more entry:
   node ids at the base and here, the difference.
 
 Every run is one pytest process (``-n 0 -p no:cacheprovider``), its CPU-s those of its process
-tree (below), rounds alternating the base
-and this tree.  The base is checked out with ``git worktree add`` into a temporary folder and
-run with this tree's ``.venv`` (its pins may differ from the base's own: the result says so).
-Tests of the built book get one prebuilt book (``GYROLIB_REUSE_BOOK``, conftest.py), built by
-``_book_once.py`` as the test session builds it (``--book`` reuses one): no test's CPU
-includes the build; likewise the ledger, which the test command computes once per session for
-the dozen tests that read it (``GYROLIB_LEDGER_MEMO``), is computed once per tree before the
-rounds (its CPU-s reported, counted in no test).  A run's CPU-s are the larger of the reaped
-children's (``RUSAGE_CHILDREN``) and the sum over every process seen below it, read every
-0.1 s (``psutil``): Chromium's renderers are not all reaped inside the tree, so
-``RUSAGE_CHILDREN`` alone misses part of a browser test (about a quarter of one navigation
-test).  The plugin ``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s
-(per-test figures, not reliable for the browser tests, whose renderers end between
-readings); the verdict uses the process totals.
+tree (below), rounds alternating the base and this tree.  The base is checked out with ``git
+worktree add`` into a temporary folder and run with this tree's ``.venv`` (its pins may differ
+from the base's own: the result says so).  Tests of the built book get one prebuilt book
+(``GYROLIB_REUSE_BOOK``, conftest.py), built by ``_book_once.py`` as the test session builds it
+(``--book`` reuses one): no test's CPU includes the build; likewise the ledger, which the test
+command computes once per session for the dozen tests that read it (``GYROLIB_LEDGER_MEMO``),
+is computed once per tree before the rounds (its CPU-s reported, counted in no test); numba's
+kernels are compiled into each tree's cache before the rounds too, as the test command does
+(``WARM_NUMBA``, tasks.py).  A run's CPU-s are the larger of the reaped children's
+(``RUSAGE_CHILDREN``) and the sum over every process seen below it, read every 0.1 s
+(``psutil``): Chromium's renderers are not all reaped inside the tree, so ``RUSAGE_CHILDREN``
+alone misses part of a browser test (about a quarter of one navigation test).  The plugin
+``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s (per-test figures, not
+reliable for the browser tests, whose renderers end between readings); the verdict uses the
+process totals.
 
 The build's share: in that build every figure's measurement (``page_record``: the layout pass,
 text metrics and the checks that the PNG carries) appends its own ``time.process_time()`` to
@@ -47,7 +48,9 @@ own (loaded) times is recorded too.
 
 An issue whose build cost is a step of its own (``build_probe``: issue 33's check of the
 stored maps' fingerprints in the ledger chapter) has that step run in a fresh interpreter,
-``--rounds`` times, instead (:func:`probe_build`).
+``--rounds`` times, instead (:func:`probe_build`).  An issue whose tests read no built book
+says ``"book": False`` (no build); one without a build allowance (``"build_allowance_s":
+None``) gets no build share: its record says "none".
 
 Writes ``benchmarks/results/budget_<issue>.json``.  The machine is shared: the 1-minute load
 is recorded at the start, per round and at the end; the spread over rounds is in the notes.
@@ -154,6 +157,62 @@ ISSUES: dict[int, dict] = {
                             "test_extend_reuses_a_smaller_study_and_refuses_another"]},
         },
     },
+    # Issue 34's tests: the commits since 5ddf2b6 of its branches cli, sigma, sigma2, sigma3
+    # and nis (merges 06a4b7a, 6e80429, a7db5b8, 0131538, 39dccfe, 0b1385a) and the lead's
+    # follow-ups on main that name it (51b2760, 6420dc9, 92b6e9b and noise_fit's docstring
+    # lines).  'new': files those branches added (test_gc_priors: #33's 1d800f7/5e2c892 and
+    # 15a2313 edited the body of #34's one test there, added none); 'whole': files only #34
+    # changed; test_gc_monte_carlo (#36's 9f0773a too) and test_cli_sensitivity (#33's
+    # d68c258 too): the one test #34 added.  Doctests: the modules #34 added, and the modules
+    # only #34 changed (their doctests run the changed code).  Left out: test_one_source.py
+    # (#33's file; sigma3 deleted one exception), test_validation_gc/rsf.py (#34's rows are
+    # bad-input cases of tables that #33 and #36 grew too; the tool selects whole functions),
+    # and the tests #34 did not touch that run its changed code (gc.calibrate's prior checks).
+    34: {
+        "title": "Every σ covers the truth",
+        "base": "5ddf2b6",
+        "test_allowance_cpu_s": 40.0,
+        "build_allowance_s": None,  # none: the issue gives no build allowance
+        "book": False,  # none of these tests reads the built book: no build
+        "files": {
+            "tests/test_allan_reference.py": {"new": True},
+            "tests/test_cli_allan.py": {"new": True},
+            "tests/test_cli_hints.py": {"new": True},
+            "tests/test_cli_log_formats.py": {"new": True},
+            "tests/test_coverage_seeds.py": {"new": True},
+            "tests/test_gc_nis_expectation.py": {"new": True},
+            "tests/test_gc_priors.py": {"new": True},
+            "tests/test_rsf_uncertainty.py": {"new": True},
+            "gyrolib/rsf/uncertainty.py": {"new": True},  # its doctests, as below
+            "gyrolib/cli/hints.py": {"new": True},
+            "gyrolib/cli/calibrate_gc.py": {"new": True},
+            "gyrolib/records/options.py": {"new": True},
+            "tests/test_calibrate_faults.py": {"whole": True},
+            "tests/test_cli_calibrate.py": {"whole": True},
+            "tests/test_cli_calibrate_io.py": {"whole": True},
+            "tests/test_cli_calibrate_logs.py": {"whole": True},
+            "tests/test_gc_model.py": {"whole": True},
+            "tests/test_gc_noisefit.py": {"whole": True},
+            "tests/test_model_extra_state.py": {"whole": True},
+            "tests/test_records_csv.py": {"whole": True},
+            "tests/test_imports.py": {"whole": True},
+            "gyrolib/gc/logs/allan.py": {"whole": True},
+            "gyrolib/gc/logs/calibration.py": {"whole": True},
+            "gyrolib/gc/logs/noise_fit.py": {"whole": True},
+            "gyrolib/gc/model/params.py": {"whole": True},
+            "gyrolib/gc/model/instrument.py": {"whole": True},
+            "gyrolib/filtering/consistency.py": {"whole": True},
+            "gyrolib/rsf/calibration.py": {"whole": True},
+            "gyrolib/records/reader.py": {"whole": True},
+            "gyrolib/records/errors.py": {"whole": True},
+            "gyrolib/records/plausibility.py": {"whole": True},
+            "gyrolib/units.py": {"whole": True},
+            "tests/test_gc_monte_carlo.py": {
+                "added": ["test_simulate_records_are_the_block_streams_lanes"],
+                "anchor": "test_simulate_truth_draws_numpys_block_stream"},
+            "tests/test_cli_sensitivity.py": {"added": ["test_help_counts_the_studies_inputs"]},
+        },
+    },
 }
 
 
@@ -162,6 +221,8 @@ def clean_env(tree: Path) -> dict[str, str]:
     ledger's memo of that tree (:func:`ledger_memo`), the plugin found on ``PYTHONPATH``."""
     env = {k: v for k, v in os.environ.items() if not k.startswith("GYROLIB_")}
     env.update(MPLBACKEND="Agg", PYTHONPATH=str(BENCH), PYDEVD_DISABLE_FILE_VALIDATION="1")
+    # BLAS on one thread, as the test command's xdist workers run it (tests/conftest.py)
+    env.setdefault("OPENBLAS_NUM_THREADS", "1")
     memo = MEMOS.get(tree)
     if memo is not None:
         env["GYROLIB_LEDGER_MEMO"] = str(memo)
@@ -182,6 +243,22 @@ def ledger_memo(tree: Path, folder: Path) -> float:
     cpu0 = children_cpu()
     subprocess.run([str(PY), "-c", "from gyrolib.book import ledger; ledger.collect()"],
                    cwd=tree, env=clean_env(tree), check=True)
+    return children_cpu() - cpu0
+
+
+def warm_numba(tree: Path) -> float:
+    """Compile ``tree``'s numba kernels into its cache as the test command does before its
+    session (``WARM_NUMBA`` of that tree's ``tasks.py``), so that no measured run pays a
+    compilation the test command does not (a fresh base worktree has no cache: its first run
+    of each kernel would).  Returns the CPU-s it took (reported, not counted in any test)."""
+    import ast
+
+    source = next(ast.literal_eval(node.value) for node in
+                  ast.parse((tree / "tasks.py").read_text(encoding="utf-8")).body
+                  if isinstance(node, ast.Assign)
+                  and any(getattr(t, "id", "") == "WARM_NUMBA" for t in node.targets))
+    cpu0 = children_cpu()
+    subprocess.run([str(PY), "-c", source], cwd=tree, env=clean_env(tree), check=True)
     return children_cpu() - cpu0
 
 
@@ -491,7 +568,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory(prefix="gyrolib-budget-") as tmp:
         tmp = Path(tmp)
         book = args.book
-        if book is None:
+        if book is None and issue.get("book", True):  # "book": False: no test reads it
             sys.path.insert(0, str(BENCH))
             from _book_once import build
             record = build(tmp / "book")
@@ -527,6 +604,7 @@ def main() -> None:
                            "plus": [("head", f"cut {f}", f.split("+"))],
                            "minus": [("before", f"cut {f}", f.split("+"))]}
                           for f in args.cuts]
+            warm_cpu = {side: round(warm_numba(tree), 1) for side, tree in trees.items()}
             memo_cpu = {side: round(ledger_memo(tree, tmp / f"ledger-{side}"), 1)
                         for side, tree in trees.items()}
             loads: list = []
@@ -563,21 +641,23 @@ def main() -> None:
              target_s=allowance, note=f"allowance {allowance} CPU-s: {verdict}; {note}")
     budget = {"issue": args.issue, "title": issue["title"], "base": base_commit,
               "head": head_commit, "dirty": bool(dirty), "rounds": args.rounds,
-              "base_run_with": f"this tree's .venv ({PY})", "book": str(book),
-              "ledger_memo_cpu_s": memo_cpu,
+              "base_run_with": f"this tree's .venv ({PY})", "book": book and str(book),
+              "numba_warm_cpu_s": warm_cpu, "ledger_memo_cpu_s": memo_cpu,
               "load_start": start_load, "load_rounds": loads, "load_end": load(),
               "benchmark_wall_s": round(time.perf_counter() - t_start, 1),
               "tests": figures, "cuts": cuts, "cuts_base": args.cuts_base,
               "test_cpu_s": total, "test_allowance_cpu_s": allowance,
               "test_verdict": verdict}
-    if not args.compare and issue.get("build_probe"):
+    if issue.get("build_allowance_s") is None:
+        budget["build"] = "none: the issue gives no build allowance"
+    elif not args.compare and issue.get("build_probe"):
         share = probe_build(issue, args.rounds)
         budget["build"] = share
         rec.case(f"issue {args.issue}: {share['what']} in a clean build (CPU-s)",
                  max(share["cpu_s"], 1e-4), target_s=issue["build_allowance_s"],
                  note=f"{share['note']}; allowance {issue['build_allowance_s']} s: "
                       f"{share['verdict']}; {note}")
-    elif not args.compare and (book / "budget_build.json").is_file():
+    elif not args.compare and book is not None and (book / "budget_build.json").is_file():
         share = build_share(book, jobs=os.cpu_count() or 1)
         share["allowance_s"] = issue["build_allowance_s"]
         share["verdict"] = ("within" if share["wall_s_estimate"] <= issue["build_allowance_s"]
@@ -591,8 +671,9 @@ def main() -> None:
                       f"{issue['build_allowance_s']} s: {share['verdict']}; {note}")
     rec.doc["budget"] = budget
     rec.write()
+    build = budget.get("build", {})
     print(json.dumps({"test_cpu_s": total, "verdict": verdict,
-                      "build": budget.get("build", {}).get("wall_s_estimate")}))
+                      "build": build if isinstance(build, str) else build.get("wall_s_estimate")}))
 
 
 if __name__ == "__main__":
