@@ -111,7 +111,10 @@ def figure_html(doc: dict) -> str:
 
     low, high = ax.get_xlim()
     decades = math.log10(high / low) if low > 0 and high > low else 2.0
-    subs = (1.0, 2.0, 5.0) if decades > 1.0 else (1.0, 1.2, 1.5, 2.0, 3.0, 5.0, 7.0)
+    # and over more than two decades, 1-2-5 labels overprint too (0.005, 0.01, 0.02 …):
+    # the decades alone
+    subs = ((1.0,) if decades > 2.0 else (1.0, 2.0, 5.0) if decades > 1.0
+            else (1.0, 1.2, 1.5, 2.0, 3.0, 5.0, 7.0))
     ax.xaxis.set_major_locator(LogLocator(base=10.0, subs=subs))
     ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
     ax.xaxis.set_minor_formatter(NullFormatter())
