@@ -27,15 +27,24 @@ finished record to a JSON-lines file as it completes (a long run keeps what it h
 
 from __future__ import annotations
 
-import argparse
-import json
-import sys
-import time
-from collections.abc import Callable
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
-from pathlib import Path
+import os
 
-import numpy as np
+# BLAS on one thread in this process and its workers (set before numpy loads; the workers
+# inherit it), as the command line, the chapters' kernels and the test workers run it: with
+# OpenBLAS's threads, two workers on 2 cores spun 35-58 CPU-s a fitted record (up to 684
+# under load) against 11-15 on one thread, for records of the same kind (session 13)
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
