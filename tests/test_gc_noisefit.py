@@ -264,7 +264,7 @@ def test_carried_standard_error_reaches_where_the_profile_likelihood_falls():
     quadratic (α1's 95 % interval reaches 8 curvature SE below α̂1 and 1.3 above).  Against
     a profile likelihood computed here by brute force (σ1² re-maximized by scipy at each
     α1), the carried standard error's 1.96 σ on each side reaches where twice the log-
-    likelihood has fallen by χ²₁(95 %) = 3.84, within 20 % (the interval's secant search
+    likelihood has fallen by χ²₁(95 %) = 3.84, within 20 % (the interval's root search
     stops within a few percent of its end).  Power: the curvature's SE alone, the same
     check, falls short below α̂1 (there 2ΔlnL is about 1.2), so the carried σ is wider."""
     made = dataclasses.replace(P, alpha1=5 * P.alpha1, sigma1_sq=4 * P.sigma1_sq)
@@ -292,3 +292,72 @@ def test_carried_standard_error_reaches_where_the_profile_likelihood_falls():
     for d in (-below, above):
         assert profile_drop(th + d) >= 0.8 * target, d
     assert profile_drop(th - 1.96 * se) < 0.5 * target      # power: the curvature alone
+
+
+# issue 34, the fit-interval coverage: each side of an interval is a bracketed root search --
+def _unbracketed_secant(drop, guess, room, target, max_steps):
+    """The search before the coverage study (the deliberately wrong model): secant steps on
+    √(2 drop) through the origin, no bracket, the last step when the steps run out."""
+    d = guess
+    for _ in range(max_steps):
+        dr = drop(d)
+        d_new = 2.0 * d if dr <= 0.0 else d * np.sqrt(target / dr)
+        if abs(d_new - d) < 0.02 * d or (d >= room and d_new >= room):
+            return min(d_new, room)
+        d = min(d_new, room)
+    return d
+
+
+_TARGET = scipy.stats.chi2.ppf(0.95, 1) / 2.0
+#: Lines of ln L̂ − ln L with their crossing of χ²₁(95 %)/2: a quadratic, a skewed one
+#: (a slow vibration's α1), and the flat-then-wall of a 100-s record's α1–σ1² ridge (seed
+#: 2007 of the coverage benchmark: 2ΔlnL 0.05 at a step of 0.38, 1.5 at 2.3, 714 at 3.75).
+_LINES = {
+    "quadratic": lambda d: 0.5 * (2.5 * d) ** 2,
+    "skewed": lambda d: 0.3 * (np.exp(1.5 * d) - 1.0 - 1.5 * d),
+    "flat, then a wall": lambda d: 0.02 * d ** 2 + 0.06 * np.exp(3.4 * (d - 1.0)) * (d > 1.0)
+    * (d - 1.0) ** 2 * 40.0,
+}
+
+
+@pytest.mark.parametrize("shape", sorted(_LINES))
+def test_interval_side_is_where_the_likelihood_crosses(shape):
+    """Each side's end (``_side_end``) against scipy's brentq on the same line, within the
+    search's tolerance (2ΔlnL within 2 % of 3.84, so the step within about 2 %), from the
+    quadratic guess of a curvature that is right (the quadratic) or wrong by 10× (the
+    others); at most 10 likelihoods.  Power: the unbracketed secant steps the search used
+    before miss the wall's crossing by more than 20 % (they stop inside the flat part)."""
+    from gyrolib.gc.logs.noise_fit import _side_end
+
+    line = _LINES[shape]
+    calls = []
+
+    def drop(d):
+        calls.append(d)
+        return float(line(d))
+
+    exact = scipy.optimize.brentq(lambda d: line(d) - _TARGET, 1e-9, 20.0, xtol=1e-12)
+    guess = 0.784 if shape == "quadratic" else 0.1 * exact
+    got = _side_end(drop, guess, 20.0, _TARGET, 10)
+    assert got == pytest.approx(exact, rel=0.03), (shape, got, exact)
+    assert len(calls) <= 10
+    old = _unbracketed_secant(lambda d: float(line(d)), guess, 20.0, _TARGET, 6)
+    if shape == "flat, then a wall":
+        assert abs(old / exact - 1.0) > 0.2, (old, exact)
+
+
+def test_interval_side_open_where_the_likelihood_never_falls_that_far():
+    """A line that stays below the target up to the search's room gives the room (the
+    interval's end is 0 or ∞); one the search cannot close within its steps reports its
+    bracket's outer end, never a point inside the flat part; points known from an earlier
+    parameter's search narrow the bracket without new likelihoods."""
+    from gyrolib.gc.logs.noise_fit import _side_end
+
+    assert _side_end(lambda d: 0.01 * d, 0.5, 7.0, _TARGET, 10) == 7.0
+    wall = _LINES["flat, then a wall"]
+    exact = scipy.optimize.brentq(lambda d: wall(d) - _TARGET, 1e-9, 20.0, xtol=1e-12)
+    assert _side_end(lambda d: float(wall(d)), 0.1, 20.0, _TARGET, 2) >= exact
+    calls = []
+    known = [(0.9 * exact, float(wall(0.9 * exact))), (1.1 * exact, float(wall(1.1 * exact)))]
+    got = _side_end(lambda d: calls.append(d) or float(wall(d)), 0.1, 20.0, _TARGET, 10, known)
+    assert got == pytest.approx(exact, rel=0.03) and len(calls) <= 4

@@ -490,7 +490,7 @@ def fit_checks(fit: NoiseFit, unfitted: object | None = None, *, clock_tolerance
 
 
 def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
-                      max_steps: int = 6) -> NoiseFit:
+                      max_steps: int = 10) -> NoiseFit:
     """``fit`` with the likelihood-ratio interval of each fitted parameter
     (:attr:`NoiseFit.intervals`): the values of ``θ_i`` where the log-likelihood has fallen
     by ``χ²₁(level)/2`` from its maximum, on each side, searched in ``ln θ_i`` with the
@@ -498,17 +498,26 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     ``C`` = :attr:`NoiseFit.cov_log`: their conditional optimum for a quadratic likelihood,
     not re-maximized) — a profile likelihood to first order, which follows a skewed
     likelihood (a slow vibration's α1) where the curvature's symmetric ``± 1.96 SE`` does
-    not.  Each side: from the quadratic guess, ``max_steps`` secant steps on
-    ``√(2 ΔlnL)`` (linear in the step for a quadratic likelihood); stopped at the plausible
-    range of the parameter's row of :mod:`gyrolib.inputs` (×/÷ 10 beyond it), which then is
-    the end (``0`` or ``inf`` when the likelihood never falls that far).
+    not.  Each side is a bracketed root search (:func:`_side_end`): from the quadratic
+    guess, interpolation in ``√(2 ΔlnL)`` (linear in the step for a quadratic likelihood)
+    kept inside the bracket, bisection where it would leave it; at most ``max_steps``
+    likelihoods a side; stopped at the plausible range of the parameter's row of
+    :mod:`gyrolib.inputs` (×/÷ 10 beyond it), which then is the end (``0`` or ``inf`` when
+    the likelihood never falls that far).  A side the search could not close within
+    ``max_steps`` is reported at the outer end of its bracket (open, ``0`` or ``inf``, with
+    none): wider, never narrower, than what the record supports.
 
-    A side's search starts from a point an earlier parameter's search already evaluated on
-    its line, where there is one (α1 and σ1² lie on one ridge and search the same points).
-    Cost: one to ``max_steps`` likelihoods per side (one filter run over the record each:
-    about 0.2 s per 100 s at 1 kHz; α1, σ1², C_as, C_in on the wrong-spectrum record: 18,
-    against 21 before issue 34's item 4, whose 4 steps left α1's and σ1²'s far ends short
-    of the target, at 2ΔlnL ≈ 3.1 of 3.84).
+    The bracket matters on the α1–σ1² ridge of a short record, where the likelihood is flat
+    for a decade and then falls by hundreds: unbracketed secant steps (this function before
+    issue 34's coverage study) jumped between the flat and the wall and stopped where their
+    steps ran out, inside the flat part, and the interval missed a truth whose profile
+    likelihood ratio was 0.4 (4 of the 9 misses of σ1² over 96 records).
+
+    A side's search starts from the points an earlier parameter's search already evaluated
+    on its line, where there are some (α1 and σ1² lie on one ridge and search the same
+    points): they narrow the bracket without new likelihoods.  Cost: one to ``max_steps``
+    likelihoods per side (one filter run over the record each: about 0.2 s per 100 s at
+    1 kHz).
 
     Examples
     --------
@@ -543,31 +552,19 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
         limits = _search_limits(fit, i)
         for side, j in ((-1.0, 0), (1.0, 1)):
             room = (theta[i] - limits[0]) if side < 0 else (limits[1] - theta[i])
-            d = min(_first_step(seen, u, i, side, sd, target,
-                                math.sqrt(2.0 * target) * s), room)
-            end = None
-            for _ in range(max_steps):
+
+            def drop(d: float, side: float = side, u: np.ndarray = u) -> float:
                 try:
-                    drop = ll0 - innovation_log_likelihood(
+                    value = ll0 - innovation_log_likelihood(
                         record, _with(fit.params, names, theta + side * d * u))
                 except ValueError:          # outside the parameter's domain (ξ1 > 1)
-                    drop = math.inf
-                if math.isfinite(drop) and drop > 0.0:
-                    seen.append((side * d * u, drop))
-                if not math.isfinite(drop):
-                    d *= 0.5
-                    continue
-                if drop <= 0.0:
-                    d_new = 2.0 * d
-                else:
-                    d_new = d * math.sqrt(target / drop)
-                if abs(d_new - d) < 0.02 * d or (d >= room and d_new >= room):
-                    d = min(d_new, room)
-                    end = d
-                    break
-                d = min(d_new, room)
-            if end is None:
-                end = d
+                    return math.inf
+                if math.isfinite(value):
+                    seen.append((side * d * u, value))
+                return value if not math.isnan(value) else math.inf
+
+            end = _side_end(drop, math.sqrt(2.0 * target) * s, room, target, max_steps,
+                            _on_line(seen, u, i, side, sd))
             if end >= room * (1 - 1e-9):     # the likelihood does not fall that far
                 out[i, j] = 0.0 if side < 0 else math.inf
             else:
@@ -575,24 +572,102 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     return dataclasses.replace(fit, intervals=out, level=level)
 
 
-def _first_step(seen: list[tuple[np.ndarray, float]], u: np.ndarray, i: int, side: float,
-                sd: np.ndarray | None, target: float, quadratic: float) -> float:
-    """The first step of a side's search in :func:`profile_intervals`: the quadratic
-    guess, or, when an earlier search (another parameter's) already evaluated a point on
-    this side's line (off it by less than 0.05 standard errors in every coordinate: two
-    parameters correlated along a ridge, as α1 and σ1² are, search the same points), that
-    point's step scaled to the target, ``|Δθ_i| √(target/drop)`` — where the secant steps
-    from the quadratic guess would have gone, without the likelihoods on the way."""
+def _side_end(drop: Callable[[float], float], guess: float, room: float, target: float,
+              max_steps: int, known: Sequence[tuple[float, float]] = (),
+              rtol: float = 0.01) -> float:
+    """The step ``d`` in ``(0, room]`` where ``drop(d)`` (``ln L̂ − ln L`` along a line,
+    ``0`` at ``d = 0``) reaches ``target`` — one side of :func:`profile_intervals`; ``room``
+    when it does not within ``room``.  A bracketed search on ``r(d) = √(2 drop(d))``
+    (linear in ``d`` for a quadratic likelihood): ``lo`` is the largest step known below
+    the target, ``hi`` the smallest known above it (``known``: ``(d, drop)`` pairs already
+    evaluated on the line); the next step is ``guess`` at first, then the interpolation in
+    ``r`` through the origin (no ``hi`` yet) or between ``lo`` and ``hi`` where it falls in
+    the bracket's inner 90 %, else the bracket's middle (in ``ln d`` while it spans more
+    than ×4).  The Illinois rule (an end kept twice in a row weighs half) stops a curved
+    ``r`` from creeping up from one side.  Stops when ``r`` is within ``rtol`` of
+    ``√(2 target)`` (2ΔlnL within about 2 ``rtol``) or the bracket within ``rtol`` of its
+    end, and returns the step (interpolated in the bracket); after ``max_steps``
+    evaluations without that, the bracket's outer end (``hi``, or ``room`` when no step
+    reached the target): wider, not narrower.
+
+    >>> f = lambda d: 0.5 * (3.0 * d) ** 2          # quadratic: 2 drop = (3 d)²
+    >>> round(_side_end(f, 0.1, 10.0, 1.92, 10), 3)  # √3.84 / 3
+    0.653
+    >>> wall = lambda d: 1e-3 * d if d < 2.0 else 1e3 * (d - 2.0) + 2e-3   # flat, then a wall
+    >>> round(_side_end(wall, 0.2, 10.0, 1.92, 10), 1)     # at 2.0019, within rtol
+    2.0
+    >>> _side_end(lambda d: 1e-3 * d, 0.2, 10.0, 1.92, 10)      # never falls that far
+    10.0
+    """
+    rt = math.sqrt(2.0 * target)
+    lo_d, lo_g = 0.0, -rt               # g = r − √(2 target): below 0 at lo, above at hi
+    hi_d, hi_g = math.inf, math.inf
+    for d, dr in known:
+        g = math.sqrt(2.0 * max(dr, 0.0)) - rt
+        if g < 0.0 and d > lo_d:
+            lo_d, lo_g = d, g
+        elif g >= 0.0 and d < hi_d:
+            hi_d, hi_g = d, g
+    if lo_d >= hi_d:                    # a non-monotone line: keep the nearer crossing
+        lo_d, lo_g = 0.0, -rt
+    d = min(guess if (lo_d == 0.0 and hi_d == math.inf)
+            else _next_step(lo_d, lo_g, hi_d, hi_g, rt, room), room)
+    last = 0                            # the end the previous step replaced (−1 lo, +1 hi)
+    for _ in range(max_steps):
+        dr = drop(d)
+        g = (math.sqrt(2.0 * max(dr, 0.0)) if math.isfinite(dr) else math.inf) - rt
+        if abs(g) <= rtol * rt:
+            return d
+        if g < 0.0:
+            if d >= room * (1 - 1e-9):
+                return room
+            if last == -1 and math.isfinite(hi_g):
+                hi_g *= 0.5             # Illinois: the end kept twice weighs half
+            lo_d, lo_g, last = d, g, -1
+        else:
+            if last == 1:
+                lo_g *= 0.5
+            hi_d, hi_g, last = d, g, 1
+        if hi_d < math.inf and hi_d - lo_d <= rtol * hi_d:
+            break
+        d = _next_step(lo_d, lo_g, hi_d, hi_g, rt, room)
+    if hi_d < math.inf and hi_d - lo_d <= rtol * hi_d and math.isfinite(hi_g):
+        return lo_d - lo_g * (hi_d - lo_d) / (hi_g - lo_g)
+    return min(hi_d, room)
+
+
+def _next_step(lo_d: float, lo_g: float, hi_d: float, hi_g: float, rt: float,
+               room: float) -> float:
+    """:func:`_side_end`'s next step from its bracket ``(lo_d, hi_d)``, with ``g`` there."""
+    if hi_d == math.inf:                # no upper end yet: the line through the origin
+        lo_r = lo_g + rt
+        if lo_r <= 0.0:
+            return min(2.0 * lo_d, room)
+        return min(max(lo_d * rt / lo_r, 1.25 * lo_d), room)
+    w = hi_d - lo_d
+    if lo_d > 0.0 and hi_d > 4.0 * lo_d:  # a wide bracket: its middle in ln d
+        return math.sqrt(lo_d * hi_d)
+    if math.isfinite(hi_g) and hi_g > lo_g:
+        d = lo_d - lo_g * w / (hi_g - lo_g)
+        if lo_d + 0.05 * w <= d <= hi_d - 0.05 * w:
+            return d
+    return lo_d + 0.5 * w
+
+
+def _on_line(seen: list[tuple[np.ndarray, float]], u: np.ndarray, i: int, side: float,
+             sd: np.ndarray | None) -> list[tuple[float, float]]:
+    """The points an earlier search of :func:`profile_intervals` evaluated on this side's
+    line (off it by less than 0.05 standard errors in every coordinate: two parameters
+    correlated along a ridge, as α1 and σ1² are, search the same points), as
+    ``(step, drop)``."""
     if sd is None:
-        return quadratic
-    best = None
-    for off, drop in seen:
+        return []
+    out = []
+    for off, dr in seen:
         d = side * off[i]
-        if d <= 0.0 or np.max(np.abs(off - side * d * u) / np.where(sd > 0, sd, 1.0)) > 0.05:
-            continue
-        if best is None or abs(math.log(drop / target)) < abs(math.log(best[1] / target)):
-            best = (d, drop)
-    return quadratic if best is None else best[0] * math.sqrt(target / best[1])
+        if d > 0.0 and np.max(np.abs(off - side * d * u) / np.where(sd > 0, sd, 1.0)) <= 0.05:
+            out.append((d, dr))
+    return out
 
 
 def _search_limits(fit: NoiseFit, i: int) -> tuple[float, float]:
