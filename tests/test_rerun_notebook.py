@@ -13,6 +13,12 @@ whose prose was rendered by ``_ext/rerun_notebook.py``.  The check
 
 Power: the same check on the notebook as the build executed it, before rendering (what the
 download menu offered until issue 35), fails.
+
+The rerun chapter (``rsf_method``) is jupytext's notebook of it with the outputs of the
+session book's fresh-kernel execution of the same code, found in the session's jupyter cache
+by the hash of its code cells, then rendered as ``tasks.py chapter`` renders it
+(:func:`rerun_notebook`): the test command executes it once, not twice.  The command itself
+is run end to end on the one-cell ``status`` chapter.
 """
 
 from __future__ import annotations
