@@ -13,12 +13,19 @@ whose prose was rendered by ``_ext/rerun_notebook.py``.  The check
 
 Power: the same check on the notebook as the build executed it, before rendering (what the
 download menu offered until issue 35), fails.
+
+The rerun chapter (``rsf_method``) is jupytext's notebook of it with the outputs of the
+session book's fresh-kernel execution of the same code, found in the session's jupyter cache
+by the hash of its code cells, then rendered as ``tasks.py chapter`` renders it
+(:func:`rerun_notebook`): the test command executes it once, not twice.  The command itself
+is run end to end on the one-cell ``status`` chapter.
 """
 
 from __future__ import annotations
 
 import base64
 import copy
+import functools
 import json
 import re
 import subprocess
@@ -27,7 +34,7 @@ from pathlib import Path
 
 import nbformat
 import pytest
-from conftest import require_built_book
+from conftest import require_built_book, session_book
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "_ext"))
@@ -57,11 +64,23 @@ def too_few_images(images: int, figures: int) -> list[str]:
         images < figures) else []
 
 
+@functools.cache
+def _exporter():
+    """One nbconvert HTML exporter for the module's renderings: a new one compiles its
+    templates again (about 0.15 CPU-s each).  The ``basic`` template: the cells as the
+    ``classic`` and ``lab`` templates render them, without the page around them (whose
+    style sheets ``classic`` inlines: 0.4 CPU-s at the first rendering; no <img> in it: the
+    same count in rsf_method's rerun notebook and gc_model's, rendered and not, with all
+    three).  Without the code cells' input: highlighted code escapes "<", so it never adds
+    an <img>, and highlighting it was three quarters of the rendering's time."""
+    from nbconvert import HTMLExporter
+
+    return HTMLExporter(template_name="basic", exclude_input=True)
+
+
 def rendered(nb) -> tuple[list[str], int]:
     """The problems of ``nb`` other than too few images, and the number of ``<img>`` in it
     as nbconvert renders it (the figure count is then compared without rendering again)."""
-    from nbconvert import HTMLExporter
-
     problems = []
     for i, cell in enumerate(nb.cells):
         texts = [cell.source] if cell.cell_type == "markdown" else [
@@ -69,10 +88,8 @@ def rendered(nb) -> tuple[list[str], int]:
             if "text/markdown" in o.get("data", {})]
         for text in texts:
             problems += [f"cell {i}: raw {hit}" for hit in rn.raw_myst(text)]
-    # without the code cells' input: highlighted code escapes "<", so it never adds an
-    # <img>, and highlighting it was three quarters of the rendering's time
-    html, _ = HTMLExporter(template_name="classic", exclude_input=True).from_notebook_node(
-        copy.deepcopy(nb))
+    # nbconvert renders a copy of ``nb`` (from_notebook_node deep-copies it)
+    html, _ = _exporter().from_notebook_node(nb)
     if not (nb.cells and "run that wrote it" in nb.cells[0].source):
         problems.append("no first cell saying where the prose's values come from")
     return problems, len(IMG.findall(html))
@@ -174,20 +191,58 @@ def test_the_downloaded_notebook_shows_what_the_page_shows():
     assert len(notebook_problems(executed, n_figures(name))) > 10
 
 
-#: A short chapter with glued values and a glued figure (about 12 s of CPU on a quiet
-#: machine, most of it importing the libraries).
+#: A short chapter with glued values and a glued figure.
 RERUN_CHAPTER = "rsf_method"
 
 
-@pytest.mark.slow
-def test_a_rerun_chapter_shows_what_the_page_shows(tmp_path):
-    """``python3 tasks.py chapter rsf_method FOLDER`` writes a notebook that passes the check.
-    Power: its figures counted against a chapter with more, it fails."""
-    proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "chapter", RERUN_CHAPTER,
-                           str(tmp_path)], cwd=ROOT, capture_output=True, text=True,
-                          timeout=900, check=False)
-    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
-    nb = nbformat.read(str(tmp_path / f"{RERUN_CHAPTER}.ipynb"), 4)
+def rerun_notebook(name: str):
+    """The chapter ``name`` as ``python3 tasks.py chapter NAME`` makes it (``rn.execute_chapter``),
+    its kernel's outputs taken from the test session's execution of the same code, and
+    ``(source, merged)`` besides: the rendered notebook, and the notebook as jupytext read it
+    and before rendering (outputs merged).
+
+    ``execute_chapter`` reads the chapter with jupytext, executes it in a fresh kernel
+    (nbclient) and renders it with ``rn.render_notebook``.  The session's book build has
+    executed every chapter in a fresh kernel (nbclient, through jupyter-cache) into the
+    session's jupyter cache, keyed by the hash of the notebook's code cells and kernel:
+    jupytext's notebook of the chapter is looked up there (a match means the same code on
+    the same kernel) and its outputs merged in (``merge_match_into_notebook``, as myst-nb's
+    cache mode does); then the same rendering.  That execution is the book's only one of the
+    chapter and costs this test nothing; executing it again here cost about 10 CPU-s.  A
+    cache without that code (a reused, older build: ``GYROLIB_REUSE_BOOK``) executes it here
+    in a fresh kernel instead.  The command's own steps, end to end, are checked on the
+    cheapest chapter (:func:`test_tasks_chapter_writes_the_rendered_notebook`)."""
+    import jupytext
+    from jupyter_cache import get_cache
+
+    source = jupytext.read(str(ROOT / "chapters" / f"{name}.md"))
+    try:
+        _, merged = get_cache(str(session_book().cache)).merge_match_into_notebook(source)
+    except KeyError:  # not in the cache: executed here, as the command does
+        import tempfile
+
+        from nbclient import NotebookClient
+
+        merged = copy.deepcopy(source)
+        with tempfile.TemporaryDirectory() as folder:
+            NotebookClient(merged, timeout=600, resources={"metadata": {"path": folder}}
+                           ).execute()
+    return rn.render_notebook(copy.deepcopy(merged), name), merged
+
+
+@pytest.mark.book
+@pytest.mark.filterwarnings("ignore:Your element with mimetype")
+def test_a_rerun_chapter_shows_what_the_page_shows():
+    """``rsf_method`` rerun as ``python3 tasks.py chapter rsf_method`` makes it
+    (:func:`rerun_notebook`) passes the check; unrendered, it fails it.  Power: its figures
+    counted against a chapter with more, it fails."""
+    nb, merged = rerun_notebook(RERUN_CHAPTER)
+    executed = [c.execution_count for c in merged.cells if c.cell_type == "code"]
+    assert executed and all(isinstance(n, int) for n in executed), executed
+    # the glued values and figures are the kernel's outputs, in the notebook itself
+    assert {"rsf_fig1", "rsf_dk_ppm"} <= set(rn.glue_outputs(merged))
+    assert sum(len(rn.raw_myst(c.source)) for c in merged.cells if c.cell_type == "markdown"
+               ) > 10  # the same check before rendering: raw roles (power)
     problems, images = rendered(nb)  # rendered once, for the check and its power case
     figures = n_figures(RERUN_CHAPTER)
     assert problems + too_few_images(images, figures) == []  # = notebook_problems(nb, figures)
@@ -197,3 +252,27 @@ def test_a_rerun_chapter_shows_what_the_page_shows(tmp_path):
     assert "python3 tasks.py chapter rsf_method" in nb.cells[0].source
     assert json.dumps(nb.cells[0].source)  # plain text
     assert "attachment:rsf_fig1.png" in text
+
+
+@pytest.mark.slow
+def test_tasks_chapter_writes_the_rendered_notebook(tmp_path):
+    """``python3 tasks.py chapter status FOLDER``, end to end (the cheapest chapter: one code
+    cell): the command reads the chapter, executes it in a fresh kernel and writes it
+    rendered, and the result passes the check (its label and its book-only directive
+    rendered).  Power: the chapter as jupytext reads it fails the same check."""
+    name = "status"
+    proc = subprocess.run([sys.executable, str(ROOT / "tasks.py"), "chapter", name,
+                           str(tmp_path)], cwd=ROOT, capture_output=True, text=True,
+                          timeout=900, check=False)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
+    nb = nbformat.read(str(tmp_path / f"{name}.ipynb"), 4)
+    code = [c for c in nb.cells if c.cell_type == "code"]
+    assert code and all(isinstance(c.execution_count, int) and c.outputs for c in code)
+    assert "gyrolib" in "".join(o.get("text", "") for o in code[0].outputs)
+    assert nb.metadata["gyrolib"]["rendered_for_jupyter"] is True
+    assert f"python3 tasks.py chapter {name}" in nb.cells[0].source
+    assert notebook_problems(nb, n_figures(name)) == []
+    import jupytext
+
+    raw = jupytext.read(str(ROOT / "chapters" / f"{name}.md"))
+    assert sum(len(rn.raw_myst(c.source)) for c in raw.cells if c.cell_type == "markdown") >= 2
