@@ -41,7 +41,7 @@ from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast
 from gyrolib.gc.analysis.covariance import covariance_analysis
-from gyrolib.gc.model.discretization import _kept_discretization, steps_in
+from gyrolib.gc.model.discretization import kept_discretization, steps_in
 from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
 from gyrolib.gc.model.state_space import build_initial_covariance
 
@@ -111,7 +111,7 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
     n_first = n_max if level is None else min(steps_in(p, t_first), n_max)
 
     def model(n: int):
-        return _kept_discretization(p, n, "van_loan").model
+        return kept_discretization(p, n, "van_loan").model
 
     def run(q: GyrocompassParams) -> tuple[float, float]:
         P = (augmented_initial_covariance(q, build_instrument_model(q)) if instruments

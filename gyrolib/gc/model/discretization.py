@@ -453,7 +453,7 @@ def discretize_steps(p: GyrocompassParams, n_steps: int, method: str,
 
 
 @functools.lru_cache(maxsize=32)
-def _kept_discretization(p: GyrocompassParams, n_steps: int,
+def kept_discretization(p: GyrocompassParams, n_steps: int,
                          method: str = "van_loan") -> GCDiscretization:
     """:func:`discretize_steps` with the instrument constants that are ON for ``p``
     (:func:`gyrolib.gc.model.instrument.build_instrument_model`; none: Eq. (8)), kept per
