@@ -240,6 +240,7 @@ def lint() -> None:
 # under 1 s, on a fresh clone).
 WARM_NUMBA = """
 import os
+from dataclasses import replace
 import numpy as np
 from gyrolib import filtering, gc, records
 strict = os.environ.get("GYROLIB_WARM_STRICT") == "1"
@@ -258,6 +259,16 @@ calls = [
     lambda: gc.rate_sensor_model(P, gc.RateSensorProcedure()).optimal_run(1.0, 1.0),
     # the rival's truth (its lane kernels)
     lambda: gc.rate_sensor_monte_carlo(P, t1=0.2, t2=0.2, n_runs=2, seed=1),
+    # the covariance kernel at the sizes of the instrument terms' states (11 to 14: one
+    # kernel per size, about 3 CPU-s each to compile; 10 and 15 are compiled above), which
+    # the claim maps' tests (one input alone ON) and others run: compiled here once, not in
+    # whichever test process needs a size first (two at a time under xdist)
+    lambda: gc.covariance_analysis(replace(P, sigma_as_offset=5e-6), 0.05),
+    lambda: gc.covariance_analysis(replace(P, sigma_incl_bias=5e-4), 0.05),
+    lambda: gc.covariance_analysis(replace(P, sigma_as_offset=5e-6, sigma_incl_bias=5e-4),
+                                   0.05),
+    lambda: gc.covariance_analysis(replace(P, sigma_as_offset=5e-6, sigma_incl_bias=5e-4,
+                                           sigma_hf_scale=1e-4), 0.05),
 ]
 share, shares = (int(x) for x in os.environ.get("GYROLIB_WARM_SHARE", "0/1").split("/"))
 rec = records.read_gc("data/gc_record.csv.gz")

@@ -37,9 +37,16 @@ def test_the_west_gyro_stalls_at_the_closed_form_floor():
     assert frozen.sigma[-1] < 0.5 * _floor(p)
 
 
-def test_the_west_gyro_item_fails_and_names_the_psi_that_would_make_it_hold():
+@pytest.fixture(scope="module")
+def gc_items():
+    """Paper GC's remaining items at the paper's parameters, built once for the two tests
+    that read them (each builds the west gyro's 510-s run)."""
+    return {i.id: i for i in remaining.items_gc(gc.GyrocompassParams())}
+
+
+def test_the_west_gyro_item_fails_and_names_the_psi_that_would_make_it_hold(gc_items):
     p = gc.GyrocompassParams()
-    it = {i.id: i for i in remaining.items_gc(p)}["gc.claim.corresponding_gyro"]
+    it = gc_items["gc.claim.corresponding_gyro"]
     assert (it.kind, it.status) == ("claim", "fails")
     assert it.reproduced_value == pytest.approx(_floor(p) / ARCSEC_PAPER, rel=0.03)
     # the threshold by hand: floor = σ_c
@@ -49,16 +56,16 @@ def test_the_west_gyro_item_fails_and_names_the_psi_that_would_make_it_hold():
     # power of the threshold: with ψ known to half of it the claim holds (judged at those
     # parameters only: "holds under conditions", the inputs that may flip it not searched)
     better = dataclasses.replace(p, sigma_psi0=0.5 * psi_max)
-    it_b = {i.id: i for i in remaining.items_gc(better)}["gc.claim.corresponding_gyro"]
+    it_b = remaining._west_gyro_item(better)     # (items_gc's; Fig. 2's item not needed)
     assert it_b.status == "holds under conditions"
     # the map's threshold (the filter at 510 s) is below the closed-form floor's bound
     (t,) = it.judged["thresholds"]
     assert t["input"] == "gc.sigma_psi0" and t["value"] < psi_max
 
 
-def test_figure_2_areas_hold_and_a_wrong_intensity_would_fail():
+def test_figure_2_areas_hold_and_a_wrong_intensity_would_fail(gc_items):
     p = gc.GyrocompassParams()
-    it = {i.id: i for i in remaining.items_gc(p)}["gc.fig2.areas"]
+    it = gc_items["gc.fig2.areas"]
     assert (it.kind, it.status) == ("claim", "holds")
     assert it.reproduced_value <= remaining.AREA_TOLERANCE
     # power: the vibration filter with Q1 = ξ1 α1 σ1² (half the text's) has half the area

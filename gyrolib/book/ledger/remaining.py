@@ -152,11 +152,21 @@ def west_gyro(params: GyrocompassParams, t_end: float = T_BOUND, *,
     return WestGyro(t=t, sigma=sig, floor=floor, psi_max=psi_max, beta_n=beta_n)
 
 
+@functools.lru_cache(maxsize=16)
+def _west_gyro_kept(p: GyrocompassParams) -> WestGyro:
+    """:func:`west_gyro` over :data:`T_BOUND` at ``p``, kept per parameters (its arrays
+    read-only): the ledger's item and its verdict's margin read the same run."""
+    west = west_gyro(p)
+    west.t.flags.writeable = False
+    west.sigma.flags.writeable = False
+    return west
+
+
 @register_margin
 def west_gyro_margin(o: Mapping[str, Any]) -> float:
     """'The method finds the drift of the corresponding gyro' read as the west gyro:
     ``log10(σ_c / σ_gc(510 s))`` of :func:`west_gyro` (> 0: σ_c reached within the bound)."""
-    return math.log10(SIGMA_C / float(west_gyro(o["GyrocompassParams"]).sigma[-1]))
+    return math.log10(SIGMA_C / float(_west_gyro_kept(o["GyrocompassParams"]).sigma[-1]))
 
 
 @register_margin
@@ -167,7 +177,7 @@ def area_margin(o: Mapping[str, Any]) -> float:
 
 
 def _west_gyro_item(p: GyrocompassParams) -> LedgerItem:
-    west = west_gyro(p)
+    west = _west_gyro_kept(p)
     s100, s_end = west.sigma_at(100.0), float(west.sigma[-1])
     psi_max = float(from_si(west.psi_max, "arcsec_paper"))
     conditions = (

@@ -16,7 +16,7 @@ from gyrolib.filtering.covariance import covariance_fast, covariance_reference
 from gyrolib.gc.model.discretization import (
     DISCRETIZATIONS,
     augmented_initial_covariance,
-    discretize_steps,
+    kept_discretization,
     steps_in,
 )
 from gyrolib.gc.model.instrument import augmented_index, build_instrument_model
@@ -177,7 +177,8 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("discretization", discretization, DISCRETIZATIONS)
     inst = build_instrument_model(p)
-    disc = discretize_steps(p, steps_in(p, t_end), discretization, inst)
+    # kept per parameters: the claims' margins analyse the same model more than once
+    disc = kept_discretization(p, steps_in(p, t_end), discretization)
     n = disc.model.n
     se = default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)

@@ -41,7 +41,7 @@ from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast
 from gyrolib.gc.analysis.covariance import covariance_analysis
-from gyrolib.gc.model.discretization import discretize_steps, steps_in
+from gyrolib.gc.model.discretization import kept_discretization, steps_in
 from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
 from gyrolib.gc.model.state_space import build_initial_covariance
 
@@ -83,10 +83,13 @@ def _map(executor: Executor | None, fn: Callable, tasks: Iterable) -> list:
 
 
 def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: float,
-                  level: float | None) -> list[tuple[float, float]]:
+                  level: float | None, *, instruments: bool = False
+                  ) -> list[tuple[float, float]]:
     """The covariance recursion of :func:`gyrolib.gc.covariance_analysis` in chunks, for
     models ``ps`` that differ at most in ``shaping_p0`` (the initial covariance of N1…N4,
     which does not enter the discretization: each discretization is computed once for all).
+    ``instruments=True``: with the instrument constants that are ON appended to the state,
+    as :func:`gyrolib.gc.covariance_analysis` appends them (else they are refused).
 
     With ``level``: per model ``(time, nan)``, the time (s) at which σ of ω_gc first falls
     to ``level`` (linear interpolation between the steps on either side, as
@@ -95,9 +98,10 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
     ``(nan, σ(t_max))``.
     """
     p = ps[0]
-    from gyrolib.gc.model.instrument import instrument_model
+    from gyrolib.gc.model.discretization import augmented_initial_covariance
+    from gyrolib.gc.model.instrument import build_instrument_model, instrument_model
 
-    if any(instrument_model(q).nb for q in ps):
+    if not instruments and any(instrument_model(q).nb for q in ps):
         raise ValueError("params with instrument terms (sigma_hf_scale, sigma_as_offset, "
                          "sigma_incl_bias, ...) need gyrolib.gc.covariance_analysis: this fast "
                          "path runs paper GC's 10-state filter only")
@@ -105,15 +109,13 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
     i = state_index("omega_gc")
     n_max = steps_in(p, t_max)
     n_first = n_max if level is None else min(steps_in(p, t_first), n_max)
-    models: dict[int, object] = {}
 
     def model(n: int):
-        if n not in models:
-            models[n] = discretize_steps(p, n, "van_loan").model
-        return models[n]
+        return kept_discretization(p, n, "van_loan").model
 
     def run(q: GyrocompassParams) -> tuple[float, float]:
-        P = build_initial_covariance(q)
+        P = (augmented_initial_covariance(q, build_instrument_model(q)) if instruments
+             else build_initial_covariance(q))
         if level is not None and np.sqrt(max(P[i, i], 0.0)) <= level:
             return 0.0, float("nan")
         m = model(n_first)
@@ -124,7 +126,8 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
                     return float("nan"), float(np.sqrt(max(P[i, i], 0.0)))
                 m = model(n_max)  # the longer discretization: the same first steps
             k1 = min(k + _CHUNK, m.n_steps)
-            window = replace(m, seg=m.seg[k:k1], a=m.a[k:k1], b=m.b[k:k1])
+            window = replace(m, seg=m.seg[k:k1], a=m.a[k:k1], b=m.b[k:k1],
+                             h=None if m.h is None else m.h[k:k1])
             res = covariance_fast(window, P, store_every=k1 - k)
             P = res.P_stored[-1]
             if level is not None:
@@ -181,8 +184,9 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     crossing (σ of the constant ω_gc never increases, so it stays below; the time is
     interpolated as by :func:`gyrolib.gc.time_to_sigma`); discretized over
     ``min(100 s, t_max)`` first, and over ``t_max`` only when σ has not crossed by then.
-    Parameters with instrument terms (their constants appended to the state) run the whole
-    :func:`gyrolib.gc.covariance_analysis` instead, over the same two horizons.
+    Parameters with instrument terms run the same recursion with their constants appended
+    to the state, as :func:`gyrolib.gc.covariance_analysis` appends them (the longer horizon
+    continues the shorter one: its first 100 s are not run twice).
 
     Parameters
     ----------
@@ -209,18 +213,11 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     p = check_params(params)
     level = v.check_positive("level", level)
     t_max = v.check_positive("t_max", t_max)
-    n_max = steps_in(p, t_max)
-    from gyrolib.gc.analysis.covariance import time_to_sigma
+    steps_in(p, t_max)   # t_max a multiple of dt
     from gyrolib.gc.model.instrument import instrument_model
 
-    if instrument_model(p).nb:
-        for n in sorted({min(steps_in(p, _FIRST_HORIZON), n_max), n_max}):
-            cov = covariance_analysis(p, n * p.dt, store_every=max(1, n // 50_000))
-            t = time_to_sigma(cov, "omega_gc", level)
-            if np.isfinite(t):
-                return float(t)
-        return float("nan")
-    return _run_omega_gc((p,), _FIRST_HORIZON, t_max, level)[0][0]
+    return _run_omega_gc((p,), _FIRST_HORIZON, t_max, level,
+                         instruments=bool(instrument_model(p).nb))[0][0]
 
 
 @compact_repr

@@ -18,6 +18,7 @@ Measurements ``z_k = D x(t_k) + v_k`` at ``t_k = k Δt``, ``k ≥ 1``; the filte
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Final
@@ -449,3 +450,15 @@ def discretize_steps(p: GyrocompassParams, n_steps: int, method: str,
     return GCDiscretization(params=p, n_steps=n_steps, beta_half=beta_half, betas=betas,
                             model=model, Gamma=Gamma, noise_factor=noise_factor,
                             method=method, instrument=inst)
+
+
+@functools.lru_cache(maxsize=32)
+def kept_discretization(p: GyrocompassParams, n_steps: int,
+                         method: str = "van_loan") -> GCDiscretization:
+    """:func:`discretize_steps` with the instrument constants that are ON for ``p``
+    (:func:`gyrolib.gc.model.instrument.build_instrument_model`; none: Eq. (8)), kept per
+    arguments for the library's own read-only use: a claim's margins read the same model
+    more than once (the race's GC time and the trend's covariance analysis at the same
+    parameters, over the same 100 s).  Its arrays are shared: not for callers that hand
+    them on (:func:`discretize` makes its own)."""
+    return discretize_steps(p, n_steps, method, build_instrument_model(p))
