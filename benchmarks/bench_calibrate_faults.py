@@ -108,8 +108,12 @@ def fit_noise_case(rec: Recorder, stats: dict, seeds: int, paper) -> None:
     zf, zn = np.array(z_fit), np.array(z_naive)
     stats["fit_noise"] = {
         "records": seeds, "not_identified": len(refused_fit), "reasons": refused_fit,
+        "not_identified_ci95": list(wilson(len(refused_fit), seeds)),
         "share_abs_z_le_2": float(np.mean(zf <= 2.0)) if zf.size else None,
+        "share_abs_z_le_2_ci95": list(wilson(int(np.sum(zf <= 2.0)), zf.size)),
         "share_abs_z_le_2_filter_sigma_only": float(np.mean(zn <= 2.0)) if zn.size else None,
+        "share_abs_z_le_2_filter_sigma_only_ci95": list(wilson(int(np.sum(zn <= 2.0)),
+                                                               zn.size)),
         "max_abs_z": float(zf.max()) if zf.size else None,
         "max_abs_z_filter_sigma_only": float(zn.max()) if zn.size else None}
     rec.case(f"--fit-noise on {seeds} clean records", wall,
