@@ -32,6 +32,21 @@ def test_grouped_rounds_then_groups_thousands(x, digits, text):
     assert report.grouped(x, digits) == text
 
 
+@pytest.mark.parametrize("x,bound,text", [(1.4e-15, 1e-14, "below 10⁻¹⁴"),
+                                           (-1.6e-15, 1e-14, "below 10⁻¹⁴"),
+                                           (0.0, 5e-13, "below 5·10⁻¹³")])
+def test_below_cites_the_declared_bound_the_same_on_every_machine(x, bound, text):
+    assert report.below(x, bound) == text
+
+
+@pytest.mark.parametrize("x,message", [(1e-14, "agreement must be below 1e-14"),
+                                       (-2e-14, "agreement must be below 1e-14"),
+                                       (float("nan"), "agreement")])
+def test_below_refuses_a_value_at_or_above_its_bound_by_name(x, message):
+    with pytest.raises(ValueError, match=message):
+        report.below(x, 1e-14, "agreement")
+
+
 def test_format_number_takes_a_spec_or_a_function():
     assert report.format_number(np.float64(0.001374), ".5f") == "0.00137"
     assert report.format_number(1.704e-4, report.sci) == "1.70·10⁻⁴"

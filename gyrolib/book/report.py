@@ -2,7 +2,8 @@
 
 One place for the formatting every chapter needs, so that a number reads the same wherever it
 appears: scientific notation with superscript exponents (``sci``), thousands grouped by a thin
-space (``grouped``), small Markdown tables that a notebook displays as tables
+space (``grouped``), a difference at the level of rounding cited under a declared bound
+(``below``), small Markdown tables that a notebook displays as tables
 (``markdown_table``), and a ``gluer`` that hands formatted numbers to myst-nb's ``glue``.
 """
 
@@ -14,8 +15,8 @@ from typing import Any
 
 from gyrolib import _validation as v
 
-__all__ = ["MarkdownText", "format_number", "gluer", "grouped", "hidpi_figures", "markdown_table",
-           "page_png", "sci"]
+__all__ = ["MarkdownText", "below", "format_number", "gluer", "grouped", "hidpi_figures",
+           "markdown_table", "page_png", "sci"]
 
 _SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
@@ -35,6 +36,37 @@ def sci(x: float, digits: int = 3) -> str:
     digits = v.check_int("digits", digits, 1)
     mantissa, exponent = f"{x:.{digits - 1}e}".split("e")
     return f"{mantissa}·10{str(int(exponent)).translate(_SUPERSCRIPTS)}"
+
+
+def below(x: float, bound: float, what: str = "x") -> str:
+    """``x`` cited under a declared ``bound``: ``'below 10⁻¹⁴'``; a ``ValueError`` naming
+    ``what`` unless ``|x| < bound``.
+
+    For differences at the level of floating-point rounding (two implementations, two
+    integrators, a stored result computed again): their digits depend on the CPU's vector
+    width and the order of sums, so the same commit prints 1.4·10⁻¹⁵ on one machine and
+    1.6·10⁻¹⁵ on another.  The chapter states the precision it vouches for, the same on
+    every machine, and its build fails loudly where the difference reaches it.
+
+    Examples
+    --------
+    >>> below(1.4e-15, 1e-14)
+    'below 10⁻¹⁴'
+    >>> below(0.0, 2e-12)
+    'below 2·10⁻¹²'
+    >>> below(3e-9, 1e-12, "the recomputed points' difference")
+    Traceback (most recent call last):
+    ...
+    ValueError: the recomputed points' difference must be below 1e-12; got 3e-09
+    """
+    v.check_str("what", what)
+    x = _real(what, x)
+    bound = v.check_positive("bound", bound)
+    if not abs(x) < bound:
+        raise ValueError(f"{what} must be below {bound:g}; got {x:.3g}")
+    mantissa, exponent = f"{bound:.0e}".split("e")
+    power = f"10{str(int(exponent)).translate(_SUPERSCRIPTS)}"
+    return f"below {power if mantissa == '1' else f'{mantissa}·{power}'}"
 
 
 def grouped(x: float, digits: int = 4) -> str:
