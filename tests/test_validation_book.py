@@ -94,6 +94,11 @@ case("report.page_png", lambda: report.page_png("not a figure"), TypeError, "fig
 case("report.sci", lambda: report.sci(NAN), ValueError, "x", FINITE)
 case("report.sci", lambda: report.sci("1e-4"), TypeError, "x", "real")
 case("report.sci", lambda: report.sci(1.0, 0), ValueError, "digits", ">= 1")
+case("report.below", lambda: report.below(NAN, 1e-14, "the recheck"), ValueError,
+     "the recheck", FINITE)
+case("report.below", lambda: report.below(1e-15, 0.0), ValueError, "bound", "> 0")
+case("report.below", lambda: report.below(2e-14, 1e-14, "agreement"), ValueError,
+     "agreement", "below 1e-14")
 case("report.grouped", lambda: report.grouped(INF), ValueError, "x", FINITE)
 case("report.grouped", lambda: report.grouped(1.0, 2.5), TypeError, "digits")
 case("report.format_number", lambda: report.format_number(1.0, 3), TypeError, "fmt", "str")
