@@ -19,21 +19,31 @@ another issue's budget is one more entry:
   node ids at the base and here, the difference.
 
 Every run is one pytest process (``-n 0 -p no:cacheprovider``), its CPU-s those of its process
-tree (below), rounds alternating the base and this tree.  The base is checked out with ``git
-worktree add`` into a temporary folder and run with this tree's ``.venv`` (its pins may differ
-from the base's own: the result says so).  Tests of the built book get one prebuilt book
-(``GYROLIB_REUSE_BOOK``, conftest.py), built by ``_book_once.py`` as the test session builds it
-(``--book`` reuses one): no test's CPU includes the build; likewise the ledger, which the test
-command computes once per session for the dozen tests that read it (``GYROLIB_LEDGER_MEMO``),
-is computed once per tree before the rounds (its CPU-s reported, counted in no test); numba's
-kernels are compiled into each tree's cache before the rounds too, as the test command does
-(``WARM_NUMBA``, tasks.py).  A run's CPU-s are the larger of the reaped children's
-(``RUSAGE_CHILDREN``) and the sum over every process seen below it, read every 0.1 s
-(``psutil``): Chromium's renderers are not all reaped inside the tree, so ``RUSAGE_CHILDREN``
-alone misses part of a browser test (about a quarter of one navigation test).  The plugin
-``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s (per-test figures, not
-reliable for the browser tests, whose renderers end between readings); the verdict uses the
-process totals.
+tree (below), rounds alternating the base and this tree.  Every run first imports what each
+of the test command's two xdist workers has imported anyway by the time an issue's tests run
+there (``_worker_imports.py``: numpy, scipy.stats, gyrolib and its ``gc``, ``rsf``,
+``units`` and ``book.ledger``, each imported by 10 to 55 of the base's test files, counted in
+the record): a file run in a process of its own would otherwise pay an interpreter's imports
+(about 1.5 CPU-s) that the test command pays once per worker, whatever the issue adds.  What
+those imports cost more here than at the base (the issue's new modules among them) is the
+``worker imports`` line, counted once per worker.  ``--per-process`` runs without them (the
+method of the budgets recorded before 2026-11-29).  The ledger's session memo (below) is
+computed once a side; what it costs more here is counted in the sum too.
+
+The base is checked out with ``git worktree add`` into a temporary folder and run with this
+tree's ``.venv`` (its pins may differ from the base's own: the result says so). Tests of the
+built book get one prebuilt book (``GYROLIB_REUSE_BOOK``, conftest.py), built by
+``_book_once.py`` as the test session builds it (``--book`` reuses one): no test's CPU includes
+the build; likewise the ledger, which the test command computes once per session for the dozen
+tests that read it (``GYROLIB_LEDGER_MEMO``), is computed once per tree before the rounds (its
+CPU-s reported, counted in no test); numba's kernels are compiled into each tree's cache before
+the rounds too, as the test command does (``WARM_NUMBA``, tasks.py). A run's CPU-s are the
+larger of the reaped children's (``RUSAGE_CHILDREN``) and the sum over every process seen below
+it, read every 0.1 s (``psutil``): Chromium's renderers are not all reaped inside the tree, so
+``RUSAGE_CHILDREN`` alone misses part of a browser test (about a quarter of one navigation
+test). The plugin ``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s
+(per-test figures, not reliable for the browser tests, whose renderers end between readings);
+the verdict uses the process totals.
 
 The build's share: in that build every figure's measurement (``page_record``: the layout pass,
 text metrics and the checks that the PNG carries) appends its own ``time.process_time()`` to
@@ -216,6 +226,16 @@ ISSUES: dict[int, dict] = {
 }
 
 
+def _worker_modules() -> tuple[str, ...]:
+    """The modules ``_worker_imports.py`` imports (its ``MODULES``, read without importing
+    it: importing it here would import them into this process)."""
+    import ast
+
+    body = ast.parse((BENCH / "_worker_imports.py").read_text(encoding="utf-8")).body
+    return next(ast.literal_eval(n.value) for n in body if isinstance(n, ast.AnnAssign)
+                and getattr(n.target, "id", "") == "MODULES")
+
+
 def clean_env(tree: Path) -> dict[str, str]:
     """The environment of a run in ``tree``: no ``GYROLIB_*`` of the caller's but the
     ledger's memo of that tree (:func:`ledger_memo`), the plugin found on ``PYTHONPATH``."""
@@ -227,6 +247,33 @@ def clean_env(tree: Path) -> dict[str, str]:
     if memo is not None:
         env["GYROLIB_LEDGER_MEMO"] = str(memo)
     return env
+
+
+#: Every run imports first what each worker of the test command has imported anyway
+#: (``_worker_imports.py``); ``--per-process`` turns it off (the method of the budgets
+#: recorded before 2026-11-29, which charged every new file its interpreter's imports).
+WORKER_IMPORTS = True
+
+
+def importers(tree: Path, modules: tuple[str, ...], skip: set[str]) -> dict[str, int]:
+    """How many test files of ``tree`` (those in ``skip`` left out) import each of
+    ``modules``, directly or by a submodule: the evidence that a worker imports them anyway."""
+    import ast
+
+    count = dict.fromkeys(modules, 0)
+    for f in sorted((tree / "tests").glob("test_*.py")):
+        if f"tests/{f.name}" in skip:
+            continue
+        names: set[str] = set()
+        for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                names |= {a.name for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                names |= {node.module} | {f"{node.module}.{a.name}" for a in node.names}
+        for m in modules:
+            if any(n == m or n.startswith(m + ".") for n in names):
+                count[m] += 1
+    return count
 
 
 #: tree -> the folder of its ledger memo (:func:`ledger_memo`).
@@ -272,7 +319,7 @@ def pytest_run(tree: Path, args: list[str], book: Path | None) -> dict:
         per_test = Path(f.name)
     env["GYROLIB_CPU_PER_TEST"] = str(per_test)
     cmd = [str(PY), "-m", "pytest", *args, "-q", "-n", "0", "-p", "no:cacheprovider",
-           "-p", "_cpu_per_test"]
+           "-p", "_cpu_per_test", *(["-p", "_worker_imports"] if WORKER_IMPORTS else [])]
     cpu0, t0 = children_cpu(), time.perf_counter()
     with tempfile.TemporaryFile("w+") as out:
         child = subprocess.Popen(cmd, cwd=tree, env=env, stdout=out, stderr=subprocess.STDOUT,
@@ -372,6 +419,13 @@ def plan(issue: dict, base: Path, head: Path) -> list[dict]:
                                                                         how["changed"]))],
                           "minus": [("base", f"{file} changed", node_ids(base, file,
                                                                          how["changed"]))]})
+    if WORKER_IMPORTS:  # what the issue made those imports cost more, once per worker
+        workers = os.cpu_count() or 1
+        units.append({"file": "worker imports",
+                      "how": f"imports: the start-up with the worker's imports here less at "
+                             f"the base, once per worker ({workers})",
+                      "plus": [("head", *startup)] * workers,
+                      "minus": [("base", *startup)] * workers})
     return units
 
 
@@ -561,7 +615,12 @@ def main() -> None:
                          "here too, in the same rounds (cuts' before/after; not in the sum)")
     ap.add_argument("--cuts-base", help="the commit before the cuts")
     ap.add_argument("--out", help="results name (default budget_<issue>)")
+    ap.add_argument("--per-process", action="store_true",
+                    help="no worker imports before the tests: each file pays its own "
+                         "interpreter's imports (the method before 2026-11-29)")
     args = ap.parse_args()
+    global WORKER_IMPORTS
+    WORKER_IMPORTS = not args.per_process
     issue = ISSUES[args.issue]
     start_load = load()
     t_start = time.perf_counter()
@@ -604,6 +663,9 @@ def main() -> None:
                            "plus": [("head", f"cut {f}", f.split("+"))],
                            "minus": [("before", f"cut {f}", f.split("+"))]}
                           for f in args.cuts]
+            own = {f for f, how in issue["files"].items() if how.get("new")}
+            worker_importers = (importers(base, _worker_modules(), own)
+                                if WORKER_IMPORTS else None)
             warm_cpu = {side: round(warm_numba(tree), 1) for side, tree in trees.items()}
             memo_cpu = {side: round(ledger_memo(tree, tmp / f"ledger-{side}"), 1)
                         for side, tree in trees.items()}
@@ -616,7 +678,10 @@ def main() -> None:
                                     str(tree)], capture_output=True)
     figures = [unit_figures(u, results) for u in units if not u.get("cut")]
     cuts = [unit_figures(u, results) for u in units if u.get("cut")]
-    total = round(sum(f["cpu_s"] for f in figures), 2)
+    # the ledger's memo, computed once per test command: what it costs more here counts
+    # (one measurement each side, before the rounds; it also carries other issues' changes)
+    memo_added = round(memo_cpu["head"] - memo_cpu["base"], 2) if not args.compare else 0.0
+    total = round(sum(f["cpu_s"] for f in figures) + max(memo_added, 0.0), 2)
     name = args.out or (f"budget_{args.issue}" if not args.compare else
                         f"budget_{args.issue}_compare")
     rec = Recorder(name)
@@ -636,6 +701,12 @@ def main() -> None:
                  note=f"{'saves' if f['cpu_s'] < 0 else 'adds'} {abs(f['cpu_s'])} CPU-s: "
                       f"{f['plus_cpu_s']} after, {f['minus_cpu_s']} before "
                       f"({args.cuts_base}); rounds {f['cpu_s_rounds']}; {note}")
+    if not args.compare:
+        rec.case(f"the ledger's session memo: CPU-s added (here {memo_cpu['head']}, at the "
+                 f"base {memo_cpu['base']})", max(memo_added, 1e-4),
+                 note=f"ledger.collect() once per test command (tests/conftest.py), one run "
+                      f"each side before the rounds; counted in the sum when positive; it "
+                      f"carries every issue's change to the ledger since the base; {note}")
     verdict = "within" if total <= allowance else "over"
     rec.case(f"issue {args.issue}: CPU-s added to the test command", max(total, 1e-4),
              target_s=allowance, note=f"allowance {allowance} CPU-s: {verdict}; {note}")
@@ -643,6 +714,14 @@ def main() -> None:
               "head": head_commit, "dirty": bool(dirty), "rounds": args.rounds,
               "base_run_with": f"this tree's .venv ({PY})", "book": book and str(book),
               "numba_warm_cpu_s": warm_cpu, "ledger_memo_cpu_s": memo_cpu,
+              "ledger_memo_added_cpu_s": memo_added,
+              "method": ("worker imports: every run imports first "
+                         f"{list(_worker_modules())} (benchmarks/_worker_imports.py), as "
+                         "each of the test command's workers has by the time the issue's "
+                         "tests run; what they cost more here than at the base is the "
+                         "'worker imports' line, once per worker" if WORKER_IMPORTS else
+                         "per process: every file pays its own interpreter's imports"),
+              "worker_module_importers_at_base": worker_importers,
               "load_start": start_load, "load_rounds": loads, "load_end": load(),
               "benchmark_wall_s": round(time.perf_counter() - t_start, 1),
               "tests": figures, "cuts": cuts, "cuts_base": args.cuts_base,
