@@ -35,15 +35,16 @@ tree's ``.venv`` (its pins may differ from the base's own: the result says so). 
 built book get one prebuilt book (``GYROLIB_REUSE_BOOK``, conftest.py), built by
 ``_book_once.py`` as the test session builds it (``--book`` reuses one): no test's CPU includes
 the build; likewise the ledger, which the test command computes once per session for the dozen
-tests that read it (``GYROLIB_LEDGER_MEMO``), is computed once per tree before the rounds (its
-CPU-s reported, counted in no test); numba's kernels are compiled into each tree's cache before
-the rounds too, as the test command does (``WARM_NUMBA``, tasks.py). A run's CPU-s are the
-larger of the reaped children's (``RUSAGE_CHILDREN``) and the sum over every process seen below
-it, read every 0.1 s (``psutil``): Chromium's renderers are not all reaped inside the tree, so
-``RUSAGE_CHILDREN`` alone misses part of a browser test (about a quarter of one navigation
-test). The plugin ``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s
-(per-test figures, not reliable for the browser tests, whose renderers end between readings);
-the verdict uses the process totals.
+tests that read it (``GYROLIB_LEDGER_MEMO``), is computed once per tree before the rounds
+(counted in no test; what it costs more here than at the base is a line of the sum); numba's
+kernels are compiled into each tree's cache before the rounds too, as the test command does
+(``WARM_NUMBA``, tasks.py). A run's CPU-s are the larger of the reaped children's
+(``RUSAGE_CHILDREN``) and the sum over every process seen below it, read every 0.1 s
+(``psutil``): Chromium's renderers are not all reaped inside the tree, so ``RUSAGE_CHILDREN``
+alone misses part of a browser test (about a quarter of one navigation test). The plugin
+``_cpu_per_test.py`` adds each test's set-up, call and tear-down CPU-s (per-test figures, not
+reliable for the browser tests, whose renderers end between readings); the verdict uses the
+process totals.
 
 The build's share: in that build every figure's measurement (``page_record``: the layout pass,
 text metrics and the checks that the PNG carries) appends its own ``time.process_time()`` to
