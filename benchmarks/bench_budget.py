@@ -28,7 +28,11 @@ the record): a file run in a process of its own would otherwise pay an interpret
 those imports cost more here than at the base (the issue's new modules among them) is the
 ``worker imports`` line, counted once per worker.  ``--per-process`` runs without them (the
 method of the budgets recorded before 2026-11-29).  The ledger's session memo (below) is
-computed once a side; what it costs more here is counted in the sum too.
+computed once a side; what it costs more here is counted in the sum too.  The verdict's sum
+counts every line's saving (a file, or the memo, cheaper here than at the base) as 0: a
+saving in a file other issues changed too may be theirs (a library made faster since the
+base).  The net sum, savings included (the budgets recorded until 2026-11-29), is recorded
+beside it.
 
 The base is checked out with ``git worktree add`` into a temporary folder and run with this
 tree's ``.venv`` (its pins may differ from the base's own: the result says so). Tests of the
@@ -682,7 +686,15 @@ def main() -> None:
     # the ledger's memo, computed once per test command: what it costs more here counts
     # (one measurement each side, before the rounds; it also carries other issues' changes)
     memo_added = round(memo_cpu["head"] - memo_cpu["base"], 2) if not args.compare else 0.0
-    total = round(sum(f["cpu_s"] for f in figures) + max(memo_added, 0.0), 2)
+    # Two sums.  The net one lets a file that costs less here than at the base offset the
+    # others (the budgets recorded until 2026-11-29 did); but a whole file's saving may be
+    # another issue's doing (a library made faster since the base), so the verdict takes the
+    # sum with every saving counted as 0: no credit for savings, each cost counted in full.
+    net = round(sum(f["cpu_s"] for f in figures) + memo_added, 2)
+    total = round(sum(max(f["cpu_s"], 0.0) for f in figures) + max(memo_added, 0.0), 2)
+    savings = {f["file"]: f["cpu_s"] for f in figures if f["cpu_s"] < 0}
+    if memo_added < 0:
+        savings["the ledger's session memo"] = memo_added
     name = args.out or (f"budget_{args.issue}" if not args.compare else
                         f"budget_{args.issue}_compare")
     rec = Recorder(name)
@@ -710,7 +722,9 @@ def main() -> None:
                       f"carries every issue's change to the ledger since the base; {note}")
     verdict = "within" if total <= allowance else "over"
     rec.case(f"issue {args.issue}: CPU-s added to the test command", max(total, 1e-4),
-             target_s=allowance, note=f"allowance {allowance} CPU-s: {verdict}; {note}")
+             target_s=allowance,
+             note=f"allowance {allowance} CPU-s: {verdict}; every line's saving counted as 0 "
+                  f"(net, with the savings {savings}: {net}); {note}")
     budget = {"issue": args.issue, "title": issue["title"], "base": base_commit,
               "head": head_commit, "dirty": bool(dirty), "rounds": args.rounds,
               "base_run_with": f"this tree's .venv ({PY})", "book": book and str(book),
@@ -726,7 +740,8 @@ def main() -> None:
               "load_start": start_load, "load_rounds": loads, "load_end": load(),
               "benchmark_wall_s": round(time.perf_counter() - t_start, 1),
               "tests": figures, "cuts": cuts, "cuts_base": args.cuts_base,
-              "test_cpu_s": total, "test_allowance_cpu_s": allowance,
+              "test_cpu_s": total, "test_cpu_s_net": net, "savings_not_credited": savings,
+              "test_allowance_cpu_s": allowance,
               "test_verdict": verdict}
     if issue.get("build_allowance_s") is None:
         budget["build"] = "none: the issue gives no build allowance"
@@ -752,7 +767,7 @@ def main() -> None:
     rec.doc["budget"] = budget
     rec.write()
     build = budget.get("build", {})
-    print(json.dumps({"test_cpu_s": total, "verdict": verdict,
+    print(json.dumps({"test_cpu_s": total, "net": net, "verdict": verdict,
                       "build": build if isinstance(build, str) else build.get("wall_s_estimate")}))
 
 
