@@ -22,7 +22,7 @@ Every run is one pytest process (``-n 0 -p no:cacheprovider``), its CPU-s those 
 tree (below), rounds alternating the base and this tree.  Every run first imports what each
 of the test command's two xdist workers has imported anyway by the time an issue's tests run
 there (``_worker_imports.py``: numpy, scipy.stats, gyrolib and its ``gc``, ``rsf``,
-``units`` and ``book.ledger``, each imported by 10 to 55 of the base's test files, counted in
+``units`` and ``book.ledger``, each imported by 7 to 44 of the base's test files, counted in
 the record): a file run in a process of its own would otherwise pay an interpreter's imports
 (about 1.5 CPU-s) that the test command pays once per worker, whatever the issue adds.  What
 those imports cost more here than at the base (the issue's new modules among them) is the
