@@ -721,8 +721,11 @@ def main() -> None:
                       f"each side before the rounds; counted in the sum when positive; it "
                       f"carries every issue's change to the ledger since the base; {note}")
     verdict = "within" if total <= allowance else "over"
-    rec.case(f"issue {args.issue}: CPU-s added to the test command", max(total, 1e-4),
-             target_s=allowance,
+    method = ("" if WORKER_IMPORTS else
+              " by the per-process method, for comparison (each file pays its own "
+              "interpreter's imports; the budget's method is the worker imports')")
+    rec.case(f"issue {args.issue}: CPU-s added to the test command{method}",
+             max(total, 1e-4), target_s=allowance,
              note=f"allowance {allowance} CPU-s: {verdict}; every line's saving counted as 0 "
                   f"(net, with the savings {savings}: {net}); {note}")
     budget = {"issue": args.issue, "title": issue["title"], "base": base_commit,
