@@ -19,20 +19,19 @@ another issue's budget is one more entry:
   node ids at the base and here, the difference.
 
 Every run is one pytest process (``-n 0 -p no:cacheprovider``), its CPU-s those of its process
-tree (below), rounds alternating the base and this tree.  Every run first imports what each
-of the test command's two xdist workers has imported anyway by the time an issue's tests run
-there (``_worker_imports.py``: numpy, scipy.stats, gyrolib and its ``gc``, ``rsf``,
-``units`` and ``book.ledger``, each imported by 7 to 44 of the base's test files, counted in
-the record): a file run in a process of its own would otherwise pay an interpreter's imports
-(about 1.5 CPU-s) that the test command pays once per worker, whatever the issue adds.  What
-those imports cost more here than at the base (the issue's new modules among them) is the
-``worker imports`` line, counted once per worker.  ``--per-process`` runs without them (the
-method of the budgets recorded before 2026-11-29).  The ledger's session memo (below) is
-computed once a side; what it costs more here is counted in the sum too.  The verdict's sum
-counts every line's saving (a file, or the memo, cheaper here than at the base) as 0: a
-saving in a file other issues changed too may be theirs (a library made faster since the
-base).  The net sum, savings included (the budgets recorded until 2026-11-29), is recorded
-beside it.
+tree (below), rounds alternating the base and this tree. Every run first imports what each of
+the test command's two xdist workers has imported anyway by the time an issue's tests run there
+(``_worker_imports.py``: numpy, scipy.stats, gyrolib and its ``gc``, ``rsf``, ``units`` and
+``book.ledger``, each imported by 7 to 44 of the base's test files, counted in the record): a
+file run in a process of its own would otherwise pay an interpreter's imports (about 1 CPU-s:
+1.1 a file for issue 33) that the test command pays once per worker, whatever the issue adds.
+What those imports cost more here than at the base (the issue's new modules among them) is the
+``worker imports`` line, counted once per worker. ``--per-process`` runs without them (the
+method of the budgets recorded before 2026-11-29). The ledger's session memo (below) is
+computed once a side; what it costs more here is counted in the sum too. The verdict's sum
+counts every line's saving (a file, or the memo, cheaper here than at the base) as 0: a saving
+in a file other issues changed too may be theirs (a library made faster since the base). The
+net sum, savings included (the budgets recorded until 2026-11-29), is recorded beside it.
 
 The base is checked out with ``git worktree add`` into a temporary folder and run with this
 tree's ``.venv`` (its pins may differ from the base's own: the result says so). Tests of the
