@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from gyrolib import gc, rsf
+from gyrolib import gc, rsf, stats
 from gyrolib.units import ARCSEC_PAPER, G0
 
 #: The command line's default priors of ``calibrate gc`` (gyrolib.inputs' rows).
@@ -79,12 +79,10 @@ def fit_case(seed: int, t_end: float = 100.0, fit: tuple[str, ...] = (
     return out
 
 
-def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
-    """95 % Wilson score interval of a binomial share ``k/n``."""
+def wilson(k: int, n: int) -> tuple[float, float]:
+    """95 % Wilson score interval of a binomial share ``k/n`` (:func:`gyrolib.stats.proportion`),
+    ``(nan, nan)`` for no runs."""
     if n == 0:
         return (math.nan, math.nan)
-    p = k / n
-    d = 1 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
+    est = stats.proportion(k, n)
+    return (est.lo, est.hi)
