@@ -233,7 +233,7 @@ def lint() -> None:
 # numba's kernels compiled once, into their on-disk cache, before the test session: else the
 # first test workers and chapter kernels compile the same kernels at the same time (about 25 s
 # of CPU each on a fresh clone).  Short calls of every compiled path; a failure is left to the
-# tests to report (GYROLIB_WARM_STRICT=1 raises it instead: tests/test_tasks.py).
+# tests to report (GYROLIB_WARM_STRICT=1 raises it instead: tests/project/test_tasks.py).
 # GYROLIB_WARM_SHARE="i/n" runs every n-th call from the i-th: the test command compiles in
 # one process per core (the calls are ordered so that the shares of two take about as long:
 # Monte Carlo 6 s, square root 7 s, calibrate 4 s, covariance 2 s, noise fit 1.4 s, the rest

@@ -15,7 +15,7 @@ build time, so the pages are right without JavaScript too:
 * **Contrast** of the status badges: ``_static/gyrolib-a11y.css`` (every badge at least
   4.5:1 in the light and the dark mode).
 
-``tests/test_browser.py`` runs axe-core on every page and fails on any violation.
+``tests/book/test_browser.py`` runs axe-core on every page and fails on any violation.
 """
 
 from __future__ import annotations

@@ -125,7 +125,7 @@ def figure_html(doc: dict) -> str:
     buf = io.BytesIO()
     from gyrolib._page_figures import PNG_KEY, page_record
 
-    # the measurement as the page shows it, read back by tests/test_page_figures.py
+    # the measurement as the page shows it, read back by tests/book/test_page_figures.py
     fig.savefig(buf, format="png", dpi=192, metadata={PNG_KEY: page_record(fig)})
     width, height = (round(x * 96) for x in fig.get_size_inches())
     alt = ("Bar chart of how many times faster each case runs than its peer: "

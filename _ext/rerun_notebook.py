@@ -28,7 +28,7 @@ Markdown outputs of its code cells) into plain Markdown, from the notebook's own
 A first cell says that the prose's values are those of the run that wrote the notebook, and
 how to refresh them.  The numbers of figures and equations are those of the book: figures
 and equations are numbered through the book in the order of ``_toc.yml``
-(:func:`label_index`; ``tests/test_rerun_notebook.py`` checks both against the built HTML).
+(:func:`label_index`; ``tests/book/test_rerun_notebook.py`` checks both against the built HTML).
 
 Used by ``python3 tasks.py chapter NAME`` (:func:`execute_chapter`: ``python
 _ext/rerun_notebook.py --execute CHAPTER.md NOTEBOOK``) and by

@@ -101,22 +101,23 @@ ISSUES: dict[int, dict] = {
         "test_allowance_cpu_s": 30.0,
         "build_allowance_s": 10.0,
         "files": {
-            "tests/test_rerun_notebook.py": {"new": True},
-            "tests/test_cite.py": {"new": True},
-            "tests/test_raw_markup.py": {"new": True},
+            "tests/book/test_rerun_notebook.py": {"new": True},
+            "tests/book/test_cite.py": {"new": True},
+            "tests/book/test_raw_markup.py": {"new": True},
             "gyrolib/book/cite.py": {"new": True},  # its doctests
-            "tests/test_page_figures.py": {"whole": True},
+            "tests/book/test_page_figures.py": {"whole": True},
             "gyrolib/_page_figures.py": {"whole": True},  # its doctests
-            "tests/test_browser.py": {
+            "tests/book/test_browser.py": {
                 "added": ["test_the_ledger_reads_on_a_phone_without_sideways_scrolling",
                           "test_navigation_panels_open_and_close_on_a_phone_and_a_tablet",
                           "test_navigation_sidebar_collapses_and_returns_on_a_desk"],
                 "anchor": "test_search_finds_a_term"},
-            "tests/test_lab.py": {
+            "tests/project/test_lab.py": {
                 "added": ["test_the_pinned_lab_extensions_load",
                           "test_the_lab_extension_check_flags_an_incompatible_extension"],
                 "changed": ["test_lab_requirements_are_exact_pins_compatible_with_the_book"]},
-            "tests/test_ledger.py": {"changed": ["test_json_and_markdown_of_a_known_item"]},
+            "tests/book/ledger/test_ledger.py": {
+                "changed": ["test_json_and_markdown_of_a_known_item"]},
         },
     },
     # The files and tests issue 33 added or changed since the round's start (``git log
@@ -141,12 +142,12 @@ ISSUES: dict[int, dict] = {
                         "c.check_stored(); print(time.process_time() - t)"),
         "files": {
             "tests/test_claim_map.py": {"new": True},
-            "tests/test_margin_study.py": {"new": True},
-            "tests/test_one_source.py": {"new": True},
-            "tests/test_ledger_remaining.py": {"new": True},
-            "tests/test_ledger_release.py": {"new": True},
+            "tests/book/ledger/test_margin_study.py": {"new": True},
+            "tests/test_inputs.py": {"new": True},
+            "tests/book/ledger/test_remaining.py": {"new": True},
+            "tests/book/ledger/test_release.py": {"new": True},
             "tests/test_stats.py": {"new": True},
-            "tests/test_data_records.py": {"new": True},
+            "tests/project/test_data_records.py": {"new": True},
             # their doctests
             "gyrolib/claim_map.py": {"new": True},
             "gyrolib/inputs.py": {"new": True},
@@ -154,19 +155,19 @@ ISSUES: dict[int, dict] = {
             "gyrolib/stats.py": {"new": True},
             "gyrolib/book/ledger/margin_study.py": {"new": True},
             "gyrolib/gc/racing/verdict_grid.py": {"new": True},
-            "tests/test_ledger_gc.py": {"whole": True},
-            "tests/test_ledger_rsf.py": {"whole": True},
-            "tests/test_ledger_rule.py": {"whole": True},
-            "tests/test_sensitivity.py": {"whole": True},
-            "tests/test_cli_race.py": {"whole": True},
-            "tests/test_validation_book.py": {"whole": True},
-            "tests/test_gc_priors.py": {
+            "tests/book/ledger/test_gc.py": {"whole": True},
+            "tests/book/ledger/test_rsf.py": {"whole": True},
+            "tests/book/ledger/test_rule.py": {"whole": True},
+            "tests/sensitivity/test_study.py": {"whole": True},
+            "tests/cli/test_race.py": {"whole": True},
+            "tests/book/test_bad_input.py": {"whole": True},
+            "tests/gc/test_priors.py": {
                 "added": ["test_command_default_priors_are_the_table_of_inputs"]},
-            "tests/test_ledger.py": {
+            "tests/book/ledger/test_ledger.py": {
                 "changed": ["test_statuses_and_fields",
                             "test_every_kind_but_inferred_has_an_item_and_the_review_cases"
                             "_are_classified"]},
-            "tests/test_cli_sensitivity.py": {
+            "tests/cli/test_sensitivity.py": {
                 "changed": ["test_a_run_writes_the_indices_and_the_run_record",
                             "test_extend_reuses_a_smaller_study_and_refuses_another"]},
         },
@@ -189,26 +190,26 @@ ISSUES: dict[int, dict] = {
         "build_allowance_s": None,  # none: the issue gives no build allowance
         "book": False,  # none of these tests reads the built book: no build
         "files": {
-            "tests/test_allan_reference.py": {"new": True},
-            "tests/test_cli_allan.py": {"new": True},
-            "tests/test_cli_hints.py": {"new": True},
-            "tests/test_cli_log_formats.py": {"new": True},
-            "tests/test_coverage_seeds.py": {"new": True},
-            "tests/test_gc_nis_expectation.py": {"new": True},
-            "tests/test_gc_priors.py": {"new": True},
-            "tests/test_rsf_uncertainty.py": {"new": True},
+            "tests/references/test_allan_reference.py": {"new": True},
+            "tests/cli/test_allan.py": {"new": True},
+            "tests/cli/test_hints.py": {"new": True},
+            "tests/cli/test_log_formats.py": {"new": True},
+            "tests/references/test_coverage_seeds.py": {"new": True},
+            "tests/gc/test_nis_expectation.py": {"new": True},
+            "tests/gc/test_priors.py": {"new": True},
+            "tests/rsf/test_uncertainty.py": {"new": True},
             "gyrolib/rsf/uncertainty.py": {"new": True},  # its doctests, as below
             "gyrolib/cli/hints.py": {"new": True},
             "gyrolib/cli/calibrate_gc.py": {"new": True},
             "gyrolib/records/options.py": {"new": True},
-            "tests/test_calibrate_faults.py": {"whole": True},
-            "tests/test_cli_calibrate.py": {"whole": True},
-            "tests/test_cli_calibrate_io.py": {"whole": True},
-            "tests/test_cli_calibrate_logs.py": {"whole": True},
-            "tests/test_gc_model.py": {"whole": True},
-            "tests/test_gc_noisefit.py": {"whole": True},
-            "tests/test_model_extra_state.py": {"whole": True},
-            "tests/test_records_csv.py": {"whole": True},
+            "tests/cli/test_calibrate_faults.py": {"whole": True},
+            "tests/cli/test_calibrate.py": {"whole": True},
+            "tests/cli/test_calibrate_io.py": {"whole": True},
+            "tests/cli/test_calibrate_logs.py": {"whole": True},
+            "tests/gc/test_model.py": {"whole": True},
+            "tests/gc/test_noise_fit.py": {"whole": True},
+            "tests/gc/test_extra_state.py": {"whole": True},
+            "tests/records/test_reader.py": {"whole": True},
             "tests/test_imports.py": {"whole": True},
             "gyrolib/gc/logs/allan.py": {"whole": True},
             "gyrolib/gc/logs/calibration.py": {"whole": True},
@@ -221,10 +222,10 @@ ISSUES: dict[int, dict] = {
             "gyrolib/records/errors.py": {"whole": True},
             "gyrolib/records/plausibility.py": {"whole": True},
             "gyrolib/units.py": {"whole": True},
-            "tests/test_gc_monte_carlo.py": {
+            "tests/gc/test_monte_carlo.py": {
                 "added": ["test_simulate_records_are_the_block_streams_lanes"],
                 "anchor": "test_simulate_truth_draws_numpys_block_stream"},
-            "tests/test_cli_sensitivity.py": {"added": ["test_help_counts_the_studies_inputs"]},
+            "tests/cli/test_sensitivity.py": {"added": ["test_help_counts_the_studies_inputs"]},
         },
     },
 }

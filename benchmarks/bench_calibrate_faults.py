@@ -3,7 +3,7 @@
 never asserted in tests (the tests assert bounds on fewer seeds).
 
 Every record is 100 s at 1 kHz, made by the tests' own fault generator
-(``tests/gc_faults.py``) and calibrated by ``gc.calibrate`` with the command's default
+(``tests/support/gc_faults.py``) and calibrated by ``gc.calibrate`` with the command's default
 priors (scale tolerance 10⁻³, angle-sensor offset 20″, inclinometer bias 0.5 mg) and its
 default family-wise false-alarm rate of 1 %.
 
@@ -16,7 +16,7 @@ default family-wise false-alarm rate of 1 %.
    offset, inclinometer biases and a gain error *drawn from those priors* — σ right again,
    about 95 % expected.  Timed: the mean wall time per seed (one simulation, three
    calibrations).  Target: none.
-2. **Each fault** of ``tests/gc_faults.py`` at each of its sizes (``--fault-seeds`` seeds,
+2. **Each fault** of ``tests/support/gc_faults.py`` at each of its sizes (``--fault-seeds`` seeds,
    default 5): the refusal rate, the coverage of the valid ones, and the count of the
    confidently wrong (valid with |z| > 3), which must be 0.
 3. **``--fit-noise``** on ``--fit-seeds`` (default 20) clean records of the paper's model:
@@ -40,7 +40,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "support"))
 from _results import RESULTS, Recorder  # noqa: E402
 from coverage_cases import wilson  # noqa: E402  (gyrolib.stats' Wilson interval)
 from gc_faults import FAULTS, cli_params, make  # noqa: E402

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Benchmark: does every σ the tool prints cover the truth? (issue 34, item 7).  Statistics
 over seeds, never asserted in tests (the tests run two fixed seeds of each case:
-``tests/test_coverage_seeds.py``).  The records are made by ``tests/coverage_cases.py``
+``tests/references/test_coverage_seeds.py``).  The records are made by
+``tests/support/coverage_cases.py``
 with every constant drawn from its prior, so the prior is part of the truth.
 
 1. **RSF** (``--rsf``, default 100 flights of 30 s, sensors' errors drawn from their
@@ -48,7 +49,7 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "support"))
 from _results import Recorder  # noqa: E402
 from coverage_cases import fit_case, gc_case, rsf_case, wilson  # noqa: E402
 

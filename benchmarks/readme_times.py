@@ -7,7 +7,7 @@ result files of ``bench_test_command.py`` and ``bench_book_build.py`` (never typ
 The block lies between ``<!-- times -->`` and ``<!-- /times -->``.  Each row quotes the time,
 the target, the machine (CPU and its class: AVX2 or AVX-512, the issue-36 distinction), the
 1-minute load before the run (quiet when at most 1.0; otherwise the time is an upper bound),
-the date and the commit the benchmark names.  ``tests/test_readme_times.py`` checks that the
+the date and the commit the benchmark names.  ``tests/project/test_readme_times.py`` checks that the
 README holds what this script writes.
 """
 

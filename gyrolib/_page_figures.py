@@ -28,7 +28,7 @@ from collections.abc import Callable
 from typing import Any
 
 #: CSS pixels per inch, and the width of the book's output column at a 1280-px window (the
-#: figures of the chapters were measured at 672 CSS px by ``tests/test_browser.py``).
+#: figures of the chapters were measured at 672 CSS px by ``tests/book/test_browser.py``).
 CSS_DPI = 96.0
 COLUMN_PX = 672.0
 #: The smallest legend text on the page, in points at display size (issue 29).
@@ -37,7 +37,7 @@ MIN_LEGEND_PT = 9.0
 #: the desk and the PDF; multi-panel figures are stacked, not set side by side).  A wider
 #: figure is scaled down to it, its fonts keeping their point size.
 MAX_WIDTH_IN = 5.0
-#: The output column on a phone (a 390-px window; measured by ``tests/test_browser.py``), and
+#: The output column on a phone (a 390-px window; measured by ``tests/book/test_browser.py``), and
 #: the smallest text there, in CSS pixels (issue 35).
 PHONE_COLUMN_PX = 342.0
 MIN_PHONE_PX = 9.0
@@ -445,7 +445,7 @@ def _crosses(xy: Any, x0: float, y0: float, x1: float, y1: float) -> bool:
 
 
 #: The key of the PNG text chunk in which the book's figures carry their measurement
-#: (:func:`page_record`), read back from the built pages by ``tests/test_page_figures.py``.
+#: (:func:`page_record`), read back from the built pages by ``tests/book/test_page_figures.py``.
 PNG_KEY = "gyrolib-figure-text"
 
 

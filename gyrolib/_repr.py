@@ -72,7 +72,7 @@ def _compact(self: object) -> str:
     return f"{name}(\n" + "".join(f"    {p},\n" for p in parts) + ")"
 
 
-_compact.compact = True  # marks the classes that use it (tests/test_repr.py)
+_compact.compact = True  # marks the classes that use it (tests/helpers/test_repr.py)
 
 
 def compact_repr(cls: T) -> T:

@@ -401,7 +401,7 @@ def _xdist_controller(config) -> bool:
 #: in each of a dozen tests, processes and workers.  The book build keeps a memo of its own
 #: (``_ext/gyrolib_cache.py`` sets the variable for its kernels), so the book's ledger and
 #: the tests' stay two independent computations: the command line's JSON, read from the
-#: build's memo, is compared with the session's (``tests/test_ledger.py``).
+#: build's memo, is compared with the session's (``tests/book/ledger/test_ledger.py``).
 LEDGER_MEMO_ENV = "GYROLIB_LEDGER_MEMO"
 #: A folder the session's processes share for results that more than one test computes the
 #: same way in whichever worker it runs (``session_memo``; e.g. the independent reference of

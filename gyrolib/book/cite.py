@@ -2,7 +2,7 @@
 
 One source for where the book lives: ``pyproject.toml``'s ``[project.urls]``
 (``Repository``, ``Book``).  :func:`project_urls` reads it; ``CITATION.cff``,
-``.zenodo.json`` and ``_config.yml`` are tested equal to it (``tests/test_cite.py``).  When
+``.zenodo.json`` and ``_config.yml`` are tested equal to it (``tests/book/test_cite.py``).  When
 the book has a URL, an item's citation points to it absolutely
 (``<Book>/chapters/ledger.html#<anchor>``); when it has none (an unpublished build), the
 citation says so, with the version and the release date of ``CITATION.cff``

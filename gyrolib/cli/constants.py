@@ -56,9 +56,9 @@ FROM_TABLE: Final[dict[str, tuple[str, str]]] = {
 
 #: Where the values of :data:`FROM_TABLE` are stored with the package: the table imports
 #: numpy and both papers' packages, which neither ``--help`` nor a ``calibrate gc`` run
-#: otherwise loads (tests/test_imports.py, tests/test_cli_calibrate.py).  The file is
+#: otherwise loads (tests/test_imports.py, tests/cli/test_calibrate.py).  The file is
 #: derived, never typed: :func:`table_defaults` computes it, ``python -m
-#: gyrolib.cli.constants`` writes it, and tests/test_gc_priors.py fails when it differs from
+#: gyrolib.cli.constants`` writes it, and tests/gc/test_priors.py fails when it differs from
 #: the table.
 DEFAULTS_FILE: Final[Path] = Path(__file__).resolve().parents[1] / "data" / "cli_defaults.json"
 

@@ -4,7 +4,7 @@ Every refusal of the ``calibrate`` command (no valid estimate, exit 3; bad input
 carries a ``reason_code`` from :data:`REASONS` and its ``hint``: in the JSON
 (``"reason_code"``, ``"hint"``), in ``--summary``'s columns of those names, and as the
 text's last line, ``try: ...``.  The codes are stable (scripts may test them); a new check
-adds its row here, and ``tests/test_cli_hints.py`` checks that each row names an option of
+adds its row here, and ``tests/cli/test_hints.py`` checks that each row names an option of
 the command's parser.
 
 A leaf module: it imports nothing of gyrolib, so every room of the command line can read it.

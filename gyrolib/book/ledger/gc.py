@@ -5,7 +5,7 @@ boundary takes two analyses of 510 s).
 
 Only the paper's printed values are stored here, in :data:`PRINTED`; the reproduced values
 are computed from the parameters, so perturbing a parameter moves the ledger (see
-``tests/test_ledger_gc.py``).  Every comparison with a print uses the ledger's one agreement
+``tests/book/ledger/test_gc.py``).  Every comparison with a print uses the ledger's one agreement
 rule (:func:`gyrolib.book.ledger.item.agrees`).  :func:`items` runs the shared computations
 once (:class:`Baseline`, :class:`SpeedEvidence`) and hands them to one small builder per
 figure, table entry or claim.

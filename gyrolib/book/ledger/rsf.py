@@ -11,7 +11,7 @@ not, every candidate cause the book names is computed and listed in the evidence
 status is "differs: cause shown" when any of them gives the print (the evidence says which
 miss it: those the print refutes).  A claim's status and
 conditions come from the computation that tests it.  Each table, claim or group of inputs has
-its own builder; perturbing a record moves the ledger (see ``tests/test_ledger_rsf.py``).
+its own builder; perturbing a record moves the ledger (see ``tests/book/ledger/test_rsf.py``).
 """
 
 from __future__ import annotations

@@ -726,7 +726,7 @@ def _fill_stream_lanes(s, out, lanes, ki, wi, fi):
     first try's test, not its value: about 5× less than drawing every lane through the
     state array (issue 36: a 100-s record drew 7.4·10⁷ numbers to keep 2.3·10⁶, 1.0 CPU-s
     of its 1.2 on the 2-core AVX2 machine), the same numbers
-    (``tests/test_gc_monte_carlo.py``)."""
+    (``tests/gc/test_monte_carlo.py``)."""
     kept = out.shape[2]
     a, b, c, w = s[0, 0], s[1, 0], s[2, 0], s[3, 0]
     for k in range(out.shape[0]):

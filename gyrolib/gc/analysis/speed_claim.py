@@ -24,7 +24,7 @@ numba kernel releases the GIL, so threads use every core) runs them concurrently
 same numbers whatever the executor.  Tolerance: the times agree with one whole
 :func:`gyrolib.gc.covariance_analysis` read by :func:`gyrolib.gc.time_to_sigma` to 1e-12
 relative, and the results of any executor with those run here to 1e-12 relative
-(``tests/test_gc_claims.py``); on the book's map they were identical to the last bit.
+(``tests/gc/test_speed_claim.py``); on the book's map they were identical to the last bit.
 """
 
 from __future__ import annotations

@@ -395,7 +395,7 @@ class CalibrationResult:
         given (default 0: none is needed; the angle sensor's mean NIS of about 0.996 on
         an hour of the truth model, which a tolerance of 0.5 % used to hide, is the gate's
         0.9984 times the record's own measurement noise, whose sample variance scatters
-        by ``√(2/n)``, 0.075 % over an hour: tests/test_gc_nis_expectation.py).  Each
+        by ``√(2/n)``, 0.075 % over an hour: tests/gc/test_nis_expectation.py).  Each
         entry: ``test``,
         ``sensor``, ``statistic``, ``low``, ``high``, ``passed``, ``reason_code`` (and, for
         a prior, ``constant`` and ``cause``)."""

@@ -183,7 +183,7 @@ class NoiseFit:
         search stops within 2 % of its ends: a smaller excess is its rounding).  The
         likelihood of ``α1``, ``σ1²`` is not quadratic at the scale of one standard error:
         on 20 s with α1 × 5 its interval reaches 8 curvature SE below ``α̂1``
-        (tests/test_gc_noisefit.py).  An end the likelihood does not reach (0 or ``inf``)
+        (tests/gc/test_noise_fit.py).  An end the likelihood does not reach (0 or ``inf``)
         counts at the search's limit (the plausible range ×/÷ 10).  Without intervals, or
         where the curvature is wider (it overstates a side), the curvature's on that side.
         NaN without curvature.
@@ -380,8 +380,8 @@ def fit_checks(fit: NoiseFit, unfitted: object | None = None, *, clock_tolerance
       1.0097 times ``C/dt`` (a 3.2-SE common factor of the draw, refused at this check's
       false-alarm rate, as any 3.2-SE draw is), and the fit gives 1.0097 and 1.0108, within
       0.3 SE of them, while 20 other seeds' draws average 1.000 ± 0.001
-      (tests/test_gc_noisefit.py); the unfitted filter predicts the innovation variances
-      without a bias that a record resolves (tests/test_gc_nis_expectation.py)):
+      (tests/gc/test_noise_fit.py); the unfitted filter predicts the innovation variances
+      without a bias that a record resolves (tests/gc/test_nis_expectation.py)):
       a common factor beyond the clock's
       tolerance means the fit moved the levels only to absorb the misfit the unfitted run
       showed (or, on a record too short for the run before the fit to show it, that the
