@@ -357,10 +357,55 @@ def _needs_the_book(item: pytest.Item) -> bool:
     return False
 
 
+#: The full tier: the tests marked ``full`` (a full recomputation of a stored study, a long
+#: run, a second execution of every chapter) run only with this option
+#: (``python3 tasks.py test --full``, which CI's ``.ci/run`` runs); without it they are
+#: skipped, each with :data:`FULL_SKIP_REASON`.  ``slow`` marks a test that is long but runs
+#: in both tiers.
+FULL_OPTION = "--full"
+FULL_SKIP_REASON = "full tier: runs with python3 tasks.py test --full (and in CI)"
+#: Set by ``python3 tasks.py test --full``: the session must run the full tier, and it must
+#: find tests of it (a misspelt option or a lost marker fails the run instead of skipping the
+#: full tier without a word).
+REQUIRE_FULL_ENV = "GYROLIB_REQUIRE_FULL"
+
+
+def pytest_addoption(parser) -> None:
+    parser.addoption(FULL_OPTION, action="store_true", default=False,
+                     help="also run the full tier (tests marked 'full': full recomputations "
+                          "of the stored studies, long runs); python3 tasks.py test --full")
+
+
+def full_tier(config) -> bool:
+    """Whether this session runs the full tier (:data:`FULL_OPTION`)."""
+    return bool(config.getoption(FULL_OPTION))
+
+
+def select_tier(config, items: list) -> int:
+    """Mark the full tier's tests skipped unless the session runs it; returns how many of
+    ``items`` are of the full tier.  Under :data:`REQUIRE_FULL_ENV` a session without the
+    option, or one whose collection has no test of the full tier, is a usage error."""
+    full = [item for item in items if item.get_closest_marker("full") is not None]
+    required = os.environ.get(REQUIRE_FULL_ENV) == "1"
+    if required and not full_tier(config):
+        raise pytest.UsageError(f"{REQUIRE_FULL_ENV}=1 but pytest was run without "
+                                f"{FULL_OPTION}: the full tier would be skipped")
+    if required and not full:
+        raise pytest.UsageError(f"{FULL_OPTION}: no test of the full tier was collected "
+                                "(tests marked 'full'): the full tier would not run")
+    if not full_tier(config):
+        skip = pytest.mark.skip(reason=FULL_SKIP_REASON)
+        for item in full:
+            item.add_marker(skip)
+    return len(full)
+
+
 def pytest_collection_modifyitems(session: pytest.Session, config, items: list) -> None:
-    """The tests of the built book run last, in their collected order: the build runs in
-    the background while all the other tests run, instead of the first browser test
-    waiting for it while the second core idles."""
+    """The full tier's tests are skipped unless the session runs it (:func:`select_tier`).
+    The tests of the built book run last, in their collected order: the build runs in the
+    background while all the other tests run, instead of the first browser test waiting for
+    it while the second core idles."""
+    select_tier(config, items)
     items.sort(key=lambda item: _uses_the_book(item) and _needs_the_book(item))
 
 
