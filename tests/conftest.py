@@ -28,8 +28,11 @@ the lock first.
 ``GYROLIB_REUSE_BOOK=1`` skips the build and uses the project's ``_build/`` as
 ``python3 tasks.py pdf`` left it (``GYROLIB_REUSE_BOOK=/path/to/_build``: another build
 folder, e.g. one kept by ``GYROLIB_KEEP_BOOK=1``), for quick local reruns; the determinism
-test then compares with the recorded outputs, else executes the chapters a second time
-itself.  ``GYROLIB_KEEP_BOOK=1`` keeps the temporary build and prints where it is.
+test then compares with the recorded outputs (the full tier executes every chapter a second
+time itself).  ``GYROLIB_KEEP_BOOK=1`` keeps the temporary build and prints where it is.
+
+Two tiers: ``--full`` (:data:`FULL_OPTION`, ``python3 tasks.py test --full``, CI) runs the
+tests marked ``full`` too; without it they are skipped (:func:`select_tier`).
 """
 
 from __future__ import annotations
@@ -383,21 +386,40 @@ def full_tier(config) -> bool:
 
 def select_tier(config, items: list) -> int:
     """Mark the full tier's tests skipped unless the session runs it; returns how many of
-    ``items`` are of the full tier.  Under :data:`REQUIRE_FULL_ENV` a session without the
-    option, or one whose collection has no test of the full tier, is a usage error."""
+    ``items`` are of the full tier."""
     full = [item for item in items if item.get_closest_marker("full") is not None]
-    required = os.environ.get(REQUIRE_FULL_ENV) == "1"
-    if required and not full_tier(config):
-        raise pytest.UsageError(f"{REQUIRE_FULL_ENV}=1 but pytest was run without "
-                                f"{FULL_OPTION}: the full tier would be skipped")
-    if required and not full:
-        raise pytest.UsageError(f"{FULL_OPTION}: no test of the full tier was collected "
-                                "(tests marked 'full'): the full tier would not run")
     if not full_tier(config):
         skip = pytest.mark.skip(reason=FULL_SKIP_REASON)
         for item in full:
             item.add_marker(skip)
     return len(full)
+
+
+def check_required_tier(config) -> None:
+    """Under :data:`REQUIRE_FULL_ENV`, a session without :data:`FULL_OPTION` is a usage
+    error (raised before any test is collected)."""
+    if os.environ.get(REQUIRE_FULL_ENV) == "1" and not full_tier(config):
+        raise pytest.UsageError(f"{REQUIRE_FULL_ENV}=1 but pytest was run without "
+                                f"{FULL_OPTION}: the full tier would be skipped")
+
+
+#: How many reports of tests of the full tier this process saw (the xdist controller sees
+#: those of every worker).
+_FULL_REPORTS = [0]
+
+
+def pytest_runtest_logreport(report) -> None:
+    if "full" in report.keywords and report.when == "call":
+        _FULL_REPORTS[0] += 1
+
+
+def full_tier_ran(config, reports: int) -> str:
+    """The problem of a session that had to run the full tier (:data:`REQUIRE_FULL_ENV`) and
+    ran none of its tests, or ``""``."""
+    if os.environ.get(REQUIRE_FULL_ENV) == "1" and full_tier(config) and reports == 0:
+        return (f"{FULL_OPTION}: no test of the full tier ran (tests marked 'full'): the "
+                "full tier was not run")
+    return ""
 
 
 def pytest_collection_modifyitems(session: pytest.Session, config, items: list) -> None:
@@ -481,7 +503,10 @@ def session_memo(key: str, compute):
 def pytest_configure(config) -> None:
     """Under pytest-xdist the workers share one build: its folder is made here, before the
     workers start (they inherit the environment variable), and removed at the end.  The
-    ledger's memo for the session (:data:`LEDGER_MEMO_ENV`) is made here too."""
+    ledger's memo for the session (:data:`LEDGER_MEMO_ENV`) is made here too.  A session
+    that must run the full tier and was not given the option stops here
+    (:func:`check_required_tier`)."""
+    check_required_tier(config)
     if not hasattr(config, "workerinput") and not os.environ.get(LEDGER_MEMO_ENV):
         memo = tempfile.mkdtemp(prefix="gyrolib-test-ledger-")
         os.environ[LEDGER_MEMO_ENV] = memo          # the workers inherit it
@@ -589,3 +614,9 @@ def pytest_runtest_logfinish(nodeid: str, location) -> None:
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     _BUILD.cleanup()
+    config = session.config
+    if not hasattr(config, "workerinput") and exitstatus == pytest.ExitCode.OK:
+        problem = full_tier_ran(config, _FULL_REPORTS[0])
+        if problem:  # the session's status: a usage error, with its line
+            print(f"\nERROR: {problem}", file=sys.stderr, flush=True)
+            session.exitstatus = pytest.ExitCode.USAGE_ERROR
