@@ -5,9 +5,9 @@
     python3 tasks.py pdf     # the book as one PDF: _build/pdf/book.pdf (HTML links to it)
     python3 tasks.py lab     # pinned JupyterLab on chapters/ (args go to jupyter lab)
     python3 tasks.py test    # set up .venv (and a browser), lint, the everyday tests (one
-                             # clean book + PDF); every commit, before you push
+                             # clean book); every commit, before you push
     python3 tasks.py test --full   # the same, and the full tier (full recomputations of the
-                             # stored studies, long runs): what CI runs (.ci/run)
+                             # stored studies, long runs, the PDF): what CI runs (.ci/run)
 
 Set-up is idempotent: the virtual environment ``.venv`` is (re)installed from the pinned
 ``requirements.txt`` whenever that file or ``pyproject.toml`` changes; ``lab`` adds the pinned
@@ -311,9 +311,9 @@ def test(full: bool = False) -> None:
     ``python3 tasks.py test --full`` (``.ci/run``).
 
     The suite runs on every core (pytest-xdist workers).  It builds the book once, from
-    clean, into a temporary folder (every chapter executed, warnings as errors, the PDF
-    printed; ``tests/conftest.py``), in the background while the other tests run; the HTML,
-    browser, PDF and determinism tests run last and share that build.
+    clean, into a temporary folder (every chapter executed, warnings as errors, and in the
+    full tier the PDF printed; ``tests/conftest.py``), in the background while the other
+    tests run; the HTML, browser, PDF and determinism tests run last and share that build.
     ``_build/`` is left as it is: the determinism test compares the chapters' outputs with
     their recorded outputs (``tests/recorded_outputs/``); the full tier executes every
     chapter a second time.  Exits with pytest's status; a session that collected no test

@@ -6,7 +6,8 @@ pages, the release footer, the downloadable notebooks) share one build, made by
 executed and every warning shown (``-W -n --keep-going``, as ``python3 tasks.py book``):
 
 1. ``jupyter-book build --builder singlehtml`` — executes every chapter;
-2. ``_ext/print_pdf.py`` prints that page to ``pdf/book.pdf`` with Chromium (when installed);
+2. ``_ext/print_pdf.py`` prints that page to ``pdf/book.pdf`` with Chromium (when installed;
+   in the full tier only, ``--full``: the PDF's tests are of that tier);
 3. ``jupyter-book build --builder html`` — reads the chapters' outputs from the cache of
    step 1 (nothing executed again) and links the PDF from every page's footer.
 
@@ -240,7 +241,10 @@ class _BookBuild:
             self.error = error
             return
         pdf_error = ""
-        if CHROMIUM.exists():
+        if not _PRINT_PDF[0]:
+            pdf_error = (f"the PDF is printed in the full tier ({FULL_OPTION}) only: "
+                         "tests/book/test_pdf.py")
+        elif CHROMIUM.exists():
             pdf_error = self._step("PDF print", [sys.executable, ROOT / "_ext" / "print_pdf.py",
                                                  build / "singlehtml",
                                                  build / "pdf" / "book.pdf"], seconds) or ""
@@ -403,6 +407,11 @@ def check_required_tier(config) -> None:
                                 f"{FULL_OPTION}: the full tier would be skipped")
 
 
+#: Whether the session's book build prints the PDF: in the full tier only (its tests,
+#: ``tests/book/test_pdf.py``, are of the full tier), since the print is a step of the
+#: longest chain of the everyday run (set in :func:`pytest_configure`).
+_PRINT_PDF = [True]
+
 #: How many reports of tests of the full tier this process saw (the xdist controller sees
 #: those of every worker).
 _FULL_REPORTS = [0]
@@ -507,6 +516,7 @@ def pytest_configure(config) -> None:
     that must run the full tier and was not given the option stops here
     (:func:`check_required_tier`)."""
     check_required_tier(config)
+    _PRINT_PDF[0] = full_tier(config)
     if not hasattr(config, "workerinput") and not os.environ.get(LEDGER_MEMO_ENV):
         memo = tempfile.mkdtemp(prefix="gyrolib-test-ledger-")
         os.environ[LEDGER_MEMO_ENV] = memo          # the workers inherit it
