@@ -207,10 +207,9 @@ def _connect(args: argparse.Namespace, stack: ExitStack) -> tuple[Any, int, str]
 def write_results(record: dict[str, Any], path: Path) -> None:
     """Write a results record as JSON: indented, the model's values one sample point a line
     (through a temporary file, so that an interrupted write leaves no half file)."""
-    body = {k: val for k, val in record.items() if k != "values"}
-    text = json.dumps(body, indent=1, ensure_ascii=False)
-    rows = ",\n".join(json.dumps(row) for row in record.get("values", []))
-    text = text[:-2] + ',\n "values": [\n' + rows + "\n ]\n}\n"
+    from gyrolib.store import dumps
+
+    text = dumps(record, rows="values")
     tmp = path.with_suffix(".json.tmp")
     tmp.write_text(text, encoding="utf-8")
     tmp.replace(path)
