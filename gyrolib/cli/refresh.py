@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         return _listing(names)
     from tqdm import tqdm
 
-    executor, close = None, None
+    executor, close, workers, where = None, None, 1, "in-process"
     if args.scheduler:
         from gyrolib._optional import optional
 
@@ -86,15 +86,18 @@ def run(args: argparse.Namespace) -> int:
                              f"{type(exc).__name__}\n")
             return 1
         executor, close = client.get_executor(), client.close
+        workers = len(client.scheduler_info()["workers"])
+        where = f"dask scheduler {args.scheduler}"
     elif args.workers is not None and args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 
         executor = ProcessPoolExecutor(args.workers)
-        close = executor.shutdown
+        close, workers, where = executor.shutdown, args.workers, "local processes"
     try:
         for n in names:
             with tqdm(total=1, desc=f"refresh {n}", file=sys.stderr, mininterval=1.0) as bar:
-                path = store.refresh(n, executor=executor, progress=bar)
+                path = store.refresh(n, executor=executor, progress=bar, workers=workers,
+                                     where=where)
             h = store.header_of(n, json.loads(path.read_text("utf-8")))
             sys.stderr.write(f"wrote {path}: {h.cost_cpu_s} CPU-s here, {h.cpu_class}\n")
     finally:

@@ -278,6 +278,17 @@ def run(args: argparse.Namespace) -> int:
     if previous is not None:
         record["run"]["extends"] = {"file": args.extend.name, "n": previous.n,
                                     "run": prev_run}
+    if args.model in ("gc-claims", "rsf-claims"):   # a stored study's header (gyrolib.store)
+        from gyrolib import store
+        from gyrolib.book.ledger import studies
+
+        name = "sensitivity-" + args.model.split("-")[0]
+        s = store.study(name)
+        record[store.HEADER_KEY] = store.Header(
+            study=name, key=studies.key(name), rtol=s.rtol, atol=s.atol, version=__version__,
+            cpu_class=store.cpu_class(), date=started, cost_cpu_s=None,
+            note=f"python -m gyrolib sensitivity on {where}, {workers} worker(s), wall "
+                 f"{wall:.0f} s; CPU-s not measured").as_dict()
     write_results(record, args.out)
     sys.stderr.write(f"wrote {args.out}: {total} model runs ({total - reused} computed) in "
                      f"{wall:.1f} s on {workers} "

@@ -35,6 +35,9 @@ from __future__ import annotations
 
 import functools
 import json
+import os
+import platform
+import time
 from collections.abc import Mapping
 from datetime import UTC, datetime
 from pathlib import Path
@@ -197,34 +200,48 @@ def _check_sobol(name: str, data: Mapping[str, Any]) -> int:
 
 def _compute_sobol(name: str, executor: object, progress: Any, *, path: Path | None = None,
                    n: int | None = None, seed: int | None = None,
-                   second_order: bool | None = None) -> dict[str, Any]:
+                   second_order: bool | None = None, workers: int | None = None,
+                   where: str | None = None) -> dict[str, Any]:
     """The study at the stored file's ``n``, ``seed`` and order unless given, with the
-    outputs at the reference and the margins' slopes, and a record of the run."""
+    outputs at the reference and the margins' slopes, and a record of the run (``workers``
+    and ``where`` describe the executor: default one, in-process, without one)."""
     model = _MODEL[name]
     src = _ms.study_file(model) if path is None else Path(path)
     old = json.loads(src.read_text(encoding="utf-8")) if src.is_file() else {}
     n = int(old.get("n", 64)) if n is None else n
     seed = int(old.get("seed", 0)) if seed is None else seed
     second_order = bool(old.get("second_order")) if second_order is None else second_order
-    d = len(_ms.study_inputs(model))
+    total = n * ((2 if second_order else 1) * len(_ms.study_inputs(model)) + 2)
     if progress is not None:
-        progress.total = n * ((2 if second_order else 1) * d + 2)
+        progress.total = total
         progress.refresh()
     started = datetime.now(UTC).isoformat(timespec="seconds")
+    t0 = time.perf_counter()
     res = _ms.margin_study(model, n, seed=seed, executor=executor,
                            progress=None if progress is None else progress.update,
                            second_order=second_order)
     record = {**res.to_dict(), "at": _ms.reference_outputs(model),
               "slopes": _ms.margin_slopes(model, executor=executor)}
-    record["run"] = {"command": f"python3 tasks.py refresh {name}", "version": __version__,
-                     "started": started, "n": n, "seed": seed,
-                     "second_order": second_order}
+    record["run"] = {
+        "command": f"python3 tasks.py refresh {name}", "version": __version__,
+        "started": started,
+        "machine": {"platform": platform.platform(), "processor": platform.machine(),
+                    "python": platform.python_version(), "cpus": os.cpu_count()},
+        "executor": where or ("in-process" if executor is None else type(executor).__name__),
+        "workers": workers or (1 if executor is None else os.cpu_count()),
+        "wall_time_s": time.perf_counter() - t0, "model_runs": total,
+        "model_runs_computed": total}
     return record
+
+
+def _compute_maps_any(executor: object, progress: Any, *, workers: int | None = None,
+                      where: str | None = None, **options: Any) -> dict[str, Any]:
+    return _compute_maps(executor, progress, **options)
 
 
 # registration ----------------------------------------------------------------------------------
 for _name, _file, _check, _compute, _atol, _what in (
-        ("claim-maps", _claims.MAPS_FILE, _check_maps, _compute_maps, 1e-9,
+        ("claim-maps", _claims.MAPS_FILE, _check_maps, _compute_maps_any, 1e-9,
          "every claim mapped over the table of inputs, and the race's verdict grid"),
         ("sensitivity-gc", _ms.study_file("gc-claims"),
          functools.partial(_check_sobol, "sensitivity-gc"),

@@ -219,3 +219,13 @@ def test_refresh_list_and_bad_names(capsys):
     assert main(["refresh", "no-such-study"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no-such-study" in err and "claim-maps" in err
+
+
+def test_claims_out_writes_the_store_header(tmp_path, capsys):
+    out = tmp_path / "maps.json"
+    assert main(["claims", "--out", str(out), "--only", "rsf.claim.drz_cubic"]) == 0
+    assert capsys.readouterr().out.startswith("rsf.claim.drz_cubic: fails")
+    data = json.loads(out.read_text("utf-8"))
+    assert store.header_of("claim-maps", data).key == studies.key("claim-maps")
+    _agree(data["maps"]["rsf.claim.drz_cubic"], _data_maps()["rsf.claim.drz_cubic"], 1e-6,
+           1e-9)
