@@ -56,6 +56,7 @@ from gyrolib.gc.racing import comparison as _race
 from gyrolib.gc.racing import rate_sensor as _rate_sensor
 from gyrolib.rsf import sensors as _rsf_sensors
 from gyrolib.rsf import simulation as _rsf_simulation
+from gyrolib.rsf import tables as _rsf_tables
 from gyrolib.sensitivity import result_from_dict
 
 __all__ = ["GRID_CELLS", "MODULES", "NAMES", "SAMPLE", "check_all", "key"]
@@ -63,9 +64,21 @@ __all__ = ["GRID_CELLS", "MODULES", "NAMES", "SAMPLE", "check_all", "key"]
 #: The registered studies, in the order ``refresh --list`` shows them.
 NAMES: Final[tuple[str, ...]] = ("claim-maps", "sensitivity-gc", "sensitivity-rsf")
 
-#: The modules whose constants and default dataclasses the studies' margins read.
-MODULES: Final[tuple[Any, ...]] = (levels, units, _gc_params, _gc_discretization, _race,
-                                   _rate_sensor, _rsf_sensors, _rsf_simulation)
+#: The modules whose constants and default dataclasses each study's margins read, the owners
+#: of the table it reads (at their defaults) and the prefixes of its rows.
+_GC_MODULES: Final[tuple[Any, ...]] = (levels, units, _gc_params, _gc_discretization, _race,
+                                       _rate_sensor)
+_RSF_MODULES: Final[tuple[Any, ...]] = (levels, units, _rsf_sensors, _rsf_simulation,
+                                        _rsf_tables)
+_READS: Final[dict[str, tuple[tuple[Any, ...], tuple[str, ...], tuple[str, ...]]]] = {
+    "claim-maps": (_GC_MODULES + _RSF_MODULES[2:], tuple(_inputs.OWNERS), ("",)),
+    "sensitivity-gc": (_GC_MODULES, ("GyrocompassParams", "RateSensorProcedure"),
+                       ("gc.", "race.")),
+    "sensitivity-rsf": (_RSF_MODULES, ("RollGyroSpec", "MemsGyroSpec", "EncoderSpec",
+                                       "WorkedExample"), ("rsf.",)),
+}
+#: Every module some study reads.
+MODULES: Final[tuple[Any, ...]] = _READS["claim-maps"][0]
 
 #: Points of each Sobol' study recomputed by its check (rows drawn with seed 0).
 SAMPLE: Final[dict[str, int]] = {"sensitivity-gc": 3, "sensitivity-rsf": 8}
@@ -79,11 +92,15 @@ _MODEL: Final[dict[str, str]] = {"sensitivity-gc": "gc-claims", "sensitivity-rsf
 
 def key(name: str) -> dict[str, str]:
     """The key of study ``name`` now (:func:`gyrolib.store.model_key`): the table's
-    fingerprint, the owners at their defaults, and :data:`MODULES`' constants."""
+    fingerprint over the rows it reads, the owners of those rows at their defaults, and the
+    constants and default dataclasses of the modules its margins read."""
     if name not in NAMES:
         raise ValueError(f"name must be one of {NAMES}; got {name!r}")
-    return store.model_key(MODULES, objects=_inputs.reference_objects(),
-                           extra={"table": _inputs.table_fingerprint()})
+    modules, owners, prefixes = _READS[name]
+    ref = _inputs.reference_objects()
+    rows = tuple(r.name for r in _inputs.INPUTS if r.name.startswith(prefixes))
+    return store.model_key(modules, objects={k: ref[k] for k in owners},
+                           extra={"table": _inputs.table_fingerprint(rows)})
 
 
 # the claim maps --------------------------------------------------------------------------------

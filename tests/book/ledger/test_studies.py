@@ -19,6 +19,7 @@ from gyrolib import store
 from gyrolib.book.ledger import claims, studies
 from gyrolib.cli import main
 from gyrolib.gc.model.params import GyrocompassParams
+from gyrolib.rsf.sensors import RollGyroSpec
 
 
 def _patch_default(monkeypatch: pytest.MonkeyPatch, cls: type, name: str, value: object):
@@ -76,14 +77,33 @@ def test_brackets_each_threshold_with_opposite_signs():
 
 
 # a changed table default ----------------------------------------------------------------------
-def test_a_changed_table_default_makes_the_studies_stale(monkeypatch):
-    _patch_default(monkeypatch, GyrocompassParams, "C_as",
-                   1.1 * GyrocompassParams.__dataclass_fields__["C_as"].default)
-    for name in studies.NAMES:
-        with pytest.raises(store.StaleStudy) as exc:
-            store.check(name)
-        msg = _stale(exc, name)
-        assert "table" in msg and "objects" in msg
+@pytest.mark.parametrize(("name", "owner", "field"), [
+    ("claim-maps", GyrocompassParams, "C_as"),
+    ("sensitivity-gc", GyrocompassParams, "C_as"),
+    ("sensitivity-rsf", RollGyroSpec, "sf_error"),
+])
+def test_a_changed_table_default_makes_the_study_stale(monkeypatch, name, owner, field):
+    store.check_key(name, _stored_key(name), studies.key(name))   # as it is: the same key
+    _patch_default(monkeypatch, owner, field,
+                   1.1 * owner.__dataclass_fields__[field].default)
+    with pytest.raises(store.StaleStudy) as exc:
+        store.check(name)
+    msg = _stale(exc, name)
+    assert "table" in msg and "objects" in msg
+
+
+def test_the_key_holds_only_what_the_study_reads(monkeypatch):
+    """Paper GC's C_as is no input of paper RSF's study: its key does not move."""
+    _patch_default(monkeypatch, GyrocompassParams, "C_as", 2.2e-13)
+    store.check_key("sensitivity-rsf", _stored_key("sensitivity-rsf"),
+                    studies.key("sensitivity-rsf"))
+    with pytest.raises(store.StaleStudy):
+        store.check_key("sensitivity-gc", _stored_key("sensitivity-gc"),
+                        studies.key("sensitivity-gc"))
+
+
+def _stored_key(name: str) -> dict:
+    return store.header_of(name, json.loads(store.study(name).file.read_text("utf-8"))).key
 
 
 # a model constant outside the table: Omega_v x 1.1 --------------------------------------------
