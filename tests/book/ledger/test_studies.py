@@ -249,3 +249,35 @@ def test_claims_out_writes_the_store_header(tmp_path, capsys):
     assert store.header_of("claim-maps", data).key == studies.key("claim-maps")
     _agree(data["maps"]["rsf.claim.drz_cubic"], _data_maps()["rsf.claim.drz_cubic"], 1e-6,
            1e-9)
+
+
+@pytest.mark.slow
+def test_refresh_command_on_a_dask_scheduler_gives_the_stored_study(tmp_path, monkeypatch,
+                                                                     capsys):
+    """``python -m gyrolib refresh sensitivity-rsf --scheduler ADDRESS`` (what ``tasks.py
+    refresh`` runs) against a cluster this test starts, writing into a copy: the same values,
+    indices and slopes as the stored (in-process) study, within its declared tolerance."""
+    distributed = pytest.importorskip("distributed")
+    import numpy as np
+
+    s = store.study("sensitivity-rsf")
+    copy = tmp_path / "sensitivity_rsf.json"
+    copy.write_bytes(s.file.read_bytes())
+    monkeypatch.setitem(store._REGISTRY, s.name, dataclasses.replace(s, file=copy))
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=":0") as cluster:
+        assert main(["refresh", "sensitivity-rsf", "--scheduler",
+                     cluster.scheduler_address]) == 0
+    assert "refresh sensitivity-rsf" in capsys.readouterr().err     # the progress bar
+    old = json.loads(s.file.read_text("utf-8"))
+    new = json.loads(copy.read_text("utf-8"))
+    h = store.header_of(s.name, new)
+    assert h.key == studies.key(s.name) and h.date > old["store"]["date"]
+    assert new["run"]["executor"].startswith("dask scheduler") and new["run"]["workers"] == 1
+    np.testing.assert_allclose(new["values"], old["values"], rtol=h.rtol, atol=h.atol)
+    for part in ("first_order", "total"):
+        for out, by_input in old[part].items():
+            for inp, idx in by_input.items():
+                np.testing.assert_allclose(new[part][out][inp]["value"], idx["value"],
+                                           rtol=h.rtol, atol=1e-12)
+    assert store.check(s.name, copy) == 45
