@@ -273,6 +273,19 @@ class Study:
     what: str = ""
     rows: str = ""
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"name must be a non-empty str; got {self.name!r}")
+        if not isinstance(self.file, Path):
+            raise TypeError(f"file must be a pathlib.Path; got {type(self.file).__name__}")
+        for f in ("key", "check", "compute"):
+            if not callable(getattr(self, f)):
+                raise TypeError(f"{f} must be callable; got {getattr(self, f)!r}")
+        for f in ("rtol", "atol"):
+            x = getattr(self, f)
+            if not isinstance(x, (int, float)) or not 0.0 <= x < 1.0:
+                raise ValueError(f"{f} must be a number in [0, 1); got {x!r}")
+
 
 _REGISTRY: dict[str, Study] = {}
 

@@ -132,3 +132,31 @@ def test_unknown_study_and_bad_registration():
         store.study("no-such-study")
     with pytest.raises(TypeError, match="study must be a Study"):
         store.register("toy")
+
+
+@pytest.mark.parametrize(("change", "exc", "pattern"), [
+    ({"name": ""}, ValueError, "name must be a non-empty str"),
+    ({"file": "toy.json"}, TypeError, "file must be a pathlib.Path"),
+    ({"check": None}, TypeError, "check must be callable"),
+    ({"rtol": -1e-6}, ValueError, r"rtol must be a number in \[0, 1\)"),
+])
+def test_a_study_is_validated_at_the_door(toy, change, exc, pattern):
+    import dataclasses
+
+    with pytest.raises(exc, match=pattern):
+        dataclasses.replace(toy, **change)
+
+
+def test_the_store_imports_no_other_part_of_gyrolib():
+    """It sits below every study: the modules that compute them register with it."""
+    import ast
+    from pathlib import Path
+
+    src = Path(store.__file__).read_text("utf-8")
+    named = set()
+    for node in ast.walk(ast.parse(src)):
+        if isinstance(node, ast.Import):
+            named |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            named.add(node.module or "")
+    assert {n for n in named if n.startswith("gyrolib")} == {"gyrolib"}
