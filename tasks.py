@@ -14,7 +14,10 @@ Set-up is idempotent: the virtual environment ``.venv`` is (re)installed from th
 ``requirements-lab.txt``.  Nothing is ever installed unpinned.  Other sub-commands: ``setup``
 (environment only), ``lint``, ``clean``, ``chapter NAME [FOLDER]`` (execute one chapter as a
 notebook from the command line, its prose rendered as the book shows it; into
-``_build/chapters`` unless FOLDER is given).
+``_build/chapters`` unless FOLDER is given), ``refresh [STUDY ...] [--scheduler ADDRESS]
+[--list]`` (recompute the stored heavy studies and rewrite their files, on a Dask cluster
+when given its address, else on the local cores; ``--list``: each study's state, date, CPU
+class and cost, computing nothing).
 """
 
 from __future__ import annotations
@@ -368,6 +371,16 @@ def chapter(name: str, out: str | os.PathLike | None = None) -> None:
     run(PY, ROOT / "_ext" / "rerun_notebook.py", "--execute", src, ipynb, env=env)
 
 
+def refresh(*args: str) -> None:
+    """Recompute the stored studies (``python -m gyrolib refresh``, :mod:`gyrolib.store`):
+    the studies named (default: all) on the Dask cluster of ``--scheduler ADDRESS``, else on
+    as many local worker processes as there are cores; ``--list`` shows their state."""
+    setup()
+    extra = [] if "--scheduler" in args or "--list" in args or "--workers" in args else \
+        ["--workers", str(os.cpu_count() or 1)]
+    run(PY, "-m", "gyrolib", "refresh", *args, *extra, env=python_env())
+
+
 def clean() -> None:
     if BUILD.exists():
         shutil.rmtree(BUILD)
@@ -382,6 +395,8 @@ def main(argv: list[str]) -> None:
         test(full=True)
     elif argv and argv[0] == "lab":
         lab(*argv[1:])
+    elif argv and argv[0] == "refresh":
+        refresh(*argv[1:])
     elif len(argv) == 1 and argv[0] in cmds:
         cmds[argv[0]]()
     else:

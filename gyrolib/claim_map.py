@@ -53,10 +53,25 @@ import numpy as np
 from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
 
-__all__ = ["STATUS_RULE", "Claim", "ClaimMap", "IsolatedFailures", "PointSearch", "Share",
-           "Threshold", "check_fingerprint",
-           "demo_margin", "flip_share", "map_claim", "margin_at", "predicted_holds",
-           "wilson_interval"]
+__all__ = [
+    "STATUS_RULE",
+    "Claim",
+    "ClaimMap",
+    "FingerprintPoint",
+    "IsolatedFailures",
+    "PointSearch",
+    "Share",
+    "Threshold",
+    "check_fingerprint",
+    "check_map",
+    "demo_margin",
+    "fingerprint_points",
+    "flip_share",
+    "map_claim",
+    "margin_at",
+    "predicted_holds",
+    "wilson_interval",
+]
 
 #: The one rule, in words (quoted by the ledger page).
 STATUS_RULE: Final[str] = (
@@ -593,3 +608,122 @@ def check_fingerprint(claim: Claim, m: ClaimMap, objects: Mapping[str, Any] | No
             raise ValueError(f"the stored map of {claim.id} is stale: its margin at "
                              f"{pt['changes'] or 'the reference'} was {was!r}, now {now!r}; "
                              "recompute the maps (python -m gyrolib claims --out)")
+
+
+@dataclass(frozen=True)
+class FingerprintPoint:
+    """A point at which a stored map is checked against the code (:func:`fingerprint_points`):
+    ``label`` (where, in words), ``changes`` (row → value, the others at the reference),
+    and either ``margin`` (the stored margin: recomputed within a tolerance) or ``holds``
+    (the stored verdict there: the recomputed margin's sign must agree)."""
+
+    label: str
+    changes: dict[str, Any]
+    margin: float | None = None
+    holds: bool | None = None
+
+
+def _brackets(m: ClaimMap, ths: Sequence[Threshold] | Sequence[Mapping[str, Any]],
+              base: Mapping[str, Any], rel: float, where: str) -> list[FingerprintPoint]:
+    """Two points around each threshold, ``×(1 ∓ rel)`` (narrowed to a third of the gap to a
+    neighbouring threshold of the same row or to the row's range), with the side on which
+    the stored map says the claim holds."""
+    items = [t.as_dict() if isinstance(t, Threshold) else dict(t) for t in ths]
+    out = []
+    for t in items:
+        x = float(t["value"])
+        r = _inputs.row(t["input"])
+        ref = m.reference.get(t["input"])
+        lo, hi = r.bounds(float(ref) if r.relative and ref is not None else None)
+        gaps = [abs(u["value"] / x - 1.0) for u in items
+                if u["input"] == t["input"] and u["value"] != x and x != 0.0]
+        gaps += [abs(lo / x - 1.0), abs(hi / x - 1.0)] if x != 0.0 else []
+        h = min([rel, *(g / 3.0 for g in gaps if g > 0)])
+        below = t["holds_when"] == "below"
+        for f, holds in ((1.0 - h, below), (1.0 + h, not below)):
+            out.append(FingerprintPoint(
+                f"{where}the margin at {t['input']} = {x * f:.6g} ({f:.4g} × its threshold "
+                f"{x:.6g}, where the map says it {'holds' if holds else 'fails'})",
+                {**base, t["input"]: x * f}, holds=holds))
+    return out
+
+
+def fingerprint_points(m: ClaimMap, *, bracket: float = 0.02,
+                       n_sweep: int = 2) -> tuple[FingerprintPoint, ...]:
+    """The points at which a stored map is checked against the code (:func:`check_map`).
+
+    * the map's own fingerprint (the reference point, the first box points, the first
+      failing point of each search), margins within a tolerance;
+    * every threshold **bracketed**: the margin just inside and just outside it
+      (``×(1 ∓ bracket)``), whose signs must be the map's (so they differ); the thresholds
+      found under each other reading too, under that reading;
+    * every **reading**'s status at the reference point;
+    * ``n_sweep`` points of the stored one-at-a-time sweeps (a fixed sample: evenly spaced
+      over their non-reference points, rows in name order), margins within a tolerance.
+
+    Examples
+    --------
+    >>> from gyrolib import claim_map
+    >>> c = claim_map.Claim("demo", claim_map.demo_margin, ("gc.sigma1_sq", "gc.C_as"),
+    ...                     "2 - sigma1_sq/reference")
+    >>> m = claim_map.map_claim(c, n_box=4)
+    >>> [p.holds for p in claim_map.fingerprint_points(m) if p.holds is not None]
+    [True, False]
+    """
+    pts = [FingerprintPoint("the margin at " + ("the reference" if not p["changes"] else
+                                                f"the fingerprint point {i}"),
+                            dict(p["changes"]), margin=float(p["margin"]))
+           for i, p in enumerate(m.fingerprint)]
+    pts += _brackets(m, m.thresholds, {}, bracket, "")
+    for name, by_value in m.reading_thresholds.items():
+        for val, ths in by_value.items():
+            pts += _brackets(m, ths, {name: val}, bracket, f"under {name} = {val}: ")
+    for name, statuses in m.readings.items():
+        for val, st in list(statuses.items())[1:]:
+            pts.append(FingerprintPoint(f"the status under {name} = {val} (stored: {st})",
+                                        {name: val}, holds=st == "holds"))
+    flat = [(name, x, y) for name in sorted(m.sweeps) for x, y in m.sweeps[name]
+            if x != m.reference.get(name)]
+    if flat and n_sweep > 0:
+        idx = sorted({int((k + 0.5) * len(flat) / n_sweep) for k in range(n_sweep)})
+        pts += [FingerprintPoint(f"the sweep's margin at {flat[i][0]} = {flat[i][1]:.6g}",
+                                 {flat[i][0]: flat[i][1]}, margin=flat[i][2]) for i in idx]
+    return tuple(pts)
+
+
+def check_map(claim: Claim, m: ClaimMap, objects: Mapping[str, Any] | None = None, *,
+              rtol: float = 1e-6, atol: float = 1e-9, bracket: float = 0.02,
+              n_sweep: int = 2) -> int:
+    """Recompute a stored map's :func:`fingerprint_points` and raise ``ValueError`` naming
+    the claim and the first point that disagrees (a margin beyond ``atol + rtol·|margin|``, a
+    sign that is not the map's); returns how many points agreed.
+
+    Examples
+    --------
+    >>> from gyrolib import claim_map
+    >>> c = claim_map.Claim("demo", claim_map.demo_margin, ("gc.sigma1_sq",), "demo")
+    >>> m = claim_map.map_claim(c, n_box=0)
+    >>> claim_map.check_map(c, m)
+    5
+    >>> from dataclasses import replace
+    >>> moved = replace(m, thresholds=(replace(m.thresholds[0], value=1.5 * 1.86e-6),))
+    >>> claim_map.check_map(c, moved)
+    Traceback (most recent call last):
+    ...
+    ValueError: demo: the margin at gc.sigma1_sq = 2.8458e-06 (1.02 × ...) should be <= 0, ...
+    """
+    objs = dict(_inputs.reference_objects() if objects is None else objects)
+    n = 0
+    for p in fingerprint_points(m, bracket=bracket, n_sweep=n_sweep):
+        now = margin_at(claim, objs, p.changes)
+        if p.margin is not None:
+            was = float(p.margin)
+            if not ((math.isnan(now) and math.isnan(was))
+                    or abs(now - was) <= atol + rtol * max(abs(now), abs(was))):
+                raise ValueError(f"{claim.id}: {p.label} was {was!r}, the code now gives "
+                                 f"{now!r} (tolerance rtol {rtol:g}, atol {atol:g})")
+        elif _holds(now) != p.holds:
+            raise ValueError(f"{claim.id}: {p.label} should be "
+                             f"{'> 0' if p.holds else '<= 0'}, the code now gives {now!r}")
+        n += 1
+    return n

@@ -10,6 +10,7 @@ module           command
 ``race``         ``python -m gyrolib race [--params P.toml] [--json]``: GC against ref. [3]
 ``claims``       ``python -m gyrolib claims [--check | --out FILE]``: claims over the inputs
 ``allan``        ``python -m gyrolib allan FILE [--json]``: Allan deviation of a rate series
+``refresh``      ``python -m gyrolib refresh [STUDY ...] [--list]``: the stored studies
 ===============  ==================================================================
 
 Each command module offers ``add_parser(sub)`` (its sub-parser) and ``run(args)`` (its exit
@@ -40,13 +41,21 @@ if "numpy" not in sys.modules:
     for _name in BLAS_THREADS:
         os.environ.setdefault(_name, "1")
 
-from gyrolib.cli import allan, calibrate, claims, ledger, race, sensitivity  # noqa: E402
+from gyrolib.cli import (  # noqa: E402
+    allan,
+    calibrate,
+    claims,
+    ledger,
+    race,
+    refresh,
+    sensitivity,
+)
 
 __all__ = ["COMMANDS", "entry", "main"]
 
 #: The commands, by name: each a module with ``add_parser`` and ``run``.
 COMMANDS = {"ledger": ledger, "calibrate": calibrate, "sensitivity": sensitivity,
-            "race": race, "claims": claims, "allan": allan}
+            "race": race, "claims": claims, "allan": allan, "refresh": refresh}
 
 
 def _version() -> str:

@@ -38,7 +38,8 @@ Time stamps of an absolute clock (Unix time, any first time of at least
 
 Several files (or ``--summary OUT.csv``) make a batch: each file is calibrated on its own
 (``--workers K``: in a :class:`concurrent.futures.ProcessPoolExecutor` whose workers are
-forked from this process, gyrolib already imported), a bad or invalid file is reported in
+forked from this process, gyrolib already imported; ``--scheduler ADDR``: on the workers of
+a Dask cluster, which must read the same paths), a bad or invalid file is reported in
 its row (status ``error``, with the one-line reason, whatever the failure — also one that
 happens inside a worker process) and on stderr while the others proceed, and the exit status
 is 2 if any file failed, else 3 if any was invalid.  A progress bar (tqdm) goes to stderr on a
@@ -250,6 +251,9 @@ def _batch_options(p: argparse.ArgumentParser) -> None:
                         "unit, valid, status (ok, invalid, error), reason, notes")
     p.add_argument("--workers", type=int, default=1, metavar="K",
                    help="calibrate K files at a time in separate processes (default 1)")
+    p.add_argument("--scheduler", metavar="ADDR",
+                   help="calibrate the files on the Dask cluster of this scheduler (its "
+                        "workers must read the same paths); not with --workers")
     add_format_options(p)
     p.add_argument("--no-clobber", action="store_true",
                    help="refuse (status 2) to replace an existing output file; by default an "

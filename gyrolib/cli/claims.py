@@ -2,9 +2,11 @@
 
 ``python -m gyrolib claims`` prints the stored maps (status, the inputs that flip each claim
 and where, the share of the box that holds, the status under each reading); ``--check``
-recomputes their fingerprint points (exit 3 when a number moved: the maps are stale);
-``--out FILE`` recomputes them (``--workers K`` processes, or ``--scheduler ADDR`` a Dask
-cluster) and writes them, the one command that refreshes ``gyrolib/data/claim_maps.json``.
+checks the stored study ``claim-maps`` (:mod:`gyrolib.store`: its key, then its fingerprint
+points recomputed; exit 3 and one line naming what moved when it is stale); ``--out FILE``
+recomputes them (``--workers K`` processes, or ``--scheduler ADDR`` a Dask cluster) and
+writes them with the store's header (``python3 tasks.py refresh claim-maps`` does the same
+for the package's file).
 """
 
 from __future__ import annotations
@@ -75,29 +77,26 @@ def run(args: argparse.Namespace) -> int:
 
             executor = ProcessPoolExecutor(args.workers)
             close = executor.shutdown
-        kept: dict = {}
-        extras: dict = {}
-        if args.out.is_file():  # refresh some maps, or the grid, of an existing file
-            try:
-                kept, extras = claims.stored_maps(args.out), claims.stored_extras(args.out)
-            except ValueError:
-                pass
+        from gyrolib import store
+
         try:
-            result = (claims.maps(ids, executor=executor, n_box=args.n_box, seed=args.seed)
-                      if ids != () else {})
-            if args.grid:
-                extras["race_grid"] = claims.race_grid(executor)
+            path = store.refresh("claim-maps", executor=executor, path=args.out, ids=ids,
+                                 grid=args.grid, n_box=args.n_box,
+                                 seed=args.seed)
         finally:
             if close is not None:
                 close()
-        result = {**kept, **result} if ids is not None else result
-        claims.write_maps(result, args.out, extras)
+        result = {k: claims.ClaimMap.from_dict(v) for k, v in json.loads(
+            path.read_text(encoding="utf-8"))["maps"].items()
+            if ids is None or k in ids}
         sys.stdout.write(_text(result))
         return 0
     try:
         maps = claims.stored_maps()
         if args.check:
-            n = claims.check_stored()
+            from gyrolib import store
+
+            n = store.check("claim-maps")
             sys.stdout.write(f"{n} fingerprint points of {len(maps)} maps agree\n")
             return 0
     except (ValueError, FileNotFoundError) as exc:

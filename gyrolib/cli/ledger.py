@@ -1,4 +1,9 @@
-"""The ``ledger`` command: ``python -m gyrolib ledger [--json]``."""
+"""The ``ledger`` command: ``python -m gyrolib ledger [--json]``.
+
+The stored studies the ledger reads (the claim maps, the Sobol' studies) are checked first
+(:func:`gyrolib.book.ledger.studies.check_all`): a stale one exits with status 3 and one line
+naming it and the command that refreshes it.
+"""
 
 from __future__ import annotations
 
@@ -15,9 +20,15 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the ledger as a table or as JSON; status 0."""
-    from gyrolib.book.ledger import collect, to_json, to_table  # not at every command's start
+    """Print the ledger as a table or as JSON; status 0, or 3 when a stored study is stale."""
+    from gyrolib.book.ledger import collect, studies, to_json, to_table  # not at every start
+    from gyrolib.store import StaleStudy
 
+    try:
+        studies.check_all()
+    except StaleStudy as exc:
+        sys.stderr.write(f"ledger: {exc}\n")
+        return 3
     items = collect()
     sys.stdout.write(to_json(items) if args.json else to_table(items))
     return 0

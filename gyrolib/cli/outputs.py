@@ -337,16 +337,45 @@ def summary_csv(path: str, outcomes: list[Outcome]) -> None:
         raise RecordError(path, f"cannot write the summary: {exc.strerror or exc}") from None
 
 
-def _executor(workers: int) -> concurrent.futures.Executor | None:
+def _executor(workers: int, scheduler: str | None = None
+              ) -> concurrent.futures.Executor | None:
     """``workers`` processes forked from this one, which has imported gyrolib already (a
     spawned or forkserver worker would import it again: about 4 s, more than a 100 s record
     takes).  They are forked at the first submit, before the progress bar's thread exists,
-    so no thread of this process is forked."""
+    so no thread of this process is forked.  With ``scheduler``: the executor of a Dask
+    client of that scheduler (:class:`OptionError` when it cannot be reached)."""
+    if scheduler:
+        from gyrolib._optional import optional
+
+        with optional("dask", "dask", "--scheduler"):
+            from dask.distributed import Client
+        try:
+            client = Client(scheduler, timeout=10)
+        except (OSError, TimeoutError) as exc:
+            raise OptionError(f"--scheduler: cannot reach the Dask scheduler {scheduler}: "
+                              f"{type(exc).__name__}") from None
+        return _DaskExecutor(client)
     if workers <= 1:
         return None
     return concurrent.futures.ProcessPoolExecutor(
         max_workers=workers, mp_context=multiprocessing.get_context("fork"),
         initializer=_worker_init)
+
+
+class _DaskExecutor(concurrent.futures.Executor):
+    """A Dask client's executor that closes its client when shut down (and accepts the
+    ``cancel_futures`` of :meth:`concurrent.futures.Executor.shutdown`)."""
+
+    def __init__(self, client) -> None:
+        self.client = client
+        self.inner = client.get_executor()
+
+    def submit(self, fn, /, *args, **kwargs):
+        return self.inner.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self.inner.shutdown(wait=wait and not cancel_futures)
+        self.client.close()
 
 
 def _worker_init() -> None:
@@ -383,7 +412,7 @@ def run_files(method: str, args: argparse.Namespace, o: dict,
             done += 1
 
     batch = len(files) > 1
-    ex = _executor(args.workers)
+    ex = _executor(args.workers, getattr(args, "scheduler", None))
     futures = ({} if ex is None else    # submitted first: the workers fork before the bar
                {ex.submit(process, method, f, o): i for i, f in enumerate(files)})
     try:
@@ -404,7 +433,10 @@ def run_files(method: str, args: argparse.Namespace, o: dict,
                     bar.update(1)
                     flush()
     except KeyboardInterrupt:
-        if ex is not None:
+        if isinstance(ex, _DaskExecutor):
+            ex.shutdown(wait=False, cancel_futures=True)
+            ex = None
+        elif ex is not None:
             _stop(ex)
             ex = None
         args.done = done
@@ -451,6 +483,9 @@ def _run(args: argparse.Namespace, options: Callable[[argparse.Namespace], dict]
     try:
         if args.workers < 1:
             raise OptionError(f"--workers must be an integer >= 1; got {args.workers}")
+        if getattr(args, "scheduler", None) and args.workers != 1:
+            raise OptionError("--scheduler and --workers exclude each other: the cluster's "
+                              "workers calibrate the files")
         check_out_path(args.summary, (".csv",), "a summary CSV")
         read = read_options(args)
         o = options(args)
@@ -479,7 +514,10 @@ def _run(args: argparse.Namespace, options: Callable[[argparse.Namespace], dict]
 
     for note in dup_notes:
         sys.stderr.write(f"note: {one_line(note)}\n")
-    outcomes = run_files(args.method, args, o, emit, process)
+    try:
+        outcomes = run_files(args.method, args, o, emit, process)
+    except OptionError as exc:          # a scheduler that cannot be reached: before any file
+        return _refuse(args, one_line(exc), exc)
     args.done = len(outcomes)
     for out in outcomes:
         if out.status == "ok":

@@ -207,10 +207,9 @@ def _connect(args: argparse.Namespace, stack: ExitStack) -> tuple[Any, int, str]
 def write_results(record: dict[str, Any], path: Path) -> None:
     """Write a results record as JSON: indented, the model's values one sample point a line
     (through a temporary file, so that an interrupted write leaves no half file)."""
-    body = {k: val for k, val in record.items() if k != "values"}
-    text = json.dumps(body, indent=1, ensure_ascii=False)
-    rows = ",\n".join(json.dumps(row) for row in record.get("values", []))
-    text = text[:-2] + ',\n "values": [\n' + rows + "\n ]\n}\n"
+    from gyrolib.store import dumps
+
+    text = dumps(record, rows="values")
     tmp = path.with_suffix(".json.tmp")
     tmp.write_text(text, encoding="utf-8")
     tmp.replace(path)
@@ -279,6 +278,17 @@ def run(args: argparse.Namespace) -> int:
     if previous is not None:
         record["run"]["extends"] = {"file": args.extend.name, "n": previous.n,
                                     "run": prev_run}
+    if args.model in ("gc-claims", "rsf-claims"):   # a stored study's header (gyrolib.store)
+        from gyrolib import store
+        from gyrolib.book.ledger import studies
+
+        name = "sensitivity-" + args.model.split("-")[0]
+        s = store.study(name)
+        record[store.HEADER_KEY] = store.Header(
+            study=name, key=studies.key(name), rtol=s.rtol, atol=s.atol, version=__version__,
+            cpu_class=store.cpu_class(), date=started, cost_cpu_s=None,
+            note=f"python -m gyrolib sensitivity on {where}, {workers} worker(s), wall "
+                 f"{wall:.0f} s; CPU-s not measured").as_dict()
     write_results(record, args.out)
     sys.stderr.write(f"wrote {args.out}: {total} model runs ({total - reused} computed) in "
                      f"{wall:.1f} s on {workers} "

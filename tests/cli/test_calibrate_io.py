@@ -477,3 +477,30 @@ def test_rsf_gap_named_and_reversal_reported_with_abs_rate(rsf_dir, capsys):
     code, out, _ = _run(["calibrate", "rsf", rsf_dir["reverse"], "--period", "1"], capsys)
     assert f"mean |roll rate| {math.degrees(data['mean_abs_rate']):.5g} deg/s" in out
     assert "note: the roll rate reverses" in out
+
+
+def test_a_batch_on_a_dask_scheduler_gives_the_local_rows(gc_files, capsys, tmp_path):
+    """``--scheduler ADDR``: the files calibrated on a Dask cluster this test starts give the
+    rows of the run in this process (to 1e-12 relative: the same code on the same machine);
+    with ``--workers`` too, or a scheduler nobody listens at, status 2 and one line."""
+    distributed = pytest.importorskip("distributed")
+    files = [gc_files["good2"], gc_files["zero"]]
+    here, there = tmp_path / "here.csv", tmp_path / "there.csv"
+    assert _run(["calibrate", "gc", *files, "--summary", here], capsys)[0] == 0
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=":0") as cluster:
+        code, out, err = _run(["calibrate", "gc", *files, "--summary", there,
+                               "--scheduler", cluster.scheduler_address], capsys)
+        assert code == 0 and err == "" and out.count("paper GC calibration of") == 2
+        code, _, err = _run(["calibrate", "gc", *files, "--scheduler",
+                             cluster.scheduler_address, "--workers", "2"], capsys)
+        assert code == 2 and err.count("\n") == 1 and "--scheduler and --workers" in err
+    a, b = _rows(here), _rows(there)
+    assert [r["file"] for r in a] == [r["file"] for r in b] == [str(f) for f in files]
+    for r, s in zip(a, b, strict=True):
+        assert r["status"] == s["status"] == "ok"
+        assert float(s["estimate"]) == pytest.approx(float(r["estimate"]), rel=1e-12)
+        assert float(s["sigma"]) == pytest.approx(float(r["sigma"]), rel=1e-12)
+    code, _, err = _run(["calibrate", "gc", *files, "--scheduler", "tcp://127.0.0.1:9"],
+                        capsys)
+    assert code == 2 and err.count("\n") == 1 and "cannot reach the Dask scheduler" in err

@@ -25,7 +25,12 @@ from pathlib import Path
 import gyrolib
 from gyrolib import _validation as v
 from gyrolib.book import cite
-from gyrolib.book.ledger import gc, remaining, rsf
+from gyrolib.book.ledger import (
+    gc,
+    remaining,
+    rsf,
+    studies,  # noqa: F401  (registers the stored studies)
+)
 from gyrolib.book.ledger.item import (
     KINDS,
     STATUS_MARKS,

@@ -352,9 +352,12 @@ def race_grid(executor: object = None) -> dict[str, Any]:
 
 
 def check_stored(path: Path | None = None, ids: tuple[str, ...] | None = None) -> int:
-    """Recompute the fingerprint points of the stored maps (a few margins per claim) and
-    raise ``ValueError`` when one moved (the code changed a number: the maps are stale).
-    Returns how many points were checked."""
+    """Recompute the maps' own fingerprint points (the reference, two box points, a search's
+    failing point) and raise ``ValueError`` when one moved.  Returns how many points were
+    checked.  The store's check of the study ``claim-maps`` (:mod:`gyrolib.store`,
+    :func:`gyrolib.book.ledger.studies.check_all`: the key, every threshold bracketed, every
+    reading, a sample of the sweeps) is the one the ledger, the build and ``claims --check``
+    run."""
     stored = stored_maps(path)
     missing = set(CLAIMS) - set(stored)
     if missing:

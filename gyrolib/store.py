@@ -1,0 +1,412 @@
+"""One store for the heavy studies: a result computed once, kept as package data, and held to
+the code by its key and its fingerprint.
+
+A *study* (:class:`Study`) is a result that costs minutes to compute (the claim maps, the
+Sobol' studies): it is computed offline (``python3 tasks.py refresh NAME``), written as a JSON
+file, and read by the chapters, the ledger and the tests.  Its file carries a *header*
+(:class:`Header`, the ``"store"`` entry of the file):
+
+* the **key** (:func:`model_key`): a hash per part of what the study reads — the rows of the
+  table of inputs, the defaults of every parameter dataclass and the named constants of every
+  module the study names (an Earth rate, a latitude, a printed level), so that a change of
+  any of them, inside the table or not, makes the study stale;
+* the **tolerance** to which its fingerprint points must agree (relative ``rtol``, absolute
+  ``atol``);
+* the gyrolib **version**, the **CPU class** (:func:`cpu_class`) and the **date** it was
+  computed, and its **cost** in CPU-s.
+
+:func:`check` compares the key and recomputes the study's fingerprint points (each study says
+which: :attr:`Study.check`); a disagreement raises :class:`StaleStudy`, whose one-line
+message names the study and the command that refreshes it.  Nothing here recomputes a study
+silently: :func:`refresh` is the only writer.
+
+This module imports no other part of gyrolib: the studies are registered by the modules that
+compute them (:func:`register`), which pass their own modules to :func:`model_key`.
+
+Examples
+--------
+>>> import math
+>>> k = model_key(constants={"EARTH_RATE": 7.292115e-5})
+>>> k == model_key(constants={"EARTH_RATE": 7.292115e-5})
+True
+>>> k == model_key(constants={"EARTH_RATE": 1.1 * 7.292115e-5})
+False
+>>> try:
+...     compare("demo", "the margin at the reference", 1.0, 1.1, rtol=1e-6, atol=0.0)
+... except StaleStudy as exc:
+...     print(exc.study, "|", exc.refresh)
+demo | python3 tasks.py refresh demo
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime as _dt
+import hashlib
+import json
+import math
+import resource
+import time
+import types
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Final
+
+from gyrolib import __version__
+
+__all__ = ["HEADER_KEY", "REFRESH", "Header", "StaleStudy", "Study", "check", "check_key",
+           "compare", "cpu_class", "dumps", "header_of", "model_key", "refresh", "register",
+           "registered", "same_sign", "state", "study", "write"]
+
+#: The entry of a study's file that holds its header.
+HEADER_KEY: Final[str] = "store"
+
+#: The command that refreshes a study (``{name}``: the study's name).
+REFRESH: Final[str] = "python3 tasks.py refresh {name}"
+
+
+class StaleStudy(ValueError):
+    """A stored study that the code no longer reproduces: ``study`` (its name), ``reason``
+    (what disagreed, in words) and ``refresh`` (the command that recomputes it).  Its message
+    is one line."""
+
+    def __init__(self, study: str, reason: str) -> None:
+        self.study = study
+        self.reason = " ".join(str(reason).split())
+        self.refresh = REFRESH.format(name=study)
+        super().__init__(f"the stored study {study} is stale: {self.reason}; refresh it: "
+                         f"{self.refresh}")
+
+
+# the key ---------------------------------------------------------------------------------------
+def _plain(value: Any) -> bool:
+    """Whether ``value`` has a repr that says what it computes with (no addresses)."""
+    if isinstance(value, (bool, int, float, str, type(None))):
+        return True
+    if isinstance(value, (tuple, list, set, frozenset)):
+        return all(_plain(x) for x in value)
+    if isinstance(value, dict):
+        return all(_plain(k) and _plain(x) for k, x in value.items())
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return " at 0x" not in repr(value)
+    return False
+
+
+def _canon(value: Any) -> str:
+    """A repr that does not depend on hash order (sets sorted, dicts by key)."""
+    if isinstance(value, (set, frozenset)):
+        return "{" + ", ".join(sorted(_canon(x) for x in value)) + "}"
+    if isinstance(value, dict):
+        return "{" + ", ".join(sorted(f"{_canon(k)}: {_canon(x)}" for k, x in value.items())) \
+            + "}"
+    if isinstance(value, (tuple, list)):
+        return "(" + ", ".join(_canon(x) for x in value) + ")"
+    return repr(value)
+
+
+def _module_part(module: types.ModuleType) -> str:
+    """The repr of a module's named constants (upper-case names with plain values) and of
+    the default instance of each dataclass it defines (those constructible without
+    arguments), in name order."""
+    parts = []
+    for name in sorted(vars(module)):
+        obj = getattr(module, name)
+        if isinstance(obj, type) and dataclasses.is_dataclass(obj) \
+                and obj.__module__ == module.__name__:
+            try:
+                inst = obj()
+            except (TypeError, ValueError):   # no defaults: nothing to key
+                continue
+            parts.append(f"{name}()={inst!r}")
+        elif name.isupper() and not name.startswith("__") and _plain(obj):
+            parts.append(f"{name}={_canon(obj)}")
+    return "\n".join(parts)
+
+
+def _hash(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def model_key(modules: Iterable[types.ModuleType] = (), *,
+              objects: Mapping[str, Any] | None = None,
+              constants: Mapping[str, Any] | None = None,
+              extra: Mapping[str, str] | None = None) -> dict[str, str]:
+    """The key of a study: part name → a 16-hex-digit hash.
+
+    Parameters
+    ----------
+    modules : iterable of modules
+        Each gives a part (its name): the reprs of its upper-case constants with plain values
+        and of the default instance of every dataclass it defines.
+    objects : mapping, optional
+        Name → an instance the study starts from (e.g. the owners of the table of inputs at
+        their defaults); a part ``"objects"``.
+    constants : mapping, optional
+        Further named values; a part ``"constants"``.
+    extra : mapping, optional
+        Parts already hashed (e.g. the table's own fingerprint), kept as given.
+
+    Returns
+    -------
+    dict
+        A change of any default or constant changes its part (:func:`check_key` names it).
+    """
+    key: dict[str, str] = {}
+    for m in modules:
+        key[m.__name__] = _hash(_module_part(m))
+    if objects is not None:
+        key["objects"] = _hash("\n".join(f"{k}={objects[k]!r}" for k in sorted(objects)))
+    if constants is not None:
+        key["constants"] = _hash("\n".join(f"{k}={_canon(constants[k])}"
+                                           for k in sorted(constants)))
+    key.update(dict(extra or {}))
+    return key
+
+
+def check_key(study: str, stored: Mapping[str, str], now: Mapping[str, str]) -> None:
+    """Raise :class:`StaleStudy` naming the parts of the key that differ."""
+    moved = sorted(k for k in set(stored) | set(now) if stored.get(k) != now.get(k))
+    if moved:
+        raise StaleStudy(study, "its key differs from the code's in "
+                         + ", ".join(moved) + " (a default, a constant or a row of the table "
+                         "it reads changed)")
+
+
+# the fingerprint -------------------------------------------------------------------------------
+def compare(study: str, label: str, was: float, now: float, *, rtol: float,
+            atol: float) -> None:
+    """Raise :class:`StaleStudy` when ``now`` differs from ``was`` by more than
+    ``atol + rtol · max(|was|, |now|)`` (two ``nan`` agree)."""
+    was, now = float(was), float(now)
+    if math.isnan(was) and math.isnan(now):
+        return
+    if not abs(now - was) <= atol + rtol * max(abs(now), abs(was)):
+        raise StaleStudy(study, f"{label} was {was!r}, the code now gives {now!r} "
+                         f"(tolerance rtol {rtol:g}, atol {atol:g})")
+
+
+def same_sign(study: str, label: str, expect_positive: bool, now: float) -> None:
+    """Raise :class:`StaleStudy` when ``now > 0`` is not ``expect_positive`` (``nan`` counts
+    as not positive)."""
+    if bool(now > 0.0) != expect_positive:
+        raise StaleStudy(study, f"{label} should be {'> 0' if expect_positive else '<= 0'}, "
+                         f"the code now gives {float(now)!r}")
+
+
+# the header ------------------------------------------------------------------------------------
+def cpu_class() -> str:
+    """The CPU class of this machine from ``/proc/cpuinfo``'s flags: ``"AVX-512"``,
+    ``"AVX2"``, ``"AVX"``, ``"no AVX"`` or ``"class unknown"`` (no ``/proc/cpuinfo``)."""
+    path = Path("/proc/cpuinfo")
+    if not path.is_file():
+        return "class unknown"
+    flags: set[str] = set()
+    for line in path.read_text(errors="replace").splitlines():
+        if line.startswith("flags"):
+            flags = set(line.partition(":")[2].split())
+            break
+    for flag, name in (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX")):
+        if flag in flags:
+            return name
+    return "no AVX" if flags else "class unknown"
+
+
+@dataclass(frozen=True)
+class Header:
+    """What a stored study records besides its numbers (the ``"store"`` entry of its file):
+    ``study``, ``key`` (:func:`model_key`), ``rtol`` and ``atol`` (its fingerprint's declared
+    tolerance), ``version`` (gyrolib's), ``cpu_class``, ``date`` (ISO 8601, UTC),
+    ``cost_cpu_s`` (CPU seconds of the computation: this process and the processes it waited
+    for; a Dask cluster's workers are not counted, ``None`` when not measured) and ``note``
+    (how it was computed, in words)."""
+
+    study: str
+    key: dict[str, str]
+    rtol: float
+    atol: float
+    version: str
+    cpu_class: str
+    date: str
+    cost_cpu_s: float | None = None
+    note: str = ""
+
+    def as_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Header:
+        names = {f.name for f in dataclasses.fields(cls)}
+        return cls(**{k: v for k, v in d.items() if k in names})
+
+
+def header_of(name: str, data: Mapping[str, Any]) -> Header:
+    """The header of a study's file contents; :class:`StaleStudy` when it has none."""
+    h = data.get(HEADER_KEY)
+    if not isinstance(h, Mapping):
+        raise StaleStudy(name, "its file has no store header (key, tolerance, version, CPU "
+                         "class, date)")
+    return Header.from_dict(h)
+
+
+# the studies -----------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Study:
+    """A heavy study kept in the store.
+
+    ``name`` (as :func:`refresh` and the command line name it), ``file`` (its JSON file),
+    ``key`` (a function returning its :func:`model_key` now), ``check`` (a function of the
+    file's contents that recomputes the fingerprint points, raises :class:`StaleStudy` on a
+    disagreement and returns how many points it checked; it reads the tolerance from the
+    header), ``compute`` (a function ``(executor, progress, **options)`` returning the file's
+    new contents without the header; ``progress`` is ``None`` or a tqdm-like object with
+    ``total`` and ``update``), ``rtol`` and ``atol`` (the declared tolerance written into a
+    refreshed file) and ``what`` (one line)."""
+
+    name: str
+    file: Path
+    key: Callable[[], dict[str, str]]
+    check: Callable[[Mapping[str, Any]], int]
+    compute: Callable[..., dict[str, Any]]
+    rtol: float = 1e-6
+    atol: float = 1e-9
+    what: str = ""
+    rows: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"name must be a non-empty str; got {self.name!r}")
+        if not isinstance(self.file, Path):
+            raise TypeError(f"file must be a pathlib.Path; got {type(self.file).__name__}")
+        for f in ("key", "check", "compute"):
+            if not callable(getattr(self, f)):
+                raise TypeError(f"{f} must be callable; got {getattr(self, f)!r}")
+        for f in ("rtol", "atol"):
+            x = getattr(self, f)
+            if not isinstance(x, (int, float)) or not 0.0 <= x < 1.0:
+                raise ValueError(f"{f} must be a number in [0, 1); got {x!r}")
+
+
+_REGISTRY: dict[str, Study] = {}
+
+
+def register(s: Study) -> Study:
+    """Register the study ``s`` under its name (the module that computes it calls this)."""
+    if not isinstance(s, Study):
+        raise TypeError(f"study must be a Study; got {type(s).__name__}")
+    _REGISTRY[s.name] = s
+    return s
+
+
+def registered() -> tuple[str, ...]:
+    """The names of the registered studies."""
+    return tuple(_REGISTRY)
+
+
+def study(name: str) -> Study:
+    """The registered study ``name``; ``ValueError`` naming the known ones otherwise."""
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise ValueError(f"study must be one of {registered()}; got {name!r}") from None
+
+
+def _read(s: Study, path: Path | None) -> dict[str, Any]:
+    p = s.file if path is None else Path(path)
+    if not p.is_file():
+        raise StaleStudy(s.name, f"its file {p} does not exist")
+    return json.loads(p.read_text(encoding="utf-8"))
+
+
+def check(name: str, path: Path | None = None) -> int:
+    """Check the stored study ``name`` (its file, or ``path``): its key against the code's,
+    then its fingerprint points recomputed.  Returns how many points agreed; raises
+    :class:`StaleStudy` (one line: the study, what disagreed, the refresh command)."""
+    s = study(name)
+    data = _read(s, path)
+    h = header_of(name, data)
+    check_key(name, h.key, s.key())
+    return int(s.check(data))
+
+
+def state(name: str, path: Path | None = None) -> dict[str, Any]:
+    """The study's state for a listing: ``name``, ``state`` (``"fresh"`` or ``"stale"``),
+    ``reason`` (why stale, else ``""``), ``points`` (checked), ``check_cpu_s`` (the check's
+    CPU seconds) and the header's ``date``, ``cpu_class``, ``version`` and ``cost_cpu_s``."""
+    s = study(name)
+    t0 = time.process_time()
+    out: dict[str, Any] = {"name": name, "state": "fresh", "reason": "", "points": 0}
+    try:
+        out["points"] = check(name, path)
+    except StaleStudy as exc:
+        out["state"], out["reason"] = "stale", exc.reason
+    out["check_cpu_s"] = time.process_time() - t0
+    try:
+        h = header_of(name, _read(s, path))
+        out.update(date=h.date, cpu_class=h.cpu_class, version=h.version,
+                   cost_cpu_s=h.cost_cpu_s)
+    except StaleStudy:
+        out.update(date=None, cpu_class=None, version=None, cost_cpu_s=None)
+    return out
+
+
+def _cpu() -> float:
+    r, c = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime + c.ru_utime + c.ru_stime
+
+
+def dumps(data: Mapping[str, Any], rows: str = "") -> str:
+    """A study's file as text: indented JSON with sorted keys, or, with ``rows``, in the
+    order given and the list under ``rows`` last, one item a line (a sample's values).
+
+    Examples
+    --------
+    >>> print(dumps({"n": 2, "values": [[1, 2], [3, 4]]}, rows="values"), end="")
+    {
+     "n": 2,
+     "values": [
+    [1, 2],
+    [3, 4]
+     ]
+    }
+    """
+    if not rows:
+        return json.dumps(data, indent=1, sort_keys=True) + "\n"
+    body = {k: v for k, v in data.items() if k != rows}
+    text = json.dumps(body, indent=1, ensure_ascii=False)
+    lines = ",\n".join(json.dumps(row) for row in data.get(rows, []))
+    return text[:-2] + f',\n "{rows}": [\n' + lines + "\n ]\n}\n"
+
+
+def write(name: str, data: Mapping[str, Any], header: Header, path: Path | None = None) -> Path:
+    """Write a study's contents with its header (atomically: a temporary file, renamed)."""
+    s = study(name)
+    p = s.file if path is None else Path(path)
+    out = {**{k: v for k, v in data.items() if k != HEADER_KEY}, HEADER_KEY: header.as_dict()}
+    p.parent.mkdir(parents=True, exist_ok=True)
+    tmp = p.with_suffix(p.suffix + ".tmp")
+    tmp.write_text(dumps(out, s.rows), encoding="utf-8")
+    tmp.replace(p)
+    return p
+
+
+def refresh(name: str, *, executor: object = None, progress: Any = None,
+            path: Path | None = None, note: str = "", **options: Any) -> Path:
+    """Recompute the study ``name`` (on ``executor``, any ``concurrent.futures.Executor``;
+    ``None``: here), write it with a new header (the key now, the declared tolerance, the
+    version, CPU class, date and the CPU-s it took) to its file or ``path``, and return the
+    path.  ``options`` go to the study's ``compute`` (e.g. a subset of a study's parts)."""
+    s = study(name)
+    t0 = _cpu()
+    data = s.compute(executor, progress, path=path, **options)
+    cost = _cpu() - t0
+    header = Header(study=name, key=s.key(), rtol=s.rtol, atol=s.atol, version=__version__,
+                    cpu_class=cpu_class(),
+                    date=_dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat(),
+                    cost_cpu_s=round(cost, 1), note=note or (
+                        "computed here" if executor is None else
+                        f"computed on {type(executor).__module__}.{type(executor).__name__}"
+                        " (its workers' CPU is not counted unless they are this process's "
+                        "children)"))
+    return write(name, data, header, path)
+
