@@ -804,3 +804,179 @@ def test_worst_corner_gc_time_is_the_gc_part(factor):
     assert math.isnan(t) == (factor < 1.0)
     assert (math.isnan(c.worst_t_gc) and math.isnan(t)) or c.worst_t_gc == pytest.approx(
         t, rel=1e-12)
+
+
+# The optimal rival's search against the same search without its early stop -----------------
+# At σ_k (``RateSensorProcedure.sigma_scale``) below about 1.52e-4 the optimal estimator's
+# best window puts so much into position 1 that σ reaches σ_c right after the turn, before
+# position 2 starts: a window given up because position 2 starts after the best time so far
+# can still be the fastest.
+def _straightforward_optimal(p: gc.GyrocompassParams, proc: gc.RateSensorProcedure,
+                             classical: gc.RaceResult) -> tuple[float, float]:
+    """The optimal rival's time to σ_c and its position 1 (s) by the race's search (a grid of
+    position-1 lengths around the classical estimator's windows, then halving steps about
+    the best), every window run whole (``optimal_run_samples(...).time_to``): no window
+    given up, no run stopped early."""
+    m = gc.rate_sensor_model(p, proc)
+    dt, level = proc.sample_dt, proc.sigma_c
+    if math.isfinite(classical.t_c_rate_sensor):
+        n1_hint = round(classical.t1 / dt)
+        n2_max = max(round(classical.t2 / dt), 1) + n1_hint
+    else:
+        n_all = math.floor((proc.t_max - proc.overhead) / dt + 1e-9)
+        n1_hint, n2_max = n_all // 2, n_all - n_all // 2
+    cache: dict[int, float] = {}
+
+    def t(n1: int) -> float:
+        n1 = max(1, n1)
+        if n1 not in cache:
+            x = m.optimal_run_samples(n1, n2_max).time_to(level)
+            cache[n1] = math.inf if math.isnan(x) else x
+        return cache[n1]
+
+    grid = sorted({max(1, round(f * n1_hint)) for f in np.linspace(0.1, 2.0, 20)})
+    best = min(grid, key=t)
+    step = max(1, round(0.1 * n1_hint))
+    while step >= 1:
+        best = max(1, min((best - step, best, best + step), key=t))
+        step //= 2
+    return t(best), best * dt
+
+
+def _margin_of(t_gc: float, t_classical: float, t_optimal: float) -> float:
+    """The claim's margin (race_margin's definition) from the three times."""
+    if not math.isfinite(t_gc):
+        return -150.0
+    return min(100.0 * (1.0 - t_gc / t) if math.isfinite(t) else 100.0
+               for t in (t_classical, t_optimal)) - 50.0
+
+
+def _rival_grid_disagreements(sigma_k: tuple[float, ...], sigma1: tuple[float, ...],
+                              kappa: tuple[float, ...]) -> list[tuple]:
+    """The points of the grid (σ_k, σ1² as a factor of the paper's, κ) where the race's
+    optimal rival, its position 1 or the claim's margin differ from the straightforward
+    search by more than 10⁻⁹ relative (the margin: or 10⁻⁷ points).  The classical
+    estimator's windows, the search's starting point, are the race's (checked elsewhere);
+    the rival does not read κ, so there is one reference per (σ_k, σ1²)."""
+    bad = []
+    for sk in sigma_k:
+        proc = replace(PROC, sigma_scale=sk)
+        for f in sigma1:
+            p0 = replace(BASE, sigma1_sq=f * BASE.sigma1_sq)
+            _forget_races()
+            r = gc.race(p0, proc)
+            ref_t, ref_n1 = _straightforward_optimal(p0, proc, r)
+            ok = (_close_or_both_nan(r.t_c_rate_sensor_optimal, ref_t)
+                  and _close_or_both_nan(r.t1_optimal, ref_n1))
+            for kappa_ in kappa:
+                p = replace(p0, sigma_hf_scale=kappa_)
+                sw = gc.race_sweep(p, proc, cases=[{}])
+                t_gc = float(sw.t_c_gc[0])
+                margin = gc.race_margin(p, proc)
+                ref_margin = _margin_of(t_gc, float(sw.t_c_rate_sensor[0]), ref_t)
+                if not (ok and _close_or_both_nan(float(sw.t_c_rate_sensor_optimal[0]), ref_t)
+                        and margin == pytest.approx(ref_margin, rel=1e-9, abs=1e-7)):
+                    bad.append((sk, f, kappa_, r.t_c_rate_sensor_optimal, ref_t, margin,
+                                ref_margin))
+    _forget_races()
+    return bad
+
+
+def _close_or_both_nan(a: float, b: float) -> bool:
+    return (math.isnan(a) and math.isnan(b)) or a == pytest.approx(b, rel=1e-9)
+
+
+_SIGMA_K = (1.2e-4, 1.3e-4, 1.45e-4, 1.52e-4, 1.0e-3)
+
+
+def test_race_matches_the_search_without_early_stop():
+    """gc.race's optimal rival (its time and position 1) and the claim's margin equal the
+    straightforward search's, every window run whole, to 10⁻⁹ relative, on a grid over σ_k
+    (1.2–1.52·10⁻⁴, where σ reaches σ_c right after the turn, and the book's 10⁻³), σ1² and
+    κ."""
+    bad = _rival_grid_disagreements(_SIGMA_K, (1.0, 1.2), (0.0, 5e-5))
+    assert not bad, bad
+
+
+@pytest.mark.slow
+def test_race_matches_the_search_without_early_stop_dense():
+    """The same on a denser grid: σ_k from 10⁻⁴ to 2.5·10⁻⁴ in steps of 4 %, σ1² from 0.6
+    to 1.4 times the paper's, κ up to the table's high end (where GC never reaches σ_c)."""
+    sigma_k = tuple(float(x) for x in np.geomspace(1.0e-4, 2.5e-4, 24))
+    kappa = (0.0, gc.RACE_RANGES["sigma_hf_scale"][1])
+    bad = _rival_grid_disagreements(sigma_k, (0.6, 1.0, 1.4), kappa)
+    assert not bad, bad[:5]
+
+
+def _pre_fix_time_to(original):
+    """The optimal time as the search's early stop gave it before it counted the samples
+    ahead of position 2: position 2 cut at the best time so far, and a window whose
+    position 2 starts later than that given up whatever σ had done before."""
+    def time_to(self, n1, n2_max, level, *, give_up_after=math.inf):
+        if math.isfinite(give_up_after) and self._omega_constant:
+            dt = self.procedure.sample_dt
+            start = n1 * dt + self.procedure.overhead
+            n2_max = min(n2_max, math.ceil((give_up_after - start) / dt) + 1)
+            if n2_max < 1:
+                return math.nan
+        return original(self, n1, n2_max, level)
+    return time_to
+
+
+def test_the_comparison_fails_with_the_pre_fix_early_stop(monkeypatch):
+    """Power of the grid test: with the early stop that gave up every window whose position
+    2 starts after the best time so far, the race at σ_k = 1.3·10⁻⁴ disagrees with the
+    straightforward search (its rival 56.4 s instead of 43.3 s, the claim's margin
+    positive)."""
+    original = gc.RateSensorModel.optimal_time_to_samples
+    monkeypatch.setattr(gc.RateSensorModel, "optimal_time_to_samples",
+                        _pre_fix_time_to(original))
+    try:
+        bad = _rival_grid_disagreements((1.3e-4,), (1.0,), (0.0,))
+    finally:
+        _forget_races()
+    assert bad, "the pre-fix early stop should disagree at sigma_k = 1.3e-4"
+    (_, _, _, t_opt, t_ref, margin, ref_margin), = bad
+    assert t_opt > 1.2 * t_ref and margin > 0.0 > ref_margin
+
+
+@pytest.mark.parametrize(("sigma_k", "t_independent"), [(1.3e-4, 43.25), (1.45e-4, 46.27)])
+def test_optimal_rival_where_sigma_crosses_after_the_turn(sigma_k, t_independent):
+    """At σ_k = 1.3·10⁻⁴ and 1.45·10⁻⁴ an independent model of the procedure (its own code)
+    gives the optimal rival 43.25 s and 46.27 s, savings of 44.4 % and 48.0 %: the race
+    within 3 % of those times, and the claim "more than 50 % faster" fails there."""
+    proc = replace(PROC, sigma_scale=sigma_k)
+    _forget_races()
+    r = gc.race(BASE, proc)
+    assert r.t_c_rate_sensor_optimal == pytest.approx(t_independent, rel=0.03)
+    assert r.faster_percent_optimal < 50.0
+    assert gc.race_margin(BASE, proc) < 0.0
+    # σ reaches σ_c before position 2 starts (right after the turn): the route the early
+    # stop had missed
+    start2 = r.t1_optimal + proc.overhead
+    assert r.t_c_rate_sensor_optimal < start2
+
+
+@pytest.mark.parametrize("n1", [340, 400, 600])
+def test_give_up_after_is_exact(n1):
+    """optimal_time_to_samples with give_up_after returns the whole run's time whenever that
+    time is at most give_up_after, and otherwise nan or that same time: windows whose σ
+    reaches σ_c before position 2 (n1 = 340, 400) and after it (600), with give_up_after
+    before, at and after the crossing and before position 2 starts."""
+    proc = replace(PROC, sigma_scale=1.3e-4)
+    m = gc.rate_sensor_model(BASE, proc)
+    n2_max, level = 1500, proc.sigma_c
+    full = m.optimal_run_samples(n1, n2_max).time_to(level)
+    assert math.isfinite(full)
+    start2 = n1 * proc.sample_dt + proc.overhead
+    for g in (0.5 * full, full - 0.05, full, full + 0.05, start2 - 1.0, start2 + 1.0,
+              2.0 * full):
+        t = m.optimal_time_to_samples(n1, n2_max, level, give_up_after=g)
+        if full <= g:
+            assert t == pytest.approx(full, rel=1e-12), (g, t, full)
+        else:
+            assert math.isnan(t) or t == pytest.approx(full, rel=1e-12), (g, t, full)
+    # power: the pre-fix early stop gave up a window that reaches σ_c before position 2
+    if full < start2 - 1.0:
+        pre = _pre_fix_time_to(gc.RateSensorModel.optimal_time_to_samples)
+        assert math.isnan(pre(m, n1, n2_max, level, give_up_after=start2 - 1.0))

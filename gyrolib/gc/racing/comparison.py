@@ -209,7 +209,7 @@ def _optimal_time(model: RateSensorModel, n1: int, n2_max: int,
                   beat: float = math.inf) -> float:
     """The optimal estimator's time to σ_c with position 1 lasting ``n1`` samples and
     position 2 ended as soon as σ reaches σ_c (``inf``: not within ``n2_max`` samples, or
-    not by ``beat``, a time to beat: that window is then not finished)."""
+    later than ``beat``, a time to beat: that window is then not finished)."""
     t = model.optimal_time_to_samples(n1, n2_max, model.procedure.sigma_c,
                                       give_up_after=beat)
     return math.inf if math.isnan(t) else t
@@ -222,7 +222,14 @@ def _optimal_windows(model: RateSensorModel, n1_hint: int, n2_max: int,
     a coarse grid around the hint, then halving steps about the best.
 
     With ``enough``, the search raises :class:`_Reached` as soon as a window's time is at
-    most ``enough`` (the shortest time is then at most ``enough`` too)."""
+    most ``enough`` (the shortest time is then at most ``enough`` too).
+
+    A window is given up (``inf``) only when one of its samples later than the shortest
+    time so far is above σ_c (``give_up_after`` of
+    :meth:`~gyrolib.gc.racing.rate_sensor.RateSensorModel.optimal_time_to_samples`): its
+    time is then strictly later than that of the best window so far, which takes part in
+    every later comparison, so it loses each one as ``inf`` does, and the search returns
+    the same time and length as without giving up."""
     if model.procedure.split is not None:
         return _optimal_time(model, n1_hint, n2_max), n1_hint
     cache: dict[int, float] = {}
@@ -231,8 +238,9 @@ def _optimal_windows(model: RateSensorModel, n1_hint: int, n2_max: int,
     def t(n1: int) -> float:
         n1 = max(1, n1)
         if n1 not in cache:
-            # a window given up is later than the best so far (its value here, inf, only
-            # has to lose every comparison, as its true time would: the result is the same)
+            # a window given up is strictly later than the best so far (its value here,
+            # inf, only has to lose every comparison, as its true time would: the result
+            # is the same)
             cache[n1] = _optimal_time(model, n1, n2_max, shortest[0])
             shortest[0] = min(shortest[0], cache[n1])
             if shortest[0] <= enough:

@@ -283,6 +283,12 @@ class _PowerTable:
         return Mk, Sk
 
 
+def _late_and_above(t: np.ndarray, sigma: np.ndarray, after: float, level: float) -> bool:
+    """Whether a sample later than ``after`` has σ above ``level`` (the comparison
+    :meth:`OptimalRun.time_to` makes): the time to ``level`` is then later than ``after``."""
+    return bool(np.any((t > after) & (sigma > level)))
+
+
 @compact_repr
 @dataclass(frozen=True)
 class OptimalRun:
@@ -701,17 +707,23 @@ class RateSensorModel:
         level : float
             The σ of ω_gc to reach (rad/s, > 0).
         give_up_after : float, default inf
-            An elapsed time (s, > 0) beyond which the answer is not wanted: when ω_gc is a
-            constant of the model and ``level`` is not reached by then (a sample to
-            spare), ``nan`` is returned without running further (a search over ``n1``
-            passes its best time so far: a window that cannot beat it is not finished).
-            Otherwise it changes nothing.
+            An elapsed time (s, > 0) beyond which the answer is not wanted: as soon as a
+            sample later than ``give_up_after`` is computed with σ above ``level``,
+            ``nan`` is returned without running further (a search over ``n1`` passes its
+            best time so far: a window that cannot beat it is not finished).  This is
+            exact: :meth:`OptimalRun.time_to` reads the *last* sample above ``level``, so
+            the full run's time is then later than that sample, hence strictly later than
+            ``give_up_after`` (or ``nan``).  Every sample counts, those of position 1 and
+            of the settling too: the estimate can reach ``level`` before position 2
+            starts (right after the turn), at a time earlier than ``give_up_after`` even
+            when position 2 starts later.  A time at or before ``give_up_after`` is
+            returned as without it.
 
         Returns
         -------
         float
             Elapsed time (s) since the start of position 1, or ``nan`` (not reached within
-            ``n2_max`` samples, or by ``give_up_after``).
+            ``n2_max`` samples, or later than ``give_up_after``).
 
         Examples
         --------
@@ -727,18 +739,19 @@ class RateSensorModel:
         if not (isinstance(give_up_after, float | int) and give_up_after == math.inf):
             give_up_after = v.check_positive("give_up_after", give_up_after)  # or inf
         dt = self.procedure.sample_dt
-        if math.isfinite(give_up_after) and self._omega_constant:
-            # position 2 starts at n1 dt + T_rot + T_settle; its sample j (1, 2, ...) is at
-            # that start + j dt: samples beyond give_up_after + dt are not needed
-            start = n1 * dt + self.procedure.overhead
-            n2_max = min(n2_max, math.ceil((give_up_after - start) / dt) + 1)
-            if n2_max < 1:
-                return math.nan
         ts, ss, phases, P, t = self._optimal_to_position2(n1)
+        if any(_late_and_above(tk, sk, give_up_after, level) for tk, sk in zip(ts, ss)):
+            return math.nan   # a sample before position 2, later than give_up_after, above
+        # position 2's sample j (1, 2, ...) is at t + j dt: the first one later than
+        # give_up_after ends a chunk, so that a window that cannot win stops there
+        j_late = (max(1, math.floor((give_up_after - t) / dt) + 1)
+                  if math.isfinite(give_up_after) else n2_max)
         safe = level**2 * (1.0 - 1e-6)
         done, chunk, sym = 0, 64, True
         while done < n2_max:
             n = min(chunk, n2_max - done)
+            if done < j_late:
+                n = min(n, j_late - done)
             run = self._kalman(self.H2, self.r, P, n, symmetrize=sym)
             var = run.var[1:, _OMEGA]
             ts.append(t + dt * np.arange(done + 1, done + n + 1))
@@ -746,6 +759,8 @@ class RateSensorModel:
             done += n
             if self._omega_constant and np.any(var <= safe):
                 break
+            if _late_and_above(ts[-1], ss[-1], give_up_after, level):
+                return math.nan
             P, chunk, sym = run.P_stored[-1], 2 * chunk, False
         phases.append(("position 2", t, t + done * dt))
         run = OptimalRun(t=np.concatenate(ts), sigma=np.concatenate(ss), phases=tuple(phases))
