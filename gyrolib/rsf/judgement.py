@@ -112,7 +112,8 @@ def judge_record(record: RSFRecord, period: float, config: SimulationConfig | No
     return Verdict(
         method="rsf", quantity="eps1_hat_mean", unit="1", estimate=unc.mean, sigma=unc.std,
         sigma_parts=dict(unc.parts), checks=checks, false_alarm=unc.false_alarm,
-        status="ok" if unc.valid else "invalid", reason=unc.reason,
+        status="ok" if unc.valid else "invalid",
+        reason="; ".join(f"{c.line()}: {c.cause}" for c in checks if not c.passed),
         reason_codes=tuple(unc.reason_codes), reason_code=code,
         hint=hint(code) if code else "",
         counts=Counts(rows=res.rows, used=res.samples_used, rejected=0,
