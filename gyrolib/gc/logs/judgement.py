@@ -44,6 +44,9 @@ NO_LATITUDE: Final[str] = (
     "line in the record); the paper's Omega_h, Omega_v correspond to about "
     f"{math.degrees(PAPER_LATITUDE):.1f} deg N (--latitude paper assumes them)")
 
+#: The codes of checks that a lost lock makes meaningless (not named as the cause then).
+_SYMPTOMS: Final[tuple[str, ...]] = ("prior_", "misfit", "drift_changes")
+
 #: What each kind of the filter's model tests computes (the check's ``statistic``).
 _STATISTIC: Final[dict[str, str]] = {
     "mean NIS": "mean of nu^2/S", "whiteness": "portmanteau Q", "split-record":
@@ -271,7 +274,12 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
     if not valid:   # the library's codes (its prior and model checks) and the fit's checks
         codes += [c for c in (*res.reason_codes, *(c["reason_code"] for c in failed))
                   if c not in codes]
-    code = primary(codes)
+    # a filter that lost lock has no estimate to test: its prior and model checks are its
+    # symptoms, and the option a failed prior names (a bias prior, a tolerance) would mask
+    # the fault (a sign, a unit, a sensor that is not the model's)
+    shown = ([c for c in codes if not c.startswith(_SYMPTOMS)] if res.lost_lock
+             else codes)
+    code = primary(shown)
     accepted = (not valid and accept_misfit and not res.lost_lock and latitude_stated
                 and not why)
     parts = dict(res.omega_gc_std_parts)
