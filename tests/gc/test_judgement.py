@@ -103,3 +103,15 @@ def test_the_mean_nis_band_is_one_band_within_the_lock_range(clean):
                 (max(t["low"], 0.5), min(t["high"], 2.0)))
             if not 0.5 <= t["statistic"] <= 2.0:
                 assert not t["passed"] and t["reason_code"] == "lost_lock_nis"
+
+
+def test_a_lost_lock_is_named_before_its_symptoms():
+    """A filter that lost lock has no estimate to test: a failed prior check is its symptom,
+    and the option it names would mask the fault; without a lost lock the prior's code is
+    the cause (power: the rule changes the answer)."""
+    from gyrolib.gc.logs.judgement import cause_code
+
+    codes = ["lost_lock", "prior_incl_bias", "lost_lock_gate", "misfit_nis"]
+    assert cause_code(codes, lost_lock=True) == "lost_lock"
+    assert cause_code(codes, lost_lock=False) == "prior_incl_bias"
+    assert cause_code(["early_release", "lost_lock", "prior_drift"], True) == "early_release"

@@ -32,7 +32,7 @@ from gyrolib.gc.model.params import PAPER_LATITUDE, GyrocompassParams
 from gyrolib.reasons import hint, primary
 from gyrolib.verdict import Check, Counts, Verdict
 
-__all__ = ["EARLY_SHARE", "NO_LATITUDE", "evidence_codes", "judge_record"]
+__all__ = ["EARLY_SHARE", "NO_LATITUDE", "cause_code", "evidence_codes", "judge_record"]
 
 #: Share of the record's start (from its first row) within which gate rejections point to
 #: rows logged before the feedback was switched off (``early_release``).
@@ -116,6 +116,22 @@ def evidence_codes(res: CalibrationResult, latitude_stated: bool, fit_why: str =
         codes.append("fit_not_converged" if fit_why.startswith("noise fit not converged")
                      else "fit_not_identified")
     return codes, t0
+
+
+def cause_code(codes: Sequence[str], lost_lock: bool) -> str:
+    """The code the evidence points to first (:func:`gyrolib.reasons.primary`); when the
+    filter lost lock, its prior and model checks are its symptoms and are not named: the
+    option a failed prior names (a bias prior, a tolerance) would mask the fault (a sign, a
+    unit, a sensor that is not the model's).
+
+    Examples
+    --------
+    >>> cause_code(["lost_lock", "prior_incl_bias"], lost_lock=True)
+    'lost_lock'
+    >>> cause_code(["misfit", "prior_incl_bias"], lost_lock=False)
+    'prior_incl_bias'
+    """
+    return primary([c for c in codes if not (lost_lock and c.startswith(_SYMPTOMS))])
 
 
 def _model_checks(res: CalibrationResult) -> list[Check]:
@@ -274,12 +290,7 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
     if not valid:   # the library's codes (its prior and model checks) and the fit's checks
         codes += [c for c in (*res.reason_codes, *(c["reason_code"] for c in failed))
                   if c not in codes]
-    # a filter that lost lock has no estimate to test: its prior and model checks are its
-    # symptoms, and the option a failed prior names (a bias prior, a tolerance) would mask
-    # the fault (a sign, a unit, a sensor that is not the model's)
-    shown = ([c for c in codes if not c.startswith(_SYMPTOMS)] if res.lost_lock
-             else codes)
-    code = primary(shown)
+    code = cause_code(codes, res.lost_lock)
     accepted = (not valid and accept_misfit and not res.lost_lock and latitude_stated
                 and not why)
     parts = dict(res.omega_gc_std_parts)
