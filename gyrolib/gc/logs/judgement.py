@@ -161,7 +161,15 @@ def _fit_check(c: dict) -> Check | None:
     """A check of :func:`gyrolib.gc.fit_checks` as a :class:`Check` whose value in its band
     is the check's pass: the plausible range tests the end of the fitted value's interval
     nearest the range; the common-factor test, when the intensities share one, its z (when
-    they move apart it does not apply: None)."""
+    they move apart it does not apply: None).
+
+    Examples
+    --------
+    >>> _fit_check({"test": "plausible range", "name": "C_as", "statistic": 5.0, "low": 1.0,
+    ...             "high": 4.0, "passed": True, "reason_code": "fit_implausible",
+    ...             "message": ""}).passed             # its interval reaches the range
+    True
+    """
     if c["test"] == "plausible range":
         lo, hi, val = c["low"], c["high"], c["statistic"]
         near = lo if val < lo else hi if val > hi else val
@@ -271,12 +279,13 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
     res = calibrate(record, params, progress=progress, executor=executor, **options)
     reasons = [] if latitude_stated else [NO_LATITUDE]
     reasons += [res.reason] if res.reason else []
-    why, ident, failed, fit_std = "", "", [], 0.0
+    why, ident, made, failed, fit_std = "", "", [], [], 0.0
     if nf is not None:
         duration = float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9
         ident = nf.not_identified(duration)
-        failed = [c for c in fit_checks(nf, unfitted, clock_tolerance=res.params.sigma_clock,
-                                        false_alarm=false_alarm) if not c["passed"]]
+        made = fit_checks(nf, unfitted, clock_tolerance=res.params.sigma_clock,
+                          false_alarm=false_alarm)
+        failed = [c for c in made if not c["passed"]]
         out_notes += nf.nuisance(duration)
         why = ident or "; ".join(c["message"] for c in failed)
         if why:
@@ -296,7 +305,7 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
     parts = dict(res.omega_gc_std_parts)
     if nf is not None:
         parts["noise_fit"] = fit_std
-    checks = _model_checks(res) + [c for c in map(_fit_check, failed) if c is not None]
+    checks = _model_checks(res) + [c for c in map(_fit_check, made) if c is not None]
     return Verdict(
         method="gc", quantity="omega_gc", unit="rad/s", estimate=res.omega_gc,
         sigma=math.sqrt(sum(x * x for x in parts.values())), sigma_parts=parts,
