@@ -4,7 +4,10 @@
     python3 tasks.py book    # set up .venv, build the book into _build/html
     python3 tasks.py pdf     # the book as one PDF: _build/pdf/book.pdf (HTML links to it)
     python3 tasks.py lab     # pinned JupyterLab on chapters/ (args go to jupyter lab)
-    python3 tasks.py test    # set up .venv (and a browser), lint, all tests (one clean book + PDF)
+    python3 tasks.py test    # set up .venv (and a browser), lint, the everyday tests (one
+                             # clean book); every commit, before you push
+    python3 tasks.py test --full   # the same, and the full tier (full recomputations of the
+                             # stored studies, long runs, the PDF): what CI runs (.ci/run)
 
 Set-up is idempotent: the virtual environment ``.venv`` is (re)installed from the pinned
 ``requirements.txt`` whenever that file or ``pyproject.toml`` changes; ``lab`` adds the pinned
@@ -293,17 +296,28 @@ def warm_numba() -> list[subprocess.Popen]:
             for i in range(shares)]
 
 
-def test() -> None:
+#: pytest's exit status when it collected no test (or deselected them all).
+PYTEST_NO_TESTS = 5
+
+
+def test(full: bool = False) -> None:
     """Lint, the pinned JupyterLab environment (a test runs a chapter's notebook with its
-    kernel), then the whole suite.
+    kernel), then the test suite: the everyday tier, and with ``full`` the full tier too.
+
+    The everyday tier is every test except those marked ``full`` (full recomputations of the
+    stored studies, long runs, a second execution of every chapter), which pytest skips
+    without ``--full`` (``tests/conftest.py``); ``full=True`` passes ``--full`` and
+    requires the session to find and run that tier (``GYROLIB_REQUIRE_FULL``).  CI runs
+    ``python3 tasks.py test --full`` (``.ci/run``).
 
     The suite runs on every core (pytest-xdist workers).  It builds the book once, from
-    clean, into a temporary folder (every chapter executed, warnings as errors, the PDF
-    printed; ``tests/conftest.py``), in the background while the other tests run; the HTML,
-    browser, PDF and determinism tests run last and share that build.
+    clean, into a temporary folder (every chapter executed, warnings as errors, and in the
+    full tier the PDF printed; ``tests/conftest.py``), in the background while the other
+    tests run; the HTML, browser, PDF and determinism tests run last and share that build.
     ``_build/`` is left as it is: the determinism test compares the chapters' outputs with
-    their recorded outputs (``tests/recorded_outputs/``), else with the jupyter cache of
-    ``python3 tasks.py book``, else executes them a second time.
+    their recorded outputs (``tests/recorded_outputs/``); the full tier executes every
+    chapter a second time.  Exits with pytest's status; a session that collected no test
+    (pytest's status 5) fails with a line saying so.
     """
     setup()
     warm = warm_numba()  # while the browser, lint and JupyterLab set-up run
@@ -315,8 +329,19 @@ def test() -> None:
         for proc in warm:
             proc.wait()
     env = python_env(MPLBACKEND="Agg", GYROLIB_TEST_COMMAND="1")
+    tier: list[str] = []
+    if full:
+        tier = ["--full"]
+        env["GYROLIB_REQUIRE_FULL"] = "1"
     # pytest-xdist: the tests on every core (the book is built once, by one worker, for all)
-    run(PY, "-m", "pytest", "-n", "auto", "--durations=10", env=env)
+    cmd = [str(PY), "-m", "pytest", "-n", "auto", "--durations=10", *tier]
+    print("+", " ".join(cmd), flush=True)
+    status = subprocess.run(cmd, cwd=ROOT, env=env, check=False).returncode
+    if status == PYTEST_NO_TESTS:
+        print(f"pytest collected no tests (exit {PYTEST_NO_TESTS}): the test command fails",
+              file=sys.stderr, flush=True)
+    if status:  # a signal's exit (-2 for SIGINT) as the shell reports it: 128 + signal
+        sys.exit(128 - status if status < 0 else status)
 
 
 def chapter(name: str, out: str | os.PathLike | None = None) -> None:
@@ -353,6 +378,8 @@ def main(argv: list[str]) -> None:
             "clean": clean}
     if len(argv) in (2, 3) and argv[0] == "chapter":
         chapter(*argv[1:])
+    elif argv == ["test", "--full"]:
+        test(full=True)
     elif argv and argv[0] == "lab":
         lab(*argv[1:])
     elif len(argv) == 1 and argv[0] in cmds:

@@ -14,6 +14,10 @@ tells them apart (issue 36).  ``cpu_family`` and ``cpu_model`` are ``/proc/cpuin
 numbers, ``host_cpu`` is ``llvmlite.binding.get_host_cpu_name()`` (what numba compiles for,
 e.g. ``znver3``).  Files written before these fields carry ``"class unknown"`` in them.
 
+The whole-command benchmarks (``bench_test_command.py``, ``bench_book_build.py``) also keep,
+under ``"other_classes"``, the latest run of each other CPU class (each with its ``date``,
+``machine``, ``load``, ``results``): a run on one class does not erase the other's.
+
 ``ratio`` is ``peer_s / ours_s`` (how many times faster than the peer), or, for a case
 without a peer, ``ours_s / target_s`` (the share of the time budget used); ``note`` says
 which.  Fields that do not apply are ``null``.
@@ -156,10 +160,38 @@ class Recorder:
         print(json.dumps(row, ensure_ascii=False), flush=True)
         return row
 
-    def write(self) -> Path:
+    def write(self, keep_other_classes: bool = False) -> Path:
+        """Write the results file.  ``keep_other_classes``: the file also keeps, under
+        ``other_classes``, the latest run of every other CPU class that the file it replaces
+        held (its own run and its ``other_classes``), so that the README can quote the latest
+        result of each class (``readme_times.py``)."""
         RESULTS.mkdir(parents=True, exist_ok=True)
         path = RESULTS / f"{self.doc['benchmark']}.json"
+        if keep_other_classes:
+            self.doc["other_classes"] = other_classes(path, self.doc["machine"]["cpu_class"])
         path.write_text(json.dumps(self.doc, indent=2, ensure_ascii=False) + "\n",
                         encoding="utf-8")
         print(f"wrote {path}", flush=True)
         return path
+
+
+def runs_by_class(doc: dict) -> dict[str, dict]:
+    """A results file's runs, CPU class -> run (``date``, ``machine``, ``load``,
+    ``results``): its own, and those it keeps of other classes (``other_classes``)."""
+    runs = {}
+    for run in [doc, *doc.get("other_classes", [])]:
+        cls = run.get("machine", {}).get("cpu_class", UNKNOWN)
+        if cls not in runs or run["date"] > runs[cls]["date"]:
+            runs[cls] = {k: run[k] for k in ("date", "machine", "load", "results")}
+    return runs
+
+
+def other_classes(path: Path, cls: str) -> list[dict]:
+    """The runs of classes other than ``cls`` kept in the results file ``path`` (none when
+    it is missing or unreadable), oldest class first."""
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return []
+    runs = runs_by_class(doc)
+    return [runs[c] for c in sorted(runs) if c != cls]

@@ -20,10 +20,12 @@ memory the build occupies).
 The peer of the no-op rebuild is the clean build of the same run (how much the jupyter cache
 saves); the other cases have a target only.  The builds run in a temporary copy of the
 project (so ``_build/`` of the working tree is left alone), with the project's environment.
-Writes ``benchmarks/results/book_build.json``.  ``--clean-only`` runs cases 1 and 2 only (a
+Writes ``benchmarks/results/book_build.json`` (keeping the latest run of each other CPU class,
+which the README's table quotes).  ``--dry-run`` prints the builds without running them.
+``--clean-only`` runs cases 1 and 2 only (a
 few minutes instead of six builds); ``--no-peer`` leaves out the one-at-a-time build.
 
-    .venv/bin/python benchmarks/bench_book_build.py [--clean-only] [--no-peer]
+    .venv/bin/python benchmarks/bench_book_build.py [--clean-only] [--no-peer] [--dry-run]
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ import time
 from pathlib import Path
 
 import psutil
-from _results import Recorder, children_cpu
+from _results import RESULTS, Recorder, children_cpu
 
 SOURCE = Path(__file__).resolve().parents[1]
 ROOT = SOURCE  # the copy being built (set in main)
@@ -137,7 +139,17 @@ def main() -> None:
                         help="only the clean build and its chapters' execution times")
     parser.add_argument("--no-peer", action="store_true",
                         help="without the one-chapter-at-a-time peer build (half the time)")
+    parser.add_argument("--dry-run", action="store_true",
+                        help="print the builds and the file written, run nothing")
     args = parser.parse_args()
+    if args.dry_run:
+        builds = (([] if args.no_peer else ["clean build, one chapter at a time (the peer)"])
+                  + ["clean build"] + ([] if args.clean_only else [
+                      "rebuild, nothing changed", "rebuild, one chapter changed",
+                      "rebuild, gyrolib changed", "single-page build and the PDF print"]))
+        print(f"copy {SOURCE} into a temporary folder, then in it: {'; '.join(builds)}")
+        print(f"writes {RESULTS / 'book_build.json'}")
+        return
     rec = Recorder("book_build")
     with tempfile.TemporaryDirectory(prefix="gyrolib-bench-build-") as tmp:
         ROOT = Path(tmp) / "book"
@@ -172,7 +184,7 @@ def main() -> None:
                           "(kernel start-up and imports included); _ext/parallel_execute.py "
                           "starts the longest first by these")
         if args.clean_only:
-            rec.write()
+            rec.write(keep_other_classes=True)
             return
         t_noop, _, log = build()
         rec.case("rebuild with nothing changed", t_noop, peer="the clean build of this run",
@@ -198,7 +210,7 @@ def main() -> None:
         rec.case("PDF: single-page build + Chromium print", t_single + t_print,
                  note=f"single-page build {t_single:.1f} s (executed: "
                       f"{', '.join(executed(log)) or 'none'}), print {t_print:.1f} s")
-    rec.write()
+    rec.write(keep_other_classes=True)
 
 
 if __name__ == "__main__":

@@ -1,33 +1,40 @@
-"""Benchmark of the test command on a fresh clone, set-up included (issue 29, item 7: within
-6 minutes on a quiet 2-core machine; issue 20, item 2 before it).
+"""Benchmark of the test command on a fresh clone, set-up included: the everyday command
+``python3 tasks.py test`` (target ≤ 6 minutes on a quiet 2-core AVX2 machine), or with
+``--full`` CI's ``.ci/run``, ``python3 tasks.py test --full`` (target ≤ 60 minutes).
 
-Times what CI runs, on a fresh ``git clone`` of the current commit in a temporary folder
-(no ``.venv``, no ``_build``, no numba cache):
+Times what a contributor (or CI) runs, on a fresh ``git clone`` of the current commit in a
+temporary folder (no ``.venv``, no ``_build``, no numba cache):
 
 1. ``python3 tasks.py setup`` — the set-up: ``.venv`` created and the pinned environment
    installed (the test command would do it first; timed apart to show its share);
-2. ``CI=true bash .ci/run`` — the test command itself (``python3 tasks.py test``: the
-   set-up's idempotence check, the browser, lint, the pinned JupyterLab, then pytest on
-   every core, whose session builds the book once from clean in the background, prints the
-   PDF and runs every test; with no project build the determinism test compares the
-   chapters with their recorded outputs, ``tests/recorded_outputs/``, and executes a
-   second time only the chapters that differ from their record).
+2. the test command itself, as CI runs it (``CI=true``, ``GYROLIB_REQUIRE_BROWSER=1``):
+   ``python3 tasks.py test`` (the set-up's idempotence check, the browser, lint, the pinned
+   JupyterLab, then pytest on every core, whose session builds the book once from clean in
+   the background, prints the PDF and runs the everyday tier; the determinism test compares
+   the chapters with their recorded outputs, ``tests/recorded_outputs/``), or with
+   ``--full`` ``bash .ci/run`` (the same and the full tier: every test marked ``full``, a
+   second execution of every chapter among them).
 
-The total of the two is the fresh-clone time (target ≤ 360 s).  The pytest part and its
-slowest tests come from pytest's own report, the steps of the session's book build from the
-line the test session prints about it.  The 1-minute load average is recorded before each
-step and after the last; the one before the first step says whether the machine was quiet
-(the later ones include the benchmark's own steps): the target is for a quiet machine, and a
-run on a busy one says so in its notes (its time is then an upper bound).  The CPU class
-(AVX2 or AVX-512, with family, model and numba's host CPU name) is in the file's machine
-and in every case's note: the targets are for the common 2-core AVX2 class (issue 36).  No peer: the
-ratio is the share of the time budget used.  ``--after-book`` instead times
-``python3 tasks.py book`` and then ``python3 tasks.py test`` (the previous measurement, where
-the determinism test compares with the project's build).  Writes
-``benchmarks/results/test_command.json``, and where the core-seconds go (the session's
-timeline: every test's CPU, the book's steps) to ``benchmarks/results/test_command_cpu.json``.
+The total of the two is the fresh-clone time.  The pytest part and its slowest tests come
+from pytest's own report, the steps of the session's book build from the line the test
+session prints about it.  The 1-minute load average is recorded before each step and after
+the last; the one before the first step says whether the machine was quiet (the later ones
+include the benchmark's own steps): the target is for a quiet machine, and a run on a busy
+one says so in its notes (its time is then an upper bound).  The CPU class (AVX2 or AVX-512,
+with family, model and numba's host CPU name) is in the file's machine and in every case's
+note: the targets are for the common 2-core AVX2 class.  No peer: the ratio is the share of
+the target used.  ``--after-book`` instead times ``python3 tasks.py book`` and then
+``python3 tasks.py test``.
 
-    .venv/bin/python benchmarks/bench_test_command.py [--after-book] [--keep]
+Writes ``benchmarks/results/test_command.json`` (``test_command_full.json`` with ``--full``)
+and where the core-seconds go — the command's CPU, each step of the session's book build, the
+tests, the test files and the single tests that cost most, from the session's timeline
+(``GYROLIB_TEST_TIMELINE``, ``tests/conftest.py``) — to ``test_command_cpu.json``
+(``test_command_full_cpu.json``).  Each file keeps the latest run of each other CPU class
+(``_results.Recorder.write``), which the README's table quotes (``readme_times.py``).
+``--dry-run`` prints the steps and the files without running anything.
+
+    .venv/bin/python benchmarks/bench_test_command.py [--full] [--after-book] [--keep] [--dry-run]
 """
 
 from __future__ import annotations
@@ -43,12 +50,19 @@ import tempfile
 import time
 from pathlib import Path
 
-from _results import Recorder, children_cpu, load, machine, machine_label
+from _results import RESULTS, Recorder, children_cpu, load, machine, machine_label
 
 SOURCE = Path(__file__).resolve().parents[1]
 
-#: Target for the fresh-clone time, set-up included (s, quiet 2-core machine).
+#: Targets for the fresh-clone time, set-up included (s, quiet 2-core AVX2 machine): the
+#: everyday command and the full one.
 TARGET_S = 360.0
+TARGET_FULL_S = 3600.0
+
+#: The test command of each tier, and the environment CI gives it (``.ci/run``).
+EVERYDAY_CMD = ["python3", "tasks.py", "test"]
+FULL_CMD = ["bash", ".ci/run"]
+CI_ENV = {"CI": "true", "GYROLIB_REQUIRE_BROWSER": "1"}
 
 #: Above this 1-minute load average before the first step the machine is not quiet.
 QUIET_LOAD = 1.0
@@ -103,7 +117,8 @@ def record_pytest(rec: Recorder, log: str) -> str:
             f"{slow or 'see --durations'}")
 
 
-def record_cpu(timeline: Path, wall: float, cpu: float, commit: str) -> None:
+def record_cpu(timeline: Path, wall: float, cpu: float, commit: str,
+               name: str = "test_command_cpu") -> None:
     """Where the test command's core-seconds go (``benchmarks/results/test_command_cpu.json``):
     the whole command's CPU (every process it waited for) against what the cores could
     give in its wall time, the book's build steps, the tests that read the built book and
@@ -114,7 +129,7 @@ def record_cpu(timeline: Path, wall: float, cpu: float, commit: str) -> None:
     rows = [json.loads(line) for line in timeline.read_text().splitlines() if line.strip()]
     tests = [r for r in rows if "test" in r]
     steps = [r for r in rows if "book_step" in r]
-    rec = Recorder("test_command_cpu")
+    rec = Recorder(name)
     cores = os.cpu_count() or 1
     label = f"commit {commit}; {machine_label(machine())}"
     rec.case("the test command: CPU-s of all its processes", cpu, target_s=None,
@@ -134,32 +149,38 @@ def record_cpu(timeline: Path, wall: float, cpu: float, commit: str) -> None:
              note=f"{len(tests)} tests in {len(per_file)} files; the rest of the command's "
                   f"CPU ({cpu - total_tests - sum(r['cpu'] for r in steps):.0f} s) is the "
                   "browser, pytest's collection and start-up, lint and the set-up checks")
-    for name, c in sorted(per_file.items(), key=lambda kv: -kv[1])[:15]:
-        rec.case(f"test file: {name}", c, note="ran after the book was built"
-                 if name in reads_book else "")
-    rec.write()
+    for file, c in sorted(per_file.items(), key=lambda kv: -kv[1])[:15]:
+        rec.case(f"test file: {file}", c, note="ran after the book was built"
+                 if file in reads_book else "")
+    for r in sorted(tests, key=lambda r: -(r["cpu"] + r["cpu_children"]))[:15]:
+        rec.case(f"test: {r['test']}", r["cpu"] + r["cpu_children"],
+                 note=f"wall {r['wall']:.0f} s")
+    rec.write(keep_other_classes=True)
 
 
-def fresh_clone(rec: Recorder, clone: Path, commit: str) -> None:
+def fresh_clone(rec: Recorder, clone: Path, commit: str, full: bool) -> None:
     load_setup = load()
     t_setup, _ = timed(["python3", "tasks.py", "setup"], clone)
     load_test = load()
     timeline = clone.parent / "timeline.jsonl"
-    t_test, log = timed(["bash", ".ci/run"], clone, CI="true",
-                        GYROLIB_TEST_TIMELINE=str(timeline))
+    command = FULL_CMD if full else EVERYDAY_CMD
+    t_test, log = timed(command, clone, **CI_ENV, GYROLIB_TEST_TIMELINE=str(timeline))
     cpu_test = LAST_CPU[0]
     load_end = load()
     (clone.parent / "test_command.log").write_text(log)
     pytest_note = record_pytest(rec, log)
-    record_cpu(timeline, t_test, cpu_test, commit)
+    record_cpu(timeline, t_test, cpu_test, commit,
+               "test_command_full_cpu" if full else "test_command_cpu")
     loads = f"{quiet(load_setup, [load_test, load_end])}; {machine_label(machine())}"
+    shown = " ".join(command)
+    what = "full test command" if full else "test command"
     rec.case("set-up on a fresh clone: python3 tasks.py setup (.venv, pinned environment)",
              t_setup, note=f"commit {commit}; {loads}")
-    rec.case("test command on a fresh clone: CI=true bash .ci/run after the set-up", t_test,
+    rec.case(f"{what} on a fresh clone: {shown} after the set-up", t_test,
              note=f"{pytest_note}; browser, lint and the JupyterLab set-up the rest; {loads}")
-    rec.case("fresh clone to a finished test command, set-up included", t_setup + t_test,
-             target_s=TARGET_S,
-             note=f"ratio = ours/target; set-up {t_setup:.0f} s + test command {t_test:.0f} s; "
+    rec.case(f"fresh clone to a finished {what}, set-up included", t_setup + t_test,
+             target_s=TARGET_FULL_S if full else TARGET_S,
+             note=f"ratio = ours/target; set-up {t_setup:.0f} s + {what} {t_test:.0f} s; "
                   f"{loads}")
 
 
@@ -179,24 +200,43 @@ def after_book(rec: Recorder, clone: Path, commit: str) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--full", action="store_true",
+                        help="time the full test command (.ci/run: tasks.py test --full)")
     parser.add_argument("--after-book", action="store_true",
                         help="time tasks.py book, then tasks.py test (the previous measure)")
     parser.add_argument("--keep", action="store_true", help="keep the clone")
+    parser.add_argument("--dry-run", action="store_true",
+                        help="print the steps and the files written, run nothing")
     args = parser.parse_args()
-    rec = Recorder("test_command")
+    if args.full and args.after_book:
+        parser.error("--full and --after-book are two different measures: give one")
+    name = "test_command_full" if args.full else "test_command"
+    if args.dry_run:
+        steps = ([["python3", "tasks.py", "book"], EVERYDAY_CMD] if args.after_book else
+                 [["python3", "tasks.py", "setup"], FULL_CMD if args.full else EVERYDAY_CMD])
+        print(f"git clone {SOURCE} into a temporary folder, then in it:")
+        for step in steps:
+            print("  " + " ".join(step))
+        print(f"writes {RESULTS / (name + '.json')}"
+              + ("" if args.after_book else f" and {RESULTS / (name + '_cpu.json')}"))
+        return
+    rec = Recorder(name)
     tmp = Path(tempfile.mkdtemp(prefix="gyrolib-bench-test-"))
     try:
         clone = tmp / "clone"
         subprocess.run(["git", "clone", "--quiet", str(SOURCE), str(clone)], check=True)
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=clone, text=True,
                                 capture_output=True, check=True).stdout.strip()
-        (after_book if args.after_book else fresh_clone)(rec, clone, commit)
+        if args.after_book:
+            after_book(rec, clone, commit)
+        else:
+            fresh_clone(rec, clone, commit, args.full)
     finally:
         if args.keep:
             print(f"kept {tmp}")
         else:
             shutil.rmtree(tmp, ignore_errors=True)
-    rec.write()
+    rec.write(keep_other_classes=True)
 
 
 if __name__ == "__main__":

@@ -22,8 +22,6 @@ from __future__ import annotations
 import functools
 import json
 import math
-import os
-import time
 from collections.abc import Callable
 from typing import Any
 
@@ -461,30 +459,12 @@ def page_record(fig: Any) -> str:
     >>> rec["smallest_pt"], rec["width_in"], rec["problems"], rec["texts"] > 1
     (10.0, 5.0, [], True)
     """
-    log = os.environ.get(CPU_LOG_ENV, "")
-    cpu0, wall0 = time.process_time(), time.time()
     texts = visible_texts(fig)
     sizes = [float(t.get_fontsize()) for t in texts]
     problems = text_problems(fig, texts=texts)
-    if log:
-        log_figure_cpu(log, cpu=time.process_time() - cpu0, start=wall0, end=time.time())
     return json.dumps({"texts": len(texts), "smallest_pt": min(sizes, default=None),
                        "width_in": round(float(fig.get_figwidth()), 4),
                        "problems": problems}, ensure_ascii=True)
-
-
-#: When set, :func:`page_record` appends to the file it names one JSON line per figure
-#: measured: the process, its CPU-s (``time.process_time``) and the wall clock at its start
-#: and end, so that ``benchmarks/bench_budget.py`` reads the measurement's share of a build
-#: directly (issue 35's budget).  :func:`gyrolib.book.report.gluer` adds a line naming the
-#: chapter's glue prefix for its process.  Unset (the default): nothing is written.
-CPU_LOG_ENV = "GYROLIB_FIGURE_CPU_LOG"
-
-
-def log_figure_cpu(path: str, **fields: Any) -> None:
-    """Append one JSON line (``pid`` and ``fields``) to ``path`` (:data:`CPU_LOG_ENV`)."""
-    with open(path, "a", encoding="utf-8") as f:  # one write per line: lines never interleave
-        f.write(json.dumps({"pid": os.getpid(), **fields}) + "\n")
 
 
 def _kinds(fig: Any) -> dict[int, str]:

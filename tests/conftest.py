@@ -6,7 +6,8 @@ pages, the release footer, the downloadable notebooks) share one build, made by
 executed and every warning shown (``-W -n --keep-going``, as ``python3 tasks.py book``):
 
 1. ``jupyter-book build --builder singlehtml`` — executes every chapter;
-2. ``_ext/print_pdf.py`` prints that page to ``pdf/book.pdf`` with Chromium (when installed);
+2. ``_ext/print_pdf.py`` prints that page to ``pdf/book.pdf`` with Chromium (when installed;
+   in the full tier only, ``--full``: the PDF's tests are of that tier);
 3. ``jupyter-book build --builder html`` — reads the chapters' outputs from the cache of
    step 1 (nothing executed again) and links the PDF from every page's footer.
 
@@ -28,8 +29,11 @@ the lock first.
 ``GYROLIB_REUSE_BOOK=1`` skips the build and uses the project's ``_build/`` as
 ``python3 tasks.py pdf`` left it (``GYROLIB_REUSE_BOOK=/path/to/_build``: another build
 folder, e.g. one kept by ``GYROLIB_KEEP_BOOK=1``), for quick local reruns; the determinism
-test then compares with the recorded outputs, else executes the chapters a second time
-itself.  ``GYROLIB_KEEP_BOOK=1`` keeps the temporary build and prints where it is.
+test then compares with the recorded outputs (the full tier executes every chapter a second
+time itself).  ``GYROLIB_KEEP_BOOK=1`` keeps the temporary build and prints where it is.
+
+Two tiers: ``--full`` (:data:`FULL_OPTION`, ``python3 tasks.py test --full``, CI) runs the
+tests marked ``full`` too; without it they are skipped (:func:`select_tier`).
 """
 
 from __future__ import annotations
@@ -237,7 +241,10 @@ class _BookBuild:
             self.error = error
             return
         pdf_error = ""
-        if CHROMIUM.exists():
+        if not _PRINT_PDF[0]:
+            pdf_error = (f"the PDF is printed in the full tier ({FULL_OPTION}) only: "
+                         "tests/book/test_pdf.py")
+        elif CHROMIUM.exists():
             pdf_error = self._step("PDF print", [sys.executable, ROOT / "_ext" / "print_pdf.py",
                                                  build / "singlehtml",
                                                  build / "pdf" / "book.pdf"], seconds) or ""
@@ -357,10 +364,79 @@ def _needs_the_book(item: pytest.Item) -> bool:
     return False
 
 
+#: The full tier: the tests marked ``full`` (a full recomputation of a stored study, a long
+#: run, a second execution of every chapter) run only with this option
+#: (``python3 tasks.py test --full``, which CI's ``.ci/run`` runs); without it they are
+#: skipped, each with :data:`FULL_SKIP_REASON`.  ``slow`` marks a test that is long but runs
+#: in both tiers.
+FULL_OPTION = "--full"
+FULL_SKIP_REASON = "full tier: runs with python3 tasks.py test --full (and in CI)"
+#: Set by ``python3 tasks.py test --full``: the session must run the full tier, and it must
+#: find tests of it (a misspelt option or a lost marker fails the run instead of skipping the
+#: full tier without a word).
+REQUIRE_FULL_ENV = "GYROLIB_REQUIRE_FULL"
+
+
+def pytest_addoption(parser) -> None:
+    parser.addoption(FULL_OPTION, action="store_true", default=False,
+                     help="also run the full tier (tests marked 'full': full recomputations "
+                          "of the stored studies, long runs); python3 tasks.py test --full")
+
+
+def full_tier(config) -> bool:
+    """Whether this session runs the full tier (:data:`FULL_OPTION`)."""
+    return bool(config.getoption(FULL_OPTION))
+
+
+def select_tier(config, items: list) -> int:
+    """Mark the full tier's tests skipped unless the session runs it; returns how many of
+    ``items`` are of the full tier."""
+    full = [item for item in items if item.get_closest_marker("full") is not None]
+    if not full_tier(config):
+        skip = pytest.mark.skip(reason=FULL_SKIP_REASON)
+        for item in full:
+            item.add_marker(skip)
+    return len(full)
+
+
+def check_required_tier(config) -> None:
+    """Under :data:`REQUIRE_FULL_ENV`, a session without :data:`FULL_OPTION` is a usage
+    error (raised before any test is collected)."""
+    if os.environ.get(REQUIRE_FULL_ENV) == "1" and not full_tier(config):
+        raise pytest.UsageError(f"{REQUIRE_FULL_ENV}=1 but pytest was run without "
+                                f"{FULL_OPTION}: the full tier would be skipped")
+
+
+#: Whether the session's book build prints the PDF: in the full tier only (its tests,
+#: ``tests/book/test_pdf.py``, are of the full tier), since the print is a step of the
+#: longest chain of the everyday run (set in :func:`pytest_configure`).
+_PRINT_PDF = [True]
+
+#: How many reports of tests of the full tier this process saw (the xdist controller sees
+#: those of every worker).
+_FULL_REPORTS = [0]
+
+
+def pytest_runtest_logreport(report) -> None:
+    if "full" in report.keywords and report.when == "call":
+        _FULL_REPORTS[0] += 1
+
+
+def full_tier_ran(config, reports: int) -> str:
+    """The problem of a session that had to run the full tier (:data:`REQUIRE_FULL_ENV`) and
+    ran none of its tests, or ``""``."""
+    if os.environ.get(REQUIRE_FULL_ENV) == "1" and full_tier(config) and reports == 0:
+        return (f"{FULL_OPTION}: no test of the full tier ran (tests marked 'full'): the "
+                "full tier was not run")
+    return ""
+
+
 def pytest_collection_modifyitems(session: pytest.Session, config, items: list) -> None:
-    """The tests of the built book run last, in their collected order: the build runs in
-    the background while all the other tests run, instead of the first browser test
-    waiting for it while the second core idles."""
+    """The full tier's tests are skipped unless the session runs it (:func:`select_tier`).
+    The tests of the built book run last, in their collected order: the build runs in the
+    background while all the other tests run, instead of the first browser test waiting for
+    it while the second core idles."""
+    select_tier(config, items)
     items.sort(key=lambda item: _uses_the_book(item) and _needs_the_book(item))
 
 
@@ -436,7 +512,11 @@ def session_memo(key: str, compute):
 def pytest_configure(config) -> None:
     """Under pytest-xdist the workers share one build: its folder is made here, before the
     workers start (they inherit the environment variable), and removed at the end.  The
-    ledger's memo for the session (:data:`LEDGER_MEMO_ENV`) is made here too."""
+    ledger's memo for the session (:data:`LEDGER_MEMO_ENV`) is made here too.  A session
+    that must run the full tier and was not given the option stops here
+    (:func:`check_required_tier`)."""
+    check_required_tier(config)
+    _PRINT_PDF[0] = full_tier(config)
     if not hasattr(config, "workerinput") and not os.environ.get(LEDGER_MEMO_ENV):
         memo = tempfile.mkdtemp(prefix="gyrolib-test-ledger-")
         os.environ[LEDGER_MEMO_ENV] = memo          # the workers inherit it
@@ -544,3 +624,9 @@ def pytest_runtest_logfinish(nodeid: str, location) -> None:
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     _BUILD.cleanup()
+    config = session.config
+    if not hasattr(config, "workerinput") and exitstatus == pytest.ExitCode.OK:
+        problem = full_tier_ran(config, _FULL_REPORTS[0])
+        if problem:  # the session's status: a usage error, with its line
+            print(f"\nERROR: {problem}", file=sys.stderr, flush=True)
+            session.exitstatus = pytest.ExitCode.USAGE_ERROR

@@ -9,7 +9,6 @@ space (``grouped``), a difference at the level of rounding cited under a declare
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
@@ -171,12 +170,7 @@ def gluer(prefix: str, default_fmt: Formatter = ".4g") -> Callable[..., None]:
     Chapters prefix their keys because glue keys are global across the book.  Making a gluer
     also sets the notebook's figures to 2x PNGs (:func:`hidpi_figures`)."""
     v.check_str("prefix", prefix)
-    if hidpi_figures():
-        from gyrolib._page_figures import CPU_LOG_ENV, log_figure_cpu
-
-        log = os.environ.get(CPU_LOG_ENV, "")
-        if log:  # which chapter this kernel runs, for the figure measurement's CPU log
-            log_figure_cpu(log, gluer=prefix)
+    hidpi_figures()
 
     def gl(key: str, value: float, fmt: Formatter = default_fmt) -> None:
         from myst_nb import glue  # only the chapters need myst-nb

@@ -1022,7 +1022,7 @@ def test_every_page_declares_a_favicon_that_loads(site, browser):
 
 #: The page the navigation is tried on: a long chapter, with its table of contents (38
 #: entries).  gc_race rather than gc_model (40 entries): 5 math elements where gc_model has
-#: 56, whose typesetting and axe's pass over MathJax's output cost CPU (issue 35's budget);
+#: 56, whose typesetting and axe's pass over MathJax's output cost CPU in every test command;
 #: gc_model's math is checked by axe in test_every_page_is_clean_in_a_real_browser.  (Not
 #: the ledger, which the phone's layout test loads anyway: it has no contents panel.)  The
 #: page is loaded once, at the phone's size as a phone loads it; the tablet's and the

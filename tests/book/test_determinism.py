@@ -15,17 +15,18 @@ compared with a second, independent execution of the same code, the first of:
    made with the same gyrolib sources and pinned environment (its stamp from
    ``_ext/gyrolib_cache.py``);
 3. otherwise — a chapter without a record, or whose record differs from this session's
-   outputs — the chapter is executed again here (two kernels at a time) and compared with
-   the session's outputs.
+   outputs — the everyday tier names it in a warning and leaves it to the full tier
+   (``python3 tasks.py test --full``, CI), which executes **every** chapter again here (two
+   kernels at a time) and compares it with the session's outputs, whatever its record says.
 
 A chapter whose outputs agree with its record needs no third execution: two executions, the
 recorded one and this session's, agree.  A chapter that differs from its record is not yet
-a failure (its code or gyrolib may have changed the numbers on purpose): it is executed
-again, and fails if that execution differs from the session's; if it agrees, the record is
-*stale* — the test passes, warns, and names the chapters (each costs one execution in every
-later test command).  ``GYROLIB_RECORD_OUTPUTS=1`` writes the agreed outputs of the stale or
-missing chapters into ``tests/recorded_outputs/`` (and removes the records of chapters that
-no longer exist), e.g. after a change of numbers, on a kept build::
+a failure (its code or gyrolib may have changed the numbers on purpose): the full tier
+executes it again, and fails if that execution differs from the session's; if it agrees, the
+record is *stale* — the test passes, warns, and names the chapters.
+``GYROLIB_RECORD_OUTPUTS=1`` executes the stale or missing chapters again in either tier and
+writes their agreed outputs into ``tests/recorded_outputs/`` (and removes the records of
+chapters that no longer exist), e.g. after a change of numbers, on a kept build::
 
     GYROLIB_KEEP_BOOK=1 .venv/bin/python -m pytest tests/book/test_determinism.py
     GYROLIB_REUSE_BOOK=/tmp/gyrolib-test-book-…/_build GYROLIB_RECORD_OUTPUTS=1 \\
@@ -50,7 +51,7 @@ import re
 import warnings
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
@@ -58,7 +59,7 @@ import pytest
 import gyrolib
 from tests.conftest import ROOT, session_book
 
-pytestmark = [pytest.mark.book, pytest.mark.slow]
+pytestmark = pytest.mark.book
 
 PROJECT_CACHE = ROOT / "_build" / ".jupyter_cache"
 #: the committed record of every chapter's outputs (one file per chapter)
@@ -240,28 +241,37 @@ class Verdict:
     """What :func:`compare_chapters` found: ``problems`` (outputs of two executions that
     differ), ``second`` the second execution each chapter was compared with (``record``,
     ``project cache`` or ``executed again``), ``stale`` the chapters whose record was missing
-    or differed from an agreeing second execution."""
+    or differed from an agreeing second execution, ``unjudged`` those that differ from their
+    record (or have none) and were not executed again (the everyday tier leaves them to the
+    full tier)."""
 
     problems: list
     second: dict
     stale: list
+    unjudged: list = field(default_factory=list)
 
 
 def compare_chapters(chapters: list[Chapter], recorded: dict[str, list],
                      cached: Callable[[Chapter], list | None],
-                     execute: Callable[[list[Chapter]], dict[str, list]]) -> Verdict:
+                     execute: Callable[[list[Chapter]], dict[str, list]] | None,
+                     every: bool = False) -> Verdict:
     """Compare each chapter with a second execution: its record if that agrees (two
     executions agree), else the project cache's execution (``cached``), else one made now
-    (``execute``, called once with every such chapter)."""
-    problems, second, stale, again = [], {}, [], []
+    (``execute``, called once with every such chapter; with ``execute=None`` such a chapter
+    is left ``unjudged``).  ``every``: every chapter is executed again and compared with that
+    execution, whatever its record says (the record only decides whether it is stale)."""
+    problems, second, stale, again, unjudged = [], {}, [], [], []
+    agreeing: set[str] = set()
     for ch in chapters:
         record = recorded.get(ch.name)
         if record is not None and not differences(ch.name, ch.texts, record):
-            second[ch.name] = "record"
-            continue
-        other = cached(ch)
+            agreeing.add(ch.name)
+            if not every:
+                second[ch.name] = "record"
+                continue
+        other = None if every else cached(ch)
         if other is None:
-            again.append(ch)
+            (again if execute is not None else unjudged).append(ch)
             continue
         second[ch.name] = "project cache"
         found = differences(ch.name, ch.texts, other)
@@ -274,9 +284,10 @@ def compare_chapters(chapters: list[Chapter], recorded: dict[str, list],
             second[ch.name] = "executed again"
             found = differences(ch.name, ch.texts, runs[ch.name])
             problems += found
-            if not found:
+            if not found and ch.name not in agreeing:
                 stale.append(ch.name)
-    return Verdict(problems=problems, second=second, stale=stale)
+    return Verdict(problems=problems, second=second, stale=stale,
+                   unjudged=[ch.name for ch in unjudged])
 
 
 def _record_path(name: str, folder: Path = RECORDED) -> Path:
@@ -371,7 +382,11 @@ def _execute_chapters(chapters: list[Chapter], folder=lambda ch: ROOT / Path(ch.
         return {ch.name: texts for ch, texts in zip(chapters, runs, strict=True)}
 
 
-def test_a_second_execution_gives_the_same_outputs(tmp_path, monkeypatch):
+def _check_session_chapters(monkeypatch, tmp_path, every: bool) -> None:
+    """The session's chapters against their second executions (:func:`compare_chapters`):
+    ``every`` executes each chapter again here (the full tier); without it a chapter that
+    differs from its record is executed again only to record it (:data:`RECORD_ENV`), else
+    it is named in a warning and left to the full tier."""
     book = session_book()
     chapters = session_chapters(book)
     assert len(chapters) >= 10, f"only {len(chapters)} executed chapters in {book.executed}"
@@ -391,18 +406,38 @@ def test_a_second_execution_gives_the_same_outputs(tmp_path, monkeypatch):
     monkeypatch.setenv("GYROLIB_LEDGER_MEMO", str(tmp_path / "ledger"))
     monkeypatch.setenv("MPLBACKEND", "Agg")
     monkeypatch.setenv("OPENBLAS_NUM_THREADS", os.environ.get("OPENBLAS_NUM_THREADS", "1"))
-    verdict = compare_chapters(chapters, load_records(), cached, _execute_chapters)
+    record = os.environ.get(RECORD_ENV) == "1"
+    verdict = compare_chapters(chapters, load_records(), cached,
+                               _execute_chapters if every or record else None, every=every)
     compared = sum(len(t) for ch in chapters for t in ch.texts)
     glued = sum(t.startswith("glue ") for ch in chapters for cell in ch.texts
                 for t in cell)
     assert compared > 100 and glued > 100, f"only {compared} outputs ({glued} glued) compared"
     assert not verdict.problems, "\n".join(verdict.problems)
-    if os.environ.get(RECORD_ENV) == "1":
+    if record:
         write_records(chapters, verdict.stale)
     elif verdict.stale:
         warnings.warn(f"the recorded outputs of {', '.join(verdict.stale)} are stale or "
                       f"missing: executed again here (they agree); record them with "
                       f"{RECORD_ENV}=1 (tests/book/test_determinism.py)", stacklevel=1)
+    if verdict.unjudged:
+        warnings.warn(f"{', '.join(verdict.unjudged)} differ from their recorded outputs (or "
+                      "have none): not executed again here; python3 tasks.py test --full "
+                      f"executes every chapter again, and {RECORD_ENV}=1 records them "
+                      "(tests/book/test_determinism.py)", stacklevel=1)
+
+
+def test_the_outputs_agree_with_their_records(tmp_path, monkeypatch):
+    """Everyday tier: each chapter's outputs agree with its recorded outputs (two executions
+    agree) or with the project's cache; none is executed again."""
+    _check_session_chapters(monkeypatch, tmp_path, every=False)
+
+
+@pytest.mark.full
+def test_a_second_execution_of_every_chapter_gives_the_same_outputs(tmp_path, monkeypatch):
+    """Full tier: every chapter executed a second time here, two kernels at a time, agrees
+    with the session's execution (about one more clean execution of the book)."""
+    _check_session_chapters(monkeypatch, tmp_path, every=True)
 
 
 NONDETERMINISTIC = ["import random\nfrom myst_nb import glue\n"
@@ -454,6 +489,19 @@ def test_a_nondeterministic_cell_is_caught(tmp_path):
     verdict = compare_chapters([fixed], {"chapters/fixed": fixed.texts}, lambda ch: None,
                                lambda chs: pytest.fail("executed again"))
     assert verdict == Verdict(problems=[], second={"chapters/fixed": "record"}, stale=[])
+    # the everyday tier executes nothing: a chapter that differs from its record is unjudged
+    verdict = compare_chapters([rnd, fixed], {"chapters/fixed": fixed.texts},
+                               lambda ch: None, None)
+    assert verdict == Verdict(problems=[], second={"chapters/fixed": "record"}, stale=[],
+                              unjudged=["chapters/random"])
+    # the full tier executes every chapter again, an agreeing record or not
+    verdict = compare_chapters([rnd, fixed], {"chapters/fixed": fixed.texts},
+                               lambda ch: pytest.fail("read the cache"),
+                               lambda chs: {"chapters/random": stale_random,
+                                            "chapters/fixed": fixed.texts}, every=True)
+    assert verdict.second == {"chapters/random": "executed again",
+                              "chapters/fixed": "executed again"}
+    assert verdict.problems and verdict.stale == []
 
 
 def test_records_round_trip(tmp_path):

@@ -9,7 +9,8 @@ independent of the PDF: the chapter titles as the HTML build shows them, every l
 ``gyrolib.__version__``; that the title page carries the version and a build date, that the
 table of contents lists every chapter with the page it starts on, that every page has a page
 number; and that the HTML build links to the PDF.  A deliberately incomplete text shows that
-the content check can fail.
+the content check can fail.  They are of the full tier (``python3 tasks.py test --full``):
+printing the PDF is a step of the everyday run's longest chain (the session's book build).
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ import gyrolib
 from gyrolib.book import ledger
 from tests.conftest import require_built_book, session_book
 
-pytestmark = pytest.mark.book
+#: the full tier (``--full``): the session's book build prints the PDF only there
+pytestmark = [pytest.mark.book, pytest.mark.full]
 
 ROOT = Path(__file__).resolve().parents[2]
 

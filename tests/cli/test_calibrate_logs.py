@@ -224,11 +224,13 @@ def test_wrong_spectrum_is_no_valid_estimate(wrong_spectrum, capsys, tmp_path):
     assert not (tmp_path / "x.png").exists()
 
 
+@pytest.mark.full
 def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
-    """--fit-noise on the wrong-spectrum record: α1 and σ1² within two standard errors of the
-    values simulated, ω_gc within 3σ of the truth, the diagnostics fit; the TOML it writes is
-    accepted by --params and gives the same estimate."""
-    truth, path, head = wrong_spectrum
+    """Full tier (about 25 CPU-s): --fit-noise on the wrong-spectrum 100-s record: α1 and σ1²
+    within two standard errors of the values simulated, ω_gc within 3σ of the truth, the
+    diagnostics fit; the TOML it writes is accepted by --params and gives the same
+    estimate."""
+    truth, path, _ = wrong_spectrum
     toml = tmp_path / "fitted.toml"
     code, out, err = _run(["calibrate", "gc", path, "--json", "--fit-noise", toml], capsys)
     d = json.loads(out)
@@ -254,12 +256,27 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
     again = json.loads(out)
     assert code == 0 and again["latitude_source"].startswith("record")
     assert again["omega_gc"] == pytest.approx(d["omega_gc"], rel=1e-6)
-    # the text output (its fit of α1 alone on the record's first 10 s, a tenth of the cost:
-    # the fit itself is checked above, in JSON), with the note that 10 s are short for α1
-    code, out, _ = _run(["calibrate", "gc", "--latitude", "53.9", head, "--fit-noise",
+
+
+def test_fit_noise_on_the_first_10_s(wrong_spectrum, capsys, tmp_path):
+    """--fit-noise --fit alpha1 on the wrong-spectrum record's first 10 s (a tenth of the
+    100-s fit's cost, which the full tier runs through the command and the everyday tier
+    through gc.fit_noise, tests/gc/test_noise_fit.py): the text output with its note that 10 s
+    are short for α1, and the TOML it writes accepted by --params, whose estimate is within
+    3σ of the truth."""
+    truth, _, head = wrong_spectrum
+    toml = tmp_path / "fitted.toml"
+    code, out, _ = _run(["calibrate", "gc", "--latitude", "53.9", head, "--fit-noise", toml,
                          "--fit", "alpha1"], capsys)
     assert code == 0 and "noise fitted" in out and "alpha1 = " in out and " ± " in out
     assert "note: alpha1 poorly identified" in out
+    text = toml.read_text()
+    assert "alpha1 = " in text and "Omega_h" not in text and "\ndt = " not in text
+    code, out, _ = _run(["calibrate", "gc", "--latitude", "53.9", head, "--json", "--params",
+                         toml], capsys)
+    d = json.loads(out)
+    assert code == 0 and d["valid"]
+    assert abs(d["omega_gc"] - truth["omega_gc_rad_s"]) <= 3.0 * d["omega_gc_std"]
 
 
 def test_fit_noise_bad_options(wrong_spectrum, capsys, tmp_path):

@@ -237,10 +237,12 @@ def test_every_executed_chapter_offers_its_notebook():
     assert not problems, problems
 
 
-@pytest.mark.slow
+@pytest.mark.full
 def test_tasks_lab_serves_the_chapters_as_notebooks(tmp_path):
-    """``python3 tasks.py lab`` starts a server on chapters/ whose contents API returns a
-    chapter's MyST Markdown as a notebook (jupytext), with the code cells of the file."""
+    """Full tier (a JupyterLab server started and stopped; the everyday tier checks the
+    installed environment and its extensions, above): ``python3 tasks.py lab`` starts a
+    server on chapters/ whose contents API returns a chapter's MyST Markdown as a notebook
+    (jupytext), with the code cells of the file."""
     import signal
     import socket
     import time

@@ -265,8 +265,10 @@ def _tree_mb(path: Path) -> float:
         / 1e6
 
 
-@pytest.mark.slow
+@pytest.mark.full
 def test_lean_install_size_imports_and_extras(tmp_path):
+    """Full tier (an install into a new environment, about 20 CPU-s; the everyday tier checks
+    the declared sets, above): the core install's size, its imports, and the extras."""
     # a copy of what the package is built from, so the build writes nothing into the checkout
     src = tmp_path / "src"
     src.mkdir()
