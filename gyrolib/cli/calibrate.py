@@ -99,6 +99,12 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     cal = sub.add_parser("calibrate", help="apply paper GC or RSF to recorded CSV files")
     methods = cal.add_subparsers(dest="method", required=True,
                                  parser_class=_signed_values(parser_class))
+    _add_gc(methods)
+    _add_rsf(methods)
+
+
+def _add_gc(methods: argparse._SubParsersAction) -> None:
+    """``calibrate gc`` and its options."""
     gcp = methods.add_parser(
         "gc", help="paper GC: drift ω_gc of a floated gyro from a gyrocompass-mode record",
         description="Run paper GC's 10-state Kalman filter on CSV records with the columns "
@@ -139,6 +145,18 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                           "'latitude', else the record's '# latitude_deg:' line; without "
                           "any there is no valid estimate, exit 3); 'paper' assumes paper "
                           "GC's Omega_h, Omega_v (about 53.9 N) and says so")
+    _add_gc_priors(gcp)
+    gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
+                     help="family-wise false-alarm rate of the model checks that make a "
+                          "record invalid (default 0.01)")
+    gcp.add_argument("--accept-misfit", action="store_true",
+                     help="give the estimate of a record whose model checks fail, marked "
+                          "misfit (exit 0), instead of no valid estimate (exit 3)")
+    _batch_options(gcp)
+
+
+def _add_gc_priors(gcp: argparse.ArgumentParser) -> None:
+    """The priors of paper GC's instrument constants, each with its default."""
     gcp.add_argument("--scale-tolerance", type=float, default=None, metavar="REL",
                      help=_FromTable("1-sigma relative uncertainty of the scale common to H/f "
                                      "and the angle sensor's gain (default "
@@ -168,13 +186,10 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
                                      "largest plausible value, a crystal's tolerance); carried "
                                      "like the scale (a logger of 1024 Hz labelled 1 kHz is "
                                      "2.4e-2)"))
-    gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
-                     help="family-wise false-alarm rate of the model checks that make a "
-                          "record invalid (default 0.01)")
-    gcp.add_argument("--accept-misfit", action="store_true",
-                     help="give the estimate of a record whose model checks fail, marked "
-                          "misfit (exit 0), instead of no valid estimate (exit 3)")
-    _batch_options(gcp)
+
+
+def _add_rsf(methods: argparse._SubParsersAction) -> None:
+    """``calibrate rsf`` and its options."""
     rsfp = methods.add_parser(
         "rsf", help="paper RSF: roll-gyro scale-factor error per correction interval",
         description="Apply paper RSF's correction (Eqs. (1)-(3)) to CSV records with the "

@@ -15,9 +15,10 @@ from typing import Final
 import numpy as np
 
 from gyrolib import gc, units
-from gyrolib.cli import constants, hints
+from gyrolib.cli import constants
 from gyrolib.cli.constants import FIT_UNITS, PLOT_SUFFIXES
 from gyrolib.cli.outputs import Outcome, bar_enabled, check_out_path, fmt, progress
+from gyrolib.gc.logs import judgement
 from gyrolib.gc.model.params import PAPER_LATITUDE
 from gyrolib.records.errors import OptionError
 from gyrolib.records.params import (
@@ -27,51 +28,82 @@ from gyrolib.records.params import (
     load_toml,
 )
 from gyrolib.records.reader import GCChunks, read_gc
+from gyrolib.verdict import compared
 
 __all__ = ["LAT_NONE", "LAT_OPTION", "LAT_PAPER", "LAT_PARAMS", "LAT_RECORD", "NO_LATITUDE",
-           "options", "run_file"]
+           "compared", "options", "run_file"]
 
 
 def options(args: argparse.Namespace) -> dict:
     """Checked options of ``calibrate gc`` (OptionError / RecordError on a bad one)."""
+    _check_ranges(args)
+    batch = len(args.files) > 1
+    _check_outputs(args, batch)
+    params = gc_params_from_toml(args.params)
+    toml = load_toml(args.params) if args.params is not None else {}
+    params = dataclasses.replace(params, **_priors(args, toml))
+    params, latitude, lat_source = _latitude(args, params, toml)
+    return {"params": params, "dt_given": "dt" in toml, "gate": args.gate,
+            "latitude": latitude, "latitude_source": lat_source,
+            "false_alarm": args.false_alarm, "accept_misfit": args.accept_misfit,
+            "store_every": args.store_every, "max_rejected": args.max_rejected,
+            "mapping": _mapping(args), "fit_noise": args.fit_noise, "fit": _fit_names(args),
+            "allan": args.allan, "plot": args.plot, "json": args.json,
+            "params_notes": instrument_notes(args.params, "calibrate gc"),
+            "bar": bar_enabled(args) and not batch}
+
+
+def _check_ranges(args: argparse.Namespace) -> None:
+    """The probabilities, shares and counts among the options, each in its range."""
     if not 0.0 < args.gate < 1.0:
         raise OptionError(f"--gate must be a probability in (0, 1); got {args.gate}")
     if args.store_every < 1:
         raise OptionError(f"--store-every must be >= 1; got {args.store_every}")
     if not 0.0 <= args.max_rejected < 1.0:
         raise OptionError(f"--max-rejected must be a share in [0, 1); got {args.max_rejected}")
+    if not (math.isfinite(args.false_alarm) and 0.0 < args.false_alarm < 1.0):
+        raise OptionError(f"--false-alarm must be a probability in (0, 1); got "
+                          f"{args.false_alarm}")
+
+
+def _mapping(args: argparse.Namespace) -> gc.InclinometerMapping:
     try:
-        mapping = gc.InclinometerMapping.parse(args.inclinometers)
+        return gc.InclinometerMapping.parse(args.inclinometers)
     except ValueError:
         raise OptionError(f"--inclinometers expects two of y, z, -y, -z separated by a comma, "
-                         f"each column once (e.g. y,z or z,y or -y,z); got "
-                         f"{args.inclinometers!r}") from None
+                          f"each column once (e.g. y,z or z,y or -y,z); got "
+                          f"{args.inclinometers!r}") from None
+
+
+def _fit_names(args: argparse.Namespace) -> tuple[str, ...]:
     fit = tuple(s.strip() for s in args.fit.split(",") if s.strip())
     unknown = [s for s in fit if s not in FIT_UNITS]
     if not fit or unknown or ("C_in" in fit and ({"C_incl_y", "C_incl_z"} & set(fit))):
         raise OptionError(f"--fit expects names among {', '.join(FIT_UNITS)} (C_in not with "
-                         f"C_incl_y, C_incl_z), comma-separated; got {args.fit!r}")
-    batch = len(args.files) > 1
+                          f"C_incl_y, C_incl_z), comma-separated; got {args.fit!r}")
+    return fit
+
+
+def _check_outputs(args: argparse.Namespace, batch: bool) -> None:
+    """One file per output option, of a suffix it writes, in a writable folder."""
     for opt, val in (("--plot", args.plot), ("--allan", args.allan),
                      ("--fit-noise OUT.toml", args.fit_noise or None)):
         if batch and val:
             raise OptionError(f"{opt} writes one file: give one record, not {len(args.files)} "
-                             "(--summary OUT.csv reports a batch)")
+                              "(--summary OUT.csv reports a batch)")
     check_out_path(args.plot, PLOT_SUFFIXES, "a plot")
     check_out_path(args.allan, PLOT_SUFFIXES, "a plot")
     check_out_path(args.fit_noise or None, (".toml",), "a TOML")
-    params = gc_params_from_toml(args.params)
-    toml = load_toml(args.params) if args.params is not None else {}
-    dt_given = "dt" in toml
-    if not (math.isfinite(args.false_alarm) and 0.0 < args.false_alarm < 1.0):
-        raise OptionError(f"--false-alarm must be a probability in (0, 1); got "
-                         f"{args.false_alarm}")
-    # defaults: the table of inputs' (an instrument error's largest plausible value, stored
-    # with the package: gyrolib.cli.constants; the drift prior's reference, the field's
-    # default), in SI; an option in its unit
+
+
+def _priors(args: argparse.Namespace, toml: dict) -> dict[str, float]:
+    """The instrument priors in SI: an option in its unit, else the params file's value
+    (left as it is), else the table of inputs' default (an instrument error's largest
+    plausible value, stored with the package: gyrolib.cli.constants; the drift prior's
+    reference, the field's default)."""
     mg = 1e-3 * units.G0
     priors = {}
-    for opt, field, val, default, unit in (
+    for opt, name, val, default, unit in (
             ("--scale-tolerance", "sigma_hf_scale", args.scale_tolerance,
              constants.DEFAULT_SCALE_TOLERANCE, 1.0),
             ("--offset-prior", "sigma_as_offset", args.offset_prior,
@@ -84,52 +116,46 @@ def options(args: argparse.Namespace) -> dict:
              constants.DEFAULT_CLOCK_TOLERANCE, 1.0)):
         if val is not None and not (math.isfinite(val) and val >= 0.0):
             raise OptionError(f"{opt} must be a number >= 0; got {val}")
-        if val is None and field in toml:     # the params file states it
+        if val is None and name in toml:     # the params file states it
             continue
-        priors[field] = default if val is None else val * unit
+        priors[name] = default if val is None else val * unit
     if priors.get("sigma_gc0", 1.0) <= 0.0:
         raise OptionError("--drift-prior must be > 0 (a drift known to be exactly 0 is not "
                           "calibrated)")
-    params = dataclasses.replace(params, **priors)
-    latitude, lat_source = None, LAT_NONE
+    return priors
+
+
+def _latitude(args: argparse.Namespace, params: gc.GyrocompassParams, toml: dict
+              ) -> tuple[gc.GyrocompassParams, float | None, str]:
+    """The Earth rate from ``--latitude`` or the params file: the parameters with it, the
+    latitude (deg) and where it came from (:data:`LAT_NONE` when neither states it)."""
     if args.latitude is not None:
         if {"Omega_h", "Omega_v", "latitude"} & set(toml):
             raise OptionError("--latitude and the params file's latitude/Omega_h/Omega_v both "
-                             "set the Earth rate: give one")
+                              "set the Earth rate: give one")
         if args.latitude.strip().lower() == "paper":
-            latitude, lat_source = math.degrees(PAPER_LATITUDE), LAT_PAPER
-        else:
-            try:
-                latitude = float(args.latitude)
-            except ValueError:
-                latitude = math.nan
-            if not (math.isfinite(latitude) and 0.0 < latitude < 90.0):
-                raise OptionError(f"--latitude must be in degrees north in (0, 90), or 'paper' "
-                                  f"for paper GC's values: {NORTHERN_ONLY}; got "
-                                  f"{args.latitude}")
-            lat_source = LAT_OPTION
-            params = gc.GyrocompassParams.at_latitude(
-                math.radians(latitude), **{k: getattr(params, k) for k in
-                                           (f.name for f in dataclasses.fields(params))
-                                           if k not in ("Omega_h", "Omega_v")})
-    elif "latitude" in toml:
-        latitude, lat_source = float(toml["latitude"]), LAT_PARAMS
-    elif {"Omega_h", "Omega_v"} <= set(toml):   # the Earth rate stated by its components
-        latitude = math.degrees(math.atan2(params.Omega_v, params.Omega_h))
-        lat_source = LAT_PARAMS
-    elif {"Omega_h", "Omega_v"} & set(toml):    # half an Earth rate: the other the paper's?
+            return params, math.degrees(PAPER_LATITUDE), LAT_PAPER
+        try:
+            latitude = float(args.latitude)
+        except ValueError:
+            latitude = math.nan
+        if not (math.isfinite(latitude) and 0.0 < latitude < 90.0):
+            raise OptionError(f"--latitude must be in degrees north in (0, 90), or 'paper' "
+                              f"for paper GC's values: {NORTHERN_ONLY}; got {args.latitude}")
+        kept = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)
+                if f.name not in ("Omega_h", "Omega_v")}
+        return (gc.GyrocompassParams.at_latitude(math.radians(latitude), **kept), latitude,
+                LAT_OPTION)
+    if "latitude" in toml:
+        return params, float(toml["latitude"]), LAT_PARAMS
+    if {"Omega_h", "Omega_v"} <= set(toml):   # the Earth rate stated by its components
+        return params, math.degrees(math.atan2(params.Omega_v, params.Omega_h)), LAT_PARAMS
+    if {"Omega_h", "Omega_v"} & set(toml):    # half an Earth rate: the other the paper's?
         given, = {"Omega_h", "Omega_v"} & set(toml)
         raise OptionError(f"{args.params} sets {given} but not "
-                         f"{({'Omega_h', 'Omega_v'} - {given}).pop()}: give both Earth-rate "
-                         "components, or 'latitude' (degrees north), or neither")
-    return {"params": params, "dt_given": dt_given, "gate": args.gate,
-            "latitude": latitude, "latitude_source": lat_source,
-            "false_alarm": args.false_alarm, "accept_misfit": args.accept_misfit,
-            "store_every": args.store_every, "max_rejected": args.max_rejected,
-            "mapping": mapping, "fit_noise": args.fit_noise, "fit": fit,
-            "allan": args.allan, "plot": args.plot, "json": args.json,
-            "params_notes": instrument_notes(args.params, "calibrate gc"),
-            "bar": bar_enabled(args) and not batch}
+                          f"{({'Omega_h', 'Omega_v'} - {given}).pop()}: give both Earth-rate "
+                          "components, or 'latitude' (degrees north), or neither")
+    return params, None, LAT_NONE
 
 
 #: ``latitude_source`` of the JSON: where the latitude (the Earth rate) came from.
@@ -139,10 +165,7 @@ LAT_RECORD: Final[str] = "record header"
 LAT_PAPER: Final[str] = "paper (assumed by --latitude paper)"
 LAT_NONE: Final[str] = "none"
 #: The reason of a record calibrated without a stated latitude (no valid estimate).
-NO_LATITUDE: Final[str] = (
-    "no latitude given (--latitude, a 'latitude' key in --params, or a '# latitude_deg:' "
-    "line in the record); the paper's Omega_h, Omega_v correspond to about "
-    f"{math.degrees(PAPER_LATITUDE):.1f} deg N (--latitude paper assumes them)")
+NO_LATITUDE: Final[str] = judgement.NO_LATITUDE
 
 
 def _with_step(params: gc.GyrocompassParams, t: np.ndarray, notes: list[str],
@@ -237,12 +260,6 @@ def _allan_report(allan) -> tuple[list[str], dict]:
     return lines, data
 
 
-def _calibrate(record, params, o: dict, progress=None, executor=None):
-    return gc.calibrate(record, params, gate=o["gate"], store_every=o["store_every"],
-                        max_rejected=o["max_rejected"], false_alarm=o["false_alarm"],
-                        progress=progress, executor=executor)
-
-
 def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, o: dict,
                    notes: list[str]) -> tuple[gc.GyrocompassParams, dict]:
     """The Earth rate stated, never assumed: from --latitude or the params file (already in
@@ -271,16 +288,6 @@ def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, 
                     "Omega_v": params.Omega_v}
 
 
-def _fit_noise(record, params, o: dict, bar_ok: bool):
-    with progress(bar_ok, total=400, desc="fitting the noise", unit="eval") as bar:
-        def advance(n: int) -> None:
-            bar.update(max(0, n - bar.n))
-
-        # fit_noise's own gate (a far tail: a gate as tight as the calibration's would cut
-        # good samples and bias the intensities low)
-        return gc.fit_noise(record, params, fit=o["fit"], progress=advance)
-
-
 def _as_stated(record: gc.GCRecord, earth: dict) -> gc.GCRecord:
     """The record as calibrated: its own ``# latitude_deg:`` line dropped when the Earth rate
     comes from elsewhere (an option or params file that overrides it, said in a note, or no
@@ -292,89 +299,16 @@ def _as_stated(record: gc.GCRecord, earth: dict) -> gc.GCRecord:
 
 
 def run_file(file: str, o: dict) -> Outcome:
-    """Calibrate one GC record with the checked options ``o``."""
-    params: gc.GyrocompassParams = o["params"]
-    mapping: gc.InclinometerMapping = o["mapping"]
+    """Calibrate one GC record with the checked options ``o``: read it, state its Earth
+    rate, have the library judge it (:func:`gyrolib.gc.judge_record`) and format the
+    verdict as text, JSON and a summary row."""
     notes: list[str] = list(o["params_notes"])
-    fit = None
-    whole = o["fit_noise"] is not None or o["allan"] is not None
-    if whole:   # the fit and the Allan deviation read the record many times: in memory
-        raw, info = read_gc(file, params=params, columns=o["columns"], t0=o["t0"],
-                            units=o["units"],
-                            decimal_comma=o["decimal_comma"],
-                            return_info=True)
-        extra = _time_notes(info, raw, params, notes)
-        params = _with_step(params, raw.t, notes, o["dt_given"])
-        params, earth = _with_latitude(params, getattr(raw, "latitude", None), o, notes)
-        record = _as_stated(mapping.apply(raw), earth)
-        if o["fit_noise"] is not None:
-            # the run before the fit: its misfit is what a fit must not merely absorb
-            unfitted = _calibrate(record, params, o)
-            fit = _fit_noise(record, params, o, o["bar"])
-            # each fitted parameter's 95 % interval (about 8 likelihoods a parameter)
-            fit = gc.profile_intervals(record, fit)
-            params = fit.params
-        with progress(o["bar"], total=record.n, desc=f"calibrate gc {file}",
-                       unit="row") as bar:
-            res = _calibrate(record, params, o,
-                             progress=lambda rows: bar.update(rows - bar.n))
-    else:       # stream the file in chunks, each checked at the door
-        chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"],
-                          units=o["units"], decimal_comma=o["decimal_comma"])
-        it = iter(chunks)
-        first = next(it)
-        info = chunks.info
-        extra = _time_notes(info, first, params, notes)
-        params = _with_step(params, first.t, notes, o["dt_given"])
-        params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
-
-        def mapped():
-            yield _as_stated(mapping.apply(first), earth)
-            for chunk in it:
-                yield _as_stated(mapping.apply(chunk), earth)
-
-        # the next chunk is read (parsed, checked at the door) in one thread while the
-        # filter, which releases the GIL, runs on the current one: two chunks in flight
-        with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
-                progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
-                          bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
-                          ) as bar:
-            res = _calibrate(mapped(), params, o, executor=reader,
-                             progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
-    valid, reason = bool(res.valid), str(res.reason)
-    if not earth["stated"]:   # the Earth rate reads as drift: no latitude, no valid estimate
-        valid, reason = False, "; ".join(x for x in (NO_LATITUDE, reason) if x)
-    fit_std = 0.0
-    if fit is not None:      # the fitted noise carries its own uncertainty (issue 26)
-        why = fit.not_identified(float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9)
-        duration = float(record.t[-1] - record.t[0]) if record.n > 1 else 1e-9
-        failed = [c for c in gc.fit_checks(fit, unfitted, clock_tolerance=params.sigma_clock,
-                                           false_alarm=o["false_alarm"]) if not c["passed"]]
-        extra["noise_fit_checks"] = failed
-        notes.extend(fit.nuisance(duration))
-        if failed and not why:
-            why = "; ".join(c["message"] for c in failed)
-        if why:
-            valid, reason = False, "; ".join(x for x in (reason, f"noise fit: {why}") if x)
-        else:
-            total = gc.fit_uncertainty(record, fit, at_fit=res, gate=o["gate"],
-                                       max_rejected=o["max_rejected"],
-                                       false_alarm=o["false_alarm"])
-            fit_std = math.sqrt(max(total**2 - res.omega_gc_std**2, 0.0))
-    codes, t0_hint = ([], None) if valid else reason_codes(
-        res, earth, why if fit is not None else "")
-    if not valid:   # the library's codes (its prior and model checks) and the fit's checks
-        codes += [c for c in (*res.reason_codes,
-                              *(c["reason_code"] for c in extra.get("noise_fit_checks", [])))
-                  if c not in codes]
-    code = hints.primary(codes)
-    hint = hints.hint(code, f"{t0_hint:g}" if code == "early_release" and t0_hint else "") \
-        if code else ""
-    # a record the model checks reject (but the filter kept lock): its estimate on request,
-    # marked misfit
-    accepted = (not valid and o["accept_misfit"] and not res.lost_lock and earth["stated"]
-                and not reason.startswith("noise fit:") and "; noise fit:" not in reason)
-    status = "ok" if valid else ("misfit" if accepted else "invalid")
+    if o["fit_noise"] is not None or o["allan"] is not None:
+        ver, raw, params, earth, extra = _judge_whole(file, o, notes)
+    else:
+        ver, params, earth, extra = _judge_streamed(file, o, notes)
+        raw = None
+    res = ver.result
     artifacts = []
     if o["plot"]:
         site = (f"latitude {earth['latitude_deg']:.6g} deg N ({earth['source']})"
@@ -385,98 +319,102 @@ def run_file(file: str, o: dict) -> Outcome:
         allan = gc.allan_deviation(raw, params)
         artifacts.append((o["allan"], "allan", allan))
         allan_lines, extra["allan_noise_terms"] = _allan_report(allan)
-    if fit is not None and o["fit_noise"] and valid:
-        artifacts.append((o["fit_noise"], "text", fit.to_toml()))
-    std = math.hypot(res.omega_gc_std, fit_std)
-    data = _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted, earth,
-                    fit_std)
+    nf = ver.details["noise_fit"]
+    if nf is not None and o["fit_noise"] and ver.valid:
+        artifacts.append((o["fit_noise"], "text", nf.to_toml()))
+    extra["noise_fit_checks"] = ver.details["noise_fit_checks"]
+    if nf is None:
+        extra.pop("noise_fit_checks")
+    data = _gc_json(file, ver, params, o["mapping"], earth)
     data.update(extra)
-    data.update(reason_code=code or None, reason_codes=codes, hint=hint or None)
-    text = (_gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted, fit_std, earth)
-            + "".join(f"{ln}\n" for ln in allan_lines) + (f"  {hint}\n" if hint else ""))
-    given = valid or accepted
-    row = {"file": file, "method": "gc", "quantity": "omega_gc", "notes": "; ".join(notes),
-           "estimate": res.omega_gc if given else "",
-           "sigma": std if given else "", "unit": "rad/s", "valid": valid,
-           "status": status, "reason": reason, "reason_code": code, "hint": hint}
-    message = "" if (valid or accepted) else f"{file}: no valid estimate: {reason}"
-    return Outcome(file=file, status=status, message=message,
-                    text=text, data=data, row=row, artifacts=artifacts)
+    text = (_gc_text(file, ver, o, earth) + "".join(f"{ln}\n" for ln in allan_lines)
+            + (f"  {ver.hint}\n" if ver.hint else ""))
+    row = {"file": file, "method": "gc", "quantity": ver.quantity,
+           "notes": "; ".join(ver.notes), "estimate": ver.estimate if ver.given else "",
+           "sigma": ver.sigma if ver.given else "", "unit": ver.unit, "valid": ver.valid,
+           "status": ver.status, "reason": ver.reason, "reason_code": ver.reason_code,
+           "hint": ver.hint}
+    message = "" if ver.given else f"{file}: no valid estimate: {ver.reason}"
+    return Outcome(file=file, status=ver.status, message=message, text=text, data=data,
+                   row=row, artifacts=artifacts)
 
 
-#: Share of the record's start (from its first row) within which gate rejections point to
-#: rows logged before the feedback was switched off (``early_release``).
-EARLY_SHARE: Final[float] = 0.1
+def _judge(record, params, earth: dict, o: dict, notes: list[str], fit: bool = False,
+           **kw):
+    """:func:`gyrolib.gc.judge_record` with the options ``o``."""
+    return gc.judge_record(record, params, latitude_stated=earth["stated"],
+                           fit=o["fit"] if fit else None, accept_misfit=o["accept_misfit"],
+                           gate=o["gate"], store_every=o["store_every"],
+                           max_rejected=o["max_rejected"], false_alarm=o["false_alarm"],
+                           notes=notes, **kw)
 
 
-def reason_codes(res, earth: dict, fit_why: str = "") -> tuple[list[str], float | None]:
-    """The reason codes (keys of :data:`gyrolib.cli.hints.REASONS`) of a run that is not
-    valid, read from its evidence rather than its message, and the time stamp ``--t0``
-    should start from when the evidence is an early release (else None).
-
-    * ``no_latitude``: no Earth rate stated; ``latitude_mismatch``: the params' Earth rate
-      is not the one at the record's stated latitude;
-    * ``early_release``: the gate's rejections crowd the record's start: at least three,
-      and at least three times as many in the first :data:`EARLY_SHARE` of the record as
-      that share of all rejected rows (rows logged before the feedback switch-off); the
-      suggested ``--t0`` is the end of their first cluster (no gap over 0.5 s), rounded up
-      to 0.1 s;
-    * ``lost_lock``: a sensor's share of rejections beyond ``max_rejected`` or its mean NIS
-      outside ``nis_range`` (when not an early release);
-    * ``drift_changes``: a split-record test failed; ``misfit``: a mean-NIS or whiteness
-      test failed;
-    * ``fit_not_converged``, ``fit_not_identified``: from ``fit_why``
-      (:meth:`gyrolib.gc.NoiseFit.not_identified`).
-    """
-    codes: list[str] = []
-    if not earth["stated"]:
-        codes.append("no_latitude")
-    if res.record_latitude is not None and gc.earth_rate_mismatch(res.params,
-                                                                  res.record_latitude):
-        codes.append("latitude_mismatch")
-    t0 = None
-    rt = np.unique(np.asarray(res.rejected_t, dtype=float))
-    start = float(res.t[0]) if res.t.size else 0.0
-    span = max(float(res.t_final) - start, 0.0)
-    tests = res.model_tests()
-    early = rt[rt <= start + EARLY_SHARE * span] if span > 0.0 else rt[:0]
-    if early.size >= 3 and early.size >= 3.0 * EARLY_SHARE * max(int(res.rows_rejected), 1):
-        # the rejections crowd the record's start: three times their share of it or more
-        gaps = np.flatnonzero(np.diff(early) > 0.5)
-        end = float(early[gaps[0]] if gaps.size else early[-1])
-        codes.append("early_release")
-        t0 = math.ceil(10.0 * end) / 10.0
-    lo, hi = res.nis_range
-    nis = res.nis_mean
-    if (np.any(res.rejected_share > res.max_rejected)
-            or np.any((res.used > 0) & ~((nis >= lo) & (nis <= hi)))):
-        codes.append("lost_lock")
-    for tst in tests:
-        if not tst["passed"]:
-            code = "drift_changes" if tst["test"].startswith("split-record") else "misfit"
-            if code not in codes:
-                codes.append(code)
-    if fit_why:
-        codes.append("fit_not_converged" if fit_why.startswith("noise fit not converged")
-                     else "fit_not_identified")
-    return codes, t0
+def _judge_whole(file: str, o: dict, notes: list[str]):
+    """The record read whole (the fit and the Allan deviation read it many times), judged:
+    (verdict, the record as read, the parameters, the Earth rate, the JSON's extras)."""
+    params = o["params"]
+    raw, info = read_gc(file, params=params, columns=o["columns"], t0=o["t0"],
+                        units=o["units"], decimal_comma=o["decimal_comma"], return_info=True)
+    extra = _time_notes(info, raw, params, notes)
+    params = _with_step(params, raw.t, notes, o["dt_given"])
+    params, earth = _with_latitude(params, getattr(raw, "latitude", None), o, notes)
+    record = _as_stated(o["mapping"].apply(raw), earth)
+    fit = o["fit_noise"] is not None
+    with progress(o["bar"] and fit, total=400, desc="fitting the noise",
+                  unit="eval") as fit_bar, \
+            progress(o["bar"], total=record.n, desc=f"calibrate gc {file}", unit="row") as bar:
+        ver = _judge(record, params, earth, o, notes, fit=fit,
+                     progress=lambda rows: bar.update(rows - bar.n),
+                     fit_progress=lambda n: fit_bar.update(max(0, n - fit_bar.n)))
+    return ver, raw, ver.result.params, earth, extra
 
 
-def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=False,
-             earth=None, fit_std=0.0) -> dict:
+def _judge_streamed(file: str, o: dict, notes: list[str]):
+    """The record streamed in chunks, each checked at the door, judged: (verdict, the
+    parameters, the Earth rate, the JSON's extras)."""
+    params = o["params"]
+    chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"],
+                      units=o["units"], decimal_comma=o["decimal_comma"])
+    it = iter(chunks)
+    first = next(it)
+    extra = _time_notes(chunks.info, first, params, notes)
+    params = _with_step(params, first.t, notes, o["dt_given"])
+    params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
+
+    def mapped():
+        yield _as_stated(o["mapping"].apply(first), earth)
+        for chunk in it:
+            yield _as_stated(o["mapping"].apply(chunk), earth)
+
+    # the next chunk is read (parsed, checked at the door) in one thread while the filter,
+    # which releases the GIL, runs on the current one: two chunks in flight
+    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
+            progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
+                     bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
+                     ) as bar:
+        ver = _judge(mapped(), params, earth, o, notes, executor=reader,
+                     progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
+    return ver, params, earth, extra
+
+
+def _gc_json(file, ver, params, mapping, earth) -> dict:
+    """The JSON of a GC verdict: the filter's summary, then the verdict's fields."""
+    res = ver.result
     out = res.summary()
-    if fit is not None:
-        out["omega_gc_std"] = math.hypot(res.omega_gc_std, fit_std)
-        out["omega_gc_std_parts"]["noise_fit"] = fit_std
+    out["omega_gc_std"] = ver.sigma
+    out["omega_gc_std_parts"] = dict(ver.sigma_parts)
+    nf = ver.details["noise_fit"]
     out["file"] = str(file)
     out["dt"] = params.dt
-    out["notes"] = notes
-    out["valid"] = valid
-    out["reason"] = reason
-    out["misfit_accepted"] = bool(accepted)
+    out["notes"] = list(ver.notes)
+    out.update(valid=ver.valid, status=ver.status, reason=ver.reason,
+               reason_code=ver.reason_code or None, reason_codes=list(ver.reason_codes),
+               hint=ver.hint or None, misfit_accepted=ver.status == "misfit")
+    out["checks"] = [c.summary() for c in ver.checks]
+    out["counts"] = ver.counts.summary()
     out["earth_rate"] = earth
-    out["latitude_deg"] = None if earth is None else earth["latitude_deg"]
-    out["latitude_source"] = None if earth is None else earth["source"]
+    out["latitude_deg"] = earth["latitude_deg"]
+    out["latitude_source"] = earth["source"]
     out["priors"] = {"scale_tolerance": params.sigma_hf_scale,
                      "angle_offset_rad": params.sigma_as_offset,
                      "inclinometer_bias_m_s2": params.sigma_incl_bias,
@@ -484,17 +422,17 @@ def _gc_json(file, res, params, mapping, notes, fit, valid, reason, accepted=Fal
     out["inclinometers"] = {"mapping": str(mapping), "delta": _signed(mapping.delta_sign,
                                                                       mapping.delta_column),
                             "gamma": _signed(mapping.gamma_sign, mapping.gamma_column)}
-    if fit is not None:
-        out["noise_fit"] = fit.summary()
-    if not valid and not accepted:   # a failure, not a result: no estimate to pick up
+    if nf is not None:
+        out["noise_fit"] = nf.summary()
+    if not ver.given:   # a failure, not a result: no estimate to pick up
         out["omega_gc"] = None
         out["omega_gc_std"] = None
         out["omega_gc_std_parts"] = None
         out["instrument"] = None
         out.pop("states", None)
     else:               # the drift in the field's units beside SI
-        out["omega_gc_in"] = {u: {"estimate": units.drift_in_units(res.omega_gc)[u],
-                                  "std": units.drift_in_units(res.omega_gc_std)[u]}
+        out["omega_gc_in"] = {u: {"estimate": units.drift_in_units(ver.estimate)[u],
+                                  "std": units.drift_in_units(ver.sigma)[u]}
                               for u, _ in units.DRIFT_UNITS}
     out["units"] = _GC_UNITS
     out["unit_conversion"] = units.drift_conversion()
@@ -532,109 +470,72 @@ def _earth_line(earth: dict) -> str:
     return f"  Earth rate: latitude {earth['latitude_deg']:.6g} deg N ({src}{over}): {rate}"
 
 
-def compared(x: float, lo: float | None, hi: float | None) -> tuple[str, str, str]:
-    """``x``, ``lo`` and ``hi`` formatted with as many significant digits (4 at least, 12 at
-    most) as it takes for the printed numbers to compare as the numbers do, so that no
-    printed comparison reads false ("23.2 > 23.2"); a missing bound prints as "".
-
-    Examples
-    --------
-    >>> compared(23.24, None, 23.2351)
-    ('23.24', '', '23.235')
-    >>> compared(0.99812, 0.998123, 1.0021)
-    ('0.99812', '0.998123', '1.0021')
-    """
-    def ok(d: int) -> bool:
-        fx = float(f"{x:.{d}g}")
-        return all((float(f"{b:.{d}g}") < fx) == (b < x)
-                   and (float(f"{b:.{d}g}") > fx) == (b > x) for b in (lo, hi) if b is not None)
-
-    d = next((d for d in range(4, 13) if ok(d)), 12)
-    return (f"{x:.{d}g}", "" if lo is None else f"{lo:.{d}g}",
-            "" if hi is None else f"{hi:.{d}g}")
-
-
-def _check_lines(res) -> list[str]:
-    """The model checks as the text prints them: every test of :meth:`model_tests` with the
-    band or limit that decides validity (the same tolerance and family-wise level), each
-    comparison rounded so that it reads true, then one verdict line."""
-    tests = res.model_tests()
-    lines = [f"  model checks at a {100 * res.false_alarm:g} % family-wise false-alarm rate "
-             "(the bands that decide validity): " + ("all pass" if not res.misfit
-                                                     else "FAIL")]
-    groups: dict[str, list[str]] = {}
-    failed: list[str] = []
-    for t in tests:
-        x, lo, hi = compared(t["statistic"], t["low"], t["high"])
-        if t["test"] == "mean NIS":
-            key = "mean NIS"
-            shown = f"{t['sensor']} {x} {'in' if t['passed'] else 'NOT in'} [{lo}, {hi}]"
-        elif t["test"].startswith("whiteness"):
-            key = t["test"]
-            shown = f"{t['sensor']} {x} {'<=' if t['passed'] else '>'} {hi}"
-        else:
-            key = "split-record omega_gc, z"
-            shown = (t["test"].split("(", 1)[1].rstrip(")") + f": {x} "
-                     + ("within" if t["passed"] else "outside") + f" ±{hi}")
-        groups.setdefault(key, []).append(shown)
-        if not t["passed"]:
-            failed.append(f"{key}: {shown}")
-    lines += [f"    {key}: " + "; ".join(v) for key, v in groups.items()]
-    lines.append("  model fits: every check passes" if not failed and tests else
-                 "  model does NOT fit: " + "; ".join(failed) if failed else
+def _check_lines(ver) -> list[str]:
+    """The checks as the text prints them, one a line (:meth:`gyrolib.verdict.Check.line`:
+    its name as the JSON's ``checks`` has it, the value and its one band), then one verdict
+    line."""
+    failed = ver.failed
+    lines = [f"  checks at a {100 * ver.false_alarm:g} % family-wise false-alarm rate (each "
+             "statistic's band decides validity): " + ("FAIL" if failed else "all pass")]
+    lines += [f"    {c.line()}" for c in ver.checks]
+    model = [c for c in ver.checks if c.test == "mean NIS" or c.test.startswith("whiteness")]
+    bad = [c for c in model if not c.passed]
+    lines.append("  model fits: every sensor's mean NIS is in its band and its innovations "
+                 "are white" if model and not bad else
+                 "  model does NOT fit: " + "; ".join(c.line() for c in bad) if bad else
                  "  model checks: none (no usable measurement)")
     return lines
 
 
-def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
-             fit_std=0.0, earth=None) -> str:
+def _fit_lines(nf, o: dict, valid: bool) -> list[str]:
+    """The fitted noise parameters, each ± its standard error and its interval."""
+    parts = [f"{n} = {fmt(nf.value(n))} ± {fmt(nf.carried_std_error(n), 2)}"
+             + (" (profile)" if nf.std_error_source(n).startswith("profile") else "")
+             + f" [{fmt(nf.interval(n)[0], 3)}, {fmt(nf.interval(n)[1], 3)}]"
+             + (f" {FIT_UNITS[n]}" if FIT_UNITS.get(n) else "") for n in nf.names]
+    return ["  noise fitted (maximum likelihood, ± standard error (profile: widened to the "
+            "interval) [95 % likelihood-ratio interval]): " + ", ".join(parts),
+            f"  log-likelihood {nf.loglik:.6g} (start {nf.loglik_start:.6g}), "
+            f"{nf.n_evaluations} evaluations, "
+            + ("converged" if nf.converged else f"NOT converged: {nf.message}")
+            + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else "")]
+
+
+def _estimate_lines(ver) -> list[str]:
+    """ω̂_gc ± σ in the field's units, then σ's named terms and the priors."""
+    a = units.drift_in_units(ver.estimate)
+    s = units.drift_in_units(ver.sigma)
+    p = ver.result.params
+    head = (f"  MISFIT (accepted with --accept-misfit; sigma may not cover the truth): "
+            f"{ver.reason}\n" if ver.status == "misfit" else "")
+    terms = ", ".join(f"{k.replace('_', ' ')} {fmt(units.from_si(x, 'arcsec_paper/s'), 2)}"
+                      for k, x in ver.sigma_parts.items())
+    return [head + f"  omega_gc = {fmt(a['deg/h'])} ± {fmt(s['deg/h'], 2)} deg/h (1 sigma)"
+            f"  = {fmt(a['arcsec/s'])} ± {fmt(s['arcsec/s'], 2)} arcsec/s (standard)"
+            f"  = {fmt(a['arcsec_paper/s'])} ± {fmt(s['arcsec_paper/s'], 2)} "
+            f"arcsec/s (paper's arcsec, 1\" = 0.485e-5 rad)  = {ver.estimate:.4e} ± "
+            f"{ver.sigma:.2e} rad/s",
+            f"  sigma in parts (adding in quadrature): {terms} arcsec/s (paper's arcsec; "
+            f"priors: scale {p.sigma_hf_scale:g}, angle offset "
+            f"{units.from_si(p.sigma_as_offset, 'arcsec_paper'):g} arcsec, inclinometer "
+            f"bias {p.sigma_incl_bias / (1e-3 * units.G0):g} mg)"]
+
+
+def _gc_text(file, ver, o, earth) -> str:
+    res = ver.result
+    mapping = o["mapping"]
+    nf = ver.details["noise_fit"]
     lines = [
         f"paper GC calibration of {file}: {res.rows} rows over {res.t_final:.6g} s"
         + (f" ({res.gaps} gap(s), {res.gap_time:.6g} s without rows)" if res.gaps else ""),
         f"  inclinometers (--inclinometers {mapping}): {mapping.describe()}",
-    ] + ([_earth_line(earth)] if earth is not None else [])
-    if fit is not None:
-        parts = [f"{n} = {fmt(fit.value(n))} ± {fmt(fit.carried_std_error(n), 2)}"
-                 + (" (profile)" if fit.std_error_source(n).startswith("profile") else "")
-                 + " "
-                 f"[{fmt(fit.interval(n)[0], 3)}, {fmt(fit.interval(n)[1], 3)}]"
-                 + (f" {FIT_UNITS[n]}" if FIT_UNITS.get(n) else "") for n in fit.names]
-        lines.append("  noise fitted (maximum likelihood, ± standard error (profile: widened "
-                     "to the interval) [95 % likelihood-ratio interval]): " + ", ".join(parts))
-        lines.append(f"  log-likelihood {fit.loglik:.6g} (start {fit.loglik_start:.6g}), "
-                     f"{fit.n_evaluations} evaluations, "
-                     + ("converged" if fit.converged else f"NOT converged: {fit.message}")
-                     + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else ""))
-    if valid or accepted:
-        std = math.hypot(res.omega_gc_std, fit_std)
-        a = units.drift_in_units(res.omega_gc)
-        s = units.drift_in_units(std)
-        lines.append(("  MISFIT (accepted with --accept-misfit; sigma may not cover the "
-                      f"truth): {reason}\n" if accepted else "")
-                     + f"  omega_gc = {fmt(a['deg/h'])} ± {fmt(s['deg/h'], 2)} deg/h (1 sigma)"
-                     f"  = {fmt(a['arcsec/s'])} ± {fmt(s['arcsec/s'], 2)} arcsec/s (standard)"
-                     f"  = {fmt(a['arcsec_paper/s'])} ± {fmt(s['arcsec_paper/s'], 2)} "
-                     f"arcsec/s (paper's arcsec, 1\" = 0.485e-5 rad)  = {res.omega_gc:.4e} ± "
-                     f"{std:.2e} rad/s")
-        parts = res.omega_gc_std_parts
-        p = res.params
-        lines.append("  sigma in parts (adding in quadrature): "
-                     f"noise {fmt(units.from_si(parts['noise'], 'arcsec_paper/s'), 2)}, "
-                     "instrument biases "
-                     f"{fmt(units.from_si(parts['instrument_biases'], 'arcsec_paper/s'), 2)}"
-                     f", scale {fmt(units.from_si(parts['scale'], 'arcsec_paper/s'), 2)}"
-                     + (f", noise fit {fmt(units.from_si(fit_std, 'arcsec_paper/s'), 2)}"
-                        if fit is not None else "")
-                     + f" arcsec/s (paper's arcsec; priors: scale {p.sigma_hf_scale:g}, angle "
-                     f"offset {units.from_si(p.sigma_as_offset, 'arcsec_paper'):g} arcsec, "
-                     f"inclinometer bias {p.sigma_incl_bias / (1e-3 * units.G0):g} mg)")
-    else:
-        lines.append(f"  no valid estimate: {reason}")
-    lines += [
-        f"  samples used {res.rows_used}, rejected {res.rows_rejected} (an innovation beyond "
-        f"the {100 * res.gate:g} % chi-square gate), missing values "
-        f"{int(res.missing.sum())}",
-        *_check_lines(res),
-    ]
-    lines += [f"  note: {n}" for n in notes]
+        _earth_line(earth)]
+    if nf is not None:
+        lines += _fit_lines(nf, o, ver.valid)
+    lines += (_estimate_lines(ver) if ver.given else [f"  no valid estimate: {ver.reason}"])
+    lines.append(f"  {ver.counts.line()} (a rejected measurement: an innovation beyond the "
+                 f"{100 * res.gate:g} % chi-square gate); missing values "
+                 f"{ver.counts.missing}")
+    lines += _check_lines(ver)
+    lines += [f"  note: {n}" for n in ver.notes]
     return "\n".join(lines) + "\n"

@@ -53,63 +53,74 @@ def options(args: argparse.Namespace) -> dict:
             "slips": args.slips, "tolerances": tolerances, "false_alarm": args.false_alarm}
 
 
-def _rsf_prediction(res, config):
-    """δK the error model predicts at the record's mean rate (:func:`rsf.predict_delta_k`)."""
-    from gyrolib import rsf
-
-    return rsf.predict_delta_k(config, res.period, rate=res.mean_rate)
-
-
 def run_file(file: str, o: dict) -> Outcome:
+    """Correct one RSF record with the checked options ``o``: read it, have the library
+    judge it (:func:`gyrolib.rsf.judge_record`) and format the verdict as text, JSON and a
+    summary row."""
     record, info = read_rsf(file, counts_per_rev=o["counts_per_rev"], columns=o["columns"],
                             t0=o["t0"], units=o["units"],
                             decimal_comma=o["decimal_comma"], return_info=True)
-    if record.n < 2:
-        raise RecordError(file, "expected at least two data rows")
-    span = float(record.t[-1] - record.t[0])
-    if o["period"] > span:
-        raise RecordError(file, f"--period {o['period']} s is longer than the record "
-                          f"({span:.6g} s): no complete correction interval")
     from gyrolib import rsf  # imported by the rsf command only (a gc run does not need it)
 
     try:
-        res = rsf.calibrate(record, o["period"], k_form=o["k_form"], slips=o["slips"])
+        ver = rsf.judge_record(record, o["period"], o["config"], k_form=o["k_form"],
+                               slips=o["slips"], false_alarm=o["false_alarm"],
+                               notes=[*o["params_notes"], *info.notes], **o["tolerances"])
     except ValueError as exc:
-        raise RecordError(file, one_line(exc)) from None
-    if res.n_intervals == 0:
-        raise RecordError(file, "no correction interval holds a usable sample (every "
-                          "sample is missing or follows a gap)")
-    pred = _rsf_prediction(res, o["config"])
-    try:
-        unc = rsf.eps1_uncertainty(res, o["config"], false_alarm=o["false_alarm"],
-                                   **o["tolerances"])
-    except ValueError as exc:
-        raise RecordError(file, one_line(exc)) from None
+        raise RecordError(file, one_line(exc).replace("period ", "--period ", 1)) from None
+    data = _rsf_json(file, ver, info)
+    st = ver.result.eps1_stats()
+    row = {"file": file, "method": "rsf", "quantity": ver.quantity,
+           "estimate": ver.estimate if ver.valid else "",
+           "sigma": ver.sigma if ver.valid else "", "unit": ver.unit, "valid": ver.valid,
+           "status": ver.status, "reason": ver.reason, "reason_code": ver.reason_code,
+           "hint": ver.hint,
+           "notes": "; ".join([*ver.notes, *(["sigma is the total standard uncertainty "
+                                              "(eps1_hat_mean_std_parts); the standard error "
+                                              f"of the mean alone is {st['sem']:.4g}"]
+                                             if st["n"] > 1 else [])])}
+    artifacts = ([(o["plot"], "rsf_plot", (ver.result, ver.details["prediction"]))]
+                 if o["plot"] and ver.valid else [])
+    message = "" if ver.valid else f"{file}: no valid estimate: {ver.reason}"
+    return Outcome(file=file, status=ver.status, message=message, text=_rsf_text(file, ver),
+                   data=data, row=row, artifacts=artifacts)
+
+
+#: Units of the RSF JSON's numeric fields (SI).
+_RSF_UNITS = {"eps1_hat": "1", "eps1_hat_mean": "1", "eps1_hat_spread": "1",
+              "eps1_hat_sem": "1", "K": "1", "rate": "rad/s", "abs_rate": "rad/s",
+              "mean_abs_rate": "rad/s", "t_start": "s", "period": "s", "dt": "s",
+              "gap_time": "s", "residual_end": "rad", "residual_raw_end": "rad",
+              "delta_k_predicted": "1", "eps1_hat_mean_std": "1",
+              "eps1_hat_mean_std_parts": "1", "tolerances": "rad/s or 1",
+              "bias_estimate": "rad/s", "bias_estimate_std": "rad/s"}
+
+
+def _rsf_json(file: str, ver, info) -> dict:
+    """The JSON of an RSF verdict: the correction's summary, the uncertainty's, then the
+    verdict's fields (``checks``: each with its name, value and one band, and the
+    message of the uncertainty's check)."""
+    res, unc, pred = ver.result, ver.details["uncertainty"], ver.details["prediction"]
     out = res.summary()
     out["file"] = str(file)
     out.update(unc.summary())       # eps1_hat_mean_std (+ parts), checks, valid, reason
-    out["reason_code"] = unc.reason_codes[0] if unc.reason_codes else ""
+    out["checks"] = [{**c.summary(), "message": m["message"]}
+                     for c, m in zip(ver.checks, unc.checks)]
+    out.update(status=ver.status, reason=ver.reason, reason_code=ver.reason_code,
+               hint=ver.hint or None, counts=ver.counts.summary())
     out["delta_k_predicted"] = {"mean": pred.mean, "std": pred.std, "eq7": pred.eq7,
                                 "std_per_interval": [float(x) for x in res.delta_k_std(pred)]}
+    out["notes"] = list(ver.notes)
+    out["time_base"] = info.summary()
+    out["units"] = _RSF_UNITS
+    return out
+
+
+def _rsf_text(file: str, ver) -> str:
+    res, pred = ver.result, ver.details["prediction"]
     e = np.asarray(units.from_si(res.eps1_hat, "ppm"))
     st = res.eps1_stats()
     rate = units.from_si(res.mean_rate, "deg/s")
-    notes = list(o["params_notes"]) + info.notes + list(res.notes)
-    if res.reverses:
-        notes.append(f"the roll rate reverses ({int(np.sum(res.rate > 0))} interval(s) turn "
-                     f"one way, {int(np.sum(res.rate < 0))} the other, "
-                     f"{int(np.sum(res.reversal))} reverse inside and are left out of the "
-                     "mean: their net turn is small, their eps1_hat ill-conditioned); the rate "
-                     "is reported as mean |omega|")
-    out["notes"] = notes
-    out["time_base"] = info.summary()
-    out["units"] = {"eps1_hat": "1", "eps1_hat_mean": "1", "eps1_hat_spread": "1",
-                    "eps1_hat_sem": "1", "K": "1", "rate": "rad/s", "abs_rate": "rad/s",
-                    "mean_abs_rate": "rad/s", "t_start": "s", "period": "s", "dt": "s",
-                    "gap_time": "s", "residual_end": "rad", "residual_raw_end": "rad",
-                    "delta_k_predicted": "1", "eps1_hat_mean_std": "1",
-                    "eps1_hat_mean_std_parts": "1", "tolerances": "rad/s or 1",
-                    "bias_estimate": "rad/s", "bias_estimate_std": "rad/s"}
     spread = (f"; per-interval spread (SD) {units.from_si(st['spread'], 'ppm'):.4g} ppm, "
               f"standard error of the mean {units.from_si(st['sem'], 'ppm'):.3g} ppm "
               f"(SD/sqrt({st['n']}), independent intervals"
@@ -122,35 +133,24 @@ def run_file(file: str, o: dict) -> Outcome:
         f"  eps1_hat: mean {units.from_si(st['mean'], 'ppm'):.4g} ppm over {st['n']} "
         f"interval(s){spread} (per interval: "
         + ", ".join(f"{x:.4g}" for x in e[:6]) + (", ..." if e.size > 6 else "") + ")",
-        (f"  eps1_hat_mean = {units.from_si(unc.mean, 'ppm'):.4g} ± "
-         f"{units.from_si(unc.std, 'ppm'):.2g} ppm (1 sigma, total standard uncertainty; "
+        (f"  eps1_hat_mean = {units.from_si(ver.estimate, 'ppm'):.4g} ± "
+         f"{units.from_si(ver.sigma, 'ppm'):.2g} ppm (1 sigma, total standard uncertainty; "
          "parts adding in quadrature: "
          + ", ".join(f"{k.replace('_', ' ')} {units.from_si(x, 'ppm'):.2g}"
-                     for k, x in unc.parts.items()) + " ppm)" if unc.valid else
-         f"  no valid estimate: {unc.reason}"),
-        f"  checks at a {100 * unc.false_alarm:g} % family-wise false-alarm rate: "
-        + ", ".join(f"{c['test']} {'pass' if c['passed'] else 'FAIL'}" for c in unc.checks),
+                     for k, x in ver.sigma_parts.items()) + " ppm)" if ver.valid else
+         f"  no valid estimate: {ver.reason}"),
+        f"  checks at a {100 * ver.false_alarm:g} % family-wise false-alarm rate (each "
+        "statistic's band decides validity): " + ("FAIL" if ver.failed else "all pass"),
+        *(f"    {c.line()}" for c in ver.checks),
         f"  K (k_form {res.k_form}): mean {np.mean(res.k):.8f}",
         f"  error model at this rate: delta K = {units.from_si(pred.mean, 'ppm'):.3g} ± "
         f"{units.from_si(pred.std, 'ppm'):.3g} ppm per interval",
-        f"  samples used {res.samples_used}, skipped {res.samples_skipped} (missing values "
-        f"or across gaps), gaps {res.gaps} ({res.gap_time:.4g} s without rows)",
+        f"  {ver.counts.line()} (the first row, missing values or steps across gaps); "
+        f"gaps {res.gaps} ({res.gap_time:.4g} s without rows)",
         f"  roll angle vs GS at the end: corrected "
         f"{units.from_si(res.residual[-1], 'deg'):.4g} deg, uncorrected "
         f"{units.from_si(res.residual_raw[-1], 'deg'):.4g} deg",
     ]
-    notes += list(unc.notes)
-    lines += [f"  note: {n}" for n in notes]
-    valid = unc.valid
-    status = "ok" if valid else "invalid"
-    row = {"file": file, "method": "rsf", "quantity": "eps1_hat_mean",
-           "estimate": st["mean"] if valid else "", "sigma": unc.std if valid else "",
-           "unit": "1", "valid": valid, "status": status, "reason": unc.reason,
-           "notes": "; ".join([*notes, *(["sigma is the total standard uncertainty "
-                                          "(eps1_hat_mean_std_parts); the standard error "
-                                          f"of the mean alone is {st['sem']:.4g}"]
-                                         if st["n"] > 1 else [])])}
-    artifacts = [(o["plot"], "rsf_plot", (res, pred))] if o["plot"] and valid else []
-    message = "" if valid else f"{file}: no valid estimate: {unc.reason}"
-    return Outcome(file=file, status=status, message=message, text="\n".join(lines) + "\n",
-                   data=out, row=row, artifacts=artifacts)
+    lines += [f"  note: {n}" for n in ver.notes]
+    lines += [f"  {ver.hint}"] if ver.hint else []
+    return "\n".join(lines) + "\n"

@@ -48,6 +48,7 @@ ref. [3]'s method        :func:`rate_sensor_model`,              ``gc.racing.rat
 the race                 :func:`race`, :func:`race_sweep`        ``gc.racing.comparison``
 a recorded log           :class:`GCRecord`                       ``gc.logs.record``
 calibration on a log     :func:`calibrate`                       ``gc.logs.calibration``
+its verdict on a log     :func:`judge_record`                    ``gc.logs.judgement``
 noise fitted to a log    :func:`fit_noise`                       ``gc.logs.noise_fit``
 which column is δ, γ     :class:`InclinometerMapping`            ``gc.logs.convention``
 Allan deviation          :func:`allan_deviation`                 ``gc.logs.allan``
@@ -111,10 +112,12 @@ from gyrolib.gc.logs import (
     calibrate,
     convention_study,
     earth_rate_mismatch,
+    evidence_codes,
     fit_checks,
     fit_noise,
     fit_uncertainty,
     innovation_log_likelihood,
+    judge_record,
     profile_intervals,
     simulate_record,
     simulate_records,
@@ -270,6 +273,7 @@ __all__ = [
     "discretize",
     "earth_rate_mismatch",
     "error_budget",
+    "evidence_codes",
     "fit_checks",
     "fit_noise",
     "fit_uncertainty",
@@ -279,6 +283,7 @@ __all__ = [
     "initial_covariance",
     "innovation_log_likelihood",
     "instrument_model",
+    "judge_record",
     "linearization_effect",
     "linearized_acceleration",
     "mean_square_standard_error",

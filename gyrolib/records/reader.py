@@ -635,7 +635,10 @@ class _Reader:
         if missing:
             c = missing[0]
             mapped = f" (mapped to {files[c]!r} by columns)" if c in self.mapping else ""
-            close = difflib.get_close_matches(files[c].lower(), [n.lower() for n in names],
+            # never a header another column reads (a hint must not read one sensor twice)
+            taken = {files[k].lower() for k in files if k != c}
+            close = difflib.get_close_matches(files[c].lower(), [n.lower() for n in names
+                                                                 if n.lower() not in taken],
                                               n=1, cutoff=0.6)
             near = next((n for n in names if close and n.lower() == close[0]), None)
             mean = f"; did you mean {near!r}?" if near else ""

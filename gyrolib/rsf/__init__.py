@@ -14,6 +14,7 @@ module                 paper RSF
 ``sensitivity_study``  Sobol' indices of δK and the share removed: :func:`sensitivity`
 ``record``             :class:`RSFRecord`, a recorded log the correction reads (SI)
 ``calibration``        the correction on a recorded log: :func:`calibrate`
+``judgement``          its verdict on a recorded log: :func:`judge_record`
 ``uncertainty``        σ of the mean ε̂1 with its systematic parts: :func:`eps1_uncertainty`
 ``plots``              the figures: ``plot_*`` (matplotlib, loaded on first use)
 =====================  ===================================================================
@@ -199,6 +200,7 @@ from gyrolib.rsf.calibration import (
     calibrate,
     record_from_simulation,
 )
+from gyrolib.rsf.judgement import judge_record
 from gyrolib.rsf.record import RSFRecord
 
 # Global sensitivity of delta K and the share removed (issue 19)
@@ -214,8 +216,8 @@ from gyrolib.rsf.sensitivity_study import (
 # The total standard uncertainty of the mean and the run's checks (issue 34)
 from gyrolib.rsf.uncertainty import Eps1Uncertainty, eps1_uncertainty
 
-__all__ += ["CalibrationResult", "RSFRecord", "calibrate", "plot_correction",
-            "record_from_simulation"]
+__all__ += ["CalibrationResult", "RSFRecord", "calibrate", "judge_record",
+            "plot_correction", "record_from_simulation"]
 __all__ += ["Eps1Uncertainty", "eps1_uncertainty"]
 __all__ += ["SENSITIVITY_OUTPUTS", "recheck_sensitivity", "sensitivity",
             "sensitivity_elasticities", "sensitivity_inputs", "sensitivity_outputs"]

@@ -71,7 +71,12 @@ def test_gc_json_acceptance(gc_file, capsys):
     assert d["measurements"]["angle_sensor"]["rejected"] >= burst_t.size
     assert np.all(np.isin(np.round(burst_t, 3), np.round(d["rejected_t"], 3)))
     assert set(d["nis"]) == set(gc.MEASUREMENT_NAMES)
-    assert d["samples_used"] + 2000 == pytest.approx(100000, abs=10)
+    # rows used and rows with a rejection are disjoint: with the 2000 rows of the gap they
+    # make the 100000 rows of 100 s at 1 kHz (the missing cells leave their rows in use)
+    assert d["samples_used"] + d["samples_rejected"] + 2000 == pytest.approx(100000, abs=10)
+    counts = d["counts"]
+    assert counts["used"] + counts["rejected"] + counts["empty"] == counts["rows"] == d["rows"]
+    assert (counts["used"], counts["rejected"]) == (d["samples_used"], d["samples_rejected"])
 
 
 def test_gc_summary_and_plot(gc_file, capsys, tmp_path):
@@ -298,13 +303,13 @@ def test_next_chunk_read_in_a_thread_with_two_chunks_in_flight(gc_file, monkeypa
     assert res.rows == whole.rows and produced[0] == finished[0] == 14   # 98 000 rows
     assert 1 <= peak[0] <= 2 and all(t.startswith("reader") for t in threads)
     seen = []
-    real = gc.calibrate
+    real = gc.judge_record
 
     def spy(record, params, **kw):
         seen.append(kw.get("executor"))
         return real(record, params, **kw)
 
-    monkeypatch.setattr(gc, "calibrate", spy)
+    monkeypatch.setattr(gc, "judge_record", spy)
     code, _, _ = _run([*GC_PAPER, str(path), "--json"], capsys)
     assert code == 0 and len(seen) == 1 and isinstance(seen[0], ThreadPoolExecutor)
 

@@ -386,7 +386,7 @@ def test_numerics_failure_is_named_not_passed_through(logs, capsys, monkeypatch)
     def broken(*args, **kwargs):
         np.linalg.cholesky(-np.eye(2))    # numpy raises LinAlgError with its own message
 
-    monkeypatch.setattr(gc, "calibrate", broken)
+    monkeypatch.setattr(gc, "judge_record", broken)
     code, out, err = _run([*GC_PAPER, files["good"]], capsys)
     assert code == 2 and out == "" and err.count("\n") == 1
     assert str(files["good"]) in err and "positive definite" not in err

@@ -71,6 +71,22 @@ def test_a_name_that_matches_nothing_gets_did_you_mean(rows, tmp_path, capsys):
     assert "did you mean" not in str(exc.value) and exc.value.hint is None
 
 
+def test_a_missing_column_is_never_pointed_at_another_sensors(rows, tmp_path):
+    """A record without ``inclinometer_z``: the closest header is ``inclinometer_y``, which
+    another column reads, so no hint names it (``--columns inclinometer_z=inclinometer_y``
+    would read one sensor twice); a free header as close is still suggested (power)."""
+    three = [",".join(r.split(",")[:3]) for r in rows]
+    path = _write(tmp_path / "no_z.csv", "t,angle_sensor,inclinometer_y", three)
+    with pytest.raises(records.RecordError, match="not in the header") as exc:
+        records.read_gc(path)
+    assert exc.value.column == "inclinometer_z" and exc.value.hint is None
+    assert "did you mean" not in str(exc.value)
+    free = _write(tmp_path / "zz.csv", "t,angle_sensor,inclinometer_y,inclinometer_zz", rows)
+    with pytest.raises(records.RecordError) as exc:
+        records.read_gc(free)
+    assert exc.value.hint == "--columns inclinometer_z=inclinometer_zz"
+
+
 def test_trailing_empty_rows_are_skipped(rows, tmp_path):
     path = _write(tmp_path / "excel.csv", HEADER, rows, [",,,", ",,,", ""])
     rec, info = records.read_gc(path, return_info=True)

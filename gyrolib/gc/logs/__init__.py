@@ -26,6 +26,7 @@ from gyrolib.gc.logs.convention import (
     InclinometerMapping,
     convention_study,
 )
+from gyrolib.gc.logs.judgement import evidence_codes, judge_record
 from gyrolib.gc.logs.noise_fit import (
     NOISE_FIT_NAMES,
     NoiseFit,
@@ -57,10 +58,12 @@ __all__ = [
     "calibrate",
     "convention_study",
     "earth_rate_mismatch",
+    "evidence_codes",
     "fit_checks",
     "fit_noise",
     "fit_uncertainty",
     "innovation_log_likelihood",
+    "judge_record",
     "profile_intervals",
     "simulate_record",
     "simulate_records",

@@ -75,6 +75,7 @@ from gyrolib.gc.model.state_space import (
     process_noise_intensity,
 )
 from gyrolib.units import from_si
+from gyrolib.verdict import compared
 
 __all__ = [
     "EARTH_RATE_TOLERANCE",
@@ -127,8 +128,10 @@ class CalibrationResult:
       point (``nan`` where none), ``nis_window_count`` (ns, 3) how many;
     * ``x_final``, ``P_final``, ``t_final``: the filter at the last row;
     * ``rows``; per sensor (3,): ``used``, ``missing`` (NaN), ``rejected`` (gate);
-      ``rows_used`` (rows with at least one measurement used), ``rows_rejected`` (rows with at
-      least one rejected); ``rejected_t``, ``rejected_sensor``, ``rejected_nis``: the first
+      ``rows_used`` (rows with at least one measurement used and none rejected),
+      ``rows_rejected`` (rows with at least one rejected): disjoint, so ``rows_used +
+      rows_rejected <= rows``, the rest being rows with every value missing;
+      ``rejected_t``, ``rejected_sensor``, ``rejected_nis``: the first
       :data:`MAX_LISTED_REJECTIONS` rejections;
     * ``nis_sum`` (3,): sum of the NIS of the used measurements, ``log_s_sum`` (3,): sum of
       the logarithms of their innovation variances ``S`` (together the innovations'
@@ -389,7 +392,9 @@ class CalibrationResult:
         whiteness test of the normalized innovations over ``lags`` lags (χ²(lags)), the
         split-record tests (:meth:`split_tests`, two-sided normal) and the prior of each
         constant (:meth:`prior_tests`, two-sided normal).  The NIS band is that of the
-        mean of ``used`` NIS values the χ² gate let through
+        mean of ``used`` NIS values the χ² gate let through, within :attr:`nis_range` (a
+        mean NIS beyond it is a lost lock, ``reason_code`` ``lost_lock_nis``, even where
+        the band of a few samples is wider: one band for the statistic)
         (:func:`gyrolib.filtering.gated_nis_band`: centred on 0.998396, not 1, at the
         99.99 % gate), widened by the relative :attr:`nis_tolerance` only when one is
         given (default 0: none is needed; the angle sensor's mean NIS of about 0.996 on
@@ -410,12 +415,15 @@ class CalibrationResult:
         out = []
         for q in used:
             lo, hi = gated_nis_band(float(self.used[q]), self.gate, 0.5 * a, 1.0 - 0.5 * a)
-            lo = float(lo) * (1.0 - self.nis_tolerance)
-            hi = float(hi) * (1.0 + self.nis_tolerance)
+            # one band for the statistic: the test's band within the lock range (a mean
+            # NIS beyond nis_range is a lost lock whatever the band of a few samples)
+            lo = max(float(lo) * (1.0 - self.nis_tolerance), self.nis_range[0])
+            hi = min(float(hi) * (1.0 + self.nis_tolerance), self.nis_range[1])
             nis = float(self.nis_mean[q])
+            lock = self.nis_range[0] <= nis <= self.nis_range[1]
             out.append({"test": "mean NIS", "sensor": MEASUREMENT_NAMES[q], "statistic": nis,
                         "low": lo, "high": hi, "passed": bool(lo <= nis <= hi),
-                        "reason_code": "misfit_nis"})
+                        "reason_code": "misfit_nis" if lock else "lost_lock_nis"})
             w = float(self.whiteness[q])
             lim = float(chi2_ppf(1.0 - a, lags))
             out.append({"test": f"whiteness (portmanteau, {lags} lags)",
@@ -438,15 +446,14 @@ class CalibrationResult:
     def _misfit_parts(self) -> list[str]:
         parts = []
         for tst in self.model_tests():
-            if tst["passed"]:
+            if tst["passed"] or tst["reason_code"] == "lost_lock_nis":  # said as lost lock
                 continue
+            band = _band(tst["statistic"], tst["low"], tst["high"])
             if tst["sensor"] == "prior":
-                parts.append(f"prior of {tst['constant']}: the estimate is "
-                             f"{tst['statistic']:+.3g} sigma from it (limit {tst['high']:.3g}): "
+                parts.append(f"prior of {tst['constant']}: estimate/sqrt(P0 - P) = {band}: "
                              f"{tst['cause']}")
                 continue
-            parts.append(f"{tst['sensor']}: {tst['test']} failed: {tst['statistic']:.4g} "
-                         f"outside [{tst['low']:.4g}, {tst['high']:.4g}] (family "
+            parts.append(f"{tst['sensor']}: {tst['test']} failed: {band} (family "
                          f"false-alarm rate {100 * self.false_alarm:.3g} %)")
         return parts
 
@@ -574,7 +581,12 @@ class CalibrationResult:
                              f"({100 * share[q]:.3g} %) rejected by the chi-square gate "
                              f"(limit {100 * self.max_rejected:.3g} %)")
             if self.used[q] > 0 and not lo <= nis[q] <= hi:
-                parts.append(f"{name}: mean NIS {nis[q]:.3g} outside [{lo:g}, {hi:g}]")
+                band = next((t for t in self.model_tests()
+                             if t["test"] == "mean NIS" and t["sensor"] == name), None)
+                shown = ("" if band is None else " NOT in "
+                         + _band(nis[q], band["low"], band["high"]))
+                parts.append(f"{name}: mean NIS {nis[q]:.4g}{shown}, beyond the lock range: "
+                             "the filter lost lock")
         return parts
 
     @property
@@ -602,8 +614,17 @@ class CalibrationResult:
                 "rejected_t_truncated": bool(listed.size < int(self.rows_rejected))}
 
     def summary(self) -> dict:
-        """The result as a JSON-ready dict (SI; a value that is not finite is ``None``)."""
-        band = self.nis_band()
+        """The result as a JSON-ready dict (SI; a value that is not finite is ``None``).
+        ``nis_band``, ``whiteness_limit``, ``model_fits`` and ``verdict`` are those of the
+        checks that decide validity (:meth:`model_tests`: each sensor's mean NIS in its
+        band, its innovations white, at the family-wise rate :attr:`false_alarm`)."""
+        tests = self.model_tests()
+        fit_tests = [t for t in tests if t["test"] == "mean NIS"
+                     or t["test"].startswith("whiteness")]
+        bands = {t["sensor"]: (t["low"], t["high"]) for t in tests if t["test"] == "mean NIS"}
+        white = [t["high"] for t in tests if t["test"].startswith("whiteness")]
+        failed = [f"{t['sensor']} {t['test']} {_band(t['statistic'], t['low'], t['high'])}"
+                  for t in fit_tests if not t["passed"]]
         share = self.rejected_share
         return {
             "valid": self.valid,
@@ -625,13 +646,16 @@ class CalibrationResult:
                                     "rejected": int(self.rejected[q])}
                              for q, name in enumerate(MEASUREMENT_NAMES)},
             "nis": {name: _finite(self.nis_mean[q]) for q, name in enumerate(MEASUREMENT_NAMES)},
-            "nis_band": {name: [_finite(band[q, 0]), _finite(band[q, 1])]
-                         for q, name in enumerate(MEASUREMENT_NAMES)},
+            "nis_band": {name: [_finite(bands[name][0]), _finite(bands[name][1])]
+                         if name in bands else [None, None] for name in MEASUREMENT_NAMES},
             "whiteness": {name: float(self.whiteness[q])
                           for q, name in enumerate(MEASUREMENT_NAMES)},
-            "whiteness_limit": self.whiteness_limit(),
-            "model_fits": bool(np.all(self.fits())),
-            "verdict": self.verdict(),
+            "whiteness_limit": white[0] if white else None,
+            "model_fits": bool(fit_tests) and not failed,
+            "verdict": ("model fits: every sensor's mean NIS is in its band and its "
+                        "innovations are white" if fit_tests and not failed else
+                        "model does NOT fit: " + ("; ".join(failed) if failed
+                                                  else "no usable measurement")),
             "gate": self.gate,
             "rejected_share": {name: float(share[q])
                                for q, name in enumerate(MEASUREMENT_NAMES)},
@@ -653,6 +677,13 @@ def _log_likelihood(used: np.ndarray, log_s_sum: np.ndarray, nis_sum: np.ndarray
     """``−½ Σ (ln 2π S + ν²/S)`` from its per-sensor sums."""
     n = float(np.sum(used))
     return float(-0.5 * (n * math.log(2.0 * math.pi) + np.sum(log_s_sum) + np.sum(nis_sum)))
+
+
+def _band(x: float, lo: float, hi: float) -> str:
+    """``x NOT in [lo, hi]`` as :class:`gyrolib.verdict.Check` prints a band (the digits
+    of :func:`gyrolib.verdict.compared`)."""
+    sx, slo, shi = compared(x, lo, hi)
+    return f"{sx} {'in' if lo <= x <= hi else 'NOT in'} [{slo}, {shi}]"
 
 
 def _finite(x: float) -> float | None:
@@ -1047,7 +1078,8 @@ def _chunk_diagnostics(flag, e, S, row0, every, counts, row_counts, nis_sum, log
     """One pass over a chunk's measurement fates ``flag`` (0 missing, 1 used, 2 rejected),
     normalized innovations ``e`` and variances ``S`` (see :class:`_Store`), adding to the
     run's diagnostics in place: ``counts`` (3, M) used / rejected / missing,
-    ``row_counts`` (2,) rows with one used / one rejected, the sums of the NIS ``e²`` and of
+    ``row_counts`` (2,) rows with one used and none rejected / one rejected (disjoint),
+    the sums of the NIS ``e²`` and of
     ``ln S``, the lag products ``Σ e_k e_{k−l}`` of each sensor's used ``e`` (``acf_sum``,
     continued across chunks through the last ``lags`` values kept in ``ring``, ``ring_n``
     of them so far).  The NIS sum and count since the previous stored row (``win_sum``,
@@ -1082,7 +1114,7 @@ def _chunk_diagnostics(flag, e, S, row0, every, counts, row_counts, nis_sum, log
                 counts[1, q] += 1
             else:
                 counts[2, q] += 1
-        if any_used:
+        if any_used and not any_rejected:
             row_counts[0] += 1
         if any_rejected:
             row_counts[1] += 1
