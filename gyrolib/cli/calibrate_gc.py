@@ -605,6 +605,8 @@ def _gc_text(file, res, mapping, notes, fit, valid, reason, o, accepted=False,
                      f"{fit.n_evaluations} evaluations, "
                      + ("converged" if fit.converged else f"NOT converged: {fit.message}")
                      + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else ""))
+        # an interval side much shorter than the curvature's: both figures, marked suspect
+        lines += [f"  {x}" for x in fit.interval_findings()]
     if valid or accepted:
         std = math.hypot(res.omega_gc_std, fit_std)
         a = units.drift_in_units(res.omega_gc)
