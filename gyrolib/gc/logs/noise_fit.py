@@ -107,9 +107,10 @@ class NoiseFit:
     ``message``, ``n_evaluations`` (likelihoods of the full filter; the inclinometer-only
     start is not counted); ``outliers`` the measurements left out as outliers, and
     ``outlier_cells`` (outliers, 2) which: their row of the record and their sensor (0 angle
-    sensor, 1 ``inclinometer_y``, 2 ``inclinometer_z``; ``None`` for a fit made by hand,
-    which then must have ``outliers = 0``: the likelihood of :func:`profile_intervals` leaves
-    exactly these out); ``intervals`` (n, 2) the 95 % likelihood-ratio interval of each
+    sensor, 1 ``inclinometer_y``, 2 ``inclinometer_z``; the likelihood of
+    :func:`profile_intervals` leaves exactly these out; ``None`` for a fit made by hand,
+    which :func:`profile_intervals` then refuses unless ``outliers = 0``); ``intervals``
+    (n, 2) the 95 % likelihood-ratio interval of each
     (:func:`profile_intervals`; ``None`` until computed, an end ``inf`` or 0 where the
     likelihood does not fall by χ²₁(95 %)/2 inside the plausible range), ``interval_closed``
     (n, 2) whether each side's search found the crossing (``False``: an open end, or the
@@ -613,8 +614,8 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     maximized.  With the outliers kept in, a burst of five angle-sensor outliers of 70
     standard deviations dominates ``ln L`` along ``C_as`` (their ``ν²/S`` falls as ``C_as``
     rises): on a 100-s record the lower side of ``C_as`` closed at 0.016 % below ``Ĉ_as``
-    against 0.89 % from the curvature, and the upper one went out to +65 %
-    (tests/gc/test_noise_fit.py).
+    against 0.87 % from the curvature, and the upper one went out to +62 %
+    (benchmarks/diag_fit_interval.py; tests/gc/test_noise_fit.py).
 
     The bracket matters on the α1–σ1² ridge of a short record, where the likelihood is flat
     for a decade and then falls by hundreds: the unbracketed secant steps this function
@@ -866,8 +867,8 @@ def _loglik_at_fit(clean: GCRecord, fit: NoiseFit) -> float:
 def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
                     ) -> GyrocompassParams | None:
     """A vibration correlated over the whole record, ``α1 = 1/(ξ1 · duration)`` with ``σ1²``
-    refitted, when the likelihood cannot reject it against the fit (``2 ΔlnL < χ²₁(95 %)``);
-    else ``None``."""
+    refitted, when the likelihood cannot reject it against the fit (``2 ΔlnL < χ²₁(95 %)``,
+    on the record less the fit's outliers); else ``None``."""
     import scipy.optimize
 
     p = fit.params
