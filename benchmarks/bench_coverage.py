@@ -12,9 +12,15 @@ with every constant drawn from its prior, so the prior is part of the truth.
    For both: passes when the spread (SD) of z lies in [0.8, 1.25] and the 95 % Wilson
    interval of the share |z| <= 1 contains 68.27 %.
 3. **Fitted noise** (``--fit``, default 100 records of ``--fit-duration`` s with α1 × 5,
-   σ1² × 4): the share of each fitted parameter's 95 % interval
-   (``gc.profile_intervals``) that holds the truth; passes when its Wilson interval
-   contains 95 %.
+   σ1² × 4; ``--fit-damaged``, default as many again, the same records with the damage of a
+   real log: a gap of 2 % of the record, 100 NaN ``inclinometer_y`` cells and a burst of 5
+   angle-sensor outliers of 1 mrad, ``tests/support/gc_faults.damage``): for each kind,
+   clean and damaged, the share of each fitted parameter's 95 % interval
+   (``gc.profile_intervals``) that holds the truth, with its 95 % Wilson interval
+   (``gyrolib.stats.proportion``); passes when that contains 95 %.  Each record's row
+   stores each interval's ends (``null`` where open), whether each side's search closed
+   on its crossing, and whether a side is suspect (shorter than a quarter of the
+   curvature's 1.96 SE in ln, both figures given); the summary counts them per kind.
 
 Each part's CPU time per record is recorded (measured in the process that ran it); the CPU
 class with the machine.  ``--workers N`` runs the records on a process pool (any
@@ -23,7 +29,8 @@ finished record to a JSON-lines file as it completes (a long run keeps what it h
 ``--rows FILE --resume`` skips the seeds already there).
 
     nice -n 15 .venv/bin/python benchmarks/bench_coverage.py [--rsf 100] [--gc 100]
-        [--fit 100] [--fit-duration 100] [--name coverage] [--workers 2] [--rows FILE]
+        [--fit 100] [--fit-damaged 100] [--fit-duration 100] [--name coverage]
+        [--workers 2] [--rows FILE]
 """
 
 from __future__ import annotations
@@ -49,9 +56,13 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(ROOT / "tests" / "support"))
+sys.path.insert(0, str(ROOT))
 from _results import Recorder  # noqa: E402
-from coverage_cases import fit_case, gc_case, rsf_case, wilson  # noqa: E402
+
+from tests.support.coverage_cases import fit_case, gc_case, rsf_case, wilson  # noqa: E402
+
+#: The names the fitted-noise part fits.
+FIT_NAMES = ("alpha1", "sigma1_sq", "C_as", "C_in")
 
 
 def z_verdict(z: np.ndarray) -> dict:
@@ -65,19 +76,62 @@ def z_verdict(z: np.ndarray) -> dict:
             "contains_68": bool(lo <= 0.6827 <= hi), "max_abs_z": float(np.max(np.abs(z)))}
 
 
-def _timed(case: Callable[..., dict], seed: int, *args) -> dict:
-    """``case(seed, *args)`` with the seed and the CPU seconds of the process that ran it."""
+def fit_verdict(rows: list[dict], duration: float) -> dict:
+    """The fitted-noise part's summary of one kind of record (clean or damaged): per fitted
+    name the share of intervals holding the truth with its 95 % Wilson interval, the seeds
+    missed, the sides not closed and the sides suspect; every record's interval (its ends,
+    closed, suspect: ``sides``); and ω_gc's z spread."""
+    done = [r for r in rows if r["covered"]]
+    cover = {}
+    for nm in FIT_NAMES:
+        hits = [r["covered"][nm] for r in done if nm in r["covered"]]
+        lo, hi = wilson(sum(hits), len(hits))
+        ivs = [(r["seed"], r["intervals"][nm]) for r in done if nm in r.get("intervals", {})]
+        cover[nm] = {"n": len(hits), "share": sum(hits) / len(hits) if hits else None,
+                     "wilson_95": [lo, hi], "contains_95": bool(lo <= 0.95 <= hi),
+                     "missed_seeds": [r["seed"] for r in done
+                                      if nm in r["covered"] and not r["covered"][nm]],
+                     "sides_not_closed": sum(2 - sum(iv["closed"]) for _, iv in ivs),
+                     "sides_suspect": sum(sum(iv["suspect"]) for _, iv in ivs),
+                     "suspect_seeds": [s for s, iv in ivs if any(iv["suspect"])]}
+    z = np.array([r["z"] for r in done])
+    return {"records": len(rows), "duration_s": duration,
+            "not_converged": sum(not r["converged"] for r in rows),
+            "no_interval": sum(not r["covered"] for r in rows),
+            "coverage": cover, "omega_gc": z_verdict(z) if z.size > 1 else None,
+            "sides": [{"seed": r["seed"], "name": nm, **iv} for r in done
+                      for nm, iv in r.get("intervals", {}).items()]}
+
+
+def _fit_note(v: dict) -> str:
+    return ("95 % interval coverage: " + ", ".join(
+        f"{nm} {100 * c['share']:.0f} % [{100 * c['wilson_95'][0]:.0f}, "
+        f"{100 * c['wilson_95'][1]:.0f}]" for nm, c in v["coverage"].items()
+        if c["share"] is not None)
+        + "; sides suspect " + ", ".join(f"{nm} {c['sides_suspect']}"
+                                         for nm, c in v["coverage"].items())
+        + "; not closed " + ", ".join(f"{nm} {c['sides_not_closed']}"
+                                      for nm, c in v["coverage"].items())
+        + f"; not converged {v['not_converged']}, without intervals {v['no_interval']}; "
+          "CPU s per record")
+
+
+def _timed(case: Callable[..., dict], seed: int, *args, **kwargs) -> dict:
+    """``case(seed, *args, **kwargs)`` with the seed and the CPU seconds of the process that
+    ran it."""
     t0 = time.process_time()
-    row = case(seed, *args)
+    row = case(seed, *args, **kwargs)
     return {**row, "seed": seed, "cpu_s": time.process_time() - t0}
 
 
 def run_cases(part: str, case: Callable[..., dict], seeds: list[int], *args,
               executor: Executor | None = None, rows_file: Path | None = None,
-              resume: bool = False) -> list[dict]:
-    """``case(seed, *args)`` for every seed, on ``executor`` (``None``: in this process), in
-    seed order; each finished record is appended to ``rows_file`` (JSON lines, with its
-    ``part``) as it completes, and with ``resume`` the seeds already there are not run."""
+              resume: bool = False, case_kwargs: dict | None = None) -> list[dict]:
+    """``case(seed, *args, **case_kwargs)`` for every seed, on ``executor`` (``None``: in
+    this process), in seed order; each finished record is appended to ``rows_file`` (JSON
+    lines, with its ``part``) as it completes, and with ``resume`` the seeds already there
+    are not run."""
+    kw = case_kwargs or {}
     done: dict[int, dict] = {}
     if rows_file is not None and resume and rows_file.is_file():
         for line in rows_file.read_text().splitlines():
@@ -94,9 +148,10 @@ def run_cases(part: str, case: Callable[..., dict], seeds: list[int], *args,
     todo = [s for s in seeds if s not in done]
     if executor is None:
         for s in todo:
-            keep(_timed(case, s, *args))
+            keep(_timed(case, s, *args, **kw))
     else:
-        for fut in as_completed([executor.submit(_timed, case, s, *args) for s in todo]):
+        for fut in as_completed([executor.submit(_timed, case, s, *args, **kw)
+                                 for s in todo]):
             keep(fut.result())
     return [done[s] for s in seeds]
 
@@ -106,6 +161,8 @@ def main() -> None:
     ap.add_argument("--rsf", type=int, default=100)
     ap.add_argument("--gc", type=int, default=100)
     ap.add_argument("--fit", type=int, default=100)
+    ap.add_argument("--fit-damaged", type=int, default=None,
+                    help="damaged records of the fitted-noise part (default: as --fit)")
     ap.add_argument("--fit-duration", type=float, default=100.0)
     ap.add_argument("--name", default="coverage",
                     help="results file benchmarks/results/NAME.json (a part run alone)")
@@ -135,32 +192,17 @@ def main() -> None:
                       f"[{100 * v['wilson_95'][0]:.1f}, {100 * v['wilson_95'][1]:.1f}] % "
                       f"({'contains' if v['contains_68'] else 'MISSES'} 68 %); refused "
                       f"{v['refused']}; CPU s per record")
-    if args.fit > 0:
-        rows = run_cases("fit", fit_case, [2000 + s for s in range(args.fit)],
-                         args.fit_duration, **run)
-        cpu = sum(r["cpu_s"] for r in rows) / args.fit
-        done = [r for r in rows if r["covered"]]
-        cover = {}
-        for nm in ("alpha1", "sigma1_sq", "C_as", "C_in"):
-            hits = [r["covered"][nm] for r in done if nm in r["covered"]]
-            lo, hi = wilson(sum(hits), len(hits))
-            cover[nm] = {"n": len(hits), "share": sum(hits) / len(hits) if hits else None,
-                         "wilson_95": [lo, hi], "contains_95": bool(lo <= 0.95 <= hi),
-                         "missed_seeds": [r["seed"] for r in done
-                                          if nm in r["covered"] and not r["covered"][nm]]}
-        z = np.array([r["z"] for r in done])
-        stats["fit"] = {"records": args.fit, "duration_s": args.fit_duration,
-                        "not_converged": sum(not r["converged"] for r in rows),
-                        "no_interval": sum(not r["covered"] for r in rows),
-                        "coverage": cover, "omega_gc": z_verdict(z) if z.size > 1 else None}
-        rec.case(f"fit: {args.fit} records of {args.fit_duration:g} s, alpha1 x 5, "
-                 "sigma1^2 x 4", cpu,
-                 note="95 % interval coverage: " + ", ".join(
-                     f"{nm} {100 * c['share']:.0f} % [{100 * c['wilson_95'][0]:.0f}, "
-                     f"{100 * c['wilson_95'][1]:.0f}]" for nm, c in cover.items()
-                     if c["share"] is not None)
-                 + f"; not converged {stats['fit']['not_converged']}, without intervals "
-                   f"{stats['fit']['no_interval']}; CPU s per record")
+    n_damaged = args.fit if args.fit_damaged is None else args.fit_damaged
+    for part, n, damaged in (("fit", args.fit, False), ("fit_damaged", n_damaged, True)):
+        if n <= 0:
+            continue
+        rows = run_cases(part, fit_case, [2000 + s for s in range(n)], args.fit_duration,
+                         case_kwargs={"damaged": damaged}, **run)
+        cpu = sum(r["cpu_s"] for r in rows) / n
+        stats[part] = fit_verdict(rows, args.fit_duration)
+        rec.case(f"{part}: {n} {'damaged' if damaged else 'clean'} records of "
+                 f"{args.fit_duration:g} s, alpha1 x 5, sigma1^2 x 4", cpu,
+                 note=_fit_note(stats[part]))
     rec.doc["stats"] = stats
     rec.write()
     print(json.dumps(stats, indent=1))

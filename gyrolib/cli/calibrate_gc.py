@@ -498,7 +498,9 @@ def _fit_lines(nf, o: dict, valid: bool) -> list[str]:
             f"  log-likelihood {nf.loglik:.6g} (start {nf.loglik_start:.6g}), "
             f"{nf.n_evaluations} evaluations, "
             + ("converged" if nf.converged else f"NOT converged: {nf.message}")
-            + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else "")]
+            + (f"; written to {o['fit_noise']}" if o["fit_noise"] and valid else "")] + [
+        # an interval side much shorter than the curvature's: both figures, marked suspect
+        f"  {x}" for x in nf.interval_findings()]
 
 
 def _estimate_lines(ver) -> list[str]:

@@ -6,6 +6,7 @@ once.  Records are simulated here with seeds independent of data/."""
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
 import shutil
@@ -277,6 +278,39 @@ def test_fit_noise_on_the_first_10_s(wrong_spectrum, capsys, tmp_path):
     d = json.loads(out)
     assert code == 0 and d["valid"]
     assert abs(d["omega_gc"] - truth["omega_gc_rad_s"]) <= 3.0 * d["omega_gc_std"]
+
+
+def test_fit_noise_reports_a_suspect_interval_side(capsys, tmp_path, monkeypatch):
+    """An interval side shorter than a quarter of the curvature's 1.96 standard errors (in
+    ln) is reported as suspect with both figures, in the JSON and in the text: C_as fitted
+    on 2 s, its lower end moved here to 1e-4 in ln below the estimate (the profile search
+    replaced by one that returns it).  The figures equal the side and 1.96 × the relative
+    standard error the JSON itself gives; the upper side, left as profiled, is not marked."""
+    real = gc.profile_intervals
+
+    def short_lower(record, fit, **kw):
+        out = real(record, fit, **kw)
+        iv = out.intervals.copy()
+        iv[0, 0] = out.values[0] * math.exp(-1e-4)
+        return dataclasses.replace(out, intervals=iv)
+
+    monkeypatch.setattr(gc, "profile_intervals", short_lower)
+    path = _write_gc(tmp_path / "short.csv", gc.simulate_record(P, 2.0, seed=4).record)
+    argv = ["calibrate", "gc", "--latitude", "53.9", path, "--fit-noise", "--fit", "C_as"]
+    code, out, _ = _run([*argv, "--json"], capsys)
+    f = json.loads(out)["noise_fit"]["fitted"]["C_as"]
+    half = 1.96 * f["std_error_curvature"] / f["value"]
+    assert f["curvature_log_half_width"] == pytest.approx(half, rel=1e-3)
+    assert f["interval_log_sides"][0] == pytest.approx(1e-4, rel=1e-6)
+    assert f["suspect_sides"] == [True, False]
+    assert f["interval_log_sides"][1] > 0.25 * half
+    code_text, out, _ = _run(argv, capsys)
+    assert code_text == code
+    line = next(ln for ln in out.splitlines() if "SUSPECT" in ln)
+    assert line.startswith("  C_as: the lower side of its 95 % interval is SUSPECT: 0.0001 "
+                           "in ln"), line
+    assert f"curvature's {half:.2g} (1.96 standard errors" in line
+    assert out.count("SUSPECT") == 1
 
 
 def test_fit_noise_bad_options(wrong_spectrum, capsys, tmp_path):

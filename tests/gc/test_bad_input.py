@@ -910,6 +910,18 @@ case("gc.fit_checks", lambda: gc.fit_checks(_FIT, false_alarm=1.5), ValueError, 
 case("gc.profile_intervals", lambda: gc.profile_intervals("rec", _FIT), TypeError, "record")
 case("gc.profile_intervals", lambda: gc.profile_intervals(_GREC, _FIT, level=1.5), ValueError,
      "level")
+# the outliers a fit left out, and the record they must belong to
+case("gc.NoiseFit", lambda: replace(_nfit(), outliers=1, outlier_cells=np.zeros((2, 2), int)),
+     ValueError, "outlier_cells", r"\(1, 2\)")
+case("gc.NoiseFit", lambda: replace(_nfit(), outliers=1, outlier_cells=np.array([[0, 3]])),
+     ValueError, "outlier_cells", "sensors 0")
+case("gc.NoiseFit", lambda: replace(_nfit(), interval_closed=np.ones((1, 2))), ValueError,
+     "interval_closed", "bool")
+case("gc.profile_intervals", lambda: gc.profile_intervals(_GREC, replace(_FIT, outliers=2)),
+     ValueError, "fit.outlier_cells", "fit_noise")
+case("gc.profile_intervals", lambda: gc.profile_intervals(_GREC, replace(
+    _FIT, outliers=1, outlier_cells=np.array([[5, 0]]))), ValueError, "fit.outlier_cells",
+    "2 rows: not the record fitted")
 case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch("paper", 0.5), TypeError,
      "params", "GyrocompassParams")
 case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch(gc.GyrocompassParams(), 2.0),

@@ -1,7 +1,8 @@
 """gc.fit_noise: the noise parameters of paper GC's model fitted from a record, against the
 truth of the sample record made with another vibration spectrum (data/truth.json), the
-calibration of its standard errors over seeds, the outliers it leaves out, and the TOML it
-writes."""
+calibration of its standard errors over seeds, the outliers it leaves out, the TOML it
+writes, and its intervals on a record with a gap, NaN cells and an outlier burst against a
+profile likelihood computed here."""
 
 from __future__ import annotations
 
@@ -361,3 +362,145 @@ def test_interval_side_open_where_the_likelihood_never_falls_that_far():
     known = [(0.9 * exact, float(wall(0.9 * exact))), (1.1 * exact, float(wall(1.1 * exact)))]
     got = _side_end(lambda d: calls.append(d) or float(wall(d)), 0.1, 20.0, _TARGET, 10, known)
     assert got == pytest.approx(exact, rel=0.03) and len(calls) <= 4
+
+
+# an interval's side on a damaged record: the fit's outliers stay out along the profile -----
+def _damaged_fit(t_end: float, names: tuple[str, ...], start: gc.GyrocompassParams):
+    """The fitted-noise study's record of seed 101 (α1 × 5, σ1² × 4) with a gap of
+    ``t_end``/50, 100 NaN ``inclinometer_y`` cells and a burst of 5 angle-sensor outliers
+    of 1 mrad (tests/support/gc_faults.damage), the noise ``names`` fitted from ``start``;
+    and the record with the burst's cells set missing here, by the generator's own rows."""
+    from tests.support.coverage_cases import fit_record
+    from tests.support.gc_faults import damage
+
+    sim, _ = fit_record(101, t_end)
+    d = damage(sim.record, 101, gap=(0.4 * t_end, 0.42 * t_end), burst_at=0.7 * t_end)
+    fit = gc.fit_noise(d.record, start, fit=names)
+    assert fit.converged, fit.message
+    a = np.array(d.record.angle_sensor)
+    a[d.outlier_rows] = np.nan
+    clean = gc.GCRecord(t=d.record.t, angle_sensor=a, inclinometer_y=d.record.inclinometer_y,
+                        inclinometer_z=d.record.inclinometer_z)
+    return sim, d, fit, clean
+
+
+def _profile_root(clean: gc.GCRecord, fit: gc.NoiseFit, name: str, grid: np.ndarray,
+                  maximize) -> tuple[float, np.ndarray]:
+    """Where 2ΔlnL of the profile likelihood of ``name`` (the other fitted parameters
+    re-maximized by ``maximize(neg, x0)`` at each point of ``grid``, steps in ln θ below
+    θ̂) crosses χ²₁(95 %) = 3.84: linear interpolation of √(2ΔlnL) between the grid's
+    points around it.  Returns the step and 2ΔlnL on the grid."""
+    names = fit.names
+    i = names.index(name)
+    rest = [j for j in range(len(names)) if j != i]
+    theta = np.log(fit.values)
+
+    def model(x: np.ndarray) -> gc.GyrocompassParams:
+        out = {}
+        for nm, v in zip(names, x):
+            for f in (("C_incl_y", "C_incl_z") if nm == "C_in" else (nm,)):
+                out[f] = float(np.exp(v))
+        return dataclasses.replace(fit.params, **out)
+
+    ll0 = gc.innovation_log_likelihood(clean, fit.params)
+    drops = []
+    for d in grid:
+        def neg(xr: np.ndarray, d: float = d) -> float:
+            x = theta.copy()
+            x[i] -= d
+            x[rest] = xr
+            return -gc.innovation_log_likelihood(clean, model(x))
+        drops.append(2.0 * (ll0 + maximize(neg, theta[rest])))
+    drops = np.array(drops)
+    r = np.sqrt(np.clip(drops, 0.0, None)) - np.sqrt(scipy.stats.chi2.ppf(0.95, 1))
+    k = int(np.argmax(r > 0))
+    assert r[0] < 0 < r[-1] and k > 0, drops          # the grid brackets the crossing
+    return float(grid[k - 1] - r[k - 1] * (grid[k] - grid[k - 1]) / (r[k] - r[k - 1])), drops
+
+
+def _side_agrees(fit: gc.NoiseFit, name: str, root: float) -> bool:
+    lo, _ = fit.interval(name)
+    side = np.log(fit.value(name) / lo) if lo > 0 else np.inf
+    return bool(abs(side - root) <= 0.05 * side)
+
+
+def _with_outliers_kept(record: gc.GCRecord, fit: gc.NoiseFit) -> gc.NoiseFit:
+    """The deliberately wrong model, the profile as it was traced before: the fit's
+    outliers not left out, the likelihood along the profile and at the fit both counting
+    the burst."""
+    return dataclasses.replace(fit, outliers=0, outlier_cells=np.zeros((0, 2), np.int64),
+                               loglik=gc.innovation_log_likelihood(record, fit.params))
+
+
+def test_damaged_record_c_as_lower_end_is_the_profile_likelihood_root():
+    """10 s of the fitted-noise study's record with the damage of a real log (a gap, NaN
+    inclinometer cells, 5 outliers of 1 mrad; the vibration at its truth, C_as and C_in
+    fitted): the fit leaves the burst's 5 cells out, and the lower end of C_as's interval
+    agrees to 5 % of its side's length with the root of 2ΔlnL = 3.84 on a grid of profile
+    likelihoods computed here (C_in re-maximized by scipy at each point, on the record
+    less the cells the generator itself made outliers).  Power: the profile with the
+    outliers kept in (as it was traced before) closes the lower side at a small fraction
+    of it, marked suspect against the curvature, and pulls the upper side out."""
+    from tests.support.coverage_cases import fit_record
+
+    start = fit_record(101, 1.0)[0].params          # the truth's vibration, the paper's C
+    start = dataclasses.replace(start, C_as=P.C_as, C_incl_y=P.C_incl_y, C_incl_z=P.C_incl_z)
+    _, d, fit, clean = _damaged_fit(10.0, ("C_as", "C_in"), start)
+    assert set(d.outlier_rows.tolist()) <= set(fit.outlier_cells[:, 0].tolist())
+    assert set(fit.outlier_cells[np.isin(fit.outlier_cells[:, 0], d.outlier_rows), 1]) == {0}
+    prof = gc.profile_intervals(d.record, fit)
+    half = float(prof.curvature_half_widths[0])
+
+    def maximize(neg, x0):
+        res = scipy.optimize.minimize_scalar(lambda x: neg(np.array([x])),
+                                             bounds=(x0[0] - 0.05, x0[0] + 0.05),
+                                             method="bounded", options={"xatol": 1e-5})
+        return float(res.fun)
+
+    root, drops = _profile_root(clean, prof, "C_as", half * np.array([0.7, 0.9, 1.1, 1.3]),
+                                maximize)
+    assert _side_agrees(prof, "C_as", root), (prof.interval("C_as"), root, drops)
+    assert prof.interval_closed[0].all() and not prof.suspect_sides.any()
+    # power: the outliers kept in
+    old = gc.profile_intervals(d.record, _with_outliers_kept(d.record, fit))
+    assert not _side_agrees(old, "C_as", root), (old.interval("C_as"), root)
+    assert np.log(old.value("C_as") / old.interval("C_as")[0]) < 0.1 * root
+    assert old.interval_sides[0, 1] > prof.interval_sides[0, 1]   # the burst pulls it up
+    s = old.summary()["fitted"]["C_as"]
+    assert s["suspect_sides"][0] and old.suspect_sides[0, 0]
+    assert s["interval_log_sides"][0] < 0.25 * s["curvature_log_half_width"]
+    assert any(x.startswith("C_as: the lower side") for x in old.interval_findings())
+
+
+@pytest.mark.slow
+def test_damaged_100s_record_c_as_lower_end_is_the_profile_likelihood_root():
+    """The damaged record of the report, 100 s of the fitted-noise study (α1 × 5, σ1² × 4,
+    a 2 s gap, 100 NaN inclinometer_y cells, 5 outliers of 1 mrad), α1, σ1², C_as, C_in
+    fitted from the paper's values: the lower end of C_as agrees to 5 % of its side's length
+    with the root of 2ΔlnL = 3.84 on a grid of profile likelihoods (α1, σ1², C_in
+    re-maximized by scipy's Nelder–Mead at each point, on the record less the generator's
+    own outlier cells), each interval holds the truth of C_as and C_in, and no side is
+    suspect.  Power: with the outliers kept in the lower side collapses (below a tenth of
+    the root) and is marked suspect."""
+    sim, d, fit, clean = _damaged_fit(100.0, ("alpha1", "sigma1_sq", "C_as", "C_in"), P)
+    prof = gc.profile_intervals(d.record, fit)
+    i = prof.names.index("C_as")
+    half = float(prof.curvature_half_widths[i])
+
+    def maximize(neg, x0):
+        res = scipy.optimize.minimize(neg, x0, method="Nelder-Mead",
+                                      options={"xatol": 1e-3, "fatol": 1e-3,
+                                               "initial_simplex": x0 + np.vstack(
+                                                   [np.zeros(x0.size), 0.02 * np.eye(x0.size)])})
+        return float(res.fun)
+
+    root, drops = _profile_root(clean, prof, "C_as", half * np.array([0.8, 1.0, 1.2]),
+                                maximize)
+    assert _side_agrees(prof, "C_as", root), (prof.interval("C_as"), root, drops)
+    for nm, truth in (("C_as", sim.params.C_as), ("C_in", sim.params.C_incl_y)):
+        lo, hi = prof.interval(nm)
+        assert lo <= truth <= hi, (nm, lo, hi, truth)
+    assert not prof.suspect_sides.any(), prof.interval_findings()
+    old = gc.profile_intervals(d.record, _with_outliers_kept(d.record, fit))
+    assert np.log(old.value("C_as") / old.interval("C_as")[0]) < 0.1 * root
+    assert old.suspect_sides[i, 0]

@@ -53,27 +53,59 @@ def gc_case(seed: int, t_end: float = 100.0) -> dict:
             "codes": list(res.reason_codes)}
 
 
-def fit_case(seed: int, t_end: float = 100.0, fit: tuple[str, ...] = (
-        "alpha1", "sigma1_sq", "C_as", "C_in")) -> dict:
-    """A record made with α1 × 5 and σ1² × 4 (:data:`FIT_TRUTH`), the noise fitted from the
-    paper's values (:func:`gyrolib.gc.fit_noise`) with its 95 % intervals
-    (:func:`gyrolib.gc.profile_intervals`): per fitted name, whether the interval holds the
-    truth; and ω_gc's ``z`` with σ from :func:`gyrolib.gc.fit_uncertainty`."""
+def fit_record(seed: int, t_end: float = 100.0, damaged: bool = False
+               ) -> tuple[gc.SimulatedRecord, gc.GCRecord]:
+    """The fitted-noise study's record of ``seed``: the truth model with α1 × 5 and σ1² × 4
+    (:data:`FIT_TRUTH`), and its readings as a record, clean or with the damage of a real
+    log (``damaged``: :func:`tests.support.gc_faults.damage` with its defaults scaled to
+    ``t_end``: a gap of ``t_end``/50 from 40 % of the record, 100 NaN ``inclinometer_y``
+    cells, a burst of 5 angle-sensor outliers of 1 mrad at 70 %)."""
+    from tests.support.gc_faults import damage
+
     p = gc.GyrocompassParams()
     truth = dataclasses.replace(p, alpha1=FIT_TRUTH["alpha1"] * p.alpha1,
                                 sigma1_sq=FIT_TRUTH["sigma1_sq"] * p.sigma1_sq)
     sim = gc.simulate_record(truth, t_end, seed)
-    f = gc.fit_noise(sim.record, p, fit=fit)
-    out: dict = {"converged": f.converged, "message": f.message, "covered": {}}
+    if not damaged:
+        return sim, sim.record
+    rec = damage(sim.record, seed, gap=(0.4 * t_end, 0.42 * t_end),
+                 burst_at=0.7 * t_end).record
+    return sim, rec
+
+
+def fit_case(seed: int, t_end: float = 100.0, fit: tuple[str, ...] = (
+        "alpha1", "sigma1_sq", "C_as", "C_in"), damaged: bool = False) -> dict:
+    """A record made with α1 × 5 and σ1² × 4 (:func:`fit_record`, clean or ``damaged``),
+    the noise fitted from the paper's values (:func:`gyrolib.gc.fit_noise`) with its 95 %
+    intervals (:func:`gyrolib.gc.profile_intervals`): per fitted name, whether the interval
+    holds the truth (``covered``) and the interval itself (``intervals``: the estimate, the
+    truth, each side's end, ``null`` where open, whether each side's search closed, and
+    whether a side is suspect against the curvature with both figures); and ω_gc's ``z``
+    with σ from :func:`gyrolib.gc.fit_uncertainty`."""
+    p = gc.GyrocompassParams()
+    sim, rec = fit_record(seed, t_end, damaged)
+    truth = sim.params
+    f = gc.fit_noise(rec, p, fit=fit)
+    out: dict = {"converged": f.converged, "message": f.message, "damaged": damaged,
+                 "outliers": f.outliers, "covered": {}, "intervals": {}}
     if f.not_identified(t_end):
         return out
-    f = gc.profile_intervals(sim.record, f)
-    for nm in f.names:
+    f = gc.profile_intervals(rec, f)
+    sides, half = f.interval_sides, f.curvature_half_widths
+    for i, nm in enumerate(f.names):
         lo, hi = f.interval(nm)
         value = truth.C_incl_y if nm == "C_in" else getattr(truth, nm)
         out["covered"][nm] = bool(lo <= value <= hi)
-    res = gc.calibrate(sim.record, f.params)
-    total = gc.fit_uncertainty(sim.record, f, at_fit=res)
+        out["intervals"][nm] = {
+            "value": f.value(nm), "truth": float(value),
+            "low": lo if math.isfinite(lo) and lo > 0 else None,
+            "high": hi if math.isfinite(hi) else None,
+            "closed": [bool(x) for x in f.interval_closed[i]],
+            "log_sides": [float(x) if math.isfinite(x) else None for x in sides[i]],
+            "curvature_log_half_width": float(half[i]),
+            "suspect": [bool(x) for x in f.suspect_sides[i]]}
+    res = gc.calibrate(rec, f.params)
+    total = gc.fit_uncertainty(rec, f, at_fit=res)
     out["z"] = (res.omega_gc - float(sim.truth[-1, 3])) / total
     out["valid"] = bool(res.valid)
     return out

@@ -19,6 +19,9 @@ own arithmetic, on the readings or on the simulated gyro, never by gyrolib:
 * ``angle_step`` (µrad), ``incl_step`` (mg): a step in the angle sensor or in
   inclinometer_z at half the record;
 * ``latitude`` (deg): the gyro at that latitude (``Ω_h = Ω_E cos φ``, ``Ω_v = Ω_E sin φ``).
+
+:func:`damage` puts the damage of a real log on any record: a gap, missing cells and a burst
+of angle-sensor outliers.
 """
 
 from __future__ import annotations
@@ -149,3 +152,40 @@ def cli_params(**priors: float) -> gc.GyrocompassParams:
     base = {"sigma_hf_scale": 1e-3, "sigma_as_offset": 20.0 * ARCSEC_PAPER,
             "sigma_incl_bias": 0.5 * MG}
     return dataclasses.replace(P, **{**base, **priors})
+
+
+@dataclasses.dataclass(frozen=True)
+class DamagedRecord:
+    """A record with the damage of a real log (:func:`damage`): ``record``, and the rows of
+    it (indices into ``record``) that hold the angle-sensor outliers (``outlier_rows``) and
+    the missing ``inclinometer_y`` cells (``nan_rows``)."""
+
+    record: gc.GCRecord
+    outlier_rows: np.ndarray
+    nan_rows: np.ndarray
+
+
+def damage(record: gc.GCRecord, seed: int, *, gap: tuple[float, float] = (40.0, 42.0),
+           n_nan: int = 100, burst_at: float = 70.0, burst_n: int = 5,
+           burst_size: float = 1e-3) -> DamagedRecord:
+    """``record`` with the damage real logs carry, put on by this module's own arithmetic:
+    the rows with ``gap[0] < t <= gap[1]`` removed (a gap), ``n_nan`` ``inclinometer_y``
+    cells at random rows set to NaN, and a burst of ``burst_n`` consecutive angle-sensor
+    readings from ``t > burst_at`` moved by ``± burst_size`` rad (random signs; 1 mrad is
+    about 70 standard deviations of the paper's angle-sensor noise at 1 kHz, far beyond any
+    gate).  Seeded by ``seed``."""
+    rng = np.random.default_rng(seed + 7)
+    t = np.asarray(record.t)
+    a, y, z = (np.array(c, dtype=float) for c in (record.angle_sensor,
+                                                   record.inclinometer_y,
+                                                   record.inclinometer_z))
+    keep = ~((t > gap[0]) & (t <= gap[1]))
+    t, a, y, z = t[keep], a[keep], y[keep], z[keep]
+    burst = np.nonzero(t > burst_at)[0][:burst_n]
+    a[burst] += burst_size * rng.choice([-1.0, 1.0], burst.size)
+    others = np.setdiff1d(np.arange(t.size), burst)
+    nan_rows = np.sort(rng.choice(others, n_nan, replace=False))
+    y[nan_rows] = np.nan
+    return DamagedRecord(record=gc.GCRecord(t=t, angle_sensor=a, inclinometer_y=y,
+                                            inclinometer_z=z),
+                         outlier_rows=burst, nan_rows=nan_rows)

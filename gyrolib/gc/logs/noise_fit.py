@@ -24,7 +24,10 @@ record, about 0.2 s per 100 s at 1 kHz):
 
 Outliers: a likelihood without a gate is not robust, a likelihood with one is not smooth.
 The measurements the gate of :func:`gyrolib.gc.calibrate` rejects under the current fit are
-left out (set missing) and the fit is repeated until that set no longer changes.
+left out (set missing) and the fit is repeated until that set no longer changes; the fit
+keeps that set (:attr:`NoiseFit.outlier_cells`), and its intervals
+(:func:`profile_intervals`) are traced on the same measurements, so that the likelihood
+whose fall they measure is continuous in the parameters and peaks at the fit.
 """
 
 from __future__ import annotations
@@ -102,13 +105,20 @@ class NoiseFit:
     inverse Hessian of ``−ln L``); ``loglik``, ``loglik_start`` the log-likelihood at the
     optimum and at the start (the same measurements: outliers left out); ``converged``,
     ``message``, ``n_evaluations`` (likelihoods of the full filter; the inclinometer-only
-    start is not counted); ``outliers`` the measurements left out as outliers;
-    ``intervals`` (n, 2) the 95 % likelihood-ratio interval of each (:func:`profile_intervals`;
-    ``None`` until computed, an end ``inf`` or 0 where the likelihood does not fall by
-    χ²₁(95 %)/2 inside the plausible range), ``level`` their confidence level.  The
-    standard errors are NaN when the Hessian at the end is not positive definite.  What the
-    fit carries (:attr:`carried_log_std`, :meth:`carried_std_error`) is the curvature's
-    standard error widened to the interval where the likelihood is not quadratic.
+    start is not counted); ``outliers`` the measurements left out as outliers, and
+    ``outlier_cells`` (outliers, 2) which: their row of the record and their sensor (0 angle
+    sensor, 1 ``inclinometer_y``, 2 ``inclinometer_z``; the likelihood of
+    :func:`profile_intervals` leaves exactly these out; ``None`` for a fit made by hand,
+    which :func:`profile_intervals` then refuses unless ``outliers = 0``); ``intervals``
+    (n, 2) the 95 % likelihood-ratio interval of each
+    (:func:`profile_intervals`; ``None`` until computed, an end ``inf`` or 0 where the
+    likelihood does not fall by χ²₁(95 %)/2 inside the plausible range), ``interval_closed``
+    (n, 2) whether each side's search found the crossing (``False``: an open end, or the
+    outer end of a bracket the search could not close), ``level`` their confidence level.
+    The standard errors are NaN when the Hessian at the end is not positive definite.  What
+    the fit carries (:attr:`carried_log_std`, :meth:`carried_std_error`) is the curvature's
+    standard error widened to the interval where the likelihood is not quadratic; a side
+    much shorter than the curvature's is marked (:attr:`suspect_sides`).
     """
 
     params: GyrocompassParams
@@ -125,6 +135,8 @@ class NoiseFit:
     outliers: int
     intervals: NDArray[np.float64] | None = None
     level: float = 0.95
+    outlier_cells: NDArray[np.int64] | None = None
+    interval_closed: NDArray[np.bool_] | None = None
 
     def __post_init__(self) -> None:
         v.check_instance("params", self.params, GyrocompassParams)
@@ -150,6 +162,18 @@ class NoiseFit:
             if not isinstance(arr, np.ndarray) or arr.shape != (n, 2):
                 raise ValueError(f"intervals must be a float array of shape ({n}, 2)")
         v.check_in_range("level", self.level, 0.0, 1.0, low_open=True, high_open=True)
+        if self.outlier_cells is not None:
+            arr = self.outlier_cells
+            if (not isinstance(arr, np.ndarray) or arr.shape != (self.outliers, 2)
+                    or not np.issubdtype(arr.dtype, np.integer) or np.any(arr[:, 0] < 0)
+                    or np.any((arr[:, 1] < 0) | (arr[:, 1] > 2))):
+                raise ValueError(f"outlier_cells must be an integer array of shape "
+                                 f"(outliers, 2) = ({self.outliers}, 2): rows >= 0 and "
+                                 "sensors 0 (angle sensor), 1, 2 (inclinometers y, z)")
+        if self.interval_closed is not None:
+            arr = self.interval_closed
+            if not isinstance(arr, np.ndarray) or arr.shape != (n, 2) or arr.dtype != bool:
+                raise ValueError(f"interval_closed must be a bool array of shape ({n}, 2)")
 
     def interval(self, name: str) -> tuple[float, float]:
         """The 95 % likelihood-ratio interval of ``name`` (SI; :func:`profile_intervals`),
@@ -172,6 +196,69 @@ class NoiseFit:
     def std_error(self, name: str) -> float:
         """Its standard error (SI), from the curvature of ``ln L`` at the optimum."""
         return float(self.std_errors[self._index(name)])
+
+    @property
+    def interval_sides(self) -> NDArray[np.float64]:
+        """(n, 2): the length of each side of each interval in ``ln θ``, ``ln θ̂ − ln lo``
+        and ``ln hi − ln θ̂`` (``inf`` at an open end, 0 or ``inf``; NaN without
+        intervals)."""
+        out = np.full((len(self.names), 2), np.nan)
+        if self.intervals is None:
+            return out
+        theta = np.log(self.values)
+        with np.errstate(divide="ignore"):
+            out[:, 0] = theta - np.log(self.intervals[:, 0])
+            out[:, 1] = np.log(self.intervals[:, 1]) - theta
+        return out
+
+    @property
+    def curvature_half_widths(self) -> NDArray[np.float64]:
+        """(n,): the half-width in ``ln θ`` of the interval the curvature gives at
+        :attr:`level`, ``z · SE(ln θ)`` (``z`` = 1.96 at 95 %; NaN without curvature)."""
+        return math.sqrt(float(_chi2_ppf(self.level, 1))) * self.relative_std_errors
+
+    @property
+    def suspect_sides(self) -> NDArray[np.bool_]:
+        """(n, 2): the sides of the intervals shorter than a quarter of the curvature's
+        half-width (:attr:`interval_sides` against :attr:`curvature_half_widths`).  A
+        likelihood that is not quadratic moves a side from the curvature's, by a factor two
+        or three on a skewed one; a side at a quarter of it or less is no such shape but a
+        likelihood that jumps (one whose measurements change with the parameter) or a
+        search that stopped early: the side is not to be trusted.  ``False`` where either
+        figure is missing."""
+        sides = self.interval_sides
+        quarter = 0.25 * self.curvature_half_widths[:, None]
+        with np.errstate(invalid="ignore"):
+            return np.isfinite(quarter) & np.isfinite(sides) & (sides < quarter)
+
+    def interval_findings(self) -> list[str]:
+        """One sentence for each suspect side (:attr:`suspect_sides`), with both figures.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from gyrolib import gc
+        >>> p = gc.GyrocompassParams()
+        >>> fit = gc.NoiseFit(params=p, start=p, names=("C_as",), values=np.array([p.C_as]),
+        ...                   std_errors=np.array([0.01 * p.C_as]), cov_log=np.array([[1e-4]]),
+        ...                   loglik=0.0, loglik_start=0.0, converged=True, message="",
+        ...                   n_evaluations=1, outliers=0,
+        ...                   intervals=np.array([[0.9998 * p.C_as, 1.02 * p.C_as]]))
+        >>> fit.suspect_sides.tolist()
+        [[True, False]]
+        >>> fit.interval_findings()[0][:70]
+        'C_as: the lower side of its 95 % interval is SUSPECT: 0.0002 in ln, sh'
+        """
+        out = []
+        sides = self.interval_sides
+        half = self.curvature_half_widths
+        z = math.sqrt(float(_chi2_ppf(self.level, 1)))
+        for i, j in zip(*np.nonzero(self.suspect_sides)):
+            out.append(f"{self.names[i]}: the {('lower', 'upper')[j]} side of its "
+                       f"{100 * self.level:g} % interval is SUSPECT: {sides[i, j]:.2g} in ln, "
+                       f"shorter than a quarter of the curvature's {half[i]:.2g} ({z:.3g} "
+                       "standard errors of ln)")
+        return out
 
     @property
     def carried_log_std(self) -> NDArray[np.float64]:
@@ -297,7 +384,14 @@ class NoiseFit:
                             "std_error_curvature": float(self.std_errors[i]),
                             "log_std_below_above": [float(x)
                                                     for x in self.carried_log_std[i]],
-                            "interval": [_finite_or_none(x) for x in self.interval(nm)]}
+                            "interval": [_finite_or_none(x) for x in self.interval(nm)],
+                            "interval_closed": (None if self.interval_closed is None else
+                                                [bool(x) for x in self.interval_closed[i]]),
+                            "interval_log_sides": [_finite_or_none(x)
+                                                   for x in self.interval_sides[i]],
+                            "curvature_log_half_width": _finite_or_none(
+                                self.curvature_half_widths[i]),
+                            "suspect_sides": [bool(x) for x in self.suspect_sides[i]]}
                        for i, nm in enumerate(self.names)},
             "loglik": self.loglik, "loglik_start": self.loglik_start,
             "converged": self.converged, "message": self.message,
@@ -339,6 +433,12 @@ class NoiseFit:
 
 #: Fields that belong to a record or its site, never written for reuse.
 _RECORD_FIELDS: Final[frozenset[str]] = frozenset({"dt", "Omega_h", "Omega_v"})
+
+
+def _chi2_ppf(level: float, dof: int) -> float:
+    from gyrolib.filtering.consistency import chi2_ppf
+
+    return float(chi2_ppf(level, dof))
 
 
 def _finite_or_none(x: float) -> float | None:
@@ -505,7 +605,17 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     :mod:`gyrolib.inputs` (×/÷ 10 beyond it), which then is the end (``0`` or ``inf`` when
     the likelihood never falls that far).  A side the search could not close within
     ``max_steps`` is reported at the outer end of its bracket (open, ``0`` or ``inf``, with
-    none): wider, never narrower, than what the record supports.
+    none): wider, never narrower, than what the record supports.  Whether each side found
+    its crossing is :attr:`NoiseFit.interval_closed`; a side much shorter than the
+    curvature's is marked (:attr:`NoiseFit.suspect_sides`).
+
+    The likelihood is that of the record less the fit's outliers
+    (:attr:`NoiseFit.outlier_cells`), the same cells at every point: the one the fit
+    maximized.  With the outliers kept in, a burst of five angle-sensor outliers of 70
+    standard deviations dominates ``ln L`` along ``C_as`` (their ``ν²/S`` falls as ``C_as``
+    rises): on a 100-s record the lower side of ``C_as`` closed at 0.016 % below ``Ĉ_as``
+    against 0.87 % from the curvature, and the upper one went out to +62 %
+    (benchmarks/diag_fit_interval.py; tests/gc/test_noise_fit.py).
 
     The bracket matters on the α1–σ1² ridge of a short record, where the likelihood is flat
     for a decade and then falls by hundreds: the unbracketed secant steps this function
@@ -540,10 +650,14 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     names = fit.names
     theta = _log_values(fit.params, names)
     target = 0.5 * float(chi2_ppf(level, 1))
-    ll0 = _loglik_at_fit(record, fit)
+    # the fit's measurements: its outliers left out, the same cells at every point of the
+    # profile (a set that followed the parameter would make the likelihood jump)
+    clean = _without_outliers(record, fit)
+    ll0 = _loglik_at_fit(clean, fit)
     C = fit.cov_log
     n = len(names)
     out = np.full((n, 2), np.nan)
+    closed = np.zeros((n, 2), dtype=bool)
     sd = np.sqrt(np.abs(np.diag(C))) if np.all(np.isfinite(C)) else None
     seen: list[tuple[np.ndarray, float]] = []      # (θ − θ̂, ln L̂ − ln L) evaluated
     for i in range(len(names)):
@@ -557,25 +671,26 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
             def drop(d: float, side: float = side, u: np.ndarray = u) -> float:
                 try:
                     value = ll0 - innovation_log_likelihood(
-                        record, _with(fit.params, names, theta + side * d * u))
+                        clean, _with(fit.params, names, theta + side * d * u))
                 except ValueError:          # outside the parameter's domain (ξ1 > 1)
                     return math.inf
                 if math.isfinite(value):
                     seen.append((side * d * u, value))
                 return value if not math.isnan(value) else math.inf
 
-            end = _side_end(drop, math.sqrt(2.0 * target) * s, room, target, max_steps,
-                            _on_line(seen, u, i, side, sd))
+            end, closed[i, j] = _side_search(drop, math.sqrt(2.0 * target) * s, room,
+                                             target, max_steps,
+                                             _on_line(seen, u, i, side, sd))
             if end >= room * (1 - 1e-9):     # the likelihood does not fall that far
                 out[i, j] = 0.0 if side < 0 else math.inf
             else:
                 out[i, j] = math.exp(theta[i] + side * end)
-    return dataclasses.replace(fit, intervals=out, level=level)
+    return dataclasses.replace(fit, intervals=out, level=level, interval_closed=closed)
 
 
-def _side_end(drop: Callable[[float], float], guess: float, room: float, target: float,
-              max_steps: int, known: Sequence[tuple[float, float]] = (),
-              rtol: float = 0.01) -> float:
+def _side_search(drop: Callable[[float], float], guess: float, room: float, target: float,
+                 max_steps: int, known: Sequence[tuple[float, float]] = (),
+                 rtol: float = 0.01) -> tuple[float, bool]:
     """The step ``d`` in ``(0, room]`` where ``drop(d)`` (``ln L̂ − ln L`` along a line,
     ``0`` at ``d = 0``) reaches ``target`` — one side of :func:`profile_intervals`; ``room``
     when it does not within ``room``.  A bracketed search on ``r(d) = √(2 drop(d))``
@@ -589,16 +704,17 @@ def _side_end(drop: Callable[[float], float], guess: float, room: float, target:
     ``√(2 target)`` (2ΔlnL within about 2 ``rtol``) or the bracket within ``rtol`` of its
     end, and returns the step (interpolated in the bracket); after ``max_steps``
     evaluations without that, the bracket's outer end (``hi``, or ``room`` when no step
-    reached the target): wider, not narrower.
+    reached the target): wider, not narrower.  Returns the step and whether it is a
+    crossing found to that tolerance (``False`` for ``room`` or a bracket left open).
 
     >>> f = lambda d: 0.5 * (3.0 * d) ** 2          # quadratic: 2 drop = (3 d)²
-    >>> round(_side_end(f, 0.1, 10.0, 1.92, 10), 3)  # √3.84 / 3
+    >>> round(_side_search(f, 0.1, 10.0, 1.92, 10)[0], 3)  # √3.84 / 3
     0.653
     >>> wall = lambda d: 1e-3 * d if d < 2.0 else 1e3 * (d - 2.0) + 2e-3   # flat, then a wall
-    >>> round(_side_end(wall, 0.2, 10.0, 1.92, 10), 1)     # at 2.0019, within rtol
+    >>> round(_side_search(wall, 0.2, 10.0, 1.92, 10)[0], 1)     # at 2.0019, within rtol
     2.0
-    >>> _side_end(lambda d: 1e-3 * d, 0.2, 10.0, 1.92, 10)      # never falls that far
-    10.0
+    >>> _side_search(lambda d: 1e-3 * d, 0.2, 10.0, 1.92, 10)    # never falls that far
+    (10.0, False)
     """
     rt = math.sqrt(2.0 * target)
     lo_d, lo_g = 0.0, -rt               # g = r − √(2 target): below 0 at lo, above at hi
@@ -618,10 +734,10 @@ def _side_end(drop: Callable[[float], float], guess: float, room: float, target:
         dr = drop(d)
         g = (math.sqrt(2.0 * max(dr, 0.0)) if math.isfinite(dr) else math.inf) - rt
         if abs(g) <= rtol * rt:
-            return d
+            return d, True
         if g < 0.0:
             if d >= room * (1 - 1e-9):
-                return room
+                return room, False
             if last == -1 and math.isfinite(hi_g):
                 hi_g *= 0.5             # Illinois: the end kept twice weighs half
             lo_d, lo_g, last = d, g, -1
@@ -633,8 +749,15 @@ def _side_end(drop: Callable[[float], float], guess: float, room: float, target:
             break
         d = _next_step(lo_d, lo_g, hi_d, hi_g, rt, room)
     if hi_d < math.inf and hi_d - lo_d <= rtol * hi_d and math.isfinite(hi_g):
-        return lo_d - lo_g * (hi_d - lo_d) / (hi_g - lo_g)
-    return min(hi_d, room)
+        return lo_d - lo_g * (hi_d - lo_d) / (hi_g - lo_g), True
+    return min(hi_d, room), False
+
+
+def _side_end(drop: Callable[[float], float], guess: float, room: float, target: float,
+              max_steps: int, known: Sequence[tuple[float, float]] = (),
+              rtol: float = 0.01) -> float:
+    """The step of :func:`_side_search` alone."""
+    return _side_search(drop, guess, room, target, max_steps, known, rtol)[0]
 
 
 def _next_step(lo_d: float, lo_g: float, hi_d: float, hi_g: float, rt: float,
@@ -714,31 +837,50 @@ def _check_names(fit: object) -> tuple[str, ...]:
     return names
 
 
-def _loglik_at_fit(record: GCRecord, fit: NoiseFit) -> float:
-    """``ln L`` of ``record`` at the fitted model: the fit's own maximum when it left no
-    outlier out (the same measurements; it differs only by the rounding of the
-    log-parameters' round trip, ~1e-12 relative), else one more run over the record."""
-    if fit.outliers == 0:
-        return float(fit.loglik)
-    return innovation_log_likelihood(record, fit.params)
+def _without_outliers(record: GCRecord, fit: NoiseFit) -> GCRecord:
+    """``record`` with the measurements ``fit`` left out as outliers set missing
+    (:attr:`NoiseFit.outlier_cells`): the measurements its likelihood was maximized on."""
+    cells = fit.outlier_cells
+    if cells is None:
+        if fit.outliers:
+            raise ValueError(f"fit.outlier_cells must say which measurements the fit left "
+                             f"out ({fit.outliers} outliers); got None: make the fit with "
+                             "fit_noise")
+        return record
+    if cells.shape[0] == 0:
+        return record
+    if int(cells[:, 0].max()) >= record.n:
+        raise ValueError(f"fit.outlier_cells must name rows of record; got row "
+                         f"{int(cells[:, 0].max())}, but record has {record.n} rows: not the "
+                         "record fitted")
+    return _masked(record, cells[:, 0], cells[:, 1])
+
+
+def _loglik_at_fit(clean: GCRecord, fit: NoiseFit) -> float:
+    """``ln L`` at the fitted model of the record with the fit's outliers left out
+    (:func:`_without_outliers`): the fit's own maximum, the same measurements (it differs
+    from a new run only by the rounding of the log-parameters' round trip, ~1e-12
+    relative)."""
+    return float(fit.loglik)
 
 
 def _slow_vibration(fit: NoiseFit, record: GCRecord, duration: float
                     ) -> GyrocompassParams | None:
     """A vibration correlated over the whole record, ``α1 = 1/(ξ1 · duration)`` with ``σ1²``
-    refitted, when the likelihood cannot reject it against the fit (``2 ΔlnL < χ²₁(95 %)``);
-    else ``None``."""
+    refitted, when the likelihood cannot reject it against the fit (``2 ΔlnL < χ²₁(95 %)``,
+    on the record less the fit's outliers); else ``None``."""
     import scipy.optimize
 
     p = fit.params
     slow = 1.0 / (p.xi1 * duration)
     if "alpha1" not in fit.names or slow >= p.alpha1:
         return None
-    ll_fit = _loglik_at_fit(record, fit)
+    clean = _without_outliers(record, fit)      # the fit's measurements, outliers out
+    ll_fit = _loglik_at_fit(clean, fit)
 
     def neg(log_s1: float) -> float:
         q = dataclasses.replace(p, alpha1=slow, sigma1_sq=math.exp(log_s1))
-        return -innovation_log_likelihood(record, q)
+        return -innovation_log_likelihood(clean, q)
 
     x0 = math.log(p.sigma1_sq)
     best = scipy.optimize.minimize_scalar(neg, bounds=(x0 - 6.0, x0 + 3.0), method="bounded",
@@ -1257,4 +1399,5 @@ def _fit_once(record: GCRecord, p0: GyrocompassParams, names: tuple[str, ...], g
                     loglik=-objective(A @ theta),
                     loglik_start=innovation_log_likelihood(_masked(record, rows, sensors), p0),
                     converged=converged, message=message, n_evaluations=spent + objective.n,
-                    outliers=int(rows.size))
+                    outliers=int(rows.size),
+                    outlier_cells=np.column_stack([rows, sensors]).astype(np.int64))
