@@ -18,6 +18,7 @@ import pytest
 
 from gyrolib import gc, records, rsf
 from gyrolib.cli import main
+from gyrolib.gc.logs import judgement
 from gyrolib.gc.model.params import state_index
 
 #: Records of this file are simulated with paper GC's Earth rate (no '# latitude_deg:' line):
@@ -294,7 +295,8 @@ def test_fit_noise_reports_a_suspect_interval_side(capsys, tmp_path, monkeypatch
         iv[0, 0] = out.values[0] * math.exp(-1e-4)
         return dataclasses.replace(out, intervals=iv)
 
-    monkeypatch.setattr(gc, "profile_intervals", short_lower)
+    # where the judgement of a record calls it (gc.judge_record)
+    monkeypatch.setattr(judgement, "profile_intervals", short_lower)
     path = _write_gc(tmp_path / "short.csv", gc.simulate_record(P, 2.0, seed=4).record)
     argv = ["calibrate", "gc", "--latitude", "53.9", path, "--fit-noise", "--fit", "C_as"]
     code, out, _ = _run([*argv, "--json"], capsys)
