@@ -11,8 +11,8 @@ figure shows).
 :func:`text_problems` measures every visible text artist of a figure (tick labels, axis
 labels, titles, annotations, legends) as the reader sees it, against two rules: at least
 :data:`MIN_LEGEND_PT` points at the desk's column (:data:`COLUMN_PX`), and at least
-:data:`MIN_PHONE_PX` CSS pixels at a phone's column (:data:`PHONE_COLUMN_PX`, a 390-px window;
-issue 35, item 3); and it lists the texts that collide (:func:`text_collisions`).  The book's
+:data:`MIN_PHONE_PX` CSS pixels at a phone's column (:data:`PHONE_COLUMN_PX`, a 390-px
+window); and it lists the texts that collide (:func:`text_collisions`).  The book's
 figures carry that measurement in their PNG (:func:`page_record`, :data:`PNG_KEY`), so that a
 test of the built pages can check every figure the reader sees.
 """
@@ -29,14 +29,14 @@ from typing import Any
 #: figures of the chapters were measured at 672 CSS px by ``tests/book/test_browser.py``).
 CSS_DPI = 96.0
 COLUMN_PX = 672.0
-#: The smallest legend text on the page, in points at display size (issue 29).
+#: The smallest legend text on the page, in points at display size.
 MIN_LEGEND_PT = 9.0
-#: Every figure of the book is at most this wide (issue 35, item 3: one image serves the phone,
+#: Every figure of the book is at most this wide (one image serves the phone,
 #: the desk and the PDF; multi-panel figures are stacked, not set side by side).  A wider
 #: figure is scaled down to it, its fonts keeping their point size.
 MAX_WIDTH_IN = 5.0
 #: The output column on a phone (a 390-px window; measured by ``tests/book/test_browser.py``), and
-#: the smallest text there, in CSS pixels (issue 35).
+#: the smallest text there, in CSS pixels.
 PHONE_COLUMN_PX = 342.0
 MIN_PHONE_PX = 9.0
 #: The size the plot functions give their small texts (legends, notes, tick labels they set):

@@ -576,7 +576,7 @@ def pytest_terminal_summary(terminalreporter, exitstatus: int, config) -> None:
 #: pid, start and end, wall and CPU seconds: the worker's own and those of the child
 #: processes it waited for, e.g. a command-line run) and one per book build step (CPU of the
 #: step's processes, jupyter-book and its kernels): where the test command's core-seconds go
-#: (``benchmarks/bench_test_command.py`` sets it; issue 36).  The browser's CPU is not in any
+#: (``benchmarks/bench_test_command.py`` sets it).  The browser's CPU is not in any
 #: test's: Chromium outlives the tests that drive it.
 TIMELINE_ENV = "GYROLIB_TEST_TIMELINE"
 

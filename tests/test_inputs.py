@@ -1,4 +1,4 @@
-"""One source of ranges and levels (issue 33, item 1): no range of an input and no printed
+"""One source of ranges and levels: no range of an input and no printed
 level is typed outside :mod:`gyrolib.inputs` (the table of inputs) and :mod:`gyrolib.levels`.
 
 The check reads the library's source (its syntax tree, not its text: docstrings and help
@@ -192,7 +192,7 @@ def test_neutral_code_is_not_flagged(snippet):
 
 
 # --------------------------------------------------------------------------------------------
-# The chapters (issue 33, item 1, continued): their code cells and their prose.
+# The chapters (continued): their code cells and their prose.
 #
 # A chapter's code cell types a grid when it holds
 #   * a grid call (geomspace/linspace/logspace/arange) whose ends are numbers;

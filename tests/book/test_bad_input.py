@@ -170,7 +170,7 @@ EXEMPT: dict[str, str] = {"report.MarkdownText": "a str subclass: any text is va
                           "(checked there)"}
 
 
-# the studies of the claims' margins (issue 33)
+# the studies of the claims' margins
 case("ledger.margin_study.study_inputs", lambda: ms.study_inputs("gc"), ValueError, "model",
      "one of")
 case("ledger.margin_study.study_outputs", lambda: ms.study_outputs(None), ValueError, "model")

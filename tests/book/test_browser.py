@@ -1,4 +1,4 @@
-"""The built book in a real browser (issue 8, item 1).
+"""The built book in a real browser.
 
 Playwright (sync API) drives Debian's Chromium (``/usr/bin/chromium``; ``python3 tasks.py test``
 installs it, ``playwright install`` is never used) over ``_build/html`` served on 127.0.0.1.
@@ -16,7 +16,7 @@ Every page of the book is opened, and the test asserts, collecting all problems 
   axe-core comes inside the pinned ``axe-playwright-python`` wheel (``axe.min.js``) and is
   injected into the page by Playwright: nothing is fetched.  A page with an injected
   low-contrast paragraph shows that the check can fail;
-* the layout at 1280 px (issue 29): the page does not scroll sideways, no output block runs
+* the layout at 1280 px: the page does not scroll sideways, no output block runs
   past its box (outputs wrap), no other text spills out of a box that does not scroll; every
   raster figure has at least 1.5 image pixels per CSS pixel it is shown at, and is not
   distorted.  Small pages written by the tests (no book needed), and a book page with an
@@ -269,7 +269,7 @@ JS_SETTLED = """async () => {
 }"""
 
 
-# Layout (issue 29, item 4).  Two ways to run past a box:
+# Layout.  Two ways to run past a box:
 # * an output block (a ``<pre>`` of a cell's output, e.g. the CLI output or a ledger citation
 #   line) whose lines are wider than the block: outputs must wrap, since a reader scrolling
 #   a block sideways loses the end of every line (a scroll bar counts as running past);
@@ -417,7 +417,7 @@ def _axe():
 
 
 #: Regions whose text colour is checked by :data:`JS_REGION_CONTRAST` instead of axe-core's
-#: ``color-contrast`` rule (issue 36, profiled: that rule was 70-85 % of the browser tests'
+#: ``color-contrast`` rule (profiled: that rule was 70-85 % of the browser tests'
 #: time, mostly spent node by node on MathJax's glyphs, about 8 000 elements on gc_model, and
 #: on every highlighted token of a code cell and line of an output).  Every other rule still
 #: runs on the whole page, and ``color-contrast`` on everything outside these regions.
@@ -895,8 +895,8 @@ def test_ledger_page_shows_its_table(site, browser):
 #: What is wider than its box in a page's article at a phone's width: a scroll container that
 #: scrolls sideways (a table in its scrollable wrapper), an element reaching past the window,
 #: or the page itself; code (a cell's input), which keeps its layout and scrolls in its box
-#: by design, is left out.  Power: the six-column ledger table of the build before issue 35,
-#: in its scrollable wrapper, is found.
+#: by design, is left out.  Power: a six-column ledger table in its
+#: scrollable wrapper, is found.
 JS_SIDEWAYS = """() => {
   const out = [];
   const root = document.documentElement;
@@ -928,7 +928,7 @@ JS_SIDEWAYS = """() => {
 def test_the_ledger_reads_on_a_phone_without_sideways_scrolling(site, browser):
     """At 390 x 844 (a phone) the ledger's tables fit the screen: nothing in the article
     scrolls sideways or reaches past the window, and the results table shows each item as
-    a card, every cell labelled with its column's header (issue 35, item 3)."""
+    a card, every cell labelled with its column's header."""
     page = browser.open(site + "chapters/ledger.html")
     try:
         page.set_viewport_size({"width": 390, "height": 844})

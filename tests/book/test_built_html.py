@@ -1,4 +1,4 @@
-"""Checks over the built HTML of the book (issue 2: offline; issue 8, item 2: accessibility).
+"""Checks over the built HTML of the book (offline; accessibility).
 
 Read the files of the test session's book (``conftest.session_book``: built as
 ``python3 tasks.py book`` builds ``_build/html``) and assert, for every page of the book at
@@ -305,7 +305,7 @@ def test_benchmark_results_files_follow_the_format(tmp_path):
     for path in files:
         doc = ext.load(path)
         assert path.stem == doc["benchmark"], path.name
-        # the machine's class (issue 36): "AMD EPYC" alone names machines 2x apart
+        # the machine's class: "AMD EPYC" alone names machines 2x apart
         assert doc["machine"]["cpu_class"] in ("AVX-512", "AVX2", "AVX", "no AVX",
                                                "class unknown"), path.name
     # a file with a case missing its peer time is refused, naming the field
@@ -344,7 +344,7 @@ def test_performance_page_shows_every_results_file(html_dir):
 
 
 def test_no_page_has_the_markup_axe_core_flagged(html_dir):
-    """The markup behind the violations axe-core found (issue 20), fixed at build time by
+    """The markup behind the violations axe-core found, fixed at build time by
     ``_ext/accessibility.py`` and its template overrides, is on no page: no deprecated
     ``doc-biblioentry`` role, no hidden-cell summary named "Toggle hidden content", no search
     button named other than by its visible text, no titled icon inside the color-mode button;
@@ -388,7 +388,7 @@ def shown_width(img) -> float | None:
     return float(width) if width.replace(".", "", 1).isdigit() else None
 
 
-#: Image pixels per CSS pixel of a figure's width attribute (issue 29, item 4).
+#: Image pixels per CSS pixel of a figure's width attribute.
 MIN_FIGURE_DENSITY = 1.5
 
 

@@ -1,4 +1,4 @@
-"""Verdicts in view (issue 29, item 3): how much of the chapters' code the pages hide.
+"""Verdicts in view: how much of the chapters' code the pages hide.
 
 The chapters are read as notebooks by jupytext (the reader the build itself uses), so a cell's
 tags are the ones myst-nb sees.  A code line is a non-blank line of a code cell's source; it is
@@ -129,8 +129,8 @@ def test_the_bare_glue_check_finds_one_and_only_one():
 
 # ----------------------------------------------------------------------------- verdicts
 
-#: Chapters of other developers that still pick sentences in hidden cells (issue 29, item 3
-#: is theirs to apply there); not strict, since they change while this test exists.
+#: Chapters of other developers that still pick sentences in hidden cells (the
+#: rule is theirs to apply there); not strict, since they change while this test exists.
 PENDING_HIDDEN_VERDICTS: dict[str, str] = {}
 
 
@@ -217,7 +217,7 @@ def test_the_opening_check_reads_the_first_paragraph():
 
 # ----------------------------------------------------------------------------- benchmarks
 
-#: The Performance page: the only chapter that shows benchmark results (issue 29, item 4).
+#: The Performance page: the only chapter that shows benchmark results.
 PERFORMANCE_PAGE = "benchmarks"
 #: Chapters known to break the rule, each with the reason; the mark is strict, so the test
 #: fails as soon as the chapter is fixed, and the entry must then go.
@@ -225,7 +225,7 @@ KNOWN_BENCHMARK_TABLES: dict[str, str] = {}
 
 
 #: Results files of statistical studies, not timings, that a chapter may read: the false-alarm
-#: rate and coverage of ``calibrate gc`` over 100 clean seeds and the faults (issue 26), which
+#: rate and coverage of ``calibrate gc`` over 100 clean seeds and the faults, which
 #: the calibrating chapter reports as its evidence; the Performance page shows them too.
 STUDY_RESULTS = ("calibrate_faults.json",)
 

@@ -1,4 +1,4 @@
-"""Citable from a paper (issue 35, item 5).
+"""Citable from a paper.
 
 * Every ledger item's BibTeX entry parses with pybtex (an independent BibTeX parser) and has
   no TeX special character left unescaped in any field; an injected bare ``_`` is caught.

@@ -1,4 +1,4 @@
-"""The book build fails loudly, and glued numbers reach the page (issue 2, acceptance).
+"""The book build fails loudly, and glued numbers reach the page.
 
 Each case builds a tiny Jupyter Book in a temporary folder with the project's own execute,
 parse and Sphinx settings (read from ``_config.yml``; only the execution mode is forced to

@@ -1,7 +1,7 @@
-"""Figures sized for the page (issue 29, item 4): the book's figures are 2x PNGs with legends
-of at least 9 pt at display size, and curves that overlap stay distinguishable.  Issue 35,
-item 3: every figure is at most 5 in wide with every text readable at the desk's 672-px
-column (9 pt) and a phone's 342-px column (9 px), and no text collides; the built book's
+"""Figures sized for the page: the book's figures are 2x PNGs with legends
+of at least 9 pt at display size, and curves that overlap stay distinguishable; every
+figure is at most 5 in wide with every text readable at the desk's 672-px column (9 pt) and a
+phone's 342-px column (9 px), and no text collides; the built book's
 every figure is measured (its PNG carries the measurement) and counted against the pages.
 
 The display size is computed here from first principles (a figure of ``w`` inches drawn at
@@ -75,7 +75,7 @@ def test_plot_functions_return_figures_made_for_the_page():
                                  gc.nominal_motion(P, t_fast),
                                  gc.nominal_motion_aperiodic(P, t_fast),
                                  tau=P.time_constant, lag=0.0)
-    assert fig.get_figwidth() <= 5.0 + 1e-9  # issue 35: at most 5 in, panels stacked
+    assert fig.get_figwidth() <= 5.0 + 1e-9  # at most 5 in, panels stacked
     assert fig.dpi == pytest.approx(96.0, abs=1e-9)
     sizes = legend_sizes(fig)
     assert sizes and min(shown_pt(fig, s) for s in sizes) >= MIN_LEGEND_PT - 1e-9, sizes
@@ -120,7 +120,7 @@ def test_notebook_figures_are_2x_pngs_shown_at_half_their_pixels():
         png = __import__("base64").b64decode(data["image/png"])
         width = int.from_bytes(png[16:20], "big")
         assert meta["image/png"]["width"] == width // 2
-        # drawn at 6 in, capped at 5 (issue 35); bbox_inches="tight" trims or adds a
+        # drawn at 6 in, capped at 5; bbox_inches="tight" trims or adds a
         # little: about 5 in at 96 px/in, doubled
         assert width == pytest.approx(2 * 5.0 * 96.0, rel=0.1)
         # and it carries its measurement (read back from the built pages, below)
@@ -174,7 +174,7 @@ def test_every_plot_function_returns_its_figure_made_for_the_page(tmp_path, monk
 
 
 # ------------------------------------------------------------------- every text, on a phone
-# (issue 35, item 3: at least 9 pt at the desk's 672-px column and 9 px at a phone's 342 px)
+# (at least 9 pt at the desk's 672-px column and 9 px at a phone's 342 px)
 
 def _readable_figure() -> Figure:
     """A 5-in figure whose every text is 10 pt: 9.5 px at 342 px, 10 pt at 672 px."""
@@ -282,7 +282,7 @@ def test_the_collision_check_finds_injected_overlaps_and_passes_a_clean_figure()
 
 
 # ------------------------------------------------------------------ every figure of the book
-# (issue 35, item 3, acceptance: "The test measures every figure of the book. It asserts that
+# (acceptance: "The test measures every figure of the book. It asserts that
 # the number of figures measured equals the number on the pages, and it fails on an injected
 # 6-px legend.")  Each figure's PNG carries its measurement (gyrolib.book.report.page_png,
 # _ext/benchmark_results.py): how many texts, the smallest size in points, the problems found
@@ -290,7 +290,7 @@ def test_the_collision_check_finds_injected_overlaps_and_passes_a_clean_figure()
 # pixels and dpi) and the size the page declares for it, not by the code under test.
 
 PHONE_COLUMN_PX = 342.0
-#: Issue 35, item 3: every figure at most 5 in wide (one image for phone, desk and PDF).
+#: Every figure at most 5 in wide (one image for phone, desk and PDF).
 MAX_WIDTH_IN = 5.0
 
 

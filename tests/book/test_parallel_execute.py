@@ -1,5 +1,5 @@
 """The chapters the cache lacks are executed on several cores before Sphinx reads them
-(``_ext/parallel_execute.py``; issue 20, item 4), and a failing chapter still fails the build.
+(``_ext/parallel_execute.py``), and a failing chapter still fails the build.
 
 Tiny books in the project's cache mode, with the extension and the project's build flags:
 

@@ -1,4 +1,4 @@
-"""The PDF of the whole book (issue 14, item 1).
+"""The PDF of the whole book.
 
 ``python3 tasks.py pdf`` prints the single-page build with Chromium into
 ``_build/pdf/book.pdf``; the test session's book (``conftest.session_book``) is built the same

@@ -1,4 +1,4 @@
-"""No raw markup reaches the reader (issue 35, item 4).
+"""No raw markup reaches the reader.
 
 Every page of the table of contents, as built, and every sub-command's ``--help`` are
 scanned for markup that was meant to be typeset and was not: a MyST or Sphinx role

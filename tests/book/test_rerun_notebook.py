@@ -1,4 +1,4 @@
-"""A rerun chapter shows what the book's page shows (issue 35, item 1).
+"""A rerun chapter shows what the book's page shows.
 
 ``python3 tasks.py chapter NAME`` and each page's download menu give an executed notebook
 whose prose was rendered by ``_ext/rerun_notebook.py``.  The check
@@ -11,8 +11,8 @@ whose prose was rendered by ``_ext/rerun_notebook.py``.  The check
   its source);
 * says in its first cell where its prose's values come from.
 
-Power: the same check on the notebook as the build executed it, before rendering (what the
-download menu offered until issue 35), fails.
+Power: the same check on the notebook as the build executed it, before rendering (what an
+unrendered download would offer), fails.
 
 The rerun chapter (``rsf_method``) is jupytext's notebook of it with the outputs of the
 session book's fresh-kernel execution of the same code, found in the session's jupyter cache

@@ -1,4 +1,4 @@
-"""Issue 26: ``calibrate gc`` is never confidently wrong.  Records with the defects of real
+"""``calibrate gc`` is never confidently wrong.  Records with the defects of real
 instruments and logs, made by the tests' own generator (``tests/support/gc_faults.py``), through the
 command: either σ covers the truth (exit 0, ``"valid": true``, |ω̂ − ω| ≤ 3σ) or the command
 refuses (non-zero exit, one line on stderr with the reason, no traceback, no estimate)."""
@@ -131,7 +131,7 @@ def test_latitude_45(tmp_path, capsys):
     missing, the summary row says the same): this is the power test, the command used to
     answer "valid" with paper GC's Ω_h, Ω_v, hundreds of σ off.  ``--latitude paper`` is the
     user's explicit assumption, said so; here wrongly assumed, the prior check refuses it
-    and names the latitude (issue 34)."""
+    and names the latitude."""
     fr = _made("latitude", 45.0, 777)
     path = _write(tmp_path / "r45.csv", fr.record)
     code, out, err = _run(["calibrate", "gc", path, "--json", "--latitude", "45"], capsys)
@@ -164,7 +164,7 @@ def test_latitude_45(tmp_path, capsys):
     assert d["earth_rate"]["stated"] is False and d["earth_rate"]["Omega_h"] == P.Omega_h
     # paper GC's Earth rate, assumed explicitly: the 9 deg between the sites read as a drift
     # far outside its prior, so the prior check refuses it and names the latitude, near 45
-    # deg, that would explain it (issue 34; before, this was "valid" and hundreds of σ off)
+    # deg, that would explain it (before, this was "valid" and hundreds of σ off)
     code, out, err = _run(["calibrate", "gc", path, "--json", "--latitude", "paper"], capsys)
     d = json.loads(out)
     assert code == 3 and d["valid"] is False and d["reason_code"] == "prior_latitude"
@@ -241,7 +241,7 @@ def test_record_header_latitude_and_a_conflicting_option(tmp_path, capsys):
     code, out, err = _run(["calibrate", "gc", str(path), "--json", "--latitude", "50"], capsys)
     d = json.loads(out)
     # the option wins, and the 5 deg between the record's site and 50 deg read as a drift
-    # far outside its prior: not valid, the latitude named (issue 34)
+    # far outside its prior: not valid, the latitude named
     assert code == 3 and d["latitude_source"] == "option" and d["latitude_deg"] == 50.0
     assert d["reason_code"] == "prior_latitude", d["reason"]
     assert d["earth_rate"]["record_latitude_deg"] == pytest.approx(45.0)

@@ -1,5 +1,5 @@
 """``python -m gyrolib calibrate`` on the files loggers really write, and outputs that never
-destroy data (issue 27): each case with its exit status, its one-line message, what is
+destroy data: each case with its exit status, its one-line message, what is
 written and what is kept.  GC records are the first 20 s of data/gc_record.csv.gz; RSF
 records a 20 s simulated flight (seed 27)."""
 

@@ -1,4 +1,4 @@
-"""``python -m gyrolib calibrate`` on logs with the mistakes real logs carry (issue 18): every
+"""``python -m gyrolib calibrate`` on logs with the mistakes real logs carry: every
 case at the top of the issue with its exit status, its one-line message and nothing written;
 the inclinometer mapping recovering a swapped or negated pair; fitted noise; many files at
 once.  Records are simulated here with seeds independent of data/."""
@@ -206,7 +206,7 @@ def wrong_spectrum(tmp_path_factory):
     paper's α1 lies 2.3 standard errors from the α1 fitted on 100 s, 1.7 on 50 s and 1.2 on
     30 s, where σ1²'s interval has no upper end: "within two standard errors of the truth"
     would not tell the truth from the paper's value on a shorter record.  Not the record of
-    seed 5151 it was until issue 34's item 3: its sensors' noise draws are 1 % above their
+    seed 5151: its sensors' noise draws are 1 % above their
     variance, a 3.2-SE common factor that fit_checks refuses at its false-alarm rate,
     tests/gc/test_noise_fit.py.)"""
     path = DATA / "gc_record_wrong_spectrum.csv.gz"
@@ -241,7 +241,7 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
     for name, made in (("alpha1", truth["alpha1"]), ("sigma1_sq", P.sigma1_sq)):
         assert abs(fitted[name]["value"] - made) <= 2.0 * fitted[name]["std_error"], name
     assert abs(d["omega_gc"] - truth["omega_gc_rad_s"]) <= 3.0 * d["omega_gc_std"]
-    for name in fitted:       # each value inside its 95 % interval (issue 34); an end the
+    for name in fitted:       # each value inside its 95 % interval; an end the
         # likelihood does not reach within the search is null (here σ1²'s upper one: with α1
         # near 0 the record does not bound the vibration's variance) and the standard error
         # carried is then the interval's, not the curvature's
@@ -250,7 +250,7 @@ def test_fit_noise_recovers_the_spectrum(wrong_spectrum, capsys, tmp_path):
             math.inf if hi is None else hi), name
         if lo is None or hi is None:
             assert fitted[name]["std_error_from"].startswith("profile"), name
-    # the TOML holds nothing of the record (no dt, no Omega_h, Omega_v: issue 34): the
+    # the TOML holds nothing of the record (no dt, no Omega_h, Omega_v): the
     # latitude comes with the record or the option, as for any record
     text = toml.read_text()
     assert "Omega_h" not in text and "\ndt = " not in text and "interval [" in text
@@ -481,8 +481,8 @@ def test_rsf_good_and_batch_summary(rsf_logs, capsys, tmp_path):
     single = json.loads(_run(["calibrate", "rsf", rsf_logs["good"], "--period", "1",
                               "--json"], capsys)[1])
     assert float(rows[0]["estimate"]) == pytest.approx(np.mean(single["eps1_hat"]), rel=1e-9)
-    # sigma: the total standard uncertainty, its parts in quadrature (issue 34), not the
-    # per-interval spread (issue 27)
+    # sigma: the total standard uncertainty, its parts in quadrature, not the
+    # per-interval spread
     parts = single["eps1_hat_mean_std_parts"]
     assert float(rows[0]["sigma"]) == pytest.approx(single["eps1_hat_mean_std"], rel=1e-9)
     assert single["eps1_hat_mean_std"] == pytest.approx(

@@ -1,4 +1,4 @@
-"""Every refusal of ``calibrate`` ends with a hint (issue 34, item 8): a stable
+"""Every refusal of ``calibrate`` ends with a hint: a stable
 ``reason_code`` and ``hint`` in the JSON and ``--summary``, and a last ``try:`` line in the
 text naming the option the evidence points to.  The table reason → option is checked
 against the command's parser; each code is produced from its evidence on a record made to
@@ -185,7 +185,7 @@ def test_json_on_bad_input_writes_an_error_object(logs, capsys, tmp_path, argv, 
     assert status == 2 and out == ""        # without --json: nothing on stdout
 
 
-# The verdict lines use the tests' own bands, rounded to read true (issue 34, item 6) -------
+# The verdict lines use the tests' own bands, rounded to read true -------
 def test_printed_comparisons_read_true():
     """For random statistics near their bounds, the printed numbers compare as the numbers
     do (the ".3g" rounding printed "23.2 > 23.2"); with a fixed 3 digits they would not
@@ -221,7 +221,7 @@ def test_the_text_prints_the_bands_that_decide_validity(logs, capsys):
 
 
 def test_rejected_t_lists_each_row_once_or_says_it_is_truncated(logs, capsys):
-    """``rejected_t`` (issue 34, item 10): each rejected row's time once, in order; when
+    """``rejected_t``: each rejected row's time once, in order; when
     more rows were rejected than it lists, ``rejected_t_truncated`` says so beside the
     count."""
     for case in ("clean", "noisy"):
@@ -236,7 +236,7 @@ def test_rejected_t_lists_each_row_once_or_says_it_is_truncated(logs, capsys):
             assert count > 100 and d["rejected_t_truncated"] is True
 
 
-# Every option is documented (issue 34) ------------------------------------------------------
+# Every option is documented ------------------------------------------------------
 ROOT = Path(__file__).resolve().parents[2]
 
 
@@ -257,7 +257,7 @@ def test_every_option_is_in_the_readme_and_the_chapter():
     assert "gyrolib.cli" not in chapter and "cli(" not in chapter
 
 
-# One instrument file for calibrate and race (issue 34, item 9) --------------------------------
+# One instrument file for calibrate and race --------------------------------
 def test_one_instrument_file_read_by_both_commands(logs, capsys, tmp_path):
     """The same TOML file: calibrate gc reads the site and the instrument's fields and names
     the [procedure] and [sins] tables it ignores; race reads the site (latitude -> Omega_h,
@@ -309,7 +309,7 @@ def test_the_southern_hemisphere_is_refused_with_the_physical_reason(logs, capsy
 def test_long_log_plot_bins_the_nis_and_names_file_and_latitude(logs, tmp_path, capsys):
     """--plot of a record with many stored windows (here 2000: --store-every 10) draws at
     most MAX_NIS_BINS points per sensor, each the count-weighted mean NIS of its windows,
-    under a title naming the file and the latitude (issue 34, item 10)."""
+    under a title naming the file and the latitude."""
     import matplotlib
 
     matplotlib.use("Agg")

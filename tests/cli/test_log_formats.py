@@ -1,4 +1,4 @@
-"""Everyday log formats (issue 34, item 7): a header in another case (matched, with a note), a
+"""Everyday log formats: a header in another case (matched, with a note), a
 name that matches nothing ("did you mean", and the --columns to try), trailing empty rows
 from a spreadsheet (skipped), rows logged before the feedback switch-off (``--t0`` drops
 them and says how many), decimal commas, and the unit options.  Each case with one that

@@ -113,7 +113,7 @@ def test_extend_reuses_a_smaller_study_and_refuses_another(tmp_path, capsys):
 
 def test_help_counts_the_studies_inputs(capsys):
     """``sensitivity --help`` names each study's number of inputs as the study defines it
-    (issue 34: it said 5 where RSF's study has 7), never a typed number."""
+    (it said 5 where RSF's study has 7), never a typed number."""
     from gyrolib.gc.analysis.sensitivity_study import sensitivity_inputs as gc_inputs
     from gyrolib.rsf.sensitivity_study import sensitivity_inputs as rsf_inputs
 

@@ -103,7 +103,7 @@ def test_plot_has_two_panels(records):
     plt.close(fig)
 
 
-# The overlapping Allan deviation in numpy, against allantools (issue 27) -----------------
+# The overlapping Allan deviation in numpy, against allantools -----------------
 @pytest.mark.parametrize("data_type", ["phase", "freq"])
 @pytest.mark.parametrize("taus", ["octave", "decade", "all", "array"])
 def test_oadev_equals_allantools(data_type, taus):

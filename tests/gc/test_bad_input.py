@@ -520,7 +520,7 @@ case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, truth=NAN), Value
 case("gc.plot_calibration", lambda: gc.plot_calibration(_GRES, label=3), TypeError,
      "label", "str or None")
 
-# lost lock, noise fit, likelihood, nominal integrator (issues 18, 22)
+# lost lock, noise fit, likelihood, nominal integrator
 case("gc.calibrate", lambda: gc.calibrate(_GREC, max_rejected=1.5), ValueError,
      "max_rejected", r"\[0.0, 1.0\]")
 case("gc.calibrate", lambda: gc.calibrate(_GREC, false_alarm=1.5), ValueError,
@@ -730,7 +730,7 @@ case("gc.plot_race_sweep", lambda: gc.plot_race_sweep(None, "T_rot"), TypeError,
      "RaceSweep")
 
 
-# real logs (issue 18): the inclinometer convention, its study, the Allan deviation
+# real logs: the inclinometer convention, its study, the Allan deviation
 _MAP = gc.InclinometerMapping()
 case("gc.InclinometerMapping", lambda: gc.InclinometerMapping(delta="x"), ValueError, "delta",
      "one of")
@@ -886,7 +886,7 @@ def test_any_damping_outside_zero_one_is_rejected(field, xi):
     with pytest.raises(ValueError, match=rf"^{field} must be "):
         replace(P, **{field: xi})
 
-# issue 26: the fitted noise's own uncertainty
+# The fitted noise's own uncertainty
 _FIT = gc.NoiseFit(params=gc.GyrocompassParams(), start=gc.GyrocompassParams(),
                    names=("C_as",), values=np.array([2e-13]), std_errors=np.array([1e-14]),
                    cov_log=np.array([[np.nan]]), loglik=0.0, loglik_start=0.0, converged=True,
@@ -927,7 +927,7 @@ case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch("paper", 0.5), Typ
 case("gc.earth_rate_mismatch", lambda: gc.earth_rate_mismatch(gc.GyrocompassParams(), 2.0),
      ValueError, "latitude")
 
-# the race's margin and its verdict grid (issue 33)
+# the race's margin and its verdict grid
 case("gc.race_margin", lambda: gc.race_margin(P, percent=100.0), ValueError, "percent")
 case("gc.race_margin", lambda: gc.race_margin("paper"), TypeError, "params")
 case("gc.race_verdict_grid", lambda: gc.race_verdict_grid(sigma1_factors=(0.0,)), ValueError,

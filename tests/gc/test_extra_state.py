@@ -1,4 +1,4 @@
-"""Issue 29, item 2: the kernels are generic in the model.  A model with one extra constant
+"""The kernels are generic in the model.  A model with one extra constant
 state (the angle sensor's null offset, :data:`gyrolib.gc.TERMS`) runs through the covariance
 analysis, the Monte Carlo and ``calibrate``, each checked against something independent:
 

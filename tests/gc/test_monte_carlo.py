@@ -286,7 +286,7 @@ def test_bad_executor_and_bad_pairs_are_rejected(matched, matched_linear):
         gc.linearization_effect(matched, other)
 
 
-# What the linearization costs (issue 21, item 6) --------------------------------------------------
+# What the linearization costs --------------------------------------------------
 @pytest.fixture(scope="module")
 def effect(matched, matched_linear) -> gc.LinearizationEffect:
     return gc.linearization_effect(matched, matched_linear)

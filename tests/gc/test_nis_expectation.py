@@ -1,5 +1,5 @@
 """The mean NIS of paper GC's filter on records of its own model, against its computed
-expectation (issue 34, item 6).  The angle sensor's mean NIS of about 0.996 on an hour of
+expectation.  The angle sensor's mean NIS of about 0.996 on an hour of
 the truth model, which a 0.5 % tolerance used to hide, has two causes, each computed here:
 
 * the χ² gate: a consistent filter's mean NIS over the measurements the gate let through

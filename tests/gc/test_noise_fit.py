@@ -63,7 +63,7 @@ def test_fitted_model_calibrates_the_record(wrong):
 def test_toml_round_trip(wrong, tmp_path):
     """fit.to_toml() is read back by records.gc_params_from_toml over another record's
     site and step into the fitted model there, every field equal (floats written with
-    repr: exact); it holds nothing of the record (no dt, no Omega_h, Omega_v: issue 34)."""
+    repr: exact); it holds nothing of the record (no dt, no Omega_h, Omega_v)."""
     _, _, fit = wrong
     path = tmp_path / "fitted.toml"
     text = fit.to_toml()
@@ -178,7 +178,7 @@ def test_inclinometer_likelihood_against_plain_numpy():
     assert abs(noisefit._inclinometer_loglik(other, steps, z) - ours) > 1e-6 * abs(ours)
 
 
-# issue 26: the fitted noise carries its own uncertainty -----------------------------------
+# The fitted noise carries its own uncertainty -----------------------------------
 def test_fit_uncertainty_folds_the_fit_covariance_into_sigma(wrong):
     """On the wrong-spectrum record: the fit is identified (100 s is more than three
     correlation times 1/(ξ1 α̂1)); σ from draws of the fitted parameters (law of total
@@ -195,7 +195,7 @@ def test_fit_uncertainty_folds_the_fit_covariance_into_sigma(wrong):
 
 def test_short_record_names_alpha1_a_nuisance():
     """A 0.5 s record (about 1/200 of the paper's vibration correlation time 1/(ξ1 α1)):
-    α1 is named a poorly identified nuisance (carried into σ, issue 34), or the fit is
+    α1 is named a poorly identified nuisance (carried into σ), or the fit is
     refused as not identified, naming the parameter."""
     rec = gc.simulate_record(P, 0.5, seed=3).record
     fit = gc.fit_noise(rec, P)
@@ -206,7 +206,7 @@ def test_short_record_names_alpha1_a_nuisance():
         x.startswith("alpha1 poorly identified") for x in fit.nuisance(duration))
 
 
-# issue 34, item 3: the absorbed-misfit check needs no model tolerance --------------------
+# The absorbed-misfit check needs no model tolerance --------------------
 def _common_factor(sim: gc.SimulatedRecord, model: gc.GyrocompassParams, dt_true: float
                    ) -> tuple[float, float, float, list[dict]]:
     """The fit of C_as, C_in (the vibration at the truth) from ``model``: its common factor
@@ -233,7 +233,7 @@ def _common_factor(sim: gc.SimulatedRecord, model: gc.GyrocompassParams, dt_true
 def test_common_factor_is_the_records_realized_noise():
     """Why fit_checks needs no model tolerance: the clean 100-s record with α1 × 10 (seed
     5151) whose intensities the fit moved by 1.010 ± 0.0032 (refused without the 0.5 %
-    tolerance that stood until issue 34) has sensor noise draws 1 % above their variance:
+    tolerance of an earlier version) has sensor noise draws 1 % above their variance:
     the realized noise's own common factor is more than 3 SE from 1, and the fitted factor
     equals it within 0.25 SE (no model bias: one of the resolution the old tolerance
     allowed, 0.5 % = 1.6 SE, would show).  The check refuses the record at its false-alarm
@@ -259,7 +259,7 @@ def test_common_factor_is_the_records_realized_noise():
     assert fitted - realized > np.log(1.005) - 0.25 * se, (fitted, realized, se)
 
 
-# issue 34, item 2: the standard errors the fit carries are what the record supports -------
+# The standard errors the fit carries are what the record supports -------
 def test_carried_standard_error_reaches_where_the_profile_likelihood_falls():
     """20 s with α1 × 5 and σ1² × 4 (seed 1), α1 and σ1² fitted: the likelihood is far from
     quadratic (α1's 95 % interval reaches 8 curvature SE below α̂1 and 1.3 above).  Against
@@ -295,7 +295,7 @@ def test_carried_standard_error_reaches_where_the_profile_likelihood_falls():
     assert profile_drop(th - 1.96 * se) < 0.5 * target      # power: the curvature alone
 
 
-# issue 34, the fit-interval coverage: each side of an interval is a bracketed root search --
+# The fit-interval coverage: each side of an interval is a bracketed root search --
 def _unbracketed_secant(drop, guess, room, target, max_steps):
     """The search before the coverage study (the deliberately wrong model): secant steps on
     √(2 drop) through the origin, no bracket, the last step when the steps run out."""

@@ -1,4 +1,4 @@
-"""Issue 34, items 2 and 3: an estimate far outside its prior is not a result, and a noise fit
+"""An estimate far outside its prior is not a result, and a noise fit
 cannot launder a misfit.  Records of the truth model (gc.simulate_record) with a stated
 fault; each check must refuse the fault with its reason code and pass the clean record
 (a case that must refuse, a case that must pass), and the power of each: without the check
@@ -80,7 +80,7 @@ def fast_clock():
 def test_fit_cannot_launder_a_fast_clock(fast_clock):
     """--fit-noise --fit C_as,C_in on the 2.4 %-fast clock: the calibration with the fitted
     noise is > 15 σ off, and with a mean-NIS band widened by 0.5 % it passes every model
-    check (power: the misfit laundered; without that tolerance, since issue 34's gated NIS
+    check (power: the misfit laundered; without that tolerance, under the gated NIS
     band, inclinometer_y's NIS 0.977 falls just below its band's 0.979 on this record), but
     the fit moved both intensities by one common factor (≈ 1.02): ``fit_absorbs_misfit``
     refuses it; each fitted level is inside its plausible range (gyrolib.inputs)."""
@@ -98,7 +98,7 @@ def test_fit_cannot_launder_a_fast_clock(fast_clock):
 def test_stated_clock_tolerance_covers_the_fast_clock(fast_clock):
     """The same record with the clock's tolerance stated (3 %, ``sigma_clock``): the fit's
     common factor is within it, the clock term carries it into σ(ω_gc), and ω_gc is
-    covered within 3 σ.  Since issue 34's gated NIS band has no 0.5 % tolerance the run is
+    covered within 3 σ.  Since the gated NIS band has no 0.5 % tolerance the run is
     also refused, as the issue allows ("refuse or cover"): inclinometer_y's mean NIS with
     the fitted noise, 0.977, lies below its band's 0.979 (the fast clock is a misfit of
     the inclinometers' dynamics that the clock term, carried only into σ, does not

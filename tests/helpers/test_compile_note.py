@@ -1,4 +1,4 @@
-"""The first numba compile says so (issue 29, item 5): one line on a terminal's stderr, none
+"""The first numba compile says so: one line on a terminal's stderr, none
 when the kernels come from the cache, none into a pipe."""
 
 import os

@@ -1,4 +1,4 @@
-"""The compact ``repr`` of result objects (issue 29, item 5): ``print(result)`` shows arrays
+"""The compact ``repr`` of result objects: ``print(result)`` shows arrays
 by shape and nested parameters by name, in a few lines, never the arrays' values."""
 
 import dataclasses

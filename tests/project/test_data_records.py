@@ -1,4 +1,4 @@
-"""``data/README.md`` is what ``data/make_records.py`` writes (issue 33): its description of the
+"""``data/README.md`` is what ``data/make_records.py`` writes: its description of the
 records and of the sensitivity studies in ``gyrolib/data/`` is read from the files, so it cannot
 go on describing studies the package no longer holds (it described the 0.2.0 files until 0.5.2).
 """

@@ -1,4 +1,4 @@
-"""Rerunning the chapters in Jupyter with pinned versions (issue 14, item 4).
+"""Rerunning the chapters in Jupyter with pinned versions.
 
 * ``requirements-lab.txt`` pins every package exactly, and ``tasks.py`` installs nothing
   unpinned (every ``pip install`` takes a pinned requirements file, or the project itself
@@ -77,7 +77,7 @@ def test_lab_requirements_are_exact_pins_compatible_with_the_book():
     lab = pins(ROOT / "requirements-lab.txt")
     book = pins(ROOT / "requirements.txt")
     assert "jupyterlab" in lab
-    # MyST Markdown rendered in JupyterLab's notebook view (issue 35): pinned, for JupyterLab 4
+    # MyST Markdown rendered in JupyterLab's notebook view: pinned, for JupyterLab 4
     assert "jupyterlab-myst" in lab and lab["jupyterlab"].startswith("4.")
     clash = {n: (v, book[n]) for n, v in lab.items() if n in book and book[n] != v}
     assert not clash, f"requirements-lab.txt pins other versions than requirements.txt: {clash}"

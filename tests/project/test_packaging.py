@@ -1,17 +1,17 @@
-"""Packaging (issue 22, item 4): gyrolib declares what it imports, and installs and imports with
+"""Packaging: gyrolib declares what it imports, and installs and imports with
 exactly that.
 
 * Every third-party package a gyrolib module imports (read from the source, imports inside
   functions too) is declared in ``pyproject.toml``: an import that runs when a module loads
   in ``[project] dependencies``, one inside a function there or in an extra.  The same check
   with numba taken out of the declarations reports numba (power).
-* Slow (issue 29, item 5: a lean install): a fresh venv, ``pip install --no-deps`` of the
+* Slow (a lean install): a fresh venv, ``pip install --no-deps`` of the
   core set at the versions pinned in ``requirements.txt`` (what ``[project] dependencies``
   require, transitively, read from the metadata of the installed environment; extras left
   out) and of a copy of the package, then: the site-packages size recorded and bounded
   (installed with ``--no-compile``, which halves the install time: the files of the wheels,
   644 MB; pip's default byte-compiling adds about 93 MB, 737 MB in all, measured once by
-  hand with this test's set-up (issue 36, after sympy moved to the ``book`` extra), against
+  hand with this test's set-up (after sympy moved to the ``book`` extra), against
   818 MB before and 821 MB with the extras as dependencies), ``pip
   check`` (every requirement of what is installed is installed: the core set is complete),
   every module of gyrolib imported there
@@ -116,7 +116,7 @@ def test_every_import_is_declared_in_pyproject():
     # the packages the modules are known to load with (a floor for the AST walk)
     assert {"numpy", "scipy", "matplotlib", "numba", "sympy", "control"} <= set(imports)
     assert imports["numba"], "numba is imported when a module loads"
-    # sympy (the book extra, issue 36) only under `with optional(...)` or in functions
+    # sympy (the book extra) only under `with optional(...)` or in functions
     assert not imports["sympy"]
     assert undeclared(imports, deps, extras) == []
     # power: the same import outside its `with optional(...)` block counts as at load
@@ -138,17 +138,17 @@ EXTRA_ONLY = ("jupyter-book", "myst-nb", "salib", "pandas", "dask", "distributed
               "allantools", "sphinx", "pytest", "numpydoc", "sympy", "mpmath")
 
 #: Bound on the core install's site-packages (MB, the wheels' files without byte-compiled
-#: ``.pyc``).  Measured: 501 MB with the extras moved out (issue 29), then 672 MB once the CSV
-#: reader moved to pyarrow (issue 27: 171 MB, the field's standard reader, which the project's
+#: ``.pyc``).  Measured: 501 MB with the extras moved out, then 672 MB once the CSV
+#: reader moved to pyarrow (171 MB, the field's standard reader, which the project's
 #: guide names), against 821 MB byte-compiled with the extras as dependencies before.  The
 #: issue's aim of 500 MB is not met: llvmlite's shared library (numba's compiler, 179 MB
 #: unstripped) and pyarrow are two thirds of it; the rest is what the library computes with
 #: (scipy, numpy, matplotlib with fonttools and pillow; listed in the failure message).
-#: Issue 36: sympy and mpmath moved to the ``book`` extra, 29 MB of files (86 MB
+#: sympy and mpmath are in the ``book`` extra, 29 MB of files (86 MB
 #: byte-compiled): 643.5 MB measured, the bound down by the same 29 MB; pip's default,
 #: byte-compiled install of the core measured 737 MB (site-packages with the bare venv's pip,
 #: 22 MB), against the issue's 750 MB (818 MB before).  Since the test installs with the
-#: project's pip into a venv without one (issue 36: no ensurepip), the site-packages no longer
+#: project's pip into a venv without one (no ensurepip), the site-packages no longer
 #: hold the bare venv's pip 23.2.1 and setuptools 65.5 (22 MB): the bound down by as much.
 MAX_INSTALLED_MB = 649
 
@@ -278,7 +278,7 @@ def test_lean_install_size_imports_and_extras(tmp_path):
                     ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
     env_dir = tmp_path / "venv"
     # a bare venv, and the project's pinned pip installs into it (``pip --python``): no
-    # ensurepip (6 CPU-s of the test's 27 on the 2-core AVX2 machine, issue 36), and the
+    # ensurepip (6 CPU-s of the test's 27 on the 2-core AVX2 machine), and the
     # site-packages measured hold the core install alone
     venv.EnvBuilder(with_pip=False, clear=True).create(env_dir)
     py = env_dir / ("Scripts" if os.name == "nt" else "bin") / "python"

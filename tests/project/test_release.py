@@ -1,4 +1,4 @@
-"""One version everywhere (issue 14, item 2): ``pyproject.toml`` is the source.
+"""One version everywhere: ``pyproject.toml`` is the source.
 
 ``gyrolib.__version__``, ``CITATION.cff``, ``.zenodo.json``, the newest ``CHANGELOG.md``
 entry and the "How to cite" page must carry the same string; in the built book, so must the

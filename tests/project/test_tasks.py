@@ -1,4 +1,4 @@
-"""tasks.py's numba warm-up before the test session (issue 29, item 7): every call of
+"""tasks.py's numba warm-up before the test session: every call of
 ``WARM_NUMBA`` runs against the current API (errors are swallowed under the test command, so a
 call that no longer fits would silently stop warming the cache), and the kernels it reaches
 are then in numba's cache.  (What it saves is measured, not asserted: a cold run of it takes

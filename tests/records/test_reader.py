@@ -182,7 +182,7 @@ def test_separator_faults_are_named(tmp_path):
         _read(p, required=["x"])
     p.write_text("t;angle_sensor;inclinometer_y;inclinometer_z\n0,001;0,5;0;0\n")
     with pytest.raises(RecordError, match=r"line 2: ambiguous decimal separator.*'0,001'"):
-        _read(p)          # some numbers with a decimal comma, some not (issue 34)
+        _read(p)          # some numbers with a decimal comma, some not
     p.write_bytes("t,x\n1,2\n".encode("utf-16"))
     with pytest.raises(RecordError, match="UTF-16"):
         _read(p, required=["t", "x"])

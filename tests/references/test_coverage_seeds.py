@@ -1,8 +1,8 @@
-"""The coverage benchmark's cases (issue 34, item 7; ``benchmarks/bench_coverage.py`` runs
+"""The coverage benchmark's cases (``benchmarks/bench_coverage.py`` runs
 100 seeds of each and records the statistics) on two fixed seeds each, small: RSF flights
 of 30 s, GC records of 10 s, fitted noise on 10 s records.  Each seed's truth lies within
-3 σ (RSF, GC) or inside the fitted parameters' 95 % intervals; the power: the σ before
-issue 34 (RSF's SEM) misses the same RSF flights by more."""
+3 σ (RSF, GC) or inside the fitted parameters' 95 % intervals; the power: a σ made of
+RSF's SEM alone misses the same RSF flights by more."""
 
 from __future__ import annotations
 

@@ -423,7 +423,7 @@ def test_durations_off_the_sample_grid_are_rejected(duration, sample_rate):
         rsf.SimulationConfig(duration=duration, sample_rate=sample_rate)
 
 
-# the worked example's operating point and readings (issue 33)
+# the worked example's operating point and readings
 case("rsf.WorkedExample", lambda: rsf.WorkedExample(omega_x=-1.0), ValueError, "omega_x", POS)
 case("rsf.WorkedExample", lambda: rsf.WorkedExample(eps1_gs_unit="%"), ValueError,
      "eps1_gs_unit", "one of")

@@ -186,7 +186,7 @@ def test_jittered_time_stamps_are_not_gaps():
     assert res.gaps == 1 and res.samples_used == t.size - 3
 
 
-# Wraps, slips, gaps, reversals (issue 27) -------------------------------------------------
+# Wraps, slips, gaps, reversals -------------------------------------------------
 def _with_gs(rec: rsf.RSFRecord, gs: np.ndarray, inc=None, t=None) -> rsf.RSFRecord:
     return rsf.RSFRecord(t=rec.t if t is None else t,
                          sins_increment=rec.sins_increment if inc is None else inc,

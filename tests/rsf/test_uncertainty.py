@@ -1,4 +1,4 @@
-"""rsf.eps1_uncertainty: the total standard uncertainty of eps1_hat_mean (issue 34, item 1)
+"""rsf.eps1_uncertainty: the total standard uncertainty of eps1_hat_mean
 against records whose errors are written out here (a synthetic roll with stated SINS and GS
 biases, GS angle scale, encoder resolution and position error), each error against the σ;
 the checks refuse a record noisier than its model, biases beyond their tolerances on a

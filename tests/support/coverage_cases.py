@@ -1,4 +1,4 @@
-"""One record of each coverage study (issue 34, item 7), shared by the tests (two fixed seeds
+"""One record of each coverage study, shared by the tests (two fixed seeds
 each) and ``benchmarks/bench_coverage.py`` (at least 100 seeds each): made with every
 constant drawn from its prior, so that the prior is part of the truth, and judged by the
 σ the tool prints."""

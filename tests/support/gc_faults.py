@@ -1,5 +1,5 @@
 """The tests' own generator of paper-GC records with the defects of real instruments and
-logs (issue 26), for ``tests/cli/test_calibrate_faults.py`` and
+logs, for ``tests/cli/test_calibrate_faults.py`` and
 ``benchmarks/bench_calibrate_faults.py``.
 
 The clean record is the truth model of :func:`gyrolib.gc.simulate_record` (the paper's

@@ -1,5 +1,5 @@
 """The constant errors of a real instrument that paper GC leaves out, declared once for every
-consumer of the model (issue 26, item 3; issue 29, item 2).
+consumer of the model.
 
 Each :class:`InstrumentTerm` is a constant ``b_e`` (``ḃ_e = 0``) with a 1σ prior taken from a
 :class:`~gyrolib.gc.GyrocompassParams` field, and says how it enters the model:

@@ -152,8 +152,7 @@ class GyrocompassParams:
     * ``sigma_hf_scale``: the relative standard uncertainty κ of the scale common to ``H/f`` and
       the angle sensor's gain (dimensionless; 10⁻⁴ to 10⁻² for real instruments).  GC reads
       the drift through the float's steady rate ``(H/f)(Ω_h cos β + ω_gc)``, so a relative
-      error κ reads as a drift of about κ·Ω_h, which 100 s of data cannot tell from ω_gc
-      (issues 26 and 28).
+      error κ reads as a drift of about κ·Ω_h, which 100 s of data cannot tell from ω_gc.
     * ``sigma_as_offset``: the 1σ prior (rad) of a constant null offset of the angle sensor
       (arc seconds in practice; a logger that starts a time τ late reads like an offset of
       about ``(H/f) Ω_h τ``);
@@ -281,7 +280,7 @@ class GyrocompassParams:
     def scale_drift_sigma(self) -> float:
         """The drift (rad/s) that the scale uncertainty ``sigma_hf_scale`` reads as, to first
         order: ``sigma_hf_scale · Ω_h`` (a relative error κ of ``H/f`` or of the angle sensor's
-        gain scales the float's steady rate ``(H/f) Ω_h``; issues 26 and 28).
+        gain scales the float's steady rate ``(H/f) Ω_h``).
 
         Examples
         --------

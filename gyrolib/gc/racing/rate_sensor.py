@@ -1174,7 +1174,7 @@ def _advance_lanes(x, loop, w, j, n_fine, phi1, gam1, phi2, gam2, phil, gaml, h,
     filters N1, N2 (rows 0, 1 of ``x``) and N3, N4 (rows 2, 3), the float ``(β, β')`` in its
     loop (``loop``), the input rate ``base + s_ub N1 + N3`` at each step's start, its
     integral added to ``integral``.  Each lane runs the steps of the numpy loop it replaces
-    (issue 36: that loop's small array operations were the rival's Monte Carlo's time)."""
+    (that loop's small array operations were the rival's Monte Carlo's time)."""
     B = x.shape[1]
     for r in range(B):
         n1, n2, n3, n4 = x[0, r], x[1, r], x[2, r], x[3, r]

@@ -1,4 +1,4 @@
-"""The sensitivity study of the claims' margins over the table of inputs (issue 33, item 5):
+"""The sensitivity study of the claims' margins over the table of inputs:
 its inputs are the table's uncertain rows over the table's ranges, its stored files are
 refused when computed over another table, and the stored indices have the structure the
 margins' formulas impose (an input a margin does not read has a total index of exactly 0;
