@@ -322,25 +322,30 @@ def run_file(file: str, o: dict) -> Outcome:
         chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"],
                           units=o["units"], decimal_comma=o["decimal_comma"])
         it = iter(chunks)
-        first = next(it)
-        info = chunks.info
-        extra = _time_notes(info, first, params, notes)
-        params = _with_step(params, first.t, notes, o["dt_given"])
-        params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
+        try:        # the file and pyarrow's reader closed however the run ends
+            first = next(it)
+            info = chunks.info
+            extra = _time_notes(info, first, params, notes)
+            params = _with_step(params, first.t, notes, o["dt_given"])
+            params, earth = _with_latitude(params, getattr(first, "latitude", None), o,
+                                           notes)
 
-        def mapped():
-            yield _as_stated(mapping.apply(first), earth)
-            for chunk in it:
-                yield _as_stated(mapping.apply(chunk), earth)
+            def mapped():
+                yield _as_stated(mapping.apply(first), earth)
+                for chunk in it:
+                    yield _as_stated(mapping.apply(chunk), earth)
 
-        # the next chunk is read (parsed, checked at the door) in one thread while the
-        # filter, which releases the GIL, runs on the current one: two chunks in flight
-        with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
-                progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
-                          bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
-                          ) as bar:
-            res = _calibrate(mapped(), params, o, executor=reader,
-                             progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
+            # the next chunk is read (parsed, checked at the door) in one thread while the
+            # filter, which releases the GIL, runs on the current one: two chunks in flight
+            with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
+                    progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
+                              bar_format="{desc} {percentage:3.0f}%|{bar}| "
+                                         "{elapsed}<{remaining}") as bar:
+                res = _calibrate(mapped(), params, o, executor=reader,
+                                 progress=lambda _rows: bar.update(100 * chunks.fraction
+                                                                   - bar.n))
+        finally:
+            it.close()
     valid, reason = bool(res.valid), str(res.reason)
     if not earth["stated"]:   # the Earth rate reads as drift: no latitude, no valid estimate
         valid, reason = False, "; ".join(x for x in (NO_LATITUDE, reason) if x)

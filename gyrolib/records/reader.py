@@ -42,6 +42,7 @@ import io
 import math
 import os
 import re
+import threading
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Final
@@ -277,12 +278,16 @@ def _is_number(cell: str) -> bool:
 
 class _Rest:
     """The bytes after the header: what is left of the buffer, then the stream (a file-like
-    object pyarrow reads from)."""
+    object pyarrow reads from, in its own I/O threads).  :meth:`stop` ends it early: the
+    reads under way finish, and every later one reads the end of the file."""
 
     def __init__(self, head: bytes, stream) -> None:
         self.head = head
         self.stream = stream
         self.closed = False
+        self._stopped = False
+        self._busy = 0                        # reads under way (in pyarrow's threads)
+        self._idle = threading.Condition()
 
         self.empty_rows = 0      # rows of separators only, stripped from the file's end
         self._held = b""         # the last bytes read, held until the end is known
@@ -297,9 +302,29 @@ class _Rest:
             return out
         return self.stream.read() if n < 0 else self.stream.read(n)
 
+    def stop(self, timeout: float = 30.0) -> None:
+        """End the stream here: wait for the reads under way, and read the end of the file
+        from now on (pyarrow's read-ahead then stops at once)."""
+        with self._idle:
+            self._stopped = True
+            self._idle.wait_for(lambda: self._busy == 0, timeout=timeout)
+
     def read(self, n: int = -1) -> bytes:
         """Up to ``n`` bytes (all with ``n < 0``); the file's trailing rows of separators
-        only (``,,,`` as spreadsheets leave them) are cut off and counted."""
+        only (``,,,`` as spreadsheets leave them) are cut off and counted; nothing once
+        stopped."""
+        with self._idle:
+            if self._stopped:
+                return b""
+            self._busy += 1
+        try:
+            return self._read(n)
+        finally:
+            with self._idle:
+                self._busy -= 1
+                self._idle.notify_all()
+
+    def _read(self, n: int = -1) -> bytes:
         n = -1 if n is None else n
         if self._eof:
             out, self._held = self._held, b""
@@ -315,7 +340,7 @@ class _Rest:
                 data = data[:m.start()] + b"\n"
             return data
         out, self._held = self._held, nxt
-        return out if out else self.read(n)
+        return out if out else self._read(n)
 
     def readable(self) -> bool:
         return True
@@ -829,7 +854,7 @@ class _Reader:
                                           pa.float64())
                     yield _float_matrix(cols)
         finally:
-            reader.close()   # pyarrow's read-ahead stopped, not left to the exit
+            _stop_reading(reader, rest)
 
     def _iso_base(self, delim: str, i_t: int):
         """For ISO 8601 date-time stamps in the first row: ``(offset text, source, True)``,
@@ -986,6 +1011,26 @@ class _Reader:
         return data
 
 
+def _stop_reading(reader, rest: _Rest) -> None:
+    """Stop pyarrow's streaming CSV ``reader`` of ``rest`` for good, before the reader is
+    dropped: an iteration abandoned early (a refusal at the door, an error) leaves its
+    read-ahead running in pyarrow's I/O threads, reading ``rest`` through the GIL; at the
+    interpreter's exit those threads are then stopped inside Python, and the process
+    aborts ("terminate called without an active exception", status 134) or hangs in
+    pyarrow's thread-pool shutdown.  So: the reads under way finish, every later read is
+    the end of the file (:meth:`_Rest.stop`), the reader is drained to that end (its
+    read-ahead has then finished), and closed."""
+    import pyarrow as pa
+
+    rest.stop()
+    try:
+        while True:
+            reader.read_next_batch()
+    except (StopIteration, pa.ArrowException, OSError, ValueError):
+        pass                    # the end, or a row cut short by the stop: either way done
+    reader.close()
+
+
 @dataclasses.dataclass(frozen=True)
 class _Layout:
     """What :meth:`_Reader._layout` found before the data: the header's ``names``, its line
@@ -1134,16 +1179,20 @@ class GCChunks:
     def __iter__(self) -> Iterator[GCRecord]:
         first = True
         row = 0
-        for _, data in self._reader:
-            if first:
-                _check_gc_start(self._reader.label, float(data[0, 0]))
-                first = False
-            rec = _gc_from(data, self._reader.latitude)
-            if self._check:
-                check_gc(rec, self._params, label=self._reader.label,
-                         rows=(row + 1, row + rec.n))
-            row += rec.n
-            yield rec
+        chunks = iter(self._reader)
+        try:
+            for _, data in chunks:
+                if first:
+                    _check_gc_start(self._reader.label, float(data[0, 0]))
+                    first = False
+                rec = _gc_from(data, self._reader.latitude)
+                if self._check:
+                    check_gc(rec, self._params, label=self._reader.label,
+                             rows=(row + 1, row + rec.n))
+                row += rec.n
+                yield rec
+        finally:        # a refusal or an abandoned run: the file and pyarrow's reader closed
+            chunks.close()
 
 
 def read_gc(path: object, *, params: GyrocompassParams | None = None, check: bool = True,
