@@ -90,10 +90,10 @@ def entry() -> None:
     thread of pyarrow's pools that still needs the GIL (a read of a Python file object, the
     release of one) is stopped inside Python, and the process aborts ("terminate called
     without an active exception", SIGABRT, status 134 instead of the command's) or hangs in
-    the pools' shutdown: measured on a 500 000-row gzip record refused at the door, 1 run
-    in 40 still aborted with the reader stopped, none with this exit
-    (tests/records/test_reader_exit.py; a known hazard of Arrow's pools, apache/arrow#34314,
-    seen after Ctrl-C too, status 130)."""
+    the pools' shutdown.  Measured on a 500 000-row gzip record refused at the door: 9 runs
+    in 28 aborted or hung without the reader's stop, 1 in 40 aborted with it, none in 40
+    with it and this exit (tests/records/test_reader_exit.py runs the refusals; a known
+    hazard of Arrow's pools, apache/arrow#34314, seen after Ctrl-C too, status 130)."""
     code = main()
     sys.stdout.flush()
     sys.stderr.flush()

@@ -1,4 +1,4 @@
-"""The Allan deviation and its noise terms on real data (issue 34, item 5): the OCXO, GPS
+"""The Allan deviation and its noise terms on real data: the OCXO, GPS
 and Cs records of allantools' source distribution against Stable32's published tables
 (``tests/references/data_allantools``, an LGPL excerpt committed with its licence), and the rule
 that a term never claims more than the data: its line stays below the measured deviation at every

@@ -11,6 +11,7 @@ records against a second fit written here from IEEE Std 952-1997, Annex C.
 * a term read outside the measured τ range (the YEI log's first 300 rows end at τ = 1.2 s)
   is printed as a bound with its τ range;
 * both logs are motion recordings: each gets the warning;
+* one missing cell in the x-IMU log's 12 626 rows drops that row, counted, not the file;
 * the YEI log with its time in ms is refused naming ``--time-unit ms``, and read with it
   gives the angle random walk of the log in s within 5 %."""
 
@@ -196,7 +197,7 @@ def test_terms_against_a_second_fit_from_ieee_952(yei, capsys):
     for name, argv, _ in _logs(yei):
         _, out, _ = _json(["allan", *argv], capsys)
         cases.append((name, out["noise_terms"], out["tau"], out["adev"]))
-    for k, a in enumerate(AXES):
+    for a in AXES:
         _, out, _ = _json(["allan", yei["first300"], "--time-unit", "us", "--columns",
                            f"rate={a}"], capsys)
         cases.append((f"yei first 300 {a}", out["noise_terms"], out["tau"], out["adev"]))
@@ -249,3 +250,24 @@ def test_time_in_milliseconds(yei, capsys):
             ref["noise_terms"][0]["value"], rel=0.05)
     _, wrong, _ = _json([*ms, "--time-unit", "s"], capsys)
     assert wrong["noise_terms"][0]["value"] > 5 * ref["noise_terms"][0]["value"]
+
+
+def test_one_missing_value_in_the_x_imu_log(tmp_path, capsys):
+    """The x-IMU log (12 626 rows) with one gyro cell emptied: read, that row dropped and
+    counted, and the deviation that of the log without the row (allantools, to 1e-12)."""
+    import allantools
+
+    lines = gzip.decompress((DATA / "00033_CalInertialAndMag.csv.gz").read_bytes()
+                            ).decode().splitlines()
+    cells = lines[5001].split(",")
+    cells[3] = ""
+    path = tmp_path / "xio_nan.csv"
+    path.write_text("\n".join([*lines[:5001], ",".join(cells), *lines[5002:]]) + "\n")
+    code, out, err = _json(["allan", path, "--rate", "256", "--rate-unit", "deg/s",
+                            "--columns", f"rate={XIO_AXES[2]}"], capsys)
+    assert code == 0 and err == ""
+    assert out["rows"] == 12626 and out["rows_dropped_missing"] == 1
+    rate, fs = _raw("x-IMU", 2)
+    _, ref, _, _ = allantools.oadev(np.delete(rate, 5000), rate=fs, data_type="freq",
+                                    taus="octave")
+    np.testing.assert_allclose(out["adev"], ref[:len(out["adev"])], rtol=1e-12, atol=0)
