@@ -105,7 +105,10 @@ def run(args: argparse.Namespace) -> int:
     except OptionError as exc:
         return _fail(args, str(exc))
     except RecordError as exc:
-        return _fail(args, str(exc), exc.hint)
+        hint = exc.hint
+        if exc.column == "t" and "not in the header" in str(exc):
+            hint = "--rate HZ (a log without a time column)"
+        return _fail(args, str(exc), hint)
     except ValueError as exc:       # a bad --columns key, named by the reader
         return _fail(args, " ".join(str(exc).split()))
     unit = "1" if args.rate_unit == "1" else "rad/s"

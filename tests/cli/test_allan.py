@@ -173,6 +173,7 @@ def test_bad_input_exits_2(tmp_path, capsys):
     code, out, err = _json(["allan", bad], capsys)
     assert code == 2 and out["status"] == "error" and "column 't'" in err
     assert "--columns t=NAME" in err and err.count("\n") == 1
+    assert "try: --rate HZ (a log without a time column)" in err
     uneven = tmp_path / "uneven.csv"
     uneven.write_text("t,rate\n" + "".join(f"{k * 0.01 + (0.005 if k == 7 else 0)},1\n"
                                           for k in range(20)))
