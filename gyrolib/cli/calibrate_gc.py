@@ -376,24 +376,27 @@ def _judge_streamed(file: str, o: dict, notes: list[str]):
     chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"],
                       units=o["units"], decimal_comma=o["decimal_comma"])
     it = iter(chunks)
-    first = next(it)
-    extra = _time_notes(chunks.info, first, params, notes)
-    params = _with_step(params, first.t, notes, o["dt_given"])
-    params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
+    try:        # the file and pyarrow's reader closed however the run ends
+        first = next(it)
+        extra = _time_notes(chunks.info, first, params, notes)
+        params = _with_step(params, first.t, notes, o["dt_given"])
+        params, earth = _with_latitude(params, getattr(first, "latitude", None), o, notes)
 
-    def mapped():
-        yield _as_stated(o["mapping"].apply(first), earth)
-        for chunk in it:
-            yield _as_stated(o["mapping"].apply(chunk), earth)
+        def mapped():
+            yield _as_stated(o["mapping"].apply(first), earth)
+            for chunk in it:
+                yield _as_stated(o["mapping"].apply(chunk), earth)
 
-    # the next chunk is read (parsed, checked at the door) in one thread while the filter,
-    # which releases the GIL, runs on the current one: two chunks in flight
-    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
-            progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
-                     bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
-                     ) as bar:
-        ver = _judge(mapped(), params, earth, o, notes, executor=reader,
-                     progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
+        # the next chunk is read (parsed, checked at the door) in one thread while the
+        # filter, which releases the GIL, runs on the current one: two chunks in flight
+        with concurrent.futures.ThreadPoolExecutor(max_workers=1) as reader, \
+                progress(o["bar"], total=100.0, desc=f"calibrate gc {file}", unit="%",
+                         bar_format="{desc} {percentage:3.0f}%|{bar}| "
+                                    "{elapsed}<{remaining}") as bar:
+            ver = _judge(mapped(), params, earth, o, notes, executor=reader,
+                         progress=lambda _rows: bar.update(100 * chunks.fraction - bar.n))
+    finally:
+        it.close()
     return ver, params, earth, extra
 
 

@@ -11,6 +11,8 @@ module              what it holds
                     :func:`write_csv`
 ``params``          :func:`load_toml`, :func:`gc_params_from_toml`,
                     :func:`rsf_config_from_toml`
+``rate_log``        :func:`read_rate_log`: a gyro's (or clock's) rate or phase log for
+                    its Allan deviation, through the same reader (:class:`RateLog`)
 ``plausibility``    units and conventions at the door: :func:`check_gc`,
                     :func:`check_rsf` (a column in degrees, milliseconds or g refused with
                     the likely mistake named), :func:`angle_bound`, :func:`noise_ratio`
@@ -29,7 +31,8 @@ _HOME: dict[str, str] = {
     "RecordError": "errors", "OptionError": "errors",
     "gc_params_from_toml": "params", "load_toml": "params", "rsf_config_from_toml": "params",
     "angle_bound": "plausibility", "check_gc": "plausibility", "check_rsf": "plausibility",
-    "noise_ratio": "plausibility",
+    "noise_ratio": "plausibility", "check_rate_log": "plausibility",
+    "RateLog": "rate_log", "read_rate_log": "rate_log",
     "add_format_options": "options", "parse_columns": "options", "read_options": "options",
     "ABSOLUTE_TIME": "reader", "GC_COLUMNS": "reader", "RSF_COLUMNS": "reader",
     "GCChunks": "reader", "GCRecord": "reader", "RecordInfo": "reader", "iter_csv": "reader",
@@ -48,6 +51,8 @@ def __getattr__(name: str):
         import gyrolib.records.params as module
     elif home == "plausibility":
         import gyrolib.records.plausibility as module
+    elif home == "rate_log":
+        import gyrolib.records.rate_log as module
     elif home == "options":
         import gyrolib.records.options as module
     elif home == "reader":
@@ -73,11 +78,13 @@ __all__ = [
     "GCRecord",
     "OptionError",
     "RSFRecord",
+    "RateLog",
     "RecordError",
     "RecordInfo",
     "add_format_options",
     "angle_bound",
     "check_gc",
+    "check_rate_log",
     "check_rsf",
     "gc_params_from_toml",
     "iter_csv",
@@ -87,6 +94,7 @@ __all__ = [
     "read_csv",
     "read_gc",
     "read_options",
+    "read_rate_log",
     "read_rsf",
     "rsf_config_from_toml",
     "write_csv",

@@ -55,16 +55,16 @@ UNIT_OPTIONS: dict[str, tuple[str, tuple[str, ...]]] = {
 }
 
 
-def add_format_options(p: argparse.ArgumentParser) -> None:
-    """Add the format options (``--columns``, ``--t0``, the unit options) to ``p``."""
+def add_format_options(p: argparse.ArgumentParser, *,
+                       kinds: tuple[str, ...] = ("time", "angle", "accel"),
+                       t0: bool = True, example: str = "t=time,angle_sensor=gyro") -> None:
+    """Add the format options (``--columns``, ``--t0`` unless ``t0`` is False,
+    ``--decimal-comma``, the unit options of ``kinds``) to ``p``."""
     p.add_argument("--columns", metavar="MAP",
-                   help="the file's header names of the record's columns, e.g. "
-                        "t=time,angle_sensor=gyro (default: the names themselves)")
-    p.add_argument("--t0", type=float, metavar="S",
-                   help="the time stamp of the feedback switch-off: earlier rows are dropped "
-                        "(the output says how many) and S is subtracted from every time "
-                        "stamp (default: the first row's time when it is an absolute clock, "
-                        ">= 1000 s; else none); in the time column's unit")
+                   help=f"the file's header names of the record's columns, e.g. "
+                        f"{example} (default: the names themselves)")
+    if t0:
+        _add_t0(p)
     p.add_argument("--decimal-comma", action="store_true", default=None,
                    help="the numbers are written with a decimal comma (0,5); default: "
                         "detected when ';' separates the columns and every number of the "
@@ -72,9 +72,18 @@ def add_format_options(p: argparse.ArgumentParser) -> None:
     what = {"time": "the time column t", "angle": "the angle columns (angle_sensor; "
             "sins_increment, gs_angle, gs_gyro_angle)", "accel": "the inclinometers"}
     for opt, (kind, choices) in UNIT_OPTIONS.items():
-        p.add_argument(opt, choices=choices, default=None, metavar="UNIT",
-                       help=f"the unit of {what[kind]} in the file: {', '.join(choices)} "
-                            f"(default {choices[0]}); converted to SI as read")
+        if kind in kinds:
+            p.add_argument(opt, choices=choices, default=None, metavar="UNIT",
+                           help=f"the unit of {what[kind]} in the file: {', '.join(choices)} "
+                                f"(default {choices[0]}); converted to SI as read")
+
+
+def _add_t0(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--t0", type=float, metavar="S",
+                   help="the time stamp of the feedback switch-off: earlier rows are dropped "
+                        "(the output says how many) and S is subtracted from every time "
+                        "stamp (default: the first row's time when it is an absolute clock, "
+                        ">= 1000 s; else none); in the time column's unit")
 
 
 def read_options(args: argparse.Namespace) -> dict:
@@ -91,9 +100,10 @@ def read_options(args: argparse.Namespace) -> dict:
         columns = parse_columns(args.columns) if args.columns is not None else None
     except ValueError as exc:
         raise OptionError(f"--columns: {' '.join(str(exc).split())}") from None
-    if args.t0 is not None and not math.isfinite(args.t0):
-        raise OptionError(f"--t0 must be a finite number of seconds; got {args.t0}")
+    t0 = getattr(args, "t0", None)
+    if t0 is not None and not math.isfinite(t0):
+        raise OptionError(f"--t0 must be a finite number of seconds; got {t0}")
     units = {kind: getattr(args, opt[2:].replace("-", "_"), None)
              for opt, (kind, _) in UNIT_OPTIONS.items()}
-    return {"columns": columns, "t0": args.t0, "units": units,
+    return {"columns": columns, "t0": t0, "units": units,
             "decimal_comma": getattr(args, "decimal_comma", None)}

@@ -23,6 +23,14 @@ Paper GC (:func:`check_gc`):
   is beyond ``g sin 0.1`` (a tilt of 5.7°, far outside the small tilts Eq. (5) linearizes) is
   refused too, naming the vertical axis when it reads about ``g``.
 
+A gyro's rate log (:func:`check_rate_log`, the ``allan`` command):
+
+* **time** — a median step of 0.5 or more is a rate of 2 Hz or less in seconds, slow for a
+  gyro's log, and a rate of 10 Hz to 2 kHz in milliseconds (a step from 100 to 10⁵: in
+  microseconds), as gyro logs are sampled: refused, naming ``--time-unit ms`` (``us``), or
+  ``--time-unit s`` for a log really sampled that slowly (the option states the unit, and
+  the check then does not run).
+
 Paper RSF (:func:`check_rsf`):
 
 * **time** — a median step of at least 0.5 s in whole numbers fits milliseconds;
@@ -53,7 +61,8 @@ from gyrolib.units import ARCSEC, ARCSEC_PAPER, DEG
 if TYPE_CHECKING:    # imported when used: a GC run does not load paper RSF's package
     from gyrolib.rsf.record import RSFRecord
 
-__all__ = ["ANGLE_PRIOR_SIGMAS", "angle_bound", "check_gc", "check_rsf", "noise_ratio"]
+__all__ = ["ANGLE_PRIOR_SIGMAS", "angle_bound", "check_gc", "check_rate_log", "check_rsf",
+           "noise_ratio"]
 
 #: Prior standard deviations the bound on the float's deviation allows (k in the docstring).
 ANGLE_PRIOR_SIGMAS: Final[float] = 10.0
@@ -273,6 +282,49 @@ def check_gc(record: GCRecord, params: GyrocompassParams | None = None, *, label
                         where)
     _check_inclinometer(label, "inclinometer_z", record.inclinometer_z, step, p, p.C_incl_z,
                         where)
+
+
+# A gyro's rate log ------------------------------------------------------------------------
+#: A median step (in the time column's unit) from which a gyro's rate log is refused as
+#: likely milliseconds or microseconds (2 Hz or slower in seconds).
+RATE_LOG_SLOW_STEP: Final[float] = 0.5
+
+#: The sample rates (Hz) a gyro's log is taken to have when its time column is read in
+#: milliseconds or microseconds instead of seconds.
+_GYRO_RATES: Final[tuple[float, float]] = (10.0, 1e4)
+
+
+def check_rate_log(t: np.ndarray, *, label: str) -> None:
+    """Refuse a gyro's rate log whose time column fits milliseconds or microseconds: a
+    median step of at least :data:`RATE_LOG_SLOW_STEP` (2 Hz or slower in seconds) that,
+    read in ms (or µs), is a rate of 10 Hz to 10 kHz.  The refusal names ``--time-unit``
+    (with ``s`` for a log really sampled that slowly).
+
+    Raises
+    ------
+    RecordError
+        Naming the file, the column ``t`` and the likely unit.
+
+    Examples
+    --------
+    >>> check_rate_log(np.arange(100) * 0.01, label="ok.csv")     # 100 Hz in s: passes
+    >>> try:
+    ...     check_rate_log(np.arange(100) * 10.0, label="ms.csv")  # 100 Hz in ms
+    ... except RecordError as e:
+    ...     print(e.hint)
+    --time-unit ms
+    """
+    t = np.asarray(t, dtype=float)
+    step = _median_step(t)
+    if not (math.isfinite(step) and step >= RATE_LOG_SLOW_STEP):
+        return
+    for unit, factor, option in _TIME_UNITS:
+        rate = 1.0 / (step * factor)
+        if _GYRO_RATES[0] <= rate <= _GYRO_RATES[1]:
+            raise RecordError(label, f"a median step of {step:.6g} ({1.0 / step:.3g} Hz if "
+                              f"in s, slow for a gyro's log) fits {unit} ({rate:.4g} Hz): "
+                              f"expected t in s; give {option}, or --time-unit s if the log "
+                              "really is sampled this slowly", column="t", hint=option)
 
 
 # RSF ------------------------------------------------------------------------------------

@@ -42,6 +42,7 @@ import io
 import math
 import os
 import re
+import threading
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Final
@@ -277,12 +278,16 @@ def _is_number(cell: str) -> bool:
 
 class _Rest:
     """The bytes after the header: what is left of the buffer, then the stream (a file-like
-    object pyarrow reads from)."""
+    object pyarrow reads from, in its own I/O threads).  :meth:`stop` ends it early: the
+    reads under way finish, and every later one reads the end of the file."""
 
     def __init__(self, head: bytes, stream) -> None:
         self.head = head
         self.stream = stream
         self.closed = False
+        self._stopped = False
+        self._busy = 0                        # reads under way (in pyarrow's threads)
+        self._idle = threading.Condition()
 
         self.empty_rows = 0      # rows of separators only, stripped from the file's end
         self._held = b""         # the last bytes read, held until the end is known
@@ -297,9 +302,29 @@ class _Rest:
             return out
         return self.stream.read() if n < 0 else self.stream.read(n)
 
+    def stop(self, timeout: float = 30.0) -> None:
+        """End the stream here: wait for the reads under way, and read the end of the file
+        from now on (pyarrow's read-ahead then stops at once)."""
+        with self._idle:
+            self._stopped = True
+            self._idle.wait_for(lambda: self._busy == 0, timeout=timeout)
+
     def read(self, n: int = -1) -> bytes:
         """Up to ``n`` bytes (all with ``n < 0``); the file's trailing rows of separators
-        only (``,,,`` as spreadsheets leave them) are cut off and counted."""
+        only (``,,,`` as spreadsheets leave them) are cut off and counted; nothing once
+        stopped."""
+        with self._idle:
+            if self._stopped:
+                return b""
+            self._busy += 1
+        try:
+            return self._read(n)
+        finally:
+            with self._idle:
+                self._busy -= 1
+                self._idle.notify_all()
+
+    def _read(self, n: int = -1) -> bytes:
         n = -1 if n is None else n
         if self._eof:
             out, self._held = self._held, b""
@@ -315,7 +340,7 @@ class _Rest:
                 data = data[:m.start()] + b"\n"
             return data
         out, self._held = self._held, nxt
-        return out if out else self.read(n)
+        return out if out else self._read(n)
 
     def readable(self) -> bool:
         return True
@@ -330,19 +355,22 @@ class _Rest:
 # The reader -------------------------------------------------------------------------------
 #: The kind of each record column a unit option converts (``encoder_counts`` is counts).
 UNIT_KINDS: Final[dict[str, str]] = {
-    "t": "time", "angle_sensor": "angle", "sins_increment": "angle", "gs_angle": "angle",
+    "t": "time", "rate": "rate", "phase": "phase", "angle_sensor": "angle",
+    "sins_increment": "angle", "gs_angle": "angle",
     "gs_gyro_angle": "angle", "inclinometer_y": "accel", "inclinometer_z": "accel"}
 #: The units each kind may be read in (names of :data:`gyrolib.units.UNITS`).
 READ_UNITS: Final[dict[str, tuple[str, ...]]] = {
     "time": ("s", "ms", "us", "µs"), "angle": ("rad", "mrad", "deg", "arcsec"),
-    "accel": ("m/s^2", "mg", "g")}
+    "accel": ("m/s^2", "mg", "g"), "rate": ("rad/s", "deg/s", "deg/h", "1"),
+    "phase": ("rad", "deg", "s")}
 
 
 #: Unit names a units row may hold, by kind (brackets and parentheses around them dropped).
 _ROW_UNITS: Final[dict[str, str]] = {
     "s": "s", "sec": "s", "ms": "ms", "us": "us", "µs": "us", "rad": "rad", "mrad": "mrad",
     "deg": "deg", "°": "deg", "arcsec": "arcsec", '"': "arcsec", "m/s^2": "m/s^2",
-    "m/s²": "m/s^2", "m/s2": "m/s^2", "mg": "mg", "g": "g"}
+    "m/s²": "m/s^2", "m/s2": "m/s^2", "mg": "mg", "g": "g", "rad/s": "rad/s",
+    "deg/s": "deg/s", "°/s": "deg/s", "dps": "deg/s", "deg/h": "deg/h", "°/h": "deg/h"}
 #: Cells of a units row that name no unit (a count, a ratio).
 _ROW_NO_UNIT: Final[frozenset[str]] = frozenset({"", "-", "1", "counts", "count"})
 
@@ -416,6 +444,9 @@ class _Reader:
         self._offset: decimal.Decimal | None = None
         self.info: RecordInfo | None = None
         self.latitude: float | None = None
+        #: Whether the first column is the time ``t`` (checked finite and increasing, its
+        #: base and unit read); a record without one (a rate log at a stated rate) is not.
+        self.has_time = bool(self.required) and self.required[0] == "t"
 
     def _error(self, message: str, **kw) -> RecordError:
         return RecordError(self.label, message, **kw)
@@ -731,7 +762,7 @@ class _Reader:
             elif self._offset is not None and self._iso_ns is None:
                 values[0] -= float(self._offset)
             self._check(np.array([values]), 0, None, t_prev, line=line_no)
-            t_prev = values[0]
+            t_prev = values[0] if self.has_time else t_prev
         return None
 
     def _line_of(self, ctx: dict, row: int) -> int | None:
@@ -748,6 +779,13 @@ class _Reader:
         else:
             def where(r: int) -> int | None:
                 return line
+        inf = np.isinf(data[:, 1:] if self.has_time else data)
+        if not self.has_time:
+            if np.any(inf):
+                r, c = (int(x[0]) for x in np.nonzero(inf))
+                raise self._error("expected a finite number (or empty / nan for a missing "
+                                  "value); got inf", row=where(r), column=self.use[c])
+            return
         t = data[:, 0]
         bad = ~np.isfinite(t)
         if np.any(bad):
@@ -767,7 +805,6 @@ class _Reader:
             r = int(np.nonzero(bad)[0][0])
             raise self._error(f"time must be strictly increasing; got {float(t[r])!r} after "
                               f"{float(prev[r])!r}", row=where(r), column="t")
-        inf = np.isinf(data[:, 1:])
         if np.any(inf):
             r, c = (int(x[0]) for x in np.nonzero(inf))
             raise self._error("expected a finite number (or empty / nan for a missing "
@@ -801,23 +838,26 @@ class _Reader:
                 column_types=types, include_columns=keep,
                 decimal_point="," if self._comma else ".",
                 null_values=list(NULL_VALUES), quoted_strings_can_be_null=True))
-        for batch in reader:
-            if batch.num_rows:
-                cols = [batch.column(c) for c in keep]
-                if self._iso_ns is not None:   # ns since the epoch, less the offset, exact
-                    ns = np.asarray(cols[0].cast(pa.int64()).fill_null(self._iso_ns - 1)
-                                    .to_numpy(zero_copy_only=False))
-                    sec = (ns - self._iso_ns) / 1e9
-                    if cols[0].null_count:
-                        sec[np.asarray(cols[0].is_null().to_numpy(zero_copy_only=False))] = \
-                            np.nan
-                    cols[0] = pa.array(sec, type=pa.float64())
-                if offset is not None:      # exact decimal difference, then one rounding
-                    import pyarrow.compute as pc  # only for an absolute clock (50 ms)
+        try:
+            for batch in reader:
+                if batch.num_rows:
+                    cols = [batch.column(c) for c in keep]
+                    if self._iso_ns is not None:   # ns since the epoch, less the offset, exact
+                        ns = np.asarray(cols[0].cast(pa.int64()).fill_null(self._iso_ns - 1)
+                                        .to_numpy(zero_copy_only=False))
+                        sec = (ns - self._iso_ns) / 1e9
+                        if cols[0].null_count:
+                            sec[np.asarray(cols[0].is_null().to_numpy(zero_copy_only=False))] = \
+                                np.nan
+                        cols[0] = pa.array(sec, type=pa.float64())
+                    if offset is not None:      # exact decimal difference, then one rounding
+                        import pyarrow.compute as pc  # only for an absolute clock (50 ms)
 
-                    cols[0] = pc.cast(pc.subtract(cols[0], pa.scalar(offset, dec)),
-                                      pa.float64())
-                yield _float_matrix(cols)
+                        cols[0] = pc.cast(pc.subtract(cols[0], pa.scalar(offset, dec)),
+                                          pa.float64())
+                    yield _float_matrix(cols)
+        finally:
+            _stop_reading(reader, rest)
 
     def _iso_base(self, delim: str, i_t: int):
         """For ISO 8601 date-time stamps in the first row: ``(offset text, source, True)``,
@@ -859,91 +899,177 @@ class _Reader:
         return None, "none", False
 
     def __iter__(self) -> Iterator[tuple[list[str], np.ndarray]]:
-        import pyarrow as pa
+        """Chunks ``(columns, data)`` of :attr:`chunk_rows` rows (the last one shorter).
 
+        In four roles: :meth:`_layout` reads the lines before the data (header, columns,
+        units, time base); :meth:`_parsed` the Arrow batches as float arrays (a fault
+        located and named); :meth:`_prepared` each array as the record's (offset, rows
+        before ``t0`` dropped, units, checks); :func:`_rechunked` them in chunks.  The
+        file and pyarrow's streaming reader are closed when the iteration ends, whether it
+        is exhausted, fails or is abandoned (``close()``): a streaming reader left to the
+        interpreter's exit reads on in pyarrow's threads, which can abort the process
+        ("terminate called without an active exception")."""
         stream, raw, size = self._open()
+        batches = None
         try:
-            try:
-                names, header_line, delim, after = self._preamble(stream)
-            except (gzip.BadGzipFile, EOFError, OSError) as exc:
-                if isinstance(exc, RecordError):
-                    raise
-                raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
-            use, idx = self._columns(names, header_line, delim)
-            self.use = use
-            self._comma = self._decimal_comma(delim, idx, header_line)
-            self.col_factor = self._row_factors(use)
-            ctx = {"header_line": header_line, "delim": delim, "n_fields": len(names),
-                   "use": use, "idx": idx}
-            t_prev = -math.inf
-            n_rows = dropped = 0
-            pending: list[np.ndarray] = []
-            held = 0
-            offset, source, exact = self._iso_base(delim, idx[0]) or self._time_base(
-                delim, idx[0])
-            self._decimal_t = exact and self._iso_ns is None
-            self._offset = offset
-            source_bytes = _Rest(after, stream)
-            batches = self._batches(source_bytes, delim, len(names), idx,
-                                    offset if exact and self._iso_ns is None else None)
-            info = None
-            while True:
-                try:
-                    data = next(batches, None)
-                except (pa.ArrowInvalid, pa.ArrowException) as exc:
-                    if str(exc).startswith("Empty CSV file"):
-                        data = None         # nothing after the header: said below
-                    else:
-                        self._scan(header_line, delim, len(names), use, idx)
-                        raise self._error("cannot be read as CSV: "
-                                          + " ".join(str(exc).split())) from None
-                except (gzip.BadGzipFile, EOFError, OSError) as exc:
-                    raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
-                if data is not None:
-                    if offset is not None and not exact:
-                        data[:, 0] -= float(offset)
-                    if source == "t0" and info is None:       # rows before t0: dropped
-                        before = ~(data[:, 0] >= 0.0) & ~np.isnan(data[:, 0])
-                        lead = int(np.argmin(before)) if not np.all(before) else len(data)
-                        data, dropped = data[lead:], dropped + lead
-                    if data.shape[0] == 0:
-                        continue
-                    for j, c in enumerate(use):     # the units row, --time-unit, ...
-                        f = self.col_factor.get(c, self.units.get(UNIT_KINDS.get(c, ""), 1.0))
-                        if f != 1.0:
-                            data[:, j] *= f
-                    self._check(data, n_rows + dropped, ctx, t_prev)
-                    t_prev = float(data[-1, 0])
-                    if info is None:
-                        info = self.info = RecordInfo(
-                            path=self.label, delimiter=delim, header_line=header_line,
-                            columns={c: self.files[c] for c in use}, latitude=self.latitude,
-                            t_offset=float(offset or 0.0), t_offset_source=source,
-                            t_offset_text=(f"iso {self._iso_text}" if self._iso_ns
-                                           is not None else str(offset or 0)),
-                            t_exact=exact,
-                            rows_dropped=dropped, header_notes=tuple(self.header_notes))
-                    n_rows += data.shape[0]
-                    pending.append(data)
-                    held += data.shape[0]
-                    self.fraction = min(1.0, raw.tell() / size) if size else 1.0
-                while held >= self.chunk_rows or (data is None and held):
-                    block = pending[0] if len(pending) == 1 else np.concatenate(pending)
-                    out, rest = block[:self.chunk_rows], block[self.chunk_rows:]
-                    pending, held = ([rest] if rest.shape[0] else []), rest.shape[0]
-                    yield use, out
-                if data is None:
-                    break
-            if n_rows == 0:
+            lay = self._layout(stream)
+            rest = _Rest(lay.after, stream)
+            batches = self._batches(rest, lay.delim, len(lay.names), lay.idx,
+                                    lay.offset if lay.exact and self._iso_ns is None
+                                    else None)
+            state = {"rows": 0, "dropped": 0, "t_prev": -math.inf}
+            blocks = (self._prepared(data, lay, state, raw, size)
+                      for data in self._parsed(batches, lay))
+            for out in _rechunked((b for b in blocks if b.shape[0]), self.chunk_rows):
+                yield lay.use, out
+            if state["rows"] == 0:
                 raise self._error("has a header but no data rows"
-                                  + (f" at or after t0 = {self.t0:g} s ({dropped} before it)"
-                                     if dropped else ""), row=header_line)
-            if source_bytes.empty_rows and info is not None:
-                self.info = info = dataclasses.replace(info,
-                                                       empty_rows=source_bytes.empty_rows)
+                                  + (f" at or after t0 = {self.t0:g} s ({state['dropped']} "
+                                     "before it)" if state["dropped"] else ""),
+                                  row=lay.header_line)
+            if rest.empty_rows and self.info is not None:
+                self.info = dataclasses.replace(self.info, empty_rows=rest.empty_rows)
         finally:
+            if batches is not None:
+                batches.close()         # its finally closes pyarrow's reader
             stream.close()
             raw.close()
+
+    def _layout(self, stream) -> _Layout:
+        """The lines before the data read (:meth:`_preamble`), the columns found, the
+        decimal separator, the units row's factors and the time base."""
+        try:
+            names, header_line, delim, after = self._preamble(stream)
+        except (gzip.BadGzipFile, EOFError, OSError) as exc:
+            if isinstance(exc, RecordError):
+                raise
+            raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
+        use, idx = self._columns(names, header_line, delim)
+        self.use = use
+        self._comma = self._decimal_comma(delim, idx, header_line)
+        self.col_factor = self._row_factors(use)
+        if self.has_time:
+            offset, source, exact = self._iso_base(delim, idx[0]) or self._time_base(
+                delim, idx[0])
+        else:
+            offset, source, exact = None, "none", False
+        self._decimal_t = exact and self._iso_ns is None
+        self._offset = offset
+        return _Layout(names=names, header_line=header_line, delim=delim, after=after,
+                       use=use, idx=idx, offset=offset, source=source, exact=exact)
+
+    def _parsed(self, batches, lay: _Layout) -> Iterator[np.ndarray]:
+        """The float arrays of pyarrow's batches; a fault pyarrow stops at is located by a
+        scan of the file (:meth:`_scan`) and raised with its line and column."""
+        import pyarrow as pa
+
+        while True:
+            try:
+                data = next(batches, None)
+            except (pa.ArrowInvalid, pa.ArrowException) as exc:
+                if str(exc).startswith("Empty CSV file"):
+                    return              # nothing after the header: said by __iter__
+                self._scan(lay.header_line, lay.delim, len(lay.names), lay.use, lay.idx)
+                raise self._error("cannot be read as CSV: "
+                                  + " ".join(str(exc).split())) from None
+            except (gzip.BadGzipFile, EOFError, OSError) as exc:
+                raise self._error(f"cannot be read as a (gzip) CSV file: {exc}") from None
+            if data is None:
+                return
+            yield data
+
+    def _prepared(self, data: np.ndarray, lay: _Layout, state: dict, raw,
+                  size: int) -> np.ndarray:
+        """One parsed array as the record's: the time offset subtracted, rows before
+        ``t0`` dropped (counted in ``state``), the columns converted to SI, the rows
+        checked (:meth:`_check`); sets :attr:`info` at the first rows."""
+        if lay.offset is not None and not lay.exact:
+            data[:, 0] -= float(lay.offset)
+        if lay.source == "t0" and self.info is None:       # rows before t0: dropped
+            before = ~(data[:, 0] >= 0.0) & ~np.isnan(data[:, 0])
+            lead = int(np.argmin(before)) if not np.all(before) else len(data)
+            data = data[lead:]
+            state["dropped"] += lead
+        if data.shape[0] == 0:
+            return data
+        for j, c in enumerate(lay.use):     # the units row, --time-unit, ...
+            f = self.col_factor.get(c, self.units.get(UNIT_KINDS.get(c, ""), 1.0))
+            if f != 1.0:
+                data[:, j] *= f
+        ctx = {"header_line": lay.header_line, "delim": lay.delim,
+               "n_fields": len(lay.names), "use": lay.use, "idx": lay.idx}
+        self._check(data, state["rows"] + state["dropped"], ctx, state["t_prev"])
+        state["t_prev"] = float(data[-1, 0])
+        if self.info is None:
+            self.info = RecordInfo(
+                path=self.label, delimiter=lay.delim, header_line=lay.header_line,
+                columns={c: self.files[c] for c in lay.use}, latitude=self.latitude,
+                t_offset=float(lay.offset or 0.0), t_offset_source=lay.source,
+                t_offset_text=(f"iso {self._iso_text}" if self._iso_ns is not None
+                               else str(lay.offset or 0)),
+                t_exact=lay.exact, rows_dropped=state["dropped"],
+                header_notes=tuple(self.header_notes))
+        state["rows"] += data.shape[0]
+        self.fraction = min(1.0, raw.tell() / size) if size else 1.0
+        return data
+
+
+def _stop_reading(reader, rest: _Rest) -> None:
+    """Stop pyarrow's streaming CSV ``reader`` of ``rest`` for good, before the reader is
+    dropped: an iteration abandoned early (a refusal at the door, an error) leaves its
+    read-ahead running in pyarrow's I/O threads, reading ``rest`` through the GIL; at the
+    interpreter's exit those threads are then stopped inside Python, and the process
+    aborts ("terminate called without an active exception", status 134) or hangs in
+    pyarrow's thread-pool shutdown.  So: the reads under way finish, every later read is
+    the end of the file (:meth:`_Rest.stop`), the reader is drained to that end (its
+    read-ahead has then finished), and closed."""
+    import pyarrow as pa
+
+    rest.stop()
+    try:
+        while True:
+            reader.read_next_batch()
+    except (StopIteration, pa.ArrowException, OSError, ValueError):
+        pass                    # the end, or a row cut short by the stop: either way done
+    reader.close()
+
+
+@dataclasses.dataclass(frozen=True)
+class _Layout:
+    """What :meth:`_Reader._layout` found before the data: the header's ``names``, its line
+    ``header_line``, the separator ``delim``, the bytes read beyond the header ``after``,
+    the columns read ``use`` at the header positions ``idx``, and the time base (``offset``
+    subtracted, its ``source``, whether the stamps are read ``exact`` as decimals)."""
+
+    names: list
+    header_line: int
+    delim: str
+    after: bytes
+    use: list
+    idx: list
+    offset: decimal.Decimal | None
+    source: str
+    exact: bool
+
+
+def _rechunked(blocks, rows: int) -> Iterator[np.ndarray]:
+    """The arrays ``blocks`` regrouped in chunks of ``rows`` rows (the last one shorter).
+
+    >>> [c.shape[0] for c in _rechunked([np.zeros((3, 1)), np.zeros((4, 1))], 2)]
+    [2, 2, 2, 1]
+    """
+    pending: list[np.ndarray] = []
+    held = 0
+    for data in blocks:
+        pending.append(data)
+        held += data.shape[0]
+        while held >= rows:
+            block = pending[0] if len(pending) == 1 else np.concatenate(pending)
+            out, rest = block[:rows], block[rows:]
+            pending, held = ([rest] if rest.shape[0] else []), rest.shape[0]
+            yield out
+    if held:
+        yield pending[0] if len(pending) == 1 else np.concatenate(pending)
 
 
 def iter_csv(path: object, required: Sequence[str], *, one_of: Sequence[str] = (),
@@ -1056,16 +1182,20 @@ class GCChunks:
     def __iter__(self) -> Iterator[GCRecord]:
         first = True
         row = 0
-        for _, data in self._reader:
-            if first:
-                _check_gc_start(self._reader.label, float(data[0, 0]))
-                first = False
-            rec = _gc_from(data, self._reader.latitude)
-            if self._check:
-                check_gc(rec, self._params, label=self._reader.label,
-                         rows=(row + 1, row + rec.n))
-            row += rec.n
-            yield rec
+        chunks = iter(self._reader)
+        try:
+            for _, data in chunks:
+                if first:
+                    _check_gc_start(self._reader.label, float(data[0, 0]))
+                    first = False
+                rec = _gc_from(data, self._reader.latitude)
+                if self._check:
+                    check_gc(rec, self._params, label=self._reader.label,
+                             rows=(row + 1, row + rec.n))
+                row += rec.n
+                yield rec
+        finally:        # a refusal or an abandoned run: the file and pyarrow's reader closed
+            chunks.close()
 
 
 def read_gc(path: object, *, params: GyrocompassParams | None = None, check: bool = True,

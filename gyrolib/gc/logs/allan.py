@@ -21,15 +21,20 @@ overlapping Allan variance for the noise that dominates each series (NIST SP 106
 for the inclinometers.
 
 **Noise terms** (IEEE Std 952-1997, Annex C, where the lines of slope −½, 0 and +½ are
-read off the log-log Allan deviation): here the standard fit of the Allan variance,
-``σ²(τ) = Σ a_p τ^p`` for p = −2 … 2, with a_p >= 0 (non-negative least squares weighted by
-each point's χ² spread, for the least favourable of white angle, white rate and rate
-random-walk noise), gives the angle random walk ``N = √a₋₁`` (the −½ line at τ = 1 s), the
-bias instability ``B = √a₀/0.664`` (the flat floor) and the rate random walk ``K = √(3a₁)``
-(the +½ line at τ = 3 s), each with a 1σ uncertainty from the fit (scaled by
-:data:`_OVERLAP_INFLATION`: neighbouring overlapping averages share data).  A term whose
-coefficient is not above twice its uncertainty is not identified: only an upper bound
-(coefficient + 2σ) is given.
+read off the log-log Allan deviation).  The angle random walk ``N = √a₋₁`` (the −½ line,
+read at τ = 1 s) and the rate random walk ``K = √(3a₁)`` (the +½ line, read at τ = 3 s)
+come from the standard fit of the Allan variance, ``σ²(τ) = Σ a_p τ^p`` for p = −2 … 2,
+with a_p >= 0 (non-negative least squares weighted by each point's χ² spread, for the
+least favourable of white angle, white rate and rate random-walk noise), each with a 1σ
+uncertainty from the fit (scaled by :data:`_OVERLAP_INFLATION`: neighbouring overlapping
+averages share data).  The bias instability is IEEE Std 952's definition, the curve's
+minimum over 0.664 (:data:`FLICKER_FLOOR`), not a fitted constant: the ratio of the two
+definitions is 1 by construction.  No term lies above the data: a term's line and the
+line of its upper bound stay at or below the measured deviation's 68 % upper bound at
+every τ of the curve; a term whose coefficient is not above twice its uncertainty, whose
+line would cross that bound, or whose reading τ lies outside the measured τ range is not
+identified: only an upper bound is given (the largest line inside the data), with the τ
+range it comes from.
 """
 
 from __future__ import annotations
@@ -48,8 +53,8 @@ from gyrolib.gc.model.nominal import nominal_motion_aperiodic
 from gyrolib.gc.model.params import GyrocompassParams
 
 __all__ = ["AllanDeviation", "AllanSeries", "NoiseTerm", "allan_deviation",
-           "allan_model_vibration", "allan_noise_terms", "allan_series", "edf_oadev",
-           "noise_terms", "oadev"]
+           "allan_model_vibration", "allan_noise_terms", "allan_series", "curve_upper_bound",
+           "edf_oadev", "noise_terms", "oadev", "rest_excursion"]
 
 #: The series of :class:`AllanDeviation`, in order.
 SERIES: Final[tuple[str, ...]] = ("angle_sensor", "inclinometer_y", "inclinometer_z")
@@ -256,32 +261,59 @@ def _oadev(data: np.ndarray, rate: float, data_type: str, taus,
 class NoiseTerm:
     """One noise term read off an Allan deviation (IEEE Std 952): ``name``, ``value`` with
     its 1σ interval ``lo``…``hi`` (SI, ``unit``), ``tau`` (s) where the term contributes
-    most of σ², ``identified`` (its coefficient is above twice its uncertainty; else
-    ``value`` = ``hi`` is only an upper bound and ``lo`` is 0), ``slope`` (−½, 0 or +½)."""
+    most of σ² (None for a coefficient of 0: the term is nowhere), ``identified`` (else
+    ``value`` = ``hi`` is only an upper bound and ``lo`` is 0), ``slope`` (−½, 0 or +½),
+    ``tau_range`` the measured curve's first and last τ (s) and ``read_at`` the τ (s) at
+    which IEEE Std 952 reads the term off its line (1 s for the −½ line, 3 s for the +½
+    line, the curve's minimum for bias instability): a term read outside ``tau_range``
+    is extrapolated, and never identified."""
 
     name: str
     value: float
     lo: float
     hi: float
     unit: str
-    tau: float
+    tau: float | None
     identified: bool
     slope: float
+    tau_range: tuple[float, float] = (math.nan, math.nan)
+    read_at: float = math.nan
+    std: float = math.nan
 
     @property
     def sigma(self) -> float:
-        """Half the 68 % interval (a symmetric ±)."""
-        return 0.5 * (self.hi - self.lo)
+        """The 1σ uncertainty of ``value``: the fit's (``std``, before ``hi`` is clipped to
+        the data's bound) when given, else half the interval ``lo``…``hi``."""
+        return self.std if math.isfinite(self.std) else 0.5 * (self.hi - self.lo)
+
+    @property
+    def extrapolated(self) -> bool:
+        """Whether IEEE Std 952's reading τ lies outside the measured τ range."""
+        lo, hi = self.tau_range
+        return not (lo <= self.read_at <= hi)
 
     def describe(self, scale: float = 1.0, unit: str | None = None) -> str:
         """``"name = value ± sigma unit (at τ = ...)"``, or ``"name <= value"`` when not
-        identified; ``scale`` divides the SI values (a display unit)."""
+        identified (with the τ range the bound comes from when the term is read outside
+        it); ``scale`` divides the SI values (a display unit)."""
         u = unit or self.unit
         if not self.identified:
-            return (f"{self.name} <= {self.value / scale:.3g} {u} (not identified: its "
-                    f"τ^{2 * self.slope:+.0f} term is not above twice its uncertainty)")
+            lo, hi = self.tau_range
+            if self.extrapolated:
+                why = (f"a bound from tau = {lo:.3g} to {hi:.3g} s; IEEE 952 reads it at "
+                       f"tau = {self.read_at:.3g} s, outside the measured range")
+            elif self.slope == 0.0:
+                why = ("not identified: the curve has no significant minimum between a "
+                       "fall and a rise")
+            else:
+                why = (f"not identified: its tau^{2 * self.slope:+.0f} term is not above "
+                       "twice its uncertainty, or its line would rise above the measured "
+                       "deviation's 68 % upper bound")
+            return f"{self.name} <= {self.value / scale:.3g} {u} ({why})"
+        where = (f"curve minimum at tau = {self.tau:.3g} s, divided by 0.664"
+                 if self.slope == 0.0 else f"dominant near tau = {self.tau:.3g} s")
         return (f"{self.name} = {self.value / scale:.3g} ± {self.sigma / scale:.2g} {u} "
-                f"(1σ; dominant near τ = {self.tau:.3g} s)")
+                f"(1 sigma; {where})")
 
 
 #: Factor on the fit's standard errors: the octave-spaced overlapping averages share data,
@@ -294,6 +326,13 @@ _OVERLAP_INFLATION: Final[float] = 1.5
 #: The three terms: name and slope of the tangent line.
 _TERMS: Final[tuple[tuple[str, float], ...]] = (
     ("angle random walk", -0.5), ("bias instability", 0.0), ("rate random walk", 0.5))
+
+#: IEEE Std 952-1997, Annex C: the flicker floor of the Allan deviation is 0.664 B
+#: (√(2 ln 2 / π)), and the bias instability is read as the curve's minimum over it.
+FLICKER_FLOOR: Final[float] = 0.664
+
+#: τ (s) at which IEEE Std 952 reads the −½ line (N = σ(1 s)) and the +½ line (K = σ(3 s)).
+READ_AT: Final[dict[float, float]] = {-0.5: 1.0, 0.5: 3.0}
 
 
 def allan_noise_terms(result: AllanDeviation) -> dict[str, tuple[NoiseTerm, ...]]:
@@ -347,6 +386,19 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
     ``unit``·√s, B in ``unit``, K in ``unit``/√s.  ``names`` renames them (e.g. velocity
     random walk for an accelerometer).
 
+    Every term stays inside the data: its line (``N/√τ``, ``0.664 B``, ``K √(τ/3)``) and
+    the line of its upper bound lie at or below the measured deviation's 68 % upper bound
+    at every τ of the curve (:func:`curve_upper_bound`: the bound the whole curve stays
+    under with 68 % probability).  N and K come from the fit of the Allan variance
+    and are identified only when their coefficient is above twice its uncertainty, their
+    line inside the data within its 1σ (the value and its upper bound are then clipped to
+    the largest line inside the data), and IEEE Std 952's reading τ (1 s, 3 s) inside the
+    measured range; otherwise they are upper bounds (the largest such line that stays
+    inside the data, at most the fit's coefficient plus twice its uncertainty).  B is IEEE
+    Std 952's: the curve's minimum over 0.664, identified when the minimum lies between a
+    fall and a significant rise (a later point's 68 % lower bound above the minimum's
+    upper bound), else an upper bound.
+
     Examples
     --------
     >>> rng = np.random.default_rng(4)
@@ -359,6 +411,100 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
     """
     v.check_instance("series", series, AllanSeries)
     names = names or tuple(n for n, _ in _TERMS)
+    tau, ad = np.asarray(series.tau), np.asarray(series.adev)
+    lo68 = np.minimum(np.asarray(series.lo, dtype=float), ad)
+    hi68 = curve_upper_bound(series)
+    a, sd, free, scale = _power_law_fit(series)
+    powers = np.arange(-2, 3)
+    factor = {-0.5: 1.0, 0.0: FLICKER_FLOOR**2, 0.5: 1.0 / 3.0}    # a_p = factor · term²
+    span = (float(tau[0]), float(tau[-1]))
+    out = []
+    for (_, slope), label in zip(_TERMS, names):
+        unit = {-0.5: f"{series.unit}·√s", 0.0: series.unit,
+                0.5: f"{series.unit}/√s"}[slope]
+        if slope == 0.0:
+            out.append(_bias_instability(label, unit, tau, ad, lo68, hi68, span))
+            continue
+        p = round(2 * slope)
+        i = int(np.flatnonzero(powers == p)[0])
+        ai, si = float(a[i]), float(sd[i])
+        # the largest line a τ^p at or below the measured deviation's 68 % upper bound at
+        # every τ of the curve
+        cap = float(np.min(hi68**2 / tau**p))
+        read_at = READ_AT[slope]
+        inside = span[0] <= read_at <= span[1]
+        # identified: above twice its uncertainty, its line inside the data within its
+        # 1σ (the value then clipped to the data's bound), and read inside the τ range
+        identified = ai > 2.0 * si and si > 0 and ai - si <= cap and inside
+        std = math.nan
+        if identified:
+            hi_a, lo_a = min(ai + si, cap), max(ai - si, 0.0)
+            value = math.sqrt(min(ai, cap) / factor[slope])
+            std = 0.5 * (math.sqrt((ai + si) / factor[slope])
+                         - math.sqrt(lo_a / factor[slope]))
+        else:
+            hi_a = min(ai + 2.0 * max(si, math.sqrt(max(free[i], 0.0))), cap)
+            lo_a = 0.0
+            value = math.sqrt(hi_a / factor[slope])
+        # the τ where the term contributes most of σ² (none for a coefficient of 0)
+        share = (a[i] * tau**p) / scale
+        where = float(tau[int(np.argmax(share))]) if ai > 0.0 else None
+        out.append(NoiseTerm(name=label, value=value, lo=math.sqrt(lo_a / factor[slope]),
+                             hi=math.sqrt(hi_a / factor[slope]), unit=unit, tau=where,
+                             identified=identified, slope=slope, tau_range=span,
+                             read_at=read_at, std=std))
+    return tuple(out)
+
+
+def curve_upper_bound(series: AllanSeries, level: float = 0.682689492137086) -> np.ndarray:
+    """The measured deviation's upper bound at each τ that holds at every τ of the curve
+    together with probability ``level`` (default 68 %): each point's χ² bound with the
+    least favourable edf of white phase, white rate and random-walk rate noise (NIST SP
+    1065, Table 5), at the one-sided level ``level^(1/n)`` over the curve's ``n`` points
+    (Šidák).  A term's line that crosses it at some τ claims more than the data show.
+
+    Examples
+    --------
+    >>> rate = np.random.default_rng(5).standard_normal(2**14)
+    >>> s = allan_series(rate, 1.0)
+    >>> bool(np.all(curve_upper_bound(s) >= s.hi))      # wider than each point's 68 %
+    True
+    """
+    v.check_instance("series", series, AllanSeries)
+    level = v.check_real("level", level)
+    if not 0.0 < level < 1.0:
+        raise ValueError(f"level must be a probability in (0, 1); got {level}")
+    tau, ad = np.asarray(series.tau), np.asarray(series.adev)
+    m = np.maximum(np.round(tau / tau[0]), 1.0)
+    n_phase = int(np.max(np.asarray(series.n) + 2 * m))
+    edf = np.min([edf_oadev(alpha, m, n_phase) for alpha in (2, 0, -2)], axis=0)
+    below = level ** (1.0 / tau.size)          # each point's one-sided coverage
+    return ad * np.sqrt(edf / chi2_ppf(1.0 - below, edf))
+
+
+def _bias_instability(label: str, unit: str, tau: np.ndarray, ad: np.ndarray,
+                      lo68: np.ndarray, hi68: np.ndarray, span: tuple[float, float]
+                      ) -> NoiseTerm:
+    """IEEE Std 952's bias instability: the curve's minimum over 0.664, identified when the
+    minimum is between a fall and a significant rise; else the bound ``min(hi68)/0.664``,
+    the largest flat line at or below the 68 % upper bound at every τ."""
+    k = int(np.argmin(ad))
+    rises = k + 1 < ad.size and float(np.max(lo68[k + 1:])) > float(hi68[k])
+    identified = 0 < k and rises
+    top = float(np.min(hi68))
+    if identified:
+        value, lo, hi = (float(ad[k]) / FLICKER_FLOOR, float(lo68[k]) / FLICKER_FLOOR,
+                         top / FLICKER_FLOOR)
+    else:
+        value, lo, hi = top / FLICKER_FLOOR, 0.0, top / FLICKER_FLOOR
+    return NoiseTerm(name=label, value=value, lo=lo, hi=hi, unit=unit, tau=float(tau[k]),
+                     identified=identified, slope=0.0, tau_range=span, read_at=float(tau[k]))
+
+
+def _power_law_fit(series: AllanSeries) -> tuple[np.ndarray, ...]:
+    """The fit ``σ²(τ) = Σ a_p τ^p`` over p = −2 … 2 with a_p >= 0: the coefficients, their
+    standard deviations (of those left free), those of every coefficient (for a bound),
+    and the fitted σ² at each τ."""
     tau, ad = np.asarray(series.tau), np.asarray(series.adev)
     # the edf of each point for the least favourable of white phase, white rate and
     # random-walk rate noise (the series' own edf assumes one noise type throughout)
@@ -384,48 +530,52 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
     dof = max(tau.size - int(np.count_nonzero(a > 0)), 1)
     chi2_red = float(np.sum(((A @ a - y) * w) ** 2)) / dof
     inflate = max(chi2_red, 1.0) * _OVERLAP_INFLATION**2
-    cov = cov * inflate
     free = np.diag(_nnls_cov(A * w[:, None], y * w)[1]) * inflate
-    sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    factor = {-0.5: 1.0, 0.0: 0.664**2, 0.5: 1.0 / 3.0}    # a_p = factor · term²
-    a_tau = 1.0 - 0.99 ** (1.0 / tau.size)
-    upper = y * edf / chi2_ppf(a_tau, edf)        # the measured σ²'s upper bound per τ
-    out = []
-    for (_, slope), label in zip(_TERMS, names):
-        p = round(2 * slope)
-        i = int(np.flatnonzero(powers == p)[0])
-        ai, si = float(a[i]), float(sd[i])
-        identified = ai > 2.0 * si and si > 0
-        hi_a = ai + si if identified else ai + 2.0 * max(si, math.sqrt(max(free[i], 0.0)))
-        # never above the data: the term's line a τ^p must stay below the measured
-        # deviation's upper bound at every τ (χ² with each point's edf, at a 1 % rate for
-        # all the τ together, Šidák), within the term's own 1σ; a term whose lower bound
-        # crosses it is only an upper bound, the largest line that does not (issue 34)
-        cap = float(np.min(upper / tau**p))
-        if identified and ai - si > cap:
-            identified = False
-        if not identified:
-            hi_a = min(hi_a, cap)
-            ai = min(ai, hi_a)
-        value = math.sqrt(ai / factor[slope]) if identified else math.sqrt(hi_a / factor[slope])
-        lo = math.sqrt(max(ai - si, 0.0) / factor[slope]) if identified else 0.0
-        unit = {-0.5: f"{series.unit}·√s", 0.0: series.unit,
-                0.5: f"{series.unit}/√s"}[slope]
-        # the τ where the term contributes most of σ²
-        share = (a[i] * tau**p) / scale
-        out.append(NoiseTerm(name=label, value=value, lo=lo,
-                             hi=math.sqrt(hi_a / factor[slope]), unit=unit,
-                             tau=float(tau[int(np.argmax(share))]), identified=identified,
-                             slope=slope))
-    return tuple(out)
+    sd = np.sqrt(np.maximum(np.diag(cov * inflate), 0.0))
+    return a, sd, free, scale
+
+
+#: Largest departure (rad/s) of a gyro's rate, averaged over 1 s, from its median over the
+#: record for the record to count as at rest (:func:`rest_excursion`): 1 °/s, hundreds of
+#: times the Earth's rate and far beyond a MEMS gyro's bias instability, and small against
+#: a hand's or a vehicle's motion.
+REST_LIMIT: Final[float] = math.radians(1.0)
+
+
+def rest_excursion(rate: np.ndarray, sample_rate: float, window: float = 1.0) -> float:
+    """The largest departure of the rate averaged over ``window`` seconds (non-overlapping
+    blocks; the whole record when shorter) from the median of those averages: a sensor at
+    rest keeps it at its noise over ``window``; a motion recording (a turn, a hand's
+    motion) does not, and its Allan deviation then describes the motion, not the sensor.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(6)
+    >>> still = rng.standard_normal(1000) * 0.01             # 100 Hz, 1 s means ~ 1e-3
+    >>> turn = still + np.where(np.arange(1000) > 500, 0.5, 0.0)
+    >>> rest_excursion(still, 100.0) < REST_LIMIT < rest_excursion(turn, 100.0)
+    True
+    """
+    sample_rate = v.check_positive("sample_rate", sample_rate)
+    x = v.check_array("rate", rate, ndim=1, min_size=1)
+    k = max(round(window * sample_rate), 1)
+    nb = x.size // k
+    if nb < 2:
+        return 0.0
+    means = x[:nb * k].reshape(nb, k).mean(axis=1)
+    return float(np.max(np.abs(means - np.median(means))))
 
 
 def allan_series(rate: np.ndarray, sample_rate: float, *, name: str = "rate",
-                 unit: str = "rad/s", taus: str | np.ndarray = "octave") -> AllanSeries:
+                 unit: str = "rad/s", taus: str | np.ndarray = "octave",
+                 data_type: str = "freq") -> AllanSeries:
     """The overlapping Allan deviation of a plain rate series (any gyro's output, evenly
-    sampled at ``sample_rate`` Hz), with its 68 % interval (white-frequency edf, NIST SP
-    1065), as an :class:`AllanSeries` for :func:`noise_terms` (``model`` is the measured
-    deviation: there is no model curve).  The series of ``python -m gyrolib allan``.
+    sampled at ``sample_rate`` Hz; with ``data_type="phase"`` its integral, an angle or a
+    clock's time error, whose rate's deviation is taken), with its 68 % interval (NIST SP
+    1065: the edf of white-frequency noise for a rate, of white-phase noise for a phase),
+    as an :class:`AllanSeries` for :func:`noise_terms` (``model`` is the measured
+    deviation: there is no model curve).  The series of ``python -m gyrolib allan``;
+    ``unit`` is the rate's.
 
     Examples
     --------
@@ -436,7 +586,9 @@ def allan_series(rate: np.ndarray, sample_rate: float, *, name: str = "rate",
     """
     sample_rate = v.check_positive("sample_rate", sample_rate)
     y = v.check_array("rate", rate, ndim=1, min_size=10)
-    tau, ad, lo, hi, edf, n = _oadev(y, sample_rate, "freq", taus, 0)
+    v.check_choice("data_type", data_type, ("phase", "freq"))
+    tau, ad, lo, hi, edf, n = _oadev(y, sample_rate, data_type, taus,
+                                     0 if data_type == "freq" else 2)
     return AllanSeries(name=v.check_str("name", name), unit=v.check_str("unit", unit),
                        tau=tau, adev=ad, lo=lo, hi=hi, edf=edf, model=ad, n=n)
 
