@@ -5,7 +5,7 @@ chunk is in degrees, its rest unread), 3 for a record read to its end without a 
 estimate (no latitude).  A streaming reader abandoned with its read-ahead running made the
 interpreter's exit abort ("terminate called without an active exception", status 134) or
 hang in pyarrow's thread-pool shutdown; :func:`gyrolib.records.reader._stop_reading` stops
-it first.  10 runs of each in the everyday tier, 100 in the slow one; and, in-process, the
+it first.  10 runs of each in the everyday tier, 100 in the full one; and, in-process, the
 stop itself: after an abandoned iteration no read of the file is under way or to come."""
 
 from __future__ import annotations
@@ -69,20 +69,9 @@ def test_refusals_exit_with_their_status_ten_times(files, want):
     assert _runs(files[want], want, 10) == []
 
 
-def _full(config) -> bool:
-    """The full tier: pytest's ``--full`` where the suite defines it, else
-    ``GYROLIB_FULL=1`` (200 interpreters are minutes of CPU: not every run's)."""
-    try:
-        return bool(config.getoption("--full"))
-    except ValueError:
-        return os.environ.get("GYROLIB_FULL") == "1"
-
-
-@pytest.mark.slow
+@pytest.mark.full
 @pytest.mark.parametrize("want", [2, 3])
-def test_refusals_exit_with_their_status_a_hundred_times(files, want, request):
-    if not _full(request.config):
-        pytest.skip("the full tier (--full, or GYROLIB_FULL=1): 100 runs of each")
+def test_refusals_exit_with_their_status_a_hundred_times(files, want):
     assert _runs(files[want], want, 100) == []
 
 
