@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from gyrolib import _validation as v
+from gyrolib._page_figures import CPU_LOG_ENV, PNG_KEY, log_figure_cpu, page_record
 
 __all__ = ["MarkdownText", "below", "format_number", "gluer", "grouped", "hidpi_figures",
            "markdown_table", "page_png", "sci"]
@@ -120,8 +121,6 @@ def page_png(fig: Any, **kwargs: Any) -> tuple[str, dict[str, int]] | None:
     from IPython.core.pylabtools import retina_figure
     from matplotlib.figure import Figure
 
-    from gyrolib._page_figures import PNG_KEY, page_record
-
     if not isinstance(fig, Figure):
         raise TypeError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")
 
@@ -172,8 +171,6 @@ def gluer(prefix: str, default_fmt: Formatter = ".4g") -> Callable[..., None]:
     also sets the notebook's figures to 2x PNGs (:func:`hidpi_figures`)."""
     v.check_str("prefix", prefix)
     if hidpi_figures():
-        from gyrolib._page_figures import CPU_LOG_ENV, log_figure_cpu
-
         log = os.environ.get(CPU_LOG_ENV, "")
         if log:  # which chapter this kernel runs, for the figure measurement's CPU log
             log_figure_cpu(log, gluer=prefix)
