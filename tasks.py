@@ -234,6 +234,9 @@ def lab(*args: str) -> None:
 def lint() -> None:
     setup()
     run(BIN / "ruff", "check", ".")
+    # the layers of gyrolib ([tool.importlinter] in pyproject.toml), imports inside
+    # functions included
+    run(BIN / "lint-imports", "--no-logo")
 
 
 # numba's kernels compiled once, into their on-disk cache, before the test session: else the

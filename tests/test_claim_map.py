@@ -372,10 +372,14 @@ def test_one_source_of_ranges():
 
 def test_bad_rows_are_refused():
     with pytest.raises(ValueError, match="no field"):
-        inputs.Input("x", "x", "GyrocompassParams", ("nope",), "uncertain", "1", "r", 0.1, 10)
+        inputs.Input("x", "x", "GyrocompassParams", ("nope",), "uncertain", "1", "r", 0.1, 10,
+                     owner_type=gc.GyrocompassParams)
     with pytest.raises(ValueError, match="positive lower bound"):
         inputs.Input("x", "x", "GyrocompassParams", ("sigma_hf_scale",), "uncertain", "1", "r",
-                     0.0, 1.0, relative=False)
+                     0.0, 1.0, relative=False, owner_type=gc.GyrocompassParams)
+    with pytest.raises(ValueError, match="owner_type"):
+        inputs.Input("x", "x", "GyrocompassParams", ("sigma_hf_scale",), "uncertain", "1", "r",
+                     0.1, 10.0, owner_type=gc.RateSensorProcedure)
     with pytest.raises(KeyError, match="known"):
         inputs.row("gc.nope")
 

@@ -11,6 +11,7 @@ re-exports its modules and is left out as a target, as Python resolves the named
 from __future__ import annotations
 
 import ast
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -291,7 +292,8 @@ def test_figures_live_in_plots_modules():
 
 
 def test_gc_is_divided_into_rooms_by_role():
-    """``gyrolib.gc`` holds its four rooms and the figures, no loose compute modules; the
+    """``gyrolib.gc`` holds its four rooms, the figures and its rows of the table of inputs,
+    no loose compute modules; the
     docstring table maps every numbered equation and figure of paper GC to a module that
     exists."""
     import re
@@ -299,7 +301,7 @@ def test_gc_is_divided_into_rooms_by_role():
     import gyrolib.gc as gc
 
     loose = sorted(p.name for p in (ROOT / "gc").glob("*.py"))
-    assert loose == ["__init__.py", "plots.py"]
+    assert loose == ["__init__.py", "inputs.py", "plots.py"]
     rooms = sorted(p.name for p in (ROOT / "gc").iterdir() if (p / "__init__.py").exists())
     assert rooms == ["analysis", "logs", "model", "racing"]
     doc = gc.__doc__
@@ -309,3 +311,138 @@ def test_gc_is_divided_into_rooms_by_role():
         assert f"Figure {k}" in doc, k
     for module in set(re.findall(r"``gc\.(\w+\.\w+)``", doc)):
         assert (ROOT / "gc" / (module.replace(".", "/") + ".py")).exists(), module
+
+
+# In-function imports: start-up time only ------------------------------------------------------
+#: Every import of a gyrolib module inside a function, outside the command line: (module,
+#: function, imported module) -> why it waits until called.  Nothing else imports inside a
+#: function (a module never dodges a circle that way: the layers below forbid the circle).
+START_UP_IMPORTS: dict[tuple[str, str, str], str] = {
+    ("gyrolib.gc", "__getattr__", "gyrolib.gc.plots"): "matplotlib",
+    ("gyrolib.gc.model", "__getattr__", "gyrolib.gc.model.symbolic"): "sympy",
+    ("gyrolib.rsf", "__getattr__", "gyrolib.rsf.plots"): "matplotlib",
+    ("gyrolib.sensitivity", "__getattr__", "gyrolib.sensitivity.plots"): "matplotlib",
+    ("gyrolib.records", "__getattr__", "gyrolib.records.params"): "numpy, not for --help",
+    ("gyrolib.records", "__getattr__", "gyrolib.records.plausibility"): "numpy",
+    ("gyrolib.records", "__getattr__", "gyrolib.records.reader"): "numpy and pyarrow",
+    ("gyrolib.records.params", "_paper_rsf", "gyrolib.rsf"): "paper RSF, not for a GC run",
+    ("gyrolib.records.plausibility", "check_rsf", "gyrolib.rsf.record"): "paper RSF",
+    ("gyrolib.records.reader", "_rsf_record", "gyrolib.rsf.record"): "paper RSF",
+}
+
+
+def in_function_imports(root: Path = ROOT) -> list[tuple[str, str, str, str]]:
+    """``(module, function, imported module, source line)`` for every import of a gyrolib
+    module inside a function, outside ``gyrolib.cli`` (``from pkg import a, b`` counts once,
+    as ``pkg``)."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        name = ".".join(path.relative_to(root.parent).with_suffix("").parts).removesuffix(
+            ".__init__")
+        if name.startswith(f"{root.name}.cli"):
+            continue
+        lines = path.read_text("utf-8").splitlines()
+        tree = ast.parse("\n".join(lines))
+        for fn in ast.walk(tree):
+            if not isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef):
+                continue
+            for node in ast.walk(fn):
+                if isinstance(node, ast.Import):
+                    targets = [a.name for a in node.names]
+                elif isinstance(node, ast.ImportFrom) and not node.level:
+                    targets = [node.module or ""]
+                else:
+                    continue
+                found += [(name, fn.name, t, lines[node.lineno - 1]) for t in targets
+                          if t == root.name or t.startswith(root.name + ".")]
+    return sorted(set(found))
+
+
+def test_in_function_imports_are_for_start_up_time_only():
+    """Outside the command line at most 10 imports of gyrolib modules wait inside a
+    function, each on the allow-list and with its reason in a comment on its line."""
+    found = in_function_imports()
+    assert {f[:3] for f in found} == set(START_UP_IMPORTS)
+    assert len(found) <= 10
+    assert [f for f in found if "# start-up:" not in f[3]] == []
+
+
+def test_in_function_import_finder_has_power(tmp_path):
+    """An import inside a function is found, nested or not, with its line; one at module
+    level and one of another package are not."""
+    pkg = tmp_path / "gyrolib"
+    (pkg / "gc").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "gc" / "__init__.py").write_text("")
+    (pkg / "gc" / "a.py").write_text(
+        "import gyrolib.units\n\ndef f():\n    import numpy\n\n    def g():\n"
+        "        from gyrolib import inputs  # a circle dodged\n    return g\n")
+    assert in_function_imports(pkg) == [
+        ("gyrolib.gc.a", "f", "gyrolib", "        from gyrolib import inputs  # a circle dodged"),
+        ("gyrolib.gc.a", "g", "gyrolib", "        from gyrolib import inputs  # a circle dodged")]
+
+
+def test_the_paper_packages_never_import_the_table_of_inputs():
+    """The table of inputs sits above both papers: no module of gc or rsf imports it (each
+    paper's rows are its own ``inputs`` module)."""
+    bad = {(m, t) for m in GRAPH if m.startswith(("gyrolib.gc", "gyrolib.rsf"))
+           for t in GRAPH[m] if t == "gyrolib.inputs"}
+    assert bad == set()
+    assert "gyrolib.inputs" in GRAPH["gyrolib.book.ledger"]          # the finder's power
+
+
+def test_the_discretization_takes_the_continuous_model_whole():
+    """``gc/model/discretization.py`` imports from the continuous side only the model's type,
+    :class:`ContinuousModel`, and nothing from the instrument module."""
+    tree = ast.parse((ROOT / "gc" / "model" / "discretization.py").read_text("utf-8"))
+    names = {(n.module, a.name) for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)
+             for a in n.names if n.module and n.module.startswith("gyrolib.gc.model.")}
+    assert {m for m, _ in names} == {"gyrolib.gc.model.params", "gyrolib.gc.model.state_space"}
+    assert {a for m, a in names if m == "gyrolib.gc.model.state_space"} == {"ContinuousModel"}
+
+
+def _lint_imports(cwd: Path, pythonpath: Path | None = None) -> subprocess.CompletedProcess:
+    import os
+    import sys
+
+    env = dict(os.environ)
+    if pythonpath is not None:
+        env["PYTHONPATH"] = str(pythonpath)
+    exe = Path(sys.executable).with_name("lint-imports")
+    return subprocess.run([str(exe), "--no-logo", "--no-cache"], cwd=cwd, env=env,
+                          capture_output=True, text=True)
+
+
+def test_the_layers_contract_holds_and_has_power(tmp_path):
+    """import-linter keeps the contracts of ``pyproject.toml`` on the tree, and breaks the
+    layers on a copy where a paper module imports the table of inputs inside a function."""
+    import shutil
+
+    root = ROOT.parent
+    kept = _lint_imports(root)
+    assert kept.returncode == 0, kept.stdout + kept.stderr
+    assert "0 broken" in kept.stdout
+    shutil.copytree(ROOT, tmp_path / "gyrolib",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
+    shutil.copy(root / "pyproject.toml", tmp_path / "pyproject.toml")
+    target = tmp_path / "gyrolib" / "gc" / "model" / "params.py"
+    target.write_text(target.read_text("utf-8")
+                      + "\n\ndef _rows():\n    from gyrolib import inputs\n\n    return inputs\n")
+    broken = _lint_imports(tmp_path, tmp_path)
+    assert broken.returncode != 0
+    assert "gyrolib.gc.model.params -> gyrolib.inputs" in broken.stdout, broken.stdout
+
+
+def test_every_public_name_still_imports_from_where_it_did():
+    """Every name of every module's ``__all__`` as recorded before the table of inputs was
+    split between the papers (``tests/support/public_names.json``) still imports from that
+    module."""
+    import importlib
+    import json
+
+    recorded = json.loads((Path(__file__).parent / "support" / "public_names.json")
+                          .read_text("utf-8"))
+    missing = [f"{mod}.{name}" for mod, names in recorded.items()
+               for name in names if not hasattr(importlib.import_module(mod), name)]
+    assert missing == []
+    assert len(recorded) == 87 and sum(map(len, recorded.values())) == 994

@@ -21,6 +21,7 @@ import tomllib
 from pathlib import Path
 
 import gyrolib
+from gyrolib import _validation
 
 #: The source tree (an installed copy without it has no URLs and no release date).
 ROOT = Path(__file__).resolve().parents[2]
@@ -177,18 +178,42 @@ def item_bibtex(item_id: str, quantity: str, anchor: str, note: str,
     return _entry("misc", key, fields)
 
 
+def rounded(value: float | str | None, precision: int) -> float | str | None:
+    """``value`` rounded to ``precision`` significant digits (text and ``None`` unchanged).
+
+    Cited values must not depend on the CPU's last-bit rounding: the ledger files and the
+    command line report every number at its item's declared precision.
+
+    >>> rounded(0.0013742137, 3)
+    0.00137
+    """
+    if value is None or isinstance(value, str):
+        return value
+    return float(f"{_validation.check_real('value', value):.{precision}g}")
+
+
+def anchor(item_id: str) -> str:
+    """The HTML id of an item's entry on the ledger page (Sphinx's id for the label
+    ``item_id``), e.g. ``gc.sigma_gc_100s`` → ``gc-sigma-gc-100s``.
+
+    >>> anchor("gc.sigma_gc_100s")
+    'gc-sigma-gc-100s'
+    """
+    from docutils.nodes import make_id  # start-up: docutils only when an anchor is made
+
+    return make_id(_validation.check_str("item_id", item_id))
+
+
 def ledger_item_bibtex(item, cff: Path | None = None, pyproject: Path | None = None) -> str:
     """:func:`item_bibtex` of a ledger item (:class:`gyrolib.book.ledger.LedgerItem`): its
     reproduced value rounded to its declared precision, the paper's print and the verdict in
     the note."""
-    from gyrolib.book import ledger  # the ledger imports this module
-
     it = item
     if it.reproduced_value is None:
         value = "none"
     else:
-        value = f"{ledger.rounded(it.reproduced_value, it.precision):.{it.precision}g}"
+        value = f"{rounded(it.reproduced_value, it.precision):.{it.precision}g}"
     unit = "" if it.unit in ("", "—") else f" {it.unit}"
     note = (f"Reproduced value {value}{unit}; paper {it.paper}, {it.location}, printed "
             f"{it.paper_value}; status: {it.status}")
-    return item_bibtex(it.id, it.quantity, ledger.anchor(it.id), note, cff, pyproject)
+    return item_bibtex(it.id, it.quantity, anchor(it.id), note, cff, pyproject)

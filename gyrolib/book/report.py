@@ -13,6 +13,7 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 from gyrolib import _validation as v
+from gyrolib._page_figures import PNG_KEY, page_record
 
 __all__ = ["MarkdownText", "below", "format_number", "gluer", "grouped", "hidpi_figures",
            "markdown_table", "page_png", "sci"]
@@ -118,8 +119,6 @@ def page_png(fig: Any, **kwargs: Any) -> tuple[str, dict[str, int]] | None:
     reads it back from every figure on the pages.  ``kwargs`` go to ``print_figure``."""
     from IPython.core.pylabtools import retina_figure
     from matplotlib.figure import Figure
-
-    from gyrolib._page_figures import PNG_KEY, page_record
 
     if not isinstance(fig, Figure):
         raise TypeError(f"fig must be a matplotlib Figure; got {type(fig).__name__}")

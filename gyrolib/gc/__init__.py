@@ -27,7 +27,8 @@ Eq. (5)                  :func:`linearized_acceleration`         ``gc.model.equa
 Eq. (6)                  :func:`vibration_filter`                ``gc.model.shaping_filters``
 Eq. (7)                  :func:`random_drift_filter`             ``gc.model.shaping_filters``
 Eq. (8)                  :func:`system_matrix`,                  ``gc.model.state_space``
-                         :func:`measurement_matrix`, …
+                         :func:`measurement_matrix`, …,
+                         :func:`continuous_model`
 Eqs. (1)–(8), symbolic   ``gc.symbolic``                         ``gc.model.symbolic``
 parameters, state        :class:`GyrocompassParams`              ``gc.model.params``
 instrument errors        :data:`TERMS`, :func:`state_names`      ``gc.model.instrument``
@@ -57,6 +58,7 @@ Allan deviation          :func:`allan_deviation`                 ``gc.logs.allan
 Use as ``from gyrolib import gc`` then ``gc.covariance_analysis(gc.GyrocompassParams())``.
 """
 
+import gyrolib.gc.model as _model
 from gyrolib.gc.analysis import (
     BUDGET_SOURCES,
     SENSITIVITY_OUTPUTS,
@@ -130,6 +132,7 @@ from gyrolib.gc.model import (
     SEGMENT,
     STATE_NAMES,
     TERMS,
+    ContinuousModel,
     GCDiscretization,
     GyrocompassParams,
     InstrumentModel,
@@ -137,6 +140,7 @@ from gyrolib.gc.model import (
     NominalIntegrator,
     NominalMotion,
     ShapingFilter,
+    continuous_model,
     discretize,
     float_acceleration,
     gyroscopic_torque,
@@ -169,6 +173,7 @@ from gyrolib.gc.model import (
 )
 from gyrolib.gc.racing import (
     PROCEDURE_TARGETS,
+    RACE_RANGES,
     RS_STATE_NAMES,
     VIBRATION_FRAMES,
     OptimalRun,
@@ -235,6 +240,7 @@ __all__ = [
     "AllanSeries",
     "CalibrationResult",
     "ClaimBoundary",
+    "ContinuousModel",
     "ConventionStudy",
     "CovarianceAnalysis",
     "CovarianceSweep",
@@ -268,6 +274,7 @@ __all__ = [
     "allan_noise_terms",
     "calibrate",
     "claim_boundary",
+    "continuous_model",
     "convention_study",
     "covariance_analysis",
     "discretize",
@@ -362,20 +369,13 @@ __all__ = [
 
 
 def __getattr__(name: str):
-    """``gc.symbolic``, ``gc.plots`` and its ``gc.plot_*``, imported on first access (an
-    ``import`` statement: ``from gyrolib.gc import plots`` would look the name up here
-    first, and recurse); ``gc.RACE_RANGES``, read from the table of inputs on first use
-    (:mod:`gyrolib.inputs` imports this package's dataclasses)."""
-    if name == "RACE_RANGES":
-        from gyrolib.gc.racing import comparison
-
-        return comparison.RACE_RANGES
+    """``gc.symbolic`` (sympy, from :mod:`gyrolib.gc.model`, which loads it on first use),
+    ``gc.plots`` and its ``gc.plot_*``, imported on first access (an ``import`` statement:
+    ``from gyrolib.gc import plots`` would look the name up here first, and recurse)."""
     if name == "symbolic":
-        import gyrolib.gc.model.symbolic as symbolic
-
-        return symbolic
+        return _model.symbolic
     if name == "plots" or name in _PLOTS:
-        import gyrolib.gc.plots as plots
+        import gyrolib.gc.plots as plots  # start-up: matplotlib, about 1 s
 
         if name == "plots":
             return plots

@@ -63,8 +63,9 @@ from gyrolib.gc.logs.calibration import CalibrationResult
 from gyrolib.gc.logs.convention import ConventionStudy
 from gyrolib.gc.model.instrument import state_names
 from gyrolib.gc.model.nominal import NominalMotion
-from gyrolib.gc.model.params import MEASUREMENT_NAMES
+from gyrolib.gc.model.params import MEASUREMENT_NAMES, STATE_NAMES
 from gyrolib.gc.racing.comparison import RaceResult, RaceSweep
+from gyrolib.gc.racing.verdict_grid import RaceVerdictGrid
 from gyrolib.units import ARCSEC, from_si
 
 __all__ = [
@@ -982,8 +983,6 @@ def plot_race_verdict(grid, *, thresholds: Mapping[str, float] | None = None) ->
     -------
     matplotlib.figure.Figure
     """
-    from gyrolib.gc.racing.verdict_grid import RaceVerdictGrid
-
     g = v.check_instance("grid", grid, RaceVerdictGrid)
     names = {"intensity_over_dt": "the book's reading: R = C/dt",
              "variance": "the other reading: R = C"}
@@ -1035,8 +1034,6 @@ def plot_linearization(effect) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    from gyrolib.gc.model.params import STATE_NAMES
-
     t = effect.t
     fig = Figure(figsize=(5.0, 12.0), layout="constrained")
     # stacked for the page; the NEES panel's legend sits under it (in it, it would cover
@@ -1123,8 +1120,6 @@ def plot_convention_study(study: ConventionStudy):
     shift Eq. (5) predicts from the true tilts.  Returns a :class:`matplotlib.figure.Figure`."""
     import matplotlib.pyplot as plt
 
-    from gyrolib.units import from_si
-
     if not isinstance(study, ConventionStudy):
         raise TypeError(f"study must be a ConventionStudy; got {type(study).__name__}")
     fig, (ax, bx) = plt.subplots(2, 1, figsize=(5.0, 8.4), layout="constrained")  # stacked
@@ -1192,8 +1187,6 @@ def plot_calibration(result: CalibrationResult, truth: float | None = None,
     record's windows are pooled into at most :data:`MAX_NIS_BINS` bins, the band drawn for
     a bin's samples.  Returns a :class:`matplotlib.figure.Figure`."""
     import matplotlib.pyplot as plt
-
-    from gyrolib.units import from_si
 
     if not isinstance(result, CalibrationResult):
         raise TypeError(f"result must be a CalibrationResult; got {type(result).__name__}")

@@ -25,8 +25,12 @@ module              what it holds
 Use as ``from gyrolib import records`` then ``records.read_gc("run.csv")``.
 """
 
-#: Which module defines each public name; imported on first use, so that the command line's
-#: parsers (:mod:`gyrolib.records.options`) load no numpy or pyarrow.
+import gyrolib.records.errors as _errors
+import gyrolib.records.options as _options
+
+#: Which module defines each public name; the numerical ones are imported on first use, so
+#: that the command line's parsers (:mod:`gyrolib.records.options`, :mod:`~.errors`: the
+#: standard library only, imported here) load no numpy or pyarrow.
 _HOME: dict[str, str] = {
     "RecordError": "errors", "OptionError": "errors",
     "gc_params_from_toml": "params", "load_toml": "params", "rsf_config_from_toml": "params",
@@ -37,6 +41,7 @@ _HOME: dict[str, str] = {
     "ABSOLUTE_TIME": "reader", "GC_COLUMNS": "reader", "RSF_COLUMNS": "reader",
     "GCChunks": "reader", "GCRecord": "reader", "RecordInfo": "reader", "iter_csv": "reader",
     "read_csv": "reader", "read_gc": "reader", "read_rsf": "reader", "write_csv": "reader",
+    "RSFRecord": "reader",
 }
 
 
@@ -46,21 +51,17 @@ def __getattr__(name: str):
     ``RSFRecord`` is paper RSF's record (see :mod:`gyrolib.records.reader`)."""
     home = _HOME.get(name)
     if home == "errors":
-        import gyrolib.records.errors as module
-    elif home == "params":
-        import gyrolib.records.params as module
-    elif home == "plausibility":
-        import gyrolib.records.plausibility as module
+        module = _errors
     elif home == "rate_log":
-        import gyrolib.records.rate_log as module
+        import gyrolib.records.rate_log as module  # start-up: numpy and pyarrow
     elif home == "options":
-        import gyrolib.records.options as module
+        module = _options
+    elif home == "params":
+        import gyrolib.records.params as module  # start-up: numpy (paper GC's parameters)
+    elif home == "plausibility":
+        import gyrolib.records.plausibility as module  # start-up: numpy
     elif home == "reader":
-        import gyrolib.records.reader as module
-    elif name == "RSFRecord":
-        from gyrolib.rsf.record import RSFRecord
-
-        return RSFRecord
+        import gyrolib.records.reader as module  # start-up: numpy and pyarrow
     else:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     return getattr(module, name)

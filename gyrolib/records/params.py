@@ -20,8 +20,9 @@ import math
 import os
 import tomllib
 from pathlib import Path
-from typing import Final
+from typing import Any, Final
 
+from gyrolib.gc import inputs as gc_inputs
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 
@@ -132,21 +133,28 @@ def instrument_notes(path: object | None, command: str) -> list[str]:
     return out
 
 
+def _paper_rsf() -> tuple[Any, Any]:
+    """Paper RSF's rows of the table of inputs (:mod:`gyrolib.rsf.inputs`) and its
+    simulation's models (:mod:`gyrolib.rsf.simulation`), loaded on first use."""
+    from gyrolib.rsf import inputs, simulation  # start-up: a GC run does not load paper RSF
+
+    return inputs, simulation
+
+
 def _range_notes(path: object, doc: dict, command: str) -> list[str]:
     """A note for each number the command reads from the instrument file that lies outside
     the plausible range of its row in the input table (:mod:`gyrolib.inputs`): top-level
     fields of GyrocompassParams, RateSensorProcedure's in ``[procedure]`` for race, and
     for calibrate rsf the fields of ``[sins]``, ``[gs]``, ``[encoder]`` that a row ranges
     (:data:`RSF_ROWS`; an error's magnitude, its sign being no matter of plausibility)."""
-    from gyrolib import inputs  # only with a file: it loads both papers' dataclasses
-
     if command == "calibrate rsf":
+        rsf_inputs, _ = _paper_rsf()
         out = []
         for (table, field), name in RSF_ROWS.items():
             val = doc.get(table, {}).get(field) if isinstance(doc.get(table), dict) else None
             if isinstance(val, bool) or not isinstance(val, int | float):
                 continue
-            r = inputs.row(name)
+            r = rsf_inputs.row(name)
             lo, hi = r.bounds()
             if not lo <= abs(val) <= hi:
                 out.append(f"{path}: [{table}] {field} = {val:g} lies outside the plausible "
@@ -161,7 +169,7 @@ def _range_notes(path: object, doc: dict, command: str) -> list[str]:
         parts = parts[1:]
     out = []
     for owner, values in parts:
-        for r in inputs.rows(owner=owner):
+        for r in (r for r in gc_inputs.ROWS if r.owner == owner):
             if r.kind == "reading" or len(r.fields) != 1 or r.fields[0] not in values:
                 continue
             val = values[r.fields[0]]
@@ -194,9 +202,8 @@ _RSF_TABLES = ("sins", "gs", "encoder")
 def rsf_config_from_toml(path: object | None = None, base: object | None = None):
     """:class:`gyrolib.rsf.SimulationConfig` whose ``sins``, ``gs`` and ``encoder`` models
     take the fields of the TOML tables ``[sins]``, ``[gs]``, ``[encoder]``."""
-    from gyrolib.rsf.simulation import SimulationConfig  # not loaded by a GC run
-
-    cfg = SimulationConfig() if base is None else base
+    _, simulation = _paper_rsf()
+    cfg = simulation.SimulationConfig() if base is None else base
     if path is None:
         return cfg
     label = str(path)

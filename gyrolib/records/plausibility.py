@@ -374,7 +374,7 @@ def check_rsf(record: RSFRecord, *, label: str) -> None:
     ...     print(e.column, "degrees" in str(e))
     sins_increment True
     """
-    from gyrolib.rsf.record import RSFRecord
+    from gyrolib.rsf.record import RSFRecord  # start-up: a GC run does not load paper RSF
 
     v.check_instance("record", record, RSFRecord)
     t = record.t

@@ -61,13 +61,18 @@ if TYPE_CHECKING:
     from gyrolib.rsf.record import RSFRecord
 
 
+def _rsf_record() -> type:
+    """Paper RSF's record class, loaded on first use."""
+    from gyrolib.rsf.record import RSFRecord  # start-up: a GC run does not load paper RSF
+
+    return RSFRecord
+
+
 def __getattr__(name: str):
     """``RSFRecord``, imported on first use: paper RSF's package (20–60 ms) is not loaded by
     a paper-GC run of the command line."""
     if name == "RSFRecord":
-        from gyrolib.rsf.record import RSFRecord
-
-        return RSFRecord
+        return _rsf_record()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
@@ -1236,7 +1241,7 @@ def read_rsf(path: object, *, counts_per_rev: int | None = None, check: bool = T
     (:func:`gyrolib.records.check_rsf`) unless ``check=False``; ``(record, info)`` with
     ``return_info=True``."""
     label = str(path)
-    from gyrolib.rsf.record import RSFRecord
+    RSFRecord = _rsf_record()
 
     check = v.check_bool("check", check)
     return_info = v.check_bool("return_info", return_info)

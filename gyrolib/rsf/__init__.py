@@ -236,7 +236,7 @@ def __getattr__(name: str):
     """``rsf.plots`` and its ``rsf.plot_*``, imported on first access (an ``import``
     statement: ``from gyrolib.rsf import plots`` would look the name up here first)."""
     if name == "plots" or name in _PLOTS:
-        import gyrolib.rsf.plots as plots
+        import gyrolib.rsf.plots as plots  # start-up: matplotlib, about 1 s
 
         if name == "plots":
             return plots

@@ -28,6 +28,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
+from gyrolib import input_rows
+from gyrolib.rsf import inputs as rsf_inputs
 from gyrolib.rsf.equations import delta_k
 from gyrolib.rsf.sensors import (
     AEDB9340,
@@ -96,14 +98,12 @@ def sensitivity_inputs(gs_gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec =
     >>> round(x.low / x.nominal, 3), round(x.high / x.nominal, 3)
     (0.5, 2.0)
     """
-    from gyrolib import inputs
-
     v.check_instance("gs_gyro", gs_gyro, MemsGyroSpec)
     v.check_instance("encoder", encoder, EncoderSpec)
     v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
     objs = {"MemsGyroSpec": gs_gyro, "EncoderSpec": encoder, "RollGyroSpec": roll_gyro}
-    return tuple(r.sobol_input(float(inputs.value_of(objs, r)), name=_ROWS[r.name])
-                 for r in inputs.INPUTS if r.name in _ROWS)
+    return tuple(r.sobol_input(float(input_rows.value_of(objs, r)), name=_ROWS[r.name])
+                 for r in rsf_inputs.ROWS if r.name in _ROWS)
 
 
 def _operating(period: float, omega_x: float, omega_unc: float) -> dict[str, float]:

@@ -242,71 +242,121 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
         cpr = v.check_int("counts_per_rev", counts_per_rev, 2)
     else:
         cpr = result.counts_per_rev or config.encoder.counts_per_rev
+    iv = _kept_intervals(result, config)
+    notes: list[str] = []
+    random = _random_part(iv, config, notes)
+    encoder = _end_points(result, iv.keep, iv.rate, cpr, config.encoder.position_error)
+    sigma_b = math.hypot(tol_sins, tol_gsb)
+    biases, b_hat, b_std = _bias_part(iv, sigma_b, notes)
+    gs_part = _gs_scale_part(result, iv, config, tol_gyro, gs_scale)
+    parts = {"random": random, "encoder": encoder, "biases": biases, "gs_scale": gs_part}
+    std = math.sqrt(sum(p * p for p in parts.values()))
+    checks = _checks(iv, std, sigma_b, b_hat, b_std, tol_sf, false_alarm)
+    tolerances = {"sins_bias": tol_sins, "gs_bias": tol_gsb,
+                  "gs_gyro_scale": None if gs_scale is not None else tol_gyro,
+                  "gs_scale": gs_scale, "sf_prior": tol_sf}
+    return Eps1Uncertainty(mean=iv.mean, std=std, parts=parts, tolerances=tolerances,
+                           checks=checks, false_alarm=false_alarm,
+                           bias_estimate=b_hat, bias_estimate_std=b_std, n=iv.n,
+                           notes=tuple(notes))
+
+
+@dataclass(frozen=True)
+class _Intervals:
+    """The intervals of a result that the mean uses (those without a reversal inside)."""
+
+    keep: np.ndarray        # mask over the result's intervals
+    e: np.ndarray           # ε̂1_i
+    rate: np.ndarray        # ω_i, signed
+    arate: np.ndarray       # |ω_i|
+    time_used: float        # Σ Δt_i, s
+    total_turn: float       # Σ |T_i|, rad
+    mean: float             # ε̄
+    sigma_i: np.ndarray     # the random σ of ε̂1_i the sensors' model predicts
+
+    @property
+    def n(self) -> int:
+        return int(self.e.size)
+
+
+def _kept_intervals(result: CalibrationResult, config: SimulationConfig) -> _Intervals:
+    """The intervals without a reversal inside, their turns and the model's σ of each."""
     keep = ~np.asarray(result.reversal, bool)
     e = np.asarray(result.eps1_hat, float)[keep]
-    n = int(e.size)
-    if n == 0:
+    if e.size == 0:
         raise ValueError("result must hold at least one interval without a reversal inside")
     rate = np.asarray(result.rate, float)[keep]            # signed
     arate = np.asarray(result.abs_rate, float)[keep]
     turn = arate * result.samples[keep] * result.dt        # |T_i|, the absolute turn used
-    time_used = float(np.sum(result.samples[keep]) * result.dt)
-    total_turn = float(np.sum(turn))
-    mean = float(np.mean(e))
     sigma_i = _random_std(config, result, arate) * (
         result.period / result.dt / result.samples[keep]) * np.sqrt(result.segments[keep])
-    notes: list[str] = []
-    # random: the intervals' scatter with the lag-1 autocovariance, floored by the model's noise
-    noise = math.sqrt((config.sins.arw**2 + config.gs.arw**2) * time_used) / total_turn
-    hac = 0.0
+    return _Intervals(keep=keep, e=e, rate=rate, arate=arate,
+                      time_used=float(np.sum(result.samples[keep]) * result.dt),
+                      total_turn=float(np.sum(turn)), mean=float(np.mean(e)), sigma_i=sigma_i)
+
+
+def _random_part(iv: _Intervals, config: SimulationConfig, notes: list[str]) -> float:
+    """The intervals' scatter with the lag-1 autocovariance, floored by the model's noise."""
+    noise = math.sqrt((config.sins.arw**2 + config.gs.arw**2) * iv.time_used) / iv.total_turn
+    n = iv.n
     if n > 1:
-        d = e - mean
+        d = iv.e - iv.mean
         g0 = float(np.sum(d * d)) / n
         g1 = float(np.sum(d[1:] * d[:-1])) / n
         hac = math.sqrt(max(g0 + 2.0 * (1.0 - 1.0 / n) * g1, 0.0) / n)
     else:
         notes.append("one interval: the random part is the sensors' model's alone")
-        hac = float(sigma_i[0])
-    random = max(hac, noise)
-    encoder = _end_points(result, keep, rate, cpr, config.encoder.position_error)
-    m_inv = float(np.mean(1.0 / rate))
-    sigma_b = math.hypot(tol_sins, tol_gsb)
-    b_hat = b_std = None
-    if np.any(rate > 0) and np.any(rate < 0) and n >= 3:
-        x = np.column_stack([np.ones(n), 1.0 / rate])
-        w = 1.0 / sigma_i**2
-        a = x.T @ (x * w[:, None])
-        cov = np.linalg.inv(a)
-        beta = cov @ (x.T @ (w * e))
-        chi2_red = float(np.sum(w * (e - x @ beta) ** 2)) / max(n - 2, 1)
-        b_hat = float(beta[1])
-        b_std = float(math.sqrt(cov[1, 1] * max(chi2_red, 1.0)))
-        biases = abs(m_inv) * math.hypot(b_hat, b_std)
-        notes.append(f"the roll rate reverses: the biases' difference b_S − b_G = "
-                     f"{math.degrees(b_hat) * 3600:.4g} ± {math.degrees(b_std) * 3600:.3g} "
-                     "deg/h estimated from the record")
-    else:
-        biases = abs(m_inv) * sigma_b
+        hac = float(iv.sigma_i[0])
+    return max(hac, noise)
+
+
+def _bias_part(iv: _Intervals, sigma_b: float, notes: list[str]
+               ) -> tuple[float, float | None, float | None]:
+    """The biases' part, with b̂ = b_S − b_G and its σ when the roll rate reverses (weighted
+    least squares on ε̂1_i = ε1 + b/ω_i), else ``None`` for both."""
+    m_inv = float(np.mean(1.0 / iv.rate))
+    n, rate, e = iv.n, iv.rate, iv.e
+    if not (np.any(rate > 0) and np.any(rate < 0) and n >= 3):
+        return abs(m_inv) * sigma_b, None, None
+    x = np.column_stack([np.ones(n), 1.0 / rate])
+    w = 1.0 / iv.sigma_i**2
+    a = x.T @ (x * w[:, None])
+    cov = np.linalg.inv(a)
+    beta = cov @ (x.T @ (w * e))
+    chi2_red = float(np.sum(w * (e - x @ beta) ** 2)) / max(n - 2, 1)
+    b_hat = float(beta[1])
+    b_std = float(math.sqrt(cov[1, 1] * max(chi2_red, 1.0)))
+    notes.append(f"the roll rate reverses: the biases' difference b_S − b_G = "
+                 f"{math.degrees(b_hat) * 3600:.4g} ± {math.degrees(b_std) * 3600:.3g} "
+                 "deg/h estimated from the record")
+    return abs(m_inv) * math.hypot(b_hat, b_std), b_hat, b_std
+
+
+def _gs_scale_part(result: CalibrationResult, iv: _Intervals, config: SimulationConfig,
+                   tol_gyro: float, gs_scale: float | None) -> float:
+    """The GS angle's scale tolerance times the share of the turn it scales."""
     if gs_scale is not None:
-        gs_part = gs_scale
-    elif result.gs_gyro_turn is not None:
-        share = np.asarray(result.gs_gyro_turn, float)[keep] / (rate * result.samples[keep]
-                                                               * result.dt)
-        gs_part = tol_gyro * abs(float(np.mean(share)))
-    elif result.counts_per_rev is not None:      # encoder counts, no GS gyro: the encoder's
-        gs_part = 0.0
-    else:
-        w_unc = np.maximum(arate - config.gs.motor_rate_max, 0.0)
-        gs_part = tol_gyro * float(np.mean(w_unc / arate))
-    parts = {"random": random, "encoder": encoder, "biases": biases, "gs_scale": gs_part}
-    std = math.sqrt(sum(p * p for p in parts.values()))
-    # the checks, Šidák at the family-wise rate
+        return gs_scale
+    if result.gs_gyro_turn is not None:
+        share = np.asarray(result.gs_gyro_turn, float)[iv.keep] / (
+            iv.rate * result.samples[iv.keep] * result.dt)
+        return tol_gyro * abs(float(np.mean(share)))
+    if result.counts_per_rev is not None:      # encoder counts, no GS gyro: the encoder's
+        return 0.0
+    w_unc = np.maximum(iv.arate - config.gs.motor_rate_max, 0.0)
+    return tol_gyro * float(np.mean(w_unc / iv.arate))
+
+
+def _checks(iv: _Intervals, std: float, sigma_b: float, b_hat: float | None,
+            b_std: float | None, tol_sf: float, false_alarm: float) -> tuple[dict, ...]:
+    """The run's checks (scatter, bias, prior), Šidák at the family-wise rate."""
     specs: list[tuple[str, float, float | None]] = []   # (test, statistic, dof or None)
-    if n > 1:
-        specs.append(("scatter", float(np.sum(((e - mean) / sigma_i) ** 2)), n - 1))
+    if iv.n > 1:
+        specs.append(("scatter", float(np.sum(((iv.e - iv.mean) / iv.sigma_i) ** 2)),
+                      iv.n - 1))
     if b_hat is not None:
         specs.append(("bias", b_hat / math.hypot(sigma_b, b_std), None))
-    specs.append(("prior", mean / math.hypot(tol_sf, std), None))
+    specs.append(("prior", iv.mean / math.hypot(tol_sf, std), None))
     a = 1.0 - (1.0 - false_alarm) ** (1.0 / len(specs))
     zlim = math.sqrt(float(chi2_ppf(1.0 - a, 1)))
     checks = []
@@ -314,29 +364,30 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
         if dof is not None:
             lo, hi = 0.0, float(chi2_ppf(1.0 - a, dof))
             passed = stat <= hi
-            msg = (f"the intervals' scatter exceeds the sensors' error model: "
-                   f"sum of squared normalized deviations {stat:.4g} > {hi:.4g} "
-                   f"(chi-square, {dof} dof): noisier sensors than --params states, or the "
-                   "GS angle slips")
         else:
             lo, hi = -zlim, zlim
             passed = abs(stat) <= zlim
-            if test == "bias":
-                msg = (f"the biases' difference estimated from the reversing roll, "
-                       f"{math.degrees(b_hat) * 3600:.4g} deg/h, is {stat:+.3g} sigma from 0 "
-                       f"(tolerance {math.degrees(sigma_b) * 3600:.3g} deg/h): the gyros' "
-                       "biases exceed their tolerances ([sins] eps0, [gs] eps0)")
-            else:
-                msg = (f"eps1_hat_mean {mean * 1e6:.4g} ppm is {stat:+.3g} sigma outside the "
-                       f"roll gyro's scale-factor tolerance {tol_sf * 1e6:.3g} ppm ([sins] "
-                       "eps1 in --params): a record of another gyro, or a wrong unit")
         checks.append({"test": test, "statistic": float(stat), "low": float(lo),
                        "high": float(hi), "passed": bool(passed),
-                       "reason_code": REASON_CODES[test], "message": msg})
-    tolerances = {"sins_bias": tol_sins, "gs_bias": tol_gsb,
-                  "gs_gyro_scale": None if gs_scale is not None else tol_gyro,
-                  "gs_scale": gs_scale, "sf_prior": tol_sf}
-    return Eps1Uncertainty(mean=mean, std=std, parts=parts, tolerances=tolerances,
-                           checks=tuple(checks), false_alarm=false_alarm,
-                           bias_estimate=b_hat, bias_estimate_std=b_std, n=n,
-                           notes=tuple(notes))
+                       "reason_code": REASON_CODES[test],
+                       "message": _message(test, stat, hi, dof, iv.mean, b_hat, sigma_b,
+                                           tol_sf)})
+    return tuple(checks)
+
+
+def _message(test: str, stat: float, hi: float, dof: int | None, mean: float,
+             b_hat: float | None, sigma_b: float, tol_sf: float) -> str:
+    """The sentence that says what a failed check means and what to try."""
+    if test == "scatter":
+        return (f"the intervals' scatter exceeds the sensors' error model: "
+                f"sum of squared normalized deviations {stat:.4g} > {hi:.4g} "
+                f"(chi-square, {dof} dof): noisier sensors than --params states, or the "
+                "GS angle slips")
+    if test == "bias":
+        return (f"the biases' difference estimated from the reversing roll, "
+                f"{math.degrees(b_hat) * 3600:.4g} deg/h, is {stat:+.3g} sigma from 0 "
+                f"(tolerance {math.degrees(sigma_b) * 3600:.3g} deg/h): the gyros' "
+                "biases exceed their tolerances ([sins] eps0, [gs] eps0)")
+    return (f"eps1_hat_mean {mean * 1e6:.4g} ppm is {stat:+.3g} sigma outside the "
+            f"roll gyro's scale-factor tolerance {tol_sf * 1e6:.3g} ppm ([sins] "
+            "eps1 in --params): a record of another gyro, or a wrong unit")

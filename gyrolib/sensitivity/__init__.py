@@ -56,7 +56,7 @@ __all__ = [
 def __getattr__(name: str):
     """``plot_indices`` (matplotlib), imported on first access."""
     if name == "plot_indices":
-        from gyrolib.sensitivity.plots import plot_indices
+        from gyrolib.sensitivity.plots import plot_indices  # start-up: matplotlib
 
         return plot_indices
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -56,13 +56,14 @@ def test_params_fields_are_checked_once_at_construction(counted):
 def test_covariance_analysis_walk_enters_validation_once_at_the_door(counted):
     """After construction, covariance_analysis checks params once at its door and never one
     of its fields again (before issue 22 each shaping-filter field was checked 8 more times
-    on the way through the model functions).  The other two checks of the params object are
-    the result records' own doors (GCDiscretization, CovarianceAnalysis: a record built by
-    hand with params=None must fail by name)."""
+    on the way through the model functions).  The other three checks of the params object
+    are the records' own doors (ContinuousModel, GCDiscretization, CovarianceAnalysis: a
+    record built by hand with params=None must fail by name)."""
     p = gc.GyrocompassParams()
     calls, callers = counted
-    # the discretization is kept per parameters (issue 33): an earlier test in this worker
-    # may hold this GCDiscretization, whose record door would then not be entered here
+    # the continuous model is kept per parameters and its discretization per model: an
+    # earlier test in this worker may hold them, whose record doors would then not be
+    # entered here
     kept_discretization.cache_clear()
     calls.clear()
     callers.clear()
@@ -70,7 +71,7 @@ def test_covariance_analysis_walk_enters_validation_once_at_the_door(counted):
     doors = [c for c in callers["params"] if not c.endswith("__post_init__")]
     assert doors == ["gc/analysis/covariance.py:covariance_analysis"], callers["params"]
     records = sorted(c for c in callers["params"] if c.endswith("__post_init__"))
-    assert len(records) == 2, callers["params"]
+    assert len(records) == 3, callers["params"]
     refields = {name: [c for c in callers[name] if c.startswith("gc/")] for name in FIELDS}
     assert not any(refields.values()), refields
     # the paper-agnostic filtering code never sees params: its doors check its own arguments

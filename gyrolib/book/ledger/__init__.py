@@ -24,7 +24,9 @@ from pathlib import Path
 
 import gyrolib
 from gyrolib import _validation as v
+from gyrolib import inputs as _inputs
 from gyrolib.book import cite
+from gyrolib.book.cite import anchor, rounded
 from gyrolib.book.ledger import (
     gc,
     remaining,
@@ -130,20 +132,6 @@ def _collect() -> list[LedgerItem]:
     if len(ids) != len(set(ids)):
         raise RuntimeError("duplicate ledger ids")
     return items
-
-
-def rounded(value: float | str | None, precision: int) -> float | str | None:
-    """``value`` rounded to ``precision`` significant digits (text and ``None`` unchanged).
-
-    Cited values must not depend on the CPU's last-bit rounding: the ledger files and the
-    command line report every number at its item's declared precision.
-
-    >>> rounded(0.0013742137, 3)
-    0.00137
-    """
-    if value is None or isinstance(value, str):
-        return value
-    return float(f"{v.check_real('value', value):.{precision}g}")
 
 
 #: The version of the ledger's file format (JSON and CSV).  2: each claim carries
@@ -273,18 +261,6 @@ def _shown(value: float | str | None, precision: int) -> str:
     return f"{float(value):.{precision}g}"
 
 
-def anchor(item_id: str) -> str:
-    """The HTML id of an item's entry on the ledger page (Sphinx's id for the label
-    ``item_id``), e.g. ``gc.sigma_gc_100s`` → ``gc-sigma-gc-100s``.
-
-    >>> anchor("gc.sigma_gc_100s")
-    'gc-sigma-gc-100s'
-    """
-    from docutils.nodes import make_id
-
-    return make_id(v.check_str("item_id", item_id))
-
-
 def kinds_markdown(items: list[LedgerItem]) -> str:
     """A bullet list of the items per kind, each with its statuses as badges."""
     counts = summary(items)
@@ -342,8 +318,6 @@ def claim_map_markdown(item: LedgerItem) -> str:
     status under each reading, and the share
     of the box of uncertain inputs that holds (with its 95 % interval).  Empty for an item
     that is not a mapped claim."""
-    from gyrolib import inputs as _inputs
-
     it = v.check_instance("item", item, LedgerItem)
     j = it.judged or {}
     if it.kind != "claim" or not j.get("mapped"):

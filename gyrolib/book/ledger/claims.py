@@ -31,6 +31,7 @@ from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.observability import information_psi_omega
 from gyrolib.gc.analysis.speed_claim import time_to_level
 from gyrolib.gc.racing.comparison import race_margin
+from gyrolib.gc.racing.verdict_grid import race_verdict_grid
 from gyrolib.rsf.equations import (
     delta_k,
     fraction_compensated,
@@ -344,8 +345,6 @@ def stored_extras(path: Path | None = None) -> dict[str, Any]:
 def race_grid(executor: object = None) -> dict[str, Any]:
     """The race's verdict over σ1² × C_as under each reading of the printed noise levels, at
     the reference point (:func:`gyrolib.gc.race_verdict_grid`), as plain data."""
-    from gyrolib.gc.racing.verdict_grid import race_verdict_grid
-
     o = _inputs.reference_objects()
     return race_verdict_grid(o["GyrocompassParams"], o["RateSensorProcedure"],
                              executor=executor).to_dict()

@@ -23,7 +23,7 @@ import numpy as np
 import gyrolib
 import gyrolib.levels as levels
 from gyrolib import inputs as _table
-from gyrolib.book.ledger.claims import verdict
+from gyrolib.book.ledger.claims import stored_maps, verdict
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict
 from gyrolib.book.report import sci as _sci
 from gyrolib.gc.analysis.covariance import CovarianceAnalysis, covariance_analysis, time_to_sigma
@@ -501,7 +501,6 @@ def _trend_holds(p: GyrocompassParams, base: Baseline) -> LedgerItem:
     ref = v.judged.get("reference", {})
     worst = share
     if v.judged.get("mapped"):   # the smallest share over the one-at-a-time points
-        from gyrolib.book.ledger.claims import stored_maps
         sweeps = stored_maps()["gc.claim.trend_holds"].sweeps
         worst = min([share, *(m + 0.5 for pts in sweeps.values() for _, m in pts)])
     return _item(

@@ -55,6 +55,7 @@ from gyrolib import _validation as v
 from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
 from gyrolib.book.ledger.claims import CLAIMS, sigmas
+from gyrolib.rsf.equations import delta_k
 from gyrolib.sensitivity import (
     Recheck,
     SensitivityResult,
@@ -126,8 +127,6 @@ def _units(model: str) -> tuple[str, ...]:
 def _quantities(model: str, objs: Mapping[str, Any]) -> list[float]:
     if model == "gc-claims":   # σ(100 s) of the trend's own covariance analysis (kept)
         return [sigmas(objs["GyrocompassParams"])[2]]
-    from gyrolib.rsf.equations import delta_k
-
     ex, gs, enc = objs["WorkedExample"], objs["MemsGyroSpec"], objs["EncoderSpec"]
     return [float(delta_k(ex.eps0_gs(gs), enc.position_error, ex.omega_x, ex.period,
                           ex.eps1_gs(gs), ex.omega_unc_at(ex.omega_x)))]

@@ -16,18 +16,18 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Final
 
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib import levels, stats
+from gyrolib import inputs, levels, stats
 from gyrolib._repr import compact_repr
 from gyrolib.book.ledger.claims import Verdict, register_margin, verdict
 from gyrolib.book.ledger.gc import SIGMA_C, T_BOUND
 from gyrolib.book.ledger.item import LedgerItem
-from gyrolib.book.ledger.rsf import RANDOM_RUNS, SIM_SEED
+from gyrolib.book.ledger.rsf import RANDOM_RUNS, SIM_CYCLES, SIM_SEED, sweep_flights
 from gyrolib.filtering.covariance import AffineDiscreteModel, covariance_fast
 from gyrolib.filtering.discretization import van_loan
 from gyrolib.gc.model.params import GyrocompassParams, state_index
@@ -57,6 +57,7 @@ from gyrolib.rsf.simulation import (
     SinsGyroModel,
     simulate_flight,
 )
+from gyrolib.rsf.sweeps import sweep_encoder
 from gyrolib.rsf.tables import WORKED_EXAMPLE_OMEGA_X, WORKED_EXAMPLE_PERIOD
 from gyrolib.units import from_si
 
@@ -330,11 +331,6 @@ def finer_encoder_margin(o: Mapping[str, Any]) -> float:
     rounding).  It fails, exactly, where the interval is a whole number of the encoder's
     revolutions (the GS motor turns it at its speed limit, 600 °/s: one revolution every
     0.6 s): the encoder's error then cancels between the interval's ends."""
-    from dataclasses import replace
-
-    from gyrolib.book.ledger.rsf import SIM_CYCLES, sweep_flights
-    from gyrolib.rsf.sweeps import sweep_encoder
-
     ex, enc = o["WorkedExample"], o["EncoderSpec"]
     rec = sweep_flights(o["RollGyroSpec"], o["MemsGyroSpec"], enc, float(ex.omega_x))
     encs = [EncoderModel.from_spec(replace(enc, cycles_per_rev=c))
@@ -361,8 +357,6 @@ def period_search_points(o: Mapping[str, Any]) -> np.ndarray:
 
 
 def _row(name: str) -> Any:
-    from gyrolib import inputs
-
     return inputs.row(name)
 
 

@@ -16,10 +16,7 @@ from gyrolib.filtering.covariance import covariance_fast, propagate_fixed_gains
 from gyrolib.gc.analysis.covariance import default_store_every
 from gyrolib.gc.model.discretization import affine_qd, discretize_steps, steps_in
 from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
-from gyrolib.gc.model.state_space import (
-    build_initial_covariance,
-    build_process_noise_intensity,
-)
+from gyrolib.gc.model.state_space import ContinuousModel
 
 __all__ = [
     "BUDGET_SOURCES",
@@ -107,17 +104,18 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
     """
     p = check_params(params)
     ix = state_index(name)
-    disc = discretize_steps(p, steps_in(p, t_end), "van_loan")
+    cm = ContinuousModel.build(p)
+    disc = discretize_steps(cm, steps_in(p, t_end), "van_loan")
     se = default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     mdl = disc.model
-    P0 = build_initial_covariance(p)
+    P0 = cm.P0.copy()
     # the variances of every step and the gains; no P stored but the last (every step's P
     # would be n_steps × n² floats, 80 MB over 100 s)
     full = covariance_fast(mdl, P0, disc.n_steps, keep_gains=True)
     zeros_q = tuple(np.zeros_like(mdl.Qd0) for _ in range(3))
     zero_r = np.zeros_like(mdl.r)
-    Qc = build_process_noise_intensity(p)
+    Qc = cm.Q
     out = []
     for src in BUDGET_SOURCES:
         P0s = np.zeros_like(P0)
@@ -132,7 +130,7 @@ def error_budget(params: GyrocompassParams, t_end: float = 100.0, *,
             q = np.zeros_like(Qc)
             i = 0 if src.endswith("w1") else 1
             q[i, i] = Qc[i, i]
-            parts = affine_qd(p, disc.betas, q)
+            parts = affine_qd(cm, disc.betas, q)
             Qd = parts[3:]
         else:
             q = ("angle sensor noise", "inclinometer y noise", "inclinometer z noise").index(src)

@@ -15,11 +15,10 @@ from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast, covariance_reference
 from gyrolib.gc.model.discretization import (
     DISCRETIZATIONS,
-    augmented_initial_covariance,
     kept_discretization,
     steps_in,
 )
-from gyrolib.gc.model.instrument import augmented_index, build_instrument_model
+from gyrolib.gc.model.instrument import augmented_index
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
 
 __all__ = [
@@ -176,14 +175,16 @@ def covariance_analysis(params: GyrocompassParams, t_end: float = 100.0, *,
     p = check_params(params)
     v.check_choice("method", method, ("fast", "reference"))
     v.check_choice("discretization", discretization, DISCRETIZATIONS)
-    inst = build_instrument_model(p)
-    # kept per parameters: the claims' margins analyse the same model more than once
+    # the continuous model (with the instrument constants that are ON) built once and
+    # discretized, kept per parameters: the claims' margins analyse the same model more
+    # than once
     disc = kept_discretization(p, steps_in(p, t_end), discretization)
+    cm = disc.continuous
     n = disc.model.n
     se = default_store_every(disc.n_steps) if store_every is None else store_every
     se = v.check_int("store_every", se, 1)
     if P0 is None:
-        P0 = augmented_initial_covariance(p, inst)
+        P0 = cm.P0.copy()
     else:
         P0 = v.check_array("P0", P0, shape=(n, n))
         if not np.allclose(P0, P0.T, rtol=1e-12, atol=0.0) or np.any(np.diag(P0) < 0):

@@ -76,7 +76,6 @@ from gyrolib.filtering.covariance import covariance_fast, covariance_reference
 from gyrolib.gc.analysis.covariance import default_store_every
 from gyrolib.gc.model.discretization import (
     N,
-    augmented_initial_covariance,
     discretize_steps,
     steps_in,
 )
@@ -88,6 +87,7 @@ from gyrolib.gc.model.instrument import (
     union_names,
 )
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
+from gyrolib.gc.model.state_space import ContinuousModel
 
 __all__ = [
     "MonteCarloResult",
@@ -1025,10 +1025,11 @@ def _prepare(r: _Recipe) -> tuple[_Prepared, np.ndarray]:
     """The filter's gains and model, the truth's arrays; and the filter's stored P."""
     p = r.params
     inst_f, inst_t = _instruments(r)
-    disc = discretize_steps(p, steps_in(p, r.t_end), "van_loan", inst_f)
+    cm = ContinuousModel.build(p, inst_f)
+    disc = discretize_steps(cm, steps_in(p, r.t_end), "van_loan")
     se = default_store_every(disc.n_steps) if r.store_every is None else r.store_every
     mdl = disc.model
-    P0 = augmented_initial_covariance(p, inst_f)
+    P0 = cm.P0.copy()
     if r.method == "fast":
         run = covariance_fast(mdl, P0, se, keep_gains=True)
     else:

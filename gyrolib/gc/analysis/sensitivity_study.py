@@ -40,9 +40,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from gyrolib import _validation as v
-from gyrolib import levels
+from gyrolib import input_rows, levels
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.speed_claim import time_to_level
+from gyrolib.gc.model import inputs as model_inputs
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.sensitivity import (
     Elasticities,
@@ -82,11 +83,8 @@ _CHUNK: Final[int] = 8
 
 
 def _rows() -> tuple:
-    """Paper GC's uncertain rows of the table (read when called: :mod:`gyrolib.inputs`
-    imports this package's dataclasses)."""
-    from gyrolib import inputs
-
-    return inputs.rows(prefix="gc.", kind="uncertain")
+    """Paper GC's uncertain rows of the table of inputs (:mod:`gyrolib.gc.model.inputs`)."""
+    return model_inputs.rows(prefix="gc.", kind="uncertain")
 
 
 def sensitivity_inputs(params: GyrocompassParams | None = None) -> tuple[SobolInput, ...]:
@@ -116,11 +114,9 @@ def sensitivity_inputs(params: GyrocompassParams | None = None) -> tuple[SobolIn
     >>> c.name, c.distribution, f"{c.high / c.nominal:.0f}"
     ('C_as', 'loguniform', '10')
     """
-    from gyrolib import inputs
-
     p = GyrocompassParams() if params is None else check_params(params)
     objs = {"GyrocompassParams": p}
-    return tuple(r.sobol_input(float(inputs.value_of(objs, r)),
+    return tuple(r.sobol_input(float(input_rows.value_of(objs, r)),
                                name=r.name.removeprefix("gc."))
                  for r in _rows())
 
@@ -174,11 +170,10 @@ def _at(base: GyrocompassParams, names: tuple[str, ...],
         row: NDArray[np.float64]) -> GyrocompassParams:
     """``base`` with the inputs set: a row of the table by its rule (``C_incl`` sets both
     inclinometers), a fixed input (:data:`FIXED_INPUTS`) by its field."""
-    from gyrolib import inputs
-
     by_row = {r.name.removeprefix("gc."): r.name for r in _rows()}
     changes = {by_row[n]: float(x) for n, x in zip(names, row, strict=True) if n in by_row}
-    p = inputs.apply({"GyrocompassParams": base}, changes)["GyrocompassParams"]
+    p = input_rows.apply(model_inputs.ROWS, {"GyrocompassParams": base},
+                         changes)["GyrocompassParams"]
     return replace(p, **{n: float(x) for n, x in zip(names, row, strict=True)
                          if n not in by_row})
 

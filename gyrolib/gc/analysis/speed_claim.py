@@ -41,9 +41,14 @@ from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast
 from gyrolib.gc.analysis.covariance import covariance_analysis
+from gyrolib.gc.model import inputs as model_inputs
 from gyrolib.gc.model.discretization import kept_discretization, steps_in
+from gyrolib.gc.model.instrument import build_instrument_model
 from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
-from gyrolib.gc.model.state_space import build_initial_covariance
+from gyrolib.gc.model.state_space import (
+    ContinuousModel,
+    build_initial_covariance,
+)
 
 __all__ = [
     "SHAPING_FIELDS",
@@ -98,10 +103,7 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
     ``(nan, σ(t_max))``.
     """
     p = ps[0]
-    from gyrolib.gc.model.discretization import augmented_initial_covariance
-    from gyrolib.gc.model.instrument import build_instrument_model, instrument_model
-
-    if not instruments and any(instrument_model(q).nb for q in ps):
+    if not instruments and any(build_instrument_model(q).nb for q in ps):
         raise ValueError("params with instrument terms (sigma_hf_scale, sigma_as_offset, "
                          "sigma_incl_bias, ...) need gyrolib.gc.covariance_analysis: this fast "
                          "path runs paper GC's 10-state filter only")
@@ -114,7 +116,7 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
         return kept_discretization(p, n, "van_loan").model
 
     def run(q: GyrocompassParams) -> tuple[float, float]:
-        P = (augmented_initial_covariance(q, build_instrument_model(q)) if instruments
+        P = (ContinuousModel.with_instruments(q).P0.copy() if instruments
              else build_initial_covariance(q))
         if level is not None and np.sqrt(max(P[i, i], 0.0)) <= level:
             return 0.0, float("nan")
@@ -151,21 +153,16 @@ def _check_field(name: str, field: object) -> str:
 
 
 def inputs_factor_grid(name: str, n: int = 3) -> tuple[float, ...]:
-    """:func:`gyrolib.inputs.factor_grid` (read when called: the table imports this
-    package's dataclasses)."""
-    from gyrolib import inputs
-
-    return inputs.factor_grid(name, n)
+    """:func:`gyrolib.inputs.factor_grid` of paper GC's rows (:mod:`gyrolib.gc.model.inputs`)."""
+    return model_inputs.factor_grid(name, n)
 
 
 def _decade(field: str) -> tuple[float, ...]:
     """The default factors of ``field``: its row's range in the table of inputs when the row
     is a scale-type one, else the printed shaping parameters' (``gc.alpha1``'s)."""
-    from gyrolib import inputs
-
-    rows = [r for r in inputs.rows(owner="GyrocompassParams") if field in r.fields
+    rows = [r for r in model_inputs.ROWS if field in r.fields
             and r.kind != "reading" and r.relative]
-    return inputs.factor_grid(rows[0].name if rows else "gc.alpha1")
+    return model_inputs.factor_grid(rows[0].name if rows else "gc.alpha1")
 
 
 def _scaled(p: GyrocompassParams, field: str, factor: float) -> GyrocompassParams:
@@ -214,10 +211,8 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     level = v.check_positive("level", level)
     t_max = v.check_positive("t_max", t_max)
     steps_in(p, t_max)   # t_max a multiple of dt
-    from gyrolib.gc.model.instrument import instrument_model
-
     return _run_omega_gc((p,), _FIRST_HORIZON, t_max, level,
-                         instruments=bool(instrument_model(p).nb))[0][0]
+                         instruments=bool(build_instrument_model(p).nb))[0][0]
 
 
 @compact_repr

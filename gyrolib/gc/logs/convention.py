@@ -31,7 +31,9 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
+from gyrolib.gc.logs.calibration import calibrate, simulate_record
 from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model.nominal import nominal_motion_aperiodic
 from gyrolib.gc.model.params import GyrocompassParams, state_index
 
 __all__ = [
@@ -247,9 +249,6 @@ class ConventionStudy:
 
 def _one_run(params: GyrocompassParams, t_end: float, seed: int,
              wiring: InclinometerMapping) -> tuple[float, ...]:
-    from gyrolib.gc.logs.calibration import calibrate, simulate_record
-    from gyrolib.gc.model.nominal import nominal_motion_aperiodic
-
     sim = simulate_record(params, t_end, seed)
     rec = sim.record
     right = calibrate(rec, params)

@@ -46,6 +46,7 @@ from numpy.typing import NDArray
 from gyrolib import _compile_note  # noqa: F401  (a line on stderr at the first compile)
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
+from gyrolib.filtering.consistency import chi2_ppf
 from gyrolib.filtering.discretization import van_loan
 from gyrolib.filtering.kernels import (
     joseph_scalar_update_inline,
@@ -54,6 +55,7 @@ from gyrolib.filtering.kernels import (
 )
 from gyrolib.gc.logs.calibration import calibrate, innovation_log_likelihood
 from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.model import inputs
 from gyrolib.gc.model.params import GyrocompassParams, state_index
 from gyrolib.gc.model.state_space import (
     initial_covariance,
@@ -279,7 +281,6 @@ class NoiseFit:
         out = np.column_stack([se, se])
         if self.intervals is None:
             return out
-        from gyrolib.filtering.consistency import chi2_ppf
 
         z = math.sqrt(float(chi2_ppf(self.level, 1)))
         theta = np.log(self.values)
@@ -522,8 +523,6 @@ def fit_checks(fit: NoiseFit, unfitted: object | None = None, *, clock_tolerance
     >>> [(c["name"], c["passed"]) for c in gc.fit_checks(fit)]
     [('C_as', False)]
     """
-    from gyrolib import inputs
-    from gyrolib.filtering.consistency import chi2_ppf
 
     v.check_instance("fit", fit, NoiseFit)
     clock_tolerance = v.check_nonnegative("clock_tolerance", clock_tolerance)
@@ -641,7 +640,6 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     >>> bool(lo < 4e-13 < hi), bool(lo < fit.value("C_as") < hi)
     (True, True)
     """
-    from gyrolib.filtering.consistency import chi2_ppf
 
     v.check_instance("record", record, GCRecord)
     v.check_instance("fit", fit, NoiseFit)
@@ -797,7 +795,6 @@ def _on_line(seen: list[tuple[np.ndarray, float]], u: np.ndarray, i: int, side: 
 def _search_limits(fit: NoiseFit, i: int) -> tuple[float, float]:
     """The ``ln θ`` range :func:`profile_intervals` searches for parameter ``i``: its row's
     plausible range (:mod:`gyrolib.inputs`) ×/÷ 10."""
-    from gyrolib import inputs
 
     nm = fit.names[i]
     row = inputs.row(FIT_ROWS[nm])

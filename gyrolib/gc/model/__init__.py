@@ -53,6 +53,8 @@ from gyrolib.gc.model.shaping_filters import (
     vibration_filter,
 )
 from gyrolib.gc.model.state_space import (
+    ContinuousModel,
+    continuous_model,
     initial_covariance,
     measurement_matrix,
     measurement_noise_covariance,
@@ -70,6 +72,7 @@ __all__ = [
     "SEGMENT",
     "STATE_NAMES",
     "TERMS",
+    "ContinuousModel",
     "GCDiscretization",
     "GyrocompassParams",
     "InstrumentModel",
@@ -77,6 +80,7 @@ __all__ = [
     "NominalIntegrator",
     "NominalMotion",
     "ShapingFilter",
+    "continuous_model",
     "discretize",
     "float_acceleration",
     "gyroscopic_torque",
@@ -113,7 +117,7 @@ __all__ = [
 def __getattr__(name: str):
     """``symbolic`` (sympy, about 1 s to import), imported on first access."""
     if name == "symbolic":
-        import gyrolib.gc.model.symbolic as symbolic
+        import gyrolib.gc.model.symbolic as symbolic  # start-up: sympy, about 1 s
 
         return symbolic
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -12,6 +12,10 @@ second-order exponential integrator (:func:`nominal_half_steps`, tested against
 ``Qd = G Q Gᵀ Δt`` (exactly affine in ``(sin β_n, cos β_n)``), to measure what the exact
 discretization buys.
 
+The discretization takes the continuous model as one object,
+:class:`gyrolib.gc.model.state_space.ContinuousModel` (``F``, ``G``, ``Q``, ``H``, ``R``,
+``P(0)``, built once for given parameters), and asks the continuous side for nothing else.
+
 Measurements ``z_k = D x(t_k) + v_k`` at ``t_k = k Δt``, ``k ≥ 1``; the filter starts from
 ``x̂(0) = 0``, ``P(0)`` = :func:`gyrolib.gc.initial_covariance`.
 """
@@ -33,16 +37,8 @@ from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import AffineDiscreteModel
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
-from gyrolib.gc.model.instrument import InstrumentModel, build_instrument_model
 from gyrolib.gc.model.params import STATE_NAMES, GyrocompassParams, check_params
-from gyrolib.gc.model.state_space import (
-    build_initial_covariance,
-    build_measurement_matrix,
-    build_measurement_noise_covariance,
-    build_noise_input_matrix,
-    build_process_noise_intensity,
-    build_system_matrix,
-)
+from gyrolib.gc.model.state_space import ContinuousModel
 
 __all__ = [
     "DISCRETIZATIONS",
@@ -214,91 +210,42 @@ def system_matrix_parts(params: GyrocompassParams
     >>> bool(np.allclose(Fc + np.sin(0.3) * Es + np.cos(0.3) * Ec, gc.system_matrix(p, 0.3)))
     True
     """
-    return _affine_parts(check_params(params))
+    m = ContinuousModel.build(check_params(params))
+    return m.Fc.copy(), m.Es.copy(), m.Ec.copy()
 
 
-def _affine_parts(p: GyrocompassParams) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``F(β) = F_0 + sin β · E_s + cos β · E_c`` (exact: F is affine in sin and cos)."""
-    F0, F90, F180 = (build_system_matrix(p, b) for b in (0.0, 0.5 * np.pi, np.pi))
-    Ec = 0.5 * (F0 - F180)
-    Fc = 0.5 * (F0 + F180)
-    Es = F90 - Fc
-    # sin(π) and cos(π/2) are ~1e-16, not 0: clean the rounding
-    for A in (Ec, Fc, Es):
-        A[np.abs(A) < 1e-12 * np.max(np.abs(F0))] = 0.0
-    return Fc, Es, Ec
-
-
-def _pad(A: np.ndarray, n: int, cols: int | None = None) -> np.ndarray:
-    """``A`` in the top left corner of an ``n × cols`` (default ``n × n``) zero matrix."""
-    out = np.zeros((n, n if cols is None else cols))
-    out[:A.shape[0], :A.shape[1]] = A
-    return out
-
-
-def augmented_parts(p: GyrocompassParams, inst: InstrumentModel | None
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``(F_c, E_s, E_c, G)`` of the model with the instrument constants ``inst`` appended
-    to the state (:mod:`gyrolib.gc.model.instrument`): constant states (zero rows), their
-    dynamics coupling ``Fb`` in the columns of ``F_c`` (it does not depend on β_n); ``None``
-    or ``nb = 0``: the 10 states of Eq. (8)."""
-    Fc, Es, Ec = _affine_parts(p)
-    G = build_noise_input_matrix(p)
-    if inst is None or inst.nb == 0:
-        return Fc, Es, Ec, G
-    n = N + inst.nb
-    Fc = _pad(Fc, n)
-    Fc[:N, N:] = inst.Fb
-    return Fc, _pad(Es, n), _pad(Ec, n), _pad(G, n, G.shape[1])
-
-
-def augmented_measurement(p: GyrocompassParams, inst: InstrumentModel | None
-                          ) -> tuple[np.ndarray, np.ndarray]:
-    """``(H0, H1)`` of the model with the instrument constants: ``D`` of Eq. (8) followed by
-    their columns ``H0``; ``H1`` (zero on the 10 states) the part proportional to β_n."""
-    D = build_measurement_matrix(p)
-    if inst is None or inst.nb == 0:
-        return D, np.zeros_like(D)
-    return np.hstack([D, inst.H0]), np.hstack([np.zeros_like(D), inst.H1])
-
-
-def augmented_initial_covariance(p: GyrocompassParams,
-                                 inst: InstrumentModel | None) -> np.ndarray:
-    """``P(0)`` of Eq. (8) with the constants' prior variances appended on the diagonal."""
-    P0 = build_initial_covariance(p)
-    if inst is None or inst.nb == 0:
-        return P0
-    out = _pad(P0, N + inst.nb)
-    out[N:, N:] = np.diag(inst.prior**2)
-    return out
-
-
-def affine_qd(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray,
-              inst: InstrumentModel | None = None) -> tuple:
-    Fc, Es, Ec, G = augmented_parts(p, inst)
-    n = Fc.shape[0]
+def affine_qd(model: ContinuousModel, betas: np.ndarray, Qc: np.ndarray | None = None
+              ) -> tuple:
+    """Van Loan's ``Φ``, ``Qd`` and their derivatives in ``(sin β, cos β)`` at each expansion
+    point of ``betas``, for the noise intensity ``Qc`` (default the model's ``Q``)."""
+    Fc, Es, Ec, G = model.Fc, model.Es, model.Ec, model.G
+    Qc = model.Q if Qc is None else Qc
+    dt = model.params.dt
+    n = model.n
     J = betas.size
     out = [np.zeros((J, n, n)) for _ in range(6)]
     for j, b in enumerate(betas):
         F = Fc + np.sin(b) * Es + np.cos(b) * Ec
-        Phi, Qd, (dPs, dPc), (dQs, dQc) = van_loan_derivatives(F, G, Qc, p.dt, [Es, Ec])
+        Phi, Qd, (dPs, dPc), (dQs, dQc) = van_loan_derivatives(F, G, Qc, dt, [Es, Ec])
         for arr, val in zip(out, (Phi, dPs, dPc, Qd, dQs, dQc)):
             arr[j] = val
     return tuple(out)
 
 
-def _affine_euler(p: GyrocompassParams, betas: np.ndarray, Qc: np.ndarray,
-                  inst: InstrumentModel | None = None) -> tuple:
+def _affine_euler(model: ContinuousModel, betas: np.ndarray, Qc: np.ndarray | None = None
+                  ) -> tuple:
     """Euler steps: ``Φ = I + F Δt`` is affine in (sin, cos) exactly; ``Qd = G Q Gᵀ Δt``."""
-    Fc, Es, Ec, G = augmented_parts(p, inst)
-    N = Fc.shape[0]   # the state size of this model
+    Fc, Es, Ec, G = model.Fc, model.Es, model.Ec, model.G
+    Qc = model.Q if Qc is None else Qc
+    dt = model.params.dt
+    N = model.n   # the state size of this model
     J = betas.size
     Phi0 = np.eye(N) + (Fc + np.sin(betas)[:, None, None] * Es
-                        + np.cos(betas)[:, None, None] * Ec) * p.dt
-    Qd0 = np.broadcast_to(G @ Qc @ G.T * p.dt, (J, N, N)).copy()
+                        + np.cos(betas)[:, None, None] * Ec) * dt
+    Qd0 = np.broadcast_to(G @ Qc @ G.T * dt, (J, N, N)).copy()
     zeros = np.zeros((J, N, N))
-    return (Phi0, np.broadcast_to(Es * p.dt, (J, N, N)).copy(),
-            np.broadcast_to(Ec * p.dt, (J, N, N)).copy(), Qd0, zeros, zeros.copy())
+    return (Phi0, np.broadcast_to(Es * dt, (J, N, N)).copy(),
+            np.broadcast_to(Ec * dt, (J, N, N)).copy(), Qd0, zeros, zeros.copy())
 
 
 @compact_repr
@@ -310,10 +257,12 @@ class GCDiscretization:
     affine discrete model; ``Gamma[j]`` the response over one step to a unit constant
     acceleration on ``Δβ''`` (for the nonlinear remainder); ``noise_factor[j]`` (n × n_w) a
     factor of ``Qd`` at expansion point ``j`` for drawing the process noise; ``method`` the
-    discretization (``"van_loan"`` or ``"euler"``); ``instrument`` the instrument constants
-    appended to the state (:func:`gyrolib.gc.instrument_model`; ``None``: the 10 states of
-    Eq. (8)), whose readings after step ``k`` make ``model.H + model.h[k] model.H1`` with
-    ``model.h[k]`` the nominal float angle at ``t_{k+1}``.
+    discretization (``"van_loan"`` or ``"euler"``); ``continuous`` the continuous model it
+    discretizes (:class:`gyrolib.gc.model.state_space.ContinuousModel`; default Eq. (8)'s
+    for ``params``), whose ``instrument`` constants (``None``: the 10 states of Eq. (8)) are
+    appended to the state, their readings after step ``k`` making
+    ``model.H + model.h[k] model.H1`` with ``model.h[k]`` the nominal float angle at
+    ``t_{k+1}``.
     """
 
     params: GyrocompassParams
@@ -324,17 +273,20 @@ class GCDiscretization:
     Gamma: np.ndarray
     noise_factor: np.ndarray
     method: str = "van_loan"
-    instrument: InstrumentModel | None = None
+    continuous: ContinuousModel | None = None
 
     def __post_init__(self) -> None:
         check_params(self.params)
+        if self.continuous is None:
+            object.__setattr__(self, "continuous", ContinuousModel.build(self.params))
+        v.check_instance("continuous", self.continuous, ContinuousModel)
+        if self.continuous.params != self.params:
+            raise ValueError("continuous must be the model of params")
         n = v.check_int("n_steps", self.n_steps, 1)
         v.check_ndarray("beta_half", self.beta_half, shape=(2 * n + 1,))
         J = v.check_ndarray("betas", self.betas, ndim=1).size
         v.check_instance("model", self.model, AffineDiscreteModel)
-        if self.instrument is not None:
-            v.check_instance("instrument", self.instrument, InstrumentModel)
-        ns = N + (0 if self.instrument is None else self.instrument.nb)
+        ns = self.continuous.n
         if self.model.n != ns:
             raise ValueError(f"model must have {ns} states; got {self.model.n}")
         v.check_ndarray("Gamma", self.Gamma, shape=(J, ns))
@@ -342,9 +294,14 @@ class GCDiscretization:
         v.check_choice("method", self.method, DISCRETIZATIONS)
 
     @property
+    def instrument(self):
+        """The instrument constants appended to the state (``None``: Eq. (8)'s 10 states)."""
+        return self.continuous.instrument
+
+    @property
     def state_names(self) -> tuple[str, ...]:
         """The names of the model's states: Eq. (8)'s, then the instrument constants."""
-        return STATE_NAMES + (() if self.instrument is None else self.instrument.names)
+        return self.continuous.state_names
 
     @property
     def t(self) -> NDArray[np.float64]:
@@ -361,16 +318,12 @@ class GCDiscretization:
         k = v.check_int("k", k, 0)
         if k >= self.n_steps:
             raise ValueError(f"k must be a step index in [0, {self.n_steps}); got {k}")
-        p = self.params
-        Fc, Es, Ec, G = augmented_parts(p, self.instrument)
-        b = float(self.beta_mid[k])
-        F = Fc + np.sin(b) * Es + np.cos(b) * Ec
-        if self.instrument is None or self.instrument.nb == 0:
-            F = build_system_matrix(p, b)     # the paper's F exactly (no affine rounding)
-        Qc = build_process_noise_intensity(p)
+        cm = self.continuous
+        dt = self.params.dt
+        F = cm.system_matrix(float(self.beta_mid[k]))   # Eq. (8)'s F exactly on 10 states
         if self.method == "euler":
-            return np.eye(F.shape[0]) + F * p.dt, G @ Qc @ G.T * p.dt
-        return van_loan(F, G, Qc, p.dt)
+            return np.eye(F.shape[0]) + F * dt, cm.G @ cm.Q @ cm.G.T * dt
+        return van_loan(F, cm.G, cm.Q, dt)
 
 
 def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
@@ -410,36 +363,33 @@ def discretize(params: GyrocompassParams, t_end: float = 100.0, *,
     n_steps = steps_in(p, t_end)
     v.check_choice("method", method, DISCRETIZATIONS)
     instrument = v.check_bool("instrument", instrument)
-    return discretize_steps(p, n_steps, method, build_instrument_model(p) if instrument else None)
+    cm = ContinuousModel.with_instruments(p) if instrument else ContinuousModel.build(p)
+    return discretize_steps(cm, n_steps, method)
 
 
-def discretize_steps(p: GyrocompassParams, n_steps: int, method: str,
-                     inst: InstrumentModel | None = None) -> GCDiscretization:
-    """:func:`discretize` on arguments already checked by the public entry point; ``inst``:
-    the instrument constants appended to the state (``None`` or none ON: Eq. (8))."""
-    if inst is not None and inst.nb == 0:
-        inst = None
+def discretize_steps(cm: ContinuousModel, n_steps: int, method: str) -> GCDiscretization:
+    """:func:`discretize` of the continuous model ``cm`` on arguments already checked by the
+    public entry point."""
+    p = cm.params
+    inst = cm.instrument
     beta_half = _nominal_half_steps(p, n_steps)
     bm = beta_half[1::2]
     idx = np.rint(bm / SEGMENT).astype(np.int64)
     uniq, seg = np.unique(idx, return_inverse=True)
     betas = uniq * SEGMENT
     affine = _affine_euler if method == "euler" else affine_qd
-    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(p, betas, build_process_noise_intensity(p), inst)
-    R = build_measurement_noise_covariance(p)
-    H0, H1 = augmented_measurement(p, inst)
+    Phi0, PhiA, PhiB, Qd0, QdA, QdB = affine(cm, betas)
     model = AffineDiscreteModel(
         seg=seg.astype(np.int64).ravel(), a=np.sin(bm) - np.sin(betas)[seg].ravel(),
         b=np.cos(bm) - np.cos(betas)[seg].ravel(), Phi0=Phi0, PhiA=PhiA, PhiB=PhiB,
-        Qd0=Qd0, QdA=QdA, QdB=QdB, H=H0, r=np.diag(R).copy(),
-        H1=None if inst is None else H1,
+        Qd0=Qd0, QdA=QdA, QdB=QdB, H=cm.H0.copy(), r=np.diag(cm.R).copy(),
+        H1=None if inst is None else cm.H1.copy(),
         h=None if inst is None else beta_half[2::2].copy())
-    Fc, Es, Ec, _ = augmented_parts(p, inst)
-    n = Fc.shape[0]
+    n = cm.n
     Gamma = np.zeros((betas.size, n))
     factors = []
     for j, b in enumerate(betas):
-        F = Fc + np.sin(b) * Es + np.cos(b) * Ec
+        F = cm.Fc + np.sin(b) * cm.Es + np.cos(b) * cm.Ec
         M = np.zeros((n + 1, n + 1))
         M[:n, :n] = F * p.dt
         M[1, n] = p.dt
@@ -449,16 +399,16 @@ def discretize_steps(p: GyrocompassParams, n_steps: int, method: str,
     noise_factor = np.ascontiguousarray(np.array(factors)[:, :, nz])
     return GCDiscretization(params=p, n_steps=n_steps, beta_half=beta_half, betas=betas,
                             model=model, Gamma=Gamma, noise_factor=noise_factor,
-                            method=method, instrument=inst)
+                            method=method, continuous=cm)
 
 
 @functools.lru_cache(maxsize=32)
 def kept_discretization(p: GyrocompassParams, n_steps: int,
-                         method: str = "van_loan") -> GCDiscretization:
-    """:func:`discretize_steps` with the instrument constants that are ON for ``p``
-    (:func:`gyrolib.gc.model.instrument.build_instrument_model`; none: Eq. (8)), kept per
+                        method: str = "van_loan") -> GCDiscretization:
+    """:func:`discretize_steps` of the continuous model with the instrument constants that
+    are ON for ``p`` (:meth:`ContinuousModel.with_instruments`; none: Eq. (8)), kept per
     arguments for the library's own read-only use: a claim's margins read the same model
     more than once (the race's GC time and the trend's covariance analysis at the same
     parameters, over the same 100 s).  Its arrays are shared: not for callers that hand
-    them on (:func:`discretize` makes its own)."""
-    return discretize_steps(p, n_steps, method, build_instrument_model(p))
+    them on (:func:`discretize` makes its own); ``.continuous`` is the model it used."""
+    return discretize_steps(ContinuousModel.with_instruments(p), n_steps, method)

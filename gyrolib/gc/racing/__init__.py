@@ -6,6 +6,7 @@ and figures to these modules.
 """
 from gyrolib.gc.racing.comparison import (
     PROCEDURE_TARGETS,
+    RACE_RANGES,
     RaceConditions,
     RaceResult,
     RaceSweep,
@@ -50,12 +51,3 @@ __all__ = [
     "turn_accuracy_limit",
 ]
 
-
-def __getattr__(name: str) -> object:
-    # RACE_RANGES is read from the table of inputs on first use (gyrolib.inputs imports
-    # this package's dataclasses, so it cannot be read while the package loads)
-    if name == "RACE_RANGES":
-        from gyrolib.gc.racing import comparison
-
-        return comparison.RACE_RANGES
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -27,7 +27,9 @@ from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.speed_claim import time_to_level
+from gyrolib.gc.model import inputs as model_inputs
 from gyrolib.gc.model.params import GyrocompassParams, check_params
+from gyrolib.gc.racing import inputs as racing_inputs
 from gyrolib.gc.racing.rate_sensor import (
     RateSensorModel,
     RateSensorProcedure,
@@ -35,7 +37,7 @@ from gyrolib.gc.racing.rate_sensor import (
     rate_sensor_model,
 )
 
-__all__ = [  # noqa: F822 - RACE_RANGES is a module attribute read on first use
+__all__ = [
     "PROCEDURE_TARGETS",
     "RACE_RANGES",
     "RaceConditions",
@@ -349,22 +351,17 @@ def _rate_part_at(p: GyrocompassParams, proc: RateSensorProcedure) -> _RatePart:
 #: time grows with the first three and GC's with κ, so the claim's worst case is the low end
 #: of the first three with the high end of κ.  Every other input of the race is mapped by
 #: :func:`gyrolib.claim_map.map_claim` (the ledger's item ``gc.faster_percent``).
-#: (Read from the table on first use: ``gyrolib.inputs`` imports this package's dataclasses.)
 _RACE_ROWS: Final[tuple[tuple[str, str], ...]] = (
     ("loop_bandwidth", "race.loop_bandwidth"), ("overhead", "race.overhead"),
     ("rate_noise", "race.rate_noise"), ("sigma_hf_scale", "gc.sigma_hf_scale"))
 
 
 def _race_ranges() -> dict[str, tuple[float, float]]:
-    from gyrolib import inputs
+    rows = {r.name: r for r in model_inputs.ROWS + racing_inputs.ROWS}
+    return {key: rows[name].bounds() for key, name in _RACE_ROWS}
 
-    return {key: inputs.row(name).bounds() for key, name in _RACE_ROWS}
 
-
-def __getattr__(name: str) -> object:
-    if name == "RACE_RANGES":
-        return _race_ranges()
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+RACE_RANGES: Final[dict[str, tuple[float, float]]] = _race_ranges()
 
 
 def _fmt_sci(x: float, digits: int = 2) -> str:

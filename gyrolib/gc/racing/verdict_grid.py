@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 from gyrolib import _validation as v
 from gyrolib._executor import check_executor, map_ordered
 from gyrolib._repr import compact_repr
+from gyrolib.gc.model import inputs
 from gyrolib.gc.model.params import GyrocompassParams, check_params
 from gyrolib.gc.racing.comparison import race, race_margin
 from gyrolib.gc.racing.rate_sensor import RateSensorProcedure, check_procedure
@@ -105,8 +106,6 @@ def race_verdict_grid(params: GyrocompassParams | None = None,
     >>> f"{g.margin[0, 0, 0]:.1f}", [f"{t:.1f}" for t in g.times[0]]
     ('7.3', ['24.1', '141.6', '56.4'])
     """
-    from gyrolib import inputs
-
     p = GyrocompassParams() if params is None else check_params(params)
     proc = RateSensorProcedure() if procedure is None else check_procedure(procedure)
     ex = check_executor(executor)
