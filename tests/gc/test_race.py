@@ -980,3 +980,14 @@ def test_give_up_after_is_exact(n1):
     if full < start2 - 1.0:
         pre = _pre_fix_time_to(gc.RateSensorModel.optimal_time_to_samples)
         assert math.isnan(pre(m, n1, n2_max, level, give_up_after=start2 - 1.0))
+
+
+@pytest.mark.parametrize("change", [{}, {"sigma1_sq": 2.0 * BASE.sigma1_sq},
+                                    {"sigma_hf_scale": 1e-3}])
+def test_reference_text_is_the_conditions_first_sentence(change):
+    """RaceResult.reference_text (what race prints, without conditions()' searches) is the
+    first sentence of conditions().text(): where the claim holds, fails, and where GC never
+    reaches σ_c."""
+    r = gc.race(replace(BASE, **change), PROC)
+    assert r.reference_text() == r.conditions().reference_text()
+    assert r.reference_text().startswith(("At the reference point", "GC's method does not"))
