@@ -334,11 +334,31 @@ def _optimal_exceeds(p: GyrocompassParams, proc: RateSensorProcedure, target: fl
     return not (np.isfinite(t) and t <= target)
 
 
+#: GC's instrument constants, which the rival's model does not read (a test checks its
+#: arrays): the rival's results are kept without them, so a map's rows of GC's instrument
+#: reuse the rival's times.
+_GC_ONLY_FIELDS: Final[tuple[str, ...]] = ("sigma_hf_scale", "sigma_as_offset",
+                                           "sigma_incl_bias", "sigma_clock")
+
+
+def _rival_params(p: GyrocompassParams) -> GyrocompassParams:
+    """``p`` as the rival reads it: GC's instrument constants at 0."""
+    if any(getattr(p, f) for f in _GC_ONLY_FIELDS):
+        return replace(p, **dict.fromkeys(_GC_ONLY_FIELDS, 0.0))
+    return p
+
+
 @functools.lru_cache(maxsize=1024)
+def _rate_part_cached(p: GyrocompassParams, proc: RateSensorProcedure) -> _RatePart:
+    return _rate_part(rate_sensor_model(p, proc))
+
+
 def _rate_part_at(p: GyrocompassParams, proc: RateSensorProcedure) -> _RatePart:
     """:func:`_rate_part` of the rate-sensor model at ``(p, proc)``, kept per inputs (a
-    frozen result), like :func:`_rate_time`."""
-    return _rate_part(rate_sensor_model(p, proc))
+    frozen result), like :func:`_rate_time`; GC's instrument constants, which the rival
+    does not read, are left out of the key (:func:`_rival_params`)."""
+    return _rate_part_cached(_rival_params(p), proc)
+
 
 
 # Result ---------------------------------------------------------------------------------------
