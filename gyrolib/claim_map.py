@@ -415,7 +415,8 @@ def _reading(claim: Claim, objects: Mapping[str, Any], name: str, value: str) ->
 
 def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid: int = 9,
               rtol: float = 1e-3, n_box: int = 64, seed: int = 2026,
-              executor: object = None, chunk: int = 8) -> ClaimMap:
+              executor: object = None, chunk: int = 8,
+              monotone: Sequence[str] = ()) -> ClaimMap:
     """Judge ``claim`` at the reference point and over the table (see the module docstring).
 
     Parameters
@@ -437,6 +438,11 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
         Where the one-at-a-time sweeps and the box's chunks run (``None``: here).
     chunk : int, default 8
         Box points per task.
+    monotone : sequence of str, default ()
+        Numeric rows in which the caller knows the margin to be monotone: their grid is the
+        range's two ends and the reference (a coarser bracket: a monotone margin changes
+        sign at most once, between the reference and the end whose status differs), then
+        the same bisection.
 
     Returns
     -------
@@ -467,8 +473,16 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
             r = _inputs.row(name)
             ref = float(_inputs.value_of(objs, r))
             box[:, j] = r.to_unit(u[:, j], reference=ref if r.relative else None)
+    mono = frozenset(monotone)
+    if not mono <= set(numeric):
+        raise ValueError(f"monotone must name numeric rows of {claim.id} "
+                         f"({', '.join(numeric)}); got {sorted(mono - set(numeric))}")
+
+    def grid_of(name: str) -> int:
+        return 2 if name in mono else n_grid
+
     tasks: list[tuple[Callable[..., Any], tuple[Any, ...]]] = []
-    tasks += [(_sweep, (claim, objs, n, n_grid, rtol, ref_margin)) for n in numeric]
+    tasks += [(_sweep, (claim, objs, n, grid_of(n), rtol, ref_margin)) for n in numeric]
     tasks += [(_box, (claim, objs, uncertain, box[i:i + chunk]))
               for i in range(0, box.shape[0], chunk)]
     tasks += [(_reading, (claim, objs, r.name, val)) for r in readings for val in r.values[1:]]
@@ -482,7 +496,7 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
     for name, val in alts:
         o2 = _inputs.apply(objs, {name: val})
         m2 = float(claim.margin(o2))
-        tasks += [(_sweep, (claim, o2, n, n_grid, rtol, m2)) for n in numeric]
+        tasks += [(_sweep, (claim, o2, n, grid_of(n), rtol, m2)) for n in numeric]
     results = map_ordered(_call, [(fn, args) for fn, args in tasks], ex)
     k = 0
     sweeps: dict[str, list[list[float]]] = {}
@@ -543,7 +557,8 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
                     readings=read_status, sweeps=sweeps, box_fails=n_fail,
                     fingerprint=tuple(fp),
                     settings={"n_grid": n_grid, "rtol": rtol, "n_box": n_box, "seed": seed,
-                              "table": _inputs.table_fingerprint(claim.inputs)},
+                              "table": _inputs.table_fingerprint(claim.inputs),
+                              **({"monotone": sorted(mono)} if mono else {})},
                     reading_thresholds=per_reading, isolated=tuple(isolated))
 
 

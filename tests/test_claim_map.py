@@ -38,6 +38,11 @@ def band(o):                 # holds for C_as between 0.3 and 3 times the refere
     return -(f - 0.3) * (f - 3.0)
 
 
+def notch(o):                # fails only for C_as between 2 and 5 times the reference
+    f = o["GyrocompassParams"].C_as / CAS
+    return (f - 2.0) * (f - 5.0)
+
+
 def by_reading(o):           # holds only under the book's reading of the noise levels
     return 1.0 if o["GyrocompassParams"].measurement_noise == "intensity_over_dt" else -1.0
 
@@ -531,3 +536,83 @@ def test_gc_completeness_has_power():
     wrong = {**d.readings, "gc.shaping_p0": {"stationary": "holds", "zero": "fails"}}
     assert "gc.shaping_p0" in _gc_violations(dataclasses.replace(d, readings=wrong),
                                              _gc_live("gc.fig3.drop_2s"))
+
+
+def test_monotone_rows_bracket_with_the_range_ends():
+    """A row declared monotone is bracketed by its range's two ends and the reference: the
+    same threshold (to the bisection's tolerance) with fewer margins; on a margin that is not
+    monotone (two flips) the declaration loses a flip, so it is the caller's knowledge, not a
+    free setting; a declared row the claim does not bracket is refused by name."""
+    calls = []
+
+    def counted(fn):
+        def margin(o):
+            calls.append(1)
+            return fn(o)
+        return margin
+
+    full = cm.map_claim(cm.Claim("t.below", counted(below_three), TWO, "3 - f"), n_box=0)
+    n_full = len(calls)
+    calls.clear()
+    coarse = cm.map_claim(cm.Claim("t.below", counted(below_three), TWO, "3 - f"), n_box=0,
+                          monotone=["gc.sigma1_sq", "gc.C_as"])
+    assert len(calls) < n_full
+    ((t0,), (t1,)) = full.thresholds, coarse.thresholds
+    assert (t1.input, t1.holds_when) == (t0.input, t0.holds_when)
+    assert t1.factor == pytest.approx(3.0, rel=1e-3)
+    assert coarse.settings["monotone"] == ["gc.C_as", "gc.sigma1_sq"]
+    assert "monotone" not in full.settings
+    # power: a notch (fails for C_as × 2–5 only) declared monotone is lost
+    notch_full = cm.map_claim(cm.Claim("t.notch", notch, TWO, "notch"), n_box=0, n_grid=13)
+    notch_mono = cm.map_claim(cm.Claim("t.notch", notch, TWO, "notch"), n_box=0, n_grid=13,
+                              monotone=["gc.C_as"])
+    assert [round(t.factor, 2) for t in notch_full.thresholds] == [2.0, 5.0]
+    assert notch_mono.thresholds == ()
+    with pytest.raises(ValueError, match=r"monotone.*gc\.xi1"):
+        cm.map_claim(cm.Claim("t.below", below_three, TWO, "3 - f"), n_box=0,
+                     monotone=["gc.xi1"])
+
+
+def test_race_margin_monotone_rows_are_monotone_in_the_stored_sweeps():
+    """The rows the race's margin is declared monotone in (gc.MARGIN_MONOTONE_ROWS, read by
+    race --params to bracket them coarsely) are monotone in the stored map's 9-point
+    sweeps, in the direction their physics gives (GC's rows lower the margin, the rival's
+    raise it); power: a row that is not (C_as, which slows both methods) is caught."""
+    from gyrolib.gc.racing.comparison import MARGIN_MONOTONE_ROWS
+
+    sweeps = claims.stored_maps()["gc.faster_percent"].sweeps
+
+    def direction(name):
+        ms = [m for _, m in sweeps[name]]
+        steps = np.diff(ms)
+        tol = 1e-9 * max(abs(m) for m in ms)
+        return ("up" if np.all(steps >= -tol) else "down" if np.all(steps <= tol)
+                else "neither")
+
+    for name in MARGIN_MONOTONE_ROWS:
+        want = "down" if name.startswith("gc.") else "up"
+        assert direction(name) == want, name
+    assert direction("gc.C_as") == "neither"
+
+
+def test_the_rival_does_not_read_gcs_instrument_constants():
+    """GC's rows among the race's monotone ones enter GC's method only: the rival's model is
+    the same array for array with them at their range's high end."""
+    from gyrolib.gc.racing.comparison import MARGIN_MONOTONE_ROWS
+
+    p, proc = gc.GyrocompassParams(), gc.RateSensorProcedure()
+    base = gc.rate_sensor_model(p, proc)
+    changes = {}
+    for name in MARGIN_MONOTONE_ROWS:
+        if name.startswith("gc."):
+            row = inputs.row(name)
+            changes.update({f: row.bounds()[1] for f in row.fields})
+    assert set(changes) == {"sigma_hf_scale", "sigma_as_offset", "sigma_incl_bias",
+                            "sigma_clock"}
+    other = gc.rate_sensor_model(dataclasses.replace(p, **changes), proc)
+    arrays = ("F", "Phi", "Qd", "P0", "H1", "H2", "r")
+    for name in arrays:
+        assert np.array_equal(getattr(base, name), getattr(other, name)), name
+    # power: a row the rival does read (the unbalance) changes its model
+    moved = gc.rate_sensor_model(dataclasses.replace(p, omega_ub=2 * p.omega_ub), proc)
+    assert not all(np.array_equal(getattr(base, n), getattr(moved, n)) for n in arrays)

@@ -745,7 +745,7 @@ def _forget_races() -> None:
     :mod:`gyrolib.gc.racing.comparison`), so that the next call computes."""
     from gyrolib.gc.racing import comparison
 
-    for f in (comparison._rate_time, comparison._rate_part_at, comparison._boundary,
+    for f in (comparison._rate_time, comparison._rate_part_cached, comparison._boundary,
               comparison._gc_time):
         f.cache_clear()
 
@@ -980,3 +980,38 @@ def test_give_up_after_is_exact(n1):
     if full < start2 - 1.0:
         pre = _pre_fix_time_to(gc.RateSensorModel.optimal_time_to_samples)
         assert math.isnan(pre(m, n1, n2_max, level, give_up_after=start2 - 1.0))
+
+
+@pytest.mark.parametrize("change", [{}, {"sigma1_sq": 2.0 * BASE.sigma1_sq},
+                                    {"sigma_hf_scale": 1e-3}])
+def test_reference_text_is_the_conditions_first_sentence(change):
+    """RaceResult.reference_text (what race prints, without conditions()' searches) is the
+    first sentence of conditions().text(): where the claim holds, fails, and where GC never
+    reaches σ_c."""
+    r = gc.race(replace(BASE, **change), PROC)
+    assert r.reference_text() == r.conditions().reference_text()
+    assert r.reference_text().startswith(("At the reference point", "GC's method does not"))
+
+
+def test_rival_kept_without_gcs_instrument_constants():
+    """The rival's times are kept without GC's instrument constants (which its model does not
+    read): a margin with them ON read through the memo filled at the paper's parameters
+    equals the margin computed afresh, and the rival was not computed again."""
+    from gyrolib.gc.racing import comparison
+
+    changed = replace(BASE, sigma_clock=3e-5, sigma_hf_scale=5e-5, sigma_as_offset=1e-7,
+                      sigma_incl_bias=1e-4)
+    _forget_races()
+    try:
+        gc.race_margin(BASE, PROC)
+        misses = comparison._rate_part_cached.cache_info().misses
+        via_memo = gc.race_margin(changed, PROC)
+        assert comparison._rate_part_cached.cache_info().misses == misses
+        _forget_races()
+        fresh = comparison._rate_part(gc.rate_sensor_model(changed, PROC))
+    finally:
+        _forget_races()
+    t_gc = comparison._gc_time(changed, PROC.sigma_c, PROC.t_max)
+    assert via_memo == pytest.approx(
+        min(100.0 * (1.0 - t_gc / t) for t in (fresh.t_c, fresh.t_c_optimal)) - 50.0,
+        rel=1e-12)

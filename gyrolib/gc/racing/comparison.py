@@ -38,6 +38,7 @@ from gyrolib.gc.racing.rate_sensor import (
 )
 
 __all__ = [
+    "MARGIN_MONOTONE_ROWS",
     "PROCEDURE_TARGETS",
     "RACE_RANGES",
     "RaceConditions",
@@ -335,11 +336,31 @@ def _optimal_exceeds(p: GyrocompassParams, proc: RateSensorProcedure, target: fl
     return not (np.isfinite(t) and t <= target)
 
 
+#: GC's instrument constants, which the rival's model does not read (a test checks its
+#: arrays): the rival's results are kept without them, so a map's rows of GC's instrument
+#: reuse the rival's times.
+_GC_ONLY_FIELDS: Final[tuple[str, ...]] = ("sigma_hf_scale", "sigma_as_offset",
+                                           "sigma_incl_bias", "sigma_clock")
+
+
+def _rival_params(p: GyrocompassParams) -> GyrocompassParams:
+    """``p`` as the rival reads it: GC's instrument constants at 0."""
+    if any(getattr(p, f) for f in _GC_ONLY_FIELDS):
+        return replace(p, **dict.fromkeys(_GC_ONLY_FIELDS, 0.0))
+    return p
+
+
 @functools.lru_cache(maxsize=1024)
+def _rate_part_cached(p: GyrocompassParams, proc: RateSensorProcedure) -> _RatePart:
+    return _rate_part(rate_sensor_model(p, proc))
+
+
 def _rate_part_at(p: GyrocompassParams, proc: RateSensorProcedure) -> _RatePart:
     """:func:`_rate_part` of the rate-sensor model at ``(p, proc)``, kept per inputs (a
-    frozen result), like :func:`_rate_time`."""
-    return _rate_part(rate_sensor_model(p, proc))
+    frozen result), like :func:`_rate_time`; GC's instrument constants, which the rival
+    does not read, are left out of the key (:func:`_rival_params`)."""
+    return _rate_part_cached(_rival_params(p), proc)
+
 
 
 # Result ---------------------------------------------------------------------------------------
@@ -354,6 +375,26 @@ def _rate_part_at(p: GyrocompassParams, proc: RateSensorProcedure) -> _RatePart:
 _RACE_ROWS: Final[tuple[tuple[str, str], ...]] = (
     ("loop_bandwidth", "race.loop_bandwidth"), ("overhead", "race.overhead"),
     ("rate_noise", "race.rate_noise"), ("sigma_hf_scale", "gc.sigma_hf_scale"))
+
+
+#: Rows of the table of inputs in which :func:`race_margin` is monotone, so that a map of
+#: the claim can bracket each with the range's two ends (``monotone`` of
+#: :func:`gyrolib.claim_map.map_claim`).  Each enters one method only, as a prior variance
+#: or a noise intensity, or as the time the rival spends, and the filter's covariance is
+#: monotone in its priors and noises (the Riccati recursion):
+#:
+#: * GC's alone: κ (the filter must reach ``sqrt(σ_c² − κ² Ω_h²)``) and the instrument
+#:   constants' priors (the rival's model reads none of them), so GC's time grows with each
+#:   and the margin falls;
+#: * the rival's alone: its torquer noise, the turning error, the torque sensor's scale
+#:   error, the quantization (noises and priors of its model), the loop bandwidth and the
+#:   turn and settling (the rival's time grows with each, as :data:`RACE_RANGES` takes
+#:   them), so the margin rises.  For these the rival's time is a search's minimum over
+#:   windows, monotone as far as the search finds the best window.
+MARGIN_MONOTONE_ROWS: Final[tuple[str, ...]] = (
+    "gc.sigma_hf_scale", "gc.sigma_as_offset", "gc.sigma_incl_bias", "gc.sigma_clock",
+    "race.rate_noise", "race.sigma_rot", "race.sigma_scale", "race.quantization",
+    "race.loop_bandwidth", "race.overhead")
 
 
 def _race_ranges() -> dict[str, tuple[float, float]]:
@@ -446,19 +487,8 @@ class RaceConditions:
         lo = {k: v_[0] for k, v_ in ranges.items()}
         hi = {k: v_[1] for k, v_ in ranges.items()}
         if not np.isfinite(self.t_needed):
-            return (f"GC's method does not reach σ_c within its horizon, so it is not more than "
-                    f"{self.percent:g} % faster anywhere.")
-        scale = ("GC's scale exact" if self.kappa == 0.0 else
-                 f"GC's scale known to κ = {_fmt_sci(self.kappa)}")
-        ref = (f"At the reference point (loop bandwidth {self.loop_bandwidth:g} rad/s, turn and "
-               f"settling {self.overhead:g} s, torquer noise {_fmt_sci(self.rate_noise)} rad²/s, "
-               f"{scale}) GC reaches σ_c in {self.t_c_gc:.1f} s, so the claim needs "
-               f"the rival to take more than {self.t_needed:.1f} s; it "
-               + ("does with both estimators." if self.holds_at_reference else
-                  "does not with " + " and ".join(
-                      n for n, h in (("the classical", self.holds_classical),
-                                     ("the optimal", self.holds_optimal)) if not h)
-                  + " estimator."))
+            return _reference_sentence(self)
+        ref = _reference_sentence(self)
         worst = (f" At the worst corner of the plausible ranges (loop bandwidth "
                  f"{lo['loop_bandwidth']:g} rad/s, turn and settling {lo['overhead']:g} s, "
                  f"torquer noise {_fmt_sci(lo['rate_noise'])} rad²/s, κ = "
@@ -482,6 +512,40 @@ class RaceConditions:
                + f"; above κ = σ_c/Ω_h = {_fmt_sci(self.kappa_ceiling)} GC never reaches σ_c, "
                "while the rival's turn cancels this error.")
         return ref + worst + one
+
+
+@dataclass(frozen=True)
+class _ReferencePoint:
+    """The reference fields of :class:`RaceConditions` (what its first sentence reads)."""
+
+    percent: float
+    t_c_gc: float
+    t_needed: float
+    loop_bandwidth: float
+    overhead: float
+    rate_noise: float
+    kappa: float
+    holds_classical: bool
+    holds_optimal: bool
+
+
+def _reference_sentence(c: RaceConditions | _ReferencePoint) -> str:
+    """The first sentence of :meth:`RaceConditions.text`: the reference point, GC's time
+    there and the verdict against each estimator (reads only the reference fields)."""
+    if not np.isfinite(c.t_needed):
+        return (f"GC's method does not reach σ_c within its horizon, so it is not more than "
+                f"{c.percent:g} % faster anywhere.")
+    scale = ("GC's scale exact" if c.kappa == 0.0 else
+             f"GC's scale known to κ = {_fmt_sci(c.kappa)}")
+    return (f"At the reference point (loop bandwidth {c.loop_bandwidth:g} rad/s, turn and "
+            f"settling {c.overhead:g} s, torquer noise {_fmt_sci(c.rate_noise)} rad²/s, "
+            f"{scale}) GC reaches σ_c in {c.t_c_gc:.1f} s, so the claim needs "
+            f"the rival to take more than {c.t_needed:.1f} s; it "
+            + ("does with both estimators." if c.holds_classical and c.holds_optimal else
+               "does not with " + " and ".join(
+                   n for n, h in (("the classical", c.holds_classical),
+                                  ("the optimal", c.holds_optimal)) if not h)
+               + " estimator."))
 
 
 @compact_repr
@@ -575,6 +639,32 @@ class RaceResult:
         s_at = float(np.interp(t_gc_max, self.t_gc, s_f))
         return (math.sqrt(proc.sigma_c**2 - s_at**2) / p.Omega_h
                 if s_at < proc.sigma_c else 0.0)
+
+    def reference_text(self, percent: float = 50.0) -> str:
+        """The first sentence of :meth:`conditions`' text (the reference point, GC's time
+        there and the verdict against each estimator), without the worst corner and the
+        one-at-a-time searches that :meth:`conditions` also runs.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> r = gc.race()
+        >>> r.reference_text() == r.conditions().reference_text()
+        True
+        """
+        percent = v.check_in_range("percent", percent, 0.0, 100.0, low_open=True,
+                                   high_open=True)
+        proc = self.procedure
+        need = self.t_c_gc / (1.0 - percent / 100.0)
+        held = {est: bool(np.isfinite(need) and (not np.isfinite(t) or t > need))
+                for est, t in (("classical", self.t_c_rate_sensor),
+                               ("optimal", self.t_c_rate_sensor_optimal))}
+        return _reference_sentence(_ReferencePoint(
+            percent=percent, t_c_gc=self.t_c_gc,
+            t_needed=need if np.isfinite(need) else math.inf,
+            loop_bandwidth=proc.loop_bandwidth, overhead=proc.overhead,
+            rate_noise=proc.rate_noise, kappa=self.params.sigma_hf_scale,
+            holds_classical=held["classical"], holds_optimal=held["optimal"]))
 
     def conditions(self, percent: float = 50.0) -> RaceConditions:
         """The claim "GC more than ``percent`` % faster" at the race's parameters and
