@@ -16,6 +16,7 @@ from gyrolib.book import cite
 from gyrolib.book.ledger import (
     KINDS,
     SCHEMA_VERSION,
+    STATUS_CODES,
     STATUSES_BY_KIND,
     LedgerItem,
     anchor,
@@ -32,7 +33,7 @@ from tests.conftest import LEDGER_MEMO_ENV, require_built_book, session_book
 
 ROOT = Path(__file__).resolve().parents[3]
 FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
-          "status", "note", "chapter", "kind", "evidence", "conditions", "precision",
+          "status", "status_code", "note", "chapter", "kind", "evidence", "conditions", "precision",
           "reference", "thresholds", "share_holding", "readings", "margin", "mapped",
           "isolated"}
 REQUIRED_IDS = [
@@ -141,7 +142,12 @@ def test_cli_json_parses_with_every_field_and_is_byte_identical(items, tmp_path,
     assert isinstance(data, list) and data
     for entry in data:
         assert set(entry) == FIELDS, entry
-        assert entry["status"] in STATUSES_BY_KIND[entry["kind"]]
+        # the code for programs, the words for readers: a claim's words carry its share
+        (status,) = [s for s in STATUSES_BY_KIND[entry["kind"]]
+                     if STATUS_CODES[s] == entry["status_code"]]
+        assert entry["status"].startswith(status), entry["id"]
+        if entry["kind"] == "claim" and entry["share_holding"] and status != "holds":
+            assert "% of the box" in entry["status"], entry["id"]
         # cited values carry no more digits than the item's declared precision
         x = entry["reproduced_value"]
         if isinstance(x, float) and x:
@@ -222,7 +228,7 @@ def test_json_and_markdown_of_a_known_item():
     csv_text = to_csv([it])
     assert csv_text.startswith(f"# Gyro calibration, reproduced (ledger schema "
                                f"{SCHEMA_VERSION}) {gyrolib.__version__}\n")
-    assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 3
+    assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 4
     assert "gc.test" in csv_text and ",0.4927," in csv_text
     md = table_markdown([it], "GC")
     assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md
