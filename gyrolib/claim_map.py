@@ -370,17 +370,23 @@ class ClaimMap:
         out += [r for r, st in self.readings.items() if any(s != ref for s in st.values())]
         return tuple(dict.fromkeys(out))
 
+    def threshold_texts(self, given: bool = False) -> list[str]:
+        """Each threshold as the conditions word it, e.g. ``"σ1² below 2.24·10⁻⁶ m²/s⁴
+        (1.2 × the reference)"`` (``given``: "the given value")."""
+        ref = "the given value" if given else "the reference"
+        out = []
+        for t in self.thresholds:
+            r = _inputs.row(t.input)
+            fac = "" if math.isnan(t.factor) else f" ({t.factor:.3g} × {ref})"
+            out.append(f"{r.symbol} {t.holds_when} {r.show(t.value)}{fac}")
+        return out
+
     def conditions(self, given: bool = False) -> str:
         """Where the claim flips, in sentences (empty when it holds everywhere).  ``given``:
         the map was drawn around a user's own values, not the book's reference point, and the
         sentences say so ("the given value")."""
-        ref = "the given value" if given else "the reference"
         others = "the others at their given values" if given else "the others at the reference"
-        parts = []
-        for t in self.thresholds:
-            r = _inputs.row(t.input)
-            fac = "" if math.isnan(t.factor) else f" ({t.factor:.3g} × {ref})"
-            parts.append(f"{r.symbol} {t.holds_when} {r.show(t.value)}{fac}")
+        parts = self.threshold_texts(given)
         text = ""
         if parts:
             verb = f"It holds, {others}, for " if self.margin > 0 else \
