@@ -1,5 +1,6 @@
 """The reproduction ledger: complete, well-formed, deterministic, and linked to the book."""
 
+import dataclasses
 import json
 import os
 import re
@@ -336,3 +337,23 @@ def test_collect_is_computed_once_per_state_of_the_sources_with_a_memo(tmp_path,
     files[0].write_text(json.dumps(data), encoding="utf-8")
     assert collect()[0].note == "read from the memo" and computed == [1]
     assert ledger_module._memo_file() == files[0]
+
+
+def test_a_pure_numbers_citation_has_no_unit_digit_and_reads_as_sentences():
+    """A value of unit "1" is cited bare: "0.00017 1" would read as one more digit.  The
+    citation line and the entry's note begin as sentences (a Latin first letter raised; a
+    symbol such as δ kept, its capital being another symbol).  Power: a unit that is a word
+    is still written."""
+    it = _item(id="rsf.x", paper="RSF", location="worked example", quantity="relative error",
+               unit="1", reproduced_value=0.000171, paper_value=0.093, precision=2,
+               status="differs: cause shown", note="the print takes a slip",
+               chapter="chapters/rsf_method")
+    line = citation(it)
+    assert line.startswith("Relative error: 0.00017 (paper RSF, worked example, printed: "
+                           "0.093; differs: cause shown). ")
+    assert "0.00017 1" not in line
+    assert "The print takes a slip." in entries_markdown([it], "RSF")
+    metres = citation(dataclasses.replace(it, unit="m"))
+    assert metres.startswith("Relative error: 0.00017 m (")
+    symbol = citation(dataclasses.replace(it, quantity="δK of K"))
+    assert symbol.startswith("δK of K: 0.00017 (")
