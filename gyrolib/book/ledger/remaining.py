@@ -198,7 +198,7 @@ def _west_gyro_item(p: GyrocompassParams) -> LedgerItem:
         f"{_arcsec_s(west.floor):.4f}″/s; {within}, and given unlimited time below "
         f"{psi_max:.0f}″, where that floor reaches σ_c (the paper's prior is "
         f"{float(from_si(p.sigma_psi0, 'arcsec_paper')):.0f}″); or read as the gyro that "
-        "points north (the one the paper models: gc.time_to_sigma_c).")
+        "points north (the one the paper models: gc.time_to_sigma_c)")
     v = verdict("gc.claim.corresponding_gyro", {"GyrocompassParams": p},
                 context=conditions[0].upper() + conditions[1:])
     return LedgerItem(
