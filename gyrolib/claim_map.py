@@ -23,10 +23,14 @@ counts as failing), and the rows of the table it reads.  :func:`map_claim` judge
   how they were searched, the search's resolution (the largest step between searched
   points), and that it holds at every other searched point.
 
-The status (:data:`STATUS_RULE`): *holds* when the claim holds at the reference, at every
-one-at-a-time point, at every box point and under every reading; *holds under conditions*
-when it holds at the reference but some input flips it; *fails* when it fails at the
-reference.
+The status (:data:`STATUS_RULE`, :func:`claim_status`): *holds* when the claim holds at the
+reference, at every one-at-a-time point, at every box point and under every reading; *holds
+under conditions* when it holds at the reference but some input flips it, and the box's
+share where it holds may reach one half (its 95 % interval's upper end is at least 50 %);
+*holds only near the reference* when it holds at the reference but in less than half of
+the box (that upper end below 50 %); *fails* when it fails at the reference.  Each status
+has a stable code for programs (:data:`STATUS_CODES`), and :func:`status_line` gives the
+words a reader sees, the share included.
 
 Examples
 --------
@@ -45,7 +49,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Final
 
 import numpy as np
@@ -54,6 +58,9 @@ from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
 
 __all__ = [
+    "CLAIM_STATUSES",
+    "HALF_OF_THE_BOX",
+    "STATUS_CODES",
     "STATUS_RULE",
     "Claim",
     "ClaimMap",
@@ -64,12 +71,15 @@ __all__ = [
     "Threshold",
     "check_fingerprint",
     "check_map",
+    "claim_status",
     "demo_margin",
     "fingerprint_points",
     "flip_share",
     "map_claim",
     "margin_at",
+    "percent",
     "predicted_holds",
+    "status_line",
     "wilson_interval",
 ]
 
@@ -78,7 +88,26 @@ STATUS_RULE: Final[str] = (
     "holds: it holds at the reference point, at every one-at-a-time point of every range, at "
     "every sampled point of the box of uncertain inputs and under every reading; holds under "
     "conditions: it holds at the reference point but some input flips it (each named, with "
-    "where); fails: it fails at the reference point (the thresholds say where it would hold)")
+    "where), and the share of the box where it holds may reach one half (the upper end of its "
+    "95 % interval is at least 50 %); holds only near the reference: it holds at the "
+    "reference point, but the upper end of that interval is below 50 %; fails: it fails at "
+    "the reference point (the thresholds say where it would hold).  The status a reader sees "
+    "carries the share, e.g. \"holds only near the reference (0 % of the box, 0–6 %)\"")
+
+#: The statuses of a claim judged by the rule (:func:`claim_status`), in the order of the
+#: rule, and "not decidable" for a claim no computation can decide.
+CLAIM_STATUSES: Final[tuple[str, ...]] = ("holds", "holds under conditions",
+                                          "holds only near the reference", "fails",
+                                          "not decidable")
+#: A stable code per claim status, for programs (the ledger's JSON ``status_code``): the
+#: words may gain detail, the code does not change.
+STATUS_CODES: Final[dict[str, str]] = {
+    "holds": "holds", "holds under conditions": "holds_in_part",
+    "holds only near the reference": "holds_near_reference", "fails": "fails",
+    "not decidable": "not_decidable"}
+#: Below this upper end of the share's 95 % interval a claim that holds at the reference
+#: holds "only near the reference": the evidence does not allow it half of the box.
+HALF_OF_THE_BOX: Final[float] = 0.5
 
 #: z of a two-sided 95 % interval.
 _Z95: Final[float] = 1.959963984540054
@@ -233,9 +262,95 @@ class Share:
                 "seed": self.seed}
 
     def text(self) -> str:
-        """``"62 % (95 % interval 50–73 %, 64 points)"``."""
-        return (f"{100 * self.value:.0f} % (95 % interval {100 * self.lo:.0f}–"
-                f"{100 * self.hi:.0f} %, {self.n} points)")
+        """``"62 % (95 % interval 50–73 %, 64 points)"`` (each share by :func:`percent`)."""
+        return (f"{percent(self.value)} % (95 % interval {percent(self.lo)}–"
+                f"{percent(self.hi)} %, {self.n} points)")
+
+    def short(self) -> str:
+        """``"62 % of the box, 50–73 %"``: the share and its 95 % interval, as a claim's
+        status line carries them (:func:`status_line`)."""
+        return (f"{percent(self.value)} % of the box, {percent(self.lo)}–"
+                f"{percent(self.hi)} %")
+
+
+def percent(share: float) -> str:
+    """A share (0–1) in per cent as the book quotes it: whole per cent, except that a share
+    that is not zero but under 1 % keeps one significant digit, so that it never reads "0".
+
+    Examples
+    --------
+    >>> percent(0.0), percent(0.0038), percent(0.0566), percent(0.59375), percent(1.0)
+    ('0', '0.4', '6', '59', '100')
+    """
+    x = 100.0 * float(share)
+    if x != 0.0 and abs(x) < 0.95:
+        return f"{x:.1g}"
+    return f"{x:.0f}"
+
+
+def claim_status(holds_at_reference: bool, flips: bool,
+                 share: Share | Mapping[str, Any] | None = None) -> str:
+    """The status of a claim by the one rule (:data:`STATUS_RULE`).
+
+    Parameters
+    ----------
+    holds_at_reference : bool
+        Whether the claim holds at the reference point.
+    flips : bool
+        Whether some input flips it within its range (a threshold, a failing box point, an
+        isolated failing point or a reading).
+    share : Share or dict, optional
+        The share of the box where it holds (``None``: no box drawn).
+
+    Returns
+    -------
+    str
+        One of :data:`CLAIM_STATUSES` (never "not decidable").
+
+    Examples
+    --------
+    >>> claim_status(True, True, Share(0.6, 0.47, 0.71, 64, 1))
+    'holds under conditions'
+    >>> claim_status(True, True, Share(0.3, 0.2, 0.42, 64, 1))
+    'holds only near the reference'
+    >>> claim_status(True, False), claim_status(False, True)
+    ('holds', 'fails')
+    """
+    if not holds_at_reference:
+        return "fails"
+    if not flips:
+        return "holds"
+    hi = None if share is None else (share.hi if isinstance(share, Share) else share["hi"])
+    if hi is not None and float(hi) < HALF_OF_THE_BOX:
+        return "holds only near the reference"
+    return "holds under conditions"
+
+
+def status_line(status: str, share: Share | Mapping[str, Any] | None = None,
+                part: str = "") -> str:
+    """The words a reader sees for a claim's ``status``, the share of the box included (a
+    claim that holds everywhere needs none; "fails" says where in the box it would hold).
+    ``part`` names the part of the claim the share describes, when its margin judges only
+    part of it (then also said for "holds").
+
+    Examples
+    --------
+    >>> status_line("holds only near the reference", Share(0.0, 0.0, 0.0566, 64, 1))
+    'holds only near the reference (0 % of the box, 0–6 %)'
+    >>> status_line("fails", {"value": 0.09375, "lo": 0.0437, "hi": 0.19, "n": 64, "seed": 1})
+    'fails (holds at 9 % of the box, 4–19 %)'
+    >>> status_line("holds", Share(1.0, 0.94, 1.0, 64, 1))
+    'holds'
+    >>> status_line("holds under conditions", Share(1.0, 0.94, 1.0, 64, 1), "its first half")
+    'holds under conditions (its first half: 100 % of the box, 94–100 %)'
+    """
+    if status not in CLAIM_STATUSES:
+        raise ValueError(f"status must be one of {CLAIM_STATUSES}; got {status!r}")
+    if share is None or status == "not decidable" or (status == "holds" and not part):
+        return status
+    sh = share if isinstance(share, Share) else Share(**share)
+    lead = f"{part}: " if part else ""
+    return f"{status} ({lead}{'holds at ' if status == 'fails' else ''}{sh.short()})"
 
 
 @dataclass(frozen=True)
@@ -275,17 +390,27 @@ class ClaimMap:
         out += [r for r, st in self.readings.items() if any(s != ref for s in st.values())]
         return tuple(dict.fromkeys(out))
 
-    def conditions(self) -> str:
-        """Where the claim flips, in sentences (empty when it holds everywhere)."""
-        parts = []
+    def threshold_texts(self, given: bool = False) -> list[str]:
+        """Each threshold as the conditions word it, e.g. ``"σ1² below 2.24·10⁻⁶ m²/s⁴
+        (1.2 × the reference)"`` (``given``: "the given value")."""
+        ref = "the given value" if given else "the reference"
+        out = []
         for t in self.thresholds:
             r = _inputs.row(t.input)
-            fac = "" if math.isnan(t.factor) else f" ({t.factor:.3g} × the reference)"
-            parts.append(f"{r.symbol} {t.holds_when} {r.show(t.value)}{fac}")
+            fac = "" if math.isnan(t.factor) else f" ({t.factor:.3g} × {ref})"
+            out.append(f"{r.symbol} {t.holds_when} {r.show(t.value)}{fac}")
+        return out
+
+    def conditions(self, given: bool = False) -> str:
+        """Where the claim flips, in sentences (empty when it holds everywhere).  ``given``:
+        the map was drawn around a user's own values, not the book's reference point, and the
+        sentences say so ("the given value")."""
+        others = "the others at their given values" if given else "the others at the reference"
+        parts = self.threshold_texts(given)
         text = ""
         if parts:
-            verb = "It holds, the others at the reference, for " if self.margin > 0 else \
-                "It would hold, the others at the reference, for "
+            verb = f"It holds, {others}, for " if self.margin > 0 else \
+                f"It would hold, {others}, for "
             text = verb + "; ".join(parts) + "."
         for f in self.isolated:
             if f.points:
@@ -325,7 +450,7 @@ class ClaimMap:
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> ClaimMap:
         share = d.get("share_holding")
-        return cls(claim=d["claim"], meaning=d["meaning"], status=d["status"],
+        m = cls(claim=d["claim"], meaning=d["meaning"], status=d["status"],
                    margin=float(d["margin"]), reference=dict(d["reference"]),
                    thresholds=tuple(Threshold(t["input"], float(t["value"]),
                                               math.nan if t["factor"] is None
@@ -341,10 +466,18 @@ class ClaimMap:
                    reading_thresholds=dict(d.get("reading_thresholds", {})),
                    isolated=tuple(IsolatedFailures.from_dict(f)
                                   for f in d.get("isolated", ())))
+        # the status follows from the map's parts by the rule of this version (a map stored
+        # under an older wording of the rule reads the same)
+        return replace(m, status=claim_status(m.margin > 0, _flips(m), m.share_holding))
 
 
 def _holds(m: float) -> bool:
     return bool(m > 0.0)  # nan fails
+
+
+def _flips(m: ClaimMap) -> bool:
+    """Whether some input flips the map's claim within its range (the rule's "flips")."""
+    return bool(m.thresholds) or m.box_fails > 0 or bool(m.flipping_inputs())
 
 
 def margin_at(claim: Claim, objects: Mapping[str, Any], changes: Mapping[str, Any]) -> float:
@@ -541,8 +674,7 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
         share = Share(ok / len(box_margins), lo, hi, len(box_margins), seed)
     flips = bool(thresholds) or n_fail > 0 or any(f.points for f in isolated) or any(
         s != ref_status for st in read_status.values() for s in st.values())
-    status = ("fails" if ref_status == "fails" else
-              "holds under conditions" if flips else "holds")
+    status = claim_status(ref_status == "holds", flips, share)
     fp = [{"changes": {}, "margin": ref_margin}]
     for i in range(min(2, box.shape[0])):
         fp.append({"changes": dict(zip(uncertain, map(float, box[i]), strict=True)),

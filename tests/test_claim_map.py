@@ -333,8 +333,10 @@ def test_race_status_and_readings_are_in_the_ledger_json():
     from gyrolib.book.ledger import collect, to_json
 
     doc = json.loads(to_json(collect()))
-    assert doc["schema_version"] == 3
+    assert doc["schema_version"] == 4
     it = next(i for i in doc["items"] if i["id"] == "gc.faster_percent")
+    assert it["status_code"] == "holds_near_reference"
+    assert it["status"].startswith("holds only near the reference (")
     names = {t["input"] for t in it["thresholds"]}
     assert {"gc.sigma1_sq", "gc.sigma_hf_scale"} <= names
     assert set(it["readings"]) >= {"gc.measurement_noise", "gc.shaping_p0"}
@@ -616,3 +618,22 @@ def test_the_rival_does_not_read_gcs_instrument_constants():
     # power: a row the rival does read (the unbalance) changes its model
     moved = gc.rate_sensor_model(dataclasses.replace(p, omega_ub=2 * p.omega_ub), proc)
     assert not all(np.array_equal(getattr(base, n), getattr(moved, n)) for n in arrays)
+
+
+def test_a_stored_map_reads_its_status_by_the_rule_of_this_version():
+    """The status of a stored map follows from its parts (reference margin, flips, share), not
+    from the word stored with it: a map stored as "holds under conditions" that holds at none
+    of its box's points reads "holds only near the reference"; the same map with a wide share
+    keeps "holds under conditions" (power: the share decides)."""
+    m = cm.map_claim(cm.Claim("t.below", below_three, TWO, "3 - f"), n_box=16)
+    d = m.to_dict()
+    d["status"] = "holds under conditions"
+    d["share_holding"] = {"value": 0.0, "lo": 0.0, "hi": cm.wilson_interval(0, 16)[1],
+                          "n": 16, "seed": 1}
+    d["box_fails"] = 16
+    assert cm.ClaimMap.from_dict(d).status == "holds only near the reference"
+    d["share_holding"] = {"value": 0.75, "lo": 0.5, "hi": 0.9, "n": 16, "seed": 1}
+    d["box_fails"] = 4
+    assert cm.ClaimMap.from_dict(d).status == "holds under conditions"
+    d["margin"] = -1.0
+    assert cm.ClaimMap.from_dict(d).status == "fails"

@@ -215,5 +215,5 @@ def ledger_item_bibtex(item, cff: Path | None = None, pyproject: Path | None = N
         value = f"{rounded(it.reproduced_value, it.precision):.{it.precision}g}"
     unit = "" if it.unit in ("", "—") else f" {it.unit}"
     note = (f"Reproduced value {value}{unit}; paper {it.paper}, {it.location}, printed "
-            f"{it.paper_value}; status: {it.status}")
+            f"{it.paper_value}; status: {it.status_line}")
     return item_bibtex(it.id, it.quantity, anchor(it.id), note, cff, pyproject)

@@ -2,9 +2,9 @@
 
 Paper GC's method against the rate-sensor method it replaces (its ref. [3]) for a user's own
 instrument: both methods' times to σ_c and the verdict on "more than 50 % faster" by the
-ledger's one rule for claims, at the given parameters (the reference point) and over the
-table of inputs (:mod:`gyrolib.inputs`, ranges as factors of the given values): every input
-that flips the verdict, and where.
+ledger's one rule for claims, at the given parameters (the book's reference point when
+none are given) and over the table of inputs (:mod:`gyrolib.inputs`, ranges as factors of
+the given values): every input that flips the verdict, and where.
 
 The TOML file's top-level keys are fields of :class:`gyrolib.gc.GyrocompassParams` (SI, e.g.
 ``C_as = 2e-13``, ``sigma_hf_scale = 5e-5``); a table ``[procedure]`` holds fields of
@@ -108,7 +108,10 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
     dict
         ``t_c_gc``, ``t_c_rate_sensor``, ``t_c_rate_sensor_optimal`` (s; ``None``: not
         reached), ``faster_percent``, ``faster_percent_optimal`` (%), ``status`` (by the
-        ledger's one rule for claims), ``conditions`` (readable sentences), ``reference``,
+        ledger's one rule for claims, in the words a reader sees: with the share of the box
+        where it holds, when a box was drawn), ``status_code`` (a stable code,
+        :data:`gyrolib.claim_map.STATUS_CODES`), ``conditions`` (readable sentences),
+        ``reference``,
         ``thresholds`` (each ``{input, value, factor, unit, holds_when}``),
         ``share_holding``, ``readings`` (``None`` without the map), ``kappa_max``,
         ``kappa_ceiling`` (GC's H/f tolerance and the κ above which GC never reaches σ_c),
@@ -117,15 +120,15 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
     Examples
     --------
     >>> r = race_report()
-    >>> r["status"], f"{r['t_c_gc']:.1f} s", f"{r['t_c_rate_sensor_optimal']:.1f} s"
-    ('holds under conditions', '24.1 s', '56.4 s')
+    >>> r["status_code"], f"{r['t_c_gc']:.1f} s", f"{r['t_c_rate_sensor_optimal']:.1f} s"
+    ('holds_near_reference', '24.1 s', '56.4 s')
     >>> sorted({t["input"] for t in r["thresholds"]} & {"gc.sigma1_sq", "gc.sigma_hf_scale"})
     ['gc.sigma1_sq', 'gc.sigma_hf_scale']
     """
     from gyrolib import gc
     from gyrolib import inputs as table
     from gyrolib.book.ledger import claims
-    from gyrolib.claim_map import Claim, map_claim
+    from gyrolib.claim_map import STATUS_CODES, Claim, map_claim, status_line
     from gyrolib.gc.racing.comparison import MARGIN_MONOTONE_ROWS
 
     result = gc.race(params, procedure)
@@ -141,8 +144,13 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
         claim = Claim(claim.id, claim.margin, tuple(inputs), claim.meaning, claim.unit)
     at_reference = inputs is None and all(
         objs[k] == v for k, v in table.reference_objects().items())
+    # the race's own sentence names the point it is judged at: the user's values are not the
+    # book's reference point
+    here = reference_text
+    if not at_reference:
+        here = here.replace("At the reference point (", "At the given parameters (", 1)
     if not thresholds:
-        v = claims.verdict(claim.id, objs, context=reference_text)
+        v = claims.verdict(claim.id, objs, context=here)
         status, conditions, judged = v.status, v.conditions, v.judged
     else:
         m = (claims.stored_maps()[claim.id] if at_reference else
@@ -151,7 +159,7 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
         judged = {**m.to_dict(), "mapped": True}
         status = m.status
         conditions = ("" if status == "holds" else
-                      f"{m.conditions()} {reference_text}".strip())
+                      f"{m.conditions(given=not at_reference)} {here}".strip())
     reaches = bool(math.isfinite(result.t_c_gc))
     if not reaches:
         conditions = (f"GC's method never reaches σ_c: its scale's drift κ·Ω_h alone is "
@@ -167,7 +175,10 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
         "faster_percent": _num(result.faster_percent),
         "faster_percent_optimal": _num(result.faster_percent_optimal),
         "claim": "GC's method is more than 50 % faster than the rate-sensor method",
-        "status": status, "conditions": conditions, "gc_reaches_sigma_c": reaches,
+        # the words a reader sees (the share of the box with them) and a stable code
+        "status": status_line(status, judged.get("share_holding")),
+        "status_code": STATUS_CODES[status],
+        "conditions": conditions, "gc_reaches_sigma_c": reaches,
         "reference": judged.get("reference"), "thresholds": judged.get("thresholds"),
         "share_holding": judged.get("share_holding"), "readings": judged.get("readings"),
         "margin": judged.get("margin"),
@@ -182,13 +193,16 @@ def _text(r: dict) -> str:
         return "not reached" if x is None else f"{x:.1f} s"
 
     def pct(x):
-        return "GC never reaches σ_c" if x is None else f"{x:.0f} %"
+        if x is None:
+            return "GC never reaches σ_c"
+        # a negative saving is a slower GC: say so, not "faster by -12 %"
+        return f"GC faster by {x:.0f} %" if x >= 0 else f"GC slower: {-x:.0f} % more time"
     lines = [
         f"GC's method:                          {t(r['t_c_gc'])}",
         f"rate-sensor method, classical:        {t(r['t_c_rate_sensor'])}"
-        f"  (GC faster by {pct(r['faster_percent'])})",
+        f"  ({pct(r['faster_percent'])})",
         f"rate-sensor method, optimal:          {t(r['t_c_rate_sensor_optimal'])}"
-        f"  (GC faster by {pct(r['faster_percent_optimal'])})",
+        f"  ({pct(r['faster_percent_optimal'])})",
         f"more than 50 % faster:                {r['status']}",
     ]
     if r["thresholds"]:

@@ -35,6 +35,7 @@ from gyrolib.book.ledger import (
 )
 from gyrolib.book.ledger.item import (
     KINDS,
+    STATUS_CODES,
     STATUS_MARKS,
     STATUSES,
     STATUSES_BY_KIND,
@@ -46,7 +47,8 @@ from gyrolib.book.ledger.item import (
 )
 
 __all__ = ["KINDS", "KIND_PLURALS", "MAP_FIELDS", "SCHEMA_VERSION", "STATUSES",
-           "STATUSES_BY_KIND", "STATUS_MARKS", "TITLE", "Candidate", "LedgerItem", "agrees",
+           "STATUSES_BY_KIND", "STATUS_CODES", "STATUS_MARKS", "TITLE", "Candidate",
+           "LedgerItem", "agrees",
            "anchor", "citation", "claim_map_markdown", "collect", "entries_markdown",
            "format_value", "half_unit", "kinds_markdown", "printed_verdict", "rounded",
            "summary", "table_markdown", "to_csv", "to_json", "to_table"]
@@ -137,8 +139,11 @@ def _collect() -> list[LedgerItem]:
 #: The version of the ledger's file format (JSON and CSV).  2: each claim carries
 #: ``reference``, ``thresholds``, ``share_holding`` and ``readings`` (release 0.3.0's files,
 #: without these fields, are version 1); 3 (release 0.5.2): and ``isolated``, the statements
-#: of the isolated points where a claim fails (:class:`gyrolib.claim_map.IsolatedFailures`).
-SCHEMA_VERSION = 3
+#: of the isolated points where a claim fails (:class:`gyrolib.claim_map.IsolatedFailures`);
+#: 4: ``status`` carries the words a reader sees (a mapped claim's with the share of the box
+#: where it holds, :attr:`LedgerItem.status_line`) and ``status_code`` a stable code for
+#: programs (:data:`STATUS_CODES`).
+SCHEMA_VERSION = 4
 
 #: The fields a claim's map adds to its record (``None`` for the other kinds).
 MAP_FIELDS = ("reference", "thresholds", "share_holding", "readings", "margin", "mapped",
@@ -160,6 +165,9 @@ def _record(it: LedgerItem) -> dict[str, object]:
     d = asdict(it)
     d.pop("anchor")
     judged = d.pop("judged") or {}
+    d["status"] = it.status_line
+    d = {**{k: d[k] for k in list(d)[:list(d).index("status") + 1]},
+         "status_code": it.status_code, **d}      # the code right after the words
     d["reproduced_value"] = rounded(it.reproduced_value, it.precision)
     for key in MAP_FIELDS:
         d[key] = _sig(judged.get(key)) if it.kind == "claim" else None
@@ -189,6 +197,7 @@ def to_csv(items: list[LedgerItem]) -> str:
             r[key] = "" if r[key] is None else json.dumps(r[key], ensure_ascii=False,
                                                           sort_keys=True)
     names = [f.name for f in fields(LedgerItem) if f.name not in ("anchor", "judged")]
+    names.insert(names.index("status") + 1, "status_code")
     writer = csv.DictWriter(buf, fieldnames=[*names, *MAP_FIELDS], lineterminator="\n")
     writer.writeheader()
     writer.writerows(records)
@@ -210,8 +219,8 @@ def to_table(items: list[LedgerItem]) -> str:
     items = _check_items(items)
     header = ("id", "kind", "paper value", "reproduced", "unit", "status")
     rows = [(it.id, it.kind, format_value(it.paper_value),
-             format_value(rounded(it.reproduced_value, it.precision)), it.unit, it.status)
-            for it in items]
+             format_value(rounded(it.reproduced_value, it.precision)), it.unit,
+             it.status_line) for it in items]
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = ["  ".join(c.ljust(w) for c, w in zip(header, widths))]
     lines.append("  ".join("-" * w for w in widths))
@@ -289,13 +298,26 @@ def table_markdown(items: list[LedgerItem], paper: str) -> str:
             continue
         unit = "" if it.unit in ("", "1", "—") or it.reproduced_value is None else f" {it.unit}"
         why = (f"**conditions:** {_md_escape(it.conditions)}<br>" if it.conditions else "")
+        # the share of the box, on the status's own line (a claim's status line)
+        share = it.status_line[len(it.status):].strip()
         rows.append(
-            f"| {STATUS_MARKS[it.status]}<br>*{it.kind}* | {{ref}}`{it.id} <{it.id}>`<br>"
+            f"| {STATUS_MARKS[it.status]}{' ' + _md_escape(share) if share else ''}"
+            f"<br>*{it.kind}* | {{ref}}`{it.id} <{it.id}>`<br>"
             f"{_md_escape(it.quantity)} | {_md_escape(_shown(it.paper_value, it.precision))} | "
             f"{_shown(it.reproduced_value, it.precision)}{_md_escape(unit)} | "
             f"{why}**evidence:** {_md_escape(it.evidence)} | "
             f"{{ref}}`{_md_escape(it.location)} <{it.target}>` |")
     return "\n".join(rows)
+
+
+def _sentence(text: str) -> str:
+    """``text`` as the start of a sentence: a lower-case Latin first letter raised (a symbol
+    such as δ or σ is left as it is: its capital is another symbol), and nothing else.
+
+    >>> _sentence("the print takes ε1,GS"), _sentence("δK of K")
+    ('The print takes ε1,GS', 'δK of K')
+    """
+    return text[:1].upper() + text[1:] if text[:1].isascii() and text[:1].islower() else text
 
 
 def citation(item: LedgerItem) -> str:
@@ -305,9 +327,12 @@ def citation(item: LedgerItem) -> str:
     it = v.check_instance("item", item, LedgerItem)
     printed = _shown(it.paper_value, it.precision)
     got = _shown(it.reproduced_value, it.precision)
-    unit = "" if it.unit in ("", "—") else f" {it.unit}"
+    # a pure number carries no unit: "1" after a value would read as one more digit
+    unit = "" if it.unit in ("", "1", "—") else f" {it.unit}"
     what = f"{it.quantity}: {got}{unit}" if it.reproduced_value is not None else it.quantity
-    return (f"{what} (paper {it.paper}, {it.location}, printed: {printed}; {it.status}). "
+    what = _sentence(what)
+    return (f"{what} (paper {it.paper}, {it.location}, printed: {printed}; "
+            f"{it.status_line}). "
             f"{TITLE}, version {gyrolib.__version__}, ledger item {it.id} "
             f"({cite.ledger_location(anchor(it.id))}).")
 
@@ -360,7 +385,9 @@ def entries_markdown(items: list[LedgerItem], paper: str) -> str:
         if it.paper == paper:
             table = claim_map_markdown(it)
             table = f"\n\n{table}" if table else ""
+            note = _sentence(it.note.strip())
+            note += "" if note.endswith((".", "!", "?")) else "."
             out.append(f"({it.id})=\n**`{it.id}`** — {_md_escape(it.quantity)} "
                        f"({{ref}}`{_md_escape(it.location)} <{it.target}>`). "
-                       f"{_md_escape(it.note)}{table}\n\n```text\n{citation(it)}\n```\n")
+                       f"{_md_escape(note)}{table}\n\n```text\n{citation(it)}\n```\n")
     return "\n".join(out)

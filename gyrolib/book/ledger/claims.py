@@ -26,7 +26,14 @@ import numpy as np
 
 from gyrolib import inputs as _inputs
 from gyrolib import levels
-from gyrolib.claim_map import Claim, ClaimMap, PointSearch, check_fingerprint, map_claim
+from gyrolib.claim_map import (
+    Claim,
+    ClaimMap,
+    PointSearch,
+    check_fingerprint,
+    map_claim,
+    status_line,
+)
 from gyrolib.gc.analysis.covariance import covariance_analysis, time_to_sigma
 from gyrolib.gc.analysis.observability import information_psi_omega
 from gyrolib.gc.analysis.speed_claim import time_to_level
@@ -378,6 +385,12 @@ class Verdict:
     status: str
     conditions: str
     judged: dict
+
+    @property
+    def status_line(self) -> str:
+        """The status as a reader sees it, with the share of the box where the claim holds
+        (:func:`gyrolib.claim_map.status_line`; the status alone where none was drawn)."""
+        return status_line(self.status, self.judged.get("share_holding"))
 
 
 #: The parts of a map the ledger's JSON carries (the sweeps and fingerprint stay in the file).

@@ -36,7 +36,7 @@ from gyrolib.sensitivity import SensitivityResult, result_from_dict
 from gyrolib.units import from_si
 
 __all__ = ["BETA_FROZEN", "PRINTED", "SIGMA_C", "STUDY_FILE", "TREND_FACTORS", "T_BOUND",
-           "items", "study_evidence"]
+           "censored_range_text", "items", "study_evidence"]
 
 #: What paper GC prints (its units: °, ″/s with 1″ = 0.485·10⁻⁵ rad, SI for the model's
 #: parameters, min, %).  Results first, then every input number the book uses.
@@ -388,6 +388,28 @@ def _top(study: SensitivityResult, output: str, k: int = 2) -> str:
                      for name, idx in study.ranked(output)[:k])
 
 
+def censored_range_text(t_c: np.ndarray, bound: float = T_BOUND) -> str:
+    """The range of times ``t_c`` (s) censored at ``bound`` (a time not reached within the
+    bound is stored as the bound), in words: a range that reaches the bound is cut there, so
+    it says so and how many points it cut, instead of a closed interval.
+
+    Examples
+    --------
+    >>> t = np.array([42.0, 300.0, 510.0, 510.0])
+    >>> print(censored_range_text(t))  # doctest: +NORMALIZE_WHITESPACE
+    runs from 42 s to beyond the bound 510 s (not reached within it at 2 of 4 points, where
+    the range is cut)
+    >>> censored_range_text(np.array([42.0, 300.0]))
+    'stays in [42, 300] s (the bound 510 s)'
+    """
+    t_c = np.asarray(t_c, dtype=float)
+    cut = int(np.count_nonzero(t_c >= bound))
+    if cut:
+        return (f"runs from {t_c.min():.0f} s to beyond the bound {bound:.0f} s (not reached "
+                f"within it at {cut} of {t_c.size} points, where the range is cut)")
+    return f"stays in [{t_c.min():.0f}, {t_c.max():.0f}] s (the bound {bound:.0f} s)"
+
+
 def study_evidence(params: GyrocompassParams, path: Path = STUDY_FILE) -> StudyEvidence:
     """The sentences the ledger quotes from the global sensitivity study in ``path``.
 
@@ -415,15 +437,16 @@ def study_evidence(params: GyrocompassParams, path: Path = STUDY_FILE) -> StudyE
     t_c = np.minimum(T_BOUND * (1.0 - study.values[:, study.outputs.index(
         "gc.time_to_sigma_c")]), T_BOUND)      # the margin's −1: not reached, censored
     race = study.values[:, study.outputs.index("gc.faster_percent")]
+    t_c_range = "t_c " + censored_range_text(t_c)
     return StudyEvidence(
         f"{head}: sigma_gc(100 s) stays in [{sig.min():.5f}, {sig.max():.5f}], the printed "
         f"{PRINTED['sigma_gc_100s']:g} "
         f"{'inside' if sig.min() <= PRINTED['sigma_gc_100s'] <= sig.max() else 'outside'}; "
         f"largest total indices {_top(study, 'sigma_gc_100s')}",
-        f"{head}: t_c stays in [{t_c.min():.0f}, {t_c.max():.0f}] s (the bound {T_BOUND:.0f} "
-        f"s), largest total indices of the margin {_top(study, 'gc.time_to_sigma_c')}",
-        f"{head}: GC's t_c stays in [{t_c.min():.0f}, {t_c.max():.0f}] s over those ranges; "
-        f"the race's margin in [{race.min():.0f}, {race.max():.0f}] percentage points, "
+        f"{head}: {t_c_range}, largest total indices of the margin "
+        f"{_top(study, 'gc.time_to_sigma_c')}",
+        f"{head}: over those ranges GC's {t_c_range}; the race's margin in "
+        f"[{race.min():.0f}, {race.max():.0f}] percentage points, "
         f"largest total indices {_top(study, 'gc.faster_percent')}")
 
 

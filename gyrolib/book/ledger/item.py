@@ -18,12 +18,17 @@ input by the table's one written rule — and over the table: "holds" when it ho
 reference point, at every one-at-a-time point of every input's range, at every sampled point
 of the box of uncertain inputs and under every reading; "holds under conditions" when it
 holds at the reference point but some input flips it (the conditions name each input and
-where); "fails" when it fails at the reference point (the conditions say where, if anywhere,
-it would hold).  A claim about several printed points (times, rates) holds at a point only if
-it holds at every printed point.  The item's ``judged`` carries the evidence: the reference
-values, the thresholds, the share of the box that holds (with its 95 % interval) and the
-status under each reading.  A qualitative claim that no computation can decide is "not
-decidable", with the reason.  No claim's status is set any other way.
+where) and the share of the box where it holds may reach one half (the upper end of its 95 %
+interval is at least 50 %); "holds only near the reference" when it holds at the reference
+point but that upper end is below 50 %; "fails" when it fails at the reference point (the
+conditions say where, if anywhere, it would hold).  A claim about several printed points
+(times, rates) holds at a point only if it holds at every printed point.  The item's
+``judged`` carries the evidence: the reference values, the thresholds, the share of the box
+that holds (with its 95 % interval) and the status under each reading.  A qualitative claim
+that no computation can decide is "not decidable", with the reason.  No claim's status is set
+any other way.  What a reader sees is :attr:`LedgerItem.status_line`, the status with the
+share of the box (:func:`gyrolib.claim_map.status_line`); programs read
+:attr:`LedgerItem.status_code`, a stable code per status (:data:`STATUS_CODES`).
 
 **Verdicts of a printed number from its candidates** (:func:`printed_verdict`).  The book's
 consistent computation is compared first; where it does not agree, every *candidate cause*
@@ -45,8 +50,10 @@ from decimal import Decimal, InvalidOperation
 
 import numpy as np
 
-__all__ = ["KINDS", "STATUSES", "STATUSES_BY_KIND", "STATUS_MARKS", "Candidate", "LedgerItem",
-           "agrees", "half_unit", "judge_claim", "printed_verdict"]
+from gyrolib import claim_map as _claim_map
+
+__all__ = ["KINDS", "STATUSES", "STATUSES_BY_KIND", "STATUS_CODES", "STATUS_MARKS", "Candidate",
+           "LedgerItem", "agrees", "half_unit", "judge_claim", "printed_verdict"]
 
 #: What an item is, and the statuses that fit each kind (the verdict vocabulary):
 #:
@@ -66,11 +73,18 @@ STATUSES_BY_KIND: dict[str, tuple[str, ...]] = {
     "input": ("input",),
     "inferred": ("inferred",),
     "figure": ("redrawn",),
-    "claim": ("holds", "holds under conditions", "fails", "not decidable"),
+    "claim": _claim_map.CLAIM_STATUSES,
 }
 KINDS: tuple[str, ...] = tuple(STATUSES_BY_KIND)
 #: Every allowed value of :attr:`LedgerItem.status`.
 STATUSES: tuple[str, ...] = tuple(s for kind in KINDS for s in STATUSES_BY_KIND[kind])
+#: A stable code per status, for programs (the ledger's JSON ``status_code``; its ``status``
+#: carries the words a reader sees, :attr:`LedgerItem.status_line`).  A claim's codes are
+#: :data:`gyrolib.claim_map.STATUS_CODES`: ``holds``, ``holds_in_part`` (holds under
+#: conditions), ``holds_near_reference``, ``fails``, ``not_decidable``.
+STATUS_CODES: dict[str, str] = {
+    **{s: s.replace(": ", "_").replace(" ", "_") for s in STATUSES},
+    **_claim_map.STATUS_CODES}
 #: A sphinx-design badge role per status, so that the ledger page shows it at a glance.
 STATUS_MARKS: dict[str, str] = {
     "reproduced": "{bdg-success}`reproduced`",
@@ -82,13 +96,15 @@ STATUS_MARKS: dict[str, str] = {
     "redrawn": "{bdg-secondary}`redrawn`",
     "holds": "{bdg-success}`holds`",
     "holds under conditions": "{bdg-warning}`holds under conditions`",
+    "holds only near the reference": "{bdg-danger}`holds only near the reference`",
     "fails": "{bdg-danger}`fails`",
     "not decidable": "{bdg-secondary}`not decidable`",
 }
 #: Claim statuses that carry conditions (:func:`judge_claim`): required for "holds under
 #: conditions" (where it stops holding), for "fails" (where, if anywhere, it would hold) and
 #: for "not decidable" (why no computation can decide it).
-_WITH_CONDITIONS = ("holds under conditions", "fails", "not decidable")
+_WITH_CONDITIONS = ("holds under conditions", "holds only near the reference", "fails",
+                    "not decidable")
 
 
 def _is_real(value: object) -> bool:
@@ -109,7 +125,9 @@ class LedgerItem:
     ``reproduced_value`` is reported and cited (the same on every CPU: see
     :func:`gyrolib.book.ledger.rounded`).  ``judged`` (claims only): the claim over the table
     of inputs, ``{"reference", "thresholds", "share_holding", "readings", ...}``
-    (:meth:`gyrolib.claim_map.ClaimMap.to_dict`, or ``None`` where a claim is not mapped).
+    (:meth:`gyrolib.claim_map.ClaimMap.to_dict`, or ``None`` where a claim is not mapped),
+    with ``"share_of"`` naming the part of the claim the share describes where the mapped
+    margin judges only a part.
 
     Examples
     --------
@@ -136,6 +154,25 @@ class LedgerItem:
     precision: int = 4
     anchor: str = ""
     judged: dict | None = None
+
+    @property
+    def status_code(self) -> str:
+        """The stable code of :attr:`status`, for programs (:data:`STATUS_CODES`), e.g.
+        ``"holds_near_reference"``."""
+        return STATUS_CODES[self.status]
+
+    @property
+    def status_line(self) -> str:
+        """The status as a reader sees it: a mapped claim's carries the share of the box
+        where it holds, with its 95 % interval (:func:`gyrolib.claim_map.status_line`, e.g.
+        "holds only near the reference (0 % of the box, 0–6 %)"); every other item's is its
+        status."""
+        judged = self.judged or {}
+        share = judged.get("share_holding")
+        if self.kind != "claim" or not share:
+            return self.status
+        # "share_of": the part of the claim the mapped margin judges, where it is a part
+        return _claim_map.status_line(self.status, share, judged.get("share_of", ""))
 
     @property
     def target(self) -> str:
@@ -174,6 +211,21 @@ class LedgerItem:
                 self.judged)
             if missing:
                 raise ValueError(f"judged of {self.id} lacks {sorted(missing)}")
+        if self.kind == "claim" and self.status.startswith("holds "):
+            # the status may not say more than the share of the box supports (the one rule)
+            share = (self.judged or {}).get("share_holding")
+            hi = None if not share else float(share["hi"])
+            near = "holds only near the reference"
+            if self.status == near and hi is None:
+                raise ValueError(f"status of {self.id}: {near!r} needs the share of the box "
+                                 "where it holds (judged['share_holding'])")
+            if hi is not None and (self.status == near) != (
+                    hi < _claim_map.HALF_OF_THE_BOX):
+                right = near if hi < _claim_map.HALF_OF_THE_BOX else "holds under conditions"
+                raise ValueError(f"status of {self.id} must be {right!r}: the upper end of "
+                                 f"the share of the box where it holds is {hi:.3g} (the rule "
+                                 f"sets {near!r} below "
+                                 f"{_claim_map.HALF_OF_THE_BOX:g}); got {self.status!r}")
         if self.paper not in ("GC", "RSF"):
             raise ValueError(f"paper must be 'GC' or 'RSF'; got {self.paper!r}")
         pv = self.paper_value
@@ -372,13 +424,15 @@ def printed_verdict(consistent: float, printed: float | str,
 
 # The one rule for every claim ------------------------------------------------------------------
 def judge_claim(holds_at_reference: bool, holds_over_ranges: bool,
-                conditions: str = "") -> tuple[str, str]:
+                conditions: str = "", share: object = None) -> tuple[str, str]:
     """The status of a claim by the ledger's one rule, and the conditions the item carries.
 
     * ``"holds"``: it holds at the reference point and at every point of the plausible
       ranges (every one-at-a-time point, every box point, every reading);
     * ``"holds under conditions"``: it holds at the reference point but fails at some point
       of the ranges; ``conditions`` says where it stops (required);
+    * ``"holds only near the reference"``: so, but the upper end of the 95 % interval of
+      ``share`` (the box's share where it holds) is below one half;
     * ``"fails"``: it fails at the reference point; ``conditions`` says where, if anywhere, it
       would hold (required).
 
@@ -394,6 +448,8 @@ def judge_claim(holds_at_reference: bool, holds_over_ranges: bool,
         Whether it holds everywhere in its plausible ranges.
     conditions : str
         Where it stops holding, or where it would hold; ignored for ``"holds"``.
+    share : gyrolib.claim_map.Share or dict, optional
+        The share of the box where it holds (``None``: not sampled).
 
     Returns
     -------
@@ -406,6 +462,8 @@ def judge_claim(holds_at_reference: bool, holds_over_ranges: bool,
     ('holds', '')
     >>> judge_claim(True, False, "below 12 s of overhead it fails")[0]
     'holds under conditions'
+    >>> judge_claim(True, False, "κ flips it", {"value": 0.0, "lo": 0.0, "hi": 0.06})[0]
+    'holds only near the reference'
     >>> judge_claim(False, False, "it would hold above 2557 °/s")[0]
     'fails'
     >>> judge_claim(False, True)   # doctest: +ELLIPSIS
@@ -424,7 +482,7 @@ def judge_claim(holds_at_reference: bool, holds_over_ranges: bool,
                          "the ranges contain the reference point")
     if holds_at_reference and holds_over_ranges:
         return "holds", ""
-    status = "holds under conditions" if holds_at_reference else "fails"
+    status = _claim_map.claim_status(bool(holds_at_reference), True, share)
     if not conditions.strip():
         raise ValueError(f"conditions must say where the claim stops holding or where it "
                          f"would hold (status {status!r}); got none")

@@ -22,7 +22,8 @@ from typing import Any, Final
 import numpy as np
 
 from gyrolib import _validation as v
-from gyrolib import inputs, levels, stats
+from gyrolib import inputs as _inputs
+from gyrolib import levels, stats
 from gyrolib._repr import compact_repr
 from gyrolib.book.ledger.claims import Verdict, register_margin, verdict
 from gyrolib.book.ledger.gc import SIGMA_C, T_BOUND
@@ -181,15 +182,26 @@ def _west_gyro_item(p: GyrocompassParams) -> LedgerItem:
     west = _west_gyro_kept(p)
     s100, s_end = west.sigma_at(100.0), float(west.sigma[-1])
     psi_max = float(from_si(west.psi_max, "arcsec_paper"))
+    v = verdict("gc.claim.corresponding_gyro", {"GyrocompassParams": p})
+    # the claim is judged at the bound (510 s): its threshold on σ_ψ(0) is the map's, and the
+    # floor's σ_ψ is only the limit of an unbounded time
+    (psi_510,) = [_inputs.row("gc.sigma_psi0").show(t["value"])
+                  for t in v.judged.get("thresholds") or ()
+                  if t["input"] == "gc.sigma_psi0"] or [None]
+    within = (f"within {T_BOUND:.0f} s it would hold with ψ known to σ_ψ(0) below "
+              f"{psi_510} (the threshold of σ_ψ(0) above)" if psi_510 is not None else
+              f"the σ_ψ(0) below which it would hold within {T_BOUND:.0f} s was not mapped at "
+              "these parameters")
     conditions = (
         f"read as the west gyro, the filter's σ of ω_gc is {_arcsec_s(s100):.4f}″/s at 100 s "
         f"and {_arcsec_s(s_end):.4f}″/s at {T_BOUND:.0f} s, above σ_c = "
         f"{_arcsec_s(SIGMA_C):g}″/s: ψ and ω_gc enter only as ω_gc + Ω_h ψ, so σ stalls at "
-        f"{_arcsec_s(west.floor):.4f}″/s; it would hold with ψ known to σ_ψ < "
-        f"{psi_max:.0f}″ (the paper's prior is "
-        f"{float(from_si(p.sigma_psi0, 'arcsec_paper')):.0f}″), or read as the gyro that "
+        f"{_arcsec_s(west.floor):.4f}″/s; {within}, and given unlimited time below "
+        f"{psi_max:.0f}″, where that floor reaches σ_c (the paper's prior is "
+        f"{float(from_si(p.sigma_psi0, 'arcsec_paper')):.0f}″); or read as the gyro that "
         "points north (the one the paper models: gc.time_to_sigma_c)")
-    v = verdict("gc.claim.corresponding_gyro", {"GyrocompassParams": p}, context=conditions)
+    v = verdict("gc.claim.corresponding_gyro", {"GyrocompassParams": p},
+                context=conditions[0].upper() + conditions[1:])
     return LedgerItem(
         id="gc.claim.corresponding_gyro", paper="GC", location="introduction; conclusion",
         quantity="σ of ω_gc of the west gyro at 100 s (the 'corresponding gyro')", unit="″/s",
@@ -357,7 +369,7 @@ def period_search_points(o: Mapping[str, Any]) -> np.ndarray:
 
 
 def _row(name: str) -> Any:
-    return inputs.row(name)
+    return _inputs.row(name)
 
 
 @register_margin

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, Final
 
 import numpy as np
@@ -54,6 +54,7 @@ from gyrolib.rsf.simulation import (
 )
 from gyrolib.rsf.sweeps import sweep_correction_period, sweep_encoder
 from gyrolib.rsf.tables import (
+    GS_MOTOR_RATE_MAX,
     TABLE2_OMEGA,
     WORKED_EXAMPLE_OMEGA_UNC,
     WORKED_EXAMPLE_OMEGA_X,
@@ -66,8 +67,8 @@ from gyrolib.rsf.tables import (
 from gyrolib.units import from_si, to_si
 
 __all__ = ["CLAIM_RATES", "CUBIC_EXPONENT", "DRZ_TOLERANCE", "PRINTED", "RANDOM_RUNS",
-           "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "encoder_revolution",
-           "items", "sweep_flights"]
+           "SIM_CYCLES", "SIM_PERIODS", "SIM_RUNS", "SIM_SEED", "TIMES", "OmegaUncCondition",
+           "encoder_revolution", "items", "omega_unc_condition", "sweep_flights"]
 
 #: Table columns of the paper, s.
 TIMES: Final[tuple[int, ...]] = levels.TIMES
@@ -513,9 +514,12 @@ def _compensated(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
                                                                      position_error=0.0))))
     rate_range = f"{CLAIM_RATES[1]:.0f}–{CLAIM_RATES[-1]:.0f} °/s"
     inside = CLAIM_RATES[1] <= w_star <= CLAIM_RATES[-1]
+    constant = omega_unc_condition(roll_gyro, gs_gyro, encoder, omega_unc=cs.omega_unc,
+                                   period=cs.period, target=target).text()
     where = (f"Eq. (7) reaches {100 * target:.0f} % only from {w_star:.0f} °/s "
              f"({100 * cs.share[i3600]:.0f} % at 3600 °/s), "
-             + ("inside" if inside else "outside") + f" the paper's {rate_range}. "
+             + ("inside" if inside else "outside") + f" the paper's {rate_range}, "
+             f"{constant}. "
              f"At {CLAIM_RATES[0]:.0f} °/s no encoder gets there: the GS gyro's scale error "
              f"times ω_unc carries {shares[1]:.0f} % of δK, the encoder {shares[2]:.0f} % and "
              f"the GS bias {shares[0]:.0f} %, and a perfect encoder gives {perfect:.1f} %. "
@@ -531,10 +535,79 @@ def _compensated(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
         "the paper reads 1 − δK (slipped δK) as the share; the residual SF error is δK itself, "
         f"so the share is 1 − δK/ε1; Eq. (7) would reach {100 * target:.0f} % only from "
         f"{w_star:.0f} °/s ({100 * cs.share[i3600]:.0f} % at 3600 °/s), outside the worked "
-        "example", "rsf-compensated", kind="claim", precision=3, conditions=conditions,
+        f"example, {constant}", "rsf-compensated", kind="claim", precision=3, conditions=conditions,
         judged=v.judged,
         evidence=f"1 − δK/ε1 from Eq. (7) at 900 °/s: {frac:.1f} % against "
         f"{100 * target:.0f} %; simulation: {sim}")
+
+
+@dataclass(frozen=True)
+class OmegaUncCondition:
+    """The condition of the rate from which Eq. (7) reaches the share ``target``: ω_unc held
+    at ``omega_unc`` (rad/s) at every rate.  Under the other readings of ω_unc(ω)
+    (:class:`gyrolib.rsf.tables.WorkedExample`) δK = ε1,GS ω_unc/ω + (ε0,GS Δt + Δγ_enc)/(ω Δt)
+    tends, as ω grows, to ε1,GS c with c = dω_unc/dω, so the share tends to
+    ``1 − ε1,GS c/ε1``: ``limit_motor`` (c = 1, the book's motor-limited GS, ω_unc = ω − ω_m
+    above the motor's limit ``motor_rate``) and ``limit_proportional`` (c = ω_unc/900 °/s).
+    The motor-limited share rises up to ω_m (ω_unc = 0 there) and is monotone above it, so
+    its largest value ``best_motor`` is the larger of its value at ω_m and its limit."""
+
+    omega_unc: float
+    target: float
+    motor_rate: float
+    best_motor: float
+    limit_motor: float
+    limit_proportional: float
+
+    @property
+    def never_otherwise(self) -> bool:
+        """Neither other reading reaches ``target`` at any rate."""
+        return max(self.best_motor, self.limit_proportional) < self.target
+
+    def short(self) -> str:
+        """``"with ω_unc held at 300 °/s at every rate; under the book's motor-limited GS the
+        share is at most 81 %"``."""
+        return (f"with ω_unc held at {from_si(self.omega_unc, 'deg/s'):.0f} °/s at every rate; "
+                f"under the book's motor-limited GS the share is at most "
+                f"{100 * self.best_motor:.0f} %")
+
+    def text(self) -> str:
+        """The condition in full, with both other readings."""
+        w_m = float(from_si(self.motor_rate, "deg/s"))
+        return (f"with ω_unc held at {from_si(self.omega_unc, 'deg/s'):.0f} °/s at every rate "
+                f"(a constant ω_unc, the worked example's); under the book's motor-limited GS "
+                f"(ω_unc = ω − {w_m:.0f} °/s above {w_m:.0f} °/s) the share is at most "
+                f"{100 * self.best_motor:.0f} % (at {w_m:.0f} °/s) and tends to "
+                f"{100 * self.limit_motor:.0f} % as ω grows, and with ω_unc in proportion to ω "
+                f"it tends to {100 * self.limit_proportional:.0f} %"
+                + (f": neither reaches {100 * self.target:.0f} % at any rate"
+                   if self.never_otherwise else ""))
+
+
+def omega_unc_condition(roll_gyro: RollGyroSpec = SIIMU02_ROLL,
+                        gs_gyro: MemsGyroSpec = GYPRO4300, encoder: EncoderSpec = AEDB9340,
+                        *, omega_unc: float = WORKED_EXAMPLE_OMEGA_UNC,
+                        period: float = WORKED_EXAMPLE_PERIOD,
+                        target: float | None = None) -> OmegaUncCondition:
+    """The condition of a constant ω_unc under which Eq. (7) reaches ``target`` (default the
+    paper's 90 %) from :attr:`gyrolib.rsf.CompensationShare.rate_for_target` on, and what the
+    other readings of ω_unc(ω) give instead (:class:`OmegaUncCondition`).
+
+    Examples
+    --------
+    >>> c = omega_unc_condition()
+    >>> f"{100 * c.best_motor:.0f} %", f"{100 * c.limit_motor:.0f} %", c.never_otherwise
+    ('81 %', '53 %', True)
+    """
+    target = PRINTED["example.compensated"] / 100.0 if target is None else target
+    e1, e1gs, w_m = roll_gyro.sf_error, gs_gyro.sf_error, GS_MOTOR_RATE_MAX
+    at_motor = float(fraction_compensated(e1, worked_example_delta_k(
+        gs_gyro, encoder, omega_x=w_m, omega_unc=0.0, dt=period)))
+    lim_motor = 1.0 - e1gs / e1
+    lim_prop = 1.0 - e1gs * (omega_unc / WORKED_EXAMPLE_OMEGA_X) / e1
+    return OmegaUncCondition(omega_unc=omega_unc, target=target, motor_rate=w_m,
+                             best_motor=max(at_motor, lim_motor), limit_motor=lim_motor,
+                             limit_proportional=lim_prop)
 
 
 @functools.lru_cache(maxsize=16)
@@ -634,7 +707,10 @@ def _longer_finer(roll_gyro: RollGyroSpec, gs_gyro: MemsGyroSpec,
         "the paper: increasing the interval between corrections and choosing an encoder of "
         "higher resolution make the correction more effective; the simulation agrees only in "
         "part", "rsf-sim-sweeps", paper_value="more effective", kind="claim", precision=4,
-        conditions=conditions, chapter=_SIM, judged=v.judged,
+        conditions=conditions, chapter=_SIM,
+        # the map's margin is the finer-encoder part's: its share says nothing of the other
+        judged={**v.judged, "share_of": "the finer-encoder part; the longer-interval part "
+                "judged on the sweep alone"},
         evidence=f"{SIM_RUNS} seeded flights (seed {SIM_SEED}) at 900 °/s: rsf.sweep_correction_"
         f"period over {SIM_PERIODS[0]:g}–{SIM_PERIODS[-1]:g} s and rsf.sweep_encoder over "
         f"{int(es.counts_per_rev[0])}–{int(es.counts_per_rev[-1])} counts per revolution")

@@ -1,5 +1,6 @@
 """The reproduction ledger: complete, well-formed, deterministic, and linked to the book."""
 
+import dataclasses
 import json
 import os
 import re
@@ -16,6 +17,7 @@ from gyrolib.book import cite
 from gyrolib.book.ledger import (
     KINDS,
     SCHEMA_VERSION,
+    STATUS_CODES,
     STATUSES_BY_KIND,
     LedgerItem,
     anchor,
@@ -32,7 +34,7 @@ from tests.conftest import LEDGER_MEMO_ENV, require_built_book, session_book
 
 ROOT = Path(__file__).resolve().parents[3]
 FIELDS = {"id", "paper", "location", "quantity", "unit", "paper_value", "reproduced_value",
-          "status", "note", "chapter", "kind", "evidence", "conditions", "precision",
+          "status", "status_code", "note", "chapter", "kind", "evidence", "conditions", "precision",
           "reference", "thresholds", "share_holding", "readings", "margin", "mapped",
           "isolated"}
 REQUIRED_IDS = [
@@ -141,7 +143,12 @@ def test_cli_json_parses_with_every_field_and_is_byte_identical(items, tmp_path,
     assert isinstance(data, list) and data
     for entry in data:
         assert set(entry) == FIELDS, entry
-        assert entry["status"] in STATUSES_BY_KIND[entry["kind"]]
+        # the code for programs, the words for readers: a claim's words carry its share
+        (status,) = [s for s in STATUSES_BY_KIND[entry["kind"]]
+                     if STATUS_CODES[s] == entry["status_code"]]
+        assert entry["status"].startswith(status), entry["id"]
+        if entry["kind"] == "claim" and entry["share_holding"] and status != "holds":
+            assert "% of the box" in entry["status"], entry["id"]
         # cited values carry no more digits than the item's declared precision
         x = entry["reproduced_value"]
         if isinstance(x, float) and x:
@@ -222,7 +229,7 @@ def test_json_and_markdown_of_a_known_item():
     csv_text = to_csv([it])
     assert csv_text.startswith(f"# Gyro calibration, reproduced (ledger schema "
                                f"{SCHEMA_VERSION}) {gyrolib.__version__}\n")
-    assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 3
+    assert json.loads(to_json([it]))["schema_version"] == SCHEMA_VERSION == 4
     assert "gc.test" in csv_text and ",0.4927," in csv_text
     md = table_markdown([it], "GC")
     assert "{ref}`Fig. 3 <gc-model>`" in md and "σ\\|x" in md and "0.4927" in md
@@ -330,3 +337,23 @@ def test_collect_is_computed_once_per_state_of_the_sources_with_a_memo(tmp_path,
     files[0].write_text(json.dumps(data), encoding="utf-8")
     assert collect()[0].note == "read from the memo" and computed == [1]
     assert ledger_module._memo_file() == files[0]
+
+
+def test_a_pure_numbers_citation_has_no_unit_digit_and_reads_as_sentences():
+    """A value of unit "1" is cited bare: "0.00017 1" would read as one more digit.  The
+    citation line and the entry's note begin as sentences (a Latin first letter raised; a
+    symbol such as δ kept, its capital being another symbol).  Power: a unit that is a word
+    is still written."""
+    it = _item(id="rsf.x", paper="RSF", location="worked example", quantity="relative error",
+               unit="1", reproduced_value=0.000171, paper_value=0.093, precision=2,
+               status="differs: cause shown", note="the print takes a slip",
+               chapter="chapters/rsf_method")
+    line = citation(it)
+    assert line.startswith("Relative error: 0.00017 (paper RSF, worked example, printed: "
+                           "0.093; differs: cause shown). ")
+    assert "0.00017 1" not in line
+    assert "The print takes a slip." in entries_markdown([it], "RSF")
+    metres = citation(dataclasses.replace(it, unit="m"))
+    assert metres.startswith("Relative error: 0.00017 m (")
+    symbol = citation(dataclasses.replace(it, quantity="δK of K"))
+    assert symbol.startswith("δK of K: 0.00017 (")

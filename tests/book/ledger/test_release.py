@@ -14,12 +14,17 @@ ROOT = Path(__file__).resolve().parents[3]
 RELEASE = ROOT / "tests" / "releases" / "ledger-0.3.0.json"
 
 
+def _code(d: dict) -> str:
+    """An item's verdict as a stable code: the file's ``status_code`` (schema 4 on), else
+    the code of its ``status`` (before schema 4 the status was the bare verdict)."""
+    return d.get("status_code") or ledger.STATUS_CODES[d["status"]]
+
+
 def _changed(old: list[dict], new: list[dict]) -> set[str]:
     a, b = {d["id"]: d for d in old}, {d["id"]: d for d in new}
     out = set(a) ^ set(b)
     for i in set(a) & set(b):
-        if (a[i]["status"], a[i]["reproduced_value"]) != (b[i]["status"],
-                                                          b[i]["reproduced_value"]):
+        if (_code(a[i]), a[i]["reproduced_value"]) != (_code(b[i]), b[i]["reproduced_value"]):
             out.add(i)
     return out
 

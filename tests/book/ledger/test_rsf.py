@@ -427,3 +427,49 @@ def test_drz_tolerance_is_stated_with_its_reason():
     it = _by_id(it for it in collect() if it.paper == "RSF")["rsf.table2.dr_z_120"]
     assert "±5 stated for 4590 and 36730 read to four significant digits" in it.evidence
     assert ledger_rsf.DRZ_TOLERANCE[0] == 5.0
+
+
+def test_the_rate_for_90_percent_carries_its_constant_omega_unc(items):
+    """Eq. (7) reaches 90 % from 2557 °/s only with ω_unc held at 300 °/s at every rate; the
+    item says so, and what the other readings give.  The limits against Eq. (7) itself,
+    evaluated at rates far beyond the paper's with WorkedExample's readings of ω_unc(ω):
+    the motor-limited share peaks where ω_unc starts (the motor's limit) and falls toward
+    1 − ε1,GS/ε1; the proportional one rises toward 1 − ε1,GS/(3 ε1).  Power: the constant
+    reading does reach 90 % at those rates, so the condition is what matters."""
+    from gyrolib.rsf.equations import delta_k, fraction_compensated
+    from gyrolib.rsf.tables import GS_MOTOR_RATE_MAX, WorkedExample
+    from gyrolib.units import to_si
+
+    cond = ledger_rsf.omega_unc_condition()
+    roll, gs, enc = rsf.SIIMU02_ROLL, rsf.GYPRO4300, rsf.AEDB9340
+
+    def share(model, w):
+        ex = WorkedExample(omega_unc_model=model)
+        return float(fraction_compensated(roll.sf_error, delta_k(
+            gs.bias_total, enc.position_error, w, ex.period, gs.sf_error,
+            ex.omega_unc_at(w))))
+    # a fine grid far beyond the paper's rates, the motor's limit among its points
+    rates = np.union1d(to_si(np.geomspace(100.0, 1e7, 300), "deg/s"), [GS_MOTOR_RATE_MAX])
+    motor = [share("motor_limited", w) for w in rates]
+    prop = [share("proportional", w) for w in rates]
+    assert max(motor) == pytest.approx(cond.best_motor, rel=1e-9)
+    assert share("motor_limited", GS_MOTOR_RATE_MAX) == pytest.approx(cond.best_motor,
+                                                                        rel=1e-9)
+    assert motor[-1] == pytest.approx(cond.limit_motor, abs=1e-3)
+    assert prop[-1] == pytest.approx(cond.limit_proportional, abs=1e-3) and max(prop) < 0.9
+    assert cond.never_otherwise and share("constant", rates[-1]) > 0.9
+    it = items["rsf.example.compensated"]
+    for text in (it.note, it.conditions):
+        assert "a constant ω_unc" in text and cond.text() in text
+        assert f"tends to {100 * cond.limit_motor:.0f} %" in text
+
+
+def test_the_share_of_longer_finer_names_the_part_it_describes(items):
+    """The map of "a longer interval and a finer encoder" judges the finer-encoder part only,
+    so its share of the box is quoted as that part's, never as the whole claim's."""
+    it = items["rsf.claim.longer_finer"]
+    share = it.judged["share_holding"]
+    assert it.status_line == (f"{it.status} (the finer-encoder part; the longer-interval part "
+                              f"judged on the sweep alone: {100 * share['value']:.0f} % of the "
+                              f"box, {100 * share['lo']:.0f}–{100 * share['hi']:.0f} %)")
+    assert "rises at" in it.conditions     # the longer-interval part's own failures

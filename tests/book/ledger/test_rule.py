@@ -259,3 +259,101 @@ def test_every_claim_of_the_ledger_goes_through_the_one_rule():
     assert len(claims) >= 10
     for it in claims:
         assert (it.conditions == "") == (it.status == "holds"), it.id
+
+
+# a status that matches its share --------------------------------------------------------------
+def _share(k, n=64):
+    from gyrolib.claim_map import Share, wilson_interval
+
+    lo, hi = wilson_interval(k, n)
+    return Share(k / n, lo, hi, n, 1)
+
+
+def test_the_share_of_the_box_sets_the_status_and_its_code():
+    """Power of the rule: a claim that holds at the reference but flips, at 60 % of 64 box
+    points (95 % interval up to 71 %), is "holds under conditions"; at 30 % (up to 42 %) it is
+    "holds only near the reference": different statuses and codes, and each status line
+    carries its share (the Wilson interval's ends, computed here by hand from k/n)."""
+    from gyrolib.claim_map import STATUS_CODES, claim_status, status_line
+
+    wide, narrow = _share(38), _share(19)          # 59 % and 30 % of 64
+    assert narrow.hi < 0.5 <= wide.hi
+    s_wide, s_narrow = claim_status(True, True, wide), claim_status(True, True, narrow)
+    assert (s_wide, s_narrow) == ("holds under conditions", "holds only near the reference")
+    assert (STATUS_CODES[s_wide], STATUS_CODES[s_narrow]) == ("holds_in_part",
+                                                               "holds_near_reference")
+    # the 95 % Wilson interval of 19/64 by hand: centre ± half-width
+    z, n, p = 1.959963984540054, 64, 19 / 64
+    c = (p + z * z / (2 * n)) / (1 + z * z / n)
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    assert status_line(s_narrow, narrow) == (f"holds only near the reference ({100 * p:.0f} % "
+                                             f"of the box, {100 * (c - h):.0f}–"
+                                             f"{100 * (c + h):.0f} %)")
+    # the boundary: the upper end just under and at one half
+    from gyrolib.claim_map import Share
+
+    assert claim_status(True, True, Share(0.4, 0.3, 0.4999, 64, 1)) == \
+        "holds only near the reference"
+    assert claim_status(True, True, Share(0.4, 0.3, 0.5, 64, 1)) == "holds under conditions"
+    # without a flip, or failing at the reference, the share does not matter
+    assert claim_status(True, False, narrow) == "holds"
+    assert claim_status(False, True, wide) == "fails"
+    assert judge_claim(True, False, "κ flips it", narrow)[0] == "holds only near the reference"
+
+
+def test_an_item_refuses_a_status_that_says_more_than_its_share():
+    """A claim item whose share's upper end is below one half cannot be "holds under
+    conditions" (nor a wide one "holds only near the reference"): the status line alone must
+    not let a reader believe more than the share supports."""
+    from dataclasses import asdict
+
+    from gyrolib.book.ledger import LedgerItem
+
+    judged = {"reference": {}, "thresholds": [], "readings": {},
+              "share_holding": asdict(_share(0))}
+    kw = dict(id="x.y", paper="GC", location="l", quantity="q", unit="1", paper_value="p",
+              reproduced_value=None, note="n", chapter="chapters/gc_race", kind="claim",
+              evidence="e", conditions="σ_off flips it")
+    with pytest.raises(ValueError, match="holds only near the reference"):
+        LedgerItem(status="holds under conditions", judged=judged, **kw)
+    it = LedgerItem(status="holds only near the reference", judged=judged, **kw)
+    assert it.status_code == "holds_near_reference"
+    assert it.status_line == "holds only near the reference (0 % of the box, 0–6 %)"
+    wide = {**judged, "share_holding": asdict(_share(38))}
+    with pytest.raises(ValueError, match="holds under conditions"):
+        LedgerItem(status="holds only near the reference", judged=wide, **kw)
+    with pytest.raises(ValueError, match="share"):
+        LedgerItem(status="holds only near the reference", judged=None, **kw)
+
+
+def test_no_claim_of_the_ledger_holds_under_conditions_beyond_its_share():
+    """Acceptance: no claim whose share's upper end is below 0.5 carries "holds under
+    conditions", and every mapped claim's status line (the JSON's ``status``) carries its
+    share; the race claim, which holds at none of the box's points, holds only near the
+    reference, and its conditions name every input that flips it, σ_off and σ_b included."""
+    import json
+
+    from gyrolib import inputs
+    from gyrolib.book import ledger
+    from gyrolib.book.ledger import claims
+
+    items = collect()
+    doc = {d["id"]: d for d in json.loads(ledger.to_json(items))["items"]}
+    for it in items:
+        share = (it.judged or {}).get("share_holding")
+        if it.kind != "claim" or not share:
+            continue
+        if it.status.startswith("holds ") and share["hi"] < 0.5:
+            assert it.status == "holds only near the reference", it.id
+        if it.status != "holds":
+            assert f"{share['value'] * 100:.0f} % of the box" in doc[it.id]["status"], it.id
+        assert doc[it.id]["status_code"] == it.status_code
+    race = {it.id: it for it in items}["gc.faster_percent"]
+    assert race.status_code == "holds_near_reference"
+    assert doc["gc.faster_percent"]["status"].startswith("holds only near the reference (0 %")
+    m = claims.stored_maps()["gc.faster_percent"]
+    for name in ("gc.sigma_as_offset", "gc.sigma_incl_bias", "gc.sigma_hf_scale"):
+        assert name in m.flipping_inputs()
+    for name in m.flipping_inputs():
+        assert inputs.row(name).symbol in race.conditions, name
+    assert "σ_off" in race.conditions and "σ_b" in race.conditions
