@@ -1,4 +1,4 @@
-"""The one rule over the table of inputs (issue 33): synthetic claims of two inputs with known
+"""The one rule over the table of inputs: synthetic claims of two inputs with known
 boundaries, the completeness of the thresholds (and its power), the table itself, and the
 stored maps against independent computations (each claim's own function, bisected here)."""
 

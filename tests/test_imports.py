@@ -1,4 +1,4 @@
-"""The import graph of gyrolib runs one way (issue 20, "the knots"): records and parameters flow
+"""The import graph of gyrolib runs one way: records and parameters flow
 from :mod:`gyrolib.records` into the paper subpackages, never back; the command line sits
 above both; datasheet specs never import the simulation that models them.
 
@@ -105,7 +105,7 @@ def test_datasheet_specs_do_not_import_the_simulation():
 
 def test_no_dynamic_imports():
     """Every import is an ordinary statement that this graph (and a reader) can see: no
-    ``__import__`` or ``importlib.import_module`` hiding an edge (issue 22: the ledger loaded
+    ``__import__`` or ``importlib.import_module`` hiding an edge (the ledger loaded
     its paper modules that way, and they imported the ledger back)."""
     found = []
     for path in ROOT.rglob("*.py"):
@@ -118,7 +118,7 @@ def test_no_dynamic_imports():
     assert found == []
 
 
-# Lazy heavy imports (issue 18, item 6: the command line's start) ---------------------------
+# Lazy heavy imports (the command line's start) ---------------------------
 HEAVY = ("matplotlib", "sympy", "control", "scipy.stats")
 
 
@@ -153,7 +153,7 @@ def test_command_line_does_not_import_plotting_or_sympy(tmp_path):
 
 def test_help_loads_no_numerics():
     """``python -m gyrolib --help`` and the commands' ``--help`` build the parsers without
-    loading numpy, numba or pyarrow (issue 34, item 11: they took 2–5 s); importing a
+    loading numpy, numba or pyarrow (they took 2–5 s); importing a
     calibration's run in the same kind of process loads numpy (the probe's power).
     (``sensitivity --help`` reads its studies' numbers of inputs from the studies: numpy.)"""
     import subprocess
@@ -219,7 +219,7 @@ def test_lazy_names_still_resolve(package):
         assert symbolic.__name__ == "gyrolib.gc.model.symbolic"
 
 
-# Rooms by role (issue 29, item 1) -------------------------------------------------------------
+# Rooms by role -------------------------------------------------------------
 #: The named-tuple API, whose leading underscore is not a privacy mark.
 _NAMEDTUPLE_API = frozenset({"_replace", "_asdict", "_fields", "_make",
                              # the type argparse's add_subparsers returns, which has no

@@ -1,4 +1,4 @@
-"""Citing the book and a single reproduced result (issue 35, item 5).
+"""Citing the book and a single reproduced result.
 
 One source for where the book lives: ``pyproject.toml``'s ``[project.urls]``
 (``Repository``, ``Book``).  :func:`project_urls` reads it; ``CITATION.cff``,

@@ -194,7 +194,7 @@ __all__ = [
     "worked_example_terms",
 ]
 
-# Calibration on recorded data (issue 13)
+# Calibration on recorded data
 from gyrolib.rsf.calibration import (
     CalibrationResult,
     calibrate,
@@ -203,7 +203,7 @@ from gyrolib.rsf.calibration import (
 from gyrolib.rsf.judgement import judge_record
 from gyrolib.rsf.record import RSFRecord
 
-# Global sensitivity of delta K and the share removed (issue 19)
+# Global sensitivity of delta K and the share removed
 from gyrolib.rsf.sensitivity_study import (
     SENSITIVITY_OUTPUTS,
     recheck_sensitivity,
@@ -213,7 +213,7 @@ from gyrolib.rsf.sensitivity_study import (
     sensitivity_outputs,
 )
 
-# The total standard uncertainty of the mean and the run's checks (issue 34)
+# The total standard uncertainty of the mean and the run's checks
 from gyrolib.rsf.uncertainty import Eps1Uncertainty, eps1_uncertainty
 
 __all__ += ["CalibrationResult", "RSFRecord", "calibrate", "judge_record",

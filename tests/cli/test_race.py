@@ -1,4 +1,4 @@
-"""``python -m gyrolib race [--params P.toml] [--json]`` (issue 28, item 6): the race for a
+"""``python -m gyrolib race [--params P.toml] [--json]``: the race for a
 user's own instrument, its verdict by the ledger's one rule for claims, and bad files
 rejected with status 2, one line on stderr and nothing on stdout."""
 

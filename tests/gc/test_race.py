@@ -1,4 +1,4 @@
-"""The race of paper GC's method against the rate-sensor method it replaces (issue 17):
+"""The race of paper GC's method against the rate-sensor method it replaces:
 ``gc.racing.rate_sensor`` and ``gc.racing.comparison``.
 
 Independent references: the ledger's time of GC's filter (itself tested against the
@@ -6,7 +6,7 @@ plain-numpy filter of ``tests/support/gc_reference.py``); closed forms of the cl
 variance (white noise: ``q/T``; coloured noise: the double sum of the shaping filters'
 autocorrelations over the samples); the information form of the optimal estimator on
 static states; a simulated truth (nonlinear, its own grid) with a χ² band, and a wrong truth
-that must fail it; for the rebalance loop (issue 28): the first-order closed form of the
+that must fail it; for the rebalance loop: the first-order closed form of the
 pickoff noise through the loop, a closed-loop truth that passes with the matched model and
 fails with the pickoff noise left out, and the acceptance "ten times C_as makes the rival
 slower by more than 20 %".
@@ -287,7 +287,7 @@ def test_monte_carlo_runs_do_not_depend_on_n_runs():
 
 
 def _numpy_truth_errors(truth, rng, n1: int, n2: int, B: int) -> np.ndarray:
-    """The rival's truth as it was written before its numba kernels (issue 36): the same
+    """The rival's truth as it was written before its numba kernels: the same
     equations stepped with numpy over the lanes, a second implementation of
     ``_Truth.errors`` (the same random draws in the same order)."""
     tp, proc = truth.tp, truth.proc
@@ -566,7 +566,7 @@ def test_functions_reject_bad_arguments(result):
     assert len(RS_STATE_NAMES) == m.P0.shape[0]
 
 
-# The fast paths (issue 29, item 7) against the straightforward computation ------------------
+# The fast paths against the straightforward computation ------------------
 # Kept here, private: the doubling loop, the classical σ and the optimal run as they were
 # computed before the per-model caches (every power sum from scratch, position 1 from P0 and
 # position 2 over the whole window for each n1).

@@ -1,4 +1,4 @@
-"""Issue 22: the walk of ``params`` through gc.covariance_analysis enters gyrolib._validation
+"""The walk of ``params`` through gc.covariance_analysis enters gyrolib._validation
 once, at the door.  Every check of the module is wrapped to count its calls by the name it
 checks (its first argument)."""
 
@@ -55,8 +55,8 @@ def test_params_fields_are_checked_once_at_construction(counted):
 
 def test_covariance_analysis_walk_enters_validation_once_at_the_door(counted):
     """After construction, covariance_analysis checks params once at its door and never one
-    of its fields again (before issue 22 each shaping-filter field was checked 8 more times
-    on the way through the model functions).  The other three checks of the params object
+    of its fields again (a walk that
+    rechecked them would count each shaping-filter field 8 more times).  The other three checks of the params object
     are the records' own doors (ContinuousModel, GCDiscretization, CovarianceAnalysis: a
     record built by hand with params=None must fail by name)."""
     p = gc.GyrocompassParams()

@@ -1,5 +1,5 @@
 """What flips each verdict, globally: a Sobol' study of the claims' margins over the table of
-inputs (issue 33, item 5).
+inputs.
 
 The claims are those of :data:`gyrolib.book.ledger.claims.CLAIMS`, each a *margin* whose sign
 is the verdict (the race's saving minus 50 %, ``1 − t_c/510 s``, the share compensated minus

@@ -46,7 +46,7 @@ depend on how many runs there are, how they are grouped, or on how many threads 
 share the work (``executor``).  Why a copy rather than numpy's generators themselves: with
 23 normals per run and step the normals are most of the work, and numpy's
 ``standard_normal`` (per run, blocks filled on threads) gives the same runs at about twice
-the CPU time, on AVX-512 and on AVX2 alike (issue 36: the copy stays only while numpy's path
+the CPU time, on AVX-512 and on AVX2 alike (the copy stays only while numpy's path
 costs more than 1.15 times its CPU over the whole Monte Carlo on the AVX2 class;
 ``benchmarks/bench_gc_monte_carlo.py`` measures both and records the decision, and the whole
 Monte Carlo against its draw limit, the CPU time of its normals from numpy's generator).
@@ -657,7 +657,7 @@ def _fill_normals(s, out, ubuf, ki, ki_signed, wi, fi):
     try from them (8 bits layer, 1 bit sign, 52 bits mantissa; accepted about 99 % of the
     time), then the rest of numpy's algorithm for the lanes whose try failed.
 
-    Written so that the first try vectorizes on AVX2 too (issue 36): the mantissa becomes a
+    Written so that the first try vectorizes on AVX2 too: the mantissa becomes a
     double through its bits (``2⁵² + m`` minus ``2⁵²``, exact: AVX2 has no instruction for
     int64 → double, AVX-512 has), and the two table look-ups are a scalar loop of their own
     (LLVM does not vectorize a loop that needs gathers on AMD's Zen, whose gathers are slow):
@@ -724,7 +724,7 @@ def _fill_stream_lanes(s, out, lanes, ki, wi, fi):
     The state lives in four local words (written back only around the ziggurat's rare
     second try, :func:`_ziggurat_rest`), and a lane not kept costs its 64 bits and the
     first try's test, not its value: about 5× less than drawing every lane through the
-    state array (issue 36: a 100-s record drew 7.4·10⁷ numbers to keep 2.3·10⁶, 1.0 CPU-s
+    state array (a 100-s record drew 7.4·10⁷ numbers to keep 2.3·10⁶, 1.0 CPU-s
     of its 1.2 on the 2-core AVX2 machine), the same numbers
     (``tests/gc/test_monte_carlo.py``)."""
     kept = out.shape[2]

@@ -344,10 +344,10 @@ class NoiseFit:
     def nuisance(self, duration: float) -> list[str]:
         """The fitted parameters a record of ``duration`` s pins down poorly, one sentence
         each: a relative standard error above 1, or, for ``alpha1``, a record shorter than
-        three correlation times ``1/(ξ1 α1)`` of the vibration (Eq. (6), issue 26).  They
+        three correlation times ``1/(ξ1 α1)`` of the vibration (Eq. (6)).  They
         are nuisance parameters: :func:`fit_uncertainty` marginalizes over them (their
         covariance, and a vibration as slow as the record), so σ(ω_gc) widens by what they
-        can move it, instead of the run being refused (issue 34, item 4).
+        can move it, instead of the run being refused.
 
         Examples
         --------
@@ -458,8 +458,8 @@ _INTENSITIES: Final[tuple[str, ...]] = ("C_as", "C_in", "C_incl_y", "C_incl_z")
 
 def fit_checks(fit: NoiseFit, unfitted: object | None = None, *, clock_tolerance: float = 0.0,
                model_tolerance: float = 0.0, false_alarm: float = 0.01) -> list[dict]:
-    """The checks a noise fit must pass before its calibration is a result (issue 34,
-    item 3), at a family-wise false-alarm rate (Šidák over the checks made).
+    """The checks a noise fit must pass before its calibration is a result, at a
+    family-wise false-alarm rate (Šidák over the checks made).
 
     * **plausible range** (one per fitted name): the fitted value's interval
       ``θ̂ · exp(± z SE(ln θ))`` must reach the plausible range of its row of the table of
@@ -617,9 +617,8 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
     (benchmarks/diag_fit_interval.py; tests/gc/test_noise_fit.py).
 
     The bracket matters on the α1–σ1² ridge of a short record, where the likelihood is flat
-    for a decade and then falls by hundreds: the unbracketed secant steps this function
-    took before issue 34's coverage study jumped between the flat part and the wall and
-    stopped where their steps ran out, inside the flat part.  3 of the 9 misses of σ1² over
+    for a decade and then falls by hundreds: unbracketed secant steps jumped between the flat
+    part and the wall and stopped where their steps ran out, inside the flat part.  3 of the 9 misses of σ1² over
     96 records of 100 s were such, with a likelihood ratio at the truth of 0.4–2.3
     against 3.84.
 
@@ -898,7 +897,7 @@ def fit_uncertainty(record: GCRecord, fit: NoiseFit, *, samples: int = 16, seed:
     (:func:`gyrolib.gc.calibrate`, ``calibrate_options``) with each, and the law of total
     variance, ``√(mean_k σ_k² + var_k ω̂_k)``: the filter's σ at θ̂ treats the fitted values
     as exact, and it shrinks where the fit overestimates the vibration's bandwidth
-    (issue 26).  The curvature's covariance is not to be trusted for an ``alpha1`` that the
+   .  The curvature's covariance is not to be trusted for an ``alpha1`` that the
     record barely sees, so a vibration correlated over the whole record
     (``α1 = 1/(ξ1 T)``, ``σ1²`` refitted) that the likelihood cannot reject (likelihood
     ratio below χ²₁'s 95 % point) enters as an alternative model: the variance becomes the
@@ -1312,7 +1311,7 @@ def fit_noise(record: GCRecord, params: GyrocompassParams | None = None, *,
     if best.converged:
         return best
     # not converged: again from other starts (α1 and σ1² a decade either way, the
-    # intensities halved and doubled), the best converged fit wins (issue 34, item 4)
+    # intensities halved and doubled), the best converged fit wins
     tried = [best]
     for factor in _RETRY_FACTORS:
         start = dataclasses.replace(p0, **{f: getattr(p0, f) * factor

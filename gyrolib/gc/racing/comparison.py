@@ -165,7 +165,7 @@ def _fibonacci_min(f, lo: int, hi: int) -> float:
 
 def _split_reaches(model: RateSensorModel, n: int) -> bool:
     """Whether the best split of ``n`` samples reaches σ_c (``_best_split(model, n)[0] <=
-    σ_c``, the same answer) with less work (issue 36): a Fibonacci search for the smallest
+    σ_c``, the same answer) with less work: a Fibonacci search for the smallest
     σ, stopped at the first split that reaches σ_c.  Only the answer is used: the split of
     the total found keeps :func:`_best_split`'s own search, so that a tie at the level of
     rounding is broken as before."""
@@ -289,7 +289,7 @@ def _rate_part(model: RateSensorModel) -> _RatePart:
 def _rate_time(p: GyrocompassParams, proc: RateSensorProcedure, estimator: str) -> float:
     """The rate-sensor method's time to σ_c with one estimator (``inf``: not reached), kept
     per inputs (frozen dataclasses; a float result): a race's conditions, its claim map and
-    the command line ask for the same points again (issue 36: work done twice)."""
+    the command line ask for the same points again (work done twice)."""
     if estimator == "classical":
         found = _classical_samples(rate_sensor_model(p, proc))
         return math.inf if found is None else sum(found) * proc.sample_dt + proc.overhead
@@ -301,7 +301,7 @@ def _classical_exceeds_on(model: RateSensorModel, target: float) -> bool:
     """Whether the classical estimator's time to σ_c (:func:`_rate_time`) exceeds ``target``:
     the same answer (σ falls with the total, as :func:`_classical_samples`' bisection takes
     it) from one question, whether the longest total within ``target`` (and ``t_max``)
-    reaches σ_c (issue 36: a bisection asks only this)."""
+    reaches σ_c (a bisection asks only this)."""
     proc = model.procedure
     n_cap = math.floor((min(target, proc.t_max) - proc.overhead) / proc.sample_dt + 1e-9)
     while n_cap >= 2 and n_cap * proc.sample_dt + proc.overhead > target:
@@ -311,7 +311,7 @@ def _classical_exceeds_on(model: RateSensorModel, target: float) -> bool:
 
 def _optimal_exceeds(p: GyrocompassParams, proc: RateSensorProcedure, target: float) -> bool:
     """Whether the optimal estimator's time to σ_c (:func:`_rate_time`) exceeds ``target``,
-    with the same answer and less work (issue 36: a bisection asks only this):
+    with the same answer and less work (a bisection asks only this):
 
     * the classical estimator's best split of the longest total within ``target`` already
       reaches σ_c: the optimal one, which the search also tries on the classical's windows
@@ -781,7 +781,7 @@ def _gc_time(p: GyrocompassParams, level: float, t_max: float) -> float:
     """GC's time to ``level`` (``nan``: not reached), kept per parameters: the rival's rows
     of a map do not change it.  The same number as ``_gc_part(p, level, t_max)[0]``, from
     :func:`gyrolib.gc.time_to_level` (the filter's covariance stopped at the crossing, over
-    the same horizons; issue 36: the margins ran all of 100 s, or 1000 s, to read a time of
+    the same horizons; the margins ran all of 100 s, or 1000 s, to read a time of
     about 25 s)."""
     s_scale = p.scale_drift_sigma
     if s_scale >= level:

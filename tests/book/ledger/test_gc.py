@@ -191,7 +191,7 @@ def test_speed_claims_have_their_own_builders_and_both_cite_the_race(base, race_
     """time_to_sigma_c is the comparison with ref. [2]'s quoted 17 min (a quoted bound);
     faster_percent is the race against ref. [3]'s method under the same disturbances: its
     value is 100 (1 − t_c,GC / t_c,rate sensor) from the race's times (by hand), both items cite
-    the race in their evidence (issue 17), and the race's t_c for GC is the covariance
+    the race in their evidence, and the race's t_c for GC is the covariance
     analysis' t_c of time_to_sigma_c."""
     r, cond = race_at_defaults
     speed = gc.speed_evidence(gc.baseline(P))
@@ -253,7 +253,7 @@ def test_the_float_rotation_is_quoted_as_printed(base):
 
 
 def test_sigma_and_speed_items_quote_the_committed_sensitivity_study(base):
-    """Issue 19: gc.sigma_gc_100s and both speed claims cite the global sensitivity study in
+    """Gc.sigma_gc_100s and both speed claims cite the global sensitivity study in
     their evidence, with the output's range over the study read here straight from the JSON
     (not through gyrolib.sensitivity) and rounded as printed; at other parameters the study is not
     quoted (it was run around the paper's values)."""

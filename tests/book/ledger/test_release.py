@@ -1,4 +1,4 @@
-"""The ledger against the committed ledger of release 0.3.0 (issue 33): every item whose
+"""The ledger against the committed ledger of release 0.3.0: every item whose
 verdict or value changed since then, and every item added or removed, is named in the
 CHANGELOG's section of the next release, so a reader citing 0.3.0 learns what moved."""
 

@@ -189,7 +189,7 @@ def test_table3_from_the_examples_encoder_error_with_every_candidate(items, t):
     """Table 3 recomputed from the sensor table's ε0,GS and the worked example's 0.33° (no
     longer taken from Table 3 itself): the consistent value misses the print; the truncated
     ε0,GS gives every column, 12 °/h only the 10 s one; so the paper computed Table 3 with its
-    printed two-digit 3.3e-3 °/s and the cause is shown in every column (by hand; issue 28:
+    printed two-digit 3.3e-3 °/s and the cause is shown in every column (by hand:
     the 60 and 120 s columns refute the 12 °/h reading, they do not leave it open)."""
     printed_e0t, printed_gs, status = TABLE3_HAND[t]
     truncated, per_hour = 3.3e-3 * t, 12.0 / 3600 * t
