@@ -618,9 +618,9 @@ def profile_intervals(record: GCRecord, fit: NoiseFit, *, level: float = 0.95,
 
     The bracket matters on the α1–σ1² ridge of a short record, where the likelihood is flat
     for a decade and then falls by hundreds: unbracketed secant steps jumped between the flat
-    part and the wall and stopped where their steps ran out, inside the flat part.  3 of the 9 misses of σ1² over
-    96 records of 100 s were such, with a likelihood ratio at the truth of 0.4–2.3
-    against 3.84.
+    part and the wall and stopped where their steps ran out, inside the flat part.  3 of
+    the 9 misses of σ1² over 96 records of 100 s were such, with a likelihood ratio at the
+    truth of 0.4–2.3 against 3.84.
 
     A side's search starts from the points an earlier parameter's search already evaluated
     on its line, where there are some (α1 and σ1² lie on one ridge and search the same
