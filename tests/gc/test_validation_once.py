@@ -56,8 +56,9 @@ def test_params_fields_are_checked_once_at_construction(counted):
 def test_covariance_analysis_walk_enters_validation_once_at_the_door(counted):
     """After construction, covariance_analysis checks params once at its door and never one
     of its fields again (a walk that rechecked them would count each shaping-filter field 8
-    more times).  The other three checks of the params object are the records' own doors (ContinuousModel, GCDiscretization, CovarianceAnalysis: a
-    record built by hand with params=None must fail by name)."""
+    more times).  The other three checks of the params object are the records' own doors
+    (ContinuousModel, GCDiscretization, CovarianceAnalysis: a record built by hand with
+    params=None must fail by name)."""
     p = gc.GyrocompassParams()
     calls, callers = counted
     # the continuous model is kept per parameters and its discretization per model: an
