@@ -108,9 +108,16 @@ def _canon(value: Any) -> str:
 def _module_part(module: types.ModuleType) -> str:
     """The repr of a module's named constants (upper-case names with plain values) and of
     the default instance of each dataclass it defines (those constructible without
-    arguments), in name order."""
+    arguments), in name order.
+
+    A module names in ``__key_ignore__`` the upper-case names that are not model inputs (a
+    search's settings, a table derived from rows the key holds already), with the reason
+    beside it: they leave the key unchanged."""
+    ignore = frozenset(getattr(module, "__key_ignore__", ()))
     parts = []
     for name in sorted(vars(module)):
+        if name in ignore:
+            continue
         obj = getattr(module, name)
         if isinstance(obj, type) and dataclasses.is_dataclass(obj) \
                 and obj.__module__ == module.__name__:

@@ -404,6 +404,13 @@ def _race_ranges() -> dict[str, tuple[float, float]]:
 
 RACE_RANGES: Final[dict[str, tuple[float, float]]] = _race_ranges()
 
+#: Not model inputs, so not in a stored study's key (:func:`gyrolib.store.model_key`):
+#: ``RACE_RANGES`` is read from the table of inputs' rows, which the key holds already, and
+#: ``MARGIN_MONOTONE_ROWS`` only tells ``race --params`` where a coarse bracket suffices,
+#: and ``_GC_ONLY_FIELDS`` which fields the rival's memo leaves out of its key (code, which
+#: the stored studies' fingerprint points check, not a model constant).
+__key_ignore__ = ("RACE_RANGES", "MARGIN_MONOTONE_ROWS", "_GC_ONLY_FIELDS")
+
 
 def _fmt_sci(x: float, digits: int = 2) -> str:
     """``1.2·10⁻³`` (plain text with superscripts)."""
