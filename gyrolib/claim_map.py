@@ -581,13 +581,7 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
     -------
     ClaimMap
     """
-    if not isinstance(claim, Claim):
-        raise TypeError(f"claim must be a Claim; got {type(claim).__name__}")
-    for name, val, lo in (("n_grid", n_grid, 2), ("n_box", n_box, 0), ("chunk", chunk, 1)):
-        if not isinstance(val, int) or isinstance(val, bool) or val < lo:
-            raise ValueError(f"{name} must be an int >= {lo}; got {val!r}")
-    if not 0.0 < rtol < 0.5:
-        raise ValueError(f"rtol must be in (0, 0.5); got {rtol!r}")
+    _check_map_arguments(claim, n_grid, rtol, n_box, chunk)
     ex = check_executor(executor)
     objs = dict(_inputs.reference_objects() if objects is None else objects)
     rows = [_inputs.row(n) for n in claim.inputs]
@@ -597,92 +591,39 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
     numeric = [r.name for r in rows if r.kind != "reading" and r.name not in searched]
     uncertain = [r.name for r in rows if r.kind == "uncertain"]
     readings = [r for r in rows if r.kind == "reading"]
-    # the box's draws, on each uncertain row's scale around these instances
-    rng = np.random.default_rng(seed)
-    box = np.empty((n_box if uncertain else 0, len(uncertain)))
-    if box.size:
-        u = rng.random(box.shape)
-        for j, name in enumerate(uncertain):
-            r = _inputs.row(name)
-            ref = float(_inputs.value_of(objs, r))
-            box[:, j] = r.to_unit(u[:, j], reference=ref if r.relative else None)
+    box = _draw_box(objs, uncertain, n_box, seed)
     mono = frozenset(monotone)
     if not mono <= set(numeric):
         raise ValueError(f"monotone must name numeric rows of {claim.id} "
                          f"({', '.join(numeric)}); got {sorted(mono - set(numeric))}")
-
-    def grid_of(name: str) -> int:
-        return 2 if name in mono else n_grid
-
-    tasks: list[tuple[Callable[..., Any], tuple[Any, ...]]] = []
-    tasks += [(_sweep, (claim, objs, n, grid_of(n), rtol, ref_margin)) for n in numeric]
-    tasks += [(_box, (claim, objs, uncertain, box[i:i + chunk]))
-              for i in range(0, box.shape[0], chunk)]
-    tasks += [(_reading, (claim, objs, r.name, val)) for r in readings for val in r.values[1:]]
-    search_xs = {n: np.unique(np.asarray(sr.points(objs), dtype=float))
-                 for n, sr in searched.items()}
-    for n, xs in search_xs.items():
-        tasks += [(_search, (claim, objs, n, xs[i:i + 4 * chunk]))
-                  for i in range(0, xs.size, 4 * chunk)]
-    alts = ([(r.name, val) for r in readings for val in r.values[1:]]
-            if claim.per_reading else [])
-    for name, val in alts:
-        o2 = _inputs.apply(objs, {name: val})
-        m2 = float(claim.margin(o2))
-        tasks += [(_sweep, (claim, o2, n, grid_of(n), rtol, m2)) for n in numeric]
-    results = map_ordered(_call, [(fn, args) for fn, args in tasks], ex)
-    k = 0
+    plan = _MapPlan(claim, objs, numeric, uncertain, readings, searched, box, ref_margin,
+                    n_grid, rtol, chunk, mono)
+    results = iter(map_ordered(_call, plan.tasks(), ex))
     sweeps: dict[str, list[list[float]]] = {}
     thresholds: list[Threshold] = []
     for name in numeric:
-        grid, ths = results[k]
+        grid, ths = next(results)
         sweeps[name] = grid
         thresholds += ths
-        k += 1
     box_margins: list[float] = []
     for _ in range(0, box.shape[0], chunk):
-        box_margins += results[k]
-        k += 1
+        box_margins += next(results)
     ref_status = "holds" if _holds(ref_margin) else "fails"
-    read_status: dict[str, dict[str, str]] = {}
-    for r in readings:
-        st = {r.values[0]: ref_status}
-        for val in r.values[1:]:
-            st[val] = "holds" if _holds(results[k]) else "fails"
-            k += 1
-        read_status[r.name] = st
-    isolated: list[IsolatedFailures] = []
-    for n, xs in search_xs.items():
-        ms: list[float] = []
-        for _ in range(0, xs.size, 4 * chunk):
-            ms += results[k]
-            k += 1
-        isolated.append(_isolated(searched[n], xs, ms))
+    read_status = {r.name: {r.values[0]: ref_status,
+                            **{val: "holds" if _holds(next(results)) else "fails"
+                               for val in r.values[1:]}} for r in readings}
+    isolated = [_isolated(searched[n], xs,
+                          [m for _ in range(0, xs.size, 4 * chunk) for m in next(results)])
+                for n, xs in plan.search_xs.items()]
     per_reading: dict[str, dict[str, list[dict[str, Any]]]] = {}
-    for name, val in alts:
-        ths2: list[Threshold] = []
-        for _ in numeric:
-            ths2 += results[k][1]
-            k += 1
+    for name, val in plan.alts:
+        ths2 = [t for _ in numeric for t in next(results)[1]]
         per_reading.setdefault(name, {})[val] = [t.as_dict() for t in ths2]
-    share = None
-    n_fail = 0
-    if box_margins:
-        ok = sum(_holds(m) for m in box_margins)
-        n_fail = len(box_margins) - ok
-        lo, hi = wilson_interval(ok, len(box_margins))
-        share = Share(ok / len(box_margins), lo, hi, len(box_margins), seed)
+    share, n_fail = _box_share(box_margins, seed)
     flips = bool(thresholds) or n_fail > 0 or any(f.points for f in isolated) or any(
         s != ref_status for st in read_status.values() for s in st.values())
     status = claim_status(ref_status == "holds", flips, share)
-    fp = [{"changes": {}, "margin": ref_margin}]
-    for i in range(min(2, box.shape[0])):
-        fp.append({"changes": dict(zip(uncertain, map(float, box[i]), strict=True)),
-                   "margin": float(box_margins[i])})
-    for f in isolated:       # the first failing point of each search: the statement's check
-        if f.points:
-            fp.append({"changes": {f.input: f.points[0]},
-                       "margin": margin_at(claim, objs, {f.input: f.points[0]})})
+    fp = _first_fingerprint(claim, objs, ref_margin, uncertain, box, box_margins, isolated)
     reference = {r.name: _inputs.value_of(objs, r) for r in rows}
     return ClaimMap(claim=claim.id, meaning=claim.meaning, status=status, margin=ref_margin,
                     reference=reference, thresholds=tuple(thresholds), share_holding=share,
@@ -692,6 +633,110 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
                               "table": _inputs.table_fingerprint(claim.inputs),
                               **({"monotone": sorted(mono)} if mono else {})},
                     reading_thresholds=per_reading, isolated=tuple(isolated))
+
+
+def _check_map_arguments(claim: Any, n_grid: Any, rtol: Any, n_box: Any, chunk: Any) -> None:
+    """:func:`map_claim`'s door: the claim's type and the search's settings."""
+    if not isinstance(claim, Claim):
+        raise TypeError(f"claim must be a Claim; got {type(claim).__name__}")
+    for name, val, lo in (("n_grid", n_grid, 2), ("n_box", n_box, 0), ("chunk", chunk, 1)):
+        if not isinstance(val, int) or isinstance(val, bool) or val < lo:
+            raise ValueError(f"{name} must be an int >= {lo}; got {val!r}")
+    if not 0.0 < rtol < 0.5:
+        raise ValueError(f"rtol must be in (0, 0.5); got {rtol!r}")
+
+
+def _draw_box(objs: Mapping[str, Any], uncertain: Sequence[str], n_box: int,
+              seed: int) -> np.ndarray:
+    """The box's draws (one row a point), on each uncertain row's scale around ``objs``."""
+    rng = np.random.default_rng(seed)
+    box = np.empty((n_box if uncertain else 0, len(uncertain)))
+    if box.size:
+        u = rng.random(box.shape)
+        for j, name in enumerate(uncertain):
+            r = _inputs.row(name)
+            ref = float(_inputs.value_of(objs, r))
+            box[:, j] = r.to_unit(u[:, j], reference=ref if r.relative else None)
+    return box
+
+
+@dataclass(frozen=True)
+class _MapPlan:
+    """The tasks of one map, in the order :func:`map_claim` reads their results: the
+    one-at-a-time sweeps, the box's chunks, the readings, the searches, then the sweeps
+    again under each other reading (a per-reading claim)."""
+
+    claim: Claim
+    objs: Mapping[str, Any]
+    numeric: Sequence[str]
+    uncertain: Sequence[str]
+    readings: Sequence[Any]
+    searched: Mapping[str, Any]
+    box: np.ndarray
+    ref_margin: float
+    n_grid: int
+    rtol: float
+    chunk: int
+    mono: frozenset[str]
+
+    @property
+    def search_xs(self) -> dict[str, np.ndarray]:
+        return {n: np.unique(np.asarray(sr.points(self.objs), dtype=float))
+                for n, sr in self.searched.items()}
+
+    @property
+    def alts(self) -> list[tuple[str, Any]]:
+        return ([(r.name, val) for r in self.readings for val in r.values[1:]]
+                if self.claim.per_reading else [])
+
+    def grid_of(self, name: str) -> int:
+        return 2 if name in self.mono else self.n_grid
+
+    def tasks(self) -> list[tuple[Callable[..., Any], tuple[Any, ...]]]:
+        c, o, chunk = self.claim, self.objs, self.chunk
+        tasks: list[tuple[Callable[..., Any], tuple[Any, ...]]] = []
+        tasks += [(_sweep, (c, o, n, self.grid_of(n), self.rtol, self.ref_margin))
+                  for n in self.numeric]
+        tasks += [(_box, (c, o, self.uncertain, self.box[i:i + chunk]))
+                  for i in range(0, self.box.shape[0], chunk)]
+        tasks += [(_reading, (c, o, r.name, val)) for r in self.readings
+                  for val in r.values[1:]]
+        for n, xs in self.search_xs.items():
+            tasks += [(_search, (c, o, n, xs[i:i + 4 * chunk]))
+                      for i in range(0, xs.size, 4 * chunk)]
+        for name, val in self.alts:
+            o2 = _inputs.apply(o, {name: val})
+            m2 = float(c.margin(o2))
+            tasks += [(_sweep, (c, o2, n, self.grid_of(n), self.rtol, m2))
+                      for n in self.numeric]
+        return tasks
+
+
+def _box_share(box_margins: Sequence[float], seed: int) -> tuple[Share | None, int]:
+    """The share of the box's points where the claim holds, with its Wilson interval, and
+    the number of failing points (``None`` and 0 without a box)."""
+    if not box_margins:
+        return None, 0
+    ok = sum(_holds(m) for m in box_margins)
+    lo, hi = wilson_interval(ok, len(box_margins))
+    return Share(ok / len(box_margins), lo, hi, len(box_margins), seed), len(box_margins) - ok
+
+
+def _first_fingerprint(claim: Claim, objs: Mapping[str, Any], ref_margin: float,
+                       uncertain: Sequence[str], box: np.ndarray,
+                       box_margins: Sequence[float],
+                       isolated: Sequence[IsolatedFailures]) -> list[dict[str, Any]]:
+    """The map's own check points: the reference, the box's first two points, and the
+    first failing point of each search (the statement's check)."""
+    fp: list[dict[str, Any]] = [{"changes": {}, "margin": ref_margin}]
+    for i in range(min(2, box.shape[0])):
+        fp.append({"changes": dict(zip(uncertain, map(float, box[i]), strict=True)),
+                   "margin": float(box_margins[i])})
+    for f in isolated:
+        if f.points:
+            fp.append({"changes": {f.input: f.points[0]},
+                       "margin": margin_at(claim, objs, {f.input: f.points[0]})})
+    return fp
 
 
 def _call(fn: Callable[..., Any], args: tuple[Any, ...]) -> Any:
