@@ -13,7 +13,8 @@ fitted from the paper's values:
   (``gc.calibrate`` at the fit's gate) rejects at that point (re-run), with their count.
 
 A diagnosis, not a benchmark of record; its rows go to
-``benchmarks/results/diag_fit_interval.json``.  About 60 CPU-s a seed.
+``benchmarks/results/diag_fit_interval.rows.jsonl`` (a row a seed: a diagnosis, not a
+timed benchmark, so not one of the Performance page's result files).  About 60 CPU-s a seed.
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/diag_fit_interval.py [--seeds 101]
 """
@@ -36,7 +37,7 @@ from gyrolib import gc  # noqa: E402
 from gyrolib.gc.logs import noise_fit as nf  # noqa: E402
 from tests.support.coverage_cases import fit_record  # noqa: E402
 
-OUT = ROOT / "benchmarks" / "results" / "diag_fit_interval.json"
+OUT = ROOT / "benchmarks" / "results" / "diag_fit_interval.rows.jsonl"
 STEPS = (-0.02, -0.01, -0.005, -0.001, 0.001, 0.005, 0.01)
 
 
@@ -90,7 +91,7 @@ def main() -> None:
     args = ap.parse_args()
     rows = [one(s) for s in args.seeds]
     OUT.parent.mkdir(parents=True, exist_ok=True)
-    OUT.write_text(json.dumps({"rows": rows}, indent=1) + "\n")
+    OUT.write_text("".join(json.dumps(r) + "\n" for r in rows))
     for r in rows:
         now, before = r["now"]["C_as"], r["outliers_counted"]["C_as"]
         print(f"seed {r['seed']}: C_as sides in ln now {now['log_sides']}, with the "

@@ -56,6 +56,7 @@ import numpy as np
 
 from gyrolib import inputs as _inputs
 from gyrolib._executor import check_executor, map_ordered
+from gyrolib._repr import compact_repr
 
 __all__ = [
     "CLAIM_STATUSES",
@@ -660,6 +661,7 @@ def _draw_box(objs: Mapping[str, Any], uncertain: Sequence[str], n_box: int,
     return box
 
 
+@compact_repr
 @dataclass(frozen=True)
 class _MapPlan:
     """The tasks of one map, in the order :func:`map_claim` reads their results: the

@@ -324,7 +324,7 @@ START_UP_IMPORTS: dict[tuple[str, str, str], str] = {
     ("gyrolib.sensitivity", "__getattr__", "gyrolib.sensitivity.plots"): "matplotlib",
     ("gyrolib.records", "__getattr__", "gyrolib.records.params"): "numpy, not for --help",
     ("gyrolib.records", "__getattr__", "gyrolib.records.plausibility"): "numpy",
-    ("gyrolib.records", "__getattr__", "gyrolib.records.reader"): "numpy and pyarrow",
+    ("gyrolib.records", "__getattr__", "gyrolib.records.rate_log"): "numpy and pyarrow",
     ("gyrolib.records.params", "_paper_rsf", "gyrolib.rsf"): "paper RSF, not for a GC run",
     ("gyrolib.records.plausibility", "check_rsf", "gyrolib.rsf.record"): "paper RSF",
     ("gyrolib.records.reader", "_rsf_record", "gyrolib.rsf.record"): "paper RSF",

@@ -253,7 +253,6 @@ CHAPTER_ALLOWED: dict[str, str] = {
     "rsf_simulation.md: [100.0, 1800.0]": "a plot's axis limits (°/s)",
     "rsf_simulation.md: (1, 2)": "a figure's subplot layout",
     "sensitivity.md: (1.01, 0.5)": "a legend's anchor",
-    "calibrate.md: [2, 2, 2, 0, 3, 2, 2]": "the rows' counts of a check table",
     "errata.md: (60, 120)": "the paper's printed times (s)",
     "intro.md: (10, 60, 120)": "the paper's printed times (s)",
     # prose: the papers' printed numbers, quoted

@@ -25,6 +25,8 @@ module              what it holds
 Use as ``from gyrolib import records`` then ``records.read_gc("run.csv")``.
 """
 
+import sys
+
 import gyrolib.records.errors as _errors
 import gyrolib.records.options as _options
 
@@ -52,16 +54,16 @@ def __getattr__(name: str):
     home = _HOME.get(name)
     if home == "errors":
         module = _errors
-    elif home == "rate_log":
-        import gyrolib.records.rate_log as module  # start-up: numpy and pyarrow
     elif home == "options":
         module = _options
     elif home == "params":
         import gyrolib.records.params as module  # start-up: numpy (paper GC's parameters)
     elif home == "plausibility":
         import gyrolib.records.plausibility as module  # start-up: numpy
-    elif home == "reader":
-        import gyrolib.records.reader as module  # start-up: numpy and pyarrow
+    elif home in ("reader", "rate_log"):
+        import gyrolib.records.rate_log  # noqa: F401 # start-up: numpy, pyarrow (and the reader)
+
+        module = sys.modules[f"gyrolib.records.{home}"]
     else:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     return getattr(module, name)

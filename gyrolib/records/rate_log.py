@@ -21,6 +21,7 @@ from typing import Final
 import numpy as np
 
 from gyrolib import _validation as v
+from gyrolib._repr import compact_repr
 from gyrolib.records.errors import RecordError
 from gyrolib.records.plausibility import check_rate_log
 from gyrolib.records.reader import RecordInfo, read_csv
@@ -37,6 +38,7 @@ PHASE_UNITS: Final[dict[str, str]] = {"rad/s": "rad", "deg/s": "deg", "1": "s"}
 EVEN_STEPS: Final[float] = 0.01
 
 
+@compact_repr
 @dataclasses.dataclass(frozen=True)
 class RateLog:
     """One evenly sampled series read from a file: ``values`` (SI: rad/s or 1 for a rate,

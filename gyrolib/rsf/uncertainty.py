@@ -261,6 +261,7 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
                            notes=tuple(notes))
 
 
+@compact_repr
 @dataclass(frozen=True)
 class _Intervals:
     """The intervals of a result that the mean uses (those without a reversal inside)."""

@@ -150,6 +150,17 @@ _LAT = remaining.FlightLateral(raw=np.ones(3), corrected=np.ones(3), reset=np.on
 case("ledger.remaining.FlightLateral.ratio", lambda: _LAT.ratio("x"), ValueError, "which")
 case("ledger.remaining.FlightLateral.worse", lambda: _LAT.worse("x"), ValueError, "which")
 
+# the quoted range of a censored time and the RSF 90 % item's condition
+case("ledger.gc.censored_range_text", lambda: lgc.censored_range_text("x"), TypeError, "t_c")
+case("ledger.gc.censored_range_text", lambda: lgc.censored_range_text([1.0], 0.0), ValueError,
+     "bound", "> 0")
+case("ledger.rsf.omega_unc_condition", lambda: lrsf.omega_unc_condition("x"), TypeError,
+     "roll_gyro", "RollGyroSpec")
+case("ledger.rsf.omega_unc_condition", lambda: lrsf.omega_unc_condition(period=0.0),
+     ValueError, "period", "> 0")
+case("ledger.rsf.omega_unc_condition", lambda: lrsf.omega_unc_condition(target=1.5),
+     ValueError, "target", r"in \[0\.0, 1\.0\]")
+
 # cli
 case("cli.main", lambda: cli.main("ledger"), TypeError, "argv", "list of str")
 case("cli.main", lambda: cli.main([1]), TypeError, "argv")
@@ -167,7 +178,9 @@ EXEMPT: dict[str, str] = {"report.MarkdownText": "a str subclass: any text is va
                           "ledger.remaining.FlightLateral": "result object, built by "
                           "flight_lateral (checked there)",
                           "ledger.remaining.WestGyro": "result object, built by west_gyro "
-                          "(checked there)"}
+                          "(checked there)",
+                          "ledger.rsf.OmegaUncCondition": "result object, built by "
+                          "omega_unc_condition (checked there)"}
 
 
 # the studies of the claims' margins

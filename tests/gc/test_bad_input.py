@@ -815,6 +815,36 @@ EXEMPT: dict[str, str] = {
 }
 
 
+# the continuous model and the judgement of a record
+_CM = gc.continuous_model(P)
+_T = np.arange(1, 51) * P.dt
+_REC = gc.GCRecord(t=_T, angle_sensor=np.zeros(50), inclinometer_y=np.zeros(50),
+                   inclinometer_z=np.zeros(50))
+case("gc.continuous_model", lambda: gc.continuous_model("x"), TypeError, "params",
+     "GyrocompassParams")
+case("gc.ContinuousModel", lambda: gc.ContinuousModel(**{
+    **{f: getattr(_CM, f) for f in _CM.__dataclass_fields__}, "params": None}), TypeError,
+    "params", "GyrocompassParams")
+case("gc.ContinuousModel.system_matrix", lambda: _CM.system_matrix("a"), TypeError, "beta_n")
+case("gc.ContinuousModel.system_matrix", lambda: _CM.system_matrix(float("nan")), ValueError,
+     "beta_n", "finite")
+case("gc.evidence_codes", lambda: gc.evidence_codes("x", True), TypeError, "res",
+     "CalibrationResult")
+case("gc.judge_record", lambda: gc.judge_record("x", P), TypeError, "record", "GCRecord")
+case("gc.judge_record", lambda: gc.judge_record(_REC, "x"), TypeError, "params",
+     "GyrocompassParams")
+case("gc.judge_record", lambda: gc.judge_record(_REC, P, gate=2.0), ValueError, "gate",
+     r"in \(0\.0, 1\.0\)")
+EXEMPT.update({
+    "gc.ContinuousModel.build": "builder on parameters already checked at the public door "
+                                "(continuous_model)",
+    "gc.ContinuousModel.with_instruments": "builder on parameters already checked at the "
+                                           "public door (continuous_model)",
+    "gc.RaceResult.reference_text": "a sentence of a result object built by gc.race "
+                                    "(checked there); takes no argument",
+})
+
+
 def test_table_covers_every_public_callable():
     TABLE.check_coverage({"gc": gc, "gc.symbolic": symbolic}, EXEMPT)
 

@@ -386,6 +386,9 @@ EXEMPT: dict[str, str] = {
 }
 
 
+case("rsf.judge_record", lambda: rsf.judge_record("x", 1.0), TypeError, "record", "RSFRecord")
+
+
 def test_table_covers_every_public_callable():
     """Every public callable of gyrolib.rsf has a bad-input case or a stated reason for none."""
     TABLE.check_coverage({"rsf": rsf}, EXEMPT)

@@ -22,6 +22,7 @@ import numpy as np
 
 import gyrolib
 import gyrolib.levels as levels
+from gyrolib import _validation as v
 from gyrolib import inputs as _table
 from gyrolib.book.ledger.claims import stored_maps, verdict
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict
@@ -402,7 +403,8 @@ def censored_range_text(t_c: np.ndarray, bound: float = T_BOUND) -> str:
     >>> censored_range_text(np.array([42.0, 300.0]))
     'stays in [42, 300] s (the bound 510 s)'
     """
-    t_c = np.asarray(t_c, dtype=float)
+    t_c = v.check_series("t_c", t_c)
+    bound = v.check_positive("bound", bound)
     cut = int(np.count_nonzero(t_c >= bound))
     if cut:
         return (f"runs from {t_c.min():.0f} s to beyond the bound {bound:.0f} s (not reached "

@@ -24,6 +24,7 @@ from typing import Any, Final
 import numpy as np
 
 import gyrolib.levels as levels
+from gyrolib import _validation as v
 from gyrolib import inputs as _inputs
 from gyrolib.book.ledger.claims import verdict
 from gyrolib.book.ledger.item import (
@@ -599,7 +600,13 @@ def omega_unc_condition(roll_gyro: RollGyroSpec = SIIMU02_ROLL,
     >>> f"{100 * c.best_motor:.0f} %", f"{100 * c.limit_motor:.0f} %", c.never_otherwise
     ('81 %', '53 %', True)
     """
-    target = PRINTED["example.compensated"] / 100.0 if target is None else target
+    v.check_instance("roll_gyro", roll_gyro, RollGyroSpec)
+    v.check_instance("gs_gyro", gs_gyro, MemsGyroSpec)
+    v.check_instance("encoder", encoder, EncoderSpec)
+    omega_unc = v.check_nonnegative("omega_unc", omega_unc)
+    period = v.check_positive("period", period)
+    target = (PRINTED["example.compensated"] / 100.0 if target is None
+              else v.check_in_range("target", target, 0.0, 1.0))
     e1, e1gs, w_m = roll_gyro.sf_error, gs_gyro.sf_error, GS_MOTOR_RATE_MAX
     at_motor = float(fraction_compensated(e1, worked_example_delta_k(
         gs_gyro, encoder, omega_x=w_m, omega_unc=0.0, dt=period)))

@@ -54,6 +54,7 @@ from gyrolib.gc.model import discretization as _gc_discretization
 from gyrolib.gc.model import params as _gc_params
 from gyrolib.gc.racing import comparison as _race
 from gyrolib.gc.racing import rate_sensor as _rate_sensor
+from gyrolib.gc.racing.verdict_grid import race_verdict_grid
 from gyrolib.rsf import sensors as _rsf_sensors
 from gyrolib.rsf import simulation as _rsf_simulation
 from gyrolib.rsf import tables as _rsf_tables
@@ -147,8 +148,6 @@ def _grid_cells(grid: Mapping[str, Any]) -> list[tuple[int, int, int]]:
 
 
 def _check_grid(grid: Mapping[str, Any], h: store.Header) -> int:
-    from gyrolib.gc.racing.verdict_grid import race_verdict_grid
-
     o = _inputs.reference_objects()
     m = np.asarray(grid["margin"], float)
     for r, j, k in _grid_cells(grid):

@@ -104,6 +104,10 @@ class AllanDeviation:
         raise ValueError(f"name must be one of {SERIES}; got {name!r}")
 
 
+#: The normal distribution's mass within ±1σ, erf(1/√2) = 0.6827: the "68 %" of a 1σ bound.
+ONE_SIGMA_MASS: Final[float] = math.erf(1.0 / math.sqrt(2.0))
+
+
 def allan_model_vibration(params: GyrocompassParams, tau: np.ndarray) -> np.ndarray:
     """Allan deviation (m/s²) of the vibration N1 of Eq. (6) sampled every ``params.dt``, at
     averaging times ``tau`` (whole multiples ``m dt``): exactly, from the autocovariance
@@ -237,7 +241,7 @@ def edf_oadev(alpha: int, m: np.ndarray, n_phase: int) -> np.ndarray:
     return np.maximum(e, 1.0)
 
 
-def _interval(ad: np.ndarray, edf: np.ndarray, ci: float = 0.682689492137086
+def _interval(ad: np.ndarray, edf: np.ndarray, ci: float = ONE_SIGMA_MASS
               ) -> tuple[np.ndarray, np.ndarray]:
     """``ci`` confidence interval of a deviation with ``edf`` degrees of freedom (χ²)."""
     import scipy.stats
@@ -456,7 +460,7 @@ def noise_terms(series: AllanSeries, names: tuple[str, str, str] | None = None
     return tuple(out)
 
 
-def curve_upper_bound(series: AllanSeries, level: float = 0.682689492137086) -> np.ndarray:
+def curve_upper_bound(series: AllanSeries, level: float = ONE_SIGMA_MASS) -> np.ndarray:
     """The measured deviation's upper bound at each τ that holds at every τ of the curve
     together with probability ``level`` (default 68 %): each point's χ² bound with the
     least favourable edf of white phase, white rate and random-walk rate noise (NIST SP

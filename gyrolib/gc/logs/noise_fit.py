@@ -437,8 +437,6 @@ _RECORD_FIELDS: Final[frozenset[str]] = frozenset({"dt", "Omega_h", "Omega_v"})
 
 
 def _chi2_ppf(level: float, dof: int) -> float:
-    from gyrolib.filtering.consistency import chi2_ppf
-
     return float(chi2_ppf(level, dof))
 
 

@@ -413,7 +413,7 @@ class ContinuousModel:
     def system_matrix(self, beta_n: float) -> NDArray[np.float64]:
         """``F(β_n)`` (a new array): Eq. (8)'s own :func:`system_matrix` on the 10 states
         (no affine rounding), ``Fc + sin β_n Es + cos β_n Ec`` with instrument constants."""
-        b = float(beta_n)
+        b = v.check_real("beta_n", beta_n)
         if self.instrument is None:
             return build_system_matrix(self.params, b)
         return self.Fc + np.sin(b) * self.Es + np.cos(b) * self.Ec
