@@ -46,3 +46,17 @@ def test_the_count_has_power():
     assert long_functions(_function(80)) != []          # 81 lines with its def
     assert long_functions(_function(79)) == []          # 80 lines: at the limit
     assert long_functions(_function(79, doc_lines=40)) == []
+
+
+def test_the_tests_are_laid_out_like_the_library():
+    """Each subpackage of gyrolib has its room in tests/ (gc, rsf, filtering, records,
+    sensitivity, cli, book and book/ledger), and at most five test files stay at the root."""
+    rooms = sorted(p.relative_to(ROOT / "gyrolib").as_posix()
+                   for p in (ROOT / "gyrolib").rglob("__init__.py")
+                   if p.parent != ROOT / "gyrolib"
+                   and len(p.parent.relative_to(ROOT / "gyrolib").parts) == 1)
+    missing = [r for r in rooms if not (ROOT / "tests" / r.removesuffix("/__init__.py")
+                                        ).is_dir()]
+    assert missing == []
+    assert (ROOT / "tests" / "book" / "ledger").is_dir()
+    assert len(list((ROOT / "tests").glob("test_*.py"))) <= 5
