@@ -84,7 +84,6 @@ def evidence_codes(res: CalibrationResult, latitude_stated: bool, fit_why: str =
     >>> evidence_codes(gc.calibrate(rec, p), latitude_stated=False)[0][:2]
     ['no_latitude', 'lost_lock']
     """
-    v.check_instance("res", res, CalibrationResult)
     codes: list[str] = []
     if not latitude_stated:
         codes.append("no_latitude")
