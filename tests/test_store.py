@@ -40,6 +40,26 @@ def test_key_sees_constants_and_defaults_and_not_hash_order():
     store.check_key("toy", k, dict(k))   # the same key: no error
 
 
+def test_a_name_the_module_declares_no_input_leaves_the_key():
+    """A module's ``__key_ignore__`` names upper-case names that are not model inputs (a
+    search hint, a table derived from keyed rows): adding or changing one leaves the key as
+    it was; power: the same change to a name not listed moves the key, and a listed name
+    does not hide a change of another."""
+    base = _module(1.0)
+    k = store.model_key([base])
+    hinted = _module(1.0)
+    hinted.SEARCH_HINT = ("gc.sigma1_sq",)
+    hinted.__key_ignore__ = ("SEARCH_HINT",)
+    assert store.model_key([hinted]) == k
+    unlisted = _module(1.0)
+    unlisted.SEARCH_HINT = ("gc.sigma1_sq",)
+    assert store.model_key([unlisted]) != k
+    both = _module(1.1)
+    both.SEARCH_HINT = ("gc.sigma1_sq",)
+    both.__key_ignore__ = ("SEARCH_HINT",)
+    assert store.model_key([both]) != k
+
+
 def test_compare_and_sign_use_the_declared_tolerance():
     store.compare("toy", "x", 1.0, 1.0 + 5e-7, rtol=1e-6, atol=0.0)
     store.compare("toy", "x", float("nan"), float("nan"), rtol=1e-6, atol=0.0)
