@@ -427,7 +427,22 @@ def _fmt_sci(x: float, digits: int = 2) -> str:
 
 
 @dataclass(frozen=True)
-class RaceConditions:
+class _ReferencePoint:
+    """The reference fields of :class:`RaceConditions` (what its first sentence reads)."""
+
+    percent: float
+    t_c_gc: float
+    t_needed: float
+    loop_bandwidth: float
+    overhead: float
+    rate_noise: float
+    kappa: float
+    holds_classical: bool
+    holds_optimal: bool
+
+
+@dataclass(frozen=True)
+class RaceConditions(_ReferencePoint):
     """The claim "GC is more than ``percent`` % faster than the rate-sensor method", judged
     at the race's own parameters and procedure (its reference point) and over
     :data:`RACE_RANGES` (:meth:`RaceResult.conditions`).
@@ -447,15 +462,6 @@ class RaceConditions:
     rival).
     """
 
-    percent: float
-    t_c_gc: float
-    t_needed: float
-    loop_bandwidth: float
-    overhead: float
-    rate_noise: float
-    kappa: float
-    holds_classical: bool
-    holds_optimal: bool
     worst_t_gc: float
     worst_t_classical: float
     worst_t_optimal: float
@@ -521,22 +527,7 @@ class RaceConditions:
         return ref + worst + one
 
 
-@dataclass(frozen=True)
-class _ReferencePoint:
-    """The reference fields of :class:`RaceConditions` (what its first sentence reads)."""
-
-    percent: float
-    t_c_gc: float
-    t_needed: float
-    loop_bandwidth: float
-    overhead: float
-    rate_noise: float
-    kappa: float
-    holds_classical: bool
-    holds_optimal: bool
-
-
-def _reference_sentence(c: RaceConditions | _ReferencePoint) -> str:
+def _reference_sentence(c: _ReferencePoint) -> str:
     """The first sentence of :meth:`RaceConditions.text`: the reference point, GC's time
     there and the verdict against each estimator (reads only the reference fields)."""
     if not np.isfinite(c.t_needed):
