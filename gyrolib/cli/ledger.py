@@ -21,7 +21,8 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the ledger as a table or as JSON; status 0, or 3 when a stored study is stale."""
-    from gyrolib.book.ledger import collect, studies, to_json, to_table  # not at every start
+    from gyrolib.book import studies  # not at every start
+    from gyrolib.book.ledger import collect, to_json, to_table
     from gyrolib.store import StaleStudy
 
     try:

@@ -61,7 +61,7 @@ def _listing(names: tuple[str, ...]) -> int:
 def run(args: argparse.Namespace) -> int:
     """Recompute (or list) the studies; the exit status."""
     from gyrolib import store
-    from gyrolib.book.ledger import studies as _studies
+    from gyrolib.book import studies as _studies
 
     names = tuple(args.studies) or _studies.NAMES
     unknown = [n for n in names if n not in store.registered()]
