@@ -23,7 +23,8 @@ silently: :func:`refresh` is the only writer.
 A check that passed is remembered on disk (the *check memo*, :func:`memo_folder`: the user's
 cache folder, or ``$GYROLIB_CHECK_MEMO``), under a digest of everything the check depends on:
 the study's file, every file of the gyrolib package (its sources and data), the key now, the
-versions of Python, NumPy, SciPy and numba, and the CPU class.  A later check with the same
+versions of Python and of the numerical packages (NumPy, SciPy, numba, SALib,
+python-control), and the CPU class.  A later check with the same
 digest reads the number of points that agreed instead of recomputing them; a change of any
 source file, a constant or a function body included, or another CPU class, misses the memo,
 and the points are recomputed.  The key is compared every time, memo or not.  The memo trusts
@@ -388,14 +389,15 @@ def _version(dist: str) -> str:
 def memo_digest(name: str, file_bytes: bytes, key: Mapping[str, str]) -> dict[str, str]:
     """What a check of the study ``name`` depends on, part by part: the study's file
     (``file_bytes``), every file of the gyrolib package, the key now (``key``), the
-    versions of Python, NumPy, SciPy and numba, and the CPU class (:func:`cpu_class`).  A
-    memo is read only under the same parts."""
+    versions of Python, NumPy, SciPy, numba, SALib and python-control, the machine and the
+    CPU class (:func:`cpu_class`).  A memo is read only under the same parts."""
     return {"format": str(_MEMO_FORMAT), "study": name,
             "file": hashlib.sha256(file_bytes).hexdigest(),
             "sources": _sources_digest(),
             "key": _hash(json.dumps(dict(key), sort_keys=True)),
             "python": platform.python_version(), "numpy": _version("numpy"),
             "scipy": _version("scipy"), "numba": _version("numba"),
+            "SALib": _version("SALib"), "control": _version("control"),
             "machine": platform.machine(), "cpu_class": cpu_class()}
 
 
