@@ -20,6 +20,17 @@ which: :attr:`Study.check`); a disagreement raises :class:`StaleStudy`, whose on
 message names the study and the command that refreshes it.  Nothing here recomputes a study
 silently: :func:`refresh` is the only writer.
 
+A check that passed is remembered on disk (the *check memo*, :func:`memo_folder`: the user's
+cache folder, or ``$GYROLIB_CHECK_MEMO``), under a digest of everything the check depends on:
+the study's file, every file of the gyrolib package (its sources and data), the key now, the
+versions of Python and of the numerical packages (NumPy, SciPy, numba, SALib,
+python-control), and the CPU class.  A later check with the same
+digest reads the number of points that agreed instead of recomputing them; a change of any
+source file, a constant or a function body included, or another CPU class, misses the memo,
+and the points are recomputed.  The key is compared every time, memo or not.  The memo trusts
+that the code in memory is the code on disk: a test that replaces a function in memory
+checks with ``memo=False``.
+
 This module imports no other part of gyrolib: the studies are registered by the modules that
 compute them (:func:`register`), which pass their own modules to :func:`model_key`.
 
@@ -40,11 +51,15 @@ demo | python3 tasks.py refresh demo
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import datetime as _dt
 import hashlib
+import importlib.metadata
 import json
 import math
+import os
+import platform
 import resource
 import time
 import types
@@ -55,9 +70,10 @@ from typing import Any, Final
 
 from gyrolib import __version__
 
-__all__ = ["HEADER_KEY", "REFRESH", "Header", "StaleStudy", "Study", "check", "check_key",
-           "compare", "cpu_class", "dumps", "header_of", "model_key", "refresh", "register",
-           "registered", "same_sign", "state", "study", "write"]
+__all__ = ["HEADER_KEY", "MEMO_ENV", "REFRESH", "Header", "StaleStudy", "Study", "check",
+           "check_key", "compare", "cpu_class", "dumps", "header_of", "memo_digest",
+           "memo_folder", "model_key", "refresh", "register", "registered", "same_sign",
+           "state", "study", "write"]
 
 #: The entry of a study's file that holds its header.
 HEADER_KEY: Final[str] = "store"
@@ -318,42 +334,199 @@ def study(name: str) -> Study:
         raise ValueError(f"study must be one of {registered()}; got {name!r}") from None
 
 
-def _read(s: Study, path: Path | None) -> dict[str, Any]:
+def _raw(s: Study, path: Path | None) -> bytes:
     p = s.file if path is None else Path(path)
     if not p.is_file():
         raise StaleStudy(s.name, f"its file {p} does not exist")
-    return json.loads(p.read_text(encoding="utf-8"))
+    return p.read_bytes()
 
 
-def check(name: str, path: Path | None = None) -> int:
+# the check memo --------------------------------------------------------------------------------
+#: Environment variable naming the check memo's folder; ``off`` (or ``0``, or empty) turns the
+#: memo off.  Unset: ``$XDG_CACHE_HOME/gyrolib/checks`` (``~/.cache/gyrolib/checks``).
+MEMO_ENV: Final[str] = "GYROLIB_CHECK_MEMO"
+
+#: The version of the memo's digest (a new one when what it covers changes).
+_MEMO_FORMAT: Final[int] = 1
+
+#: The package whose files the memo's digest covers (this module's folder).
+_PACKAGE: Final[Path] = Path(__file__).resolve().parent
+
+
+def memo_folder() -> Path | None:
+    """The check memo's folder (:data:`MEMO_ENV`), or ``None`` when it is turned off."""
+    value = os.environ.get(MEMO_ENV)
+    if value is not None:
+        return None if value.strip().lower() in ("", "0", "off", "no") else Path(value)
+    cache = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(cache) / "gyrolib" / "checks"
+
+
+def _bytecode(path: Path) -> bool:
+    return "__pycache__" in path.parts or path.suffix in (".pyc", ".pyo")
+
+
+def _sources_digest(package: Path | None = None) -> str:
+    """SHA-256 over every file of ``package`` (default: gyrolib's; relative path and bytes,
+    in path order), Python's bytecode caches left out."""
+    package = _PACKAGE if package is None else package
+    h = hashlib.sha256()
+    for f in sorted(p for p in package.rglob("*") if p.is_file()):
+        rel = f.relative_to(package)
+        if _bytecode(rel) or f.suffix == ".tmp":
+            continue
+        h.update(rel.as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def _version(dist: str) -> str:
+    try:
+        return importlib.metadata.version(dist)
+    except importlib.metadata.PackageNotFoundError:
+        return "absent"
+
+
+def memo_digest(name: str, file_bytes: bytes, key: Mapping[str, str]) -> dict[str, str]:
+    """What a check of the study ``name`` depends on, part by part: the study's file
+    (``file_bytes``), every file of the gyrolib package, the key now (``key``), the
+    versions of Python, NumPy, SciPy, numba, SALib and python-control, the machine and the
+    CPU class (:func:`cpu_class`).  A memo is read only under the same parts."""
+    return {"format": str(_MEMO_FORMAT), "study": name,
+            "file": hashlib.sha256(file_bytes).hexdigest(),
+            "sources": _sources_digest(),
+            "key": _hash(json.dumps(dict(key), sort_keys=True)),
+            "python": platform.python_version(), "numpy": _version("numpy"),
+            "scipy": _version("scipy"), "numba": _version("numba"),
+            "SALib": _version("SALib"), "control": _version("control"),
+            "machine": platform.machine(), "cpu_class": cpu_class()}
+
+
+def _memo_path(folder: Path, parts: Mapping[str, str]) -> Path:
+    h = hashlib.sha256(json.dumps(dict(parts), sort_keys=True).encode()).hexdigest()[:32]
+    return folder / f"{parts['study']}-{h}.json"
+
+
+def _memo_read(path: Path, parts: Mapping[str, str]) -> int | None:
+    try:
+        d = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(d, dict) or d.get("parts") != dict(parts) \
+            or not isinstance(d.get("points"), int):
+        return None
+    return int(d["points"])
+
+
+def _memo_write(path: Path, parts: Mapping[str, str], points: int, cpu_s: float) -> None:
+    d = {"parts": dict(parts), "points": int(points), "check_cpu_s": round(cpu_s, 2),
+         "date": _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()}
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(json.dumps(d, sort_keys=True), encoding="utf-8")
+        tmp.replace(path)   # atomic: a concurrent reader sees the whole file or none
+    except OSError:         # a read-only cache: the check stands, unremembered
+        return
+
+
+@contextlib.contextmanager
+def _exclusive(lock: Path):
+    """An exclusive lock on ``lock`` between processes (``fcntl.flock``; without ``fcntl``
+    or a writable folder, none: two processes may then both check)."""
+    try:
+        import fcntl
+        lock.parent.mkdir(parents=True, exist_ok=True)
+        fh = open(lock, "a")
+    except (ImportError, OSError):
+        yield
+        return
+    with fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+# checking a study ------------------------------------------------------------------------------
+def _points(s: Study, data: Mapping[str, Any], raw: bytes, key: Mapping[str, str],
+            memo: bool) -> tuple[int, bool]:
+    """The study's fingerprint points recomputed, or read from the memo: (how many agreed,
+    whether read from the memo).  Raises :class:`StaleStudy`."""
+    folder = memo_folder() if memo else None
+    if folder is None:
+        return int(s.check(data)), False
+    parts = memo_digest(s.name, raw, key)
+    path = _memo_path(folder, parts)
+    n = _memo_read(path, parts)
+    if n is not None:
+        return n, True
+    # processes checking at the same time wait for the first one's check, not redo it
+    with _exclusive(folder / f"{s.name}.lock"):
+        n = _memo_read(path, parts)
+        if n is not None:
+            return n, True
+        t0 = time.process_time()
+        n = int(s.check(data))
+        _memo_write(path, parts, n, time.process_time() - t0)
+    return n, False
+
+
+def check(name: str, path: Path | None = None, *, memo: bool = True) -> int:
     """Check the stored study ``name`` (its file, or ``path``): its key against the code's,
-    then its fingerprint points recomputed.  Returns how many points agreed; raises
-    :class:`StaleStudy` (one line: the study, what disagreed, the refresh command)."""
+    then its fingerprint points recomputed (or, with ``memo``, read from the check memo
+    when nothing they depend on changed: :func:`memo_digest`).  Returns how many points
+    agreed; raises :class:`StaleStudy` (one line: the study, what disagreed, the refresh
+    command)."""
     s = study(name)
-    data = _read(s, path)
+    raw = _raw(s, path)
+    data = json.loads(raw)
     h = header_of(name, data)
-    check_key(name, h.key, s.key())
-    return int(s.check(data))
+    now = s.key()
+    check_key(name, h.key, now)
+    return _points(s, data, raw, now, memo)[0]
 
 
-def state(name: str, path: Path | None = None) -> dict[str, Any]:
-    """The study's state for a listing: ``name``, ``state`` (``"fresh"`` or ``"stale"``),
-    ``reason`` (why stale, else ``""``), ``points`` (checked), ``check_cpu_s`` (the check's
-    CPU seconds) and the header's ``date``, ``cpu_class``, ``version`` and ``cost_cpu_s``."""
+def state(name: str, path: Path | None = None, *, memo: bool = True) -> dict[str, Any]:
+    """The study's state for a listing: ``name``; ``state`` (``"fresh"`` when its key and
+    its points agree with the code, else ``"stale"``) and ``reason`` (why stale, else
+    ``""``); ``key`` (``"same"`` or ``"differs"``) and ``key_reason``; ``points_state``
+    (``"agree"`` or ``"disagree"``: the points are recomputed even when the key differs,
+    so that a stale key does not hide whether they still agree), ``points`` (how many
+    agreed), ``points_reason`` and ``from_memo`` (read from the check memo); ``check_cpu_s``
+    (the check's CPU seconds) and the header's ``date``, ``cpu_class``, ``version`` and
+    ``cost_cpu_s``."""
     s = study(name)
     t0 = time.process_time()
-    out: dict[str, Any] = {"name": name, "state": "fresh", "reason": "", "points": 0}
+    out: dict[str, Any] = {"name": name, "state": "fresh", "reason": "", "key": "same",
+                           "key_reason": "", "points_state": "agree", "points": 0,
+                           "points_reason": "", "from_memo": False}
     try:
-        out["points"] = check(name, path)
+        raw = _raw(s, path)
+        data = json.loads(raw)
+        h = header_of(name, data)
     except StaleStudy as exc:
-        out["state"], out["reason"] = "stale", exc.reason
-    out["check_cpu_s"] = time.process_time() - t0
+        out.update(state="stale", reason=exc.reason, key="differs", key_reason=exc.reason,
+                   points_state="disagree", points_reason=exc.reason, date=None,
+                   cpu_class=None, version=None, cost_cpu_s=None,
+                   check_cpu_s=time.process_time() - t0)
+        return out
+    now = s.key()
     try:
-        h = header_of(name, _read(s, path))
-        out.update(date=h.date, cpu_class=h.cpu_class, version=h.version,
-                   cost_cpu_s=h.cost_cpu_s)
-    except StaleStudy:
-        out.update(date=None, cpu_class=None, version=None, cost_cpu_s=None)
+        check_key(name, h.key, now)
+    except StaleStudy as exc:
+        out.update(key="differs", key_reason=exc.reason)
+    try:
+        # under a differing key no memo can match (the key is part of its digest)
+        out["points"], out["from_memo"] = _points(s, data, raw, now, memo)
+    except StaleStudy as exc:
+        out.update(points_state="disagree", points_reason=exc.reason)
+    reasons = [r for r in (out["key_reason"], out["points_reason"]) if r]
+    if reasons:
+        out.update(state="stale", reason="; ".join(reasons))
+    out["check_cpu_s"] = time.process_time() - t0
+    out.update(date=h.date, cpu_class=h.cpu_class, version=h.version,
+               cost_cpu_s=h.cost_cpu_s)
     return out
 
 

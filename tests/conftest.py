@@ -483,6 +483,11 @@ LEDGER_MEMO_ENV = "GYROLIB_LEDGER_MEMO"
 #: same way in whichever worker it runs (``session_memo``; e.g. the independent reference of
 #: paper GC's σ curve, about 30 CPU-s, read by two test files).
 TEST_MEMO_ENV = "GYROLIB_TEST_MEMO"
+#: The stored studies' check memo (``gyrolib.store.MEMO_ENV``): a folder of the session, so
+#: that the checks of the stored studies (about 25 CPU-s each time: the ledger's chapter in
+#: the session's book build, ``ledger --json``, the tests of the store) are computed once
+#: per session and never read from, or written to, the user's cache.
+CHECK_MEMO_ENV = "GYROLIB_CHECK_MEMO"
 
 
 def session_memo(key: str, compute):
@@ -525,6 +530,10 @@ def pytest_configure(config) -> None:
         memo = tempfile.mkdtemp(prefix="gyrolib-test-memo-")
         os.environ[TEST_MEMO_ENV] = memo
         config.gyrolib_test_memo = Path(memo)
+    if not hasattr(config, "workerinput") and not os.environ.get(CHECK_MEMO_ENV):
+        memo = tempfile.mkdtemp(prefix="gyrolib-test-checks-")
+        os.environ[CHECK_MEMO_ENV] = memo
+        config.gyrolib_check_memo = Path(memo)
     _RUNS_TESTS[0] = not _xdist_controller(config)
     if _xdist_controller(config) and not os.environ.get("GYROLIB_REUSE_BOOK"):
         folder = tempfile.mkdtemp(prefix="gyrolib-test-book-")
@@ -543,7 +552,8 @@ def pytest_configure(config) -> None:
 
 def pytest_unconfigure(config) -> None:
     for attr, env in (("gyrolib_ledger_memo", LEDGER_MEMO_ENV),
-                      ("gyrolib_test_memo", TEST_MEMO_ENV)):
+                      ("gyrolib_test_memo", TEST_MEMO_ENV),
+                      ("gyrolib_check_memo", CHECK_MEMO_ENV)):
         memo = getattr(config, attr, None)
         if memo is not None:
             os.environ.pop(env, None)

@@ -97,6 +97,7 @@ def _check(data) -> int:
 @pytest.fixture
 def toy(tmp_path, monkeypatch):
     monkeypatch.setitem(_STATE, "rate", 1.0)
+    monkeypatch.setenv(store.MEMO_ENV, str(tmp_path / "memo"))   # this test's own memo
     s = store.Study("toy", tmp_path / "toy.json",
                     lambda: store.model_key(constants={"rate": _STATE["rate"]}), _check,
                     _compute, rtol=1e-9, atol=0.0, what="a toy")
@@ -131,6 +132,99 @@ def test_a_moved_constant_or_number_fails_by_name(toy, monkeypatch):
     with pytest.raises(store.StaleStudy, match=r"y at x = 1\.0 was 1\.0, the code now gives 1\.1"):
         _check(data)
     assert store.state("toy")["state"] == "stale"
+
+
+def test_a_stale_key_does_not_hide_whether_the_points_agree(toy, monkeypatch):
+    """The listing's state says the key's state and the points' apart: a key moved by a
+    constant the points do not read (they still agree), and a key and points both moved."""
+    store.refresh("toy")
+    key = toy.key
+    monkeypatch.setitem(store._REGISTRY, "toy", store.Study(
+        "toy", toy.file, lambda: {**key(), "extra": "0" * 16}, _check, _compute,
+        rtol=1e-9, atol=0.0))
+    st = store.state("toy")
+    assert (st["state"], st["key"], st["points_state"], st["points"]) == (
+        "stale", "differs", "agree", 3)
+    assert "in extra" in st["key_reason"] and st["points_reason"] == ""
+    monkeypatch.setitem(_STATE, "rate", 1.1)      # the points move too
+    st = store.state("toy")
+    assert (st["key"], st["points_state"]) == ("differs", "disagree")
+    assert "y at x = 1.0 was 1.0" in st["points_reason"] and st["points_reason"] in st["reason"]
+
+
+# the check memo ------------------------------------------------------------------------------
+def _counting(toy, monkeypatch) -> list[int]:
+    """Register the toy with a check that counts its calls; returns the counter."""
+    calls = [0]
+
+    def counted(data):
+        calls[0] += 1
+        return _check(data)
+
+    import dataclasses
+
+    monkeypatch.setitem(store._REGISTRY, "toy", dataclasses.replace(toy, check=counted))
+    return calls
+
+
+def test_a_passed_check_is_read_from_the_memo_under_the_same_digest(toy, monkeypatch):
+    store.refresh("toy")
+    calls = _counting(toy, monkeypatch)
+    assert store.check("toy") == 3 and calls[0] == 1          # computed, remembered
+    assert store.check("toy") == 3 and calls[0] == 1          # read from the memo
+    assert store.state("toy")["from_memo"] is True
+    assert store.check("toy", memo=False) == 3 and calls[0] == 2
+    (memo,) = (toy.file.parent / "memo").glob("toy-*.json")
+    parts = json.loads(memo.read_text("utf-8"))["parts"]
+    assert {"file", "sources", "key", "numpy", "cpu_class", "python"} <= set(parts)
+    monkeypatch.setenv(store.MEMO_ENV, "off")                 # turned off: computed
+    assert store.memo_folder() is None
+    assert store.check("toy") == 3 and calls[0] == 3
+
+
+def test_a_failed_check_is_not_remembered(toy, monkeypatch):
+    store.refresh("toy")
+    calls = _counting(toy, monkeypatch)
+    data = json.loads(toy.file.read_text("utf-8"))
+    data["ys"][0] = 1.5                                       # a number moved in the file
+    toy.file.write_text(json.dumps(data))
+    for n in (1, 2):
+        with pytest.raises(store.StaleStudy, match=r"y at x = 1\.0 was 1\.5"):
+            store.check("toy")
+        assert calls[0] == n
+    assert not list((toy.file.parent / "memo").glob("toy-*.json"))
+
+
+def test_a_memo_written_under_another_cpu_class_is_not_read(toy, monkeypatch):
+    store.refresh("toy")
+    calls = _counting(toy, monkeypatch)
+    here = store.cpu_class()
+    other = "AVX2" if here != "AVX2" else "AVX-512"
+    monkeypatch.setattr(store, "cpu_class", lambda: other)
+    assert store.check("toy") == 3 and calls[0] == 1          # remembered under the other
+    assert store.check("toy") == 3 and calls[0] == 1
+    monkeypatch.setattr(store, "cpu_class", lambda: here)
+    assert store.check("toy") == 3 and calls[0] == 2          # this class: computed
+    assert store.state("toy")["from_memo"] is True            # and remembered for it
+
+
+def test_a_changed_file_of_the_package_misses_the_memo(toy, monkeypatch, tmp_path):
+    """The digest covers every file of the package (a function's body, a constant of a
+    module the key does not read, a data file): one byte changed, the check is computed."""
+    package = tmp_path / "package"
+    (package / "sub").mkdir(parents=True)
+    (package / "sub" / "model.py").write_text("def f(x):\n    return 2.0 * x\n")
+    (package / "sub" / "__pycache__").mkdir()
+    monkeypatch.setattr(store, "_PACKAGE", package)
+    store.refresh("toy")
+    calls = _counting(toy, monkeypatch)
+    assert store.check("toy") == 3 and calls[0] == 1
+    (package / "sub" / "__pycache__" / "model.pyc").write_bytes(b"bytecode")  # not a source
+    assert store.check("toy") == 3 and calls[0] == 1
+    (package / "sub" / "model.py").write_text("def f(x):\n    return 2.5 * x\n")
+    assert store.check("toy") == 3 and calls[0] == 2
+    toy.file.write_text(toy.file.read_text("utf-8") + " ")   # the study's file itself
+    assert store.check("toy") == 3 and calls[0] == 3
 
 
 def test_a_file_without_a_header_is_stale(toy):

@@ -6,8 +6,10 @@ Recomputes the stored studies (:mod:`gyrolib.store`; the book's are registered b
 tolerance, version, CPU class, date, cost), with a progress bar on stderr: on the Dask
 cluster of ``--scheduler``, on ``--workers K`` local processes (a
 ``concurrent.futures.ProcessPoolExecutor``), or in this process.  No study name: every study.
-``--list`` recomputes nothing: it checks each study and prints its state (fresh or stale,
-with why), date, CPU class, the CPU-s it cost and the CPU-s of its check.
+``--list`` recomputes no study: it checks each and prints its state (fresh or stale, with
+why), whether its key is the code's, whether its fingerprint points still agree (recomputed
+even when the key differs, or read from the check memo: :func:`gyrolib.store.check`), its
+date, CPU class, the CPU-s it cost and the CPU-s of its check.
 
 Exit status 0; 2 for bad arguments (one line, nothing written); with ``--list``, 3 when a
 study is stale.
@@ -44,17 +46,21 @@ def _listing(names: tuple[str, ...]) -> int:
     from gyrolib import store
 
     stale = 0
-    sys.stdout.write(f"{'study':18s} {'state':6s} {'date':26s} {'CPU class':14s} "
-                     f"{'cost CPU-s':>10s} {'check CPU-s':>11s}\n")
+    sys.stdout.write(f"{'study':18s} {'state':6s} {'key':8s} {'points':15s} {'date':26s} "
+                     f"{'CPU class':14s} {'cost CPU-s':>10s} {'check CPU-s':>11s}\n")
     for n in names:
         st = store.state(n)
         cost = "?" if st["cost_cpu_s"] is None else f"{st['cost_cpu_s']:.0f}"
-        sys.stdout.write(f"{n:18s} {st['state']:6s} {st['date'] or '?':26s} "
-                         f"{st['cpu_class'] or '?':14s} {cost:>10s} "
+        points = (f"{st['points']} agree" if st["points_state"] == "agree" else "disagree")
+        points += " (memo)" if st["from_memo"] else ""
+        sys.stdout.write(f"{n:18s} {st['state']:6s} {st['key']:8s} {points:15s} "
+                         f"{st['date'] or '?':26s} {st['cpu_class'] or '?':14s} {cost:>10s} "
                          f"{st['check_cpu_s']:11.1f}\n")
         if st["state"] != "fresh":
             stale += 1
-            sys.stdout.write(f"  {st['reason']}\n")
+            for part in ("key", "points"):
+                if st[f"{part}_reason"]:
+                    sys.stdout.write(f"  {part}: {st[f'{part}_reason']}\n")
     return 3 if stale else 0
 
 

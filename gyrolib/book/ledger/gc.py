@@ -558,15 +558,19 @@ def _time_to_sigma_c(speed: SpeedEvidence, race: RaceResult, study: StudyEvidenc
         f"{race.t_c_gc:.1f} s; {study.t_c}")
 
 
-def _faster_percent(p: GyrocompassParams, race: RaceResult, cond: RaceConditions,
+def _faster_percent(p: GyrocompassParams, race: RaceResult, cond: RaceConditions | None,
                     study: StudyEvidence) -> LedgerItem:
     """"More than 50 % faster than the calibration methods considered", judged by the race
     (:func:`gyrolib.gc.race`): GC's method against the rate-sensor method of ref. [3] that it
     replaces, its rebalance loop and pickoff noise included, under the same disturbances,
     sensors and accuracy target; the rival is granted its better estimator (the optimal
-    one), and the claim is mapped over the table of inputs (:func:`gyrolib.gc.race_margin`)."""
-    v = verdict("gc.faster_percent", _objects(p, race.procedure),
-                context=cond.reference_text())
+    one), and the claim is mapped over the table of inputs (:func:`gyrolib.gc.race_margin`).
+    The verdict's context is the race's reference sentence: ``cond``'s, or, with ``None``,
+    :meth:`RaceResult.reference_text` (the same sentence, without the worst corner and the
+    one-at-a-time searches of :meth:`RaceResult.conditions`, which the item does not
+    quote)."""
+    context = race.reference_text() if cond is None else cond.reference_text()
+    v = verdict("gc.faster_percent", _objects(p, race.procedure), context=context)
     saving = race.faster_percent_optimal
     return _item(
         "faster_percent", "Conclusion",
@@ -607,7 +611,7 @@ def items(params: GyrocompassParams | None = None) -> list[LedgerItem]:
         _sigma_gc_100s(base, study),
         _drop_2s(base),
         _time_to_sigma_c(speed, race_result, study),
-        _faster_percent(p, race_result, race_result.conditions(), study),
+        _faster_percent(p, race_result, None, study),
         _fig4(),
         _trend_holds(p, base),
     ]

@@ -33,6 +33,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import os
@@ -54,7 +55,6 @@ from gyrolib.gc.model import discretization as _gc_discretization
 from gyrolib.gc.model import params as _gc_params
 from gyrolib.gc.racing import comparison as _race
 from gyrolib.gc.racing import rate_sensor as _rate_sensor
-from gyrolib.gc.racing.verdict_grid import race_verdict_grid
 from gyrolib.rsf import sensors as _rsf_sensors
 from gyrolib.rsf import simulation as _rsf_simulation
 from gyrolib.rsf import tables as _rsf_tables
@@ -150,12 +150,15 @@ def _grid_cells(grid: Mapping[str, Any]) -> list[tuple[int, int, int]]:
 def _check_grid(grid: Mapping[str, Any], h: store.Header) -> int:
     o = _inputs.reference_objects()
     m = np.asarray(grid["margin"], float)
+    p = o["GyrocompassParams"]
     for r, j, k in _grid_cells(grid):
         reading = grid["readings"][r]
         s1, ca = float(grid["sigma1_factors"][k]), float(grid["cas_factors"][j])
-        now = race_verdict_grid(o["GyrocompassParams"], o["RateSensorProcedure"],
-                                sigma1_factors=(s1,), cas_factors=(ca,),
-                                readings=(reading,)).margin[0, 0, 0]
+        # the cell's margin as race_verdict_grid computes it, without the grid's race times
+        # (a whole race with its curves per reading, which the check does not compare)
+        now = _race.race_margin(dataclasses.replace(
+            p, measurement_noise=reading, C_as=ca * p.C_as, sigma1_sq=s1 * p.sigma1_sq),
+            o["RateSensorProcedure"])
         store.compare("claim-maps", f"the race's verdict grid at σ1² × {s1:.4g}, C_as × "
                       f"{ca:.4g}, {reading}", m[r, j, k], now, rtol=h.rtol, atol=h.atol)
     return len(_grid_cells(grid))
@@ -272,8 +275,10 @@ for _name, _file, _check, _compute, _atol, _what in (
                                rows="" if _name == "claim-maps" else "values"))
 
 
-def check_all(names: tuple[str, ...] | None = None) -> int:
+def check_all(names: tuple[str, ...] | None = None, *, memo: bool = True) -> int:
     """Check every study of ``names`` (default: all of :data:`NAMES`) by
-    :func:`gyrolib.store.check`; raises :class:`gyrolib.store.StaleStudy` naming the first
-    stale one and its refresh command.  Returns how many points agreed."""
-    return sum(store.check(n) for n in (NAMES if names is None else names))
+    :func:`gyrolib.store.check` (with ``memo``, a check that passed under the same sources,
+    file, key, versions and CPU class is read from the check memo); raises
+    :class:`gyrolib.store.StaleStudy` naming the first stale one and its refresh command.
+    Returns how many points agreed."""
+    return sum(store.check(n, memo=memo) for n in (NAMES if names is None else names))

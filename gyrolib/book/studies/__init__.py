@@ -35,8 +35,10 @@ NAMES: Final[tuple[str, ...]] = ledger_studies.NAMES + tuple(
     n for m in CHAPTER_MODULES for n in m.NAMES)  # type: ignore[attr-defined]
 
 
-def check_all(names: tuple[str, ...] | None = None) -> int:
+def check_all(names: tuple[str, ...] | None = None, *, memo: bool = True) -> int:
     """Check every study of ``names`` (default: all of :data:`NAMES`) by
-    :func:`gyrolib.store.check`; raises :class:`gyrolib.store.StaleStudy` naming the first
-    stale one and its refresh command.  Returns how many points agreed."""
-    return sum(store.check(n) for n in (NAMES if names is None else names))
+    :func:`gyrolib.store.check` (with ``memo``, a check that passed under the same sources,
+    file, key, versions and CPU class is read from the check memo); raises
+    :class:`gyrolib.store.StaleStudy` naming the first stale one and its refresh command.
+    Returns how many points agreed."""
+    return sum(store.check(n, memo=memo) for n in (NAMES if names is None else names))

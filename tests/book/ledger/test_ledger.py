@@ -155,9 +155,13 @@ def test_cli_json_parses_with_every_field_and_is_byte_identical(items, tmp_path,
             assert x == float(f"{x:.{entry['precision']}g}"), entry["id"]
 
 
-def test_cli_table_lists_every_item(items):
-    out = subprocess.run([sys.executable, "-m", "gyrolib", "ledger"], check=True,
-                         capture_output=True, text=True, cwd=ROOT).stdout
+def test_cli_table_lists_every_item(items, capsys):
+    """The command's table (its ``main``, in this process: its exit status and JSON are
+    tested in processes of their own above and in ``test_studies.py``)."""
+    from gyrolib.cli import main
+
+    assert main(["ledger"]) == 0
+    out = capsys.readouterr().out
     for it in items:
         assert it.id in out
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from pathlib import Path
 
 import pytest
 
@@ -282,3 +283,62 @@ def test_refresh_command_on_a_dask_scheduler_gives_the_stored_study(tmp_path, mo
                 np.testing.assert_allclose(new[part][out][inp]["value"], idx["value"],
                                            rtol=h.rtol, atol=1e-12)
     assert store.check(s.name, copy) == 45
+
+
+# the check memo, in a copy of the package -----------------------------------------------------
+def _listing_in(copy, memo) -> tuple[int, str]:
+    """``python -m gyrolib refresh --list sensitivity-rsf`` run on the package at ``copy``
+    with the check memo at ``memo``: (exit status, stdout)."""
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env.update(PYTHONPATH=str(copy), GYROLIB_CHECK_MEMO=str(memo))
+    r = subprocess.run([sys.executable, "-m", "gyrolib", "refresh", "--list",
+                        "sensitivity-rsf"], cwd=copy, env=env, capture_output=True,
+                       text=True, check=False, timeout=900)
+    assert "Traceback" not in r.stderr, r.stderr
+    return r.returncode, r.stdout
+
+
+def _edit(path, old: str, new: str) -> None:
+    text = path.read_text("utf-8")
+    assert text.count(old) == 1, old
+    path.write_text(text.replace(old, new), "utf-8")
+
+
+@pytest.mark.full
+def test_the_check_memo_hides_no_change_of_the_code_in_a_copy(tmp_path, monkeypatch):
+    """A check remembered for the package as it is is read by a copy of the same package
+    (the memo is used); a copy whose function body changed (delta_k × 1.01: the key, over
+    constants and defaults, is the same) recomputes its points and is stale by its points;
+    a copy whose constant changed (the "90 %" level, which the key holds) is stale by its
+    key and by its points, both shown."""
+    import shutil
+
+    import gyrolib
+
+    memo = tmp_path / "memo"
+    monkeypatch.setenv(store.MEMO_ENV, str(memo))
+    assert store.state("sensitivity-rsf")["state"] == "fresh"   # remembered here
+    package = Path(gyrolib.__file__).resolve().parent
+    copies = {}
+    for name in ("same", "body", "constant"):
+        copies[name] = tmp_path / name
+        shutil.copytree(package, copies[name] / "gyrolib",
+                        ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    _edit(copies["body"] / "gyrolib" / "rsf" / "equations.py",
+          "return difference_error(e0, dt, enc, e1, wu) / (w * dt)",
+          "return 1.01 * difference_error(e0, dt, enc, e1, wu) / (w * dt)")
+    _edit(copies["constant"] / "gyrolib" / "levels.py",
+          "COMPENSATED_PERCENT: Final[float] = 90.0", "COMPENSATED_PERCENT: Final[float] = 91.0")
+    status, out = _listing_in(copies["same"], memo)
+    assert status == 0 and "fresh  same     45 agree (memo)" in out
+    status, out = _listing_in(copies["body"], memo)
+    assert status == 3 and "stale  same     disagree" in out and "(memo)" not in out
+    assert "points: delta_k at the reference was" in out
+    status, out = _listing_in(copies["constant"], memo)
+    assert status == 3 and "stale  differs  disagree" in out
+    assert "key: its key differs from the code's in gyrolib.levels" in out
+    assert "points: rsf.example.compensated at the reference was" in out
