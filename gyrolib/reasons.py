@@ -44,14 +44,12 @@ class Reason:
 #: reason_code -> the option to try.  Extend it for a new check (keep the codes stable).
 REASONS: Final[dict[str, Reason]] = {
     # the site: the Earth rate reads as drift
-    "no_latitude": Reason("--latitude", "state the test site's latitude in degrees north "
-                          "(or a 'latitude' key in --params; '--latitude paper' assumes "
+    "no_latitude": Reason("--latitude", "state the test site's latitude in degrees, south "
+                          "negative (or a 'latitude' key in --params; '--latitude paper' assumes "
                           "paper GC's site)", 10),
     "latitude_mismatch": Reason("--latitude", "the Earth rate given disagrees with the "
                                 "record's '# latitude_deg:' line: state the site's latitude "
                                 "once", 11),
-    "southern_hemisphere": Reason("--latitude", "paper GC's model needs a site in the "
-                                  "northern hemisphere (see the README)", 12),
     # the record's start: rows before the feedback was switched off
     "early_release": Reason("--t0", "the rows the model rejects lie at the record's start "
                             "(logged before the feedback switch-off?): start later", 20),

@@ -65,6 +65,7 @@ from gyrolib.gc.model.params import (
     MEASUREMENT_NAMES,
     STATE_NAMES,
     GyrocompassParams,
+    latitude_text,
     state_index,
 )
 from gyrolib.gc.model.state_space import (
@@ -353,12 +354,14 @@ class CalibrationResult:
         if name == "omega_gc":
             # Ω_h reads as drift: the latitude whose Ω_h would explain ω̂ (φ from the
             # parameters' own Earth rate)
+            # (in the stated hemisphere: Ω_h is the same on both sides of the equator)
             cos_lat = (p.Omega_h + est) / EARTH_RATE
-            lat = math.degrees(math.acos(cos_lat)) if abs(cos_lat) <= 1.0 else None
-            stated = math.degrees(math.atan2(p.Omega_v, p.Omega_h))
+            stated = math.degrees(p.latitude)
+            lat = (math.copysign(math.degrees(math.acos(cos_lat)), stated)
+                   if abs(cos_lat) <= 1.0 else None)
             text = (f"omega_gc far outside its prior {from_si(p.sigma_gc0, 'arcsec_paper/s'):.3g}"
                     " arcsec/s (paper's arcsec): a site rate for another latitude reads as "
-                    f"drift (stated {stated:.4g} deg N"
+                    f"drift (stated {latitude_text(stated, 4)}"
                     + (f"; about {lat:.3g} deg would explain it: --latitude" if lat is not None
                        else "") + "), or the gyro drifts more than the prior allows "
                     "(--drift-prior), or H/f, the gain or the logger's clock is off by about "
@@ -377,7 +380,11 @@ class CalibrationResult:
             "inclinometer_y_bias": ("prior_incl_bias", "inclinometer_y's bias beyond its "
                                     "prior (--inclinometer-bias-prior; wrong unit or sign?)"),
             "inclinometer_z_bias": ("prior_incl_bias", "inclinometer_z's bias beyond its "
-                                    "prior (--inclinometer-bias-prior; wrong unit or sign?)"),
+                                    "prior (--inclinometer-bias-prior; wrong unit or sign?), "
+                                    "or the gyro's input axis tilted out of the horizontal "
+                                    f"by about {from_si(-est / p.g, 'arcmin'):.3g} arcmin: "
+                                    "it senses Omega_v as a tilt gamma that inclinometer_z "
+                                    "does not read, which is the same as that bias"),
             "scale": ("prior_scale", "H/f or the angle sensor's gain off by more than its "
                       "tolerance (--scale-tolerance)"),
             "clock": ("prior_clock", "the logger's time scale off by more than its tolerance "
@@ -1739,7 +1746,7 @@ def earth_rate_mismatch(params: GyrocompassParams, latitude: float) -> str:
         return ""
     site = math.degrees(math.atan2(p.Omega_v, p.Omega_h))
     off = float(from_si(p.Omega_h - want_h, "deg/h"))
-    return (f"the record states latitude {math.degrees(lat):.6g} deg N, but the Earth rate "
+    return (f"the record states latitude {latitude_text(math.degrees(lat))}, but the Earth rate "
             f"of params (Omega_h = {p.Omega_h:.6g}, Omega_v = {p.Omega_v:.6g} rad/s) is that "
             f"of about {site:.3g} deg: Omega_h off by {off:+.3g} deg/h, which reads as drift "
             "(use GyrocompassParams.at_latitude(record.latitude))")
