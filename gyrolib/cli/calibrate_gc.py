@@ -183,7 +183,7 @@ def _latitude(args: argparse.Namespace, params: gc.GyrocompassParams, toml: dict
         return params, math.degrees(params.latitude), LAT_PARAMS, sigma
     if {"Omega_h", "Omega_v"} & set(toml):    # half an Earth rate: the other the paper's?
         given, = {"Omega_h", "Omega_v"} & set(toml)
-        raise OptionError(f"the params file gives {given} but not "
+        raise OptionError(f"{args.params} sets {given} but not "
                           f"{({'Omega_h', 'Omega_v'} - {given}).pop()}: give both Earth-rate "
                           "components, or 'latitude' (degrees, north positive), or neither")
     return params, None, LAT_NONE, sigma

@@ -172,7 +172,7 @@ def test_on_the_equator_the_tool_says_what_it_still_estimates(tmp_path, capsys):
     assert "no longer torque the float" in note and "still estimated" in note
     assert 0.0 < data["latitude_warning"]["shift_over_sigma"] < 0.2
     assert data["earth_rate"]["Omega_v"] == 0.0 and _finite(data)
-    code, out, _ = _run(["calibrate", "gc", path], capsys)
+    _, out, _ = _run(["calibrate", "gc", path], capsys)
     assert "latitude 0 deg (from the record's" in out and "note: the site (0 deg)" in out
     # a site at 35° S names its hemisphere
     _, south = _site(-35.0, 52, tmp_path)

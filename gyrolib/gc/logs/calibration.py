@@ -586,7 +586,8 @@ class CalibrationResult:
                 seen = int(self.used[q] + self.rejected[q])
                 parts.append(f"{name}: {int(self.rejected[q])} of {seen} samples "
                              f"({100 * share[q]:.3g} %) rejected by the chi-square gate "
-                             f"(limit {100 * self.max_rejected:.3g} %)")
+                             f"(limit {100 * self.max_rejected:.3g} %)"
+                             + _inclinometer_lost(name, share[q], share[0]))
             if self.used[q] > 0 and not lo <= nis[q] <= hi:
                 band = next((t for t in self.model_tests()
                              if t["test"] == "mean NIS" and t["sensor"] == name), None)
@@ -1719,6 +1720,21 @@ def simulate_records(params: GyrocompassParams, t_end: float, seed: int,
 #: up to rounding.  (Paper GC's printed 4.3·10⁻⁵, 5.9·10⁻⁵ rad/s are 0.1 % off the rate at
 #: 53.9° N: enough to move ω̂_gc by several σ of a 100 s run.)
 EARTH_RATE_TOLERANCE: Final[float] = 1e-6
+
+
+def _inclinometer_lost(name: str, share: float, angle_share: float) -> str:
+    """What an inclinometer whose every sample the gate rejected, while the angle sensor
+    kept lock, may have: a reading offset beyond its prior's reach (its bias; for
+    ``inclinometer_z``, the γ column, also a tilt of the gyro's input axis out of the
+    horizontal, which reads the same), a wrong unit or sign.  ``""`` otherwise."""
+    if name == "angle_sensor" or share < 0.99 or angle_share > 0.5:
+        return ""
+    tilt, axis = (("delta", ""), ("gamma", ", or the gyro's input axis tilted out of the "
+                                   "horizontal, which reads as that bias"))[
+        name == "inclinometer_z"]
+    return (f": its readings lie beyond the gate from the first sample on: the state "
+            f"{name}_bias beyond its prior (--inclinometer-bias-prior){axis}, the tilt "
+            f"{tilt} beyond its prior (sigma_{tilt}0 in --params), or a wrong unit or sign")
 
 
 def earth_rate_mismatch(params: GyrocompassParams, latitude: float) -> str:

@@ -45,7 +45,7 @@ def latitude_drift_shift(params: GyrocompassParams, dlat: float) -> float:
     >>> from gyrolib import gc
     >>> p = gc.GyrocompassParams.at_latitude(math.radians(54.0))
     >>> f"{latitude_drift_shift(p, math.radians(0.5)):.3e}"        # ≈ Ω_E sin φ · 0.5°
-    '5.236e-07'
+    '5.164e-07'
     >>> equator = gc.GyrocompassParams.at_latitude(0.0)
     >>> f"{latitude_drift_shift(equator, math.radians(0.5)):.3e}"   # second order only
     '2.777e-09'
@@ -68,7 +68,7 @@ def latitude_drift_sigma(params: GyrocompassParams, latitude_sigma: float) -> fl
     >>> from gyrolib import gc
     >>> p = gc.GyrocompassParams.at_latitude(math.radians(54.0))
     >>> f"{latitude_drift_sigma(p, math.radians(0.5)):.3e}"
-    '5.150e-07'
+    '5.148e-07'
     >>> latitude_drift_sigma(p, 0.0)
     0.0
     """
