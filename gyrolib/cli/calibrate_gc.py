@@ -520,7 +520,8 @@ _GC_UNITS: Final[dict[str, str]] = {
     "max_rejected": "1 (share)",
     "rejected_share": "1 (share)", "log_likelihood": "1 (natural log)",
     "states": "SI per state (rad, rad/s, m/s^2)", "time_base.t_offset_s": "s",
-    "timestamp_jitter": "s, rad, 1"}
+    "timestamp_jitter": "s, rad, 1", "earth_rate.latitude_sigma_deg": "deg",
+    "latitude_warning": "deg (error_deg), rad/s (omega_gc_shift), 1 (shift_over_sigma)"}
 
 
 def _signed(sign: float, column: str) -> str:
