@@ -117,6 +117,15 @@ def test_the_record_triggers_its_code_and_hint(sim, code):
     rec, params = _cases(sim)[code]
     ver = gc.judge_record(rec, params)
     assert not ver.valid and code in ver.reason_codes, (code, ver.reason_codes)
+    # counts never exceed the record; one statistic, one band, printed the same in the
+    # reason, the check's line and its JSON
+    n = rec.n
+    assert ver.counts.rows == n and 0 <= ver.counts.missing <= 3 * n
+    assert max(ver.counts.used, ver.counts.rejected, ver.counts.empty) <= n
+    for c in ver.checks:
+        assert c.summary()["band"] == c.band() and c.band() in c.line()
+        if c.test == "mean NIS" and not c.passed:
+            assert f"NOT in {c.band()}" in ver.reason, (c.line(), ver.reason)
     assert ver.hint.startswith("try: ") and ver.hint == hint(ver.reason_code, (
         ver.hint.split(" ")[2] if ver.reason_code == "early_release" else ""))
     if code.startswith("prior_") and code != "prior_latitude":
