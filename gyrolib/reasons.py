@@ -44,39 +44,20 @@ class Reason:
 #: reason_code -> the option to try.  Extend it for a new check (keep the codes stable).
 REASONS: Final[dict[str, Reason]] = {
     # the site: the Earth rate reads as drift
-    "no_latitude": Reason("--latitude", "state the test site's latitude in degrees north "
-                          "(or a 'latitude' key in --params; '--latitude paper' assumes "
+    "no_latitude": Reason("--latitude", "state the test site's latitude in degrees, south "
+                          "negative (or a 'latitude' key in --params; '--latitude paper' assumes "
                           "paper GC's site)", 10),
     "latitude_mismatch": Reason("--latitude", "the Earth rate given disagrees with the "
                                 "record's '# latitude_deg:' line: state the site's latitude "
                                 "once", 11),
-    "southern_hemisphere": Reason("--latitude", "paper GC's model needs a site in the "
-                                  "northern hemisphere (see the README)", 12),
     # the record's start: rows before the feedback was switched off
     "early_release": Reason("--t0", "the rows the model rejects lie at the record's start "
                             "(logged before the feedback switch-off?): start later", 20),
-    # the instrument's priors (the prior-consistency checks)
-    "prior_inconsistent": Reason("--drift-prior", "the drift estimate lies far outside its "
-                                 "prior: widen the prior if the gyro really drifts this "
-                                 "much", 30),
-    "scale_inconsistent": Reason("--scale-tolerance", "the scale state (H/f, the angle "
-                                 "sensor's gain) lies far outside its tolerance: check H/f, "
-                                 "or state a wider tolerance", 31),
-    "offset_inconsistent": Reason("--offset-prior", "the angle sensor's offset lies far "
-                                  "outside its prior", 32),
-    "inclinometer_bias_inconsistent": Reason("--inclinometer-bias-prior", "an "
-                                             "inclinometer's bias lies far outside its "
-                                             "prior", 33),
-    "clock_inconsistent": Reason("--clock-tolerance", "the logger's time scale looks off "
-                                 "by more than its tolerance", 34),
     # the noise fit
     "fit_not_converged": Reason("--fit", "the noise fit did not converge: fit fewer "
                                 "parameters (e.g. --fit C_as,C_in)", 40),
     "fit_not_identified": Reason("--fit", "the record cannot pin a fitted parameter down: "
                                  "leave it out of --fit (or give it in --params)", 41),
-    "fit_laundering": Reason("--params", "the fit moved a noise level only to absorb the "
-                             "misfit of the unfitted run: find the cause (units, clock, "
-                             "latitude) rather than fitting it away", 42),
     # the filter and the model checks
     "lost_lock": Reason("--params", "the gate rejected too many samples or the NIS is far "
                         "off: check the units and the instrument's noise in --params", 50),

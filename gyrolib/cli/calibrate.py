@@ -139,12 +139,20 @@ def _add_gc(methods: argparse._SubParsersAction) -> None:
     gcp.add_argument("--max-rejected", type=float, default=0.01, metavar="SHARE",
                      help="largest share of a sensor's samples the gate may reject before "
                           "the run counts as lost lock (default 0.01)")
-    gcp.add_argument("--latitude", default=None, metavar="DEG|paper",
-                     help="latitude of the test site in degrees north, in (0, 90): Omega_h, "
-                          "Omega_v from the Earth's rate (default: the params file's "
-                          "'latitude', else the record's '# latitude_deg:' line; without "
-                          "any there is no valid estimate, exit 3); 'paper' assumes paper "
-                          "GC's Omega_h, Omega_v (about 53.9 N) and says so")
+    gcp.add_argument("--latitude", default=None, metavar="DEG[±SIGMA]|paper",
+                     help="latitude of the test site in degrees, north positive, south "
+                          "negative, in (-90, 90): Omega_h, Omega_v from the Earth's rate "
+                          "(default: the params file's 'latitude', else the record's "
+                          "'# latitude_deg:' line; without any there is no valid estimate, "
+                          "exit 3); '54±0.5' (or '54+-0.5') states its 1-sigma uncertainty, "
+                          "carried into sigma(omega_gc) as the term 'latitude'; a latitude "
+                          "in whole degrees without one gets a warning of what a 0.5 deg "
+                          "error would do; 'paper' assumes paper GC's Omega_h, Omega_v "
+                          "(about 53.9 N) and says so")
+    gcp.add_argument("--latitude-sigma", type=float, default=None, metavar="DEG",
+                     help="1-sigma uncertainty of the latitude in degrees, wherever it comes "
+                          "from (option, params file or the record's line): Omega_h reads "
+                          "as drift, so it enters sigma(omega_gc) as the term 'latitude'")
     _add_gc_priors(gcp)
     gcp.add_argument("--false-alarm", type=float, default=0.01, metavar="P",
                      help="family-wise false-alarm rate of the model checks that make a "

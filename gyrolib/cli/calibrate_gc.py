@@ -10,6 +10,7 @@ import argparse
 import concurrent.futures
 import dataclasses
 import math
+import re
 from typing import Final
 
 import numpy as np
@@ -19,10 +20,10 @@ from gyrolib.cli import constants
 from gyrolib.cli.constants import FIT_UNITS, PLOT_SUFFIXES
 from gyrolib.cli.outputs import Outcome, bar_enabled, check_out_path, fmt, progress
 from gyrolib.gc.logs import judgement
-from gyrolib.gc.model.params import PAPER_LATITUDE
+from gyrolib.gc.model.params import PAPER_LATITUDE, latitude_text
 from gyrolib.records.errors import OptionError
 from gyrolib.records.params import (
-    NORTHERN_ONLY,
+    LATITUDE_RANGE,
     gc_params_from_toml,
     instrument_notes,
     load_toml,
@@ -42,9 +43,9 @@ def options(args: argparse.Namespace) -> dict:
     params = gc_params_from_toml(args.params)
     toml = load_toml(args.params) if args.params is not None else {}
     params = dataclasses.replace(params, **_priors(args, toml))
-    params, latitude, lat_source = _latitude(args, params, toml)
+    params, latitude, lat_source, lat_sigma = _latitude(args, params, toml)
     return {"params": params, "dt_given": "dt" in toml, "gate": args.gate,
-            "latitude": latitude, "latitude_source": lat_source,
+            "latitude": latitude, "latitude_source": lat_source, "latitude_sigma": lat_sigma,
             "false_alarm": args.false_alarm, "accept_misfit": args.accept_misfit,
             "store_every": args.store_every, "max_rejected": args.max_rejected,
             "mapping": _mapping(args), "fit_noise": args.fit_noise, "fit": _fit_names(args),
@@ -125,37 +126,67 @@ def _priors(args: argparse.Namespace, toml: dict) -> dict[str, float]:
     return priors
 
 
+#: ``--latitude 54±0.5``: the value and its 1σ uncertainty (±, +- or +/-).
+_PLUS_MINUS: Final[re.Pattern] = re.compile(r"^\s*([^±+/]+?)\s*(?:±|\+-|\+/-)\s*(.+?)\s*$")
+
+
+def _latitude_value(text: str) -> tuple[float, float | None]:
+    """``--latitude``'s number and the uncertainty written with it (``54±0.5``), or None."""
+    m = _PLUS_MINUS.match(text)
+    value, sigma = (m.group(1), m.group(2)) if m else (text, None)
+    try:
+        lat = float(value)
+        sd = None if sigma is None else float(sigma)
+    except ValueError:
+        lat, sd = math.nan, None
+    if not (math.isfinite(lat) and -90.0 < lat < 90.0):
+        raise OptionError(f"--latitude must be {LATITUDE_RANGE}, optionally with its 1-sigma "
+                          f"uncertainty (54±0.5), or 'paper' for paper GC's values; got {text}")
+    if sd is not None and not (math.isfinite(sd) and sd >= 0.0):
+        raise OptionError(f"--latitude's uncertainty (after ±) must be degrees >= 0; got {text}")
+    return lat, sd
+
+
+def _latitude_sigma(args: argparse.Namespace, written: float | None) -> float | None:
+    """The latitude's 1σ uncertainty (deg): written with ``--latitude`` or by
+    ``--latitude-sigma`` (not both), else None."""
+    given = getattr(args, "latitude_sigma", None)
+    if given is not None and not (math.isfinite(given) and given >= 0.0):
+        raise OptionError(f"--latitude-sigma must be degrees >= 0; got {given}")
+    if given is not None and written is not None:
+        raise OptionError("--latitude's ± and --latitude-sigma both state the latitude's "
+                          "uncertainty: give one")
+    return written if given is None else given
+
+
 def _latitude(args: argparse.Namespace, params: gc.GyrocompassParams, toml: dict
-              ) -> tuple[gc.GyrocompassParams, float | None, str]:
+              ) -> tuple[gc.GyrocompassParams, float | None, str, float | None]:
     """The Earth rate from ``--latitude`` or the params file: the parameters with it, the
-    latitude (deg) and where it came from (:data:`LAT_NONE` when neither states it)."""
+    latitude (deg), where it came from (:data:`LAT_NONE` when neither states it) and its
+    stated 1σ uncertainty (deg, or None)."""
     if args.latitude is not None:
         if {"Omega_h", "Omega_v", "latitude"} & set(toml):
             raise OptionError("--latitude and the params file's latitude/Omega_h/Omega_v both "
-                              "set the Earth rate: give one")
+                              "state the Earth rate: give one")
         if args.latitude.strip().lower() == "paper":
-            return params, math.degrees(PAPER_LATITUDE), LAT_PAPER
-        try:
-            latitude = float(args.latitude)
-        except ValueError:
-            latitude = math.nan
-        if not (math.isfinite(latitude) and 0.0 < latitude < 90.0):
-            raise OptionError(f"--latitude must be in degrees north in (0, 90), or 'paper' "
-                              f"for paper GC's values: {NORTHERN_ONLY}; got {args.latitude}")
+            return (params, math.degrees(PAPER_LATITUDE), LAT_PAPER,
+                    _latitude_sigma(args, None))
+        latitude, written = _latitude_value(args.latitude)
         kept = {f.name: getattr(params, f.name) for f in dataclasses.fields(params)
                 if f.name not in ("Omega_h", "Omega_v")}
         return (gc.GyrocompassParams.at_latitude(math.radians(latitude), **kept), latitude,
-                LAT_OPTION)
+                LAT_OPTION, _latitude_sigma(args, written))
+    sigma = _latitude_sigma(args, None)
     if "latitude" in toml:
-        return params, float(toml["latitude"]), LAT_PARAMS
+        return params, float(toml["latitude"]), LAT_PARAMS, sigma
     if {"Omega_h", "Omega_v"} <= set(toml):   # the Earth rate stated by its components
-        return params, math.degrees(math.atan2(params.Omega_v, params.Omega_h)), LAT_PARAMS
+        return params, math.degrees(params.latitude), LAT_PARAMS, sigma
     if {"Omega_h", "Omega_v"} & set(toml):    # half an Earth rate: the other the paper's?
         given, = {"Omega_h", "Omega_v"} & set(toml)
         raise OptionError(f"{args.params} sets {given} but not "
                           f"{({'Omega_h', 'Omega_v'} - {given}).pop()}: give both Earth-rate "
-                          "components, or 'latitude' (degrees north), or neither")
-    return params, None, LAT_NONE
+                          "components, or 'latitude' (degrees, north positive), or neither")
+    return params, None, LAT_NONE, sigma
 
 
 #: ``latitude_source`` of the JSON: where the latitude (the Earth rate) came from.
@@ -254,10 +285,18 @@ def _allan_report(allan) -> tuple[list[str], dict]:
         what = "angle-sensor rate" if name == "angle_sensor" else name
         lines.append(f"    {what}: " + "; ".join(
             t.describe(scale, unit) for t, (scale, unit) in zip(ts, shown)))
-        data[name] = [{"name": t.name, "value": t.value, "sigma": t.sigma, "lo": t.lo,
-                       "hi": t.hi, "unit": t.unit.replace("·", "*").replace("√", "sqrt"),
-                       "identified": t.identified, "tau_s": t.tau} for t in ts]
+        data[name] = [_allan_term(t) for t in ts]
     return lines, data
+
+
+def _allan_term(t) -> dict:
+    """One noise term as the JSON holds it, as ``allan --json`` does: a term whose
+    coefficient is 0 is nowhere, so it has no ``tau_s``."""
+    out = {"name": t.name, "value": t.value, "sigma": t.sigma, "lo": t.lo, "hi": t.hi,
+           "unit": t.unit.replace("·", "*").replace("√", "sqrt"), "identified": t.identified}
+    if t.tau is not None:
+        out["tau_s"] = t.tau
+    return out
 
 
 def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, o: dict,
@@ -270,9 +309,8 @@ def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, 
     lat, source = o["latitude"], o["latitude_source"]
     rec_deg = None if record_latitude is None else math.degrees(record_latitude)
     if source == LAT_NONE and record_latitude is not None:
-        if not 0.0 < record_latitude < math.pi / 2:
-            raise ValueError(f"the record's latitude {rec_deg:g} deg is outside (0, 90) deg "
-                             f"N: {NORTHERN_ONLY}")
+        if not -math.pi / 2 < record_latitude < math.pi / 2:
+            raise ValueError(f"the record's latitude {rec_deg:g} deg must be {LATITUDE_RANGE}")
         lat, source = rec_deg, LAT_RECORD
         params = dataclasses.replace(params, **{
             k: getattr(gc.GyrocompassParams.at_latitude(record_latitude), k)
@@ -285,7 +323,32 @@ def _with_latitude(params: gc.GyrocompassParams, record_latitude: float | None, 
                      "the record)")
     return params, {"latitude_deg": lat, "source": source, "stated": source != LAT_NONE,
                     "record_latitude_deg": rec_deg, "Omega_h": params.Omega_h,
-                    "Omega_v": params.Omega_v}
+                    "Omega_v": params.Omega_v, "latitude_sigma_deg": o.get("latitude_sigma")}
+
+
+#: The latitude error whose effect on ω̂_gc a whole-degree latitude is warned of (deg).
+WHOLE_DEGREE_ERROR: Final[float] = 0.5
+
+
+def _latitude_warning(earth: dict, ver) -> dict | None:
+    """A latitude stated in whole degrees without an uncertainty (from any source): what an
+    error of :data:`WHOLE_DEGREE_ERROR` would move ω̂_gc by, in σ of this record
+    (:func:`gyrolib.gc.latitude_drift_shift`), or None."""
+    lat = earth["latitude_deg"]
+    if (not earth["stated"] or earth["source"] == LAT_PAPER or lat is None
+            or earth.get("latitude_sigma_deg") is not None or not float(lat).is_integer()
+            or not ver.given or not ver.sigma > 0.0):
+        return None
+    shift = gc.latitude_drift_shift(ver.result.params, math.radians(WHOLE_DEGREE_ERROR))
+    n = shift / ver.sigma
+    text = (f"the latitude {latitude_text(lat)} is given in whole degrees with no "
+            f"uncertainty: an error of {WHOLE_DEGREE_ERROR:g} deg would move omega_gc by "
+            f"about {n:.2g} sigma on this record ({shift:.3g} rad/s, Omega_h read as drift); "
+            "state the site's latitude more closely, or its uncertainty (--latitude "
+            f"{lat:g}±SIGMA or --latitude-sigma DEG), which then enters sigma as the term "
+            "'latitude'")
+    return {"error_deg": WHOLE_DEGREE_ERROR, "omega_gc_shift": shift,
+            "shift_over_sigma": n, "text": text}
 
 
 def _as_stated(record: gc.GCRecord, earth: dict) -> gc.GCRecord:
@@ -311,7 +374,7 @@ def run_file(file: str, o: dict) -> Outcome:
     res = ver.result
     artifacts = []
     if o["plot"]:
-        site = (f"latitude {earth['latitude_deg']:.6g} deg N ({earth['source']})"
+        site = (f"latitude {latitude_text(earth['latitude_deg'])} ({earth['source']})"
                 if earth["stated"] else "NO latitude given")
         artifacts.append((o["plot"], "plot", (res, f"{file}, {site}")))
     allan_lines: list[str] = []
@@ -327,7 +390,11 @@ def run_file(file: str, o: dict) -> Outcome:
         extra.pop("noise_fit_checks")
     data = _gc_json(file, ver, params, o["mapping"], earth)
     data.update(extra)
-    text = (_gc_text(file, ver, o, earth) + "".join(f"{ln}\n" for ln in allan_lines)
+    warn = _latitude_warning(earth, ver)
+    data["latitude_warning"] = warn
+    text = (_gc_text(file, ver, o, earth)
+            + (f"  warning: {warn['text']}\n" if warn else "")
+            + "".join(f"{ln}\n" for ln in allan_lines)
             + (f"  {ver.hint}\n" if ver.hint else ""))
     row = {"file": file, "method": "gc", "quantity": ver.quantity,
            "notes": "; ".join(ver.notes), "estimate": ver.estimate if ver.given else "",
@@ -342,7 +409,9 @@ def run_file(file: str, o: dict) -> Outcome:
 def _judge(record, params, earth: dict, o: dict, notes: list[str], fit: bool = False,
            **kw):
     """:func:`gyrolib.gc.judge_record` with the options ``o``."""
+    sigma = earth.get("latitude_sigma_deg")
     return gc.judge_record(record, params, latitude_stated=earth["stated"],
+                           latitude_sigma=math.radians(sigma) if sigma else 0.0,
                            fit=o["fit"] if fit else None, accept_misfit=o["accept_misfit"],
                            gate=o["gate"], store_every=o["store_every"],
                            max_rejected=o["max_rejected"], false_alarm=o["false_alarm"],
@@ -353,7 +422,8 @@ def _judge_whole(file: str, o: dict, notes: list[str]):
     """The record read whole (the fit and the Allan deviation read it many times), judged:
     (verdict, the record as read, the parameters, the Earth rate, the JSON's extras)."""
     params = o["params"]
-    raw, info = read_gc(file, params=params, columns=o["columns"], t0=o["t0"],
+    raw, info = read_gc(file, params=params, site_from_record=o["latitude_source"] == LAT_NONE,
+                        columns=o["columns"], t0=o["t0"],
                         units=o["units"], decimal_comma=o["decimal_comma"], return_info=True)
     extra = _time_notes(info, raw, params, notes)
     params = _with_step(params, raw.t, notes, o["dt_given"])
@@ -373,7 +443,8 @@ def _judge_streamed(file: str, o: dict, notes: list[str]):
     """The record streamed in chunks, each checked at the door, judged: (verdict, the
     parameters, the Earth rate, the JSON's extras)."""
     params = o["params"]
-    chunks = GCChunks(file, params=params, columns=o["columns"], t0=o["t0"],
+    chunks = GCChunks(file, params=params, site_from_record=o["latitude_source"] == LAT_NONE,
+                      columns=o["columns"], t0=o["t0"],
                       units=o["units"], decimal_comma=o["decimal_comma"])
     it = iter(chunks)
     try:        # the file and pyarrow's reader closed however the run ends
@@ -449,7 +520,8 @@ _GC_UNITS: Final[dict[str, str]] = {
     "max_rejected": "1 (share)",
     "rejected_share": "1 (share)", "log_likelihood": "1 (natural log)",
     "states": "SI per state (rad, rad/s, m/s^2)", "time_base.t_offset_s": "s",
-    "timestamp_jitter": "s, rad, 1"}
+    "timestamp_jitter": "s, rad, 1", "earth_rate.latitude_sigma_deg": "deg",
+    "latitude_warning": "deg (error_deg), rad/s (omega_gc_shift), 1 (shift_over_sigma)"}
 
 
 def _signed(sign: float, column: str) -> str:
@@ -470,7 +542,10 @@ def _earth_line(earth: dict) -> str:
     over = (f"; the record's '# latitude_deg:' line says {rec:.6g} deg, overridden"
             if earth["source"] != LAT_RECORD and rec is not None
             and abs(rec - earth["latitude_deg"]) > 0.01 else "")
-    return f"  Earth rate: latitude {earth['latitude_deg']:.6g} deg N ({src}{over}): {rate}"
+    sd = earth.get("latitude_sigma_deg")
+    sd = f" ± {sd:g} deg (1 sigma)" if sd is not None else ""
+    return (f"  Earth rate: latitude {latitude_text(earth['latitude_deg'])}{sd} ({src}{over}): "
+            f"{rate}")
 
 
 def _check_lines(ver) -> list[str]:

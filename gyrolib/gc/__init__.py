@@ -50,6 +50,7 @@ the race                 :func:`race`, :func:`race_sweep`        ``gc.racing.com
 a recorded log           :class:`GCRecord`                       ``gc.logs.record``
 calibration on a log     :func:`calibrate`                       ``gc.logs.calibration``
 its verdict on a log     :func:`judge_record`                    ``gc.logs.judgement``
+the site's latitude      :func:`latitude_drift_sigma`            ``gc.logs.site``
 noise fitted to a log    :func:`fit_noise`                       ``gc.logs.noise_fit``
 which column is δ, γ     :class:`InclinometerMapping`            ``gc.logs.convention``
 Allan deviation          :func:`allan_deviation`                 ``gc.logs.allan``
@@ -114,12 +115,15 @@ from gyrolib.gc.logs import (
     calibrate,
     convention_study,
     earth_rate_mismatch,
+    equator_note,
     evidence_codes,
     fit_checks,
     fit_noise,
     fit_uncertainty,
     innovation_log_likelihood,
     judge_record,
+    latitude_drift_shift,
+    latitude_drift_sigma,
     profile_intervals,
     simulate_record,
     simulate_records,
@@ -279,6 +283,7 @@ __all__ = [
     "covariance_analysis",
     "discretize",
     "earth_rate_mismatch",
+    "equator_note",
     "error_budget",
     "evidence_codes",
     "fit_checks",
@@ -291,6 +296,8 @@ __all__ = [
     "innovation_log_likelihood",
     "instrument_model",
     "judge_record",
+    "latitude_drift_shift",
+    "latitude_drift_sigma",
     "linearization_effect",
     "linearized_acceleration",
     "mean_square_standard_error",

@@ -2,8 +2,8 @@
 field overridden by name, in SI.
 
 * GC: top-level keys are fields of :class:`gyrolib.gc.GyrocompassParams`
-  (e.g. ``C_as = 2e-13``, ``dt = 0.001``), and ``latitude`` (degrees north, in (0, 90); the
-  one key not in SI): ``Omega_h``, ``Omega_v`` from the Earth's rate
+  (e.g. ``C_as = 2e-13``, ``dt = 0.001``), and ``latitude`` (degrees, north positive, in (−90, 90);
+  the one key not in SI): ``Omega_h``, ``Omega_v`` from the Earth's rate
   (:meth:`~gyrolib.gc.GyrocompassParams.at_latitude`), not with those two keys;
 * RSF: tables ``[sins]``, ``[gs]``, ``[encoder]`` whose keys are fields of
   :class:`gyrolib.rsf.SinsGyroModel`, :class:`~gyrolib.rsf.GsModel`,
@@ -26,16 +26,16 @@ from gyrolib.gc import inputs as gc_inputs
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.records.errors import RecordError
 
-__all__ = ["INSTRUMENT_TABLES", "NORTHERN_ONLY", "RSF_ROWS", "gc_params_from_toml",
+__all__ = ["INSTRUMENT_TABLES", "LATITUDE_RANGE", "RSF_ROWS", "gc_params_from_toml",
            "instrument_notes", "load_toml", "race_inputs", "rsf_config_from_toml"]
 
-#: Why a site south of the equator (or on it) is refused, in every message that refuses one.
-NORTHERN_ONLY: Final[str] = (
-    "paper GC's model is written for the northern hemisphere: it takes both Earth-rate "
-    "components, Omega_h = Omega_E cos(lat) and Omega_v = Omega_E sin(lat), positive "
-    "(Eqs. (3)-(4)); south of the equator Omega_v changes sign, which neither the model nor "
-    "the checks at the door carry, so a southern site is refused rather than calibrated "
-    "wrongly")
+#: What a site's latitude may be, in every message that refuses one: south of the equator
+#: ``Omega_v`` is negative, on it 0 (the model carries both); at a pole ``Omega_h`` is 0 and
+#: a gyrocompass has no horizontal Earth rate to sense.
+LATITUDE_RANGE: Final[str] = (
+    "degrees in (-90, 90), north positive, south negative (Omega_h = Omega_E cos(lat), "
+    "Omega_v = Omega_E sin(lat); at a pole Omega_h = 0 leaves a gyrocompass nothing to sense)")
+
 
 #: The tables of one instrument file, and the command that reads each; the top-level keys
 #: (fields of GyrocompassParams and ``latitude``, the site) are read by ``calibrate gc`` and
@@ -107,9 +107,8 @@ def _top_values(label: str, doc: dict) -> dict:
         lat = values.pop("latitude")
         if {"Omega_h", "Omega_v"} & set(values):
             raise RecordError(label, "give either 'latitude' or Omega_h/Omega_v, not both")
-        if isinstance(lat, bool) or not isinstance(lat, int | float) or not 0.0 < lat < 90.0:
-            raise RecordError(label, f"field 'latitude' must be degrees north in (0, 90): "
-                              f"{NORTHERN_ONLY}; got {lat!r}")
+        if isinstance(lat, bool) or not isinstance(lat, int | float) or not -90.0 < lat < 90.0:
+            raise RecordError(label, f"field 'latitude' must be {LATITUDE_RANGE}; got {lat!r}")
         earth = GyrocompassParams.at_latitude(math.radians(lat))
         values = {"Omega_h": earth.Omega_h, "Omega_v": earth.Omega_v, **values}
     return values

@@ -6,7 +6,7 @@ Paper GC (:func:`check_gc`):
 
 * **angle sensor** — after the feedback is switched off the float follows the nominal motion
   β_n(t) of Eq. (4); Eq. (5) drives the deviation ``Δβ`` by torques that the model's priors
-  bound, so ``|Δβ'| ≤ (H/f) U`` with ``U = Ω_h |ψ| + Ω_v (|δ| + |γ|) + |ω_gc| + |ω_rnd| +
+  bound, so ``|Δβ'| ≤ (H/f) U`` with ``U = Ω_h |ψ| + |Ω_v| (|δ| + |γ|) + |ω_gc| + |ω_rnd| +
   |ω_ub| |N1|/g`` taken at ``k = 10`` prior standard deviations (inertia only slows the float
   down).  A sample is *beyond what the float can turn* when
   ``|β − β_n(t)| > (H/f) U t + k (σ_Δβ0 + σ_n)``, ``σ_n`` the angle noise (the model's
@@ -114,7 +114,7 @@ def angle_bound(params: GyrocompassParams, t: np.ndarray, *,
     t = np.asarray(t, dtype=float)
     sigma1 = math.sqrt(p.sigma1_sq)
     sigma2 = math.sqrt(p.sigma2_sq)
-    u = k * (p.Omega_h * p.sigma_psi0 + p.Omega_v * (p.sigma_delta0 + p.sigma_gamma0)
+    u = k * (p.Omega_h * p.sigma_psi0 + abs(p.Omega_v) * (p.sigma_delta0 + p.sigma_gamma0)
              + p.sigma_gc0 + sigma2 + abs(p.omega_ub) * sigma1 / p.g)
     if noise is None:
         r11 = p.C_as / p.dt if p.measurement_noise == "intensity_over_dt" else p.C_as

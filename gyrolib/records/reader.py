@@ -1153,6 +1153,20 @@ def _gc_from(data: np.ndarray, latitude: float | None) -> GCRecord:
                     inclinometer_z=data[:, 3], latitude=latitude)
 
 
+def _door_params(params: GyrocompassParams | None, latitude: float | None,
+                 site_from_record: bool) -> GyrocompassParams | None:
+    """The parameters the door check reads a GC record with: ``params`` (default the
+    paper's), with the Earth rate at the record's own ``# latitude_deg:`` line when it has
+    one and no other states the site (``params`` None, or ``site_from_record``)."""
+    if latitude is None or not (params is None or site_from_record):
+        return params
+    if not -math.pi / 2 < latitude < math.pi / 2:     # a pole: the calibration refuses it
+        return params
+    earth = GyrocompassParams.at_latitude(latitude)
+    base = GyrocompassParams() if params is None else params
+    return dataclasses.replace(base, Omega_h=earth.Omega_h, Omega_v=earth.Omega_v)
+
+
 def _check_gc_start(label: str, t0: float) -> None:
     if t0 < 0.0:
         raise RecordError(label, f"expected times >= 0 (s since the feedback was switched "
@@ -1163,11 +1177,13 @@ class GCChunks:
     """Iterable of :class:`GCRecord` chunks of a file; ``fraction`` is the part of the file
     read so far (for a progress bar), ``info`` the :class:`RecordInfo` once the first chunk
     is read.  Each chunk is checked at the door (:func:`gyrolib.records.check_gc` with
-    ``params``, default the paper's) unless ``check=False``; ``columns`` and ``t0`` as in
-    :func:`iter_csv`."""
+    ``params``, default the paper's; the Earth rate that of the record's ``# latitude_deg:``
+    line when ``params`` is None or ``site_from_record``) unless ``check=False``;
+    ``columns`` and ``t0`` as in :func:`iter_csv`."""
 
     def __init__(self, path: object, *, chunk_rows: int = CHUNK_ROWS,
                  params: GyrocompassParams | None = None, check: bool = True,
+                 site_from_record: bool = False,
                  columns: Mapping[str, str] | None = None, t0: float | None = None,
                  units: Mapping[str, str | None] | None = None,
                  decimal_comma: bool | None = None) -> None:
@@ -1175,6 +1191,7 @@ class GCChunks:
                                units=units, decimal_comma=decimal_comma)
         self._params = params
         self._check = v.check_bool("check", check)
+        self._site_from_record = v.check_bool("site_from_record", site_from_record)
 
     @property
     def fraction(self) -> float:
@@ -1195,8 +1212,9 @@ class GCChunks:
                     first = False
                 rec = _gc_from(data, self._reader.latitude)
                 if self._check:
-                    check_gc(rec, self._params, label=self._reader.label,
-                             rows=(row + 1, row + rec.n))
+                    check_gc(rec, _door_params(self._params, rec.latitude,
+                                               self._site_from_record),
+                             label=self._reader.label, rows=(row + 1, row + rec.n))
                 row += rec.n
                 yield rec
         finally:        # a refusal or an abandoned run: the file and pyarrow's reader closed
@@ -1204,13 +1222,15 @@ class GCChunks:
 
 
 def read_gc(path: object, *, params: GyrocompassParams | None = None, check: bool = True,
+            site_from_record: bool = False,
             columns: Mapping[str, str] | None = None, t0: float | None = None,
             units: Mapping[str, str | None] | None = None,
             decimal_comma: bool | None = None,
             return_info: bool = False):
     """A whole paper-GC record file (see the module docstring for the format), checked at
-    the door (:func:`gyrolib.records.check_gc` with ``params``) unless ``check=False``;
-    ``(record, info)`` with ``return_info=True``.
+    the door (:func:`gyrolib.records.check_gc` with ``params``; the Earth rate that of the
+    record's ``# latitude_deg:`` line when ``params`` is None or ``site_from_record``) unless
+    ``check=False``; ``(record, info)`` with ``return_info=True``.
 
     Examples
     --------
@@ -1226,8 +1246,9 @@ def read_gc(path: object, *, params: GyrocompassParams | None = None, check: boo
                              units=units, decimal_comma=decimal_comma)
     _check_gc_start(str(path), float(data[0, 0]))
     rec = _gc_from(data, info.latitude)
+    site_from_record = v.check_bool("site_from_record", site_from_record)
     if v.check_bool("check", check):
-        check_gc(rec, params, label=str(path))
+        check_gc(rec, _door_params(params, rec.latitude, site_from_record), label=str(path))
     return (rec, info) if v.check_bool("return_info", return_info) else rec
 
 

@@ -433,10 +433,13 @@ def ten_rows(tmp_path_factory):
 
 
 @pytest.mark.parametrize(("argv", "words"), [
-    (["--latitude", "95"], ["--latitude", "(0, 90)"]),
-    (["--latitude=-10"], ["--latitude", "(0, 90)"]),
-    (["--latitude", "north"], ["--latitude", "(0, 90)", "'paper'", "north"]),
-    (["--latitude", "nan"], ["--latitude", "(0, 90)"]),
+    (["--latitude", "95"], ["--latitude", "(-90, 90)"]),
+    (["--latitude=-90"], ["--latitude", "(-90, 90)", "pole"]),
+    (["--latitude", "north"], ["--latitude", "(-90, 90)", "'paper'", "north"]),
+    (["--latitude", "nan"], ["--latitude", "(-90, 90)"]),
+    (["--latitude", "54±-1"], ["--latitude", "uncertainty", ">= 0"]),
+    (["--latitude", "54±0.5", "--latitude-sigma", "0.5"], ["--latitude-sigma", "give one"]),
+    (["--latitude-sigma=-1"], ["--latitude-sigma", ">= 0"]),
     (["--scale-tolerance=-1e-3"], ["--scale-tolerance", ">= 0"]),
     (["--offset-prior", "nan"], ["--offset-prior", ">= 0"]),
     (["--inclinometer-bias-prior=-1"], ["--inclinometer-bias-prior", ">= 0"]),
@@ -449,7 +452,7 @@ def test_bad_options(argv, words, ten_rows, capsys):
 
 
 @pytest.mark.parametrize(("text", "words"), [
-    ("latitude = 95.0\n", ["latitude", "(0, 90)"]),
+    ("latitude = 95.0\n", ["latitude", "(-90, 90)"]),
     ("latitude = 45.0\nOmega_h = 4e-5\n", ["latitude", "Omega_h"]),
 ])
 def test_bad_toml_latitude(text, words, ten_rows, tmp_path, capsys):

@@ -52,7 +52,7 @@ def test_every_hint_names_an_option_of_the_command():
 
 @pytest.mark.parametrize(("code", "option"), [
     ("no_latitude", "--latitude"), ("latitude_mismatch", "--latitude"),
-    ("scale_inconsistent", "--scale-tolerance"), ("prior_inconsistent", "--drift-prior"),
+    ("prior_scale", "--scale-tolerance"), ("prior_drift", "--drift-prior"),
     ("misfit", "--fit-noise"), ("fit_not_converged", "--fit"),
     ("fit_not_identified", "--fit"), ("early_release", "--t0")])
 def test_the_issues_table(code, option):
@@ -287,23 +287,34 @@ def test_one_instrument_file_read_by_both_commands(logs, capsys, tmp_path):
 
 
 @pytest.mark.parametrize("where", ["option", "params", "record"])
-def test_the_southern_hemisphere_is_refused_with_the_physical_reason(logs, capsys, tmp_path,
-                                                                      where):
-    from gyrolib.records.params import NORTHERN_ONLY
-
-    rec, argv = logs["clean"], []
+def test_a_southern_site_is_read_from_every_source(logs, capsys, tmp_path, where):
+    """A site south of the equator is no longer bad input: from the option, the params file
+    or the record's line, Omega_v is negative (Ω_E sin φ), the record made there (20 s,
+    seed 3401) is valid, and the site is printed as south."""
+    site = gc.GyrocompassParams.at_latitude(math.radians(-33.9))
+    r = gc.simulate_record(site, 20.0, seed=3401).record
+    cols = {"t": r.t, "angle_sensor": r.angle_sensor, "inclinometer_y": r.inclinometer_y,
+            "inclinometer_z": r.inclinometer_z}
+    fmt = ["%.9g", "%.12g", "%.12g", "%.12g"]
+    rec = records.write_csv(tmp_path / "south.csv", cols, fmt=fmt)
+    argv = []
     if where == "option":
         argv = ["--latitude", "-33.9"]
     elif where == "params":
         (tmp_path / "p.toml").write_text("latitude = -33.9\n")
         argv = ["--params", tmp_path / "p.toml"]
     else:
-        rec = tmp_path / "south.csv"
-        rec.write_text("# latitude_deg: -33.9\n" + logs["clean"].read_text())
-    code, out, err = _run(["calibrate", "gc", rec, *argv], capsys)
-    assert code == 2 and out == "" and err.count("\n") == 1
-    assert " ".join(NORTHERN_ONLY.split()) in err
-    assert "northern hemisphere" in (ROOT / "README.md").read_text("utf-8")
+        rec = records.write_csv(tmp_path / "south_line.csv", cols, fmt=fmt,
+                                comments=["latitude_deg: -33.9"])
+    code, out, _ = _run(["calibrate", "gc", rec, *argv, "--json"], capsys)
+    data = json.loads(out)
+    assert code == 0 and data["valid"]
+    assert data["earth_rate"]["latitude_deg"] == pytest.approx(-33.9)
+    assert data["earth_rate"]["Omega_v"] == pytest.approx(
+        7.292115e-5 * math.sin(math.radians(-33.9)), rel=1e-9)
+    code, out, _ = _run(["calibrate", "gc", rec, *argv], capsys)
+    assert "latitude 33.9 deg S (" in out
+    assert "northern hemisphere" not in (ROOT / "README.md").read_text("utf-8")
 
 
 def test_long_log_plot_bins_the_nis_and_names_file_and_latitude(logs, tmp_path, capsys):

@@ -210,6 +210,14 @@ def test_allan_option_prints_the_noise_terms(tmp_path, capsys):
     assert arw["name"] == "angle random walk" and arw["identified"]
     assert abs(arw["value"] - n_arw) <= arw["sigma"]
     assert arw["unit"] == "rad/s*sqrts"
+    # a term whose coefficient is 0 is nowhere: no tau_s (absent, as allan --json has it,
+    # never null); the library's terms say which coefficients are 0
+    lib = gc.allan_noise_terms(gc.allan_deviation(records.read_gc(path, check=False), P))
+    for name, terms in data["allan_noise_terms"].items():
+        for term, t in zip(terms, lib[name], strict=True):
+            assert ("tau_s" in term) == (t.tau is not None), (name, term["name"])
+            assert term.get("tau_s", 1.0) is not None
+    assert any("tau_s" not in t for ts in data["allan_noise_terms"].values() for t in ts)
     if code == 0:
         assert png.stat().st_size > 1000
     main([*GC_PAPER, str(path), "--allan", str(tmp_path / "b.png")])

@@ -602,12 +602,21 @@ case("gc.system_matrix_parts", lambda: gc.system_matrix_parts("paper"), TypeErro
      "params", "GyrocompassParams")
 
 
-case("gc.GyrocompassParams.at_latitude", lambda: gc.GyrocompassParams.at_latitude(0.0),
-     ValueError, "latitude", r"\(0.0, ")
+case("gc.GyrocompassParams.at_latitude",
+     lambda: gc.GyrocompassParams.at_latitude(-math.pi / 2), ValueError, "latitude",
+     r"\(-1.57")
 case("gc.GyrocompassParams.at_latitude", lambda: gc.GyrocompassParams.at_latitude(45.0),
      ValueError, "latitude")
 case("gc.GyrocompassParams.at_latitude",
      lambda: gc.GyrocompassParams.at_latitude(0.5, H=-1.0), ValueError, "H", POS)
+case("gc.latitude_drift_shift", lambda: gc.latitude_drift_shift(P, -0.01), ValueError,
+     "dlat", ">= 0")
+case("gc.latitude_drift_shift", lambda: gc.latitude_drift_shift("paper", 0.01), TypeError,
+     "params", "GyrocompassParams")
+case("gc.latitude_drift_sigma", lambda: gc.latitude_drift_sigma(P, math.nan), ValueError,
+     "latitude_sigma")
+case("gc.equator_note", lambda: gc.equator_note(None), TypeError, "params",
+     "GyrocompassParams")
 
 
 # Eqs. (1)-(3), (5) as named functions (gc.model.equations)
@@ -831,6 +840,8 @@ case("gc.ContinuousModel.system_matrix", lambda: _CM.system_matrix(float("nan"))
 case("gc.judge_record", lambda: gc.judge_record("x", P), TypeError, "record", "GCRecord")
 case("gc.judge_record", lambda: gc.judge_record(_REC, "x"), TypeError, "params",
      "GyrocompassParams")
+case("gc.judge_record", lambda: gc.judge_record(_REC, P, latitude_sigma=-1.0), ValueError,
+     "latitude_sigma", ">= 0")
 case("gc.judge_record", lambda: gc.judge_record(_REC, P, gate=2.0), ValueError, "gate",
      r"in \(0\.0, 1\.0\)")
 EXEMPT.update({
@@ -899,7 +910,7 @@ def test_any_seed_that_is_not_a_non_negative_int_is_rejected(seed):
         rsf.simulate_flight(cfg(), seed)
 
 
-POSITIVE_FIELDS = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
+POSITIVE_FIELDS = ("I", "H", "f", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
                    "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
 
 

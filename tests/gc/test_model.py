@@ -178,9 +178,9 @@ def test_aperiodic_approximation_lags_by_k_tau():
 
 
 # Validation of GyrocompassParams ----------------------------------------------------------------
-_POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
+_POSITIVE = ("I", "H", "f", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
              "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
-_REAL = ("omega_ub",)
+_REAL = ("omega_ub", "Omega_v")
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
                 "sigma_delta0", "sigma_gamma0", "shaping_p0_scale", "sigma_hf_scale",
                 "sigma_as_offset", "sigma_incl_bias", "sigma_clock")

@@ -140,3 +140,19 @@ def test_rsf_one_percent_is_the_line(flight):
         else:
             with pytest.raises(RecordError):
                 records.check_rsf(rec, label="x")
+
+
+def test_a_packet_counter_as_time_is_not_taken_for_milliseconds():
+    """A 256 Hz log whose ``t`` is the packet counter (0, 1, 2, … one a sample): refused at
+    the door, and no hint names ``--time-unit ms``, which would read the counter as a 1 kHz
+    clock, 3.9 times too fast (the float's motion does not fit it); the same log at 1 kHz,
+    where the counter is the time in ms, gets that hint (power)."""
+    for rate, want in ((256.0, None), (1000.0, "--time-unit ms")):
+        p = dataclasses.replace(P, dt=1.0 / rate)
+        r = gc.simulate_record(p, 20.0, seed=4701).record
+        counter = gc.GCRecord(t=np.round(r.t * rate), angle_sensor=r.angle_sensor,
+                              inclinometer_y=r.inclinometer_y, inclinometer_z=r.inclinometer_z)
+        with pytest.raises(RecordError) as exc:
+            records.check_gc(counter, p, label="counter.csv")
+        assert exc.value.column in ("t", "angle_sensor")
+        assert exc.value.hint == want, (rate, exc.value.hint, str(exc.value))

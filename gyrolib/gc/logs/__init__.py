@@ -39,6 +39,7 @@ from gyrolib.gc.logs.record import (
     MEASUREMENT_COLUMNS,
     GCRecord,
 )
+from gyrolib.gc.logs.site import equator_note, latitude_drift_shift, latitude_drift_sigma
 
 __all__ = [
     "EARTH_RATE_TOLERANCE",
@@ -58,12 +59,15 @@ __all__ = [
     "calibrate",
     "convention_study",
     "earth_rate_mismatch",
+    "equator_note",
     "evidence_codes",
     "fit_checks",
     "fit_noise",
     "fit_uncertainty",
     "innovation_log_likelihood",
     "judge_record",
+    "latitude_drift_shift",
+    "latitude_drift_sigma",
     "profile_intervals",
     "simulate_record",
     "simulate_records",

@@ -28,6 +28,7 @@ from gyrolib.gc.logs.noise_fit import (
     profile_intervals,
 )
 from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.logs.site import equator_note, latitude_drift_sigma
 from gyrolib.gc.model.params import PAPER_LATITUDE, GyrocompassParams
 from gyrolib.reasons import hint, primary
 from gyrolib.verdict import Check, Counts, Verdict
@@ -196,8 +197,14 @@ def _noise_fit(record: GCRecord, params: GyrocompassParams, names: Sequence[str]
     return unfitted, profile_intervals(record, fit)
 
 
+def _latitude_part(params: GyrocompassParams, latitude_sigma: float) -> dict[str, float]:
+    """σ(ω_gc)'s term of the latitude's uncertainty, ``{}`` when none is stated."""
+    return {"latitude": latitude_drift_sigma(params, latitude_sigma)} if latitude_sigma else {}
+
+
 def judge_record(record: GCRecord | Iterable[GCRecord],
                  params: GyrocompassParams | None = None, *, latitude_stated: bool = True,
+                 latitude_sigma: float = 0.0,
                  fit: Sequence[str] | None = None, accept_misfit: bool = False,
                  gate: float = 0.9999, store_every: int = 100, max_rejected: float = 0.01,
                  false_alarm: float = 0.01, notes: Iterable[str] = (),
@@ -218,9 +225,12 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
     * ``invalid`` otherwise.
 
     σ(ω_gc) holds the filter's parts (``noise``, ``instrument_biases``, ``scale``,
-    :attr:`CalibrationResult.omega_gc_std_parts`) and, with a fit, ``noise_fit``: what the
+    :attr:`CalibrationResult.omega_gc_std_parts`), with a fit ``noise_fit``: what the
     fitted values' own uncertainty adds (:func:`gyrolib.gc.fit_uncertainty`, in
-    quadrature).
+    quadrature), and with a latitude uncertainty ``latitude``
+    (:func:`gyrolib.gc.latitude_drift_sigma`: Ω_h reads as drift).  A site near the
+    equator gets a note of what the method still estimates there
+    (:func:`gyrolib.gc.equator_note`).
 
     Parameters
     ----------
@@ -230,6 +240,9 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
         The model, its Earth rate stated for the site (default: the paper's).
     latitude_stated : bool
         Whether ``params``' Earth rate is the site's, stated by the user or the record.
+    latitude_sigma : float
+        1σ uncertainty (rad) of the stated latitude, carried into σ(ω_gc) as the term
+        ``latitude`` when > 0.
     fit : sequence of str, optional
         Noise parameters to fit to the record first (:data:`gyrolib.gc.NOISE_FIT_NAMES`).
     accept_misfit : bool
@@ -264,6 +277,7 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
     'try: --params ('
     """
     v.check_bool("latitude_stated", latitude_stated)
+    v.check_nonnegative("latitude_sigma", latitude_sigma)
     v.check_bool("accept_misfit", accept_misfit)
     options = {"gate": gate, "store_every": store_every, "max_rejected": max_rejected,
                "false_alarm": false_alarm}
@@ -305,6 +319,8 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
     parts = dict(res.omega_gc_std_parts)
     if nf is not None:
         parts["noise_fit"] = fit_std
+    parts.update(_latitude_part(res.params, latitude_sigma))
+    out_notes += [n for n in (equator_note(res.params),) if n]
     checks = _model_checks(res) + [c for c in map(_fit_check, made) if c is not None]
     return Verdict(
         method="gc", quantity="omega_gc", unit="rad/s", estimate=res.omega_gc,

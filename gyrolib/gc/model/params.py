@@ -44,6 +44,7 @@ __all__ = [
     "NOISE_NAMES",
     "STATE_NAMES",
     "GyrocompassParams",
+    "latitude_text",
     "normal_gravity",
     "state_index",
 ]
@@ -87,11 +88,12 @@ def state_index(name: str) -> int:
     return STATE_NAMES.index(name)
 
 
-_POSITIVE = ("I", "H", "f", "Omega_v", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
+_POSITIVE = ("I", "H", "f", "Omega_h", "g", "alpha1", "sigma1_sq", "alpha2",
              "sigma2_sq", "C_as", "C_incl_y", "C_incl_z", "dt")
 
 
-_REAL = ("omega_ub",)
+#: ``Omega_v = Ω_E sin φ`` is negative south of the equator and 0 on it.
+_REAL = ("omega_ub", "Omega_v")
 
 
 _NONNEGATIVE = ("sigma_dbeta0", "sigma_dbeta_dot0", "sigma_psi0", "sigma_gc0",
@@ -254,11 +256,14 @@ class GyrocompassParams:
     @classmethod
     def at_latitude(cls, latitude: float, **overrides: object) -> GyrocompassParams:
         """The parameters with ``Omega_h = Ω_E cos φ`` and ``Omega_v = Ω_E sin φ`` at the
-        geodetic latitude ``φ`` (rad, in (0, π/2): paper GC's model needs both components
-        positive), ``Ω_E`` = :data:`EARTH_RATE`; other fields from ``overrides``.
+        geodetic latitude ``φ`` (rad, in (−π/2, π/2): south of the equator ``Omega_v`` is
+        negative, on it 0; at a pole ``Omega_h`` vanishes and the gyrocompass has nothing
+        to sense), ``Ω_E`` = :data:`EARTH_RATE`; other fields from ``overrides``.
 
         The paper's ``Omega_h = 4.3·10⁻⁵``, ``Omega_v = 5.9·10⁻⁵`` rad/s correspond to
-        :data:`PAPER_LATITUDE`, about 53.9° N.
+        :data:`PAPER_LATITUDE`, about 53.9° N.  Only the sign of ``Omega_v`` tells the
+        hemispheres apart in paper GC's model (Eqs. (2), (3): the tilts couple through
+        ``Ω_v``); on the equator the tilts do not torque the float at all.
 
         Examples
         --------
@@ -267,13 +272,29 @@ class GyrocompassParams:
         >>> p = GyrocompassParams.at_latitude(math.radians(45.0))
         >>> f"{p.Omega_h:.4e} {p.Omega_v:.4e}"
         '5.1563e-05 5.1563e-05'
+        >>> f"{GyrocompassParams.at_latitude(math.radians(-35.0)).Omega_v:.4e}"
+        '-4.1826e-05'
         >>> f"{math.degrees(PAPER_LATITUDE):.1f}"
         '53.9'
         """
-        lat = v.check_in_range("latitude", latitude, 0.0, math.pi / 2, low_open=True,
+        lat = v.check_in_range("latitude", latitude, -math.pi / 2, math.pi / 2, low_open=True,
                                high_open=True)
         return cls(**{"Omega_h": EARTH_RATE * math.cos(lat),
                       "Omega_v": EARTH_RATE * math.sin(lat), **overrides})
+
+    @property
+    def latitude(self) -> float:
+        """The geodetic latitude (rad) whose Earth-rate components have the ratio of
+        ``Omega_v`` to ``Omega_h``: ``atan2(Ω_v, Ω_h)``, negative south of the equator.
+
+        Examples
+        --------
+        >>> import math
+        >>> from gyrolib.gc import GyrocompassParams
+        >>> f"{math.degrees(GyrocompassParams.at_latitude(math.radians(-35.0)).latitude):.6g}"
+        '-35'
+        """
+        return math.atan2(self.Omega_v, self.Omega_h)
 
     # Derived quantities -------------------------------------------------------------------
     @property
@@ -314,6 +335,22 @@ class GyrocompassParams:
     def random_drift_filter(self) -> ShapingFilter:
         """The random-drift shaping filter, Eq. (7) (built once, at construction; read-only)."""
         return self._random_drift
+
+
+def latitude_text(degrees: float, digits: int = 6) -> str:
+    """A latitude in degrees as the outputs print it: ``"53.9 deg N"``, ``"35 deg S"``, and
+    ``"0 deg"`` on the equator, with ``digits`` significant digits.
+
+    Examples
+    --------
+    >>> latitude_text(53.9), latitude_text(-35.0), latitude_text(0.0)
+    ('53.9 deg N', '35 deg S', '0 deg')
+    """
+    d = float(degrees)
+    text = f"{abs(d):.{int(digits)}g} deg"
+    if text == f"{0.0:.{int(digits)}g} deg":
+        return text
+    return text + (" N" if d > 0 else " S")
 
 
 def normal_gravity(latitude: float) -> float:
