@@ -11,7 +11,9 @@ step for a message.
 
 The step is the greatest common divisor, within the floats' precision, of the differences
 between the column's distinct values (Euclid's algorithm on floats, then every difference
-checked to be a whole multiple of it) and of the decimal step the values show (the most
+checked to be a whole multiple of it; not when the column moves by exactly one such step
+from every sample to the next, which is a noise-free signal at a steady rate, not a
+rounding) and of the decimal step the values show (the most
 decimals in their shortest representation, which is all a column of one or two distinct
 values tells: a steady increment written to 4 decimals reads ``0.157`` or ``0.1571``, and
 its step is then known only to within the decimals it shows).  A column that carries the
@@ -29,14 +31,19 @@ from numpy.typing import ArrayLike
 
 __all__ = ["column_step", "describe_step", "rounding_correlation"]
 
-#: A step must exceed this many units in the last place of the column's largest value to
-#: count: below it, the grid cannot be told from the floats' own rounding (and Euclid's
-#: remainders, whose errors grow by their quotients, no longer mean anything).
-FLOOR_ULPS = 1e6
+#: A step must exceed this many units in the last place of the column's largest value
+#: (about 2e-8 of it) to count: below it, the grid cannot be told from the floats' own
+#: rounding or from ten significant digits (and Euclid's remainders, whose errors grow by
+#: their quotients, no longer mean anything); a rounding that fine is far below any
+#: sensor's noise.
+FLOOR_ULPS = 1e8
 
 #: Every difference between distinct values must lie within this share of a step of a whole
 #: number of steps.
 ON_GRID = 0.01
+
+#: Distinct values whose decimals are read (what matters for a column of few values).
+DECIMAL_VALUES = 200
 
 #: Differences between distinct values that Euclid's algorithm reads (the check reads all).
 EUCLID_DIFFERENCES = 2000
@@ -76,6 +83,8 @@ def column_step(values: ArrayLike) -> float:
     0.001
     >>> column_step(np.round(np.cumsum(x), 4))            # the angle, written to 4 decimals
     0.0001
+    >>> column_step(np.radians(900.0) * np.arange(100) * 0.01)   # ω t: no rounding
+    0.0
     >>> counts = rng.integers(0, 65536, 500)
     >>> column_step(counts), f"{column_step(2 * np.pi / 65536 * counts):.6e}"   # rad
     (1.0, '9.587380e-05')
@@ -85,27 +94,43 @@ def column_step(values: ArrayLike) -> float:
     if u.size == 0:
         return 0.0
     floor = FLOOR_ULPS * float(np.spacing(np.max(np.abs(u))))
-    dec = _decimal_step(u[:EUCLID_DIFFERENCES], floor)
+    dec = _decimal_step(u, floor)
     euc = _difference_step(u, floor)
+    if euc > 0.0 and _one_step_a_sample(x[np.isfinite(x)], euc):
+        euc = 0.0
     if dec > 0.0 and euc > 0.0:
         return _gcd(euc, dec, floor)
     return max(dec, euc)
 
 
+def _one_step_a_sample(x: np.ndarray, step: float) -> bool:
+    """Whether the column moves by exactly one ``step`` from every sample to the next: a
+    signal sampled at a steady rate without noise (an angle ``ω t``) lies on the grid of
+    its own increment, which is no rounding (a rounded signal stays on a grid point for
+    some samples, or moves by several)."""
+    m = np.round(np.abs(np.diff(x)) / step)
+    return bool(m.size > 0 and np.all(m == 1.0))
+
+
 def _decimal_step(u: np.ndarray, floor: float) -> float:
     """``10**-k`` for the most decimals ``k`` among the shortest representations of the
-    values ``u``, or 0.0 when that is within ``floor``."""
+    first :data:`DECIMAL_VALUES` values of ``u``, every value of ``u`` checked to lie on
+    that grid; 0.0 when one does not, or when the step is within ``floor``."""
     k = max(len(np.format_float_positional(val, unique=True, trim="-").partition(".")[2])
-            for val in u.tolist())
+            for val in u[:DECIMAL_VALUES].tolist())
     step = 10.0 ** -k
-    return step if step > floor else 0.0
+    if step <= floor:
+        return 0.0
+    r = u / step
+    return step if bool(np.all(np.abs(r - np.round(r)) <= ON_GRID)) else 0.0
 
 
 def _difference_step(u: np.ndarray, floor: float) -> float:
-    """The greatest common divisor of the differences of the sorted distinct values ``u``,
-    every difference checked to be a whole multiple of it, or 0.0 (none, or within
-    ``floor``)."""
-    if u.size < 2:
+    """The greatest common divisor of the differences of the sorted distinct values ``u``
+    (at least three, counting values within ``floor`` of each other as one), every
+    difference checked to be a whole multiple of it, or 0.0 (none, or within ``floor``)."""
+    u = u[np.concatenate([[True], np.diff(u) > floor])]   # values apart by rounding: one
+    if u.size < 3:          # one difference is no evidence of a grid (0 and a steady value)
         return 0.0
     d = np.diff(u)
     g = float(d[0])

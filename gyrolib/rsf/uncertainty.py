@@ -48,7 +48,8 @@ adds, in quadrature, one part per term, each counted once:
   noise a sample, :func:`gyrolib.resolution.rounding_correlation`) and the rest is white:
   ``(q_S/√12) √(ρ² N² + (1 − ρ²) N) / Σ|T_i|`` over the ``N`` samples used.  A GS angle
   (or GS gyro angle) rounded to ``q_G`` errs at the end points like the encoder:
-  ``(q_G/√12) Σ_j |c_j| / n``.  The two add in quadrature.
+  ``(q_G/√12) Σ_j |c_j| / n`` (not when ``q_G`` is the encoder's count, which the
+  ``encoder`` part carries).  The two add in quadrature.
 
 The checks (:meth:`Eps1Uncertainty.tests`), at a family-wise false-alarm rate (Šidák):
 
@@ -195,12 +196,16 @@ def _end_point_weight(res: CalibrationResult, keep: np.ndarray, rate: np.ndarray
 
 
 def _quantization_part(res: CalibrationResult, iv: _Intervals, config: SimulationConfig,
-                       resolution: Mapping[str, float], notes: list[str]) -> float:
+                       resolution: Mapping[str, float], cpr: int, notes: list[str]) -> float:
     """The rounding of the record's coarse columns (formulas in the module docstring): the
     SINS increments' (a repeating share and a white one) and the GS angle's at the end
-    points, in quadrature; a note names each coarse column, its step and what it adds."""
+    points, in quadrature; a note names each coarse column, its step and what it adds.  A
+    GS angle on the grid of the encoder's count (``2π/cpr``) is the encoder's rounding,
+    which the ``encoder`` part carries already."""
     q_s = float(resolution.get("sins_increment", 0.0))
     q_g = max(float(resolution.get(c, 0.0)) for c in ("gs_angle", "gs_gyro_angle"))
+    if abs(q_g * cpr / (2.0 * math.pi) - 1.0) < 1e-6:
+        q_g = 0.0
     parts, rep = {}, ""
     if q_s > 0.0:
         rho = rounding_correlation(q_s, config.sins.arw * math.sqrt(res.dt))
@@ -299,7 +304,8 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
     biases, b_hat, b_std = _bias_part(iv, sigma_b, notes)
     gs_part = _gs_scale_part(result, iv, config, tol_gyro, gs_scale)
     parts = {"random": random, "encoder": encoder, "biases": biases, "gs_scale": gs_part}
-    quant = _quantization_part(result, iv, config, _check_resolution(resolution), notes)
+    quant = _quantization_part(result, iv, config, _check_resolution(resolution), cpr,
+                               notes)
     if quant > 0.0:
         parts["quantization"] = quant
     std = math.sqrt(sum(p * p for p in parts.values()))

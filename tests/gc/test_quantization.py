@@ -83,3 +83,17 @@ def test_the_noise_fit_finds_the_sensor_s_own_intensity(coarse, monkeypatch):
     inflated = p.C_as + LSB**2 / 12.0 * p.dt
     assert blind.value("C_as") == pytest.approx(inflated, rel=0.05)
     assert (blind.value("C_as") - p.C_as) > 10.0 * blind.std_error("C_as")
+
+
+def test_a_record_read_in_chunks_carries_the_first_chunk_s_step(coarse):
+    """A record fed as chunks (as ``GCChunks`` reads a file) takes the step from its first
+    chunk: the same steps and the same ω̂_gc as the record in memory."""
+    p, _, rec = coarse
+    half = rec.n // 2
+    chunks = [gc.GCRecord(t=rec.t[sl], angle_sensor=rec.angle_sensor[sl],
+                          inclinometer_y=rec.inclinometer_y[sl],
+                          inclinometer_z=rec.inclinometer_z[sl])
+              for sl in (slice(0, half), slice(half, None))]
+    whole, parts = gc.calibrate(rec, p), gc.calibrate(iter(chunks), p)
+    np.testing.assert_allclose(parts.measurement_steps, whole.measurement_steps, rtol=1e-9)
+    assert parts.omega_gc == pytest.approx(whole.omega_gc, rel=1e-9)

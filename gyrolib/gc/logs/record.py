@@ -84,7 +84,8 @@ class GCRecord:
         Examples
         --------
         >>> import numpy as np
-        >>> beta = 1e-4 * np.sin(np.arange(1, 501) * 0.01)
+        >>> rng = np.random.default_rng(1)
+        >>> beta = 1e-4 * np.sin(np.arange(1, 501) * 0.01) + 3e-6 * rng.standard_normal(500)
         >>> lsb = 1e-6
         >>> rec = GCRecord(t=np.arange(1, 501) * 1e-3, angle_sensor=np.round(beta / lsb) * lsb,
         ...                inclinometer_y=beta, inclinometer_z=beta)
