@@ -13,10 +13,11 @@ The step is the greatest common divisor, within the floats' precision, of the di
 between the column's distinct values (Euclid's algorithm on floats, then every difference
 checked to be a whole multiple of it; not when the column moves by exactly one such step
 from every sample to the next, which is a noise-free signal at a steady rate, not a
-rounding) and of the decimal step the values show (the most
-decimals in their shortest representation, which is all a column of one or two distinct
-values tells: a steady increment written to 4 decimals reads ``0.157`` or ``0.1571``, and
-its step is then known only to within the decimals it shows).  A column that carries the
+rounding), or, for fewer than ten distinct values, the common divisor of that and of the
+decimal step the values show (the most decimals in their shortest representation, which is
+all a column of one or two distinct values tells: a steady increment written to 4 decimals
+reads ``0.157`` or ``0.1571``, and its step is then known only to within the decimals it
+shows).  A column that carries the
 floats' own precision has no common step and gives 0; a column converted to SI by a factor
 keeps its grid, scaled (1e-4 deg is 1.745e-6 rad); one written to a fixed number of
 *significant* digits gives the finest step among its values.
@@ -41,6 +42,9 @@ FLOOR_ULPS = 1e8
 #: Every difference between distinct values must lie within this share of a step of a whole
 #: number of steps.
 ON_GRID = 0.01
+
+#: Distinct values from which the differences' step is taken over the decimal one.
+EUCLID_EVIDENCE = 10
 
 #: Distinct values whose decimals are read (what matters for a column of few values).
 DECIMAL_VALUES = 200
@@ -99,7 +103,14 @@ def column_step(values: ArrayLike) -> float:
     if euc > 0.0 and _one_step_a_sample(x[np.isfinite(x)], euc):
         euc = 0.0
     if dec > 0.0 and euc > 0.0:
-        return _gcd(euc, dec, floor)
+        # many distinct values, all on multiples of euc: the values' grid (an LSB that is
+        # a short decimal, 20″ = 9.7e-05 rad, written to 6 decimals); few: the finer one
+        if u.size < EUCLID_EVIDENCE:
+            return _gcd(euc, dec, floor)
+        k = round(euc / dec)
+        if k >= 1 and abs(euc / dec - k) <= ON_GRID:
+            return k * dec          # the values' grid, a whole number of decimal steps
+        return euc
     return max(dec, euc)
 
 

@@ -97,3 +97,23 @@ def test_a_record_read_in_chunks_carries_the_first_chunk_s_step(coarse):
     whole, parts = gc.calibrate(rec, p), gc.calibrate(iter(chunks), p)
     np.testing.assert_allclose(parts.measurement_steps, whole.measurement_steps, rtol=1e-9)
     assert parts.omega_gc == pytest.approx(whole.omega_gc, rel=1e-9)
+
+
+def test_the_verdict_notes_name_the_step_and_warn_when_it_is_not_white(coarse):
+    """The note gives the step and the rounding's share of the noise (closed form); a step
+    above twice the noise's σ (20″ against 2.9″) is said not to be white."""
+    from gyrolib.gc.logs.judgement import quantization_notes
+
+    p, _, rec = coarse
+    r11 = p.C_as / p.dt
+    (note,) = quantization_notes(gc.calibrate(rec, p))
+    share = 100 * LSB**2 / 12 / (r11 + LSB**2 / 12)
+    assert note.startswith(f"angle_sensor is recorded in steps of {LSB:.4g} rad")
+    assert f"is {share:.3g} % of that sensor's measurement noise" in note
+    assert "not white" not in note
+    big = 4 * LSB
+    coarser = gc.GCRecord(t=rec.t, angle_sensor=np.round(rec.angle_sensor / big) * big,
+                          inclinometer_y=rec.inclinometer_y, inclinometer_z=rec.inclinometer_z)
+    assert coarser.resolution["angle_sensor"] == pytest.approx(big, rel=1e-9)
+    (note,) = quantization_notes(gc.calibrate(coarser, p))
+    assert "the step exceeds twice the noise's standard deviation" in note

@@ -22,7 +22,8 @@ def test_a_column_written_to_k_decimals_has_the_step_ten_to_minus_k(decimals):
     assert column_step(x) == pytest.approx(10.0**-decimals, rel=1e-9)
 
 
-@pytest.mark.parametrize("lsb", [2 * math.pi / 65536, ARCSEC_PAPER, 0.37e-6, 2.0**-20])
+@pytest.mark.parametrize("lsb", [2 * math.pi / 65536, ARCSEC_PAPER, 20 * ARCSEC_PAPER,
+                                 0.37e-6, 2.0**-20, 1e-6])
 def test_a_column_counted_in_lsbs_has_the_lsb_as_its_step(lsb):
     counts = np.random.default_rng(7).integers(-40000, 40000, 3000)
     assert column_step(counts * lsb) == pytest.approx(lsb, rel=1e-9)
