@@ -41,7 +41,8 @@ def judge_record(record: RSFRecord, period: float, config: SimulationConfig | No
     intervals' scatter against the sensors' error model, the biases of a reversing roll,
     the estimate against the roll gyro's scale-factor tolerance), else ``invalid``.  σ is
     the total standard uncertainty with its parts (``random``, ``encoder``, ``biases``,
-    ``gs_scale``).
+    ``gs_scale``, and ``quantization`` when a column of the record is coarse,
+    :attr:`gyrolib.rsf.RSFRecord.resolution`).
 
     Parameters
     ----------
@@ -99,7 +100,7 @@ def judge_record(record: RSFRecord, period: float, config: SimulationConfig | No
     pred = predict_delta_k(config, res.period, rate=res.mean_rate)
     unc = eps1_uncertainty(res, config, false_alarm=false_alarm, sins_bias=sins_bias,
                            gs_bias=gs_bias, gs_gyro_scale=gs_gyro_scale, gs_scale=gs_scale,
-                           sf_prior=sf_prior)
+                           sf_prior=sf_prior, resolution=record.resolution)
     checks = tuple(Check(c["test"], *_CHECKS[c["test"]], float(c["statistic"]),
                          float(c["low"]), float(c["high"]), c["reason_code"], c["message"])
                    for c in unc.checks)

@@ -6,12 +6,14 @@ reads it from CSV files, and any other source may build it directly.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
+from gyrolib.resolution import column_step
 
 __all__ = ["RSFRecord"]
 
@@ -69,3 +71,24 @@ class RSFRecord:
     @property
     def n(self) -> int:
         return int(self.t.size)
+
+    @functools.cached_property
+    def resolution(self) -> dict[str, float]:
+        """The step (rad) each angle column's values lie on, 0.0 where a column carries the
+        floats' own precision (:func:`gyrolib.resolution.column_step`): ``sins_increment``
+        and ``gs_angle`` or ``gs_gyro_angle``, those the record has.  ``encoder_counts`` is
+        left out: its step is one count, which the encoder's own term already carries.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> t = np.arange(0, 201) * 0.01
+        >>> gs = np.radians(900.0) * t + 1e-5 * np.sin(7 * t)
+        >>> rec = RSFRecord(t=t, sins_increment=np.round(np.diff(gs, prepend=0.0), 4),
+        ...                 gs_angle=gs)
+        >>> rec.resolution
+        {'sins_increment': 0.0001, 'gs_angle': 0.0}
+        """
+        cols = ("sins_increment", "gs_angle", "gs_gyro_angle")
+        return {c: column_step(getattr(self, c)) for c in cols
+                if getattr(self, c) is not None}

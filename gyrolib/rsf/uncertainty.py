@@ -39,7 +39,17 @@ adds, in quadrature, one part per term, each counted once:
   otherwise ``σ(ε1,GS) · |mean(U_i/T_i)|`` (paper RSF: 280 ppm), with ``U_i`` the GS gyro's
   turn when the record has it, else the uncompensated turn the GS model predicts,
   ``max(|ω_i| − W_max, 0)/|ω_i|`` (0 for a record of encoder counts without a GS gyro
-  column: its GS angle is the encoder's).
+  column: its GS angle is the encoder's);
+* ``quantization`` (only when a column is coarse: written to a few decimals, or counted in
+  LSBs that are not the encoder's, :attr:`gyrolib.rsf.RSFRecord.resolution`): the rounding
+  of the record's own columns.  A SINS increment rounded to a step ``q_S`` errs by
+  ``r_k``, uniform over a step; at a steady increment it rounds alike in every sample, so
+  a share ``ρ`` of it repeats (``ρ = exp(−2π² σ_w²/q_S²)``, σ_w the increment's white
+  noise a sample, :func:`gyrolib.resolution.rounding_correlation`) and the rest is white:
+  ``(q_S/√12) √(ρ² N² + (1 − ρ²) N) / Σ|T_i|`` over the ``N`` samples used.  A GS angle
+  (or GS gyro angle) rounded to ``q_G`` errs at the end points like the encoder:
+  ``(q_G/√12) Σ_j |c_j| / n`` (not when ``q_G`` is the encoder's count, which the
+  ``encoder`` part carries).  The two add in quadrature.
 
 The checks (:meth:`Eps1Uncertainty.tests`), at a family-wise false-alarm rate (Šidák):
 
@@ -59,6 +69,7 @@ The checks (:meth:`Eps1Uncertainty.tests`), at a family-wise false-alarm rate (�
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -66,14 +77,16 @@ import numpy as np
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
 from gyrolib.filtering.consistency import chi2_ppf
+from gyrolib.resolution import describe_step, rounding_correlation
 from gyrolib.rsf.calibration import CalibrationResult
 from gyrolib.rsf.correction import predict_delta_k
 from gyrolib.rsf.simulation import SimulationConfig
 
 __all__ = ["Eps1Uncertainty", "eps1_uncertainty"]
 
-#: The parts of σ(eps1_hat_mean), in the order they are reported.
-PARTS: tuple[str, ...] = ("random", "encoder", "biases", "gs_scale")
+#: The parts of σ(eps1_hat_mean), in the order they are reported (``quantization`` only
+#: for a record with a coarse column).
+PARTS: tuple[str, ...] = ("random", "encoder", "biases", "gs_scale", "quantization")
 
 #: ``reason_code`` of each failed check (the command line maps it to the option to try).
 REASON_CODES: dict[str, str] = {"scatter": "rsf_scatter", "bias": "rsf_bias",
@@ -161,6 +174,14 @@ def _end_points(res: CalibrationResult, keep: np.ndarray, rate: np.ndarray, cpr:
     with σ_e = √(q²/12 + Δγ_enc²/2) and ``c_j`` the weight of end point ``j`` in the mean
     of ε̂1 (``1/T_i − 1/T_{i+1}`` where two kept intervals share it, ``±1/T_i`` at a free
     end, two free ends more per extra contiguous run inside an interval)."""
+    q = 2.0 * math.pi / cpr
+    return math.sqrt(q * q / 12.0 + 0.5 * position_error**2) * _end_point_weight(
+        res, keep, rate)
+
+
+def _end_point_weight(res: CalibrationResult, keep: np.ndarray, rate: np.ndarray) -> float:
+    """``Σ_j |c_j| / n``: the weight of the GS angle's end-point errors in the mean of ε̂1
+    over the ``n`` intervals kept (see :func:`_end_points`)."""
     turn = (rate * res.samples[keep] * res.dt)              # signed T_i
     n = turn.size
     t0 = np.asarray(res.t_start, float)[keep]
@@ -171,15 +192,44 @@ def _end_points(res: CalibrationResult, keep: np.ndarray, rate: np.ndarray, cpr:
     weight += float(np.sum(np.where(shared, np.abs(inv[:-1] - inv[1:]),
                                     np.abs(inv[:-1]) + np.abs(inv[1:]))))
     weight += float(np.sum(2.0 * (res.segments[keep] - 1) * np.abs(inv)))
-    q = 2.0 * math.pi / cpr
-    return math.sqrt(q * q / 12.0 + 0.5 * position_error**2) * weight / n
+    return weight / n
+
+
+def _quantization_part(res: CalibrationResult, iv: _Intervals, config: SimulationConfig,
+                       resolution: Mapping[str, float], cpr: int, notes: list[str]) -> float:
+    """The rounding of the record's coarse columns (formulas in the module docstring): the
+    SINS increments' (a repeating share and a white one) and the GS angle's at the end
+    points, in quadrature; a note names each coarse column, its step and what it adds.  A
+    GS angle on the grid of the encoder's count (``2π/cpr``) is the encoder's rounding,
+    which the ``encoder`` part carries already."""
+    q_s = float(resolution.get("sins_increment", 0.0))
+    q_g = max(float(resolution.get(c, 0.0)) for c in ("gs_angle", "gs_gyro_angle"))
+    if abs(q_g * cpr / (2.0 * math.pi) - 1.0) < 1e-6:
+        q_g = 0.0
+    parts, rep = {}, ""
+    if q_s > 0.0:
+        rho = rounding_correlation(q_s, config.sins.arw * math.sqrt(res.dt))
+        n_used = iv.time_used / res.dt
+        parts["sins_increment"] = (q_s / math.sqrt(12.0) * math.sqrt(
+            rho**2 * n_used**2 + (1.0 - rho**2) * n_used) / iv.total_turn)
+        rep = f", {100 * rho:.0f} % of it repeating from sample to sample"
+    if q_g > 0.0:
+        name = "gs_angle" if resolution.get("gs_angle", 0.0) > 0.0 else "gs_gyro_angle"
+        parts[name] = q_g / math.sqrt(12.0) * _end_point_weight(res, iv.keep, iv.rate)
+    for name, x in parts.items():
+        step = q_s if name == "sins_increment" else q_g
+        notes.append(f"the {name} column is written to a step of {describe_step(step, 'rad')}"
+                     f": its rounding adds {x * 1e6:.3g} ppm to sigma (quantization"
+                     f"{rep if name == 'sins_increment' else ''})")
+    return math.sqrt(sum(x * x for x in parts.values()))
 
 
 def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None = None, *,
                      sins_bias: float | None = None, gs_bias: float | None = None,
                      gs_gyro_scale: float | None = None, gs_scale: float | None = None,
                      sf_prior: float | None = None, counts_per_rev: int | None = None,
-                     false_alarm: float = 0.01) -> Eps1Uncertainty:
+                     false_alarm: float = 0.01,
+                     resolution: Mapping[str, float] | None = None) -> Eps1Uncertainty:
     """The total standard uncertainty of ``eps1_hat_mean`` and the run's checks.
 
     Parameters
@@ -207,6 +257,10 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
         ``config.encoder.counts_per_rev``).
     false_alarm : float
         Family-wise false-alarm rate of the checks, in (0, 1).
+    resolution : mapping, optional
+        The step (rad) of the record's columns ``sins_increment``, ``gs_angle``,
+        ``gs_gyro_angle`` (:attr:`gyrolib.rsf.RSFRecord.resolution`; 0 or absent: full
+        precision): a coarse one adds the ``quantization`` part.
 
     Returns
     -------
@@ -250,6 +304,10 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
     biases, b_hat, b_std = _bias_part(iv, sigma_b, notes)
     gs_part = _gs_scale_part(result, iv, config, tol_gyro, gs_scale)
     parts = {"random": random, "encoder": encoder, "biases": biases, "gs_scale": gs_part}
+    quant = _quantization_part(result, iv, config, _check_resolution(resolution), cpr,
+                               notes)
+    if quant > 0.0:
+        parts["quantization"] = quant
     std = math.sqrt(sum(p * p for p in parts.values()))
     checks = _checks(iv, std, sigma_b, b_hat, b_std, tol_sf, false_alarm)
     tolerances = {"sins_bias": tol_sins, "gs_bias": tol_gsb,
@@ -259,6 +317,23 @@ def eps1_uncertainty(result: CalibrationResult, config: SimulationConfig | None 
                            checks=checks, false_alarm=false_alarm,
                            bias_estimate=b_hat, bias_estimate_std=b_std, n=iv.n,
                            notes=tuple(notes))
+
+
+def _check_resolution(resolution: Mapping[str, float] | None) -> dict[str, float]:
+    """The columns' steps, checked: known names, finite values >= 0."""
+    if resolution is None:
+        return {}
+    if not isinstance(resolution, Mapping):
+        raise TypeError("resolution must be a mapping of column name to step (rad); got "
+                        f"{type(resolution).__name__}")
+    known = ("sins_increment", "gs_angle", "gs_gyro_angle", "encoder_counts")
+    out = {}
+    for name, step in resolution.items():
+        if name not in known:
+            raise ValueError(f"resolution: unknown column {name!r}; expected one of "
+                             f"{', '.join(known)}")
+        out[name] = v.check_nonnegative(f"resolution[{name!r}]", step)
+    return out
 
 
 @compact_repr

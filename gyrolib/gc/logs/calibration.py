@@ -52,7 +52,7 @@ from gyrolib.filtering.consistency import chi2_ppf, gated_nis_band
 from gyrolib.filtering.discretization import covariance_factor, van_loan, van_loan_derivatives
 from gyrolib.filtering.kernels import kalman_kernels
 from gyrolib.gc.analysis.montecarlo import simulate_truth
-from gyrolib.gc.logs.record import GCRecord
+from gyrolib.gc.logs.record import MEASUREMENT_COLUMNS, GCRecord
 from gyrolib.gc.model import instrument
 from gyrolib.gc.model.discretization import (
     SEGMENT,
@@ -150,6 +150,9 @@ class CalibrationResult:
       :attr:`reason`): a sensor whose share of gate rejections exceeds ``max_rejected``, or
       whose mean NIS is outside ``nis_range``, has lost lock or is not the sensor the model
       describes, and the estimate is not a result;
+    * ``measurement_steps`` (3,): the step each sensor's column is recorded in (SI, 0: full
+      precision; :attr:`GCRecord.resolution`), whose rounding, ``step²/12``, the filter adds
+      to that sensor's measurement noise (:data:`gyrolib.gc.MEASUREMENT_NAMES` order);
     * ``record_latitude``: the latitude (rad) the record states (:attr:`GCRecord.latitude`),
       or ``None``.  When the parameters' Earth rate is not the one at that latitude
       (:func:`earth_rate_mismatch`), the run is not valid: Ω_h reads as drift, so a rate
@@ -196,6 +199,7 @@ class CalibrationResult:
     bias_names: tuple[str, ...] = BIAS_NAMES
     bias_groups: tuple[str, ...] | None = None
     record_latitude: float | None = None
+    measurement_steps: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         v.check_instance("params", self.params, GyrocompassParams)
@@ -678,7 +682,21 @@ class CalibrationResult:
             "states": {name: {"estimate": float(self.x_final[i]),
                               "std": float(math.sqrt(max(self.P_final[i, i], 0.0)))}
                        for i, name in enumerate(STATE_NAMES)},
+            **self._quantization_summary(),
         }
+
+    def _quantization_summary(self) -> dict:
+        """``quantization`` (only for a record with a coarse column): per sensor its step,
+        the rounding's variance ``step²/12`` and that variance's share of the sensor's
+        measurement noise the filter carried (Eq. (8)'s ``R`` plus the rounding)."""
+        steps = self.measurement_steps
+        if steps is None or not np.any(steps > 0.0):
+            return {}
+        r = np.diag(measurement_noise_covariance(self.params))
+        var = steps**2 / 12.0
+        return {"quantization": {name: {"step": float(steps[q]), "variance": float(var[q]),
+                                        "share_of_noise": float(var[q] / (r[q] + var[q]))}
+                                 for q, name in enumerate(MEASUREMENT_NAMES) if steps[q] > 0}}
 
 
 def _log_likelihood(used: np.ndarray, log_s_sum: np.ndarray, nis_sum: np.ndarray) -> float:
@@ -1218,7 +1236,7 @@ class _Calibrator:
     """State of :func:`calibrate` between chunks."""
 
     def __init__(self, p: GyrocompassParams, *, store_every: int, gate: float, lags: int,
-                 time_tolerance: float) -> None:
+                 time_tolerance: float, steps: dict[str, float] | None = None) -> None:
         self.p = p
         self.dt = p.dt
         self.tol = time_tolerance * p.dt
@@ -1262,6 +1280,8 @@ class _Calibrator:
         self.ring_n = np.zeros(M, dtype=np.int64)
         self.win_sum = np.zeros(M)                      # NIS since the last stored row
         self.win_cnt = np.zeros(M, dtype=np.int64)
+        self.steps = steps           # the columns' steps (None: the first chunk's)
+        self.measurement_steps = np.zeros(M)
         self.rows = 0                # rows filtered
         self.prepared_rows = 0       # rows prepared (prepare runs ahead of run by a chunk)
         self.t_last = 0.0            # the time of the last row prepared
@@ -1307,6 +1327,8 @@ class _Calibrator:
             raise TypeError(f"record chunks must be GCRecord; got {type(rec).__name__}")
         if self.prepared_rows == 0:
             self.record_latitude = rec.latitude
+            self._carry_quantization(self.steps if self.steps is not None
+                                     else rec.resolution)
         t = rec.t
         if t[0] <= self.t_last and self.prepared_rows > 0:
             raise ValueError(f"record chunks must continue in time: t = {t[0]} follows "
@@ -1345,6 +1367,14 @@ class _Calibrator:
         self.t_last = float(t[-1])
         self.prepared_rows += t.size
         return chunk, store
+
+    def _carry_quantization(self, steps: dict[str, float]) -> None:
+        """Add each coarse column's rounding, ``step²/12``, to its sensor's measurement
+        noise (set once, before the first chunk is filtered)."""
+        q = np.array([float(steps.get(name, 0.0)) for name in MEASUREMENT_COLUMNS])
+        self.measurement_steps = q
+        if np.any(q > 0.0):   # a new array: the model's r is shared by _filter_model's cache
+            self.model = self.model._replace(r=self.model.r + q * q / 12.0)
 
     def run(self, prepared: tuple[_Chunk, _Store]) -> None:
         """Filter a prepared chunk (the next in time) and add up its diagnostics."""
@@ -1412,7 +1442,8 @@ class _Calibrator:
             bias_prior=self.bias_prior.copy(), bias_estimate=st.bh.copy(),
             bias_cov=st.Mb.copy(), bias_info=st.Ab.copy(), bias_response=st.V.copy(),
             P_filter=st.P.copy(), bias_names=self.instrument.names,
-            bias_groups=self.instrument.groups, record_latitude=self.record_latitude)
+            bias_groups=self.instrument.groups, record_latitude=self.record_latitude,
+            measurement_steps=self.measurement_steps.copy())
 
 
 def _chunks(record: GCRecord, size: int):
@@ -1555,7 +1586,8 @@ def calibrate(record: GCRecord | Iterable[GCRecord], params: GyrocompassParams |
         raise TypeError(f"record must be a GCRecord or an iterable of GCRecord chunks; got "
                         f"{type(record).__name__}")
     cal = _Calibrator(p, store_every=store_every, gate=gate, lags=lags,
-                      time_tolerance=time_tolerance)
+                      time_tolerance=time_tolerance,
+                      steps=record.resolution if isinstance(record, GCRecord) else None)
     for prepared in _prefetched(map(cal.prepare, chunks), executor):
         cal.run(prepared)
         if progress is not None:
@@ -1602,7 +1634,8 @@ def innovation_log_likelihood(record: GCRecord, params: GyrocompassParams | None
         "params", params, GyrocompassParams)
     v.check_instance("record", record, GCRecord)
     chunk_size = v.check_int("chunk_size", chunk_size, 1)
-    cal = _Calibrator(p, store_every=record.n + 1, gate=1.0, lags=1, time_tolerance=1e-6)
+    cal = _Calibrator(p, store_every=record.n + 1, gate=1.0, lags=1, time_tolerance=1e-6,
+                      steps=record.resolution)
     for chunk in _chunks(record, chunk_size):
         cal.feed(chunk)
     return _log_likelihood(cal.counts[0], cal.log_s_sum, cal.nis_sum)

@@ -29,11 +29,14 @@ from gyrolib.gc.logs.noise_fit import (
 )
 from gyrolib.gc.logs.record import GCRecord
 from gyrolib.gc.logs.site import equator_note, latitude_drift_sigma
-from gyrolib.gc.model.params import PAPER_LATITUDE, GyrocompassParams
+from gyrolib.gc.model.params import MEASUREMENT_NAMES, PAPER_LATITUDE, GyrocompassParams
+from gyrolib.gc.model.state_space import measurement_noise_covariance
 from gyrolib.reasons import hint, primary
+from gyrolib.resolution import describe_step
 from gyrolib.verdict import Check, Counts, Verdict
 
-__all__ = ["EARLY_SHARE", "NO_LATITUDE", "cause_code", "evidence_codes", "judge_record"]
+__all__ = ["EARLY_SHARE", "NO_LATITUDE", "cause_code", "evidence_codes", "judge_record",
+           "quantization_notes"]
 
 #: Share of the record's start (from its first row) within which gate rejections point to
 #: rows logged before the feedback was switched off (``early_release``).
@@ -185,6 +188,47 @@ def _fit_check(c: dict) -> Check | None:
     return None
 
 
+def quantization_notes(res: CalibrationResult) -> list[str]:
+    """A sentence per coarse sensor column (:attr:`CalibrationResult.measurement_steps`):
+    its step, and the share of the sensor's measurement noise its rounding (``step²/12``)
+    is, which the filter carried; with a warning where the step exceeds twice the noise's
+    standard deviation, where the rounding repeats from sample to sample instead of being
+    white (the filter's model of it).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> r = gc.simulate_record(p, 0.5, seed=1).record
+    >>> q = 1e-5
+    >>> rec = gc.GCRecord(t=r.t, angle_sensor=np.round(r.angle_sensor / q) * q,
+    ...                   inclinometer_y=r.inclinometer_y, inclinometer_z=r.inclinometer_z)
+    >>> quantization_notes(gc.calibrate(rec, p))[0][:59]
+    'angle_sensor is recorded in steps of 1e-05 rad (5 decimals)'
+    """
+    steps = res.measurement_steps
+    if steps is None:
+        return []
+    r = np.diag(measurement_noise_covariance(res.params))
+    out = []
+    for q, name in enumerate(MEASUREMENT_NAMES):
+        step = float(steps[q])
+        if step <= 0.0:
+            continue
+        var = step * step / 12.0
+        unit = "rad" if name == "angle_sensor" else "m/s^2"
+        text = (f"{name} is recorded in steps of {describe_step(step, unit)}: its "
+                f"rounding, step^2/12, is {100 * var / (r[q] + var):.3g} % of that sensor's "
+                "measurement noise, carried in the filter")
+        if step > 2.0 * math.sqrt(r[q]):
+            text += (f"; the step exceeds twice the noise's standard deviation "
+                     f"({math.sqrt(r[q]):.3g}), so the rounding is not white, as the filter "
+                     "takes it: a finer recording is needed for a result to trust")
+        out.append(text)
+    return out
+
+
 def _noise_fit(record: GCRecord, params: GyrocompassParams, names: Sequence[str],
                progress: Callable[[int], None] | None, options: dict
                ) -> tuple[CalibrationResult, NoiseFit]:
@@ -332,6 +376,6 @@ def judge_record(record: GCRecord | Iterable[GCRecord],
         counts=Counts(rows=res.rows, used=res.rows_used, rejected=res.rows_rejected,
                       empty=res.rows - res.rows_used - res.rows_rejected,
                       missing=int(res.missing.sum())),
-        notes=tuple(out_notes), result=res,
+        notes=(*out_notes, *quantization_notes(res)), result=res,
         details={"noise_fit": nf, "unfitted": unfitted, "noise_fit_checks": failed,
                  "t0_hint": t0})

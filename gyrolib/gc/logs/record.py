@@ -7,6 +7,7 @@ it directly.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -14,6 +15,7 @@ import numpy as np
 
 from gyrolib import _validation as v
 from gyrolib._repr import compact_repr
+from gyrolib.resolution import column_step
 
 __all__ = ["MEASUREMENT_COLUMNS", "GCRecord"]
 
@@ -70,3 +72,24 @@ class GCRecord:
     def missing(self) -> np.ndarray:
         """``(n, 3)`` boolean: which measurements are missing (NaN)."""
         return np.isnan(self.measurements())
+
+    @functools.cached_property
+    def resolution(self) -> dict[str, float]:
+        """The step each sensor column's values lie on (SI: rad, m/s²), 0.0 where a column
+        carries the floats' own precision (:func:`gyrolib.resolution.column_step`): an
+        angle sensor counted in LSBs, or a column written to a few decimals.  Its rounding,
+        ``step²/12`` a sample, adds to the sensor's measurement noise in
+        :func:`gyrolib.gc.calibrate`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> rng = np.random.default_rng(1)
+        >>> beta = 1e-4 * np.sin(np.arange(1, 501) * 0.01) + 3e-6 * rng.standard_normal(500)
+        >>> lsb = 1e-6
+        >>> rec = GCRecord(t=np.arange(1, 501) * 1e-3, angle_sensor=np.round(beta / lsb) * lsb,
+        ...                inclinometer_y=beta, inclinometer_z=beta)
+        >>> {k: f"{q:.3g}" for k, q in rec.resolution.items()}
+        {'angle_sensor': '1e-06', 'inclinometer_y': '0', 'inclinometer_z': '0'}
+        """
+        return {name: column_step(getattr(self, name)) for name in MEASUREMENT_COLUMNS}
