@@ -110,6 +110,17 @@ def test_omega_v_times_1_1_makes_each_study_stale_by_its_key(monkeypatch, name):
     assert "gyrolib.gc.model.params" in _stale(exc, name)
 
 
+def test_what_the_chapter_reads_stops_on_a_stale_study(monkeypatch):
+    """The chapter reads each study by ``load``: a changed table default (C_as x 1.1, a row
+    of the table) stops it with the study's name and refresh command before any number is
+    read."""
+    _patch_default(monkeypatch, GyrocompassParams, "C_as", 1.1 * 2.0e-13)
+    for name in cal.NAMES:
+        with pytest.raises(store.StaleStudy) as exc:
+            cal.load(name)
+        assert "gyrolib.gc.model.params" in _stale(exc, name)
+
+
 def test_a_changed_setting_of_a_study_makes_it_stale_and_only_it(monkeypatch):
     """The studies' own settings are in their keys: a defect of another size makes the fault
     study stale, not the convention study."""
