@@ -269,3 +269,39 @@ def test_the_race_figures_legend_quotes_the_texts_threshold(built_pages):
     png = _png_of(src.group(1), root / page)
     legend = json.loads(Image.open(io.BytesIO(png)).info[PNG_KEY])["legend"]
     assert legend_problems(legend, tagged(built_pages)) == []
+
+
+def status_problems(items: list[dict]) -> list[str]:
+    """Ledger items (``ledger.json``'s) whose status says more than their share: a share
+    whose 95 % interval's upper end is below one half with "holds under conditions", or a
+    mapped claim's status line without its share."""
+    bad = []
+    for it in items:
+        share = it.get("share_holding")
+        if it.get("kind") != "claim" or not share:
+            continue
+        if share["hi"] < 0.5 and it["status"].startswith("holds under conditions"):
+            bad.append(f"{it['id']}: {it['status']!r} holds in at most "
+                       f"{100 * share['hi']:.0f} % of the box")
+        if it["status_code"] != "holds" and "% of the box" not in it["status"]:
+            bad.append(f"{it['id']}: {it['status']!r} has no share")
+    return bad
+
+
+def test_the_status_check_fails_a_status_that_says_more_than_its_share():
+    share = {"value": 0.0, "lo": 0.0, "hi": 0.0566, "n": 64, "seed": 2026}
+    ok = {"id": "c", "kind": "claim", "share_holding": share, "status_code":
+          "holds_near_reference", "status": "holds only near the reference (0 % of the box, "
+          "0–6 %)"}
+    assert status_problems([ok]) == []
+    over = {**ok, "status_code": "holds_in_part", "status": "holds under conditions"}
+    assert len(status_problems([over])) == 2
+    bare = {**ok, "status": "holds only near the reference"}
+    assert len(status_problems([bare])) == 1
+
+
+def test_no_claim_of_the_built_ledger_says_more_than_its_share():
+    root = require_built_book()
+    items = json.loads((root / "ledger.json").read_text(encoding="utf-8"))["items"]
+    assert sum(1 for it in items if it.get("kind") == "claim" and it.get("share_holding")) >= 10
+    assert status_problems(items) == []
