@@ -247,6 +247,7 @@ def test_every_tagged_number_has_one_value_and_is_the_maps(built_pages):
     assert disagreements(found) == []
     assert against_maps(found, _maps()) == []
     for page, keys in REQUIRED.items():
+        assert page in built_pages, f"the build has no {page}"
         on_page = tagged({page: built_pages[page]})
         missing = [k for k in keys if k not in on_page]
         assert not missing, f"{page} lost its tags {missing}"
