@@ -462,9 +462,13 @@ def page_record(fig: Any) -> str:
     texts = visible_texts(fig)
     sizes = [float(t.get_fontsize()) for t in texts]
     problems = text_problems(fig, texts=texts)
+    kinds = _kinds(fig)
+    # the legends' entries as the figure shows them: a test of the built book compares the
+    # numbers a legend quotes with the page's text
+    legend = [t.get_text() for t in texts if kinds.get(id(t)) == "legend text"]
     return json.dumps({"texts": len(texts), "smallest_pt": min(sizes, default=None),
                        "width_in": round(float(fig.get_figwidth()), 4),
-                       "problems": problems}, ensure_ascii=True)
+                       "problems": problems, "legend": legend}, ensure_ascii=True)
 
 
 def _kinds(fig: Any) -> dict[int, str]:

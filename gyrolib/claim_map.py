@@ -55,6 +55,7 @@ from typing import Any, Final
 import numpy as np
 
 from gyrolib import inputs as _inputs
+from gyrolib import quote as _quote
 from gyrolib._executor import check_executor, map_ordered
 from gyrolib._repr import compact_repr
 
@@ -80,6 +81,7 @@ __all__ = [
     "margin_at",
     "percent",
     "predicted_holds",
+    "quote_threshold",
     "status_line",
     "wilson_interval",
 ]
@@ -262,31 +264,26 @@ class Share:
         return {"value": self.value, "lo": self.lo, "hi": self.hi, "n": self.n,
                 "seed": self.seed}
 
-    def text(self) -> str:
-        """``"62 % (95 % interval 50–73 %, 64 points)"`` (each share by :func:`percent`)."""
-        return (f"{percent(self.value)} % (95 % interval {percent(self.lo)}–"
-                f"{percent(self.hi)} %, {self.n} points)")
+    def text(self, claim: str | None = None, html: bool = False) -> str:
+        """``"62 % of the box, 50–73 % (95 % interval, 64 points)"``: :meth:`short` and
+        how many points it rests on."""
+        return f"{self.short(claim, html)} (95 % interval, {self.n} points)"
 
-    def short(self) -> str:
+    def short(self, claim: str | None = None, html: bool = False) -> str:
         """``"62 % of the box, 50–73 %"``: the share and its 95 % interval, as a claim's
-        status line carries them (:func:`status_line`)."""
-        return (f"{percent(self.value)} % of the box, {percent(self.lo)}–"
-                f"{percent(self.hi)} %")
+        status line carries them (:func:`gyrolib.quote.share`; tagged with ``claim`` for a
+        page when ``html``)."""
+        return _quote.tag(_quote.share(self.value, self.lo, self.hi), claim, "share",
+                          html=html)
 
 
 def percent(share: float) -> str:
-    """A share (0–1) in per cent as the book quotes it: whole per cent, except that a share
-    that is not zero but under 1 % keeps one significant digit, so that it never reads "0".
+    """A share (0–1) in per cent as the book quotes it (:func:`gyrolib.quote.percent`).
 
-    Examples
-    --------
-    >>> percent(0.0), percent(0.0038), percent(0.0566), percent(0.59375), percent(1.0)
-    ('0', '0.4', '6', '59', '100')
+    >>> percent(0.0038), percent(0.59375)
+    ('0.4', '59')
     """
-    x = 100.0 * float(share)
-    if x != 0.0 and abs(x) < 0.95:
-        return f"{x:.1g}"
-    return f"{x:.0f}"
+    return _quote.percent(share)
 
 
 def claim_status(holds_at_reference: bool, flips: bool,
@@ -328,11 +325,12 @@ def claim_status(holds_at_reference: bool, flips: bool,
 
 
 def status_line(status: str, share: Share | Mapping[str, Any] | None = None,
-                part: str = "") -> str:
+                part: str = "", *, claim: str | None = None, html: bool = False) -> str:
     """The words a reader sees for a claim's ``status``, the share of the box included (a
     claim that holds everywhere needs none; "fails" says where in the box it would hold).
     ``part`` names the part of the claim the share describes, when its margin judges only
-    part of it (then also said for "holds").
+    part of it (then also said for "holds").  ``claim`` and ``html``: the share tagged for a
+    page (:func:`gyrolib.quote.tag`).
 
     Examples
     --------
@@ -351,7 +349,42 @@ def status_line(status: str, share: Share | Mapping[str, Any] | None = None,
         return status
     sh = share if isinstance(share, Share) else Share(**share)
     lead = f"{part}: " if part else ""
-    return f"{status} ({lead}{'holds at ' if status == 'fails' else ''}{sh.short()})"
+    return (f"{status} ({lead}{'holds at ' if status == 'fails' else ''}"
+            f"{sh.short(claim, html)})")
+
+
+def quote_threshold(claim: str | None, t: Threshold | Mapping[str, Any], *,
+                    html: bool = False, reference: str = "the reference",
+                    form: str = "both") -> str:
+    """A threshold as every page and command quotes it (:mod:`gyrolib.quote`): its value in
+    the input's unit and its factor of the reference, ``"2.24·10⁻⁶ m²/s⁴ (1.2 × the
+    reference)"`` (``form="both"``), or only ``"value"`` or ``"factor"``; each number tagged
+    with ``claim`` and the input for a page when ``html``.
+
+    Examples
+    --------
+    >>> t = Threshold("gc.sigma1_sq", 2.2397596724680975e-06, 1.204171866918332, "m^2/s^4",
+    ...               "below")
+    >>> quote_threshold("gc.faster_percent", t)
+    '2.24·10⁻⁶ m²/s⁴ (1.2 × the reference)'
+    >>> quote_threshold("gc.faster_percent", t, form="factor", html=True)
+    '<span data-claim="gc.faster_percent" data-input="gc.sigma1_sq" \
+data-quantity="threshold" data-form="factor">1.2</span>'
+    """
+    if form not in ("both", "value", "factor"):
+        raise ValueError(f"form must be 'both', 'value' or 'factor'; got {form!r}")
+    d = t.as_dict() if isinstance(t, Threshold) else t
+    r = _inputs.row(d["input"])
+    fac = d.get("factor")
+    fac = None if fac is None or math.isnan(float(fac)) else float(fac)
+    val = _quote.tag(r.show(float(d["value"])), claim, "threshold", r.name, form="value",
+                     html=html)
+    if form == "value" or (form == "both" and fac is None):
+        return val
+    if fac is None:
+        raise ValueError(f"the threshold of {r.name} has no factor (a zero reference)")
+    f = _quote.tag(_quote.factor(fac), claim, "threshold", r.name, form="factor", html=html)
+    return f if form == "factor" else f"{val} ({f} × {reference})"
 
 
 @dataclass(frozen=True)
@@ -391,23 +424,22 @@ class ClaimMap:
         out += [r for r, st in self.readings.items() if any(s != ref for s in st.values())]
         return tuple(dict.fromkeys(out))
 
-    def threshold_texts(self, given: bool = False) -> list[str]:
+    def threshold_texts(self, given: bool = False, html: bool = False) -> list[str]:
         """Each threshold as the conditions word it, e.g. ``"σ1² below 2.24·10⁻⁶ m²/s⁴
-        (1.2 × the reference)"`` (``given``: "the given value")."""
+        (1.2 × the reference)"`` (``given``: "the given value"; ``html``: each number
+        tagged for a page, :func:`gyrolib.quote.tag`)."""
         ref = "the given value" if given else "the reference"
-        out = []
-        for t in self.thresholds:
-            r = _inputs.row(t.input)
-            fac = "" if math.isnan(t.factor) else f" ({t.factor:.3g} × {ref})"
-            out.append(f"{r.symbol} {t.holds_when} {r.show(t.value)}{fac}")
-        return out
+        return [f"{_inputs.row(t.input).symbol} {t.holds_when} "
+                f"{quote_threshold(self.claim, t, html=html, reference=ref)}"
+                for t in self.thresholds]
 
-    def conditions(self, given: bool = False) -> str:
+    def conditions(self, given: bool = False, html: bool = False) -> str:
         """Where the claim flips, in sentences (empty when it holds everywhere).  ``given``:
         the map was drawn around a user's own values, not the book's reference point, and the
-        sentences say so ("the given value")."""
+        sentences say so ("the given value").  ``html``: every threshold and share tagged for
+        a page (:func:`gyrolib.quote.tag`)."""
         others = "the others at their given values" if given else "the others at the reference"
-        parts = self.threshold_texts(given)
+        parts = self.threshold_texts(given, html)
         text = ""
         if parts:
             verb = f"It holds, {others}, for " if self.margin > 0 else \
@@ -434,7 +466,7 @@ class ClaimMap:
                             "no input flips it within its range, one at a time."))
         if self.share_holding is not None and (self.box_fails or self.margin <= 0):
             text += (f" Over the box of uncertain inputs it holds at "
-                     f"{self.share_holding.text()}.")
+                     f"{self.share_holding.text(self.claim, html)}.")
         return text.strip()
 
     def to_dict(self) -> dict[str, Any]:

@@ -34,6 +34,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from gyrolib import quote as _quote
 from gyrolib.sensitivity.study import SobolInput
 from gyrolib.units import from_si
 
@@ -56,16 +57,8 @@ def combine(mode: str, vals: list[Any]) -> Any:
 
 
 def _number(x: float) -> str:
-    """Three significant digits (four from 1000 up), ``m·10ⁿ`` outside [10⁻³, 10⁵)."""
-    if x == 0.0 or not math.isfinite(x):
-        return f"{x:g}"
-    e = math.floor(math.log10(abs(x)))
-    if -3 <= e < 5:
-        return f"{x:.4g}" if e >= 3 else f"{x:.3g}"
-    m = x / 10.0**e
-    if round(abs(m), 2) >= 10.0:
-        m, e = m / 10.0, e + 1
-    return f"{m:.2f}·10" + str(e).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    """The declared precision of every quoted value (:func:`gyrolib.quote.number`)."""
+    return _quote.number(x)
 
 
 @dataclass(frozen=True)

@@ -40,9 +40,13 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
 
 
 def _text(maps: dict) -> str:
+    from gyrolib import quote
+    from gyrolib.claim_map import status_line
+
     lines = []
     for cid, m in maps.items():
-        lines.append(f"{cid}: {m.status} (margin {m.margin:.4g}: {m.meaning})")
+        lines.append(f"{cid}: {status_line(m.status, m.share_holding)} "
+                     f"(margin {quote.margin(m.margin)}: {m.meaning})")
         cond = m.conditions()
         if cond:
             lines.append(f"  {cond}")

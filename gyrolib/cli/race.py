@@ -207,13 +207,13 @@ def _text(r: dict) -> str:
     ]
     if r["thresholds"]:
         from gyrolib import inputs as table
+        from gyrolib.claim_map import quote_threshold
 
         lines += ["", "inputs that flip it, each varied alone (the others as given):"]
         for t in r["thresholds"]:
             row = table.row(t["input"])
-            fac = "" if t["factor"] is None else f"  (× {t['factor']:.3g})"
             lines.append(f"  {row.symbol:<14} {t['input']:<24} holds {t['holds_when']} "
-                         f"{row.show(t['value'])}{fac}")
+                         f"{quote_threshold(None, t, reference='the given value')}")
     if r["conditions"]:
         lines.append("")
         lines.append(r["conditions"])

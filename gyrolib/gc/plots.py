@@ -54,6 +54,7 @@ from matplotlib.patches import Arc, Circle
 from numpy.typing import ArrayLike
 
 from gyrolib import _validation as v
+from gyrolib import quote
 from gyrolib._page_figures import SMALL_PT, legend_below, page_figure
 from gyrolib.filtering.consistency import gated_nis_band, nees_bounds
 from gyrolib.gc.analysis.budget import ErrorBudget
@@ -977,7 +978,9 @@ def plot_race_verdict(grid, *, thresholds: Mapping[str, float] | None = None) ->
     grid : RaceVerdictGrid
         From :func:`gyrolib.gc.race_verdict_grid`.
     thresholds : mapping, optional
-        Reading → the σ1² factor where the claim flips at the paper's C_as (a vertical line).
+        Reading → the σ1² factor where the claim flips at the paper's C_as (a vertical line,
+        labelled by :func:`gyrolib.quote.factor`, the digits the text quotes): the claim
+        map's threshold, not a point of the grid.
 
     Returns
     -------
@@ -1003,7 +1006,7 @@ def plot_race_verdict(grid, *, thresholds: Mapping[str, float] | None = None) ->
                 label="paper's σ1², C_as")
         if thresholds and r in thresholds and np.isfinite(thresholds[r]):
             ax.axvline(thresholds[r], color="C0", ls=":", lw=1.2,
-                       label=f"flips at σ1² × {thresholds[r]:.3g}")
+                       label=f"flips at σ1² × {quote.factor(thresholds[r])}")
         ax.set_xscale("log")
         ax.set_ylim(-62.0, 55.0)
         ax.set_ylabel("saving − 50 (%)")

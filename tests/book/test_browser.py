@@ -798,6 +798,87 @@ def test_a_wide_equation_scrolls_in_its_box_and_can_be_reached_by_keyboard(small
     assert stops == ["0", None], stops
 
 
+def _phone_page(context, body: str, css: bool = True, script: bool = True):
+    """A page at a phone's 390-px viewport (a 342-px article, as the theme's column there)
+    with ``body`` in its article, the book's layout CSS and scroll script unless not."""
+    page = _small_page(context, body, css=css)
+    page.set_viewport_size({"width": 390, "height": 800})
+    page.evaluate("() => { document.querySelector('article').style.width = '342px'; }")
+    if script:
+        page.add_script_tag(path=str(ROOT / "_static" / "gyrolib-scroll.js"))
+    page.evaluate(JS_SETTLED)
+    return page
+
+
+JS_EDGES = """() => Array.from(document.querySelectorAll(
+    'div.math, .pst-scrollable-table-container')).map(e => ({
+  left: e.classList.contains('gyrolib-cut-left'),
+  right: e.classList.contains('gyrolib-cut-right'),
+  shadow: getComputedStyle(e).boxShadow !== 'none'}))"""
+
+WIDE_TABLE = ("<div class='pst-scrollable-table-container' style='overflow-x: auto'><table>"
+              "<tr>" + "<td>a wide cell of a table</td>" * 8 + "</tr></table></div>")
+NARROW_TABLE = ("<div class='pst-scrollable-table-container' style='overflow-x: auto'><table>"
+                "<tr><td>x</td></tr></table></div>")
+
+
+def test_a_wide_table_or_equation_shows_where_it_is_cut_on_a_phone(small_pages):
+    """At 390 px a table or equation wider than the column shows a shadow at each edge
+    where its content is cut (_static/gyrolib-scroll.js, gyrolib-layout.css): at the right
+    before it is scrolled, at the left once it is scrolled to its end; one that fits shows
+    none, and without the script nothing shows it (the check has power)."""
+    wide_eq = ("<div class='math'><span style='display: inline-block; width: 900px'>x"
+               "</span></div>")
+    body = wide_eq + WIDE_TABLE + NARROW_TABLE
+    page = _phone_page(small_pages, body, script=False)
+    try:
+        assert not any(e["shadow"] or e["right"] for e in page.evaluate(JS_EDGES))
+    finally:
+        page.close()
+    page = _phone_page(small_pages, body)
+    try:
+        start = page.evaluate(JS_EDGES)
+        page.evaluate("() => document.querySelectorAll('div.math, "
+                      ".pst-scrollable-table-container').forEach(e => { e.scrollLeft = "
+                      "e.scrollWidth; })")
+        page.evaluate(JS_SETTLED)
+        end = page.evaluate(JS_EDGES)
+    finally:
+        page.close()
+    cut = {"left": False, "right": True, "shadow": True}
+    assert start == [cut, cut, {"left": False, "right": False, "shadow": False}], start
+    assert end[:2] == [{"left": True, "right": False, "shadow": True}] * 2, end
+
+
+JS_EQNO_OVERLAP = """() => {
+  const n = document.querySelector('span.eqno').getBoundingClientRect();
+  const m = document.querySelector('div.math > .content').getBoundingClientRect();
+  const box = document.querySelector('div.math').getBoundingClientRect();
+  const seen = {left: Math.max(m.left, box.left), right: Math.min(m.right, box.right)};
+  return n.bottom > m.top + 0.5 && n.top < m.bottom - 0.5 && n.left < seen.right
+         && n.right > seen.left;
+}"""
+
+
+def test_an_equation_number_never_sits_over_a_cut_equation_on_a_phone(small_pages):
+    """At 390 px the number of a wide equation stands on its own line above it (layout CSS),
+    not floated over the equation at the column's cut edge; without the CSS it does."""
+    eq = ("<div class='math'><span class='eqno'>(15)</span><span class='content' "
+          "style='display: block; width: 600px'>x</span></div>")   # as MathJax's block
+    basic = "<style>span.eqno { float: right; }</style>"   # Sphinx's basic.css
+    found = {}
+    for css in (False, True):
+        page = _phone_page(small_pages, basic + eq, css=css)
+        try:
+            if not css:   # the theme's own scrolling box, as the layout CSS gives it
+                page.evaluate("() => { document.querySelector('div.math').style.overflowX "
+                              "= 'auto'; }")
+            found[css] = page.evaluate(JS_EQNO_OVERLAP)
+        finally:
+            page.close()
+    assert found == {False: True, True: False}, found
+
+
 def test_print_shows_no_toggle_and_no_empty_frame(small_pages):
     """In print (the PDF), a collapsed code cell's "Show code cell source" toggle and an
     empty output box are not drawn, and a collapsed section of the ledger prints open."""

@@ -15,13 +15,18 @@ from tests.conftest import ROOT
 README = ROOT / "README.md"
 
 
-def _help_commands() -> list[str]:
-    """The commands as ``python -m gyrolib --help`` prints them (its usage's ``{a,b,...}``)."""
-    out = subprocess.run([sys.executable, "-m", "gyrolib", "--help"], capture_output=True,
-                         text=True, check=True, cwd=ROOT).stdout
+def _commands_of_help(out: str) -> list[str]:
+    """The commands of a ``--help`` text (its usage's ``{a,b,...}``)."""
     m = re.search(r"\{([a-z_,-]+)\}", out)
     assert m, f"no command list in --help:\n{out}"
     return m.group(1).split(",")
+
+
+def _help_commands() -> list[str]:
+    """The commands as ``python -m gyrolib --help`` prints them."""
+    out = subprocess.run([sys.executable, "-m", "gyrolib", "--help"], capture_output=True,
+                         text=True, check=True, cwd=ROOT).stdout
+    return _commands_of_help(out)
 
 
 def _readme_commands(text: str) -> list[str]:
@@ -89,3 +94,27 @@ def test_the_layout_table_matches_the_package():
     # power: a subpackage the row does not name is found
     assert "frobnicate" not in named and [s for s in [*_subpackages(), "frobnicate"]
                                           if s not in named] == ["frobnicate"]
+
+
+def test_a_command_added_to_help_and_not_to_the_readme_fails(monkeypatch, capsys):
+    """Power, end to end: a command registered with the command line (so ``--help`` lists
+    it) but not written into the README's list is found missing by the same checks."""
+    import types
+
+    import pytest
+
+    from gyrolib import cli
+
+    def add_parser(sub, parser_class):
+        sub.add_parser("frobnicate", help="a command the README does not list")
+
+    fake = types.SimpleNamespace(add_parser=add_parser, run=lambda args: 0)
+    monkeypatch.setitem(cli.COMMANDS, "frobnicate", fake)
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(["--help"])
+    assert exit_.value.code == 0
+    commands = _commands_of_help(capsys.readouterr().out)
+    assert "frobnicate" in commands
+    text = README.read_text(encoding="utf-8")
+    assert _missing(_readme_commands(text), commands) == (["frobnicate"], [])
+    assert _missing(_layout_cli_commands(text), commands) == (["frobnicate"], [])

@@ -18,12 +18,15 @@ import hashlib
 import io
 import json
 import os
+from collections.abc import Mapping
 from contextlib import contextmanager
 from dataclasses import asdict, fields
 from pathlib import Path
+from typing import Any
 
 import gyrolib
 from gyrolib import _validation as v
+from gyrolib import claim_map as _claim_map
 from gyrolib import inputs as _inputs
 from gyrolib.book import cite
 from gyrolib.book.cite import anchor, rounded
@@ -46,12 +49,36 @@ from gyrolib.book.ledger.item import (
     printed_verdict,
 )
 
-__all__ = ["KINDS", "KIND_PLURALS", "MAP_FIELDS", "SCHEMA_VERSION", "STATUSES",
-           "STATUSES_BY_KIND", "STATUS_CODES", "STATUS_MARKS", "TITLE", "Candidate",
-           "LedgerItem", "agrees",
-           "anchor", "citation", "claim_map_markdown", "collect", "entries_markdown",
-           "format_value", "half_unit", "kinds_markdown", "printed_verdict", "rounded",
-           "summary", "table_markdown", "to_csv", "to_json", "to_table"]
+__all__ = [
+    "KINDS",
+    "KIND_PLURALS",
+    "MAP_FIELDS",
+    "SCHEMA_VERSION",
+    "STATUSES",
+    "STATUSES_BY_KIND",
+    "STATUS_CODES",
+    "STATUS_MARKS",
+    "TITLE",
+    "Candidate",
+    "LedgerItem",
+    "agrees",
+    "anchor",
+    "citation",
+    "claim_map_markdown",
+    "collect",
+    "entries_markdown",
+    "format_value",
+    "half_unit",
+    "kinds_markdown",
+    "printed_verdict",
+    "rounded",
+    "side_by_side_markdown",
+    "summary",
+    "table_markdown",
+    "to_csv",
+    "to_json",
+    "to_table",
+]
 
 #: The book's title, as cited with the ledger's data files.
 TITLE = "Gyro calibration, reproduced"
@@ -297,9 +324,11 @@ def table_markdown(items: list[LedgerItem], paper: str) -> str:
         if it.paper != paper:
             continue
         unit = "" if it.unit in ("", "1", "—") or it.reproduced_value is None else f" {it.unit}"
-        why = (f"**conditions:** {_md_escape(it.conditions)}<br>" if it.conditions else "")
-        # the share of the box, on the status's own line (a claim's status line)
-        share = it.status_line[len(it.status):].strip()
+        why = (f"**conditions:** {_md_escape(it.conditions_html)}<br>" if it.conditions
+               else "")
+        # the share of the box, on the status's own line (a claim's status line, its numbers
+        # tagged for the page: gyrolib.quote)
+        share = it.status_html[len(it.status):].strip()
         rows.append(
             f"| {STATUS_MARKS[it.status]}{' ' + _md_escape(share) if share else ''}"
             f"<br>*{it.kind}* | {{ref}}`{it.id} <{it.id}>`<br>"
@@ -350,8 +379,8 @@ def claim_map_markdown(item: LedgerItem) -> str:
     rows = ["| input | where it flips | the claim holds |", "| --- | --- | --- |"]
     for t in j["thresholds"]:
         r = _inputs.row(t["input"])
-        fac = "" if t["factor"] is None else f" (× {t['factor']:.3g})"
-        rows.append(f"| {_md_escape(r.symbol)} `{t['input']}` | {r.show(t['value'])}{fac} | "
+        rows.append(f"| {_md_escape(r.symbol)} `{t['input']}` | "
+                    f"{_claim_map.quote_threshold(it.id, t, html=True)} | "
                     f"{t['holds_when']} |")
     for f in j.get("isolated") or []:
         if f["points"]:
@@ -369,9 +398,40 @@ def claim_map_markdown(item: LedgerItem) -> str:
     share = j.get("share_holding")
     if share:
         rows.append(f"| the box of uncertain inputs | {share['n']} points, seed "
-                    f"{share['seed']} | {100 * share['value']:.0f} % of them (95 %: "
-                    f"{100 * share['lo']:.0f}–{100 * share['hi']:.0f} %) |")
+                    f"{share['seed']} | {it.quote_share()} (95 % interval) |")
     return "\n".join(rows) if len(rows) > 2 else ""
+
+
+def side_by_side_markdown(claims: Mapping[str, tuple[str, Any]]) -> str:
+    """Claims that are alike, side by side, as a MyST table: one column per claim (its id),
+    a row for what it is judged against, its status, each input that flips either (the
+    threshold, or "does not flip it") and the share of the box.  Every threshold and share
+    is quoted by the one formatter and tagged for the page (:mod:`gyrolib.quote`).
+
+    Parameters
+    ----------
+    claims : mapping
+        Claim id → (what it is judged against, in words; its verdict: a
+        :class:`LedgerItem` or :class:`gyrolib.book.ledger.claims.Verdict`, anything with
+        ``status`` and ``judged``).
+    """
+    if len(claims) < 2:
+        raise ValueError(f"claims must name at least two claims; got {list(claims)}")
+    ids = list(claims)
+    judged = {i: (claims[i][1].judged or {}) for i in ids}
+    ths = {i: {t["input"]: t for t in (judged[i].get("thresholds") or ())} for i in ids}
+    rows = ["| | " + " | ".join(f"`{i}`" for i in ids) + " |", "|" + " --- |" * (len(ids) + 1),
+            "| judged against | " + " | ".join(_md_escape(claims[i][0]) for i in ids) + " |",
+            "| status | " + " | ".join(
+                _md_escape(_claim_map.status_line(claims[i][1].status,
+                                                  judged[i].get("share_holding"),
+                                                  claim=i, html=True)) for i in ids) + " |"]
+    for name in dict.fromkeys(n for i in ids for n in ths[i]):
+        r = _inputs.row(name)
+        cells = [f"{t['holds_when']} {_claim_map.quote_threshold(i, t, html=True)}"
+                 if (t := ths[i].get(name)) else "does not flip it" for i in ids]
+        rows.append(f"| {_md_escape(r.symbol)} | " + " | ".join(cells) + " |")
+    return "\n".join(rows)
 
 
 def entries_markdown(items: list[LedgerItem], paper: str) -> str:

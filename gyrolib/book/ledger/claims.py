@@ -392,6 +392,21 @@ class Verdict:
         (:func:`gyrolib.claim_map.status_line`; the status alone where none was drawn)."""
         return status_line(self.status, self.judged.get("share_holding"))
 
+    @property
+    def conditions_html(self) -> str:
+        """:attr:`conditions` for a page: the map's thresholds and share tagged with the
+        claim's id (:func:`gyrolib.quote.tag`); the rest as it is."""
+        q = self.judged.get("conditions_quoted")
+        if not q or not q.get("plain"):
+            return self.conditions
+        return self.conditions.replace(q["plain"], q["html"])
+
+    def status_html(self, claim: str) -> str:
+        """:attr:`status_line` for a page, its share tagged with ``claim``
+        (:func:`gyrolib.quote.tag`)."""
+        return status_line(self.status, self.judged.get("share_holding"), claim=claim,
+                           html=True)
+
 
 #: The parts of a map the ledger's JSON carries (the sweeps and fingerprint stay in the file).
 _JUDGED_KEYS: Final[tuple[str, ...]] = ("meaning", "margin", "reference", "thresholds",
@@ -423,6 +438,8 @@ def verdict(claim_id: str, objects: Mapping[str, Any] | None = None, *,
         judged["mapped"] = True
         cond = m.conditions()
         conditions = "" if m.status == "holds" else f"{cond} {context}".strip()
+        # the same sentences with every threshold and share tagged for a page
+        judged["conditions_quoted"] = {"plain": cond, "html": m.conditions(html=True)}
         return Verdict(m.status, conditions, judged)
     margin = float(claim.margin(objs))
     status = "holds under conditions" if margin > 0 else "fails"

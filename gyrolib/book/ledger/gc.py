@@ -24,6 +24,7 @@ import gyrolib
 import gyrolib.levels as levels
 from gyrolib import _validation as v
 from gyrolib import inputs as _table
+from gyrolib import quote
 from gyrolib.book.ledger.claims import stored_maps, verdict
 from gyrolib.book.ledger.item import Candidate, LedgerItem, printed_verdict
 from gyrolib.book.report import sci as _sci
@@ -176,6 +177,15 @@ class SpeedEvidence:
                 else f"not reached within {T_BOUND:.0f} s")
 
 
+def _reference_thresholds(claim_id: str, objects: dict) -> dict:
+    """The stored map's thresholds of ``claim_id`` by input when ``objects`` are the
+    reference point (the map holds there only); else none."""
+    ref = _table.reference_objects()
+    if any(objects.get(k, v_) != v_ for k, v_ in ref.items()):
+        return {}
+    return {t.input: t for t in stored_maps()[claim_id].thresholds}
+
+
 def speed_evidence(base: Baseline) -> SpeedEvidence:
     """The time for σ of ω_gc to reach σ_c against the inferred bound of 510 s, at the
     paper's parameters and with the vibration variance scaled (where the claim stops)."""
@@ -199,14 +209,21 @@ def speed_evidence(base: Baseline) -> SpeedEvidence:
     s_bound = float(bnd.sigma[0])
     kappa_tol = (float(np.sqrt(SIGMA_C**2 - s_bound**2)) / p.Omega_h if s_bound < SIGMA_C
                  else 0.0)
+    # at the reference point the map's own thresholds, so that a page quotes one value of
+    # each (gyrolib.quote); elsewhere this point's bisection and closed form
+    th = _reference_thresholds("gc.time_to_sigma_c", _objects(p))
+    s1_factor = th["gc.sigma1_sq"].factor if "gc.sigma1_sq" in th else bnd.factor
+    kappa_tol = th["gc.sigma_hf_scale"].value if "gc.sigma_hf_scale" in th else kappa_tol
     scale = (f" GC's scale H/f (and the angle sensor's gain) must be known to κ below "
-             f"{sci(kappa_tol)} for σ_c within {T_BOUND:.0f} s (σ_c/Ω_h = "
+             f"{_table.row('gc.sigma_hf_scale').show(kappa_tol)} for σ_c within "
+             f"{T_BOUND:.0f} s (σ_c/Ω_h = "
              f"{sci(SIGMA_C / p.Omega_h)} at the most).")
     if np.isnan(bnd.factor):
         where = ""
     else:
         where = (f"At the book's {p.shaping_p0} P0 of N1…N4 it holds for a vibration variance "
-                 f"σ1² below {bnd.factor:.2g} times the paper's (at its α1), where σ_gc("
+                 f"σ1² below {quote.factor(s1_factor)} times the paper's (at its α1), "
+                 f"where σ_gc("
                  f"{T_BOUND:.0f} s) crosses σ_c, and fails at {wide:g} times; with the {other} "
                  f"P0, t_c = {t_c_other:.0f} s at the paper's σ1² and {t_c_other_wide:.0f} s "
                  f"at {wide:g} times it.")

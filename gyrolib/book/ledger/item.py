@@ -175,6 +175,46 @@ class LedgerItem:
         return _claim_map.status_line(self.status, share, judged.get("share_of", ""))
 
     @property
+    def status_html(self) -> str:
+        """:attr:`status_line` for a page: the share tagged with the item's id
+        (:func:`gyrolib.quote.tag`), so that a test of the built book finds every quoted
+        form of it."""
+        judged = self.judged or {}
+        share = judged.get("share_holding")
+        if self.kind != "claim" or not share:
+            return self.status
+        return _claim_map.status_line(self.status, share, judged.get("share_of", ""),
+                                      claim=self.id, html=True)
+
+    @property
+    def conditions_html(self) -> str:
+        """:attr:`conditions` for a page: the map's thresholds and share tagged with the
+        item's id (:func:`gyrolib.quote.tag`); the rest as it is."""
+        q = (self.judged or {}).get("conditions_quoted")
+        if not q or not q.get("plain"):
+            return self.conditions
+        return self.conditions.replace(q["plain"], q["html"])
+
+    def quote_threshold(self, input: str, form: str = "both", html: bool = True) -> str:
+        """The map's threshold of ``input`` as every page quotes it
+        (:func:`gyrolib.claim_map.quote_threshold`; ``form``: ``"both"``, ``"value"`` or
+        ``"factor"``), tagged with the item's id for a page when ``html``.  A ``KeyError``
+        names the inputs that flip the claim when ``input`` does not."""
+        ths = {t["input"]: t for t in ((self.judged or {}).get("thresholds") or ())}
+        if input not in ths:
+            raise KeyError(f"{self.id} has no threshold of {input!r}; its thresholds: "
+                           f"{sorted(ths)}")
+        return _claim_map.quote_threshold(self.id, ths[input], html=html, form=form)
+
+    def quote_share(self, html: bool = True) -> str:
+        """The share of the box where the claim holds, as every page quotes it
+        (:meth:`gyrolib.claim_map.Share.short`), tagged with the item's id when ``html``."""
+        share = (self.judged or {}).get("share_holding")
+        if not share:
+            raise ValueError(f"{self.id} has no share of the box")
+        return _claim_map.Share(**share).short(self.id, html)
+
+    @property
     def target(self) -> str:
         """The book label to link to: ``anchor``, or else the chapter's own label (the
         chapter file name with ``_`` as ``-``, e.g. ``chapters/gc_model`` → ``gc-model``)."""
