@@ -27,7 +27,18 @@ memos of the race, which keep its times per inputs, are emptied before each time
 The chapter as a whole must execute in under 60 s on 2 cores.  Writes
 ``benchmarks/results/gc_race.json``.
 
-    .venv/bin/python benchmarks/bench_gc_race.py [--repeat 3]
+``--only-cli`` times the command a user runs instead, each case a whole process (wall time,
+and the CPU seconds of the process in the note), and writes
+``benchmarks/results/gc_race_cli.json``:
+
+* ``race --params FILE`` with its thresholds (the map around the file's parameters), for a
+  file near the paper's parameters and one far from them; target 15 s on a 2-core AVX2
+  machine;
+* ``race`` at the defaults (the stored map, checked by its fingerprint points);
+* ``race --no-thresholds`` at the defaults with numba's cache warm, and cold (an empty
+  ``NUMBA_CACHE_DIR``: every kernel compiled); target 5 s.
+
+    .venv/bin/python benchmarks/bench_gc_race.py [--repeat 3] [--only-cli]
 """
 
 from __future__ import annotations
@@ -36,6 +47,7 @@ import argparse
 import json
 import math
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -192,15 +204,75 @@ def against_previous(rec: Recorder, repeat: int) -> None:
                       "alternating processes each, OPENBLAS_NUM_THREADS=1")
 
 
+#: The parameter files of ``race --params``: near the paper's values (twice its vibration
+#: σ1²), and far from them (ten times the angle sensor's noise, a slow rebalance loop, a
+#: short turn and settling, a tenth of the torquer noise).
+CLI_FILES: dict[str, str] = {
+    "near": f"sigma1_sq = {2 * gc.GyrocompassParams().sigma1_sq!r}\n",
+    "far": "C_as = 2e-12\n[procedure]\nT_rot = 2.0\nT_settle = 3.0\nloop_bandwidth = 1.0\n"
+           "rate_noise = 6e-17\n",
+}
+
+
+def run_cli(args: list[str], env: dict[str, str] | None = None) -> tuple[float, float]:
+    """``python -m gyrolib ARGS`` as a whole process: (wall s, CPU s of the process)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "gyrolib", *args], cwd=ROOT, check=True,
+                   stdout=subprocess.DEVNULL, env={**os.environ, **(env or {})})
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def cli_cases(rec: Recorder, repeat: int) -> None:
+    """The ``race`` command as a user runs it (see the module docstring)."""
+    env = {"OPENBLAS_NUM_THREADS": "1"}
+    run_cli(["race", "--no-thresholds"], env)          # warm-up: numba's cache, bytecode
+
+    def best_of(args, n, extra=None):
+        runs = [run_cli(args, {**env, **(extra or {})}) for _ in range(n)]
+        return min(runs)
+
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, text in CLI_FILES.items():
+            path = Path(tmp) / f"{name}.toml"
+            path.write_text(text, encoding="utf-8")
+            wall, cpu = best_of(["race", "--params", str(path)], 1)
+            rec.case(f"race --params FILE ({name}), thresholds included", wall, target_s=15.0,
+                     note=f"{cpu:.1f} CPU-s; whole process; file: {' '.join(text.split())}")
+        wall, cpu = best_of(["race"], 1)
+        rec.case("race at the defaults (the stored map, checked)", wall,
+                 note=f"{cpu:.1f} CPU-s; whole process")
+        wall, cpu = best_of(["race", "--no-thresholds"], repeat)
+        rec.case("race --no-thresholds at the defaults, numba's cache warm", wall, target_s=5.0,
+                 note=f"{cpu:.1f} CPU-s; whole process, best of {repeat}")
+        cold = Path(tmp) / "numba-cache"
+        cold.mkdir()
+        wall, cpu = run_cli(["race", "--no-thresholds"],
+                            {**env, "NUMBA_CACHE_DIR": str(cold)})
+        rec.case("race --no-thresholds at the defaults, numba's cache cold", wall,
+                 target_s=5.0, note=f"{cpu:.1f} CPU-s; whole process, an empty "
+                                    "NUMBA_CACHE_DIR (every kernel compiled)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--only-previous", action="store_true",
                     help="run only the cases against the previous race")
+    ap.add_argument("--only-cli", action="store_true",
+                    help="time the race command as whole processes (gc_race_cli.json)")
     args = ap.parse_args()
     if args.child:
         child(args.repeat)
+        return
+    if args.only_cli:
+        rec = Recorder("gc_race_cli")
+        cli_cases(rec, args.repeat)
+        rec.write(keep_other_classes=True)
         return
     if args.only_previous:
         rec = Recorder("gc_race")

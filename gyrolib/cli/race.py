@@ -85,6 +85,30 @@ def _num(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
 
 
+def _stored_map(claim):
+    """The stored map of ``claim`` (the study ``claim-maps``), checked as the store checks
+    it: the study's key against the code's, then this claim's fingerprint points (every
+    threshold bracketed, the readings, a sample of the sweeps) within the study's declared
+    tolerance.  Returns the map and the number of points that agreed; raises
+    :class:`gyrolib.store.StaleStudy` (its one line names the refresh command)."""
+    from gyrolib import store
+    from gyrolib.book import studies  # noqa: F401  (registers the studies)
+    from gyrolib.claim_map import ClaimMap, check_map
+
+    s = store.study("claim-maps")
+    data = json.loads(s.file.read_text(encoding="utf-8"))
+    h = store.header_of(s.name, data)
+    store.check_key(s.name, h.key, s.key())
+    if claim.id not in data.get("maps", {}):
+        raise store.StaleStudy(s.name, f"it has no map of {claim.id}")
+    m = ClaimMap.from_dict(data["maps"][claim.id])
+    try:
+        n = check_map(claim, m, rtol=h.rtol, atol=h.atol)
+    except ValueError as exc:
+        raise store.StaleStudy(s.name, str(exc)) from None
+    return m, n
+
+
 def race_report(params=None, procedure=None, *, thresholds: bool = True,
                 inputs: tuple[str, ...] | None = None, executor=None) -> dict:
     """The race and its verdict as a plain dict (the ``--json`` output).
@@ -96,8 +120,11 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
     procedure : RateSensorProcedure, optional
         The rival's procedure and sensor (default: the book's).
     thresholds : bool, default True
-        Map the claim over the table of inputs around these parameters (the book's stored
-        map at the reference point; else computed: a few minutes on one core).
+        Map the claim over the table of inputs around these parameters: at the book's
+        reference point the stored map (the study ``claim-maps``), checked by its key and
+        this claim's fingerprint points and not recomputed; elsewhere computed by
+        :func:`gyrolib.claim_map.map_claim` (its coarse bracket in the rows where the margin
+        is monotone).
     inputs : tuple of str, optional
         The rows to vary (default: every row the race reads).
     executor : concurrent.futures.Executor, optional
@@ -111,7 +138,10 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
         ledger's one rule for claims, in the words a reader sees: with the share of the box
         where it holds, when a box was drawn), ``status_code`` (a stable code,
         :data:`gyrolib.claim_map.STATUS_CODES`), ``conditions`` (readable sentences),
-        ``reference``,
+        ``reference`` (the values the map was drawn around: the given parameters, or the
+        book's reference point), ``at_reference_point`` (whether they are the book's),
+        ``map_source`` (``"stored"``: read from the store and checked, ``"computed"``, or
+        ``None`` without the map), ``checked_points`` (the stored map's points that agreed),
         ``thresholds`` (each ``{input, value, factor, unit, holds_when}``),
         ``share_holding``, ``readings`` (``None`` without the map), ``kappa_max``,
         ``kappa_ceiling`` (GC's H/f tolerance and the κ above which GC never reaches σ_c),
@@ -149,13 +179,18 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
     here = reference_text
     if not at_reference:
         here = here.replace("At the reference point (", "At the given parameters (", 1)
+    source, checked = None, None
     if not thresholds:
         v = claims.verdict(claim.id, objs, context=here)
         status, conditions, judged = v.status, v.conditions, v.judged
     else:
-        m = (claims.stored_maps()[claim.id] if at_reference else
-             map_claim(claim, objs, n_grid=5, rtol=1e-2, n_box=0, executor=executor,
-                       monotone=[n for n in MARGIN_MONOTONE_ROWS if n in claim.inputs]))
+        if at_reference:    # the stored map, checked, not recomputed
+            m, checked = _stored_map(claim)
+            source = "stored"
+        else:
+            m = map_claim(claim, objs, n_grid=5, rtol=1e-2, n_box=0, executor=executor,
+                          monotone=[n for n in MARGIN_MONOTONE_ROWS if n in claim.inputs])
+            source = "computed"
         judged = {**m.to_dict(), "mapped": True}
         status = m.status
         conditions = ("" if status == "holds" else
@@ -179,7 +214,9 @@ def race_report(params=None, procedure=None, *, thresholds: bool = True,
         "status": status_line(status, judged.get("share_holding")),
         "status_code": STATUS_CODES[status],
         "conditions": conditions, "gc_reaches_sigma_c": reaches,
-        "reference": judged.get("reference"), "thresholds": judged.get("thresholds"),
+        "reference": judged.get("reference"), "at_reference_point": at_reference,
+        "map_source": source, "checked_points": checked,
+        "thresholds": judged.get("thresholds"),
         "share_holding": judged.get("share_holding"), "readings": judged.get("readings"),
         "margin": judged.get("margin"),
         "kappa_max": _num(kappa_max), "kappa_ceiling": _num(kappa_ceiling),
@@ -196,7 +233,7 @@ def _text(r: dict) -> str:
         if x is None:
             return "GC never reaches σ_c"
         # a negative saving is a slower GC: say so, not "faster by -12 %"
-        return f"GC faster by {x:.0f} %" if x >= 0 else f"GC slower: {-x:.0f} % more time"
+        return f"GC faster by {x:.0f} %" if x >= 0 else f"GC slower by {-x:.0f} %"
     lines = [
         f"GC's method:                          {t(r['t_c_gc'])}",
         f"rate-sensor method, classical:        {t(r['t_c_rate_sensor'])}"
@@ -209,7 +246,11 @@ def _text(r: dict) -> str:
         from gyrolib import inputs as table
         from gyrolib.claim_map import quote_threshold
 
-        lines += ["", "inputs that flip it, each varied alone (the others as given):"]
+        others = ("the others at the book's reference point" if r["at_reference_point"]
+                  else "the others at the given values")
+        src = ("" if r["map_source"] != "stored" else
+               f"; the stored map, {r['checked_points']} of its points rechecked")
+        lines += ["", f"inputs that flip it, each varied alone ({others}{src}):"]
         for t in r["thresholds"]:
             row = table.row(t["input"])
             lines.append(f"  {row.symbol:<14} {t['input']:<24} holds {t['holds_when']} "
@@ -221,8 +262,10 @@ def _text(r: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the race and its verdict; status 0, or 2 with one line on stderr for a bad
-    parameter file."""
+    """Print the race and its verdict; status 0, 2 with one line on stderr for a bad
+    parameter file, or 3 when the stored map it would print is stale."""
+    from gyrolib.store import StaleStudy
+
     executor = None
     try:
         params, proc = _inputs(args.params)
@@ -244,6 +287,9 @@ def run(args: argparse.Namespace) -> int:
     except KeyError as exc:
         sys.stderr.write(f"python -m gyrolib race: error: --inputs: {exc.args[0]}\n")
         return 2
+    except StaleStudy as exc:     # the stored map no longer agrees with the code
+        sys.stderr.write(f"python -m gyrolib race: {exc}\n")
+        return 3
     except _UsageError as exc:
         sys.stderr.write(f"python -m gyrolib race: error: {' '.join(str(exc).split())}\n")
         return 2

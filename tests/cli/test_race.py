@@ -5,6 +5,7 @@ rejected with status 2, one line on stderr and nothing on stdout."""
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import pytest
 
@@ -127,8 +128,70 @@ def test_a_slower_gc_and_the_users_own_parameters_are_worded_as_such(capsys, tmp
     assert code == 0
     r = gc.race(gc.GyrocompassParams(sigma_hf_scale=2e-4))
     assert r.faster_percent < 0 and r.faster_percent_optimal < 0
-    assert f"GC slower: {-r.faster_percent:.0f} % more time" in out
+    assert f"GC slower by {-r.faster_percent:.0f} %" in out
+    assert f"GC slower by {-r.faster_percent_optimal:.0f} %" in out
     assert "faster by -" not in out and "faster by" not in out
     assert "At the given parameters (" in out and "reference point (" not in out
     code, out, _ = _run(capsys, ["race", "--no-thresholds"])
     assert code == 0 and "GC faster by" in out and "At the reference point (" in out
+
+
+def test_a_users_map_in_text_and_json_names_the_given_parameters(capsys, tmp_path):
+    """With its map (one row, to keep it short): the JSON says the map was computed around
+    the given parameters, which are not the book's reference point, and no sentence calls
+    them so; the text's saving is "slower by", in the same numbers as the JSON's."""
+    path = tmp_path / "k.toml"
+    path.write_text("sigma_hf_scale = 2e-4\n", encoding="utf-8")
+    code, out, _ = _run(capsys, ["race", "--params", str(path), "--json",
+                                 "--inputs", "gc.sigma_hf_scale"])
+    assert code == 0
+    r = json.loads(out)
+    assert r["at_reference_point"] is False and r["map_source"] == "computed"
+    assert r["checked_points"] is None
+    assert r["faster_percent"] < 0 and r["status"] == "fails"
+    assert "reference point" not in r["conditions"] and "the given value" in r["conditions"]
+    (t,) = r["thresholds"]
+    assert t["input"] == "gc.sigma_hf_scale" and t["holds_when"] == "below"
+    code, text, _ = _run(capsys, ["race", "--params", str(path),
+                                  "--inputs", "gc.sigma_hf_scale"])
+    assert code == 0 and "reference point" not in text
+    assert f"GC slower by {-r['faster_percent']:.0f} %" in text and "faster by -" not in text
+    assert "(the others at the given values)" in text
+
+
+def test_race_at_the_defaults_prints_the_stored_map_checked(capsys):
+    """At the book's reference point the thresholds are the stored map's, read from the
+    store and checked by the claim's fingerprint points (none recomputed by a search)."""
+    from gyrolib.book.ledger import claims
+    from gyrolib.claim_map import fingerprint_points
+
+    code, out, err = _run(capsys, ["race", "--json"])
+    assert code == 0 and err == ""
+    r = json.loads(out)
+    stored = claims.stored_maps()["gc.faster_percent"]
+    assert r["at_reference_point"] is True and r["map_source"] == "stored"
+    assert r["checked_points"] == len(fingerprint_points(stored))
+    assert [(t["input"], t["value"]) for t in r["thresholds"]] == [
+        (t.input, t.value) for t in stored.thresholds]
+
+
+def test_a_stale_stored_map_exits_3_naming_the_study(capsys, tmp_path, monkeypatch):
+    """The stored map with its σ1² threshold moved by 10 % (a copy of the file): the check
+    brackets it, fails, and the command prints one line naming the study and the refresh
+    command, and nothing on stdout."""
+    from gyrolib import store
+    from gyrolib.book import studies  # noqa: F401  (registers the studies)
+
+    s = store.study("claim-maps")
+    data = json.loads(s.file.read_text(encoding="utf-8"))
+    for t in data["maps"]["gc.faster_percent"]["thresholds"]:
+        if t["input"] == "gc.sigma1_sq":
+            t["value"] *= 1.1
+    copy = tmp_path / "claim_maps.json"
+    copy.write_text(json.dumps(data), encoding="utf-8")
+    monkeypatch.setattr(store, "_REGISTRY", {**store._REGISTRY,
+                                             "claim-maps": replace(s, file=copy)})
+    code, out, err = _run(capsys, ["race"])
+    assert code == 3 and out == ""
+    assert err.count("\n") == 1 and "claim-maps" in err and "tasks.py refresh" in err
+    assert "gc.sigma1_sq" in err

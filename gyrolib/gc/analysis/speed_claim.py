@@ -42,7 +42,7 @@ from gyrolib._repr import compact_repr
 from gyrolib.filtering.covariance import covariance_fast
 from gyrolib.gc.analysis.covariance import covariance_analysis
 from gyrolib.gc.model import inputs as model_inputs
-from gyrolib.gc.model.discretization import kept_discretization, steps_in
+from gyrolib.gc.model.discretization import kept_affine_model, steps_in
 from gyrolib.gc.model.instrument import build_instrument_model
 from gyrolib.gc.model.params import GyrocompassParams, check_params, state_index
 from gyrolib.gc.model.state_space import (
@@ -67,6 +67,11 @@ SHAPING_FIELDS: Final[tuple[str, ...]] = ("alpha1", "xi1", "sigma1_sq", "alpha2"
 
 #: Horizon of a first, short discretization (s); longer only when σ has not crossed.
 _FIRST_HORIZON: Final[float] = 100.0
+
+#: A shorter horizon tried before the first (s): paper GC's σ crosses σ_c at about 24 s, so
+#: most margins need no more; the steps are the longer discretizations' first ones, to the
+#: bit (each step's ``Φ`` and ``Qd`` depend on its own nominal angle only).
+_SHORT_HORIZON: Final[float] = 40.0
 
 #: Steps of the covariance recursion run between two looks at σ of ω_gc.
 _CHUNK: Final[int] = 5000
@@ -111,22 +116,26 @@ def _run_omega_gc(ps: tuple[GyrocompassParams, ...], t_first: float, t_max: floa
     i = state_index("omega_gc")
     n_max = steps_in(p, t_max)
     n_first = n_max if level is None else min(steps_in(p, t_first), n_max)
+    # the horizons discretized in turn, each only when σ has not crossed within the last
+    horizons = sorted({n_first, n_max} | ({min(round(_SHORT_HORIZON / dt), n_first)}
+                                          if level is not None else set()))
 
     def model(n: int):
-        return kept_discretization(p, n, "van_loan").model
+        return kept_affine_model(p, n, "van_loan")
 
     def run(q: GyrocompassParams) -> tuple[float, float]:
         P = (ContinuousModel.with_instruments(q).P0.copy() if instruments
              else build_initial_covariance(q))
         if level is not None and np.sqrt(max(P[i, i], 0.0)) <= level:
             return 0.0, float("nan")
-        m = model(n_first)
+        m = model(horizons[0])
         k = 0
         while True:
             if k == m.n_steps:
                 if m.n_steps == n_max:
                     return float("nan"), float(np.sqrt(max(P[i, i], 0.0)))
-                m = model(n_max)  # the longer discretization: the same first steps
+                # the longer discretization: the same first steps
+                m = model(min(n for n in horizons if n > m.n_steps))
             k1 = min(k + _CHUNK, m.n_steps)
             window = replace(m, seg=m.seg[k:k1], a=m.a[k:k1], b=m.b[k:k1],
                              h=None if m.h is None else m.h[k:k1])
@@ -180,10 +189,13 @@ def time_to_level(params: GyrocompassParams, level: float, t_max: float) -> floa
     The covariance recursion of :func:`gyrolib.gc.covariance_analysis`, stopped at the first
     crossing (σ of the constant ω_gc never increases, so it stays below; the time is
     interpolated as by :func:`gyrolib.gc.time_to_sigma`); discretized over
-    ``min(100 s, t_max)`` first, and over ``t_max`` only when σ has not crossed by then.
+    ``min(40 s, t_max)`` first, then ``min(100 s, t_max)`` and ``t_max``, each only when σ
+    has not crossed by the end of the last (the discretization is shared with parameters
+    that differ only in the measurement noise or the prior,
+    :func:`gyrolib.gc.model.discretization.kept_affine_model`).
     Parameters with instrument terms run the same recursion with their constants appended
     to the state, as :func:`gyrolib.gc.covariance_analysis` appends them (the longer horizon
-    continues the shorter one: its first 100 s are not run twice).
+    continues the shorter one: its first steps are not run twice).
 
     Parameters
     ----------

@@ -22,6 +22,7 @@ Measurements ``z_k = D x(t_k) + v_k`` at ``t_k = k Δt``, ``k ≥ 1``; the filte
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -400,6 +401,57 @@ def discretize_steps(cm: ContinuousModel, n_steps: int, method: str) -> GCDiscre
     return GCDiscretization(params=p, n_steps=n_steps, beta_half=beta_half, betas=betas,
                             model=model, Gamma=Gamma, noise_factor=noise_factor,
                             method=method, continuous=cm)
+
+
+#: The affine models :func:`kept_affine_model` keeps, at most ``_affine_kept_max`` (a 100-s
+#: model holds about 3 MB); lower-case: a cache's size, not a model constant of the key.
+_affine_kept: dict[tuple, AffineDiscreteModel] = {}
+_affine_kept_max = 8
+
+
+def _dynamics_key(cm: ContinuousModel, n_steps: int, method: str) -> tuple:
+    """Everything :func:`discretize_steps` reads to build the steps' ``Φ`` and ``Qd``: the
+    nominal motion's constants (:func:`_etd2_coefficients`), the step, the state matrix's
+    parts, ``G`` and ``Q``; not the measurement matrices, their noise or the prior."""
+    p = cm.params
+    arrays = (cm.Fc, cm.Es, cm.Ec, cm.G, cm.Q)
+    return (n_steps, method, cm.n, p.dt, p.f, p.I, p.H, p.Omega_h,
+            *((a.shape, a.tobytes()) for a in arrays))
+
+
+def kept_affine_model(p: GyrocompassParams, n_steps: int,
+                      method: str = "van_loan") -> AffineDiscreteModel:
+    """``kept_discretization(p, n_steps, method).model`` with the discretization shared
+    between parameters that differ only where it does not look (the measurement matrices,
+    their noise ``R`` and the prior ``P(0)``: ``C_as``, ``C_incl``, the priors of ω_gc, ψ
+    and the tilts): the steps' ``Φ`` and ``Qd`` are those of the first such parameters, to
+    the bit (the same inputs), and ``H``, ``r`` and ``H1`` are ``p``'s own.  For the
+    library's read-only use, as :func:`kept_discretization`.
+
+    Examples
+    --------
+    >>> import dataclasses
+    >>> from gyrolib import gc
+    >>> p = gc.GyrocompassParams()
+    >>> a = kept_affine_model(p, 10)
+    >>> b = kept_affine_model(dataclasses.replace(p, C_as=2 * p.C_as), 10)
+    >>> b.Phi0 is a.Phi0, bool(b.r[0] == 2 * a.r[0])
+    (True, True)
+    """
+    cm = ContinuousModel.with_instruments(p)
+    key = _dynamics_key(cm, n_steps, method)
+    base = _affine_kept.get(key)
+    if base is None:
+        base = discretize_steps(cm, n_steps, method).model
+        while len(_affine_kept) >= _affine_kept_max:
+            _affine_kept.pop(next(iter(_affine_kept)))
+        _affine_kept[key] = base
+    H1 = None if cm.instrument is None else cm.H1.copy()
+    return dataclasses.replace(base, H=cm.H0.copy(), r=np.diag(cm.R).copy(), H1=H1,
+                               h=base.h if H1 is not None else None)
+
+
+kept_affine_model.cache_clear = _affine_kept.clear   # as the functools memos are emptied
 
 
 @functools.lru_cache(maxsize=32)

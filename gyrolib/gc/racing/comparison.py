@@ -903,7 +903,10 @@ def procedure_for_time(params: GyrocompassParams | None, procedure: RateSensorPr
 def _race(p: GyrocompassParams, proc: RateSensorProcedure,
           gc_part: tuple[float, np.ndarray, np.ndarray]) -> RaceResult:
     model = rate_sensor_model(p, proc)
-    part = _rate_part(model)
+    # the times as the margin keeps them (the same model: the rival reads none of GC's
+    # instrument constants), so that a map of the claim at these inputs does not search
+    # the rival's windows a second time
+    part = _rate_part_at(p, proc)
     if part.n1:
         # the curves run half as long again as the classical procedure's position 2
         n2_plot = part.n2 + max(1, part.n2 // 2)
