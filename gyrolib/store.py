@@ -72,8 +72,8 @@ from gyrolib import __version__
 
 __all__ = ["HEADER_KEY", "MEMO_ENV", "REFRESH", "Header", "StaleStudy", "Study", "check",
            "check_key", "compare", "cpu_class", "dumps", "header_of", "memo_digest",
-           "memo_folder", "model_key", "refresh", "register", "registered", "same_sign",
-           "state", "study", "write"]
+           "memo_folder", "model_key", "refresh", "register", "registered", "rekey",
+           "same_sign", "state", "study", "write"]
 
 #: The entry of a study's file that holds its header.
 HEADER_KEY: Final[str] = "store"
@@ -568,6 +568,37 @@ def write(name: str, data: Mapping[str, Any], header: Header, path: Path | None 
     tmp.write_text(dumps(out, s.rows), encoding="utf-8")
     tmp.replace(p)
     return p
+
+
+def rekey(name: str, reason: str, path: Path | None = None) -> Header:
+    """Stamp the code's key into the stored study ``name`` whose key differs while every one
+    of its fingerprint points still agrees: for a change its numbers do not read (the range
+    a parameter's validation accepts, a constant renamed).
+
+    The points are recomputed here (never read from the check memo); a disagreement raises
+    :class:`StaleStudy` and nothing is written: such a study must be recomputed
+    (:func:`refresh`).  The numbers, and the header's version, CPU class, date and cost of
+    their computation, are kept; the note records the parts whose key moved, how many
+    points agreed, the date and ``reason`` (a non-empty sentence).  Returns the new header.
+    """
+    if not isinstance(reason, str) or not reason.strip():
+        raise ValueError(f"reason must be a non-empty sentence; got {reason!r}")
+    s = study(name)
+    data = json.loads(_raw(s, path))
+    h = header_of(name, data)
+    now = s.key()
+    moved = sorted(k for k in set(h.key) | set(now) if h.key.get(k) != now.get(k))
+    if not moved:
+        raise ValueError(f"the stored study {name} has the code's key already; nothing to "
+                         "re-stamp")
+    points = int(s.check(data))
+    day = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+    note = (f"{h.note}; " if h.note else "") + (
+        f"key re-stamped {day} after a change in {', '.join(moved)} that moved none of its "
+        f"{points} fingerprint points: {' '.join(reason.split())}")
+    header = dataclasses.replace(h, key=now, note=note)
+    write(name, data, header, path)
+    return header
 
 
 def refresh(name: str, *, executor: object = None, progress: Any = None,

@@ -274,3 +274,33 @@ def test_the_store_imports_no_other_part_of_gyrolib():
         elif isinstance(node, ast.ImportFrom):
             named.add(node.module or "")
     assert {n for n in named if n.startswith("gyrolib")} == {"gyrolib"}
+
+
+def test_rekey_stamps_the_key_only_while_every_point_agrees(toy, monkeypatch):
+    """A key moved by a change the numbers do not read is re-stamped, with the parts and the
+    reason in the note; a key moved with the numbers is refused, and nothing is written."""
+    store.refresh("toy")
+    before = json.loads(toy.file.read_text("utf-8"))
+    with pytest.raises(ValueError, match="has the code's key already"):
+        store.rekey("toy", "nothing moved")
+    # a key that moves while the points agree: the study reads a new, unused constant
+    monkeypatch.setitem(store._REGISTRY, "toy", store.Study(
+        "toy", toy.file, lambda: store.model_key(constants={"rate": _STATE["rate"],
+                                                            "unused": 1}),
+        _check, _compute, rtol=1e-9, atol=0.0))
+    with pytest.raises(store.StaleStudy, match="its key differs"):
+        store.check("toy")
+    with pytest.raises(ValueError, match="reason must be"):
+        store.rekey("toy", "  ")
+    h = store.rekey("toy", "a constant the toy does not compute with")
+    after = json.loads(toy.file.read_text("utf-8"))
+    assert after["ys"] == before["ys"] and h.date == store.header_of("toy", before).date
+    assert "moved none of its 3 fingerprint points" in h.note
+    assert h.note.endswith("a constant the toy does not compute with")
+    assert store.check("toy", memo=False) == 3
+    # the power: a constant the numbers do read moves the points, and rekey refuses
+    monkeypatch.setitem(_STATE, "rate", 1.1)
+    text = toy.file.read_text("utf-8")
+    with pytest.raises(store.StaleStudy, match=r"y at x = 1\.0"):
+        store.rekey("toy", "should be refused")
+    assert toy.file.read_text("utf-8") == text

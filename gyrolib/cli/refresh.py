@@ -1,5 +1,5 @@
 """The ``refresh`` command: ``python -m gyrolib refresh [STUDY ...] [--scheduler ADDR |
---workers K] [--list]`` (``python3 tasks.py refresh`` runs it).
+--workers K] [--list] [--rekey REASON]`` (``python3 tasks.py refresh`` runs it).
 
 Recomputes the stored studies (:mod:`gyrolib.store`; the book's are registered by
 :mod:`gyrolib.book.ledger.studies`) and rewrites their files with a new header (key,
@@ -9,10 +9,12 @@ cluster of ``--scheduler``, on ``--workers K`` local processes (a
 ``--list`` recomputes no study: it checks each and prints its state (fresh or stale, with
 why), whether its key is the code's, whether its fingerprint points still agree (recomputed
 even when the key differs, or read from the check memo: :func:`gyrolib.store.check`), its
-date, CPU class, the CPU-s it cost and the CPU-s of its check.
+date, CPU class, the CPU-s it cost and the CPU-s of its check.  ``--rekey REASON`` recomputes
+no study either: it stamps the code's key into the named studies whose key differs while
+every fingerprint point still agrees (:func:`gyrolib.store.rekey`), REASON in the note.
 
 Exit status 0; 2 for bad arguments (one line, nothing written); with ``--list``, 3 when a
-study is stale.
+study is stale; with ``--rekey``, 3 when a study's points disagree (nothing written).
 """
 
 from __future__ import annotations
@@ -33,6 +35,10 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     where.add_argument("--scheduler", metavar="ADDR", help="a Dask scheduler's address")
     where.add_argument("--workers", type=int, default=None, metavar="K",
                        help="K local worker processes (default: this process)")
+    p.add_argument("--rekey", metavar="REASON",
+                   help="stamp the code's key into the named studies whose key differs while "
+                   "every fingerprint point agrees (a change their numbers do not read), "
+                   "with REASON in the header's note; recompute nothing")
     p.add_argument("--list", action="store_true",
                    help="print each study's state, date, CPU class and cost; compute nothing")
 
@@ -75,6 +81,17 @@ def run(args: argparse.Namespace) -> int:
         return _fail(f"unknown study {unknown[0]!r}; known: {', '.join(store.registered())}")
     if args.workers is not None and args.workers < 1:
         return _fail(f"--workers must be an integer >= 1; got {args.workers}")
+    if args.rekey is not None:
+        if not args.studies:
+            return _fail("--rekey needs the studies named")
+        for n in names:
+            try:
+                h = store.rekey(n, args.rekey)
+            except (store.StaleStudy, ValueError) as exc:
+                sys.stderr.write(f"refresh: {n}: {' '.join(str(exc).split())}\n")
+                return 3
+            sys.stdout.write(f"{n}: key re-stamped; {h.note.rsplit('; ', 1)[-1]}\n")
+        return 0
     if args.list:
         return _listing(names)
     from tqdm import tqdm
