@@ -29,8 +29,8 @@ Three studies, each registered under its name (:data:`NAMES`) with its file in
 The key of each (:func:`key`) hashes the constants and default dataclasses of every module
 whose constants and defaults the study reads (this one's included: its run counts, seeds
 and grids) and the rows of the table of inputs it reads.  Every number a check compares is
-dimensionless (errors in σ, NEES, times in s) and agrees to the declared ``rtol`` 1e-6,
-``atol`` 1e-6.
+of order one or more in its unit (errors in σ, NEES, σ in σ_c, times in s) and must agree to
+the declared ``rtol`` 1e-6, ``atol`` 1e-6.
 
 :func:`load` is how a chapter reads a study: checked (:func:`gyrolib.store.check`, a stale
 one raises :class:`gyrolib.store.StaleStudy` naming it and its refresh command), or, with
