@@ -1,7 +1,8 @@
 """Paper GC's chapters' stored studies (gyrolib.book.studies.gc over gyrolib.store).
 
-Everyday: each study read through :func:`load` (its key and fingerprint points checked) holds
-what the chapters read, judged against bounds independent of the code that computed it; a
+Everyday (each study's key and fingerprint points are checked, fresh, by
+tests/book/ledger/test_studies.py, as for every study of the book): each study holds what the
+chapters read, judged against bounds independent of the code that computed it; a
 changed model constant outside the table (Omega_v x 1.1) or a changed run count makes it stale
 by name with its refresh command, through the key and through the fingerprint alone.  Full
 tier: each study recomputed whole and compared with the stored file within its declared
@@ -25,6 +26,12 @@ from gyrolib.gc.model.params import GyrocompassParams
 
 def _data(name: str) -> dict:
     return json.loads(store.study(name).file.read_text("utf-8"))
+
+
+def _decoded(name: str) -> dict:
+    """The stored study as the chapters read it, without its check (which
+    tests/book/ledger/test_studies.py runs for every study of the book)."""
+    return gcs.decode({k: x for k, x in _data(name).items() if k != store.HEADER_KEY})
 
 
 def _stale(exc: pytest.ExceptionInfo, name: str) -> str:
@@ -58,7 +65,7 @@ def test_the_studies_are_listed_and_registered():
 def test_monte_carlo_study_reads_as_a_consistent_filter():
     """The stored paper's truth: the RMS error of ω_gc at 100 s over the runs is the filter's
     σ within the chi-square band of an RMS of N_RUNS runs; the louder truth is outside it."""
-    d = gcs.load("gc-monte-carlo")
+    d = _decoded("gc-monte-carlo")
     mc, wrong = d["mc"], d["wrong"]
     assert (mc.n_runs, mc.seed) == (gcs.N_RUNS, gcs.SEED)
     lo, hi = (sps.chi2.ppf(q, gcs.N_RUNS) / gcs.N_RUNS for q in (0.0005, 0.9995))
@@ -74,14 +81,14 @@ def test_monte_carlo_study_reads_as_a_consistent_filter():
 
 
 def test_speed_claim_study_brackets_its_boundary():
-    d = gcs.load("gc-speed-claim")
+    d = _decoded("gc-speed-claim")
     b = d["boundary"]
     assert b.sigma[0] < b.level < b.sigma[1] and b.factors[0] < b.factor < b.factors[1]
     assert d["claim"].t_c.shape == (2, 7, 7) and d["sweep"].monotone.all()
 
 
 def test_race_study_holds_every_case_of_the_chapter():
-    d = gcs.load("gc-race-sweeps")
+    d = _decoded("gc-race-sweeps")
     for k, cases in gcs._race_cases().items():
         assert [dict(c) for c in d[k].cases] == cases
     assert d["mc"].n_runs == gcs.RACE_MC_RUNS and d["mc"].inside
@@ -176,3 +183,15 @@ def test_full_recomputation_agrees_with_the_stored_study(tmp_path, name):
     old = _data(name)
     old, new = ({k: x for k, x in d.items() if k != store.HEADER_KEY} for d in (old, new))
     _agree(gcs.decode(old), gcs.decode(new), store.header_of(name, _data(name)).rtol, name)
+
+
+def test_load_checks_then_reads_and_names_a_stale_study(monkeypatch):
+    d = gcs.load("gc-race-sweeps")
+    stored = _decoded("gc-race-sweeps")["grid"]
+    assert np.array_equal(d["grid"].t_c_rate_sensor, stored.t_c_rate_sensor)
+    monkeypatch.setattr(gcs, "RACE_MC_RUNS", 2 * gcs.RACE_MC_RUNS)
+    with pytest.raises(store.StaleStudy) as exc:
+        gcs.load("gc-race-sweeps")
+    _stale(exc, "gc-race-sweeps")
+    with pytest.raises(ValueError, match="name must be one of"):
+        gcs.load("gc-nothing")
