@@ -53,6 +53,8 @@ ALLOWED: dict[str, str] = {
     "rsf/calibration.py: time_tolerance": "a time stamp's tolerance in samples",
     "rsf/claims.py: max_factors": "a count of slip factors searched",
     "sensitivity/study.py: CONF_LEVEL": "a confidence level",
+    "book/studies/gc.py: WRONG_FACTOR": "the deliberately wrong truth of the claims chapter's "
+                                        "power check (σ1² ×9), no input's range",
 }
 LEVELS = (levels.SIGMA_C, levels.T_BOUND)
 PAIRS = {(r.low, r.high) for r in inputs.INPUTS if r.kind != "reading" and r.relative}
@@ -217,22 +219,12 @@ _RANGE_ENDS = {x for r in inputs.INPUTS if r.kind != "reading" and r.relative
 #: (``what``: the name a code cell assigns it to, or the expression, or the prose's words),
 #: with the reason.
 CHAPTER_ALLOWED: dict[str, str] = {
-    # Monte Carlo sizes, seeds and a deliberately wrong model: no input's range
-    "gc_claims.md: N_RUNS, SEED": "a Monte Carlo's size and seed",
-    "gc_race.md: N_RUNS, SEED, WRONG": "a Monte Carlo's size, seed and the factor of the "
-                                       "deliberately wrong truth of its power check",
+    # (the Monte Carlo sizes and seeds and the race's sweeps of T_rot, T_settle, the torquer
+    # noise and κ are the stored studies' constants: gyrolib/book/studies/gc.py)
     # sweeps that go beyond an input's range on purpose
     "gc_claims.md: psi_priors": "ψ's prior from known exactly (0) to 3°, the prose's "
                                 "'uncertainty of degrees': the separability question, "
                                 "deliberately beyond σ_ψ(0)'s plausible range",
-    "gc_race.md: T_ROT": "the procedure from no turn at all (the prose's 'instant turn') to "
-                         "ref. [3]'s pace: what GC's lead is made of, deliberately beyond "
-                         "the overhead row's range",
-    "gc_race.md: T_SETTLE": "as T_ROT, the settling",
-    "gc_race.md: NOISE": "the torquer noise's range (0.1-10) and two decades beyond, to show "
-                         "the asymptote; the prose glues where the plausible range ends",
-    "gc_race.md: KAPPA": "points around the race's κ threshold and GC's ceiling σ_c/Ω_h, inside "
-                         "κ's range: a display; the threshold itself is the map's",
     # numerical settings and displays
     "calibrate.md: np.linspace(0, 100, 1001)": "a plot's abscissa (s)",
     "gc_filter.md: (0.0, 0.25, 0.5, 0.75, 1.0)": "a colour map's stops",
@@ -420,11 +412,11 @@ def test_prose_without_a_typed_range_is_not_flagged(text):
 
 
 def test_the_chapter_scan_flags_an_injected_grid_in_a_real_chapter(tmp_path):
-    """Power on a real chapter: gc_claims with its map's grid typed back in fails the scan."""
-    text = (ROOT.parent / "chapters" / "gc_claims.md").read_text(encoding="utf-8")
-    typed = text.replace('inputs.factor_grid("gc.sigma1_sq", 7)', "np.logspace(-1, 1, 7)", 1)
+    """Power on a real chapter: gc_race with its vibration grid typed in fails the scan."""
+    text = (ROOT.parent / "chapters" / "gc_race.md").read_text(encoding="utf-8")
+    typed = text.replace('inputs.factor_grid("gc.sigma1_sq")', "np.logspace(-1, 1, 3)", 1)
     assert typed != text
-    (tmp_path / "gc_claims.md").write_text(typed, encoding="utf-8")
-    found = [t for k, t in chapter_candidates([tmp_path / "gc_claims.md"])
+    (tmp_path / "gc_race.md").write_text(typed, encoding="utf-8")
+    found = [t for k, t in chapter_candidates([tmp_path / "gc_race.md"])
              if k not in CHAPTER_ALLOWED]
-    assert any("np.logspace(-1, 1, 7)" in t for t in found)
+    assert any("np.logspace(-1, 1, 3)" in t for t in found)

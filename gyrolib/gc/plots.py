@@ -587,8 +587,9 @@ def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s
 
     Parameters
     ----------
-    mc : MonteCarloResult
-        From :func:`gyrolib.gc.monte_carlo`.
+    mc : MonteCarloResult or MonteCarloSummary
+        From :func:`gyrolib.gc.monte_carlo` (or its summary with the NEES of ``(state,)``
+        and of the filter's states).
     state : str
         State of the left panel and of the 1-dof NEES.
     unit : str
@@ -606,8 +607,8 @@ def plot_consistency(mc, *, state: str = "omega_gc", unit: str = "arcsec_paper/s
     b1 = nees_bounds(1, mc.n_runs, confidence)
     dof = len(state_names(mc.params))   # the filter's states (what nees() takes)
     bn = nees_bounds(dof, mc.n_runs, confidence)
-    nees = {f"{state} (1 dof)": (mc.nees((state,)).mean(axis=0), b1),
-            f"full state ({dof} dof)": (mc.nees().mean(axis=0), bn)}
+    nees = {f"{state} (1 dof)": (mc.mean_nees((state,)), b1),
+            f"full state ({dof} dof)": (mc.mean_nees(), bn)}
     pct = f"{100 * confidence:g} %"
     fig = Figure(figsize=(5.0, 7.4), layout="constrained")
     ax_r, ax_n = fig.subplots(2, 1)  # stacked for the page

@@ -346,3 +346,26 @@ def test_remainder_drift_is_the_second_order_term(psi_arcsec):
     assert got == pytest.approx(float(exact), rel=1e-12)
     taylor = -P.Omega_h * (np.cos(b) * psi**2 / 2 + np.sin(b) * psi**3 / 6)
     assert got == pytest.approx(taylor, rel=5e-5)
+
+
+def test_the_summary_and_the_compact_effect_read_as_the_runs(matched, effect):
+    """What the stored studies keep gives the numbers the whole runs give: the summary's σ,
+    RMS error, average NEES and end values; the compact effect's slope and residual (from its
+    per-time sums, against the per-run arrays directly)."""
+    s = matched.summary(keep_runs=2)
+    assert np.array_equal(s.std("omega_gc"), matched.std("omega_gc"))
+    assert np.array_equal(s.rms_error("omega_gc"), matched.rms_error("omega_gc"))
+    np.testing.assert_array_equal(s.mean_nees(), matched.nees().mean(axis=0))
+    assert s.inside_share(("omega_gc",)) == matched.inside_share(("omega_gc",))
+    assert np.array_equal(s.estimate("omega_gc"), matched.estimate("omega_gc")[:2])
+    assert np.array_equal(s.error_end("psi"), matched.error("psi")[:, -1])
+    with pytest.raises(ValueError, match="summary's states"):
+        s.std("psi")
+    c = effect.compact()
+    assert c.omega_shift.shape == (matched.n_runs, 1)
+    late = effect.t >= 5.0
+    x, y = effect.omega_shift_predicted[:, late], effect.omega_shift[:, late]
+    assert c.slope(5.0) == pytest.approx(np.sum(x * y) / np.sum(x * x), rel=1e-12)
+    d = effect.omega_shift - effect.omega_shift_predicted
+    np.testing.assert_allclose(c.residual, np.sqrt(np.mean(d**2, axis=0) / np.mean(
+        effect.omega_shift_predicted**2, axis=0)), rtol=1e-12)

@@ -25,11 +25,12 @@ from typing import Final
 from gyrolib import store
 from gyrolib.book.ledger import studies as ledger_studies
 from gyrolib.book.studies import calibrate
+from gyrolib.book.studies import gc as gc_studies
 
 __all__ = ["CHAPTER_MODULES", "NAMES", "check_all"]
 
 #: The modules of this package that register a chapter's studies (each has ``NAMES``).
-CHAPTER_MODULES: Final[tuple[object, ...]] = (calibrate,)
+CHAPTER_MODULES: Final[tuple[object, ...]] = (calibrate, gc_studies)
 
 #: Every registered study of the book: the ledger's first, then the chapters'.
 NAMES: Final[tuple[str, ...]] = ledger_studies.NAMES + tuple(

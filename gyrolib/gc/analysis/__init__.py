@@ -26,6 +26,7 @@ from gyrolib.gc.analysis.linearization import (
 )
 from gyrolib.gc.analysis.montecarlo import (
     MonteCarloResult,
+    MonteCarloSummary,
     monte_carlo,
     run_streams,
     simulate_truth,
@@ -65,6 +66,7 @@ __all__ = [
     "InformationPsiOmega",
     "LinearizationEffect",
     "MonteCarloResult",
+    "MonteCarloSummary",
     "ShapingSweep",
     "SpeedClaimMap",
     "claim_boundary",

@@ -21,6 +21,7 @@ removes the sampling noise, leaving the nonlinearity's effect alone.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -109,7 +110,10 @@ class LinearizationEffect:
     prediction :func:`remainder_drift` at the run's ψ (``omega_shift_predicted``); the filter's
     σ of ω_gc (``omega_sigma``) and its ratio to the conditional σ of ω_gc given the other
     nine states (``sigma_ratio``); and the NEES excess that the predicted shift alone makes,
-    ``mean(ρ²) (P⁻¹)_{ω_gc ω_gc}`` (``excess_predicted``).
+    ``mean(ρ²) (P⁻¹)_{ω_gc ω_gc}`` (``excess_predicted``).  ``shift_sums`` holds, per time,
+    the sums over the runs of ρ·shift, ρ² and (shift − ρ)², from which :meth:`slope` and
+    :attr:`residual` are computed; :meth:`compact` keeps only the last time of the per-run
+    arrays (all a stored study needs).
     """
 
     t: NDArray[np.float64]
@@ -123,6 +127,21 @@ class LinearizationEffect:
     omega_sigma: NDArray[np.float64]
     sigma_ratio: NDArray[np.float64]
     excess_predicted: NDArray[np.float64]
+    shift_sums: NDArray[np.float64] | None = None
+
+    def __post_init__(self) -> None:
+        if self.shift_sums is None:   # built from the per-run arrays at every time
+            x, y = self.omega_shift_predicted, self.omega_shift
+            object.__setattr__(self, "shift_sums", np.stack(
+                [np.sum(x * y, axis=0), np.sum(x * x, axis=0), np.sum((y - x) ** 2, axis=0)]))
+        v.check_ndarray("shift_sums", self.shift_sums, shape=(3, np.size(self.t)))
+
+    def compact(self) -> LinearizationEffect:
+        """The same effect with the per-run ω_gc shifts kept at the last time only (what the
+        plot's bottom panel and the bias need); :meth:`slope` and :attr:`residual` are
+        unchanged, read from ``shift_sums``."""
+        return dataclasses.replace(self, omega_shift=self.omega_shift[:, -1:],
+                                   omega_shift_predicted=self.omega_shift_predicted[:, -1:])
 
     @property
     def excess(self) -> NDArray[np.float64]:
@@ -133,8 +152,7 @@ class LinearizationEffect:
     def residual(self) -> NDArray[np.float64]:
         """Per time, the RMS over the runs of the ω_gc shift less its prediction, relative
         to the RMS of the prediction (the part of the shift the constant ρ leaves out)."""
-        d = self.omega_shift - self.omega_shift_predicted
-        return np.sqrt(np.mean(d**2, axis=0) / np.mean(self.omega_shift_predicted**2, axis=0))
+        return np.sqrt(self.shift_sums[2] / self.shift_sums[1])
 
     def inside(self, which: str = "nonlinear") -> float:
         """Share of the stored times at which the full-state NEES of ``which`` truth
@@ -151,8 +169,7 @@ class LinearizationEffect:
         sel = self.t >= t_min
         if not np.any(sel):
             raise ValueError(f"t_min must be at most the last time {self.t[-1]}; got {t_min}")
-        x = self.omega_shift_predicted[:, sel]
-        return float(np.sum(x * self.omega_shift[:, sel]) / np.sum(x * x))
+        return float(np.sum(self.shift_sums[0, sel]) / np.sum(self.shift_sums[1, sel]))
 
 
 def linearization_effect(nonlinear: MonteCarloResult, linear: MonteCarloResult,

@@ -91,6 +91,7 @@ from gyrolib.gc.model.state_space import ContinuousModel
 
 __all__ = [
     "MonteCarloResult",
+    "MonteCarloSummary",
     "monte_carlo",
     "run_streams",
     "simulate_truth",
@@ -1251,6 +1252,44 @@ class MonteCarloResult:
             out[:, ti] = np.sum(es.T * sol, axis=0)
         return out
 
+    def mean_nees(self, names: tuple[str, ...] | None = None) -> NDArray[np.float64]:
+        """Ensemble-average NEES of the states ``names`` (as :meth:`nees`) at ``t``."""
+        return self.nees(names).mean(axis=0)
+
+    def summary(self, states: tuple[str, ...] = ("omega_gc",),
+                nees_sets: tuple[tuple[str, ...], ...] = ((), ("omega_gc",)),
+                keep_runs: int = 2) -> MonteCarloSummary:
+        """The ensemble statistics of these runs that a report reads, small enough to store
+        (:class:`MonteCarloSummary`): σ and the RMS error of ``states`` at every stored time,
+        the average NEES of each set of ``nees_sets`` (``()``: the filter's states), the
+        histories of the first ``keep_runs`` runs, and every run's error and truth at the
+        last time.
+
+        Examples
+        --------
+        >>> from gyrolib import gc
+        >>> mc = gc.monte_carlo(gc.GyrocompassParams(), 8, 0.5, seed=1, store_every=100)
+        >>> s = mc.summary()
+        >>> bool(s.rms_error("omega_gc")[-1] == mc.rms_error("omega_gc")[-1])
+        True
+        """
+        states = tuple(states)
+        for nm in states:
+            augmented_index(self.names, nm)
+        keep = min(v.check_int("keep_runs", keep_runs, 0), self.n_runs)
+        sets = tuple(tuple(s) for s in nees_sets)
+        return MonteCarloSummary(
+            params=self.params, t=self.t, seed=self.seed, n_runs=self.n_runs,
+            truth_params=self.truth_params, truth_mode=self.truth_mode, names=self.names,
+            states=states,
+            sigma=np.stack([self.std(nm) for nm in states], axis=1),
+            rms=np.stack([self.rms_error(nm) for nm in states], axis=1),
+            nees_sets=sets,
+            nees_mean=np.stack([self.mean_nees(s or None) for s in sets]),
+            runs_est=self.est[:keep][:, :, [augmented_index(self.names, n) for n in states]],
+            runs_tru=self.tru[:keep][:, :, [augmented_index(self.names, n) for n in states]],
+            end_error=self.est[:, -1] - self.tru[:, -1], end_truth=self.tru[:, -1])
+
     def select(self, runs: slice) -> MonteCarloResult:
         """The same Monte Carlo restricted to the runs ``runs`` (a slice of run indices), e.g.
         to compare disjoint sets of runs.
@@ -1291,6 +1330,99 @@ class MonteCarloResult:
         dof = len(state_names(self.params)) if names is None else len(names)
         lo, hi = nees_bounds(dof, self.n_runs, conf)
         return float(np.mean((x > lo) & (x < hi)))
+
+
+@compact_repr
+@dataclass(frozen=True)
+class MonteCarloSummary:
+    """What a report reads of a :class:`MonteCarloResult` (its :meth:`~MonteCarloResult.summary`),
+    small enough to store: at the stored times ``t``, the filter's σ (``sigma``) and the
+    ensemble RMS error (``rms``) of the states ``states`` (time × state), the
+    ensemble-average NEES (``nees_mean``, set × time) of each set of states of ``nees_sets``
+    (``()``: the filter's states), the histories of the first runs (``runs_est``,
+    ``runs_tru``: run × time × state of ``states``), and every run's error and truth at the
+    last time (``end_error``, ``end_truth``: run × state of ``names``).  It answers
+    :meth:`std`, :meth:`rms_error`, :meth:`mean_nees`, :meth:`inside_share` and, for the
+    kept runs, :meth:`estimate` and :meth:`truth` as the result itself does."""
+
+    params: GyrocompassParams
+    t: NDArray[np.float64]
+    seed: int
+    n_runs: int
+    truth_params: GyrocompassParams | None
+    truth_mode: str
+    names: tuple[str, ...]
+    states: tuple[str, ...]
+    sigma: NDArray[np.float64]
+    rms: NDArray[np.float64]
+    nees_sets: tuple[tuple[str, ...], ...]
+    nees_mean: NDArray[np.float64]
+    runs_est: NDArray[np.float64]
+    runs_tru: NDArray[np.float64]
+    end_error: NDArray[np.float64]
+    end_truth: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        check_params(self.params)
+        nt = v.check_ndarray("t", self.t, ndim=1).size
+        k, n = len(self.states), len(self.names)
+        v.check_ndarray("sigma", self.sigma, shape=(nt, k))
+        v.check_ndarray("rms", self.rms, shape=(nt, k))
+        if np.shape(self.nees_mean) != (len(self.nees_sets), nt):   # nan where P is singular
+            raise ValueError(f"nees_mean must have shape ({len(self.nees_sets)}, {nt}); got "
+                             f"{np.shape(self.nees_mean)}")
+        m = v.check_ndarray("runs_est", self.runs_est, shape=(None, nt, k)).shape[0]
+        v.check_ndarray("runs_tru", self.runs_tru, shape=(m, nt, k))
+        v.check_ndarray("end_error", self.end_error, shape=(self.n_runs, n))
+        v.check_ndarray("end_truth", self.end_truth, shape=(self.n_runs, n))
+
+    def _col(self, name: str) -> int:
+        if name not in self.states:
+            raise ValueError(f"name must be one of the summary's states {self.states}; "
+                             f"got {name!r}")
+        return self.states.index(name)
+
+    def std(self, name: str) -> NDArray[np.float64]:
+        """The filter's σ of ``name`` at ``t`` (as :meth:`MonteCarloResult.std`)."""
+        return self.sigma[:, self._col(name)]
+
+    def rms_error(self, name: str) -> NDArray[np.float64]:
+        """The ensemble RMS error of ``name`` at ``t`` (as :meth:`MonteCarloResult.rms_error`)."""
+        return self.rms[:, self._col(name)]
+
+    def mean_nees(self, names: tuple[str, ...] | None = None) -> NDArray[np.float64]:
+        """The ensemble-average NEES of ``names`` (``None``: the filter's states) at ``t``."""
+        key = () if names is None else tuple(names)
+        if key not in self.nees_sets:
+            raise ValueError(f"names must be one of the summary's NEES sets {self.nees_sets} "
+                             f"(() for the filter's states); got {names!r}")
+        return self.nees_mean[self.nees_sets.index(key)]
+
+    def inside_share(self, names: tuple[str, ...] | None = None,
+                     confidence: float = 0.95) -> float:
+        """As :meth:`MonteCarloResult.inside_share`, from the stored average NEES."""
+        conf = v.check_in_range("confidence", confidence, 0.0, 1.0, low_open=True,
+                                high_open=True)
+        x = self.mean_nees(names)[1:]
+        dof = len(state_names(self.params)) if names is None else len(names)
+        lo, hi = nees_bounds(dof, self.n_runs, conf)
+        return float(np.mean((x > lo) & (x < hi)))
+
+    def estimate(self, name: str) -> NDArray[np.float64]:
+        """Estimates of ``name`` in the kept runs, ``(kept runs, len(t))``."""
+        return self.runs_est[:, :, self._col(name)]
+
+    def truth(self, name: str) -> NDArray[np.float64]:
+        """True values of ``name`` in the kept runs, ``(kept runs, len(t))``."""
+        return self.runs_tru[:, :, self._col(name)]
+
+    def error_end(self, name: str) -> NDArray[np.float64]:
+        """Every run's error of ``name`` at the last time, ``(n_runs,)``."""
+        return self.end_error[:, augmented_index(self.names, name)]
+
+    def truth_end(self, name: str) -> NDArray[np.float64]:
+        """Every run's true ``name`` at the last time, ``(n_runs,)``."""
+        return self.end_truth[:, augmented_index(self.names, name)]
 
 
 def monte_carlo(params: GyrocompassParams, n_runs: int, t_end: float = 100.0,
