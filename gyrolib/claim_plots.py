@@ -131,8 +131,11 @@ def plot_claim_map(m: ClaimMap, inputs: Sequence[str] | None = None, *,
                              layout="constrained", squeeze=False)
     for ax, name in zip(axes[:, 0], names, strict=True):
         _panel(ax, m, name, unit)
-    fig.legend(*_legend_handles(), loc="outside lower center", ncols=3, fontsize=SMALL_PT,
-               frameon=False)
+    handles, labels = _legend_handles()
+    if not any(t.input in names for t in m.thresholds):   # no threshold line drawn
+        del handles[1], labels[1]
+    fig.legend(handles, labels, loc="outside lower center", ncols=len(labels),
+               fontsize=SMALL_PT, frameon=False)
     return for_the_page(fig)
 
 
@@ -202,8 +205,9 @@ def threshold_table(m: ClaimMap) -> str:
     >>> from gyrolib import claim_map
     >>> c = claim_map.Claim("demo", claim_map.demo_margin, ("gc.sigma1_sq", "gc.C_as"),
     ...                     "2 - sigma1_sq/reference")
-    >>> print(threshold_table(claim_map.map_claim(c, n_box=0)).splitlines()[2])
-    | σ1² | gc.sigma1_sq: printed after Eq. (6) | 3.72·10⁻⁶ m²/s⁴ (× 2) | below | 1.86·10⁻⁶ m²/s⁴ |
+    >>> line = threshold_table(claim_map.map_claim(c, n_box=0)).splitlines()[2]
+    >>> line.split(" | ")[:4]
+    ['| σ1²', '`gc.sigma1_sq`: printed after Eq. (6)', '3.72·10⁻⁶ m²/s⁴ (× 2)', 'below']
     """
     v.check_instance("m", m, ClaimMap)
     rows = ["| input | what it is | flips at | the claim holds | reference |",
@@ -239,4 +243,4 @@ def _define(r: Any) -> str:
     """The row's definition for the table: its name in the table of inputs and the first
     clause of its reason (what it is, where the paper prints it)."""
     what = r.reason.split(";")[0].strip()
-    return f"{_md(r.name)}: {_md(what)}"
+    return f"`{r.name}`: {_md(what)}"

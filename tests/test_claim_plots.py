@@ -90,7 +90,7 @@ def test_table_defines_each_symbol_and_quotes_each_threshold(demo):
         r = inputs.row(t.input)
         sym = r.symbol.replace("_", "\\_")
         (line,) = [ln for ln in text.splitlines() if ln.startswith(f"| {sym} |")]
-        assert r.name.replace("_", "\\_") in line
+        assert f"`{r.name}`:" in line
         assert cp.quote_threshold(t) in line
         assert f"| {t.holds_when} |" in line
     assert cp.quote_share(demo.share_holding) in text.splitlines()[-1]
