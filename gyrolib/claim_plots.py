@@ -164,6 +164,12 @@ def _panel(ax: Any, m: ClaimMap, name: str, unit: str) -> None:
     near = max(abs(m.margin), 1e-12)
     if np.nanmax(np.abs(y)) > SYMLOG_RATIO * near:  # the far margins would flatten the edge
         ax.set_yscale("symlog", linthresh=near)
+        # ticks at 0 and the decades beyond the linear part (ticks inside it would collide)
+        lo, hi = float(np.nanmin([*y, m.margin])), float(np.nanmax([*y, m.margin]))
+        top = math.ceil(math.log10(max(abs(lo), abs(hi))))
+        ticks = [0.0] + [sg * 10.0**k for k in range(math.ceil(math.log10(near)), top + 1)
+                         for sg in (-1.0, 1.0) if lo <= sg * 10.0**k <= hi]
+        ax.set_yticks(sorted(ticks))
     label = _unit_label(name)
     ax.set_xlabel(f"{r.symbol} ({label})" if label else r.symbol)
     ax.set_ylabel("margin" + (f" ({unit})" if unit not in ("", "1") else ""))

@@ -637,3 +637,25 @@ def test_a_stored_map_reads_its_status_by_the_rule_of_this_version():
     assert cm.ClaimMap.from_dict(d).status == "holds under conditions"
     d["margin"] = -1.0
     assert cm.ClaimMap.from_dict(d).status == "fails"
+
+
+# more box points, the same seed ------------------------------------------------------------
+def test_extend_box_is_the_map_with_more_points():
+    """A map grown from 16 to 80 box points is the map drawn with 80 at once (the same seed:
+    the first 16 draws are kept, only the new 64 evaluated); another seed gives another
+    share (power: the points are the seed's); fewer points or another claim are refused by
+    name."""
+    c = cm.Claim("t.below", below_three, TWO, "3 - f")
+    small = cm.map_claim(c, n_box=16, seed=5)
+    grown = cm.extend_box(c, small, 80)
+    full = cm.map_claim(c, n_box=80, seed=5)
+    assert grown.share_holding == full.share_holding
+    assert (grown.box_fails, grown.status, grown.settings) == (full.box_fails, full.status,
+                                                               full.settings)
+    assert grown.thresholds == full.thresholds and grown.fingerprint == full.fingerprint
+    other = cm.map_claim(c, n_box=80, seed=6)
+    assert other.box_fails != full.box_fails
+    with pytest.raises(ValueError, match="n_box"):
+        cm.extend_box(c, full, 40)
+    with pytest.raises(ValueError, match="drawn for"):
+        cm.extend_box(cm.Claim("t.other", below_three, TWO, "3 - f"), small, 80)
