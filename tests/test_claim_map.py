@@ -527,17 +527,18 @@ def test_every_input_that_flips_a_gc_claim_is_named(cid):
 
 def test_gc_completeness_has_power():
     """Drop the race's σ1² threshold, or its κ one, from the stored map: the same live places
-    must name that input; misreport a reading of Fig. 3's drop: they must name it."""
+    must name that input; state Fig. 3's C_as threshold on the wrong side: they must name it."""
     m = claims.stored_maps()["gc.faster_percent"]
     live = _gc_live("gc.faster_percent")
     for name in ("gc.sigma1_sq", "gc.sigma_hf_scale"):
         weaker = dataclasses.replace(m, thresholds=tuple(t for t in m.thresholds
                                                          if t.input != name))
         assert name in _gc_violations(weaker, live)
-    d = claims.stored_maps()["gc.fig3.drop_2s"]
-    wrong = {**d.readings, "gc.shaping_p0": {"stationary": "holds", "zero": "fails"}}
-    assert "gc.shaping_p0" in _gc_violations(dataclasses.replace(d, readings=wrong),
-                                             _gc_live("gc.fig3.drop_2s"))
+    d = claims.stored_maps()["gc.fig3.drop_2s"]    # over the whole table: C_as flips it
+    flipped = tuple(dataclasses.replace(t, holds_when="above") if t.input == "gc.C_as" else t
+                    for t in d.thresholds)
+    assert "gc.C_as" in _gc_violations(dataclasses.replace(d, thresholds=flipped),
+                                       _gc_live("gc.fig3.drop_2s"))
 
 
 def test_monotone_rows_bracket_with_the_range_ends():
