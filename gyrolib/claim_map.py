@@ -75,6 +75,7 @@ __all__ = [
     "check_map",
     "claim_status",
     "demo_margin",
+    "extend_box",
     "fingerprint_points",
     "flip_share",
     "map_claim",
@@ -666,6 +667,71 @@ def map_claim(claim: Claim, objects: Mapping[str, Any] | None = None, *, n_grid:
                               "table": _inputs.table_fingerprint(claim.inputs),
                               **({"monotone": sorted(mono)} if mono else {})},
                     reading_thresholds=per_reading, isolated=tuple(isolated))
+
+
+def extend_box(claim: Claim, m: ClaimMap, n_box: int,
+               objects: Mapping[str, Any] | None = None, *, executor: object = None,
+               chunk: int = 8) -> ClaimMap:
+    """``m`` with its box share drawn from ``n_box`` points: the same seed, the stored
+    ``m.share_holding.n`` points kept (the draws of a seed are a prefix of any longer draw
+    with it) and only the new ones evaluated.
+
+    The result is what :func:`map_claim` gives with ``n_box`` (the sweeps, thresholds,
+    readings and fingerprint do not depend on the box's size), at the cost of the new points
+    alone: a share whose 95 % interval is too wide gets more points, never another seed.  The
+    stored map must agree with the code (:func:`check_map`); the caller checks it.
+
+    Parameters
+    ----------
+    claim : Claim
+        The claim ``m`` maps (its id and rows must be the map's).
+    m : ClaimMap
+        A map with a box share (``m.share_holding`` not ``None``).
+    n_box : int
+        Points of the new share, at least ``m.share_holding.n``.
+    objects : mapping, optional
+        The reference point ``m`` was drawn around (default: the owners' defaults).
+    executor : concurrent.futures.Executor, optional
+        Where the new points' chunks run (``None``: here).
+    chunk : int, default 8
+        Box points per task.
+
+    Returns
+    -------
+    ClaimMap
+
+    Examples
+    --------
+    >>> from gyrolib import claim_map
+    >>> c = claim_map.Claim("demo", claim_map.demo_margin, ("gc.sigma1_sq", "gc.C_as"),
+    ...                     "2 - sigma1_sq/reference")
+    >>> small = claim_map.map_claim(c, n_box=16)
+    >>> big = claim_map.extend_box(c, small, 48)
+    >>> big.share_holding == claim_map.map_claim(c, n_box=48).share_holding
+    True
+    """
+    if not isinstance(claim, Claim) or claim.id != m.claim \
+            or set(claim.inputs) != set(m.reference):
+        raise ValueError(f"claim must be the Claim the map {m.claim!r} was drawn for, over "
+                         "the same rows")
+    if m.share_holding is None:
+        raise ValueError(f"{m.claim}: the map has no box share to extend")
+    old = m.share_holding
+    if not isinstance(n_box, int) or isinstance(n_box, bool) or n_box < old.n:
+        raise ValueError(f"n_box must be an int >= the map's {old.n} points; got {n_box!r}")
+    ex = check_executor(executor)
+    objs = dict(_inputs.reference_objects() if objects is None else objects)
+    uncertain = [n for n in claim.inputs if _inputs.row(n).kind == "uncertain"]
+    new = _draw_box(objs, uncertain, n_box, old.seed)[old.n:]
+    tasks = [(_box, (claim, objs, uncertain, new[i:i + chunk]))
+             for i in range(0, new.shape[0], chunk)]
+    margins = [x for part in map_ordered(_call, tasks, ex) for x in part]
+    n_fail = m.box_fails + sum(not _holds(x) for x in margins)
+    lo, hi = wilson_interval(n_box - n_fail, n_box)
+    share = Share((n_box - n_fail) / n_box, lo, hi, n_box, old.seed)
+    grown = replace(m, share_holding=share, box_fails=n_fail,
+                    settings={**m.settings, "n_box": n_box})
+    return replace(grown, status=claim_status(grown.margin > 0, _flips(grown), share))
 
 
 def _check_map_arguments(claim: Any, n_grid: Any, rtol: Any, n_box: Any, chunk: Any) -> None:

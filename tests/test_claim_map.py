@@ -527,17 +527,18 @@ def test_every_input_that_flips_a_gc_claim_is_named(cid):
 
 def test_gc_completeness_has_power():
     """Drop the race's σ1² threshold, or its κ one, from the stored map: the same live places
-    must name that input; misreport a reading of Fig. 3's drop: they must name it."""
+    must name that input; state Fig. 3's C_as threshold on the wrong side: they must name it."""
     m = claims.stored_maps()["gc.faster_percent"]
     live = _gc_live("gc.faster_percent")
     for name in ("gc.sigma1_sq", "gc.sigma_hf_scale"):
         weaker = dataclasses.replace(m, thresholds=tuple(t for t in m.thresholds
                                                          if t.input != name))
         assert name in _gc_violations(weaker, live)
-    d = claims.stored_maps()["gc.fig3.drop_2s"]
-    wrong = {**d.readings, "gc.shaping_p0": {"stationary": "holds", "zero": "fails"}}
-    assert "gc.shaping_p0" in _gc_violations(dataclasses.replace(d, readings=wrong),
-                                             _gc_live("gc.fig3.drop_2s"))
+    d = claims.stored_maps()["gc.fig3.drop_2s"]    # over the whole table: C_as flips it
+    flipped = tuple(dataclasses.replace(t, holds_when="above") if t.input == "gc.C_as" else t
+                    for t in d.thresholds)
+    assert "gc.C_as" in _gc_violations(dataclasses.replace(d, thresholds=flipped),
+                                       _gc_live("gc.fig3.drop_2s"))
 
 
 def test_monotone_rows_bracket_with_the_range_ends():
@@ -637,3 +638,25 @@ def test_a_stored_map_reads_its_status_by_the_rule_of_this_version():
     assert cm.ClaimMap.from_dict(d).status == "holds under conditions"
     d["margin"] = -1.0
     assert cm.ClaimMap.from_dict(d).status == "fails"
+
+
+# more box points, the same seed ------------------------------------------------------------
+def test_extend_box_is_the_map_with_more_points():
+    """A map grown from 16 to 80 box points is the map drawn with 80 at once (the same seed:
+    the first 16 draws are kept, only the new 64 evaluated); another seed gives another
+    share (power: the points are the seed's); fewer points or another claim are refused by
+    name."""
+    c = cm.Claim("t.below", below_three, TWO, "3 - f")
+    small = cm.map_claim(c, n_box=16, seed=5)
+    grown = cm.extend_box(c, small, 80)
+    full = cm.map_claim(c, n_box=80, seed=5)
+    assert grown.share_holding == full.share_holding
+    assert (grown.box_fails, grown.status, grown.settings) == (full.box_fails, full.status,
+                                                               full.settings)
+    assert grown.thresholds == full.thresholds and grown.fingerprint == full.fingerprint
+    other = cm.map_claim(c, n_box=80, seed=6)
+    assert other.box_fails != full.box_fails
+    with pytest.raises(ValueError, match="n_box"):
+        cm.extend_box(c, full, 40)
+    with pytest.raises(ValueError, match="drawn for"):
+        cm.extend_box(cm.Claim("t.other", below_three, TWO, "3 - f"), small, 80)

@@ -34,9 +34,13 @@ def add_parser(sub: argparse._SubParsersAction, parser_class: type) -> None:
     p.add_argument("--workers", type=int, default=1, metavar="K",
                    help="worker processes for --out (default 1: in this process)")
     p.add_argument("--scheduler", metavar="ADDR", help="a Dask scheduler for --out")
-    p.add_argument("--n-box", type=int, default=64, metavar="N",
-                   help="points drawn in the box of uncertain inputs (default 64)")
-    p.add_argument("--seed", type=int, default=2026, help="seed of the box (default 2026)")
+    p.add_argument("--n-box", type=int, default=None, metavar="N",
+                   help="points drawn in the box of uncertain inputs (default: each claim's, "
+                        "400 or 2000)")
+    p.add_argument("--seed", type=int, default=None, help="seed of the box (default 2026)")
+    p.add_argument("--extend", action="store_true",
+                   help="with --out: a stored map that agrees with the code keeps its sweeps "
+                        "and gets only the new box points (same seed)")
 
 
 def _text(maps: dict) -> str:
@@ -65,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
             sys.stderr.write(f"claims: error: --only: unknown claim {unknown[0]!r}; known: "
                              f"{', '.join(claims.CLAIMS)}\n")
             return 2
-        if args.workers < 1 or args.n_box < 0:
+        if args.workers < 1 or (args.n_box is not None and args.n_box < 0):
             sys.stderr.write("claims: error: --workers must be >= 1 and --n-box >= 0\n")
             return 2
         executor, close = None, None
@@ -86,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
         try:
             path = store.refresh("claim-maps", executor=executor, path=args.out, ids=ids,
                                  grid=args.grid, n_box=args.n_box,
-                                 seed=args.seed)
+                                 seed=args.seed, extend=args.extend)
         finally:
             if close is not None:
                 close()

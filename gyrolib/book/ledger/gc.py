@@ -491,9 +491,8 @@ def _sigma_gc_100s(base: Baseline, study: StudyEvidence) -> LedgerItem:
 def _drop_2s(base: Baseline) -> LedgerItem:
     """The sharp drop: the share of the 100-s reduction of σ achieved in the first 2 s."""
     share = (base.s0 - base.s2) / (base.s0 - base.s100)
-    # Fig. 3 is drawn at the printed parameters: the table's readings of the text are the
-    # only inputs that move it (the item gc.claim.trend_holds maps the same criterion over
-    # every input)
+    # Fig. 3 is drawn at the printed parameters, but they are inputs too: the drop is mapped
+    # over the whole table (the same map as gc.claim.trend_holds, the same criterion)
     v = verdict("gc.fig3.drop_2s", _objects(base.params))
     return _item(
         "fig3.drop_2s", "Fig. 3 / text", "share of the 100-s reduction of sigma(omega_gc)"

@@ -40,6 +40,7 @@ import os
 import platform
 import time
 from collections.abc import Mapping
+from dataclasses import replace
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Final
@@ -50,7 +51,7 @@ from gyrolib import __version__, levels, store, units
 from gyrolib import inputs as _inputs
 from gyrolib.book.ledger import claims as _claims
 from gyrolib.book.ledger import margin_study as _ms
-from gyrolib.claim_map import ClaimMap, check_map
+from gyrolib.claim_map import ClaimMap, check_map, extend_box
 from gyrolib.gc.model import discretization as _gc_discretization
 from gyrolib.gc.model import params as _gc_params
 from gyrolib.gc.racing import comparison as _race
@@ -164,12 +165,33 @@ def _check_grid(grid: Mapping[str, Any], h: store.Header) -> int:
     return len(_grid_cells(grid))
 
 
+def _twin(i: str, done: Mapping[str, ClaimMap]) -> ClaimMap | None:
+    """A map computed in this run of a claim with the same margin, rows and options as
+    ``i`` (Fig. 3's drop and the trend read the same criterion over the same table): its
+    map, relabelled, is the one :func:`gyrolib.claim_map.map_claim` would give ``i``."""
+    c = _claims.CLAIMS[i]
+    for j, m in done.items():
+        d = _claims.CLAIMS[j]
+        if (d.margin, d.inputs, d.per_reading, d.searches) == (c.margin, c.inputs,
+                                                                c.per_reading, c.searches):
+            return replace(m, claim=i, meaning=c.meaning)
+    return None
+
+
 def _compute_maps(executor: object, progress: Any, *, path: Path | None = None,
                   ids: tuple[str, ...] | None = None, grid: bool | None = None,
-                  n_box: int = 64, seed: int = 2026) -> dict[str, Any]:
+                  n_box: int | None = None, seed: int | None = None,
+                  extend: bool = False) -> dict[str, Any]:
     """The maps of ``ids`` (default: every claim) and, with ``grid`` (default: when every
     claim is recomputed), the race's verdict grid; the other maps and the grid are kept from
-    the file at ``path`` (default: the stored one)."""
+    the file at ``path`` (default: the stored one).
+
+    ``n_box`` and ``seed`` default to each claim's :data:`~gyrolib.book.ledger.claims.
+    BOX_POINTS` and :data:`~gyrolib.book.ledger.claims.BOX_SEED`.  With ``extend``, a stored
+    map with the same seed and fewer points that agrees with the code (its fingerprint
+    points, :func:`gyrolib.claim_map.check_map`) keeps its sweeps and thresholds and only
+    gets the new box points (:func:`gyrolib.claim_map.extend_box`: the same map as a full
+    recomputation); any other map is recomputed whole."""
     chosen = tuple(_claims.CLAIMS) if ids is None else tuple(ids)
     unknown = [i for i in chosen if i not in _claims.CLAIMS]
     if unknown:
@@ -183,8 +205,17 @@ def _compute_maps(executor: object, progress: Any, *, path: Path | None = None,
     if progress is not None:
         progress.total = len(chosen) + int(grid)
         progress.refresh()
+    done: dict[str, ClaimMap] = {}
     for i in chosen:
-        maps[i] = _claims.maps((i,), executor=executor, n_box=n_box, seed=seed)[i].to_dict()
+        n = _claims.BOX_POINTS[i] if n_box is None else n_box
+        s = _claims.BOX_SEED if seed is None else seed
+        m = _twin(i, done) if n == _claims.BOX_POINTS[i] and s == _claims.BOX_SEED else None
+        if m is None and extend and i in maps:
+            m = _extended(i, ClaimMap.from_dict(maps[i]), n, s, executor)
+        if m is None:
+            m = _claims.maps((i,), executor=executor, n_box=n, seed=s)[i]
+        done[i] = m
+        maps[i] = m.to_dict()
         if progress is not None:
             progress.update(1)
     if grid:
@@ -192,6 +223,23 @@ def _compute_maps(executor: object, progress: Any, *, path: Path | None = None,
         if progress is not None:
             progress.update(1)
     return {"schema": _claims.MAPS_SCHEMA, "maps": maps, "extras": extras}
+
+
+def _extended(i: str, m: ClaimMap, n_box: int, seed: int, executor: object
+              ) -> ClaimMap | None:
+    """The stored map ``m`` of ``i`` grown to ``n_box`` points, or ``None`` when it cannot
+    be (another seed or table, more points already, no box, or it disagrees with the
+    code)."""
+    c = _claims.CLAIMS[i]
+    sh = m.share_holding
+    if (sh is None or sh.seed != seed or sh.n > n_box or set(m.reference) != set(c.inputs)
+            or m.settings.get("table") != _inputs.table_fingerprint(c.inputs)):
+        return None
+    try:
+        check_map(c, m)
+    except ValueError:
+        return None
+    return extend_box(c, m, n_box, executor=executor)
 
 
 # the Sobol' studies ----------------------------------------------------------------------------
