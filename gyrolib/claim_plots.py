@@ -6,8 +6,9 @@ the map's one-at-a-time sweep (the others at the reference), the claim's boundar
 0), each threshold of that input as a vertical line at its value and the reference as a
 star: a reader sees which inputs matter and how far the reference is from each edge.
 :func:`threshold_table` gives the same map as a table of thresholds, each symbol defined.
-Every number either quotes is formatted by :func:`quote_threshold` or :func:`quote_share`
-(one function per quantity, so that the book's formatter can replace them in one place).
+Every number the table quotes is formatted by the book's one formatter
+(:func:`gyrolib.claim_map.quote_threshold`, :meth:`gyrolib.claim_map.Share.text`, both over
+:mod:`gyrolib.quote`), tagged with the claim for a page when asked.
 
 Nothing here computes a margin: the figure is the stored sweep, the table the stored
 thresholds.
@@ -24,11 +25,11 @@ import numpy as np
 from gyrolib import _validation as v
 from gyrolib import inputs as _inputs
 from gyrolib._page_figures import SMALL_PT, for_the_page
-from gyrolib.claim_map import ClaimMap, Share, Threshold, percent
+from gyrolib.claim_map import ClaimMap, quote_threshold
 from gyrolib.units import from_si
 
 __all__ = ["PANEL_HEIGHT_IN", "SYMLOG_RATIO", "input_axis", "plot_claim_map", "plotted_inputs",
-           "quote_share", "quote_threshold", "threshold_table"]
+           "threshold_table"]
 
 #: The height of one input's panel (inches); the figure is 5 in wide, the panels stacked.
 PANEL_HEIGHT_IN: Final[float] = 1.55
@@ -176,35 +177,17 @@ def _panel(ax: Any, m: ClaimMap, name: str, unit: str) -> None:
     ax.tick_params(labelsize=SMALL_PT)
 
 
-def quote_threshold(t: Threshold) -> str:
-    """A threshold as the table quotes it: the value in the row's shown unit and, when the
-    reference is not zero, the factor of the reference to three significant digits, e.g.
-    ``"2.24·10⁻⁶ m²/s⁴ (× 1.2)"``.  The one place that formats a threshold here (the book's
-    formatter may take it over)."""
-    r = _inputs.row(t.input)
-    fac = "" if math.isnan(t.factor) else f" (× {t.factor:.3g})"
-    return f"{r.show(t.value)}{fac}"
-
-
-def quote_share(share: Share | None) -> str:
-    """The box share as the table quotes it, e.g. ``"59 % (95 %: 47–71 %, 64 points)"``;
-    ``"—"`` without a box.  The one place that formats a share here."""
-    if share is None:
-        return "—"
-    return (f"{percent(share.value)} % (95 %: {percent(share.lo)}–{percent(share.hi)} %, "
-            f"{share.n} points)")
-
-
 def _md(text: str) -> str:
     return text.replace("|", "\\|").replace("*", "\\*").replace("_", "\\_")
 
 
-def threshold_table(m: ClaimMap) -> str:
+def threshold_table(m: ClaimMap, html: bool = False) -> str:
     """The map of a claim as a Markdown table: one line per input that flips it (symbol,
     what it is, where it flips, on which side the claim holds, the reference value), the
     readings under which its status differs, the isolated failing points of a search, and
     the share of the box where it holds.  Each symbol is defined in its line (the table of
-    inputs' row name and the first clause of its reason).
+    inputs' row name and the first clause of its reason).  With ``html``, each threshold and
+    the share are tagged with the claim for a page (:mod:`gyrolib.quote`).
 
     Examples
     --------
@@ -212,15 +195,16 @@ def threshold_table(m: ClaimMap) -> str:
     >>> c = claim_map.Claim("demo", claim_map.demo_margin, ("gc.sigma1_sq", "gc.C_as"),
     ...                     "2 - sigma1_sq/reference")
     >>> line = threshold_table(claim_map.map_claim(c, n_box=0)).splitlines()[2]
-    >>> line.split(" | ")[:4]
-    ['| σ1²', '`gc.sigma1_sq`: printed after Eq. (6)', '3.72·10⁻⁶ m²/s⁴ (× 2)', 'below']
+    >>> line.split(" | ")[2:4]
+    ['3.72·10⁻⁶ m²/s⁴ (2 × the reference)', 'below']
     """
     v.check_instance("m", m, ClaimMap)
     rows = ["| input | what it is | flips at | the claim holds | reference |",
             "| --- | --- | --- | --- | --- |"]
     for t in m.thresholds:
         r = _inputs.row(t.input)
-        rows.append(f"| {_md(r.symbol)} | {_define(r)} | {_md(quote_threshold(t))} | "
+        quoted = quote_threshold(m.claim, t, html=html)
+        rows.append(f"| {_md(r.symbol)} | {_define(r)} | {quoted} | "
                     f"{t.holds_when} | {_md(r.show(m.reference[t.input]))} |")
     for f in m.isolated:
         if f.points:
@@ -240,8 +224,9 @@ def threshold_table(m: ClaimMap) -> str:
     if len(rows) == 2:
         rows.append(f"| — | no input flips it alone within its range | — | "
                     f"{'everywhere' if m.margin > 0 else 'nowhere'} | — |")
-    rows.append(f"| the box | every uncertain input drawn at once | — | at "
-                f"{_md(quote_share(m.share_holding))} of it | — |")
+    rows.append("| the box | every uncertain input drawn at once | — | at "
+                + ("—" if m.share_holding is None else m.share_holding.text(m.claim, html))
+                + " | — |")
     return "\n".join(rows)
 
 

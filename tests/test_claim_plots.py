@@ -13,6 +13,7 @@ from gyrolib import claim_map as cm
 from gyrolib import claim_plots as cp
 from gyrolib import inputs
 from gyrolib._page_figures import text_problems
+from gyrolib.claim_map import quote_threshold
 from gyrolib.units import from_si
 
 TWO = ("gc.sigma1_sq", "gc.sigma_psi0")
@@ -84,14 +85,16 @@ def test_no_flipping_input_draws_the_nearest(demo):
 
 def test_table_defines_each_symbol_and_quotes_each_threshold(demo):
     """One line per threshold with the row's symbol, its table name and what it is, the
-    threshold as quote_threshold gives it, and the share's line."""
+    threshold as the book's formatter gives it (tagged for a page with html=True), and the
+    share's line."""
     text = cp.threshold_table(demo)
     for t in demo.thresholds:
         r = inputs.row(t.input)
         sym = r.symbol.replace("_", "\\_")
         (line,) = [ln for ln in text.splitlines() if ln.startswith(f"| {sym} |")]
         assert f"`{r.name}`:" in line
-        assert cp.quote_threshold(t) in line
+        assert quote_threshold(demo.claim, t) in line
         assert f"| {t.holds_when} |" in line
-    assert cp.quote_share(demo.share_holding) in text.splitlines()[-1]
-    assert cp.quote_share(None) == "—"
+    assert demo.share_holding.text(demo.claim) in text.splitlines()[-1]
+    tagged = cp.threshold_table(demo, html=True)
+    assert tagged.count(f'data-claim="{demo.claim}"') == len(demo.thresholds) * 2 + 1
