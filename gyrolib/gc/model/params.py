@@ -109,6 +109,13 @@ _DAMPING = ("xi1", "xi2")
 _SHAPING = ("alpha1", "xi1", "sigma1_sq", "alpha2", "xi2", "sigma2_sq")
 
 
+#: Not model inputs, so not in a stored study's key (:func:`gyrolib.store.model_key`): the
+#: groups above only say which range the door accepts for each field (positive, real,
+#: non-negative, a damping, a shaping filter's); no margin computes with them, and a study
+#: computed at valid values reads the same numbers whatever else the door would accept.
+__key_ignore__ = ("_POSITIVE", "_REAL", "_NONNEGATIVE", "_DAMPING", "_SHAPING")
+
+
 _CHOICES = {
     "shaping_p0": ("stationary", "zero"),
     "measurement_noise": ("intensity_over_dt", "variance"),
