@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
             except (store.StaleStudy, ValueError) as exc:
                 sys.stderr.write(f"refresh: {n}: {' '.join(str(exc).split())}\n")
                 return 3
-            sys.stdout.write(f"{n}: key re-stamped; {h.note.rsplit('; ', 1)[-1]}\n")
+            sys.stdout.write(f"{n}: {h.note[h.note.rfind('key re-stamped'):]}\n")
         return 0
     if args.list:
         return _listing(names)
