@@ -96,14 +96,19 @@ def margin(x: float) -> str:
 def percent(x: float) -> str:
     """A share (0–1) in per cent as the book quotes it: whole per cent, except that a share
     that is not zero but under 1 % keeps one significant digit, so that it never reads "0".
+    Below 10⁻¹² (a Wilson interval's lower end at no point, 0 but for rounding) it is 0.
 
     Examples
     --------
     >>> percent(0.0), percent(0.0038), percent(0.0566), percent(0.59375), percent(1.0)
     ('0', '0.4', '6', '59', '100')
+    >>> percent(8.673617379884035e-19)
+    '0'
     """
     x = 100.0 * float(x)
-    if x != 0.0 and abs(x) < 0.95:
+    if abs(x) < 1e-10:
+        return "0"
+    if abs(x) < 0.95:
         return f"{x:.1g}"
     return f"{x:.0f}"
 

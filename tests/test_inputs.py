@@ -53,6 +53,7 @@ ALLOWED: dict[str, str] = {
     "rsf/calibration.py: time_tolerance": "a time stamp's tolerance in samples",
     "rsf/claims.py: max_factors": "a count of slip factors searched",
     "sensitivity/study.py: CONF_LEVEL": "a confidence level",
+    "gc/model/discretization.py: _affine_kept_max": "a cache's size (models kept), a count",
     "book/studies/gc.py: WRONG_FACTOR": "the deliberately wrong truth of the claims chapter's "
                                         "power check (σ1² ×9), no input's range",
 }

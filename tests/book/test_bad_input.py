@@ -183,6 +183,21 @@ EXEMPT: dict[str, str] = {"report.MarkdownText": "a str subclass: any text is va
                           "omega_unc_condition (checked there)"}
 
 
+# a ledger item's quoted numbers and claims side by side
+_ITEM = ledger.LedgerItem(id="gc.test", paper="GC", location="Fig. 3", quantity="q", unit="m",
+                          paper_value=0.5, reproduced_value=0.49, status="reproduced",
+                          note="", chapter="chapters/gc_model", anchor="",
+                          kind="printed number",
+                          evidence="a computation")
+case("ledger.LedgerItem.quote_threshold", lambda: _ITEM.quote_threshold("gc.C_as"), ValueError,
+     "gc.test has no threshold of 'gc.C_as'")
+case("ledger.LedgerItem.quote_share", lambda: _ITEM.quote_share(), ValueError,
+     "gc.test has no share")
+case("ledger.side_by_side_markdown",
+     lambda: ledger.side_by_side_markdown({"gc.test": ("x", _ITEM)}), ValueError, "claims",
+     "at least two")
+
+
 # the studies of the claims' margins
 case("ledger.margin_study.study_inputs", lambda: ms.study_inputs("gc"), ValueError, "model",
      "one of")

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import pytest
 
+from gyrolib import quote
 from tests.conftest import require_built_book
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -178,10 +179,13 @@ def test_one_value_per_tag_passes_agreeing_pages_and_fails_two_values():
     problems = disagreements(tagged(bad))
     assert len(problems) == 1 and "'1.14' on ['c.html']" in problems[0], problems
     # the other form of the same threshold is another tag, and a nested span is read whole
+    sh = _maps()["gc.time_to_sigma_c"]["share_holding"]
+    head, _, tail = quote.share(sh["value"], sh["lo"], sh["hi"]).partition(", ")
+    low, _, high = tail.partition("–")
     other = {"d.html": _span("gc.faster_percent", "gc.sigma1_sq", "threshold", "value",
                              "2.24·10⁻⁶ m²/s⁴"),
              "e.html": '<span data-claim="gc.time_to_sigma_c" data-quantity="share">'
-                       "3 % of the box, <span>0.9</span>–11 %</span>"}
+                       f"{head}, <span>{low}</span>–{high}</span>"}
     assert disagreements(tagged({**ok, **other})) == []
     assert against_maps(tagged(other), _maps()) == []
 

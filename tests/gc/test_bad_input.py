@@ -844,6 +844,28 @@ case("gc.judge_record", lambda: gc.judge_record(_REC, P, latitude_sigma=-1.0), V
      "latitude_sigma", ">= 0")
 case("gc.judge_record", lambda: gc.judge_record(_REC, P, gate=2.0), ValueError, "gate",
      r"in \(0\.0, 1\.0\)")
+# a Monte Carlo's summary (what a stored study keeps of its runs)
+@functools.cache
+def _mc():
+    return gc.monte_carlo(P, 4, 2.0, seed=1)
+
+
+case("gc.MonteCarloResult.summary", lambda: _mc().summary(states=("nope",)), ValueError,
+     "name", "one of")
+case("gc.MonteCarloResult.summary", lambda: _mc().summary(keep_runs=-1), ValueError,
+     "keep_runs", ">= 0")
+case("gc.MonteCarloResult.mean_nees", lambda: _mc().mean_nees(("nope",)), ValueError, "name",
+     "one of")
+case("gc.MonteCarloSummary.mean_nees", lambda: _mc().summary().mean_nees(("nope",)),
+     ValueError, "names", "NEES sets")
+case("gc.MonteCarloSummary.inside_share", lambda: _mc().summary().inside_share(confidence=2.0),
+     ValueError, "confidence", r"in \(0\.0, 1\.0\)")
+for _m in ("std", "rms_error", "estimate", "truth", "error_end", "truth_end"):
+    case(f"gc.MonteCarloSummary.{_m}",
+         lambda _m=_m: getattr(_mc().summary(), _m)("nope"), ValueError, "name", "one of")
+EXEMPT["gc.MonteCarloSummary"] = "result object built by MonteCarloResult.summary, which " \
+                                 "validates"
+
 EXEMPT.update({
     "gc.ContinuousModel.build": "builder on parameters already checked at the public door "
                                 "(continuous_model)",

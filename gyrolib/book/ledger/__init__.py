@@ -420,7 +420,8 @@ def side_by_side_markdown(claims: Mapping[str, tuple[str, Any]]) -> str:
     ids = list(claims)
     judged = {i: (claims[i][1].judged or {}) for i in ids}
     ths = {i: {t["input"]: t for t in (judged[i].get("thresholds") or ())} for i in ids}
-    rows = ["| | " + " | ".join(f"`{i}`" for i in ids) + " |", "|" + " --- |" * (len(ids) + 1),
+    rows = ["| claim | " + " | ".join(f"`{i}`" for i in ids) + " |",
+            "|" + " --- |" * (len(ids) + 1),
             "| judged against | " + " | ".join(_md_escape(claims[i][0]) for i in ids) + " |",
             "| status | " + " | ".join(
                 _md_escape(_claim_map.status_line(claims[i][1].status,

@@ -198,11 +198,11 @@ class LedgerItem:
     def quote_threshold(self, input: str, form: str = "both", html: bool = True) -> str:
         """The map's threshold of ``input`` as every page quotes it
         (:func:`gyrolib.claim_map.quote_threshold`; ``form``: ``"both"``, ``"value"`` or
-        ``"factor"``), tagged with the item's id for a page when ``html``.  A ``KeyError``
+        ``"factor"``), tagged with the item's id for a page when ``html``.  A ``ValueError``
         names the inputs that flip the claim when ``input`` does not."""
         ths = {t["input"]: t for t in ((self.judged or {}).get("thresholds") or ())}
         if input not in ths:
-            raise KeyError(f"{self.id} has no threshold of {input!r}; its thresholds: "
+            raise ValueError(f"{self.id} has no threshold of {input!r}; its thresholds: "
                            f"{sorted(ths)}")
         return _claim_map.quote_threshold(self.id, ths[input], html=html, form=form)
 

@@ -333,7 +333,7 @@ def test_no_claim_of_the_ledger_holds_under_conditions_beyond_its_share():
     reference, and its conditions name every input that flips it, σ_off and σ_b included."""
     import json
 
-    from gyrolib import inputs
+    from gyrolib import inputs, quote
     from gyrolib.book import ledger
     from gyrolib.book.ledger import claims
 
@@ -346,7 +346,8 @@ def test_no_claim_of_the_ledger_holds_under_conditions_beyond_its_share():
         if it.status.startswith("holds ") and share["hi"] < 0.5:
             assert it.status == "holds only near the reference", it.id
         if it.status != "holds":
-            assert f"{share['value'] * 100:.0f} % of the box" in doc[it.id]["status"], it.id
+            assert f"{quote.percent(share['value'])} % of the box" in doc[it.id]["status"], \
+                it.id
         assert doc[it.id]["status_code"] == it.status_code
     race = {it.id: it for it in items}["gc.faster_percent"]
     assert race.status_code == "holds_near_reference"

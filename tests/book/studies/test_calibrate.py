@@ -54,7 +54,7 @@ def _patch_default(monkeypatch: pytest.MonkeyPatch, cls: type, name: str, value:
 # fresh -----------------------------------------------------------------------------------------
 def test_the_chapter_studies_are_in_the_one_list():
     assert cal in book_studies.CHAPTER_MODULES
-    assert book_studies.NAMES[-3:] == cal.NAMES
+    assert all(n in book_studies.NAMES for n in cal.NAMES)
     assert all(n in store.registered() for n in cal.NAMES)
 
 
