@@ -1,7 +1,7 @@
 """The ``ledger`` command: ``python -m gyrolib ledger [--json]``.
 
 The stored studies the ledger reads (the claim maps, the Sobol' studies) are checked first
-(:func:`gyrolib.book.ledger.studies.check_all`): a stale one exits with status 3 and one line
+(:func:`gyrolib.book.studies.check_all`): a stale one exits with status 3 and one line
 naming it and the command that refreshes it.
 """
 

@@ -22,6 +22,7 @@ from gyrolib import gc, store
 from gyrolib.book import studies as book_studies
 from gyrolib.book.studies import gc as gcs
 from gyrolib.gc.model.params import GyrocompassParams
+from tests.support.stored_studies import patch_default, stale_message
 
 
 def _data(name: str) -> dict:
@@ -34,21 +35,6 @@ def _decoded(name: str) -> dict:
     return gcs.decode({k: x for k, x in _data(name).items() if k != store.HEADER_KEY})
 
 
-def _stale(exc: pytest.ExceptionInfo, name: str) -> str:
-    msg = str(exc.value)
-    assert exc.value.study == name
-    assert f"python3 tasks.py refresh {name}" in msg and "\n" not in msg
-    return msg
-
-
-def _patch_default(monkeypatch: pytest.MonkeyPatch, cls: type, name: str, value: object):
-    names = [f.name for f in dataclasses.fields(cls)]
-    defaults = list(cls.__init__.__defaults__)
-    assert len(defaults) == len(names)
-    defaults[names.index(name)] = value
-    monkeypatch.setattr(cls.__init__, "__defaults__", tuple(defaults))
-    monkeypatch.setattr(cls.__dataclass_fields__[name], "default", value)
-    assert getattr(cls(), name) == value
 
 
 def test_the_studies_are_listed_and_registered():
@@ -97,27 +83,27 @@ def test_race_study_holds_every_case_of_the_chapter():
 # stale by name ---------------------------------------------------------------------------------
 @pytest.mark.parametrize("name", gcs.NAMES)
 def test_omega_v_times_1_1_makes_each_study_stale_by_its_key(monkeypatch, name):
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * GyrocompassParams().Omega_v)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * GyrocompassParams().Omega_v)
     with pytest.raises(store.StaleStudy) as exc:
         store.check(name)
-    assert "gyrolib.gc.model.params" in _stale(exc, name)
+    assert "gyrolib.gc.model.params" in stale_message(exc, name)
 
 
 def test_omega_v_times_1_1_breaks_the_fingerprint_itself(monkeypatch):
     """The speed claim's points alone (no key) catch the changed constant, and pass as is."""
     data = _data("gc-speed-claim")
     assert gcs._check_speed(data) >= 10
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * GyrocompassParams().Omega_v)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * GyrocompassParams().Omega_v)
     with pytest.raises(store.StaleStudy) as exc:
         gcs._check_speed(data)
-    _stale(exc, "gc-speed-claim")
+    stale_message(exc, "gc-speed-claim")
 
 
 def test_a_changed_run_count_makes_the_monte_carlo_stale(monkeypatch):
     monkeypatch.setattr(gcs, "N_RUNS", 2 * gcs.N_RUNS)
     with pytest.raises(store.StaleStudy) as exc:
         store.check("gc-monte-carlo")
-    assert "gyrolib.book.studies.gc" in _stale(exc, "gc-monte-carlo")
+    assert "gyrolib.book.studies.gc" in stale_message(exc, "gc-monte-carlo")
 
 
 def test_a_moved_monte_carlo_run_fails_the_fingerprint(tmp_path):
@@ -133,7 +119,7 @@ def test_a_moved_monte_carlo_run_fails_the_fingerprint(tmp_path):
     copy.write_text(json.dumps(data), encoding="utf-8")
     with pytest.raises(store.StaleStudy) as exc:
         store.check("gc-monte-carlo", copy)
-    assert "run 1's error of omega_gc" in _stale(exc, "gc-monte-carlo")
+    assert "run 1's error of omega_gc" in stale_message(exc, "gc-monte-carlo")
 
 
 def test_a_race_sweep_that_moves_fails_by_name(monkeypatch):
@@ -146,7 +132,7 @@ def test_a_race_sweep_that_moves_fails_by_name(monkeypatch):
     monkeypatch.setattr(gc, "race_sweep", slower)
     with pytest.raises(store.StaleStudy) as exc:
         gcs._check_race(_data("gc-race-sweeps"))
-    assert "t_c_rate_sensor" in _stale(exc, "gc-race-sweeps")
+    assert "t_c_rate_sensor" in stale_message(exc, "gc-race-sweeps")
 
 
 # the full recomputation ------------------------------------------------------------------------
@@ -192,6 +178,6 @@ def test_load_checks_then_reads_and_names_a_stale_study(monkeypatch):
     monkeypatch.setattr(gcs, "RACE_MC_RUNS", 2 * gcs.RACE_MC_RUNS)
     with pytest.raises(store.StaleStudy) as exc:
         gcs.load("gc-race-sweeps")
-    _stale(exc, "gc-race-sweeps")
+    stale_message(exc, "gc-race-sweeps")
     with pytest.raises(ValueError, match="name must be one of"):
         gcs.load("gc-nothing")

@@ -384,7 +384,7 @@ def check_stored(path: Path | None = None, ids: tuple[str, ...] | None = None) -
     """Recompute the maps' own fingerprint points (the reference, two box points, a search's
     failing point) and raise ``ValueError`` when one moved.  Returns how many points were
     checked.  The store's check of the study ``claim-maps`` (:mod:`gyrolib.store`,
-    :func:`gyrolib.book.ledger.studies.check_all`: the key, every threshold bracketed, every
+    :func:`gyrolib.book.studies.check_all`: the key, every threshold bracketed, every
     reading, a sample of the sweeps) is the one the ledger, the build and ``claims --check``
     run."""
     stored = stored_maps(path)

@@ -23,7 +23,7 @@ is the verdict (the race's saving minus 50 %, ``1 − t_c/510 s``, the share com
 The study is computed once, offline (``python3 tasks.py refresh sensitivity-gc``, or
 ``python -m gyrolib sensitivity gc-claims --n N --out gyrolib/data/sensitivity_gc.json``), and
 stored as package data with the store's header (:mod:`gyrolib.store`, checked by
-:func:`gyrolib.book.ledger.studies.check_all`).  The stored file names the
+:func:`gyrolib.book.studies.check_all`).  The stored file names the
 table's fingerprint over its inputs (:func:`gyrolib.inputs.table_fingerprint`):
 :func:`stored_study` refuses a file computed over another table, and :func:`recheck_study`
 recomputes a few of its points, so that a study the code no longer reproduces fails the

@@ -20,7 +20,8 @@ simulation's defaults): a change of any of them makes the study stale, inside th
 not.
 
 ``python3 tasks.py refresh [NAME ...]`` recomputes them (:func:`gyrolib.store.refresh`);
-:func:`check_all` is what the ledger, the ``claims`` command, the chapters and the tests run.
+:func:`gyrolib.book.studies.check_all` (over every stored study of the book) is what the
+ledger, the ``claims`` command, the chapters and the tests run.
 
 Examples
 --------
@@ -61,7 +62,7 @@ from gyrolib.rsf import simulation as _rsf_simulation
 from gyrolib.rsf import tables as _rsf_tables
 from gyrolib.sensitivity import result_from_dict
 
-__all__ = ["GRID_CELLS", "MODULES", "NAMES", "SAMPLE", "check_all", "key"]
+__all__ = ["GRID_CELLS", "MODULES", "NAMES", "SAMPLE", "key"]
 
 #: The registered studies, in the order ``refresh --list`` shows them.
 NAMES: Final[tuple[str, ...]] = ("claim-maps", "sensitivity-gc", "sensitivity-rsf")
@@ -322,11 +323,3 @@ for _name, _file, _check, _compute, _atol, _what in (
                                rtol=1e-6, atol=_atol, what=_what,
                                rows="" if _name == "claim-maps" else "values"))
 
-
-def check_all(names: tuple[str, ...] | None = None, *, memo: bool = True) -> int:
-    """Check every study of ``names`` (default: all of :data:`NAMES`) by
-    :func:`gyrolib.store.check` (with ``memo``, a check that passed under the same sources,
-    file, key, versions and CPU class is read from the check memo); raises
-    :class:`gyrolib.store.StaleStudy` naming the first stale one and its refresh command.
-    Returns how many points agreed."""
-    return sum(store.check(n, memo=memo) for n in (NAMES if names is None else names))

@@ -65,7 +65,7 @@ from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.units import ARCSEC_PAPER, G0
 
 __all__ = ["CONVENTION", "CONVENTION_CHECK_SEEDS", "FAULTS", "FAULTS_CHECKED", "FIT",
-           "LATITUDES", "MG", "NAMES", "PRIORS", "RECORDS", "check_all", "command_params",
+           "LATITUDES", "MG", "NAMES", "PRIORS", "RECORDS", "command_params",
            "convention", "judged",
            "key", "load", "noise_fit", "with_fault"]
 
@@ -547,8 +547,3 @@ def load(name: str) -> dict[str, Any]:
     store.check(name)
     return json.loads(_FILES[name].read_text(encoding="utf-8"))
 
-
-def check_all(names: tuple[str, ...] | None = None) -> int:
-    """Check every study of ``names`` (default: all of :data:`NAMES`); returns how many
-    points agreed."""
-    return sum(store.check(n) for n in (NAMES if names is None else names))

@@ -22,29 +22,12 @@ from gyrolib.book.ledger import claims, studies
 from gyrolib.cli import main
 from gyrolib.gc.model.params import GyrocompassParams
 from gyrolib.rsf.sensors import RollGyroSpec
-
-
-def _patch_default(monkeypatch: pytest.MonkeyPatch, cls: type, name: str, value: object):
-    """Change a dataclass field's default for this test: the field (which the table of inputs
-    reads) and the generated ``__init__`` (which ``cls()`` reads)."""
-    names = [f.name for f in dataclasses.fields(cls)]
-    defaults = list(cls.__init__.__defaults__)
-    assert len(defaults) == len(names)   # every field has a default: the index is the field's
-    defaults[names.index(name)] = value
-    monkeypatch.setattr(cls.__init__, "__defaults__", tuple(defaults))
-    monkeypatch.setattr(cls.__dataclass_fields__[name], "default", value)
-    assert getattr(cls(), name) == value
+from tests.support.stored_studies import patch_default, stale_message
 
 
 def _maps_data() -> dict:
     return json.loads(claims.MAPS_FILE.read_text(encoding="utf-8"))
 
-
-def _stale(exc: pytest.ExceptionInfo, name: str) -> str:
-    msg = str(exc.value)
-    assert exc.value.study == name
-    assert f"python3 tasks.py refresh {name}" in msg and "\n" not in msg
-    return msg
 
 
 # every stored study agrees with the code ------------------------------------------------------
@@ -86,17 +69,17 @@ def test_brackets_each_threshold_with_opposite_signs():
 ])
 def test_a_changed_table_default_makes_the_study_stale(monkeypatch, name, owner, field):
     store.check_key(name, _stored_key(name), studies.key(name))   # as it is: the same key
-    _patch_default(monkeypatch, owner, field,
+    patch_default(monkeypatch, owner, field,
                    1.1 * owner.__dataclass_fields__[field].default)
     with pytest.raises(store.StaleStudy) as exc:
         store.check(name)
-    msg = _stale(exc, name)
+    msg = stale_message(exc, name)
     assert "table" in msg and "objects" in msg
 
 
 def test_the_key_holds_only_what_the_study_reads(monkeypatch):
     """Paper GC's C_as is no input of paper RSF's study: its key does not move."""
-    _patch_default(monkeypatch, GyrocompassParams, "C_as", 2.2e-13)
+    patch_default(monkeypatch, GyrocompassParams, "C_as", 2.2e-13)
     store.check_key("sensitivity-rsf", _stored_key("sensitivity-rsf"),
                     studies.key("sensitivity-rsf"))
     with pytest.raises(store.StaleStudy):
@@ -116,10 +99,10 @@ def test_omega_v_is_not_a_row_of_the_table():
 
 
 def test_omega_v_times_1_1_breaks_the_key(monkeypatch):
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
     with pytest.raises(store.StaleStudy) as exc:
         store.check("claim-maps")
-    msg = _stale(exc, "claim-maps")
+    msg = stale_message(exc, "claim-maps")
     assert "differs from the code's in gyrolib.gc.model.params, objects (" in msg
 
 
@@ -129,14 +112,14 @@ def test_omega_v_times_1_1_breaks_the_fingerprint_itself(monkeypatch):
     data = _maps_data()
     ids = ("gc.time_to_sigma_c",)
     assert studies._check_maps(data, ids) == 15
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
     with pytest.raises(store.StaleStudy) as exc:
         studies._check_maps(data, ids)
-    assert "gc.time_to_sigma_c" in _stale(exc, "claim-maps")
+    assert "gc.time_to_sigma_c" in stale_message(exc, "claim-maps")
 
 
 def test_ledger_json_on_a_stale_study_exits_3_with_one_line(monkeypatch, capsys):
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
     assert main(["ledger", "--json"]) == 3
     out, err = capsys.readouterr()
     assert out == ""
@@ -185,7 +168,7 @@ def test_a_wrong_race_margin_near_a_stored_threshold_fails_by_name(monkeypatch):
          "RateSensorProcedure": dataclasses.replace(_procedure(), sigma_scale=1.3e-4)}) == 7.32
     with pytest.raises(store.StaleStudy) as exc:
         studies._check_maps(_maps_data(), ("gc.faster_percent",))
-    msg = _stale(exc, "claim-maps")
+    msg = stale_message(exc, "claim-maps")
     assert "gc.faster_percent" in msg and "race.sigma_scale" in msg and "should be <= 0" in msg
 
 

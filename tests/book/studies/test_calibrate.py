@@ -13,7 +13,6 @@ stored one within its declared tolerance.  The package's files are only read.
 from __future__ import annotations
 
 import copy
-import dataclasses
 import json
 import math
 
@@ -24,6 +23,7 @@ from gyrolib import store
 from gyrolib.book import studies as book_studies
 from gyrolib.book.studies import calibrate as cal
 from gyrolib.gc.model.params import GyrocompassParams
+from tests.support.stored_studies import patch_default, stale_message
 
 #: The least number of points each check compares (a weaker check fails this test).
 MIN_POINTS = {"calibrate-fit-noise": 20, "calibrate-convention": 24, "calibrate-faults": 20}
@@ -33,22 +33,6 @@ def _data(name: str) -> dict:
     return json.loads(store.study(name).file.read_text("utf-8"))
 
 
-def _stale(exc: pytest.ExceptionInfo, name: str) -> str:
-    msg = str(exc.value)
-    assert exc.value.study == name
-    assert f"python3 tasks.py refresh {name}" in msg and "\n" not in msg
-    return msg
-
-
-def _patch_default(monkeypatch: pytest.MonkeyPatch, cls: type, name: str, value: object):
-    """Change a dataclass field's default for this test (the field and ``__init__``)."""
-    names = [f.name for f in dataclasses.fields(cls)]
-    defaults = list(cls.__init__.__defaults__)
-    assert len(defaults) == len(names)
-    defaults[names.index(name)] = value
-    monkeypatch.setattr(cls.__init__, "__defaults__", tuple(defaults))
-    monkeypatch.setattr(cls.__dataclass_fields__[name], "default", value)
-    assert getattr(cls(), name) == value
 
 
 # fresh -----------------------------------------------------------------------------------------
@@ -104,21 +88,21 @@ def test_the_stored_convention_study_rebuilds():
 # a model constant changed: the key -------------------------------------------------------------
 @pytest.mark.parametrize("name", cal.NAMES)
 def test_omega_v_times_1_1_makes_each_study_stale_by_its_key(monkeypatch, name):
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
     with pytest.raises(store.StaleStudy) as exc:
         store.check(name)
-    assert "gyrolib.gc.model.params" in _stale(exc, name)
+    assert "gyrolib.gc.model.params" in stale_message(exc, name)
 
 
 def test_what_the_chapter_reads_stops_on_a_stale_study(monkeypatch):
     """The chapter reads each study by ``load``: a changed table default (C_as x 1.1, a row
     of the table) stops it with the study's name and refresh command before any number is
     read."""
-    _patch_default(monkeypatch, GyrocompassParams, "C_as", 1.1 * 2.0e-13)
+    patch_default(monkeypatch, GyrocompassParams, "C_as", 1.1 * 2.0e-13)
     for name in cal.NAMES:
         with pytest.raises(store.StaleStudy) as exc:
             cal.load(name)
-        assert "gyrolib.gc.model.params" in _stale(exc, name)
+        assert "gyrolib.gc.model.params" in stale_message(exc, name)
 
 
 def test_a_changed_setting_of_a_study_makes_it_stale_and_only_it(monkeypatch):
@@ -129,7 +113,7 @@ def test_a_changed_setting_of_a_study_makes_it_stale_and_only_it(monkeypatch):
     with pytest.raises(store.StaleStudy) as exc:
         store.check_key("calibrate-faults", store.header_of(
             "calibrate-faults", _data("calibrate-faults")).key, cal.key("calibrate-faults"))
-    assert "constants" in _stale(exc, "calibrate-faults")
+    assert "constants" in stale_message(exc, "calibrate-faults")
     assert cal.key("calibrate-convention") == store.header_of(
         "calibrate-convention", _data("calibrate-convention")).key
 
@@ -146,26 +130,26 @@ def test_a_changed_record_makes_the_noise_fit_stale(monkeypatch, tmp_path):
     (tmp_path / cal.FIT["record"]).write_bytes(b"")
     with pytest.raises(store.StaleStudy) as exc:
         store.check("calibrate-fit-noise")
-    assert "record" in _stale(exc, "calibrate-fit-noise")
+    assert "record" in stale_message(exc, "calibrate-fit-noise")
 
 
 # without the key: the fingerprint points themselves ---------------------------------------------
 def test_omega_v_times_1_1_breaks_the_convention_points(monkeypatch):
     data = _data("calibrate-convention")
     assert cal._check_convention(data) == 24
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
     with pytest.raises(store.StaleStudy) as exc:
         cal._check_convention(data)
-    assert "of seed 1" in _stale(exc, "calibrate-convention")
+    assert "of seed 1" in stale_message(exc, "calibrate-convention")
 
 
 def test_omega_v_times_1_1_breaks_the_fault_points(monkeypatch):
     data = _data("calibrate-faults")
     assert cal._check_faults(data) >= MIN_POINTS["calibrate-faults"]
-    _patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
+    patch_default(monkeypatch, GyrocompassParams, "Omega_v", 1.1 * 5.9e-5)
     with pytest.raises(store.StaleStudy) as exc:
         cal._check_faults(data)
-    assert "null offset" in _stale(exc, "calibrate-faults")
+    assert "null offset" in stale_message(exc, "calibrate-faults")
 
 
 @pytest.mark.parametrize(("field", "factor", "caught_by"), [
@@ -180,7 +164,7 @@ def test_a_moved_fit_breaks_the_noise_fit_points(field, factor, caught_by):
     data["noise_fit"]["params"][field] *= factor
     with pytest.raises(store.StaleStudy) as exc:
         cal._check_fit(data)
-    assert caught_by in _stale(exc, "calibrate-fit-noise")
+    assert caught_by in stale_message(exc, "calibrate-fit-noise")
 
 
 # the full recomputation -------------------------------------------------------------------------
